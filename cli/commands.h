@@ -1,0 +1,21 @@
+// Subcommands of the probebake CLI. Each lives in its own cmd_*.cpp, parses into a settings struct and
+// calls one library function; main() is the only catch-all that turns errors into exit codes.
+#pragma once
+
+#include <functional>
+#include <utility>
+
+#include <CLI/CLI.hpp>
+
+namespace probebake::cli {
+
+// A registered subcommand and the function that runs it once parsing succeeded (returns the exit code).
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+Command add_info_command(CLI::App& root);
+Command add_validate_command(CLI::App& root);
+
+} // namespace probebake::cli

@@ -1,0 +1,52 @@
+// probebake command line: argument parsing and exit codes only; the work is done by the libraries.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "commands.h"
+#include "probebake/formats/error.h"
+#include "probebake/formats/format_version.h"
+#include "probebake/version.h"
+
+namespace {
+
+std::string version_text() {
+  return fmt::format("probebake {} (.probes format {}.{})", PROBEBAKE_VERSION_STRING,
+                     probebake::formats::kFormatVersionMajor, probebake::formats::kFormatVersionMinor);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  using namespace probebake;
+  CLI::App app{"probebake: adaptive light probes for real-time diffuse global illumination"};
+  app.set_version_flag("--version", version_text());
+  app.require_subcommand(1);
+  std::vector<cli::Command> commands = {
+      cli::add_info_command(app),
+      cli::add_validate_command(app),
+  };
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : static_cast<int>(ErrorKind::usage);
+  }
+
+  try {
+    for (const cli::Command& command : commands) {
+      if (command.app->parsed()) return command.run();
+    }
+    return static_cast<int>(ErrorKind::usage);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "probebake: error: %s\n", e.what());
+    return e.exit_code();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "probebake: internal error: %s\n", e.what());
+    return static_cast<int>(ErrorKind::internal);
+  }
+}

@@ -1,0 +1,30 @@
+# Every third-party dependency is found here, once, as imported targets (Debian 12 packages; see
+# scripts/install-deps.sh and the README for why each one is used).
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(fmt REQUIRED)
+find_package(CLI11 REQUIRED)
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+
+# Heavy dependencies are only needed by bake/ (never by formats/ or runtime/).
+find_package(embree 3 REQUIRED)
+find_package(draco REQUIRED)
+find_package(TBB REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)
+add_library(probebake_tinygltf INTERFACE)
+target_include_directories(probebake_tinygltf SYSTEM INTERFACE "${TINYGLTF_INCLUDE_DIR}")
+target_link_libraries(probebake_tinygltf INTERFACE nlohmann_json::nlohmann_json PkgConfig::STB)
+
+list(APPEND CMAKE_MODULE_PATH "/usr/lib/x86_64-linux-gnu/cmake/OpenVDB")
+find_package(OpenVDB REQUIRED)
+
+if(PROBEBAKE_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  include(GoogleTest)
+endif()
+if(PROBEBAKE_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,172 @@
+// probebake GPU data model: the one definition of every struct that the GPU reads, shared by C++ and GLSL.
+//
+// The layout is the octree thesis's (octree-probe-surfel-placement-ddgi-thesis, §3.1.1-3.1.5) with the
+// SVO probe index of the non-uniform placement paper (§4.1). The same bytes are used in memory, in the
+// .probes file (little-endian) and in GPU storage buffers (std430), so loading is a copy.
+//
+// Rules for this file: std430 layout, explicit padding, every size and offset checked by static_assert
+// below (C++ side); no bool, no vec3 arrays; GLSL sees the same names without the namespace.
+#ifndef PROBEBAKE_GPU_TYPES_H
+#define PROBEBAKE_GPU_TYPES_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <glm/ext/vector_int4.hpp>
+
+namespace probebake::gpu {
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using ivec4 = glm::ivec4;
+using uint = std::uint32_t;
+#define PB_CONSTANT(type, name, value) inline constexpr type name = value
+#else
+#define PB_CONSTANT(type, name, value) const type name = value
+#endif
+
+// ---- Octree buffer (thesis §3.1.1): int32 elements ------------------------------------------------
+// Element 0 is the root node. Then node clusters of nine elements: one meta element + eight nodes.
+// Meta element:  0 = cluster free; < 0 = allocated, ~value = index of the parent node.
+// Node element:  0 = leaf without probe; < 0 = leaf with probe ~value; > 0 = parent, value = meta index
+//                of the child cluster. A trailing incomplete cluster (element count != 1 + 9k) is never
+//                used as a child cluster.
+PB_CONSTANT(int, OCTREE_ROOT, 0);
+PB_CONSTANT(int, OCTREE_CLUSTER_SIZE, 9);
+PB_CONSTANT(int, OCTREE_MAX_DEPTH, 12);
+
+// ---- Probes (thesis §3.1.2, extended) ----------------------------------------------------------------
+// link: 0 = free; < 0 = allocated, ~link = first surfel batch of the probe's chain, or ~link ==
+// PROBE_NO_SURFELS when the file carries no surfel batches (static scenes).
+PB_CONSTANT(int, PROBE_NO_SURFELS, 0x7fffffff);
+// Irradiance is stored as L2 spherical harmonics of the irradiance (cosine lobe already convolved in),
+// 9 coefficients x RGB, interleaved by coefficient: sh[3*k + channel].
+PB_CONSTANT(int, PROBE_SH_COEFFS, 9);
+
+struct Probe {
+  vec3 position;           // offset   0: world space, metres (glTF units)
+  int link;                // offset  12: see above
+  int node;                // offset  16: octree node holding this probe (back link, -1 for grid probes)
+  int depth;               // offset  20: depth of that node (root = 0)
+  float hit_fraction;      // offset  24: surfel hits inside the node cube / surfels placed
+  float backface_fraction; // offset  28: back-face hits / hits (dead-probe test)
+  float irradiance_sh[27]; // offset  32: L2 SH irradiance, RGB, W/m^2 per unit of emission
+  float pad0;              // offset 140
+};                         // size 144
+
+// ---- Surfels and surfel batches (thesis §3.1.3, extended) ----------------------------------------------
+PB_CONSTANT(int, SURFELS_PER_BATCH, 16);
+PB_CONSTANT(uint, SURFEL_FLAG_HIT, 1u);      // the probe ray hit geometry inside the node cube
+PB_CONSTANT(uint, SURFEL_FLAG_BACKFACE, 2u); // ... and the hit surface faces away from the probe
+
+struct Surfel {
+  vec3 position;  // offset  0: world space
+  float distance; // offset 12: distance from the probe along the lattice ray
+  vec3 normal;    // offset 16: unit normal of the surface facing the probe
+  uint flags;     // offset 28: SURFEL_FLAG_*
+  vec3 albedo;    // offset 32: diffuse reflectance
+  float pad0;     // offset 44
+  vec3 radiance;  // offset 48: outgoing radiance of the lit surfel ("color_lit")
+  float pad1;     // offset 60
+};                // size 64
+
+// link: 0 = free; < 0 = allocated, ~link = next batch in the chain; > 0 = allocated, last batch of its
+// chain, and link - 1 is the owning probe (makes ownership checkable from the chain's end).
+struct SurfelBatch {
+  int link;  // offset  0
+  int probe; // offset  4: owning probe index
+  int count; // offset  8: surfels in use in this batch, 1..SURFELS_PER_BATCH
+  int first; // offset 12: lattice index of surfels[0] (the probe's k-th surfel is lattice point k)
+  Surfel surfels[SURFELS_PER_BATCH]; // offset 16
+};                                   // size 16 + 64 * SURFELS_PER_BATCH
+
+// ---- Leaf buffer (thesis §3.1.4) ---------------------------------------------------------------------
+// Three equal segments of (leaf node, state) entries used as a ring: pull origin p <- p + 2 mod 3 each
+// frame; memory update pulls segment (p + 0) mod 3, light update pulls (p + 1) mod 3.
+PB_CONSTANT(int, LEAF_M0_CHILD_ALLOCATING, 0);
+PB_CONSTANT(int, LEAF_M1_ALLOCATE_PROBE, 1);
+PB_CONSTANT(int, LEAF_M2_FREE_PROBE, 2);
+PB_CONSTANT(int, LEAF_M3_SPLIT, 3);
+PB_CONSTANT(int, LEAF_M4_FREE_CLUSTER, 4);
+PB_CONSTANT(int, LEAF_L0_PARENT_FREED, 5);
+PB_CONSTANT(int, LEAF_L1_PLACE_SURFELS, 6);
+PB_CONSTANT(int, LEAF_L2_LIGHT, 7);
+PB_CONSTANT(int, LEAF_L3_CHECK_BOXES, 8);
+PB_CONSTANT(int, LEAF_STATE_COUNT, 9);
+
+struct LeafEntry {
+  int node;  // offset 0: octree node index
+  int state; // offset 4: LEAF_*
+};           // size 8
+
+struct LeafQueueHeader {
+  int pull_origin;      // offset  0: p in {0, 1, 2}
+  int segment_capacity; // offset  4: entries per segment
+  int count[3];         // offset  8: entries in use per segment
+  int pad0;             // offset 20
+  int pad1;             // offset 24
+  int pad2;             // offset 28
+};                      // size 32
+
+// ---- Probe index list (thesis §3.1.5) ------------------------------------------------------------------
+// int32[probe_capacity + 1]: indices of allocated probes in ascending order, then PROBE_INDEX_END (< 0).
+PB_CONSTANT(int, PROBE_INDEX_END, -1);
+
+// ---- SVO probe index (non-uniform placement paper §4.1) ---------------------------------------------------
+// Node buffer: int32, root at 0. 0 = empty voxel (outside the scene's reach or inside solid geometry);
+// > 0 = interior node, value = index of the first of 8 consecutive children (child i covers octant i,
+// bit 0 = +x, bit 1 = +y, bit 2 = +z); < 0 = leaf voxel, ~value = index into the leaf payload buffer.
+// Interior nodes carry no payload.
+PB_CONSTANT(int, SVO_PROBES_PER_LEAF, 4);
+
+struct SvoLeaf {
+  ivec4 probes; // offset  0: probe indices, -1 = unused slot (used slots first)
+  vec4 weights; // offset 16: normalised weights of the used slots, 0 for unused
+};              // size 32
+
+// ---- Volume description (one per file / runtime instance) -------------------------------------------------
+PB_CONSTANT(int, PLACEMENT_OCTREE, 0);
+PB_CONSTANT(int, PLACEMENT_GRID, 1);
+PB_CONSTANT(int, LATTICE_FIBONACCI, 0);
+PB_CONSTANT(int, LATTICE_LATLONG, 1);
+PB_CONSTANT(int, LATTICE_EQUAL_AREA, 2);
+
+struct VolumeInfo {
+  vec3 root_min;          // offset  0: minimum corner of the octree root cube (also the SVO cube)
+  float root_size;        // offset 12: edge length of the root cube
+  int placement;          // offset 16: PLACEMENT_*
+  int max_depth;          // offset 20: octree max depth (octree placement)
+  int svo_depth;          // offset 24: SVO leaf depth
+  int lattice;            // offset 28: LATTICE_*
+  int surfels_per_probe;  // offset 32
+  float split_low;        // offset 36: f < split_low frees a probe
+  float split_high;       // offset 40: f >= split_high splits a node below max depth
+  int grid_resolution;    // offset 44: N for an N^3 grid (grid placement), else 0
+  int probe_capacity;     // offset 48: elements in the probe buffer
+  int batch_capacity;     // offset 52: elements in the surfel batch buffer (0 when not stored)
+  int octree_elements;    // offset 56: int32 elements in the octree buffer
+  int svo_nodes;          // offset 60: int32 elements in the SVO node buffer
+  int svo_leaves;         // offset 64: SvoLeaf elements
+  int pad0;               // offset 68
+  int pad1;               // offset 72
+  int pad2;               // offset 76
+};                        // size 80
+
+#ifdef __cplusplus
+static_assert(sizeof(Probe) == 144 && alignof(Probe) == 4);
+static_assert(offsetof(Probe, link) == 12 && offsetof(Probe, node) == 16 && offsetof(Probe, depth) == 20);
+static_assert(offsetof(Probe, hit_fraction) == 24 && offsetof(Probe, irradiance_sh) == 32);
+static_assert(sizeof(Surfel) == 64 && offsetof(Surfel, normal) == 16 && offsetof(Surfel, flags) == 28);
+static_assert(offsetof(Surfel, albedo) == 32 && offsetof(Surfel, radiance) == 48);
+static_assert(sizeof(SurfelBatch) == 16 + 64 * SURFELS_PER_BATCH && offsetof(SurfelBatch, surfels) == 16);
+static_assert(sizeof(LeafEntry) == 8 && sizeof(LeafQueueHeader) == 32);
+static_assert(sizeof(SvoLeaf) == 32 && offsetof(SvoLeaf, weights) == 16);
+static_assert(sizeof(VolumeInfo) == 80 && offsetof(VolumeInfo, placement) == 16);
+static_assert(offsetof(VolumeInfo, probe_capacity) == 48 && offsetof(VolumeInfo, svo_leaves) == 64);
+} // namespace probebake::gpu
+#endif
+
+#undef PB_CONSTANT
+#endif // PROBEBAKE_GPU_TYPES_H

@@ -15,6 +15,7 @@ struct Command {
   std::function<int()> run;
 };
 
+Command add_bake_command(CLI::App& root);
 Command add_info_command(CLI::App& root);
 Command add_validate_command(CLI::App& root);
 

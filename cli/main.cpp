@@ -1,4 +1,5 @@
 // probebake command line: argument parsing and exit codes only; the work is done by the libraries.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -27,12 +28,18 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   std::vector<cli::Command> commands = {
+      cli::add_bake_command(app),
       cli::add_info_command(app),
       cli::add_validate_command(app),
   };
 
+  // `probebake scene.gltf` is short for `probebake bake scene.gltf`.
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && !args[0].starts_with("-") && app.get_subcommands([&](CLI::App* s) { return s->get_name() == args[0]; }).empty())
+    args.insert(args.begin(), "bake");
+  std::reverse(args.begin(), args.end()); // CLI11 takes the arguments as a reversed vector
   try {
-    app.parse(argc, argv);
+    app.parse(args);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : static_cast<int>(ErrorKind::usage);
   }

@@ -18,8 +18,14 @@ add_library(probebake_tinygltf INTERFACE)
 target_include_directories(probebake_tinygltf SYSTEM INTERFACE "${TINYGLTF_INCLUDE_DIR}")
 target_link_libraries(probebake_tinygltf INTERFACE nlohmann_json::nlohmann_json PkgConfig::STB)
 
-list(APPEND CMAKE_MODULE_PATH "/usr/lib/x86_64-linux-gnu/cmake/OpenVDB")
-find_package(OpenVDB REQUIRED)
+# Debian's FindOpenVDB.cmake asks for Boost components (iostreams) that libopenvdb-dev does not pull in;
+# the library itself needs only its headers, Boost headers and TBB, so import it directly.
+find_path(OPENVDB_INCLUDE_DIR openvdb/openvdb.h REQUIRED)
+find_library(OPENVDB_LIBRARY openvdb REQUIRED)
+find_path(BOOST_INCLUDE_DIR boost/version.hpp REQUIRED)
+add_library(probebake_openvdb INTERFACE)
+target_include_directories(probebake_openvdb SYSTEM INTERFACE "${OPENVDB_INCLUDE_DIR}" "${BOOST_INCLUDE_DIR}")
+target_link_libraries(probebake_openvdb INTERFACE "${OPENVDB_LIBRARY}" TBB::tbb)
 
 if(PROBEBAKE_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -1,1 +1,55 @@
-// placeholder
+#include <glm/geometric.hpp>
+
+#include "probebake/bake/scene.h"
+
+namespace probebake::scene {
+
+void Bounds::extend(const glm::vec3& p) {
+  min = glm::min(min, p);
+  max = glm::max(max, p);
+}
+
+void Bounds::extend(const Bounds& b) {
+  if (b.empty()) return;
+  extend(b.min);
+  extend(b.max);
+}
+
+const std::vector<std::string>& supported_extensions() {
+  static const std::vector<std::string> names = {
+      "KHR_draco_mesh_compression", "KHR_materials_emissive_strength", "KHR_lights_punctual",
+      "KHR_texture_transform",      "KHR_mesh_quantization",
+  };
+  return names;
+}
+
+double triangle_area(const Scene& scene, std::size_t t) {
+  const glm::uvec3 tri = scene.triangles[t];
+  const glm::dvec3 a(scene.positions[tri.x]), b(scene.positions[tri.y]), c(scene.positions[tri.z]);
+  return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+glm::vec3 triangle_normal(const Scene& scene, std::size_t t) {
+  const glm::uvec3 tri = scene.triangles[t];
+  const glm::vec3 a = scene.positions[tri.x], b = scene.positions[tri.y], c = scene.positions[tri.z];
+  const glm::vec3 n = glm::cross(b - a, c - a);
+  const float len = glm::length(n);
+  return len > 0.0f ? n / len : glm::vec3(0.0f);
+}
+
+SceneSummary summarize(const Scene& scene) {
+  SceneSummary s;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const double area = triangle_area(scene, t);
+    if (area <= 0.0) ++s.degenerate_triangles;
+    const glm::vec3 e = scene.triangle_emission[t];
+    if (e.x > 0.0f || e.y > 0.0f || e.z > 0.0f) {
+      ++s.emissive_triangles;
+      s.emissive_area += area;
+    }
+  }
+  for (const Instance& i : scene.instances) s.dynamic_instances += i.dynamic ? 1 : 0;
+  return s;
+}
+
+} // namespace probebake::scene

@@ -1,0 +1,72 @@
+// The bake: probe placement (adaptive octree or uniform grid), dead-probe relocation and the SVO probe
+// index, producing the canonical ProbeVolume that the .probes writer stores.
+//
+// Units: metres (glTF). Deterministic: the same scene and settings give the same volume for any thread
+// count (work is split per probe / per voxel and results are combined in index order).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "probebake/bake/lattice.h"
+#include "probebake/bake/scene.h"
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::bake {
+
+enum class Placement { octree, grid };
+
+struct BakeSettings {
+  Placement placement = Placement::octree;
+  int max_depth = 4;              // octree: deepest level a node may split to (root = 0), at most 12
+  int surfels_per_probe = 128;    // lattice points traced per probe
+  Lattice lattice = Lattice::fibonacci;
+  float split_low = 0.25f;        // hit fraction below which a probe is freed
+  float split_high = 0.5f;        // hit fraction at or above which a node splits
+  int grid_resolution = 16;       // grid: N for N^3 probes
+  int svo_depth = 5;              // SVO leaf depth (voxels of root_size / 2^svo_depth)
+  float clearance = 0.0f;         // minimum probe-to-surface distance; 0 = 2% of the scene's largest extent
+  int threads = 0;                // 0 = all cores
+  bool store_surfels = false;     // write the surfel batches (for runtime updates of dynamic scenes)
+  int cell_depth = 1;             // streaming cells: (2^cell_depth)^3
+};
+
+// Throws Error(usage) with a message naming the option when a setting is out of range.
+void check_settings(const BakeSettings& settings);
+
+struct StageTime {
+  std::string stage;
+  double seconds = 0.0;
+};
+
+struct BakeReport {
+  int probes = 0;
+  std::vector<int> depth_histogram;   // probes per octree depth (grid: all at depth 0)
+  int leaves = 0;
+  int dead_probes = 0;                // probes found inside geometry or closer than the clearance
+  int moved_probes = 0;
+  int freed_probes = 0;               // dead probes that could not be moved out
+  int svo_nodes = 0;
+  int svo_leaves = 0;
+  float clearance = 0.0f;             // the clearance actually used
+  std::vector<StageTime> stages;
+};
+
+struct BakeResult {
+  formats::ProbeVolume volume;
+  BakeReport report;
+};
+
+// Progress: stage name and fraction done in [0, 1]; called from the calling thread only.
+using ProgressCallback = std::function<void(const std::string& stage, double fraction)>;
+
+BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress = {});
+
+// Hash of everything that determines the bake's output: the scene's geometry and materials and the
+// settings (not the thread count).
+std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& settings);
+
+} // namespace probebake::bake

@@ -1,0 +1,108 @@
+// Scene input: a glTF 2.0 file flattened into world-space triangles with per-triangle diffuse albedo and
+// emission, punctual lights and the instances they came from.
+//
+// Units are glTF's: metres, Y up; light intensities in candela (point, spot) and lux (directional),
+// treated as radiometric values (W/sr, W/m^2) by the light transport. Front faces are counter-clockwise
+// in world space (instances with a negative-determinant transform have their winding flipped).
+// Textures are averaged per triangle (sampled at a fixed set of barycentric points) rather than sampled
+// at hit points: diffuse probes integrate over far larger areas than a texel, and a per-triangle colour
+// is what a GPU tracer without texture access can read.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+namespace probebake::scene {
+
+struct Bounds {
+  glm::vec3 min{std::numeric_limits<float>::infinity()};
+  glm::vec3 max{-std::numeric_limits<float>::infinity()};
+
+  bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+  void extend(const glm::vec3& p);
+  void extend(const Bounds& b);
+};
+
+enum class LightType { point, spot, directional };
+
+struct Light {
+  std::string name;
+  LightType type = LightType::point;
+  glm::vec3 color{1.0f};           // linear RGB
+  float intensity = 1.0f;          // candela (point, spot) or lux (directional)
+  glm::vec3 position{0.0f};        // world space (point, spot)
+  glm::vec3 direction{0, 0, -1};   // world-space unit direction the light travels (spot, directional)
+  float range = 0.0f;              // 0 = infinite
+  float inner_cone_angle = 0.0f;   // radians (spot)
+  float outer_cone_angle = 0.785398163f; // radians (spot), glTF default pi/4
+};
+
+struct Material {
+  std::string name;
+  glm::vec3 base_color{1.0f};  // baseColorFactor (linear RGB, alpha ignored)
+  glm::vec3 emission{0.0f};    // emissiveFactor * KHR_materials_emissive_strength
+  int base_color_texture = -1; // glTF texture index, -1 = none
+  int emissive_texture = -1;
+  bool double_sided = false;
+};
+
+// One node that references a mesh. Its triangles are [first_triangle, first_triangle + triangle_count).
+struct Instance {
+  std::string node_name;
+  int node = -1;
+  int mesh = -1;
+  std::uint32_t first_triangle = 0;
+  std::uint32_t triangle_count = 0;
+  bool dynamic = false; // node (or an ancestor) has extras {"probebake": {"dynamic": true}}
+  glm::mat4 world_from_local{1.0f};
+  Bounds bounds;
+};
+
+struct Scene {
+  std::vector<glm::vec3> positions;               // world space
+  std::vector<glm::uvec3> triangles;              // indices into positions, CCW front faces
+  std::vector<std::uint32_t> triangle_material;   // index into materials
+  std::vector<glm::vec3> triangle_albedo;         // diffuse albedo, texture averaged over the triangle
+  std::vector<glm::vec3> triangle_emission;       // emitted radiance, texture averaged
+  std::vector<Material> materials;                // always at least one (the glTF default material last)
+  std::vector<Light> lights;
+  std::vector<Instance> instances;
+  std::vector<std::string> extensions_used;
+  std::vector<std::string> extensions_required;
+  std::vector<std::string> warnings;              // things skipped, e.g. non-triangle primitives
+  int mesh_count = 0;
+  Bounds bounds;                                  // of all triangles
+
+  std::size_t triangle_count() const { return triangles.size(); }
+};
+
+struct LoadOptions {
+  // Refuse scenes without triangles (the bake needs geometry; `info` accepts them).
+  bool require_triangles = false;
+};
+
+// Loads .gltf (external files or data URIs) or .glb. Throws probebake::Error (ErrorKind::input) with a
+// one-line "<file>: <place>: <reason>" message on any malformed, truncated or unsupported input.
+Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
+
+struct SceneSummary {
+  std::size_t emissive_triangles = 0;
+  double emissive_area = 0.0; // m^2
+  std::size_t dynamic_instances = 0;
+  std::size_t degenerate_triangles = 0; // zero area
+};
+SceneSummary summarize(const Scene& scene);
+
+double triangle_area(const Scene& scene, std::size_t triangle);
+glm::vec3 triangle_normal(const Scene& scene, std::size_t triangle); // unit geometric normal (CCW)
+
+// The glTF extensions the loader understands (others in extensionsRequired are refused).
+const std::vector<std::string>& supported_extensions();
+
+} // namespace probebake::scene

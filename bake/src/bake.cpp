@@ -1,0 +1,218 @@
+// The bake pipeline: settings check, placement, dead-probe relocation, SVO probe index, streaming cells.
+#include "probebake/bake/bake.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/core.h>
+#include <xxhash.h>
+
+#include "parallel.h"
+#include "placement.h"
+#include "relocation.h"
+#include "svo_builder.h"
+#include "probebake/bake/ray_scene.h"
+#include "probebake/bake/scene_sdf.h"
+#include "probebake/formats/cells.h"
+#include "probebake/formats/error.h"
+#include "probebake/formats/octree.h"
+
+namespace probebake::bake {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class StageTimer {
+public:
+  explicit StageTimer(BakeReport& report) : report_(report) {}
+  void stage(const std::string& name) {
+    const auto now = Clock::now();
+    if (!current_.empty()) report_.stages.push_back({current_, std::chrono::duration<double>(now - start_).count()});
+    current_ = name;
+    start_ = now;
+  }
+
+private:
+  BakeReport& report_;
+  std::string current_;
+  Clock::time_point start_;
+};
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw Error(ErrorKind::usage, message);
+}
+
+// The root cube: the scene bounds' bounding cube, padded so that surfaces on the bounds are inside.
+gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
+  gpu::VolumeInfo info{};
+  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
+  const float largest = std::max({extent.x, extent.y, extent.z});
+  const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
+  info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
+  info.root_size = size;
+  info.placement = s.placement == Placement::octree ? gpu::PLACEMENT_OCTREE : gpu::PLACEMENT_GRID;
+  info.max_depth = s.placement == Placement::octree ? s.max_depth : 0;
+  info.svo_depth = s.svo_depth;
+  info.lattice = int(s.lattice);
+  info.surfels_per_probe = s.surfels_per_probe;
+  info.split_low = s.split_low;
+  info.split_high = s.split_high;
+  info.grid_resolution = s.placement == Placement::grid ? s.grid_resolution : 0;
+  return info;
+}
+
+float effective_clearance(const scene::Scene& scene, const BakeSettings& s) {
+  if (s.clearance > 0.0f) return s.clearance;
+  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
+  return 0.02f * std::max({extent.x, extent.y, extent.z, 1e-6f});
+}
+
+// Moves or frees every dead probe; grid probes without a valid position are freed too.
+void relocate_dead_probes(const detail::RelocationContext& ctx, std::vector<detail::PlacedProbe>& placed,
+                          formats::Octree& tree, int threads, BakeReport& report) {
+  std::vector<std::size_t> dead;
+  for (std::size_t i = 0; i < placed.size(); ++i)
+    if (detail::is_dead(placed[i].rays, ctx.clearance)) dead.push_back(i);
+  std::vector<std::optional<glm::vec3>> moved(dead.size());
+  detail::parallel_for(dead.size(), threads, [&](std::size_t k) {
+    const auto& p = placed[dead[k]];
+    moved[k] = detail::relocate_probe(ctx, tree.volume().probes[std::size_t(p.probe)].position, p.rays, p.cube);
+  });
+  report.dead_probes = int(dead.size());
+  for (std::size_t k = 0; k < dead.size(); ++k) {
+    const int probe = placed[dead[k]].probe;
+    if (moved[k]) {
+      tree.volume().probes[std::size_t(probe)].position = *moved[k];
+      ++report.moved_probes;
+    } else {
+      tree.free_probe(probe);
+      ++report.freed_probes;
+    }
+  }
+}
+
+// Traces the final probe positions once more and stores their surfels in batch chains (for runtimes that
+// update lighting or placement of dynamic scenes).
+void store_surfels(const scene::RayScene& rays, const std::vector<glm::vec3>& directions,
+                   const std::vector<detail::PlacedProbe>& placed, formats::Octree& tree, int threads) {
+  std::vector<std::vector<gpu::Surfel>> surfels(placed.size());
+  detail::parallel_for(placed.size(), threads, [&](std::size_t i) {
+    const gpu::Probe& p = tree.volume().probes[std::size_t(placed[i].probe)];
+    if (p.link != 0) detail::trace_probe(rays, p.position, placed[i].cube, directions, &surfels[i]);
+  });
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const int probe = placed[i].probe;
+    if (tree.volume().probes[std::size_t(probe)].link == 0) continue; // freed as dead
+    for (std::size_t first = 0; first < surfels[i].size(); first += gpu::SURFELS_PER_BATCH) {
+      const int batch = tree.append_surfel_batch(probe);
+      gpu::SurfelBatch& b = tree.volume().surfel_batches[std::size_t(batch)];
+      b.first = int(first);
+      b.count = int(std::min<std::size_t>(gpu::SURFELS_PER_BATCH, surfels[i].size() - first));
+      for (int k = 0; k < b.count; ++k) b.surfels[k] = surfels[i][first + std::size_t(k)];
+    }
+  }
+}
+
+void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
+  report.depth_histogram.assign(std::size_t(std::max(v.info.max_depth, 0) + 1), 0);
+  for (const gpu::Probe& p : v.probes) {
+    if (p.link == 0) continue;
+    ++report.probes;
+    if (p.depth >= 0 && std::size_t(p.depth) < report.depth_histogram.size()) ++report.depth_histogram[std::size_t(p.depth)];
+  }
+  formats::for_each_leaf(v, [&](const formats::NodeCube&) { ++report.leaves; });
+  report.svo_nodes = int(v.svo_nodes.size());
+  report.svo_leaves = int(v.svo_leaves.size());
+}
+
+} // namespace
+
+void check_settings(const BakeSettings& s) {
+  require(s.max_depth >= 0 && s.max_depth <= gpu::OCTREE_MAX_DEPTH, fmt::format("--max-depth must be in [0, {}]", gpu::OCTREE_MAX_DEPTH));
+  require(s.surfels_per_probe >= 1 && s.surfels_per_probe <= 65536, "--surfels must be in [1, 65536]");
+  require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
+              s.split_high <= 1.0f,
+          "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
+  require(s.grid_resolution >= 1 && s.grid_resolution <= 256, "--grid must be in [1, 256]");
+  require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
+  require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
+  require(s.threads >= 0, "--threads must be >= 0");
+  require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
+}
+
+std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) {
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  auto add = [&](const void* data, std::size_t size) { XXH3_64bits_update(state, data, size); };
+  add(scene.positions.data(), scene.positions.size() * sizeof(glm::vec3));
+  add(scene.triangles.data(), scene.triangles.size() * sizeof(glm::uvec3));
+  add(scene.triangle_albedo.data(), scene.triangle_albedo.size() * sizeof(glm::vec3));
+  add(scene.triangle_emission.data(), scene.triangle_emission.size() * sizeof(glm::vec3));
+  for (const auto& l : scene.lights) {
+    const float values[] = {float(int(l.type)), l.color.x, l.color.y, l.color.z, l.intensity, l.position.x, l.position.y,
+                            l.position.z, l.direction.x, l.direction.y, l.direction.z, l.range, l.inner_cone_angle,
+                            l.outer_cone_angle};
+    add(values, sizeof(values));
+  }
+  const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
+                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth};
+  const float floats[] = {s.split_low, s.split_high, s.clearance};
+  add(ints, sizeof(ints));
+  add(floats, sizeof(floats));
+  const std::uint64_t hash = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  return hash;
+}
+
+BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress) {
+  check_settings(settings);
+  BakeResult result;
+  BakeReport& report = result.report;
+  StageTimer timer(report);
+
+  timer.stage("bvh");
+  const scene::RayScene rays(scene);
+  report.clearance = effective_clearance(scene, settings);
+  formats::ProbeVolume& volume = result.volume;
+  volume = formats::make_empty_volume(volume_info(scene, settings));
+  formats::Octree tree(volume);
+  detail::PlacementInput input{&rays, &settings, lattice_directions(settings.lattice, settings.surfels_per_probe)};
+
+  timer.stage("place");
+  std::vector<detail::PlacedProbe> placed = settings.placement == Placement::octree
+                                                ? detail::place_octree(input, tree, progress)
+                                                : detail::place_grid(input, tree, scene.bounds);
+
+  // The SDF is built only when some probe needs relocating: most clean scenes never pay for it.
+  const bool any_dead = std::any_of(placed.begin(), placed.end(),
+                                    [&](const detail::PlacedProbe& p) { return detail::is_dead(p.rays, report.clearance); });
+  if (any_dead) {
+    timer.stage("sdf");
+    const SceneSdf sdf(scene);
+    timer.stage("relocate");
+    if (progress) progress("relocate", 0.0);
+    const detail::RelocationContext ctx{&rays, &sdf, input.directions, report.clearance};
+    relocate_dead_probes(ctx, placed, tree, settings.threads, report);
+  }
+  if (settings.store_surfels) {
+    timer.stage("surfels");
+    store_surfels(rays, input.directions, placed, tree, settings.threads);
+  }
+
+  timer.stage("svo");
+  if (progress) progress("svo", 0.0);
+  const detail::SvoStats svo = detail::build_svo(rays, volume, settings.svo_depth, settings.threads);
+  (void)svo;
+
+  timer.stage("cells");
+  formats::sync_info_counts(volume);
+  formats::rebuild_probe_index(volume);
+  formats::arrange_cells(volume, settings.cell_depth);
+  volume.input_hash = bake_input_hash(scene, settings);
+  timer.stage("");
+  fill_report(volume, report);
+  return result;
+}
+
+} // namespace probebake::bake

@@ -1,0 +1,84 @@
+// Internals of the glTF loader, shared by its translation units (gltf_*.cpp). Not a public header.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <cmath>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "probebake/formats/error.h"
+
+namespace tinygltf {
+class Model;
+struct Primitive;
+struct Material;
+} // namespace tinygltf
+
+namespace probebake::scene {
+struct Material;
+}
+
+namespace probebake::scene::detail {
+
+template <int N>
+bool all_finite(const glm::vec<N, float>& v) {
+  for (int i = 0; i < N; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+// Where an error happened, for "<file>: <place>: <reason>" messages.
+struct Context {
+  std::string file;
+  std::vector<std::string>* warnings = nullptr; // where non-fatal problems go (Scene::warnings)
+  void warn(const std::string& message) const {
+    if (warnings != nullptr) warnings->push_back(message);
+  }
+  [[noreturn]] void fail(const std::string& place, const std::string& reason) const {
+    throw Error(ErrorKind::input, file + ": " + place + ": " + reason);
+  }
+};
+
+// Geometry of one triangle primitive in its mesh's local space.
+struct PrimitiveGeometry {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec2> texcoords[2]; // TEXCOORD_0, TEXCOORD_1 (empty when absent)
+  std::vector<std::uint32_t> indices;  // three per triangle, already expanded from strips and fans
+};
+
+// Reads an accessor as `components` floats per element (normalized integers mapped to [0,1] / [-1,1]),
+// sparse substitution applied. Every offset, stride and count is checked against its buffer.
+std::vector<float> read_accessor_floats(const tinygltf::Model& model, int accessor, int components,
+                                        const Context& ctx, const std::string& place);
+// Reads an index accessor (unsigned byte/short/int scalars).
+std::vector<std::uint32_t> read_accessor_indices(const tinygltf::Model& model, int accessor, const Context& ctx,
+                                                 const std::string& place);
+
+// Decodes a KHR_draco_mesh_compression primitive with Draco.
+PrimitiveGeometry decode_draco_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                                         const Context& ctx, const std::string& place);
+
+// Removes the index accessors of KHR_draco_mesh_compression primitives from a .gltf/.glb in memory
+// (tinygltf refuses them before decoding; the indices come from the Draco bitstream). Returns whether
+// anything changed.
+bool prepare_draco_for_tinygltf(std::vector<unsigned char>& bytes, bool is_glb, const Context& ctx);
+
+// Reads a plain (uncompressed) primitive.
+PrimitiveGeometry read_plain_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                                       const Context& ctx, const std::string& place);
+
+// Per-triangle averaged material colours of one primitive (texture lookups at 9 barycentric points).
+struct TriangleColors {
+  std::vector<glm::vec3> albedo;
+  std::vector<glm::vec3> emission;
+};
+scene::Material convert_material(const tinygltf::Model& model, int material, const Context& ctx);
+TriangleColors average_triangle_colors(const tinygltf::Model& model, int material_index,
+                                       const scene::Material& material, const PrimitiveGeometry& geometry,
+                                       const Context& ctx);
+
+} // namespace probebake::scene::detail

@@ -1,0 +1,34 @@
+// Probe placement: the adaptive octree of the octree thesis (§3.2.2 L1, run to convergence on the CPU)
+// and the uniform grid baseline. Both fill a ProbeVolume through formats::Octree.
+#pragma once
+
+#include <vector>
+
+#include "probe_tracing.h"
+#include "probebake/bake/bake.h"
+#include "probebake/formats/octree.h"
+
+namespace probebake::bake::detail {
+
+struct PlacementInput {
+  const scene::RayScene* rays = nullptr;
+  const BakeSettings* settings = nullptr;
+  std::vector<glm::vec3> directions; // the lattice
+};
+
+// A placed probe and the cube it must stay in (its octree node, or its grid cell).
+struct PlacedProbe {
+  int probe = 0;
+  Cube cube;
+  ProbeRays rays;
+};
+
+// Octree: starts from the root leaf; each leaf gets a probe at its centre whose hit fraction f decides:
+// f < split_low frees the probe, f >= split_high below max_depth splits the node, otherwise it stays.
+// Newly created children are evaluated in the next round until nothing changes.
+std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress);
+
+// Grid: N^3 probes at the cell centres of the scene bounds (node -1, depth 0).
+std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+
+} // namespace probebake::bake::detail

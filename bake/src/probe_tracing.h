@@ -1,0 +1,48 @@
+// Tracing a probe's lattice: the measurements that drive placement (hit fraction inside the node cube,
+// octree thesis §3.2.2 L1) and dead-probe detection (back-face fraction, DDGI relocation paper §3.1).
+#pragma once
+
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "probebake/bake/ray_scene.h"
+#include "probebake/gpu_types.h"
+
+namespace probebake::bake::detail {
+
+struct Cube {
+  glm::vec3 min{0.0f};
+  float size = 0.0f;
+  glm::vec3 centre() const { return min + glm::vec3(0.5f * size); }
+  bool contains(glm::vec3 p, float inset = 0.0f) const;
+  // Distance from `inside` along unit `direction` to the cube's boundary.
+  float exit_distance(glm::vec3 inside, glm::vec3 direction) const;
+};
+
+struct ProbeRays {
+  int rays = 0;
+  int hits_in_cube = 0;  // hits no farther than the cube boundary
+  int hits = 0;          // hits at any distance
+  int backface_hits = 0; // of `hits`
+  float nearest = std::numeric_limits<float>::infinity(); // distance to the nearest hit
+  glm::vec3 nearest_point{0.0f};
+  glm::vec3 nearest_normal{0.0f}; // front-face normal of the nearest hit
+  bool nearest_backface = false;
+
+  float hit_fraction() const { return rays > 0 ? float(hits_in_cube) / float(rays) : 0.0f; }
+  float backface_fraction() const { return hits > 0 ? float(backface_hits) / float(hits) : 0.0f; }
+};
+
+// Traces one ray per direction from `position`. When `surfels` is given, it receives one surfel per
+// direction (hits inside the cube flagged SURFEL_FLAG_HIT; misses end at the cube boundary).
+ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cube& cube,
+                      std::span<const glm::vec3> directions, std::vector<gpu::Surfel>* surfels = nullptr);
+
+// A probe is dead when most of its rays hit back faces (it is inside geometry) or a surface is closer
+// than the clearance.
+bool is_dead(const ProbeRays& r, float clearance);
+
+} // namespace probebake::bake::detail

@@ -1,0 +1,134 @@
+// `probebake bake SCENE` (also `probebake SCENE`): bake probes and write a .probes file.
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "probebake/bake/bake.h"
+#include "probebake/formats/error.h"
+#include "probebake/formats/probes_file.h"
+
+namespace probebake::cli {
+namespace {
+
+struct BakeCommandSettings {
+  std::string scene;
+  std::string output;
+  std::string placement = "octree";
+  std::string lattice = "fibonacci";
+  std::vector<float> split_range;
+  bool json = false;
+  bake::BakeSettings bake;
+};
+
+nlohmann::json report_json(const bake::BakeReport& r, const std::string& output, std::size_t bytes,
+                           const formats::ProbeVolume& v) {
+  nlohmann::json j;
+  j["output"] = output;
+  j["bytes"] = bytes;
+  j["probes"] = r.probes;
+  j["leaves"] = r.leaves;
+  j["depth_histogram"] = r.depth_histogram;
+  j["dead_probes"] = r.dead_probes;
+  j["moved_probes"] = r.moved_probes;
+  j["freed_probes"] = r.freed_probes;
+  j["clearance"] = r.clearance;
+  j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves},
+              {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
+  j["sections"] = {{"octree", v.octree.size() * 4},
+                   {"probes", v.probes.size() * sizeof(gpu::Probe)},
+                   {"surfel_batches", v.surfel_batches.size() * sizeof(gpu::SurfelBatch)},
+                   {"probe_index", v.probe_index.size() * 4},
+                   {"svo_nodes", v.svo_nodes.size() * 4},
+                   {"svo_leaves", v.svo_leaves.size() * sizeof(gpu::SvoLeaf)},
+                   {"cells", v.cells.size() * sizeof(formats::Cell)}};
+  j["stages"] = nlohmann::json::object();
+  double total = 0.0;
+  for (const auto& s : r.stages) {
+    j["stages"][s.stage] = s.seconds;
+    total += s.seconds;
+  }
+  j["seconds"] = total;
+  return j;
+}
+
+void print_report(const nlohmann::json& j) {
+  fmt::print("wrote        {} ({} bytes)\n", j["output"].get<std::string>(), j["bytes"].get<std::size_t>());
+  fmt::print("probes       {} in {} leaves\n", j["probes"].get<int>(), j["leaves"].get<int>());
+  std::string histogram;
+  const auto depths = j["depth_histogram"].get<std::vector<int>>();
+  for (std::size_t d = 0; d < depths.size(); ++d) histogram += fmt::format(" d{}:{}", d, depths[d]);
+  fmt::print("depths      {}\n", histogram);
+  fmt::print("dead probes  {} ({} moved, {} freed; clearance {:.4g})\n", j["dead_probes"].get<int>(),
+             j["moved_probes"].get<int>(), j["freed_probes"].get<int>(), j["clearance"].get<float>());
+  fmt::print("svo          {} nodes, {} leaves, {} bytes\n", j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(),
+             j["svo"]["bytes"].get<std::size_t>());
+  fmt::print("sections    ");
+  for (const auto& [name, bytes] : j["sections"].items())
+    if (bytes.get<std::size_t>() > 0) fmt::print(" {}:{}", name, bytes.get<std::size_t>());
+  fmt::print("\nstages      ");
+  for (const auto& [name, seconds] : j["stages"].items()) fmt::print(" {}:{:.3f}s", name, seconds.get<double>());
+  fmt::print("\ntotal        {:.3f} s\n", j["seconds"].get<double>());
+}
+
+std::string default_output(const std::string& scene) {
+  std::filesystem::path p(scene);
+  return (p.parent_path() / p.stem()).string() + ".probes";
+}
+
+int run_bake(BakeCommandSettings& s) {
+  s.bake.placement = s.placement == "grid" ? bake::Placement::grid : bake::Placement::octree;
+  s.bake.lattice = *bake::parse_lattice(s.lattice);
+  if (!s.split_range.empty()) {
+    s.bake.split_low = s.split_range[0];
+    s.bake.split_high = s.split_range[1];
+  }
+  bake::check_settings(s.bake); // usage errors before any work
+  const scene::Scene scene = scene::load_scene(s.scene, {.require_triangles = true});
+  for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
+  const bool tty = isatty(STDERR_FILENO) != 0 && !s.json;
+  bake::ProgressCallback progress;
+  if (tty)
+    progress = [](const std::string& stage, double fraction) {
+      fmt::print(stderr, "\r{:<10} {:3.0f}%", stage, 100.0 * fraction);
+      std::fflush(stderr);
+    };
+  const bake::BakeResult result = bake::bake(scene, s.bake, progress);
+  if (tty) fmt::print(stderr, "\r{:<20}\r", "");
+  const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
+  formats::write_probes_file(output, result.volume);
+  const auto bytes = std::filesystem::file_size(output);
+  const nlohmann::json report = report_json(result.report, output, bytes, result.volume);
+  if (s.json) std::puts(report.dump(2).c_str());
+  else print_report(report);
+  return 0;
+}
+
+} // namespace
+
+Command add_bake_command(CLI::App& root) {
+  auto s = std::make_shared<BakeCommandSettings>();
+  CLI::App* app = root.add_subcommand("bake", "Bake probes for a glTF scene into a .probes file (default command)");
+  app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
+  app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
+  app->add_option("--placement", s->placement, "Probe placement")->check(CLI::IsMember({"octree", "grid"}));
+  app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
+  app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
+  app->add_option("--lattice", s->lattice, "Spherical lattice")->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));
+  app->add_option("--split-range", s->split_range, "LOW,HIGH hit fractions: free below LOW, split at HIGH")
+      ->delimiter(',')->expected(2);
+  app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
+  app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");
+  app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");
+  app->add_option("--threads", s->bake.threads, "Worker threads (0 = all cores); output does not depend on it");
+  app->add_option("--cell-depth", s->bake.cell_depth, "Streaming cells: (2^N)^3 grid");
+  app->add_flag("--surfels-out", s->bake.store_surfels, "Also store surfel batches (for dynamic runtime updates)");
+  app->add_flag("--json", s->json, "Print the report as JSON");
+  return {app, [s] { return run_bake(*s); }};
+}
+
+} // namespace probebake::cli

@@ -1,0 +1,141 @@
+// `probebake info FILE.probes`: what a baked file holds (sections and bytes, counts, depth histogram,
+// cells, bake settings), as text or JSON.
+#include "info_probes.h"
+
+#include <cstdio>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "probebake/formats/container.h"
+#include "probebake/formats/probes_file.h"
+#include "probebake/formats/volume_stats.h"
+
+namespace probebake::cli {
+namespace {
+
+struct ProbesInfo {
+  std::string path;
+  std::size_t file_size = 0;
+  formats::ContainerView container;
+  formats::ProbeVolume volume;
+  formats::VolumeStats stats;
+};
+
+const char* placement_name(int placement) { return placement == gpu::PLACEMENT_GRID ? "grid" : "octree"; }
+
+const char* lattice_name(int lattice) {
+  switch (lattice) {
+  case gpu::LATTICE_LATLONG: return "latlong";
+  case gpu::LATTICE_EQUAL_AREA: return "equal-area";
+  default: return "fibonacci";
+  }
+}
+
+nlohmann::json vec_json(const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+nlohmann::json range_json(const formats::CellRange& r) {
+  return {{"first", r.first}, {"count", r.count}, {"byte_offset", r.byte_offset}, {"bytes", r.byte_size}};
+}
+
+nlohmann::json settings_json(const gpu::VolumeInfo& info) {
+  return {{"placement", placement_name(info.placement)}, {"root_min", vec_json(info.root_min)},
+          {"root_size", info.root_size},                 {"max_depth", info.max_depth},
+          {"svo_depth", info.svo_depth},                 {"lattice", lattice_name(info.lattice)},
+          {"surfels_per_probe", info.surfels_per_probe}, {"split_low", info.split_low},
+          {"split_high", info.split_high},               {"grid_resolution", info.grid_resolution}};
+}
+
+nlohmann::json info_json(const ProbesInfo& in) {
+  const formats::ProbeVolume& v = in.volume;
+  nlohmann::json sections = nlohmann::json::array();
+  for (const formats::SectionEntry& e : in.container.sections) {
+    sections.push_back({{"name", formats::section_name(e.type)}, {"type", e.type}, {"offset", e.offset}, {"bytes", e.size},
+                        {"element_size", e.element_size}, {"elements", e.element_count},
+                        {"required", (e.flags & formats::kSectionRequired) != 0}});
+  }
+  nlohmann::json cells = nlohmann::json::array();
+  for (const formats::Cell& c : v.cells) {
+    cells.push_back({{"index", c.cell_index}, {"bounds_min", vec_json(c.bounds_min)}, {"bounds_max", vec_json(c.bounds_max)},
+                     {"root_node", c.root_node}, {"probes", range_json(c.probes)},
+                     {"surfel_batches", range_json(c.surfel_batches)}, {"svo_leaves", range_json(c.svo_leaves)}});
+  }
+  const formats::FileHeader& h = in.container.header;
+  return {{"file", in.path},
+          {"format_version", fmt::format("{}.{}", h.version_major, h.version_minor)},
+          {"file_size", in.file_size},
+          {"input_hash", fmt::format("{:016x}", h.input_hash)},
+          {"settings", settings_json(v.info)},
+          {"probes", in.stats.probes},
+          {"probe_capacity", v.probes.size()},
+          {"nodes", in.stats.nodes},
+          {"leaves", in.stats.leaves},
+          {"clusters", in.stats.clusters},
+          {"octree_elements", v.octree.size()},
+          {"max_depth", in.stats.max_depth},
+          {"depth_histogram", in.stats.probes_per_depth},
+          {"surfel_batches", in.stats.surfel_batches},
+          {"batch_capacity", v.surfel_batches.size()},
+          {"surfels", in.stats.surfels},
+          {"svo", {{"nodes", v.svo_nodes.size()}, {"leaf_voxels", in.stats.svo_leaf_voxels}, {"payloads", v.svo_leaves.size()}}},
+          {"leaf_queue", v.leaf_entries.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json{{"segment_capacity", v.leaf_header.segment_capacity},
+                                                                 {"pull_origin", v.leaf_header.pull_origin},
+                                                                 {"counts", v.leaf_header.count}}},
+          {"sections", sections},
+          {"cell_depth", v.cell_depth},
+          {"cells", cells}};
+}
+
+void print_text(const ProbesInfo& in) {
+  const formats::ProbeVolume& v = in.volume;
+  const gpu::VolumeInfo& s = v.info;
+  const formats::FileHeader& h = in.container.header;
+  fmt::print("file         {} (.probes {}.{}, {} bytes, input hash {:016x})\n", in.path, h.version_major, h.version_minor,
+             in.file_size, h.input_hash);
+  fmt::print("placement    {}, root ({:.4g}, {:.4g}, {:.4g}) size {:.4g}, max depth {}, svo depth {}\n", placement_name(s.placement),
+             s.root_min.x, s.root_min.y, s.root_min.z, s.root_size, s.max_depth, s.svo_depth);
+  fmt::print("surfels      {} lattice, {} per probe, split below {:.4g} / at {:.4g}\n", lattice_name(s.lattice),
+             s.surfels_per_probe, s.split_low, s.split_high);
+  fmt::print("probes       {} of {} allocated\n", in.stats.probes, v.probes.size());
+  fmt::print("octree       {} nodes, {} leaves, {} clusters, max depth {}\n", in.stats.nodes, in.stats.leaves, in.stats.clusters,
+             in.stats.max_depth);
+  for (std::size_t depth = 0; depth < in.stats.probes_per_depth.size(); ++depth) {
+    fmt::print("  depth {:<2}   {} probes\n", depth, in.stats.probes_per_depth[depth]);
+  }
+  fmt::print("batches      {} of {} allocated, {} surfels\n", in.stats.surfel_batches, v.surfel_batches.size(), in.stats.surfels);
+  fmt::print("svo          {} nodes, {} leaf voxels, {} payloads\n", v.svo_nodes.size(), in.stats.svo_leaf_voxels, v.svo_leaves.size());
+  fmt::print("sections     {:<18} {:>10} {:>12} {:>10}\n", "name", "offset", "bytes", "elements");
+  for (const formats::SectionEntry& e : in.container.sections) {
+    fmt::print("             {:<18} {:>10} {:>12} {:>10}{}\n", formats::section_name(e.type), e.offset, e.size, e.element_count,
+               (e.flags & formats::kSectionRequired) != 0 ? "" : "  (optional)");
+  }
+  fmt::print("cells        {} (depth {})\n", v.cells.size(), v.cell_depth);
+  for (const formats::Cell& c : v.cells) {
+    fmt::print("  cell {:<5} root node {:<5} {} probes ({} B), {} batches ({} B), {} svo leaves ({} B)\n", c.cell_index, c.root_node,
+               c.probes.count, c.probes.byte_size, c.surfel_batches.count, c.surfel_batches.byte_size, c.svo_leaves.count,
+               c.svo_leaves.byte_size);
+  }
+}
+
+} // namespace
+
+int run_info_probes(const std::string& path, bool json) {
+  ProbesInfo in;
+  in.path = path;
+  const std::vector<std::uint8_t> bytes = formats::read_file_bytes(path);
+  in.file_size = bytes.size();
+  in.container = formats::parse_container(bytes, path, [](const std::string&, long long, const std::string& message) {
+    fmt::print(stderr, "probebake: warning: {} (run probebake validate)\n", message);
+  });
+  in.volume = formats::decode_probes(in.container, path);
+  in.stats = formats::compute_stats(in.volume);
+  if (json) {
+    std::puts(info_json(in).dump(2).c_str());
+  } else {
+    print_text(in);
+  }
+  return 0;
+}
+
+} // namespace probebake::cli

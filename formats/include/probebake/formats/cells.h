@@ -1,0 +1,56 @@
+// Streaming cells: the root cube is divided into a regular grid of n^3 cells, n = 2^cell_depth
+// (cell_depth 0: one cell; 1: up to 8). The bulky per-element sections -- probes, surfel batches, SVO
+// leaf payloads -- are reordered so that each cell's elements are contiguous; a Cell record lists the
+// ranges, so a reader can load or drop one cell's byte ranges. The small global sections (volume info,
+// octree, probe index, leaf buffer, SVO nodes) are always loaded whole.
+//
+// Membership rules (the validator checks the same ones, through the same functions):
+//  - a probe belongs to the cell containing its position (cell_of_point);
+//  - a surfel batch belongs to the cell of its owning probe;
+//  - an SVO leaf payload belongs to the cell containing its voxel's minimum corner (exact integer math
+//    on voxel coordinates; voxels at or below the cell depth lie inside exactly one cell).
+// Free elements (and unreferenced SVO leaves) are placed after all cells and belong to none.
+// Only cells owning at least one element get a record; records are sorted by cell_index.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::formats {
+
+// Deepest supported cell grid: 32^3 cells.
+inline constexpr int kMaxCellDepth = 5;
+
+// Cells per axis for a cell depth (1 << depth).
+constexpr int cells_per_axis(int cell_depth) { return 1 << cell_depth; }
+
+// Linear index x + n * (y + n * z) of the cell containing `point`: per axis
+// floor((p - root_min) / root_size * n) clamped to [0, n - 1] (non-finite coordinates map to 0).
+int cell_of_point(const gpu::VolumeInfo& info, int cell_depth, glm::vec3 point);
+
+// World-space bounds of cell `cell_index`.
+void cell_bounds(const gpu::VolumeInfo& info, int cell_depth, int cell_index, glm::vec3& min, glm::vec3& max);
+
+// The octree node whose cube is exactly the cell, or -1 (see Cell::root_node). Assumes a valid octree.
+int cell_root_node(const ProbeVolume& volume, int cell_depth, int cell_index);
+
+// Cell of every SVO leaf payload (-1 for a payload no voxel references), by walking the SVO.
+// Throws Error(input) when the SVO is not a tree.
+std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth);
+
+// Reorders probes, surfel batches and SVO leaves by cell (stable: original order inside a cell), remaps
+// every link (octree probe links, probe <-> batch links, SVO payload and probe indices), rebuilds the
+// probe index, sets volume.cell_depth and fills volume.cells. The leaf buffer is not affected (it holds
+// node indices). Precondition: the volume is valid (validate() clean); an Octree working on it must
+// rebuild_free_lists() afterwards. Throws Error(usage) for a cell_depth outside [0, kMaxCellDepth].
+void arrange_cells(ProbeVolume& volume, int cell_depth);
+
+// Removes the streaming index (cells empty, cell_depth 0); element order is kept.
+void clear_cells(ProbeVolume& volume);
+
+} // namespace probebake::formats

@@ -1,0 +1,121 @@
+// The .probes container: a fixed header, a section table, then aligned section payloads. Everything is
+// little-endian; payload bytes are exactly the GPU buffer bytes. docs/FORMAT.md is the specification
+// (its offset tables are checked against these structs by tests/formats/format_doc_test.cpp).
+//
+// This header is the container level only (no knowledge of what sections mean); probes_file.h maps a
+// ProbeVolume onto it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace probebake::formats {
+
+inline constexpr char kProbesMagic[8] = {'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'};
+
+// File header, at offset 0. 64 bytes in version 1.x; header_size lets a later minor version append
+// fields (a 1.0 reader skips them, and still covers them with the header checksum).
+struct FileHeader {
+  char magic[8];                  // offset  0: kProbesMagic
+  std::uint16_t version_major;    // offset  8: a reader refuses any other major
+  std::uint16_t version_minor;    // offset 10: compatible additions
+  std::uint32_t header_size;      // offset 12: bytes of this header, >= 64, multiple of 8
+  std::uint32_t required_features;// offset 16: feature bits a reader must understand (none in 1.0)
+  std::uint32_t section_count;    // offset 20: entries in the section table
+  std::uint32_t section_entry_size; // offset 24: bytes per section table entry (48 in 1.x)
+  std::uint32_t cell_depth;       // offset 28: streaming cell grid depth (see cells.h), 0 without cells
+  std::uint64_t input_hash;       // offset 32: hash of the bake inputs and settings
+  std::uint64_t file_size;        // offset 40: total bytes of the file
+  std::uint64_t reserved;         // offset 48: 0
+  std::uint64_t header_checksum;  // offset 56: XXH3-64 of header bytes [0, 56) ++ [64, header_size) ++ table
+};
+static_assert(sizeof(FileHeader) == 64);
+
+// One section table entry; the table follows the header (offset header_size).
+struct SectionEntry {
+  std::uint32_t type;             // offset  0: SectionType
+  std::uint32_t flags;            // offset  4: kSectionRequired | ...
+  std::uint64_t offset;           // offset  8: payload offset from the file start, multiple of alignment
+  std::uint64_t size;             // offset 16: payload bytes = element_size * element_count
+  std::uint32_t alignment;        // offset 24: power of two, 16..4096
+  std::uint32_t element_size;     // offset 28: bytes per element
+  std::uint64_t element_count;    // offset 32
+  std::uint64_t checksum;         // offset 40: XXH3-64 (seed 0) of the payload bytes
+};
+static_assert(sizeof(SectionEntry) == 48);
+
+// A reader that does not know a section's type skips it when this flag is clear and refuses the file
+// when it is set.
+inline constexpr std::uint32_t kSectionRequired = 1u;
+inline constexpr std::uint32_t kKnownSectionFlags = kSectionRequired;
+// Required-feature bits known to this reader (none are defined in 1.0).
+inline constexpr std::uint32_t kKnownRequiredFeatures = 0u;
+inline constexpr std::uint32_t kSectionAlignment = 16;
+inline constexpr std::uint32_t kMaxSectionAlignment = 4096;
+// Upper bound on table entries, so that a hostile count cannot make a reader loop long.
+inline constexpr std::uint32_t kMaxSections = 1024;
+
+enum class SectionType : std::uint32_t {
+  volume_info = 1,       // gpu::VolumeInfo x 1
+  octree = 2,            // int32 x info.octree_elements
+  probes = 3,            // gpu::Probe x info.probe_capacity
+  surfel_batches = 4,    // gpu::SurfelBatch x info.batch_capacity
+  leaf_queue_header = 5, // gpu::LeafQueueHeader x 1
+  leaf_entries = 6,      // gpu::LeafEntry x 3 * segment_capacity
+  probe_index = 7,       // int32 x (probe_capacity + 1)
+  svo_nodes = 8,         // int32 x info.svo_nodes
+  svo_leaves = 9,        // gpu::SvoLeaf x info.svo_leaves
+  cells = 10,            // Cell x cells (optional: a reader may load everything instead)
+};
+inline constexpr std::uint32_t kSectionTypeCount = 10;
+
+// "octree", "probes", ...; "section_<id>" for unknown types.
+std::string section_name(std::uint32_t type);
+
+// A section to write.
+struct SectionPayload {
+  std::uint32_t type = 0;
+  std::uint32_t flags = 0;
+  std::uint32_t element_size = 1;
+  std::uint64_t element_count = 0;
+  std::span<const std::uint8_t> bytes; // element_size * element_count bytes
+};
+
+struct ContainerHeaderFields {
+  std::uint32_t cell_depth = 0;
+  std::uint64_t input_hash = 0;
+};
+
+// Writes header, table and payloads (in the given order, each aligned to kSectionAlignment, padding
+// zero). Throws Error(internal) when a payload's size disagrees with element_size * element_count.
+std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields,
+                                          std::span<const SectionPayload> sections);
+
+// A parsed container: a view on the caller's bytes (they must outlive it).
+struct ContainerView {
+  FileHeader header{};
+  std::vector<SectionEntry> sections;                  // in table order
+  std::vector<std::span<const std::uint8_t>> payloads; // same order
+};
+
+// Called for a checksum mismatch: `section` is "header" or the section's name, `index` its table index
+// (-1 for the header). When no callback is given, a mismatch throws like every other problem.
+using ChecksumMismatch = std::function<void(const std::string& section, long long index, const std::string& message)>;
+
+// Parses and checks the container, cheap checks first: size >= header, magic, major version, header
+// size, required features, file size, table bounds, per-entry type/flags/alignment/bounds/overlap,
+// element sizes, zero padding outside payloads; then checksums (header, then every section, also unknown
+// ones). Throws Error(input, "<name>: <place>: <reason>"). Safe on any bytes: every field is checked
+// before it is used and no allocation is sized by an unchecked field.
+ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_view name,
+                              const ChecksumMismatch& on_checksum_mismatch = {});
+
+// XXH3-64 with seed 0, the checksum of every section and of the header.
+std::uint64_t checksum64(std::span<const std::uint8_t> bytes);
+
+} // namespace probebake::formats

@@ -1,0 +1,74 @@
+// The canonical in-memory model of a baked probe volume: one member per .probes section, each laid out
+// exactly as the GPU storage buffer it is copied into (shaders/include/probebake/gpu_types.h). The bake
+// fills it, the .probes reader and writer convert it to and from bytes, the runtime uploads it, and
+// validate() checks it, whether it came from a file or from a GPU read-back.
+//
+// Buffers follow the octree thesis §3.1.1-3.1.5 and the SVO of the non-uniform placement paper §4.1.
+// Streaming cells (Cell) are this project's addition, see cells.h and docs/FORMAT.md.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "probebake/gpu_types.h"
+
+namespace probebake::formats {
+
+// A range of elements of one section that belongs to one streaming cell. byte_offset is relative to the
+// start of the section's payload (first * element size); byte_size = count * element size.
+struct CellRange {
+  std::uint32_t first = 0;       // offset  0: index of the cell's first element in the section
+  std::uint32_t count = 0;       // offset  4: elements of the cell (contiguous)
+  std::uint64_t byte_offset = 0; // offset  8
+  std::uint64_t byte_size = 0;   // offset 16
+};                               // size 24
+
+// One streaming cell: a cube of the regular grid that divides the root cube into (2^cell_depth)^3 cells.
+// Only cells that own at least one element are stored, sorted by cell_index. See cells.h.
+struct Cell {
+  glm::vec3 bounds_min{0.0f};     // offset  0: world-space minimum corner of the cell cube
+  std::int32_t root_node = -1;    // offset 12: octree node whose cube is exactly this cell, or -1 when the
+                                  //            octree is not subdivided that deep there (a shallower leaf
+                                  //            covers the cell; find it with find_leaf)
+  glm::vec3 bounds_max{0.0f};     // offset 16: world-space maximum corner
+  std::int32_t cell_index = 0;    // offset 28: x + n * (y + n * z), n = 2^cell_depth
+  CellRange probes;               // offset 32: probes whose position lies in the cell
+  CellRange surfel_batches;       // offset 56: batches owned by those probes (chain order)
+  CellRange svo_leaves;           // offset 80: SVO leaf payloads of voxels inside the cell
+};                                // size 104
+
+static_assert(sizeof(CellRange) == 24 && sizeof(Cell) == 104);
+
+// Everything a .probes file holds. Vectors that a scene does not use stay empty and are not written
+// (static scenes: no surfel_batches; bakes without a runtime queue: no leaf buffer; no cells: no index).
+// Counts in `info` must equal the vector sizes (validate() reports count_mismatch otherwise).
+struct ProbeVolume {
+  gpu::VolumeInfo info{};
+  std::vector<std::int32_t> octree;               // info.octree_elements; [0] is the root
+  std::vector<gpu::Probe> probes;                 // info.probe_capacity
+  std::vector<gpu::SurfelBatch> surfel_batches;   // info.batch_capacity (0 for static scenes)
+  gpu::LeafQueueHeader leaf_header{};             // meaningful only when leaf_entries is not empty
+  std::vector<gpu::LeafEntry> leaf_entries;       // 3 * leaf_header.segment_capacity, or empty
+  std::vector<std::int32_t> probe_index;          // info.probe_capacity + 1 (see rebuild_probe_index)
+  std::vector<std::int32_t> svo_nodes;            // info.svo_nodes; [0] is the SVO root when not empty
+  std::vector<gpu::SvoLeaf> svo_leaves;           // info.svo_leaves
+  std::int32_t cell_depth = 0;                    // the cell grid is (2^cell_depth)^3; see cells.h
+  std::vector<Cell> cells;                        // streaming index, or empty (load everything)
+  std::uint64_t input_hash = 0;                   // hash of the bake's inputs and settings (given by it)
+};
+
+// A volume with a root-only octree (one leaf without probe) and every other buffer empty; `settings`
+// provides root cube, placement and bake parameters, its count fields are overwritten.
+ProbeVolume make_empty_volume(const gpu::VolumeInfo& settings);
+
+// Sets the count fields of volume.info from the vector sizes (octree, probes, batches, SVO).
+// Throws Error(internal) when a vector holds more than INT32_MAX elements.
+void sync_info_counts(ProbeVolume& volume);
+
+// Gives the volume a leaf buffer of three segments of `segment_capacity` zeroed entries, all counts 0,
+// pull origin 0.
+void init_leaf_queue(ProbeVolume& volume, int segment_capacity);
+
+} // namespace probebake::formats

@@ -1,0 +1,38 @@
+// Reading and writing .probes files: a ProbeVolume <-> the container of container.h, one section per
+// non-empty buffer. The format is specified in docs/FORMAT.md.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "probebake/formats/container.h"
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::formats {
+
+// Encodes the volume as .probes bytes. Only non-empty buffers get a section (volume info and octree
+// always do). Deterministic: the same volume gives the same bytes. Does not validate the volume.
+std::vector<std::uint8_t> write_probes(const ProbeVolume& volume);
+
+// Writes atomically: the bytes go to a temporary file in the same directory, are flushed to disk, and
+// the temporary file is renamed over `path`; on any failure it is removed and Error(output) thrown.
+void write_probes_file(const std::filesystem::path& path, const ProbeVolume& volume);
+
+// Decodes .probes bytes (untrusted) into a volume. Checks the container (parse_container, checksums
+// included) and the sections' element sizes and counts; unknown optional sections are skipped, unknown
+// required sections and features refused. It does not check the model's invariants: call validate().
+// Throws Error(input, "<name_for_errors>: <place>: <reason>").
+ProbeVolume read_probes(std::span<const std::uint8_t> bytes, std::string_view name_for_errors);
+
+// Sections of a parsed container -> volume (no checksum checks: parse_container does those). Used by
+// read_probes and by validate_file, which reports checksum mismatches instead of throwing.
+ProbeVolume decode_probes(const ContainerView& container, std::string_view name_for_errors);
+
+// Reads the whole file; Error(input) when it cannot be read.
+std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path);
+ProbeVolume read_probes_file(const std::filesystem::path& path);
+
+} // namespace probebake::formats

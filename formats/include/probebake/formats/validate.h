@@ -1,0 +1,65 @@
+// The validator: every invariant of the octree thesis §3.1.1-3.1.5 and of the SVO probe index (non-uniform
+// placement paper §4.1), plus counts, cells and finiteness. validate() works on a ProbeVolume, so the same
+// checks run on file contents and on buffers read back from the GPU runtime; validate_file() checks the
+// container first. Cheap structural checks run first, deep ones (traversals, per-element scans) after.
+//
+// Invariant ids are stable snake_case names (docs/FORMAT.md, "Validation"); tools and tests match on them.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::formats {
+
+struct Violation {
+  std::string invariant;   // e.g. "octree_cycle"
+  std::string section;     // "octree", "probes", ..., "header", "section_table", "container"
+  long long index = -1;    // element index inside the section, -1 when not about one element
+  std::string message;     // one line
+};
+
+struct ValidationReport {
+  std::string name;                  // file name or "volume"
+  bool readable = true;              // false: the bytes are not a .probes file we can decode
+  bool truncated = false;            // stopped at ValidateOptions::max_errors
+  std::vector<Violation> violations;
+  bool valid() const { return readable && violations.empty(); }
+};
+
+struct ValidateOptions {
+  std::size_t max_errors = 1000;     // stop after this many violations (0 = no limit)
+  float position_epsilon = 1e-4f;    // probe-in-cube tolerance, relative to the cube size
+  float weight_tolerance = 1e-4f;    // |sum of SVO weights - 1| allowed
+};
+
+ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& options = {});
+
+// Container checks (readable = false and a "container" violation when the bytes cannot be decoded;
+// "checksum" violations for mismatches), then validate() on the decoded volume.
+ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name,
+                               const ValidateOptions& options = {});
+
+// Every invariant id the validator can report, with a one-line description (docs/FORMAT.md lists the
+// same ids; a test keeps them in step).
+struct InvariantInfo {
+  const char* id;
+  const char* description;
+};
+std::span<const InvariantInfo> invariants();
+
+// "<section>[<index>]: <invariant>: <message>" (or "<section>: ..." without an index).
+std::string format_violation(const Violation& violation);
+
+// {"file", "valid", "readable", "truncated", "violation_count", "violations": [{"invariant", "section",
+// "index", "message"}]}
+nlohmann::json report_to_json(const ValidationReport& report);
+
+} // namespace probebake::formats

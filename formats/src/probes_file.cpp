@@ -1,0 +1,192 @@
+// ProbeVolume <-> .probes bytes (docs/FORMAT.md): one section per non-empty buffer, and atomic file
+// writing (temporary file in the target directory, fsync, rename).
+#include "probebake/formats/probes_file.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <system_error>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include "byte_io.h"
+#include "probebake/formats/error.h"
+#include "text.h"
+
+namespace probebake::formats {
+namespace {
+
+template <typename T>
+void add_section(std::vector<SectionPayload>& sections, SectionType type, std::uint32_t flags, const std::vector<T>& elements) {
+  if (elements.empty()) return; // only sections with data are written
+  sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), flags, sizeof(T), elements.size(), detail::as_bytes(elements)});
+}
+
+template <typename T>
+void add_single(std::vector<SectionPayload>& sections, SectionType type, const T& value) {
+  sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), kSectionRequired, sizeof(T), 1, detail::as_bytes(value)});
+}
+
+// Decodes one known section into `out`; element size and (for singletons) count are checked here.
+class SectionDecoder {
+public:
+  SectionDecoder(std::string_view name, const SectionEntry& entry, std::span<const std::uint8_t> payload)
+      : name_(name), entry_(entry), payload_(payload) {}
+
+  template <typename T>
+  std::vector<T> elements() const {
+    check_element_size(sizeof(T));
+    if (entry_.element_count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max())) {
+      fail(detail::concat(entry_.element_count, " elements (indices are int32)"));
+    }
+    return detail::elements_from<T>(payload_);
+  }
+
+  template <typename T>
+  T single() const {
+    check_element_size(sizeof(T));
+    if (entry_.element_count != 1) fail(detail::concat(entry_.element_count, " elements, expected 1"));
+    return detail::value_from<T>(payload_);
+  }
+
+private:
+  void check_element_size(std::size_t expected) const {
+    if (entry_.element_size != expected) fail(detail::concat("element size ", entry_.element_size, ", expected ", expected));
+  }
+  [[noreturn]] void fail(const std::string& reason) const {
+    throw Error(ErrorKind::input, detail::concat(name_, ": section '", section_name(entry_.type), "': ", reason));
+  }
+
+  std::string_view name_;
+  const SectionEntry& entry_;
+  std::span<const std::uint8_t> payload_;
+};
+
+void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uint32_t type) {
+  switch (static_cast<SectionType>(type)) {
+  case SectionType::volume_info: volume.info = section.single<gpu::VolumeInfo>(); break;
+  case SectionType::octree: volume.octree = section.elements<std::int32_t>(); break;
+  case SectionType::probes: volume.probes = section.elements<gpu::Probe>(); break;
+  case SectionType::surfel_batches: volume.surfel_batches = section.elements<gpu::SurfelBatch>(); break;
+  case SectionType::leaf_queue_header: volume.leaf_header = section.single<gpu::LeafQueueHeader>(); break;
+  case SectionType::leaf_entries: volume.leaf_entries = section.elements<gpu::LeafEntry>(); break;
+  case SectionType::probe_index: volume.probe_index = section.elements<std::int32_t>(); break;
+  case SectionType::svo_nodes: volume.svo_nodes = section.elements<std::int32_t>(); break;
+  case SectionType::svo_leaves: volume.svo_leaves = section.elements<gpu::SvoLeaf>(); break;
+  case SectionType::cells: volume.cells = section.elements<Cell>(); break;
+  default: break; // unknown optional section (parse_container refused unknown required ones)
+  }
+}
+
+std::string errno_text() { return std::strerror(errno); }
+
+// Writes all bytes to a new file and flushes them to disk; false with errno set on failure.
+bool write_new_file(const std::string& path, std::span<const std::uint8_t> bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return false;
+  std::size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int saved = errno;
+      ::close(fd);
+      errno = saved;
+      return false;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    const int saved = errno;
+    ::close(fd);
+    errno = saved;
+    return false;
+  }
+  return ::close(fd) == 0;
+}
+
+std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
+  static std::atomic<unsigned> counter{0};
+  std::filesystem::path temporary = path;
+  temporary += detail::concat(".tmp.", ::getpid(), ".", counter++);
+  return temporary;
+}
+
+} // namespace
+
+std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
+  std::vector<SectionPayload> sections;
+  add_single(sections, SectionType::volume_info, volume.info);
+  add_section(sections, SectionType::octree, kSectionRequired, volume.octree);
+  add_section(sections, SectionType::probes, kSectionRequired, volume.probes);
+  add_section(sections, SectionType::surfel_batches, kSectionRequired, volume.surfel_batches);
+  if (!volume.leaf_entries.empty()) add_single(sections, SectionType::leaf_queue_header, volume.leaf_header);
+  add_section(sections, SectionType::leaf_entries, kSectionRequired, volume.leaf_entries);
+  add_section(sections, SectionType::probe_index, kSectionRequired, volume.probe_index);
+  add_section(sections, SectionType::svo_nodes, kSectionRequired, volume.svo_nodes);
+  add_section(sections, SectionType::svo_leaves, kSectionRequired, volume.svo_leaves);
+  add_section(sections, SectionType::cells, 0, volume.cells); // optional: a reader may load everything
+  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash};
+  return write_container(fields, sections);
+}
+
+void write_probes_file(const std::filesystem::path& path, const ProbeVolume& volume) {
+  const std::vector<std::uint8_t> bytes = write_probes(volume);
+  const std::filesystem::path temporary = temporary_path_for(path);
+  if (!write_new_file(temporary.string(), bytes)) {
+    const std::string reason = errno_text();
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw Error(ErrorKind::output, path.string() + ": cannot write: " + reason);
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw Error(ErrorKind::output, path.string() + ": cannot replace: " + error.message());
+  }
+}
+
+ProbeVolume decode_probes(const ContainerView& container, std::string_view name) {
+  ProbeVolume volume;
+  bool has_info = false;
+  for (std::size_t i = 0; i < container.sections.size(); ++i) {
+    const SectionEntry& entry = container.sections[i];
+    decode_section(volume, SectionDecoder(name, entry, container.payloads[i]), entry.type);
+    has_info = has_info || entry.type == static_cast<std::uint32_t>(SectionType::volume_info);
+  }
+  if (!has_info) throw Error(ErrorKind::input, detail::concat(name, ": section_table: no volume_info section"));
+  volume.cell_depth = static_cast<std::int32_t>(std::min<std::uint32_t>(container.header.cell_depth, 1u << 30));
+  volume.input_hash = container.header.input_hash;
+  return volume;
+}
+
+ProbeVolume read_probes(std::span<const std::uint8_t> bytes, std::string_view name_for_errors) {
+  return decode_probes(parse_container(bytes, name_for_errors), name_for_errors);
+}
+
+std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) throw Error(ErrorKind::input, path.string() + ": cannot open: " + errno_text());
+  std::vector<std::uint8_t> bytes;
+  std::uint8_t buffer[1 << 16];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), file)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);
+  const bool failed = std::ferror(file) != 0;
+  std::fclose(file);
+  if (failed) throw Error(ErrorKind::input, path.string() + ": read error");
+  return bytes;
+}
+
+ProbeVolume read_probes_file(const std::filesystem::path& path) {
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path);
+  return read_probes(bytes, path.string());
+}
+
+} // namespace probebake::formats

@@ -1,0 +1,130 @@
+// The validator driver: runs the phases of validate_*.cpp cheap-first, stops at max_errors, and reports
+// in text and JSON. validate_file() checks the container first (NanoVDB-style: magic, version and sizes
+// before checksums, checksums before the model).
+#include "probebake/formats/validate.h"
+
+#include <nlohmann/json.hpp>
+
+#include "probebake/formats/container.h"
+#include "probebake/formats/error.h"
+#include "probebake/formats/probes_file.h"
+#include "validate_internal.h"
+
+namespace probebake::formats {
+namespace {
+
+void run_phases(const ProbeVolume& volume, detail::Reporter& out) {
+  try {
+    detail::check_volume_info(volume, out);
+    detail::check_counts(volume, out);
+    detail::check_finite(volume, out);
+    const detail::OctreeFacts octree = detail::check_octree(volume, out);
+    detail::check_probes(volume, octree, out);
+    detail::check_surfel_batches(volume, out);
+    detail::check_probe_index(volume, out);
+    detail::check_leaf_queue(volume, octree, out);
+    detail::check_svo(volume, out);
+    detail::check_cells(volume, octree, out);
+  } catch (const detail::StopValidation&) {
+    // max_errors reached; the report says truncated
+  }
+}
+
+constexpr InvariantInfo kInvariants[] = {
+    {"container", "the bytes are not a readable .probes container (magic, version, sizes, table)"},
+    {"checksum", "a section's or the header's XXH3-64 checksum does not match"},
+    {"volume_info", "VolumeInfo settings in range (root size, placement, depths, lattice, thresholds, padding)"},
+    {"cell_depth", "the cell grid depth is within [0, kMaxCellDepth]"},
+    {"count_mismatch", "VolumeInfo counts equal the buffer sizes; probe index = capacity + 1; leaf buffer = 3 segments"},
+    {"non_finite", "every float is finite"},
+    {"octree_root", "the octree buffer holds the root at index 0"},
+    {"incomplete_cluster_used", "the incomplete trailing cluster is all zero and never a child"},
+    {"grid_octree", "grid placement: the octree is a single probe-less root"},
+    {"free_not_zeroed", "free clusters, probes, batches and SVO payloads have zeroed links"},
+    {"node_sign", "meta elements are never positive"},
+    {"meta_parent_mismatch", "a meta element holds ~parent, and that parent points back at the cluster"},
+    {"octree_child_range", "a parent's value is the meta index of a cluster inside the buffer"},
+    {"octree_two_parents", "no cluster is the child of two nodes"},
+    {"octree_cycle", "no cluster is a descendant of itself"},
+    {"octree_unreachable", "every allocated cluster is reachable from the root"},
+    {"octree_too_deep", "no node is deeper than info.max_depth"},
+    {"probe_leaf_link", "probe <-> leaf links are one-to-one and the probe's node field links back (-1 for grid probes)"},
+    {"probe_depth_mismatch", "a probe's depth equals its node's depth (0 for grid probes)"},
+    {"probe_outside_node", "a probe lies inside its node's cube (relative epsilon)"},
+    {"batch_link", "surfel chain links point at allocated batches in range"},
+    {"batch_chain_endless", "a surfel chain ends (no loop)"},
+    {"batch_shared", "no batch is in two chains"},
+    {"batch_owner", "a batch's probe field and its chain end's link name the owning probe"},
+    {"batch_count", "a batch holds 1..SURFELS_PER_BATCH surfels"},
+    {"batch_orphan", "every allocated batch is in its owner's chain"},
+    {"probe_index_list", "the probe index list is the allocated probes ascending, then negative values"},
+    {"leaf_queue_header", "pull origin in {0,1,2}, segment counts within capacity, padding zero"},
+    {"leaf_entry_node", "leaf buffer entries in use name leaf nodes of the octree"},
+    {"leaf_entry_state", "leaf buffer entries in use hold a LEAF_* state"},
+    {"leaf_entry_duplicate", "no node appears twice in one segment"},
+    {"svo_index_range", "SVO child blocks, payload indices and probe slots are in range"},
+    {"svo_tree", "SVO nodes form a tree: child blocks follow their parent, unshared, all non-empty nodes reachable"},
+    {"svo_leaf_shared", "no SVO payload is used by two voxels"},
+    {"svo_depth", "no SVO voxel is deeper than info.svo_depth"},
+    {"svo_freed_probe", "SVO payloads name allocated probes only"},
+    {"svo_weights", "SVO payloads: used slots first, at least one, weights >= 0 summing to 1, unused weights 0"},
+    {"cell_order", "cell records are sorted by strictly increasing cell index"},
+    {"cell_bounds", "a cell's index is in the grid and its bounds are the grid cell's"},
+    {"cell_root_node", "a cell's root node is the octree node covering exactly the cell, or -1"},
+    {"cell_range", "cell ranges lie inside their sections, ascend without overlap, bytes = elements x size"},
+    {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
+};
+
+} // namespace
+
+std::span<const InvariantInfo> invariants() { return kInvariants; }
+
+ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& options) {
+  ValidationReport report;
+  report.name = "volume";
+  detail::Reporter out(report, options);
+  run_phases(volume, out);
+  return report;
+}
+
+ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name, const ValidateOptions& options) {
+  ValidationReport report;
+  report.name = std::string(name);
+  detail::Reporter out(report, options);
+  ProbeVolume volume;
+  try {
+    const ContainerView container = parse_container(bytes, name, [&](const std::string& section, long long index, const std::string& message) {
+      out.add("checksum", section, index, message);
+    });
+    volume = decode_probes(container, name);
+  } catch (const detail::StopValidation&) {
+    return report;
+  } catch (const Error& error) {
+    report.readable = false;
+    report.violations.push_back(Violation{"container", "container", -1, error.what()});
+    return report;
+  }
+  run_phases(volume, out);
+  return report;
+}
+
+std::string format_violation(const Violation& violation) {
+  std::string place = violation.section;
+  if (violation.index >= 0) place += "[" + std::to_string(violation.index) + "]";
+  return place + ": " + violation.invariant + ": " + violation.message;
+}
+
+nlohmann::json report_to_json(const ValidationReport& report) {
+  nlohmann::json violations = nlohmann::json::array();
+  for (const Violation& v : report.violations) {
+    violations.push_back({{"invariant", v.invariant}, {"section", v.section}, {"index", v.index}, {"message", v.message}});
+  }
+  return {{"file", report.name},
+          {"valid", report.valid()},
+          {"readable", report.readable},
+          {"truncated", report.truncated},
+          {"violation_count", report.violations.size()},
+          {"violations", violations}};
+}
+
+} // namespace probebake::formats

@@ -1,0 +1,57 @@
+// Shared pieces of the validator phases (validate_*.cpp): the violation sink and the facts the octree
+// phase establishes for the later ones.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "probebake/formats/octree.h"
+#include "probebake/formats/validate.h"
+
+namespace probebake::formats::detail {
+
+// Thrown by Reporter::add when max_errors is reached; caught by the validate() driver only.
+struct StopValidation {};
+
+class Reporter {
+public:
+  Reporter(ValidationReport& report, const ValidateOptions& options) : report_(report), options_(options) {}
+
+  void add(const std::string& invariant, const std::string& section, long long index, const std::string& message) {
+    report_.violations.push_back(Violation{invariant, section, index, message});
+    if (options_.max_errors != 0 && report_.violations.size() >= options_.max_errors) {
+      report_.truncated = true;
+      throw StopValidation{};
+    }
+  }
+  std::size_t count() const { return report_.violations.size(); }
+  const ValidateOptions& options() const { return options_; }
+
+private:
+  ValidationReport& report_;
+  const ValidateOptions& options_;
+};
+
+// What the octree phase learned: the cube of every node reachable from the root (node == -1 when the
+// node is not reachable) and whether the octree was free of violations.
+struct OctreeFacts {
+  std::vector<NodeCube> cubes;
+  bool clean = true;
+  bool reachable(int node) const {
+    return node >= 0 && static_cast<std::size_t>(node) < cubes.size() && cubes[node].node == node;
+  }
+};
+
+// Phases, in the order validate() runs them (cheap and structural first).
+void check_volume_info(const ProbeVolume& volume, Reporter& out);
+void check_counts(const ProbeVolume& volume, Reporter& out);
+void check_finite(const ProbeVolume& volume, Reporter& out);
+OctreeFacts check_octree(const ProbeVolume& volume, Reporter& out);
+void check_probes(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
+void check_surfel_batches(const ProbeVolume& volume, Reporter& out);
+void check_probe_index(const ProbeVolume& volume, Reporter& out);
+void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
+void check_svo(const ProbeVolume& volume, Reporter& out);
+void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
+
+} // namespace probebake::formats::detail

@@ -1,0 +1,135 @@
+// The probebake CLI on .probes files: `probebake validate` exit codes (0 valid, 1 invalid, 2 unreadable)
+// and JSON, and run_info_probes (cli/info_probes.cpp, linked in directly).
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "info_probes.h"
+#include "probebake/formats/probes_file.h"
+#include "sample_volumes.h"
+#include "test_bytes.h"
+
+namespace probebake::formats {
+namespace {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+RunResult run_cli(const std::string& arguments) {
+  const std::string command = std::string("'") + PROBEBAKE_CLI + "' " + arguments + " 2>/dev/null";
+  RunResult result;
+  std::FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+class CliValidate : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("probebake_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path write_bytes(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
+    const std::filesystem::path path = dir_ / name;
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    return path;
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(CliValidate, GoldenFileIsValid) {
+  const std::filesystem::path golden = testing::golden_path(testing::golden_name(testing::Sample::small));
+  const RunResult json = run_cli("validate --json " + quoted(golden));
+  EXPECT_EQ(json.exit_code, 0) << json.output;
+  EXPECT_TRUE(nlohmann::json::parse(json.output)["valid"].get<bool>());
+  const RunResult text = run_cli("validate " + quoted(golden));
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.output.find(": valid"), std::string::npos) << text.output;
+}
+
+TEST_F(CliValidate, BrokenTreeIsInvalidAndNamed) {
+  ProbeVolume volume = testing::make_sample(testing::Sample::small);
+  volume.octree[12] = 10; // a node pointing at its own ancestor cluster
+  const std::filesystem::path path = write_bytes("cycle.probes", write_probes(volume));
+  const RunResult json = run_cli("validate --json " + quoted(path));
+  EXPECT_EQ(json.exit_code, 1) << json.output;
+  const nlohmann::json report = nlohmann::json::parse(json.output);
+  EXPECT_FALSE(report["valid"].get<bool>());
+  EXPECT_EQ(report["violations"][0]["invariant"], "octree_cycle");
+  const RunResult text = run_cli("validate " + quoted(path));
+  EXPECT_EQ(text.exit_code, 1);
+  EXPECT_NE(text.output.find("octree[10]: octree_cycle"), std::string::npos) << text.output;
+}
+
+TEST_F(CliValidate, FlippedByteIsAChecksumViolation) {
+  std::vector<std::uint8_t> bytes = read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::small)));
+  bytes[bytes.size() - 3] ^= 0x10;
+  const RunResult json = run_cli("validate --json " + quoted(write_bytes("flipped.probes", bytes)));
+  EXPECT_EQ(json.exit_code, 1) << json.output;
+  EXPECT_EQ(nlohmann::json::parse(json.output)["violations"][0]["invariant"], "checksum");
+}
+
+TEST_F(CliValidate, MaxErrorsLimitsTheReport) {
+  ProbeVolume volume = testing::make_sample(testing::Sample::small);
+  for (gpu::Probe& probe : volume.probes) probe.pad0 = std::nanf("");
+  const RunResult json = run_cli("validate --json --max-errors 2 " + quoted(write_bytes("nan.probes", write_probes(volume))));
+  EXPECT_EQ(json.exit_code, 1);
+  const nlohmann::json report = nlohmann::json::parse(json.output);
+  EXPECT_EQ(report["violations"].size(), 2u);
+  EXPECT_TRUE(report["truncated"].get<bool>());
+}
+
+TEST_F(CliValidate, UnreadableFilesExitTwo) {
+  std::vector<std::uint8_t> truncated = read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::static_set)));
+  truncated.resize(truncated.size() / 2);
+  const std::vector<std::uint8_t> garbage = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 1, 2, 3};
+  for (const std::filesystem::path& path :
+       {write_bytes("truncated.probes", truncated), write_bytes("garbage.probes", garbage), dir_ / "missing.probes"}) {
+    const RunResult json = run_cli("validate --json " + quoted(path));
+    EXPECT_EQ(json.exit_code, 2) << path;
+    const nlohmann::json report = nlohmann::json::parse(json.output);
+    EXPECT_FALSE(report["readable"].get<bool>());
+    EXPECT_EQ(report["violations"][0]["invariant"], "container");
+    EXPECT_EQ(run_cli("validate " + quoted(path)).exit_code, 2);
+  }
+  EXPECT_EQ(run_cli("validate").exit_code, 1); // usage error: no file
+}
+
+TEST(InfoProbes, JsonHasCountsSectionsAndCells) {
+  const std::string golden = testing::golden_path(testing::golden_name(testing::Sample::small)).string();
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(cli::run_info_probes(golden, true), 0);
+  const nlohmann::json info = nlohmann::json::parse(::testing::internal::GetCapturedStdout());
+  EXPECT_EQ(info["probes"], 25);
+  EXPECT_EQ(info["nodes"], 33); // 29 leaves + 4 parents
+  EXPECT_EQ(info["max_depth"], 2);
+  EXPECT_EQ(info["depth_histogram"], nlohmann::json::array({0, 4, 21}));
+  EXPECT_EQ(info["sections"].size(), kSectionTypeCount);
+  EXPECT_EQ(info["sections"][0]["name"], "volume_info");
+  EXPECT_GE(info["cells"].size(), 2u);
+  EXPECT_EQ(info["settings"]["placement"], "octree");
+
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(cli::run_info_probes(golden, false), 0);
+  const std::string text = ::testing::internal::GetCapturedStdout();
+  EXPECT_NE(text.find("25 of 30 allocated"), std::string::npos) << text;
+}
+
+} // namespace
+} // namespace probebake::formats

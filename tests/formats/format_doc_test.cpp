@@ -1,0 +1,185 @@
+// docs/FORMAT.md cannot drift from the code: its `<!-- layout: X -->` tables must list every field of X
+// in order with the exact offsetof/sizeof, the section type table must match the writer, and the
+// invariant table must list exactly the validator's invariant ids.
+#include <cstddef>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "probebake/formats/cells.h"
+#include "probebake/formats/container.h"
+#include "probebake/formats/format_version.h"
+#include "probebake/formats/probes_file.h"
+#include "probebake/formats/validate.h"
+#include "sample_volumes.h"
+
+namespace probebake::formats {
+namespace {
+
+using Row = std::vector<std::string>;
+
+struct Field {
+  std::string name;
+  std::size_t offset;
+  std::size_t size;
+};
+
+struct Layout {
+  std::vector<Field> fields;
+  std::size_t size;
+};
+
+#define FIELD(T, f) Field{#f, offsetof(T, f), sizeof(T::f)}
+
+const std::map<std::string, Layout>& code_layouts() {
+  static const std::map<std::string, Layout> layouts = {
+      {"FileHeader", {{FIELD(FileHeader, magic), FIELD(FileHeader, version_major), FIELD(FileHeader, version_minor),
+                       FIELD(FileHeader, header_size), FIELD(FileHeader, required_features), FIELD(FileHeader, section_count),
+                       FIELD(FileHeader, section_entry_size), FIELD(FileHeader, cell_depth), FIELD(FileHeader, input_hash),
+                       FIELD(FileHeader, file_size), FIELD(FileHeader, reserved), FIELD(FileHeader, header_checksum)},
+                      sizeof(FileHeader)}},
+      {"SectionEntry", {{FIELD(SectionEntry, type), FIELD(SectionEntry, flags), FIELD(SectionEntry, offset), FIELD(SectionEntry, size),
+                         FIELD(SectionEntry, alignment), FIELD(SectionEntry, element_size), FIELD(SectionEntry, element_count),
+                         FIELD(SectionEntry, checksum)},
+                        sizeof(SectionEntry)}},
+      {"VolumeInfo", {{FIELD(gpu::VolumeInfo, root_min), FIELD(gpu::VolumeInfo, root_size), FIELD(gpu::VolumeInfo, placement),
+                       FIELD(gpu::VolumeInfo, max_depth), FIELD(gpu::VolumeInfo, svo_depth), FIELD(gpu::VolumeInfo, lattice),
+                       FIELD(gpu::VolumeInfo, surfels_per_probe), FIELD(gpu::VolumeInfo, split_low), FIELD(gpu::VolumeInfo, split_high),
+                       FIELD(gpu::VolumeInfo, grid_resolution), FIELD(gpu::VolumeInfo, probe_capacity),
+                       FIELD(gpu::VolumeInfo, batch_capacity), FIELD(gpu::VolumeInfo, octree_elements), FIELD(gpu::VolumeInfo, svo_nodes),
+                       FIELD(gpu::VolumeInfo, svo_leaves), FIELD(gpu::VolumeInfo, pad0), FIELD(gpu::VolumeInfo, pad1),
+                       FIELD(gpu::VolumeInfo, pad2)},
+                      sizeof(gpu::VolumeInfo)}},
+      {"Probe", {{FIELD(gpu::Probe, position), FIELD(gpu::Probe, link), FIELD(gpu::Probe, node), FIELD(gpu::Probe, depth),
+                  FIELD(gpu::Probe, hit_fraction), FIELD(gpu::Probe, backface_fraction), FIELD(gpu::Probe, irradiance_sh),
+                  FIELD(gpu::Probe, pad0)},
+                 sizeof(gpu::Probe)}},
+      {"Surfel", {{FIELD(gpu::Surfel, position), FIELD(gpu::Surfel, distance), FIELD(gpu::Surfel, normal), FIELD(gpu::Surfel, flags),
+                   FIELD(gpu::Surfel, albedo), FIELD(gpu::Surfel, pad0), FIELD(gpu::Surfel, radiance), FIELD(gpu::Surfel, pad1)},
+                  sizeof(gpu::Surfel)}},
+      {"SurfelBatch", {{FIELD(gpu::SurfelBatch, link), FIELD(gpu::SurfelBatch, probe), FIELD(gpu::SurfelBatch, count),
+                        FIELD(gpu::SurfelBatch, first), FIELD(gpu::SurfelBatch, surfels)},
+                       sizeof(gpu::SurfelBatch)}},
+      {"LeafQueueHeader", {{FIELD(gpu::LeafQueueHeader, pull_origin), FIELD(gpu::LeafQueueHeader, segment_capacity),
+                            FIELD(gpu::LeafQueueHeader, count), FIELD(gpu::LeafQueueHeader, pad0), FIELD(gpu::LeafQueueHeader, pad1),
+                            FIELD(gpu::LeafQueueHeader, pad2)},
+                           sizeof(gpu::LeafQueueHeader)}},
+      {"LeafEntry", {{FIELD(gpu::LeafEntry, node), FIELD(gpu::LeafEntry, state)}, sizeof(gpu::LeafEntry)}},
+      {"SvoLeaf", {{FIELD(gpu::SvoLeaf, probes), FIELD(gpu::SvoLeaf, weights)}, sizeof(gpu::SvoLeaf)}},
+      {"Cell", {{FIELD(Cell, bounds_min), FIELD(Cell, root_node), FIELD(Cell, bounds_max), FIELD(Cell, cell_index), FIELD(Cell, probes),
+                 FIELD(Cell, surfel_batches), FIELD(Cell, svo_leaves)},
+                sizeof(Cell)}},
+      {"CellRange", {{FIELD(CellRange, first), FIELD(CellRange, count), FIELD(CellRange, byte_offset), FIELD(CellRange, byte_size)},
+                     sizeof(CellRange)}},
+  };
+  return layouts;
+}
+
+std::string trim(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t`");
+  const auto last = text.find_last_not_of(" \t`");
+  return first == std::string::npos ? "" : text.substr(first, last - first + 1);
+}
+
+// Tables of docs/FORMAT.md keyed by the HTML comment above them ("layout: Probe", "invariants", ...);
+// header and separator rows dropped.
+std::map<std::string, std::vector<Row>> doc_tables() {
+  std::ifstream file(PROBEBAKE_FORMAT_DOC);
+  EXPECT_TRUE(file) << PROBEBAKE_FORMAT_DOC;
+  std::map<std::string, std::vector<Row>> tables;
+  std::string line, key;
+  int rows_seen = 0;
+  while (std::getline(file, line)) {
+    if (line.rfind("<!--", 0) == 0) {
+      key = trim(line.substr(4, line.find("-->") - 4));
+      rows_seen = 0;
+      tables[key];
+    } else if (!key.empty() && line.rfind("|", 0) == 0) {
+      if (rows_seen++ < 2) continue; // header and separator
+      Row row;
+      std::stringstream cells(line.substr(1));
+      std::string cell;
+      while (std::getline(cells, cell, '|')) row.push_back(trim(cell));
+      tables[key].push_back(row);
+    } else if (!key.empty() && rows_seen > 0) {
+      key.clear();
+    }
+  }
+  return tables;
+}
+
+TEST(FormatDoc, EveryLayoutTableMatchesTheCode) {
+  const auto tables = doc_tables();
+  for (const auto& [name, layout] : code_layouts()) {
+    const auto table = tables.find("layout: " + name);
+    ASSERT_NE(table, tables.end()) << "docs/FORMAT.md has no table for " << name;
+    ASSERT_EQ(table->second.size(), layout.fields.size()) << name;
+    std::size_t expected_offset = 0;
+    for (std::size_t i = 0; i < layout.fields.size(); ++i) {
+      const Row& row = table->second[i];
+      const Field& field = layout.fields[i];
+      ASSERT_GE(row.size(), 3u) << name;
+      EXPECT_EQ(row[0], field.name) << name;
+      EXPECT_EQ(std::stoul(row[1]), field.offset) << name << "." << field.name;
+      EXPECT_EQ(std::stoul(row[2]), field.size) << name << "." << field.name;
+      EXPECT_EQ(field.offset, expected_offset) << name << "." << field.name << ": the fields must tile the struct";
+      expected_offset = field.offset + field.size;
+    }
+    EXPECT_EQ(expected_offset, layout.size) << name;
+  }
+  for (const auto& [key, rows] : tables) {
+    if (key.rfind("layout: ", 0) == 0 && key != "layout: section_types") EXPECT_TRUE(code_layouts().count(key.substr(8))) << key;
+  }
+}
+
+TEST(FormatDoc, SectionTypesMatchTheWriter) {
+  const std::map<std::string, std::size_t> element_sizes = {
+      {"volume_info", sizeof(gpu::VolumeInfo)}, {"octree", 4},        {"probes", sizeof(gpu::Probe)},
+      {"surfel_batches", sizeof(gpu::SurfelBatch)}, {"leaf_queue_header", sizeof(gpu::LeafQueueHeader)},
+      {"leaf_entries", sizeof(gpu::LeafEntry)}, {"probe_index", 4},   {"svo_nodes", 4},
+      {"svo_leaves", sizeof(gpu::SvoLeaf)},     {"cells", sizeof(Cell)}};
+  const std::vector<Row> rows = doc_tables()["layout: section_types"];
+  ASSERT_EQ(rows.size(), kSectionTypeCount);
+  const ContainerView view = parse_container(write_probes(testing::make_sample(testing::Sample::small)), "small");
+  for (const Row& row : rows) {
+    const std::uint32_t id = static_cast<std::uint32_t>(std::stoul(row[1]));
+    EXPECT_EQ(section_name(id), row[0]);
+    EXPECT_EQ(std::stoul(row[2]), element_sizes.at(row[0])) << row[0];
+    bool written = false;
+    for (const SectionEntry& entry : view.sections) {
+      if (entry.type != id) continue;
+      written = true;
+      EXPECT_EQ(entry.element_size, std::stoul(row[2])) << row[0];
+      EXPECT_EQ((entry.flags & kSectionRequired) != 0, row[4] == "required") << row[0];
+    }
+    EXPECT_TRUE(written) << row[0];
+  }
+}
+
+TEST(FormatDoc, InvariantTableListsExactlyTheValidatorsIds) {
+  std::set<std::string> documented, registered;
+  for (const Row& row : doc_tables()["invariants"]) documented.insert(row[0]);
+  for (const InvariantInfo& info : invariants()) registered.insert(info.id);
+  EXPECT_EQ(documented, registered);
+}
+
+TEST(FormatDoc, ConstantsMatch) {
+  std::map<std::string, std::string> values;
+  for (const Row& row : doc_tables()["constants"]) values[row[0]] = row[1];
+  EXPECT_EQ(values["header size (1.x)"], std::to_string(sizeof(FileHeader)));
+  EXPECT_EQ(values["section entry size (1.x)"], std::to_string(sizeof(SectionEntry)));
+  EXPECT_EQ(values["section alignment written"], std::to_string(kSectionAlignment));
+  EXPECT_EQ(values["maximum section alignment"], std::to_string(kMaxSectionAlignment));
+  EXPECT_EQ(values["maximum section count"], std::to_string(kMaxSections));
+  EXPECT_EQ(values["REQUIRED flag"], std::to_string(kSectionRequired));
+  EXPECT_EQ(values["maximum cell depth"], std::to_string(kMaxCellDepth));
+  EXPECT_EQ(values["format major"], std::to_string(kFormatVersionMajor));
+  EXPECT_EQ(values["format minor"], std::to_string(kFormatVersionMinor));
+  EXPECT_EQ(values.size(), 9u);
+}
+
+} // namespace
+} // namespace probebake::formats

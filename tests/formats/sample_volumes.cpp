@@ -1,0 +1,190 @@
+// Deterministic sample volumes (see sample_volumes.h). Built with the library's own Octree and
+// arrange_cells, so a change in their behaviour shows up as a golden-file difference.
+#include "sample_volumes.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "probebake/formats/cells.h"
+#include "probebake/formats/octree.h"
+
+namespace probebake::formats::testing {
+namespace {
+
+constexpr std::uint64_t kSampleInputHash = 0x5eed0f00d15ea5e5ull;
+
+gpu::VolumeInfo sample_settings(int placement) {
+  gpu::VolumeInfo info{};
+  info.root_min = glm::vec3(-1.0f);
+  info.root_size = 4.0f;
+  info.placement = placement;
+  info.max_depth = 3;
+  info.svo_depth = placement == gpu::PLACEMENT_GRID ? 1 : 2;
+  info.lattice = gpu::LATTICE_FIBONACCI;
+  info.surfels_per_probe = 32;
+  info.split_low = 0.125f;
+  info.split_high = 0.625f;
+  info.grid_resolution = placement == gpu::PLACEMENT_GRID ? 2 : 0;
+  return info;
+}
+
+void fill_probe_data(gpu::Probe& probe, int index) {
+  probe.hit_fraction = 0.25f + 0.015625f * static_cast<float>(index % 16);
+  probe.backface_fraction = 0.0625f * static_cast<float>(index % 4);
+  for (int k = 0; k < 3 * gpu::PROBE_SH_COEFFS; ++k) {
+    probe.irradiance_sh[k] = 0.0078125f * static_cast<float>(k + 1) + 0.001953125f * static_cast<float>(index);
+  }
+}
+
+void fill_batch(gpu::SurfelBatch& batch, const gpu::Probe& probe, int index_in_chain, int probe_index) {
+  batch.count = index_in_chain == 0 ? gpu::SURFELS_PER_BATCH : 1 + probe_index % 7;
+  batch.first = gpu::SURFELS_PER_BATCH * index_in_chain;
+  for (int s = 0; s < batch.count; ++s) {
+    gpu::Surfel& surfel = batch.surfels[s];
+    const float f = static_cast<float>(s);
+    surfel.position = probe.position + glm::vec3(0.0625f * f, -0.03125f * f, 0.015625f);
+    surfel.distance = 0.125f * (f + 1.0f);
+    surfel.normal = glm::vec3(s % 3 == 0 ? 1.0f : 0.0f, s % 3 == 1 ? 1.0f : 0.0f, s % 3 == 2 ? 1.0f : 0.0f);
+    surfel.flags = gpu::SURFEL_FLAG_HIT | (s % 5 == 0 ? gpu::SURFEL_FLAG_BACKFACE : 0u);
+    surfel.albedo = glm::vec3(0.5f, 0.25f, 0.75f);
+    surfel.radiance = glm::vec3(0.001953125f * f, 0.5f, 0.25f);
+  }
+}
+
+std::vector<int> leaves_of(const ProbeVolume& volume) {
+  std::vector<int> leaves;
+  for_each_leaf(volume, [&](const NodeCube& leaf) { leaves.push_back(leaf.node); });
+  return leaves;
+}
+
+// Root split; children 0 (node 2), 7 (node 9) and 5 (node 7) split again; a cluster allocated for node 6
+// and collapsed again leaves a free cluster between allocated ones.
+void build_tree(Octree& tree) {
+  tree.reserve_clusters(5);
+  const int root_children = tree.split(gpu::OCTREE_ROOT);
+  tree.split(child_node(root_children, 0));
+  tree.split(child_node(root_children, 7));
+  tree.split(child_node(root_children, 4));
+  tree.split(child_node(root_children, 5));
+  tree.collapse(child_node(root_children, 4));
+}
+
+void build_probes(Octree& tree, bool with_surfels) {
+  const std::vector<int> leaves = leaves_of(tree.volume());
+  tree.reserve_probes(static_cast<int>(leaves.size()) + 1);
+  if (with_surfels) tree.reserve_batches(44);
+  std::vector<int> probes;
+  for (int leaf : leaves) {
+    const int probe = tree.place_probe(leaf);
+    fill_probe_data(tree.volume().probes[probe], probe);
+    probes.push_back(probe);
+    if (!with_surfels) continue;
+    for (int b = 0; b < 1 + probe % 2; ++b) {
+      const int batch = tree.append_surfel_batch(probe);
+      fill_batch(tree.volume().surfel_batches[batch], tree.volume().probes[probe], b, probe);
+    }
+  }
+  // Free a few probes (and their surfels) to leave holes and probe-less leaves.
+  for (int i : {1, 8, 17, 26}) tree.free_probe(probes[i]);
+}
+
+void build_leaf_queue(ProbeVolume& volume) {
+  const std::vector<int> leaves = leaves_of(volume);
+  init_leaf_queue(volume, 32);
+  volume.leaf_header.pull_origin = 1;
+  for (int e = 0; e < 6; ++e) volume.leaf_entries[e] = gpu::LeafEntry{leaves[e], gpu::LEAF_L2_LIGHT};
+  for (int e = 0; e < 3; ++e) volume.leaf_entries[32 + e] = gpu::LeafEntry{leaves[10 + e], gpu::LEAF_L1_PLACE_SURFELS};
+  volume.leaf_header.count[0] = 6;
+  volume.leaf_header.count[1] = 3;
+}
+
+// Payload for a voxel: the k nearest allocated probes (ties by index) with exact binary weights.
+gpu::SvoLeaf nearest_probes_payload(const ProbeVolume& volume, glm::vec3 centre, int k) {
+  std::vector<std::pair<float, int>> candidates;
+  for (std::size_t p = 0; p < volume.probes.size(); ++p) {
+    if (volume.probes[p].link == 0) continue;
+    const glm::vec3 d = volume.probes[p].position - centre;
+    candidates.emplace_back(d.x * d.x + d.y * d.y + d.z * d.z, static_cast<int>(p));
+  }
+  std::sort(candidates.begin(), candidates.end());
+  static constexpr float kWeights[4][4] = {{1.0f, 0, 0, 0}, {0.5f, 0.5f, 0, 0}, {0.5f, 0.25f, 0.25f, 0}, {0.25f, 0.25f, 0.25f, 0.25f}};
+  gpu::SvoLeaf leaf{glm::ivec4(-1), glm::vec4(0.0f)};
+  k = std::min<int>(k, static_cast<int>(candidates.size()));
+  for (int slot = 0; slot < k; ++slot) {
+    leaf.probes[slot] = candidates[slot].second;
+    leaf.weights[slot] = kWeights[k - 1][slot];
+  }
+  return leaf;
+}
+
+// SVO of depth 2 (depth 1 for the grid): which voxels are split, filled or empty is a fixed pattern.
+void build_svo(ProbeVolume& volume) {
+  const bool grid = volume.info.placement == gpu::PLACEMENT_GRID;
+  volume.svo_nodes.assign(9, 0);
+  volume.svo_nodes[0] = 1;
+  const NodeCube root = root_cube(volume.info);
+  auto add_leaf = [&](int node, const NodeCube& cube) {
+    const int k = 1 + static_cast<int>(volume.svo_leaves.size()) % 4;
+    volume.svo_leaves.push_back(nearest_probes_payload(volume, cube.centre(), grid ? 1 : k));
+    volume.svo_nodes[node] = ~static_cast<int>(volume.svo_leaves.size() - 1);
+  };
+  for (int octant = 0; octant < 8; ++octant) {
+    const NodeCube cube = child_cube(root, octant);
+    if (grid || octant == 1 || octant == 2 || octant == 4) {
+      add_leaf(1 + octant, cube);
+    } else if (octant == 0 || octant == 7) {
+      const int first = static_cast<int>(volume.svo_nodes.size());
+      volume.svo_nodes[1 + octant] = first;
+      volume.svo_nodes.resize(volume.svo_nodes.size() + 8, 0);
+      for (int sub = 0; sub < 8; sub += 2) add_leaf(first + sub, child_cube(cube, sub));
+    }
+  }
+  if (!grid) volume.svo_leaves.push_back(gpu::SvoLeaf{glm::ivec4(-1), glm::vec4(0.0f)}); // an unused payload
+}
+
+ProbeVolume make_octree_sample(bool with_surfels) {
+  ProbeVolume volume = make_empty_volume(sample_settings(gpu::PLACEMENT_OCTREE));
+  Octree tree(volume);
+  build_tree(tree);
+  build_probes(tree, with_surfels);
+  if (with_surfels) build_leaf_queue(volume);
+  build_svo(volume);
+  return volume;
+}
+
+ProbeVolume make_grid_sample() {
+  ProbeVolume volume = make_empty_volume(sample_settings(gpu::PLACEMENT_GRID));
+  const float step = volume.info.root_size / 2.0f;
+  for (int i = 0; i < 8; ++i) {
+    gpu::Probe probe{};
+    probe.position = volume.info.root_min +
+                     step * glm::vec3(0.5f + static_cast<float>(i & 1), 0.5f + static_cast<float>((i >> 1) & 1), 0.5f + static_cast<float>(i >> 2));
+    probe.link = ~gpu::PROBE_NO_SURFELS;
+    probe.node = -1;
+    fill_probe_data(probe, i);
+    volume.probes.push_back(probe);
+  }
+  build_svo(volume);
+  return volume;
+}
+
+} // namespace
+
+ProbeVolume make_sample(Sample sample) {
+  ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
+  sync_info_counts(volume);
+  arrange_cells(volume, 1); // also rebuilds the probe index
+  volume.input_hash = kSampleInputHash;
+  return volume;
+}
+
+const char* golden_name(Sample sample) {
+  switch (sample) {
+  case Sample::small: return "v1_0_small.probes";
+  case Sample::static_set: return "v1_0_static.probes";
+  case Sample::grid: return "v1_0_grid.probes";
+  }
+  return "";
+}
+
+} // namespace probebake::formats::testing

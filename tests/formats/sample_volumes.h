@@ -1,0 +1,21 @@
+// Small deterministic probe volumes for the formats tests and the golden files. Every value is an
+// exact binary fraction or the result of basic float operations, so the bytes are the same on every
+// IEEE-754 platform and compiler.
+#pragma once
+
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::formats::testing {
+
+enum class Sample {
+  small,      // depth-2 octree, probes, surfel batches, leaf buffer, probe index, SVO, cells of depth 1
+  static_set, // the same without surfel batches and without a leaf buffer (static scene)
+  grid,       // 2x2x2 grid placement: root-only octree, probes with node -1, SVO, cells of depth 1
+};
+
+ProbeVolume make_sample(Sample sample);
+
+// Golden file name under tests/data/golden for a sample ("v1_0_small.probes", ...).
+const char* golden_name(Sample sample);
+
+} // namespace probebake::formats::testing

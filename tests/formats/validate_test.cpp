@@ -1,0 +1,217 @@
+// The validator: the samples are valid, and one hand-made corruption per invariant is reported with
+// exactly that invariant as the first violation. Sample layout (see sample_volumes.cpp): root cluster 1
+// (nodes 2..9); node 2 -> cluster 10 (11..18), node 9 -> cluster 19 (20..27), node 7 -> cluster 37
+// (38..45); cluster 28 is free; leaves 3, 12, 25, 43 hold no probe; SVO node 1+7 = 8 has children 17..24.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "probebake/formats/validate.h"
+#include "sample_volumes.h"
+
+namespace probebake::formats {
+namespace {
+
+using testing::Sample;
+
+std::string violations_text(const ValidationReport& report) {
+  std::string text;
+  for (const Violation& v : report.violations) text += "  " + format_violation(v) + "\n";
+  return text;
+}
+
+std::vector<int> chain_of(const ProbeVolume& v, int probe) {
+  std::vector<int> chain;
+  for (int link = v.probes[probe].link; link < 0 && ~link != gpu::PROBE_NO_SURFELS; link = v.surfel_batches[chain.back()].link) {
+    chain.push_back(~link);
+  }
+  return chain;
+}
+
+// First allocated probe whose chain has at least `batches` batches, searching from the end when asked.
+int probe_with_chain(const ProbeVolume& v, std::size_t batches, bool from_end = false) {
+  for (std::size_t i = 0; i < v.probes.size(); ++i) {
+    const std::size_t p = from_end ? v.probes.size() - 1 - i : i;
+    if (v.probes[p].link != 0 && chain_of(v, static_cast<int>(p)).size() >= batches) return static_cast<int>(p);
+  }
+  return -1;
+}
+
+int first_free_probe(const ProbeVolume& v) {
+  for (std::size_t p = 0; p < v.probes.size(); ++p) {
+    if (v.probes[p].link == 0) return static_cast<int>(p);
+  }
+  return -1;
+}
+
+int first_free_batch(const ProbeVolume& v) {
+  for (std::size_t b = 0; b < v.surfel_batches.size(); ++b) {
+    if (v.surfel_batches[b].link == 0) return static_cast<int>(b);
+  }
+  return -1;
+}
+
+std::vector<int> svo_leaf_nodes(const ProbeVolume& v) {
+  std::vector<int> nodes;
+  for (std::size_t n = 0; n < v.svo_nodes.size(); ++n) {
+    if (v.svo_nodes[n] < 0) nodes.push_back(static_cast<int>(n));
+  }
+  return nodes;
+}
+
+struct Corruption {
+  const char* invariant;
+  Sample sample;
+  std::function<void(ProbeVolume&)> corrupt;
+};
+
+const std::vector<Corruption>& corruptions() {
+  static const std::vector<Corruption> list = {
+      {"volume_info", Sample::small, [](ProbeVolume& v) { v.info.lattice = 7; }},
+      {"cell_depth", Sample::small, [](ProbeVolume& v) { v.cell_depth = 9; }},
+      {"count_mismatch", Sample::small, [](ProbeVolume& v) { v.info.probe_capacity += 1; }},
+      {"non_finite", Sample::small, [](ProbeVolume& v) { v.probes[0].irradiance_sh[3] = std::nanf(""); }},
+      {"octree_root", Sample::small, [](ProbeVolume& v) { v.octree.clear(), v.info.octree_elements = 0; }},
+      {"incomplete_cluster_used", Sample::small, [](ProbeVolume& v) {
+         v.octree.resize(v.octree.size() + 4, 0);
+         v.info.octree_elements += 4;
+         v.octree[25] = static_cast<int>(v.octree.size()) - 4; // the incomplete cluster's meta index
+       }},
+      {"grid_octree", Sample::grid, [](ProbeVolume& v) {
+         v.octree = {1, ~0, 0, 0, 0, 0, 0, 0, 0, 0};
+         v.info.octree_elements = 10;
+       }},
+      {"free_not_zeroed", Sample::small, [](ProbeVolume& v) { v.octree[29] = 7; }},
+      {"node_sign", Sample::small, [](ProbeVolume& v) { v.octree[28] = 5; }},
+      {"meta_parent_mismatch", Sample::small, [](ProbeVolume& v) { v.octree[19] = ~3; }},
+      {"octree_child_range", Sample::small, [](ProbeVolume& v) { v.octree[25] = 5; }},
+      {"octree_two_parents", Sample::small, [](ProbeVolume& v) { v.octree[25] = 10; }},
+      {"octree_cycle", Sample::small, [](ProbeVolume& v) { v.octree[12] = 10; }},
+      {"octree_unreachable", Sample::small, [](ProbeVolume& v) { v.octree[7] = 0; }},
+      {"octree_too_deep", Sample::small, [](ProbeVolume& v) { v.info.max_depth = 1; }},
+      {"probe_leaf_link", Sample::small, [](ProbeVolume& v) { v.probes[~v.octree[11]].node = 13; }},
+      {"probe_leaf_link", Sample::grid, [](ProbeVolume& v) { v.probes[3].node = 0; }},
+      {"probe_depth_mismatch", Sample::small, [](ProbeVolume& v) { v.probes[~v.octree[11]].depth += 1; }},
+      {"probe_outside_node", Sample::small, [](ProbeVolume& v) { v.probes[~v.octree[11]].position.x += 2.0f; }},
+      {"free_not_zeroed", Sample::small, [](ProbeVolume& v) { v.probes[first_free_probe(v)].node = 5; }},
+      {"batch_link", Sample::small, [](ProbeVolume& v) { v.probes[probe_with_chain(v, 1)].link = ~static_cast<int>(v.surfel_batches.size() + 5); }},
+      {"batch_chain_endless", Sample::small, [](ProbeVolume& v) {
+         const std::vector<int> chain = chain_of(v, probe_with_chain(v, 2));
+         v.surfel_batches[chain.back()].link = ~chain.front();
+       }},
+      {"batch_shared", Sample::small, [](ProbeVolume& v) {
+         const int low = probe_with_chain(v, 1), high = probe_with_chain(v, 1, true);
+         v.surfel_batches[chain_of(v, high).back()].link = ~chain_of(v, low).front();
+       }},
+      {"batch_owner", Sample::small, [](ProbeVolume& v) { v.surfel_batches[chain_of(v, probe_with_chain(v, 1)).front()].probe += 1; }},
+      {"batch_count", Sample::small, [](ProbeVolume& v) { v.surfel_batches[chain_of(v, probe_with_chain(v, 1)).front()].count = 0; }},
+      {"batch_orphan", Sample::small, [](ProbeVolume& v) {
+         const int probe = probe_with_chain(v, 1);
+         gpu::SurfelBatch& batch = v.surfel_batches[first_free_batch(v)];
+         batch.link = probe + 1, batch.probe = probe, batch.count = 1;
+       }},
+      {"free_not_zeroed", Sample::small, [](ProbeVolume& v) { v.surfel_batches[first_free_batch(v)].count = 3; }},
+      {"probe_index_list", Sample::small, [](ProbeVolume& v) { std::swap(v.probe_index[0], v.probe_index[1]); }},
+      {"probe_index_list", Sample::small, [](ProbeVolume& v) { v.probe_index.back() = 0; }},
+      {"leaf_queue_header", Sample::small, [](ProbeVolume& v) { v.leaf_header.pull_origin = 3; }},
+      {"leaf_entry_node", Sample::small, [](ProbeVolume& v) { v.leaf_entries[0].node = 2; }},
+      {"leaf_entry_state", Sample::small, [](ProbeVolume& v) { v.leaf_entries[1].state = 42; }},
+      {"leaf_entry_duplicate", Sample::small, [](ProbeVolume& v) { v.leaf_entries[1].node = v.leaf_entries[0].node; }},
+      {"svo_index_range", Sample::small, [](ProbeVolume& v) { v.svo_leaves[0].probes[0] = 100000; }},
+      {"svo_index_range", Sample::small, [](ProbeVolume& v) { v.svo_nodes[8] = static_cast<int>(v.svo_nodes.size()) - 4; }},
+      {"svo_tree", Sample::small, [](ProbeVolume& v) { v.svo_nodes[8] = 1; }},
+      {"svo_leaf_shared", Sample::small, [](ProbeVolume& v) {
+         const std::vector<int> leaves = svo_leaf_nodes(v);
+         v.svo_nodes[leaves[1]] = v.svo_nodes[leaves[0]];
+       }},
+      {"svo_depth", Sample::small, [](ProbeVolume& v) { v.info.svo_depth = 1; }},
+      {"svo_freed_probe", Sample::small, [](ProbeVolume& v) { v.svo_leaves[0].probes[0] = first_free_probe(v); }},
+      {"svo_weights", Sample::small, [](ProbeVolume& v) { v.svo_leaves[0].weights[0] += 0.5f; }},
+      {"free_not_zeroed", Sample::small, [](ProbeVolume& v) { v.svo_leaves.back().probes[0] = 0; }},
+      {"cell_order", Sample::small, [](ProbeVolume& v) { v.cells[1].cell_index = v.cells[0].cell_index; }},
+      {"cell_bounds", Sample::small, [](ProbeVolume& v) { v.cells[0].bounds_min.x += 0.5f; }},
+      {"cell_root_node", Sample::small, [](ProbeVolume& v) { v.cells[0].root_node = 5; }},
+      {"cell_range", Sample::small, [](ProbeVolume& v) { v.cells[0].probes.byte_offset += 1; }},
+      {"cell_membership", Sample::small, [](ProbeVolume& v) {
+         v.cells[0].probes.count -= 1;
+         v.cells[0].probes.byte_size -= sizeof(gpu::Probe);
+       }},
+  };
+  return list;
+}
+
+TEST(Validate, SamplesAreValid) {
+  for (Sample sample : {Sample::small, Sample::static_set, Sample::grid}) {
+    const ValidationReport report = validate(testing::make_sample(sample));
+    EXPECT_TRUE(report.valid()) << testing::golden_name(sample) << "\n" << violations_text(report);
+  }
+}
+
+TEST(Validate, EachCorruptionNamesItsInvariant) {
+  for (const Corruption& corruption : corruptions()) {
+    ProbeVolume volume = testing::make_sample(corruption.sample);
+    corruption.corrupt(volume);
+    const ValidationReport report = validate(volume);
+    ASSERT_FALSE(report.valid()) << corruption.invariant;
+    EXPECT_EQ(report.violations.front().invariant, corruption.invariant) << violations_text(report);
+    if (std::getenv("PROBEBAKE_VERBOSE")) std::printf("%s:\n%s", corruption.invariant, violations_text(report).c_str());
+  }
+}
+
+TEST(Validate, EveryModelInvariantHasACorruptionCase) {
+  std::set<std::string> covered;
+  for (const Corruption& corruption : corruptions()) covered.insert(corruption.invariant);
+  for (const InvariantInfo& info : invariants()) {
+    const std::string id = info.id;
+    if (id == "container" || id == "checksum") continue; // file-level, see corruption_test.cpp
+    EXPECT_TRUE(covered.count(id)) << "no corruption case for " << id;
+  }
+}
+
+TEST(Validate, ReportedIdsAreRegistered) {
+  std::set<std::string> registered;
+  for (const InvariantInfo& info : invariants()) registered.insert(info.id);
+  for (const Corruption& corruption : corruptions()) {
+    ProbeVolume volume = testing::make_sample(corruption.sample);
+    corruption.corrupt(volume);
+    for (const Violation& v : validate(volume).violations) EXPECT_TRUE(registered.count(v.invariant)) << v.invariant;
+  }
+}
+
+TEST(Validate, MaxErrorsTruncates) {
+  ProbeVolume volume = testing::make_sample(Sample::small);
+  for (gpu::Probe& probe : volume.probes) probe.hit_fraction = std::nanf("");
+  const ValidationReport all = validate(volume, ValidateOptions{0});
+  EXPECT_EQ(all.violations.size(), volume.probes.size());
+  EXPECT_FALSE(all.truncated);
+  const ValidationReport three = validate(volume, ValidateOptions{3});
+  EXPECT_EQ(three.violations.size(), 3u);
+  EXPECT_TRUE(three.truncated);
+}
+
+TEST(Validate, JsonForm) {
+  ProbeVolume volume = testing::make_sample(Sample::small);
+  volume.octree[12] = 10;
+  const nlohmann::json json = report_to_json(validate(volume));
+  EXPECT_FALSE(json["valid"].get<bool>());
+  EXPECT_TRUE(json["readable"].get<bool>());
+  ASSERT_GE(json["violations"].size(), 1u);
+  EXPECT_EQ(json["violations"][0]["invariant"], "octree_cycle");
+  EXPECT_EQ(json["violations"][0]["section"], "octree");
+  EXPECT_EQ(json["violations"][0]["index"], 10);
+  EXPECT_EQ(json["violation_count"], json["violations"].size());
+}
+
+TEST(Validate, FormatViolationIsOneLine) {
+  const Violation v{"octree_cycle", "octree", 10, "message"};
+  EXPECT_EQ(format_violation(v), "octree[10]: octree_cycle: message");
+  EXPECT_EQ(format_violation(Violation{"cell_depth", "cells", -1, "m"}), "cells: cell_depth: m");
+}
+
+} // namespace
+} // namespace probebake::formats

@@ -1,0 +1,111 @@
+// The make-scene executable: exit codes, one-line errors, default output name.
+#include "gltf_readback.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+namespace pt = probebake::samples::test;
+
+namespace {
+
+struct CommandResult {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Runs make-scene with `arguments` (shell syntax) inside `folder`.
+CommandResult make_scene(const std::filesystem::path& folder, const std::string& arguments) {
+  const std::string command = "cd '" + folder.string() + "' && '" MAKE_SCENE_EXE "' " + arguments + " >stdout.txt 2>stderr.txt";
+  const int status = std::system(command.c_str());
+  CommandResult run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(folder / "stdout.txt"), slurp(folder / "stderr.txt")};
+  std::filesystem::remove(folder / "stdout.txt");
+  std::filesystem::remove(folder / "stderr.txt");
+  return run;
+}
+
+bool is_one_error_line(const std::string& text) {
+  return text.rfind("make-scene: error: ", 0) == 0 && text.find('\n') == text.size() - 1;
+}
+
+}  // namespace
+
+TEST(MakeSceneCli, HelpAndVersionSucceed) {
+  const auto folder = pt::fresh_folder("cli_help");
+  const CommandResult help = make_scene(folder, "--help");
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* kind : {"cornell", "furnace", "leak", "plane-light", "rooms", "triangle", "empty"}) {
+    EXPECT_NE(help.out.find(kind), std::string::npos) << kind;
+  }
+  const CommandResult furnace_help = make_scene(folder, "furnace --help");
+  EXPECT_EQ(furnace_help.exit_code, 0);
+  EXPECT_NE(furnace_help.out.find("--albedo"), std::string::npos);
+  EXPECT_EQ(make_scene(folder, "--version").exit_code, 0);
+}
+
+TEST(MakeSceneCli, DefaultOutputIsKindInCurrentFolder) {
+  const auto folder = pt::fresh_folder("cli_default");
+  const CommandResult run = make_scene(folder, "plane-light");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(std::filesystem::exists(folder / "plane-light.glb"));
+  EXPECT_NE(run.out.find("2 triangles"), std::string::npos) << run.out;
+}
+
+TEST(MakeSceneCli, OptionsAfterTheKindAndPlacement) {
+  const auto folder = pt::fresh_folder("cli_options");
+  const CommandResult run = make_scene(folder, "furnace --albedo 0.99 --emission 2 -o box.glb --scale 2 --offset 10 0 0 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(run.out.empty());
+  std::string error;
+  const auto model = pt::load_glb(pt::read_file(folder / "box.glb"), error);
+  ASSERT_TRUE(error.empty()) << error;
+  const pt::WorldBounds b = pt::bounds_of(pt::world_triangles(model));
+  EXPECT_FLOAT_EQ(b.min.x, 9.0f);
+  EXPECT_FLOAT_EQ(b.max.x, 11.0f);
+}
+
+TEST(MakeSceneCli, SameCommandSameBytes) {
+  const auto folder = pt::fresh_folder("cli_determinism");
+  ASSERT_EQ(make_scene(folder, "cornell -o a.glb").exit_code, 0);
+  ASSERT_EQ(make_scene(folder, "cornell -o b.glb").exit_code, 0);
+  EXPECT_EQ(pt::read_file(folder / "a.glb"), pt::read_file(folder / "b.glb"));
+}
+
+TEST(MakeSceneCli, UsageErrorsExitOne) {
+  const auto folder = pt::fresh_folder("cli_usage");
+  for (const char* arguments : {"", "bogus", "furnace --albedo abc", "furnace --albedo 2", "furnace --nope",
+                                "rooms --count 0", "furnace --scale -1", "furnace --offset 1 2"}) {
+    const CommandResult run = make_scene(folder, arguments);
+    EXPECT_EQ(run.exit_code, 1) << arguments;
+    EXPECT_TRUE(is_one_error_line(run.err)) << arguments << ": " << run.err;
+  }
+  EXPECT_NE(make_scene(folder, "bogus").err.find("unknown kind 'bogus'"), std::string::npos);
+}
+
+TEST(MakeSceneCli, UnreadableInputExitsTwo) {
+  const auto folder = pt::fresh_folder("cli_input");
+  std::ofstream(folder / "junk.glb") << "not a model";
+  for (const char* arguments : {"cornell --with missing.glb", "cornell --with junk.glb"}) {
+    const CommandResult run = make_scene(folder, arguments);
+    EXPECT_EQ(run.exit_code, 2) << arguments;
+    EXPECT_TRUE(is_one_error_line(run.err)) << run.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(folder / "cornell.glb"));
+}
+
+TEST(MakeSceneCli, UnwritableOutputExitsThree) {
+  const auto folder = pt::fresh_folder("cli_output");
+  const CommandResult run = make_scene(folder, "triangle -o no/such/folder/t.glb");
+  EXPECT_EQ(run.exit_code, 3);
+  EXPECT_TRUE(is_one_error_line(run.err)) << run.err;
+}

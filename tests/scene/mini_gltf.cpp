@@ -1,0 +1,122 @@
+#include "mini_gltf.h"
+
+#include <cstring>
+#include <fstream>
+
+#include <glm/common.hpp>
+
+namespace probebake::test {
+
+int MiniGltf::add_view(const void* data, std::size_t size) {
+  while (bin.size() % 4 != 0) bin.push_back(0);
+  const std::size_t offset = bin.size();
+  bin.resize(offset + size);
+  std::memcpy(bin.data() + offset, data, size);
+  json["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}});
+  json["buffers"][0]["byteLength"] = bin.size();
+  return int(json["bufferViews"].size()) - 1;
+}
+
+int MiniGltf::add_accessor(int view, int component_type, std::size_t count, const std::string& type, bool normalized) {
+  nlohmann::json a = {{"componentType", component_type}, {"count", count}, {"type", type}};
+  if (view >= 0) a["bufferView"] = view;
+  if (normalized) a["normalized"] = true;
+  json["accessors"].push_back(a);
+  return int(json["accessors"].size()) - 1;
+}
+
+MiniGltf MiniGltf::triangles(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
+                             int index_component_type) {
+  MiniGltf g;
+  g.json = {{"asset", {{"version", "2.0"}}}, {"buffers", {{{"byteLength", 0}}}}, {"bufferViews", nlohmann::json::array()},
+            {"accessors", nlohmann::json::array()}, {"scene", 0}, {"scenes", {{{"nodes", {0}}}}},
+            {"nodes", {{{"mesh", 0}, {"name", "root"}}}}};
+  const int pv = g.add_view(positions.data(), positions.size() * sizeof(glm::vec3));
+  const int pa = g.add_accessor(pv, 5126, positions.size(), "VEC3");
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (auto p : positions) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  g.json["accessors"][pa]["min"] = {lo.x, lo.y, lo.z};
+  g.json["accessors"][pa]["max"] = {hi.x, hi.y, hi.z};
+  nlohmann::json primitive = {{"attributes", {{"POSITION", pa}}}};
+  if (!indices.empty()) {
+    int iv;
+    if (index_component_type == 5123) {
+      std::vector<std::uint16_t> small(indices.begin(), indices.end());
+      iv = g.add_view(small.data(), small.size() * 2);
+    } else if (index_component_type == 5121) {
+      std::vector<std::uint8_t> tiny(indices.begin(), indices.end());
+      iv = g.add_view(tiny.data(), tiny.size());
+    } else {
+      iv = g.add_view(indices.data(), indices.size() * 4);
+    }
+    primitive["indices"] = g.add_accessor(iv, index_component_type, indices.size(), "SCALAR");
+  }
+  g.json["meshes"] = {{{"primitives", {primitive}}}};
+  return g;
+}
+
+std::vector<unsigned char> MiniGltf::glb() const {
+  nlohmann::json j = json;
+  j["buffers"][0].erase("uri");
+  std::string text = j.dump();
+  while (text.size() % 4 != 0) text.push_back(' ');
+  std::vector<unsigned char> padded = bin;
+  while (padded.size() % 4 != 0) padded.push_back(0);
+  std::vector<unsigned char> out;
+  auto u32 = [&](std::uint32_t v) { for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i))); };
+  u32(0x46546C67u); u32(2u);
+  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
+  u32(static_cast<std::uint32_t>(text.size())); u32(0x4E4F534Au);
+  out.insert(out.end(), text.begin(), text.end());
+  u32(static_cast<std::uint32_t>(padded.size())); u32(0x004E4942u);
+  out.insert(out.end(), padded.begin(), padded.end());
+  return out;
+}
+
+namespace {
+void write_bytes(const std::filesystem::path& path, const void* data, std::size_t size) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(static_cast<const char*>(data), std::streamsize(size));
+}
+
+std::string base64(const std::vector<unsigned char>& in) {
+  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < in.size(); i += 3) {
+    std::uint32_t v = std::uint32_t(in[i]) << 16;
+    if (i + 1 < in.size()) v |= std::uint32_t(in[i + 1]) << 8;
+    if (i + 2 < in.size()) v |= in[i + 2];
+    out += table[(v >> 18) & 63];
+    out += table[(v >> 12) & 63];
+    out += i + 1 < in.size() ? table[(v >> 6) & 63] : '=';
+    out += i + 2 < in.size() ? table[v & 63] : '=';
+  }
+  return out;
+}
+} // namespace
+
+void MiniGltf::write_gltf(const std::filesystem::path& path, const std::string& bin_name) const {
+  nlohmann::json j = json;
+  if (bin_name.empty()) {
+    j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bin);
+  } else {
+    j["buffers"][0]["uri"] = bin_name;
+    write_bytes(path.parent_path() / bin_name, bin.data(), bin.size());
+  }
+  const std::string text = j.dump(1);
+  write_bytes(path, text.data(), text.size());
+}
+
+void MiniGltf::write_glb(const std::filesystem::path& path) const {
+  const auto bytes = glb();
+  write_bytes(path, bytes.data(), bytes.size());
+}
+
+std::filesystem::path test_dir(const std::string& name) {
+  const auto dir = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+} // namespace probebake::test

@@ -1,6 +1,7 @@
 // make-scene: writes a procedural glTF 2.0 test scene as .glb.
 //   make-scene KIND [options] [-o OUT.glb]
-// Exit codes: 0 written (or --help), 1 usage error, 2 unreadable input (e.g. --with), 3 output not writable.
+// Exit codes (probebake's): 0 written (or --help), 1 usage error, 2 unreadable input (e.g. --with),
+// 3 output not writable, 4 internal error.
 #include "probebake/samples/scenes.h"
 #include "probebake/version.h"
 
@@ -17,7 +18,9 @@ namespace samples = probebake::samples;
 
 namespace {
 
-enum ExitCode { exit_ok = 0, exit_usage = 1, exit_unreadable_input = 2, exit_unwritable_output = 3 };
+constexpr int exit_ok = 0;
+constexpr int exit_usage = static_cast<int>(probebake::ErrorKind::usage);
+constexpr int exit_internal = static_cast<int>(probebake::ErrorKind::internal);
 
 struct Settings {
   std::string output;           // empty: KIND.glb in the current folder
@@ -92,15 +95,6 @@ void apply_placement(samples::SceneBuilder& scene, const Settings& settings) {
   if (!placement.is_identity()) scene.wrap_roots("placement", placement);
 }
 
-int exit_code_for(samples::ErrorKind kind) {
-  switch (kind) {
-    case samples::ErrorKind::unreadable_input: return exit_unreadable_input;
-    case samples::ErrorKind::unwritable_output: return exit_unwritable_output;
-    case samples::ErrorKind::invalid_argument: break;
-  }
-  return exit_usage;
-}
-
 int make(const std::string& kind, const MakeScene& make_scene, const Settings& settings) {
   samples::SceneBuilder scene = make_scene();
   apply_placement(scene, settings);
@@ -118,7 +112,7 @@ int make(const std::string& kind, const MakeScene& make_scene, const Settings& s
 
 int main(int argc, char** argv) {
   CLI::App app{"Writes a procedural glTF 2.0 test scene (.glb) for probebake. Metres, Y up.\n"
-               "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 output not writable.", "make-scene"};
+               "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 output not writable, 4 internal error.", "make-scene"};
   app.set_version_flag("--version", PROBEBAKE_VERSION_STRING);
   app.require_subcommand(1);
   Settings settings;
@@ -145,11 +139,11 @@ int main(int argc, char** argv) {
   CLI::App* kind = app.get_subcommands().front();
   try {
     return make(kind->get_name(), makers.at(kind), settings);
-  } catch (const samples::SceneError& e) {
+  } catch (const probebake::Error& e) {
     std::fprintf(stderr, "make-scene: error: %s\n", e.what());
-    return exit_code_for(e.kind());
+    return e.exit_code();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "make-scene: internal error: %s\n", e.what());
-    return exit_usage;
+    std::fprintf(stderr, "make-scene: error: internal: %s\n", e.what());
+    return exit_internal;
   }
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <fmt/core.h>
+#include <glm/geometric.hpp>
 #include <xxhash.h>
 
 #include "parallel.h"
@@ -114,6 +115,15 @@ void store_surfels(const scene::RayScene& rays, const std::vector<glm::vec3>& di
   }
 }
 
+// The narrow band must reach past the clearance the relocation asks for (1.5x), or push_out cannot
+// confirm it.
+SdfSettings sdf_settings(const scene::Scene& scene, float clearance) {
+  const float voxel = glm::length(scene.bounds.max - scene.bounds.min) / 256.0f;
+  SdfSettings settings;
+  if (voxel > 0.0f) settings.band_voxels = std::max(3.0f, std::ceil(1.5f * clearance / voxel) + 1.0f);
+  return settings;
+}
+
 void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
   report.depth_histogram.assign(std::size_t(std::max(v.info.max_depth, 0) + 1), 0);
   for (const gpu::Probe& p : v.probes) {
@@ -189,7 +199,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
                                     [&](const detail::PlacedProbe& p) { return detail::is_dead(p.rays, report.clearance); });
   if (any_dead) {
     timer.stage("sdf");
-    const SceneSdf sdf(scene);
+    const SceneSdf sdf(scene, sdf_settings(scene, report.clearance));
     timer.stage("relocate");
     if (progress) progress("relocate", 0.0);
     const detail::RelocationContext ctx{&rays, &sdf, input.directions, report.clearance};

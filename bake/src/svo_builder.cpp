@@ -1,8 +1,9 @@
 // SVO probe index (nonuniform-probe-placement-svo §4.1). Every voxel at the leaf depth is evaluated
 // independently (in parallel, results in index order): it is solid when all its sample points are inside
 // geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from the
-// voxel's sample points over squared distance and the best four kept. The tree is then built bottom-up,
-// and eight sibling leaves with the same payload collapse into their parent, which keeps it sparse.
+// voxel's sample points over squared distance and the best four kept. The tree is then built top-down:
+// a cube whose voxels all hold the same probes with weights within kMergeTolerance of each other (or are
+// all empty) becomes one leaf with the mean weights, which keeps the index sparse.
 #include "svo_builder.h"
 
 #include <algorithm>
@@ -18,13 +19,18 @@ namespace probebake::bake::detail {
 namespace {
 
 constexpr int kCandidates = 12;
+constexpr float kMergeTolerance = 0.1f; // largest weight difference merged into one leaf
 
 struct VoxelPayload {
   bool solid = false;
   gpu::SvoLeaf leaf{glm::ivec4(-1), glm::vec4(0.0f)};
   bool empty() const { return solid || leaf.probes.x < 0; }
-  bool operator==(const VoxelPayload& o) const {
-    return solid == o.solid && leaf.probes == o.leaf.probes && leaf.weights == o.leaf.weights;
+  // Same probes (or both empty) and weights close enough to share one leaf.
+  bool mergeable(const VoxelPayload& o) const {
+    if (empty() || o.empty()) return empty() && o.empty();
+    if (leaf.probes != o.leaf.probes) return false;
+    const glm::vec4 d = glm::abs(leaf.weights - o.leaf.weights);
+    return std::max({d.x, d.y, d.z, d.w}) <= kMergeTolerance;
   }
 };
 
@@ -141,15 +147,21 @@ struct Builder {
   const std::vector<VoxelPayload>& voxels;
   formats::ProbeVolume& volume;
 
-  // Payload of the whole subtree when it is uniform (all voxels equal), else nullopt.
+  // One payload for the whole subtree when all its voxels can merge (mean weights), else nullopt.
   std::optional<VoxelPayload> uniform(int depth, glm::ivec3 origin) const {
     const int span = 1 << (depth_max - depth);
     const VoxelPayload& first = voxels[std::size_t(origin.x + n * (origin.y + n * origin.z))];
+    glm::vec4 sum(0.0f);
     for (int z = 0; z < span; ++z)
       for (int y = 0; y < span; ++y)
-        for (int x = 0; x < span; ++x)
-          if (!(voxels[std::size_t(origin.x + x + n * (origin.y + y + n * (origin.z + z)))] == first)) return std::nullopt;
-    return first;
+        for (int x = 0; x < span; ++x) {
+          const VoxelPayload& v = voxels[std::size_t(origin.x + x + n * (origin.y + y + n * (origin.z + z)))];
+          if (!v.mergeable(first)) return std::nullopt;
+          sum += v.leaf.weights;
+        }
+    VoxelPayload merged = first;
+    if (!merged.empty()) merged.leaf.weights = sum / (sum.x + sum.y + sum.z + sum.w);
+    return merged;
   }
 
   int leaf_value(const VoxelPayload& p) {

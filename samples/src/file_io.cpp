@@ -11,7 +11,7 @@ namespace probebake::samples {
 namespace {
 
 [[noreturn]] void unwritable(const std::filesystem::path& path, const std::string& why) {
-  throw SceneError(ErrorKind::unwritable_output, "cannot write '" + path.string() + "': " + why);
+  throw Error(ErrorKind::output, "cannot write '" + path.string() + "': " + why);
 }
 
 std::filesystem::path temporary_path_for(const std::filesystem::path& path) {

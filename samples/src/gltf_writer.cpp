@@ -194,7 +194,7 @@ std::vector<std::uint8_t> encode_glb(const SceneBuilder& scene) {
   std::ostringstream stream(std::ios::binary);
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToStream(&model, stream, false, true)) {
-    throw SceneError(ErrorKind::unwritable_output, "tinygltf could not encode the scene");
+    throw Error(ErrorKind::output, "tinygltf could not encode the scene");
   }
   const std::string bytes = stream.str();
   return std::vector<std::uint8_t>(bytes.begin(), bytes.end());

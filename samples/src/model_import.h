@@ -1,4 +1,4 @@
-// Internal: flattening another glTF model into triangles grouped by material (for SceneBuilder::add_model).
+// Internal: another glTF model as triangles grouped by material (for SceneBuilder::add_model).
 #pragma once
 
 #include "probebake/samples/scene_builder.h"
@@ -17,8 +17,8 @@ struct ImportedModel {
   std::vector<ImportedPart> parts;  // one per material used, in material order; never empty
 };
 
-// Reads a .glb or .gltf (Draco decoded by tinygltf). Throws SceneError(unreadable_input) on a missing,
-// malformed or unsupported file, or one without triangles.
+// Reads a .glb or .gltf with probebake's scene loader (so exactly what the bake accepts, Draco included).
+// Throws Error(input) on a missing, malformed or unsupported file, or one without triangles.
 ImportedModel import_model(const std::filesystem::path& path);
 
 }  // namespace probebake::samples

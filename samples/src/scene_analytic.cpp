@@ -10,7 +10,7 @@ namespace probebake::samples {
 namespace {
 
 void require(bool ok, const std::string& message) {
-  if (!ok) throw SceneError(ErrorKind::invalid_argument, message);
+  if (!ok) throw Error(ErrorKind::usage, message);
 }
 
 bool positive(float v) { return std::isfinite(v) && v > 0.0f; }

@@ -15,7 +15,7 @@
 namespace probebake::samples {
 namespace {
 
-[[noreturn]] void invalid(const std::string& message) { throw SceneError(ErrorKind::invalid_argument, message); }
+[[noreturn]] void invalid(const std::string& message) { throw Error(ErrorKind::usage, message); }
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 bool in_unit_range(glm::vec3 v) { return glm::all(glm::greaterThanEqual(v, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(v, glm::vec3(1.0f))); }

@@ -81,7 +81,7 @@ Transform fit_in_box(const Bounds& model) {
 
 SceneBuilder cornell(const CornellOptions& options) {
   if (!std::isfinite(options.light_scale) || options.light_scale < 0.0f) {
-    throw SceneError(ErrorKind::invalid_argument, "cornell: --light-scale must be finite and >= 0");
+    throw Error(ErrorKind::usage, "cornell: --light-scale must be finite and >= 0");
   }
   SceneBuilder scene("cornell");
   const MaterialId white = scene.add_material({"white", {0.725f, 0.71f, 0.68f}, {}});
@@ -104,7 +104,7 @@ SceneBuilder cornell(const CornellOptions& options) {
   const MeshId model = scene.add_model(*options.with_model, "model");
   const Bounds bounds = scene.mesh_bounds(model);
   if (glm::all(glm::equal(bounds.extent(), glm::vec3(0.0f)))) {
-    throw SceneError(ErrorKind::unreadable_input, "cornell: the model '" + options.with_model->string() + "' has no extent");
+    throw Error(ErrorKind::input, "cornell: the model '" + options.with_model->string() + "' has no extent");
   }
   scene.add_mesh_node("model", model, fit_in_box(bounds));
   return scene;

@@ -169,8 +169,8 @@ void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& m
 }  // namespace
 
 SceneBuilder rooms(const RoomsOptions& options) {
-  if (options.count < 1 || options.count > 4096) throw SceneError(ErrorKind::invalid_argument, "rooms: --count must be in 1..4096");
-  if (options.detail < 1 || options.detail > 256) throw SceneError(ErrorKind::invalid_argument, "rooms: --detail must be in 1..256");
+  if (options.count < 1 || options.count > 4096) throw Error(ErrorKind::usage, "rooms: --count must be in 1..4096");
+  if (options.detail < 1 || options.detail > 256) throw Error(ErrorKind::usage, "rooms: --detail must be in 1..256");
   SceneBuilder scene("rooms");
   const Palette palette = add_palette(scene);
   const SharedMeshes meshes = add_shared_meshes(scene, palette, options.detail);

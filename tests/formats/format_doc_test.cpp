@@ -131,7 +131,9 @@ TEST(FormatDoc, EveryLayoutTableMatchesTheCode) {
     EXPECT_EQ(expected_offset, layout.size) << name;
   }
   for (const auto& [key, rows] : tables) {
-    if (key.rfind("layout: ", 0) == 0 && key != "layout: section_types") EXPECT_TRUE(code_layouts().count(key.substr(8))) << key;
+    if (key.rfind("layout: ", 0) == 0 && key != "layout: section_types") {
+      EXPECT_TRUE(code_layouts().count(key.substr(8))) << "stale table " << key;
+    }
   }
 }
 

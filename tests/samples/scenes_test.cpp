@@ -124,22 +124,22 @@ TEST(Cornell, WithUnreadableModelIsAnInputError) {
     try {
       (void)ps::cornell(options);
       ADD_FAILURE() << "no error for " << path;
-    } catch (const ps::SceneError& e) {
-      EXPECT_EQ(e.kind(), ps::ErrorKind::unreadable_input) << e.what();
+    } catch (const probebake::Error& e) {
+      EXPECT_EQ(e.kind(), probebake::ErrorKind::input) << e.what();
     }
   }
 }
 
 namespace {
 
-ps::ErrorKind import_error(const std::filesystem::path& path) {
+probebake::ErrorKind import_error(const std::filesystem::path& path) {
   ps::SceneBuilder scene;
   try {
     (void)scene.add_model(path, "model");
-  } catch (const ps::SceneError& e) {
+  } catch (const probebake::Error& e) {
     return e.kind();
   }
-  return ps::ErrorKind::invalid_argument;  // "no error" marker: never what an import reports
+  return probebake::ErrorKind::internal;  // "no error" marker: never what an import reports
 }
 
 }  // namespace
@@ -150,7 +150,7 @@ TEST(ModelImport, EveryTruncationIsRefused) {
   const std::vector<std::uint8_t> bytes = ps::triangle().to_glb();
   for (std::size_t length = 0; length < bytes.size(); ++length) {
     std::ofstream(folder / "cut.glb", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(length));
-    EXPECT_EQ(import_error(folder / "cut.glb"), ps::ErrorKind::unreadable_input) << "length " << length;
+    EXPECT_EQ(import_error(folder / "cut.glb"), probebake::ErrorKind::input) << "length " << length;
   }
 }
 
@@ -162,7 +162,7 @@ TEST(ModelImport, AccessorPastItsBufferIsRefused) {
   ASSERT_NE(at, std::string::npos);
   text[at + 8] = '9';
   std::ofstream(folder / "bad.glb", std::ios::binary) << text;
-  EXPECT_EQ(import_error(folder / "bad.glb"), ps::ErrorKind::unreadable_input);
+  EXPECT_EQ(import_error(folder / "bad.glb"), probebake::ErrorKind::input);
 }
 
 TEST(Cornell, WithDracoModelFromSharedScenes) {
@@ -331,21 +331,21 @@ TEST(Builder, RejectsBadInput) {
   auto kind_of = [](auto&& make) {
     try {
       (void)make();
-    } catch (const ps::SceneError& e) {
+    } catch (const probebake::Error& e) {
       return e.kind();
     }
-    return ps::ErrorKind::unwritable_output;  // "no error" marker for these cases
+    return probebake::ErrorKind::internal;  // "no error" marker: never thrown here
   };
-  EXPECT_EQ(kind_of([] { return ps::furnace({1.5f, 1.0f, 1.0f, 1}); }), ps::ErrorKind::invalid_argument);
-  EXPECT_EQ(kind_of([] { return ps::furnace({0.5f, std::nanf(""), 1.0f, 1}); }), ps::ErrorKind::invalid_argument);
-  EXPECT_EQ(kind_of([] { return ps::furnace({0.5f, -1.0f, 1.0f, 1}); }), ps::ErrorKind::invalid_argument);
-  EXPECT_EQ(kind_of([] { return ps::rooms({0, 20, 1}); }), ps::ErrorKind::invalid_argument);
-  EXPECT_EQ(kind_of([] { return ps::leak({0.0f, 100.0f, 1}); }), ps::ErrorKind::invalid_argument);
+  EXPECT_EQ(kind_of([] { return ps::furnace({1.5f, 1.0f, 1.0f, 1}); }), probebake::ErrorKind::usage);
+  EXPECT_EQ(kind_of([] { return ps::furnace({0.5f, std::nanf(""), 1.0f, 1}); }), probebake::ErrorKind::usage);
+  EXPECT_EQ(kind_of([] { return ps::furnace({0.5f, -1.0f, 1.0f, 1}); }), probebake::ErrorKind::usage);
+  EXPECT_EQ(kind_of([] { return ps::rooms({0, 20, 1}); }), probebake::ErrorKind::usage);
+  EXPECT_EQ(kind_of([] { return ps::leak({0.0f, 100.0f, 1}); }), probebake::ErrorKind::usage);
   EXPECT_EQ(kind_of([] {
               ps::SceneBuilder s;
               return s.add_mesh("nothing", ps::MeshData{}, s.add_material({}));
             }),
-            ps::ErrorKind::invalid_argument);
+            probebake::ErrorKind::usage);
 }
 
 TEST(Output, AtomicWriteAndUnwritablePath) {
@@ -358,7 +358,7 @@ TEST(Output, AtomicWriteAndUnwritablePath) {
   try {
     scene.write_glb(folder / "no" / "such" / "folder.glb");
     ADD_FAILURE() << "no error";
-  } catch (const ps::SceneError& e) {
-    EXPECT_EQ(e.kind(), ps::ErrorKind::unwritable_output);
+  } catch (const probebake::Error& e) {
+    EXPECT_EQ(e.kind(), probebake::ErrorKind::output);
   }
 }

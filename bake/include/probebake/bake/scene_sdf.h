@@ -42,6 +42,7 @@ class SceneSdf {
   // (+band_width() everywhere). Throws std::invalid_argument for non-finite positions or settings.
   explicit SceneSdf(const scene::Scene& scene, const SdfSettings& settings = {});
   ~SceneSdf();
+  // Move-only; a moved-from SceneSdf may only be destroyed or assigned to.
   SceneSdf(SceneSdf&&) noexcept;
   SceneSdf& operator=(SceneSdf&&) noexcept;
   SceneSdf(const SceneSdf&) = delete;

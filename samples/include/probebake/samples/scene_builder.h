@@ -8,8 +8,11 @@
 // A builder is a plain value: not thread-safe, copyable.
 //
 // Dynamic nodes carry `"extras": {"probebake": {"dynamic": true}}` (see samples/README.md).
+// Errors: probebake::Error (formats/error.h) with ErrorKind::usage for invalid arguments, ::input for an
+// unreadable model, ::output for an unwritable file.
 #pragma once
 
+#include "probebake/formats/error.h"
 #include "probebake/samples/geometry.h"
 
 #include <glm/gtc/quaternion.hpp>
@@ -20,23 +23,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace probebake::samples {
-
-// What went wrong, so a command-line tool can pick its exit code.
-enum class ErrorKind { invalid_argument, unreadable_input, unwritable_output };
-
-class SceneError : public std::runtime_error {
- public:
-  SceneError(ErrorKind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
-  ErrorKind kind() const { return kind_; }
-
- private:
-  ErrorKind kind_;
-};
 
 struct Material {
   std::string name;
@@ -98,12 +88,14 @@ class SceneBuilder {
 
   MaterialId add_material(const Material& material);
   LightId add_light(const Light& light);
-  // Throws SceneError(invalid_argument) if there are no primitives or one has no triangles.
+  // Throws Error(usage) if there are no primitives or one has no triangles.
   MeshId add_mesh(std::string name, std::vector<Primitive> primitives);
   MeshId add_mesh(std::string name, MeshData geometry, MaterialId material);
-  // Copies the triangles of another glTF file (.glb or .gltf; Draco allowed) into one mesh, in the
-  // model's own space with its node transforms applied. Materials keep their factors (base colour,
-  // emission); textures are dropped. Throws SceneError(unreadable_input) on a bad or triangle-less file.
+  // Copies the triangles of another glTF file (.glb or .gltf, Draco allowed; read by probebake's scene
+  // loader) into one mesh, in the model's own space with its node transforms applied; one primitive per
+  // material, whose albedo and emission are the loader's per-triangle values (textures averaged) averaged
+  // over the material's triangles. Its lights are not copied. Throws Error(input) on a bad or
+  // triangle-less file.
   MeshId add_model(const std::filesystem::path& path, std::string name);
 
   // A node; without parent it is a root of the scene.
@@ -126,7 +118,7 @@ class SceneBuilder {
   // The scene as .glb bytes (deterministic).
   std::vector<std::uint8_t> to_glb() const;
   // Writes to_glb() to `path` atomically (a temporary file in the same folder, then a rename).
-  // Throws SceneError(unwritable_output).
+  // Throws Error(output).
   void write_glb(const std::filesystem::path& path) const;
 
   const std::string& scene_name() const { return scene_name_; }
@@ -148,7 +140,7 @@ class SceneBuilder {
   std::vector<int> roots_;
 };
 
-// Writes bytes to `path` atomically (temporary file + rename). Throws SceneError(unwritable_output).
+// Writes bytes to `path` atomically (temporary file + rename). Throws Error(output).
 void write_file_atomically(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes);
 
 }  // namespace probebake::samples

@@ -1,8 +1,8 @@
 // Procedural test scenes for the probe baker (what `make-scene KIND` writes).
 //
 // All scenes: metres, Y up, counter-clockwise front faces, room surfaces facing into the rooms. Each
-// function validates its options (SceneError(invalid_argument)) and returns a SceneBuilder ready to be
-// written; same options, same bytes.
+// function validates its options (probebake::Error with ErrorKind::usage) and returns a SceneBuilder
+// ready to be written; same options, same bytes.
 #pragma once
 
 #include "probebake/samples/scene_builder.h"

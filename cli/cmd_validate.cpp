@@ -40,7 +40,11 @@ formats::ValidationReport validate_path(const ValidateSettings& settings) {
 
 void print_text(const formats::ValidationReport& report) {
   for (const formats::Violation& violation : report.violations) {
-    fmt::print("{}: {}\n", report.name, formats::format_violation(violation));
+    if (violation.invariant == "container") { // already "<file>: <place>: <reason>"
+      fmt::print("{}\n", violation.message);
+    } else {
+      fmt::print("{}: {}\n", report.name, formats::format_violation(violation));
+    }
   }
   if (report.valid()) {
     fmt::print("{}: valid\n", report.name);

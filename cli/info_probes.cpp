@@ -125,8 +125,8 @@ int run_info_probes(const std::string& path, bool json) {
   in.path = path;
   const std::vector<std::uint8_t> bytes = formats::read_file_bytes(path);
   in.file_size = bytes.size();
-  in.container = formats::parse_container(bytes, path, [](const std::string&, long long, const std::string& message) {
-    fmt::print(stderr, "probebake: warning: {} (run probebake validate)\n", message);
+  in.container = formats::parse_container(bytes, path, [&](const std::string& section, long long, const std::string& message) {
+    fmt::print(stderr, "probebake: warning: {}: {}: {} (run probebake validate)\n", path, section, message);
   });
   in.volume = formats::decode_probes(in.container, path);
   in.stats = formats::compute_stats(in.volume);

@@ -2,8 +2,8 @@
 // independently (in parallel, results in index order): it is solid when all its sample points are inside
 // geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from the
 // voxel's sample points over squared distance and the best four kept. The tree is then built top-down:
-// a cube whose voxels all hold the same probes with weights within kMergeTolerance of each other (or are
-// all empty) becomes one leaf with the mean weights, which keeps the index sparse.
+// a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean weights,
+// which keeps the index sparse.
 #include "svo_builder.h"
 
 #include <algorithm>
@@ -19,18 +19,16 @@ namespace probebake::bake::detail {
 namespace {
 
 constexpr int kCandidates = 12;
-constexpr float kMergeTolerance = 0.1f; // largest weight difference merged into one leaf
 
 struct VoxelPayload {
   bool solid = false;
   gpu::SvoLeaf leaf{glm::ivec4(-1), glm::vec4(0.0f)};
   bool empty() const { return solid || leaf.probes.x < 0; }
-  // Same probes (or both empty) and weights close enough to share one leaf.
+  // Same probes (or both empty): one leaf serves both, with mean weights. The weights are selection
+  // quality for §4.1's ranking; the sampler interpolates by position at run time.
   bool mergeable(const VoxelPayload& o) const {
     if (empty() || o.empty()) return empty() && o.empty();
-    if (leaf.probes != o.leaf.probes) return false;
-    const glm::vec4 d = glm::abs(leaf.weights - o.leaf.weights);
-    return std::max({d.x, d.y, d.z, d.w}) <= kMergeTolerance;
+    return leaf.probes == o.leaf.probes;
   }
 };
 
@@ -132,9 +130,13 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
     ranked.push_back({-(float(visible) / float(tested)) / (dist * dist), probe});
   }
   std::sort(ranked.begin(), ranked.end());
+  ranked.resize(std::min<std::size_t>(ranked.size(), gpu::SVO_PROBES_PER_LEAF));
+  // Stored in probe order, not rank order, so that neighbouring voxels that chose the same probes hold
+  // the same payload layout and can merge.
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   float total = 0.0f;
-  for (std::size_t k = 0; k < ranked.size() && k < 4; ++k) total -= ranked[k].first;
-  for (std::size_t k = 0; k < ranked.size() && k < 4; ++k) {
+  for (const auto& r : ranked) total -= r.first;
+  for (std::size_t k = 0; k < ranked.size(); ++k) {
     out.leaf.probes[int(k)] = ranked[k].second;
     out.leaf.weights[int(k)] = -ranked[k].first / total;
   }
@@ -190,7 +192,9 @@ struct Builder {
 SvoStats build_svo(const scene::RayScene& rays, formats::ProbeVolume& volume, int svo_depth, int threads) {
   const int n = 1 << svo_depth;
   const float size = volume.info.root_size / float(n);
-  const ProbeBuckets buckets(volume, std::min(n, 32));
+  // About two probes per bucket: the ring search then touches few empty buckets.
+  const int live = int(std::count_if(volume.probes.begin(), volume.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
+  const ProbeBuckets buckets(volume, std::clamp(int(std::cbrt(double(live) / 2.0)), 1, 32));
   std::vector<VoxelPayload> voxels(std::size_t(n) * std::size_t(n) * std::size_t(n));
   parallel_for(voxels.size(), threads, [&](std::size_t i) {
     const glm::ivec3 c(int(i % std::size_t(n)), int(i / std::size_t(n) % std::size_t(n)), int(i / std::size_t(n * n)));

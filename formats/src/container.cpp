@@ -142,14 +142,15 @@ private:
       const std::uint64_t computed = checksum64(view_.payloads[i]);
       if (computed != view_.sections[i].checksum) {
         mismatch(section_name(view_.sections[i].type), static_cast<long long>(i),
-                 "checksum " + detail::hex64(view_.sections[i].checksum) + ", computed " + detail::hex64(computed));
+                 detail::concat("checksum ", detail::hex64(view_.sections[i].checksum), ", computed ", detail::hex64(computed),
+                                " (section table entry ", i, ")"));
       }
     }
   }
 
   void mismatch(const std::string& section, long long index, const std::string& message) {
     if (!on_mismatch_) fail(section, message);
-    on_mismatch_(section, index, detail::concat(name_, ": ", section, ": ", message));
+    on_mismatch_(section, index, message);
   }
 
   std::span<const std::uint8_t> bytes_;

@@ -93,8 +93,9 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
   detail::Reporter out(report, options);
   ProbeVolume volume;
   try {
-    const ContainerView container = parse_container(bytes, name, [&](const std::string& section, long long index, const std::string& message) {
-      out.add("checksum", section, index, message);
+    // The violation is about a whole section (index -1); the message names its table entry.
+    const ContainerView container = parse_container(bytes, name, [&](const std::string& section, long long, const std::string& message) {
+      out.add("checksum", section, -1, message);
     });
     volume = decode_probes(container, name);
   } catch (const detail::StopValidation&) {

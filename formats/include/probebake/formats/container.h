@@ -104,7 +104,7 @@ struct ContainerView {
 };
 
 // Called for a checksum mismatch: `section` is "header" or the section's name, `index` its table index
-// (-1 for the header). When no callback is given, a mismatch throws like every other problem.
+// (-1 for the header), `message` the reason (without file name and place). When no callback is given, a mismatch throws like every other problem.
 using ChecksumMismatch = std::function<void(const std::string& section, long long index, const std::string& message)>;
 
 // Parses and checks the container, cheap checks first: size >= header, magic, major version, header

@@ -1,11 +1,15 @@
 // `probebake info FILE`: what a glTF scene (or a .probes file) contains.
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <memory>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "info_probes.h"
+#include "probebake/formats/container.h"
 #include "probebake/bake/scene.h"
 
 namespace probebake::cli {
@@ -74,7 +78,16 @@ void print_scene_info(const std::string& path, const scene::Scene& s) {
   for (const auto& w : s.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
 }
 
+// A .probes file is recognised by its magic, whatever its name.
+bool is_probes_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[sizeof(formats::kProbesMagic)] = {};
+  in.read(magic, sizeof(magic));
+  return in.gcount() == std::streamsize(sizeof(magic)) && std::memcmp(magic, formats::kProbesMagic, sizeof(magic)) == 0;
+}
+
 int run_info(const InfoSettings& settings) {
+  if (is_probes_file(settings.path)) return run_info_probes(settings.path, settings.json);
   const scene::Scene s = scene::load_scene(settings.path, {.require_triangles = true});
   if (settings.json) {
     std::puts(scene_info_json(s).dump(2).c_str());

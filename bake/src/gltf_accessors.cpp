@@ -137,6 +137,16 @@ std::vector<double> read_accessor(const tinygltf::Model& model, const tinygltf::
 
 } // namespace
 
+const tinygltf::Value& member(const tinygltf::Value& value, const char* key) {
+  static const tinygltf::Value null_value;
+  return value.IsObject() && value.Has(key) ? value.Get(key) : null_value;
+}
+
+float number_at(const tinygltf::Value& array, int i, float fallback) {
+  if (!array.IsArray() || i < 0 || std::size_t(i) >= array.ArrayLen() || !array.Get(i).IsNumber()) return fallback;
+  return float(array.Get(i).GetNumberAsDouble());
+}
+
 std::vector<float> read_accessor_floats(const tinygltf::Model& model, int accessor, int components, const Context& ctx,
                                         const std::string& place) {
   const tinygltf::Accessor& acc = checked_accessor(model, accessor, ctx, place);

@@ -54,8 +54,8 @@ std::vector<float> draco_attribute(const draco::Mesh& mesh, const tinygltf::Valu
 PrimitiveGeometry decode_draco_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
                                          const Context& ctx, const std::string& place) {
   const tinygltf::Value& extension = primitive.extensions.at("KHR_draco_mesh_compression");
-  const tinygltf::Value& view_value = extension.Get("bufferView");
-  const tinygltf::Value& attributes = extension.Get("attributes");
+  const tinygltf::Value& view_value = member(extension, "bufferView");
+  const tinygltf::Value& attributes = member(extension, "attributes");
   if (!view_value.IsInt() || !attributes.IsObject())
     ctx.fail(place, "KHR_draco_mesh_compression needs an integer bufferView and an attributes object");
 

@@ -14,6 +14,7 @@
 
 namespace tinygltf {
 class Model;
+class Value;
 struct Primitive;
 struct Material;
 } // namespace tinygltf
@@ -23,6 +24,12 @@ struct Material;
 }
 
 namespace probebake::scene::detail {
+
+// Member `key` of a JSON object value, or a null value when `value` is not an object or lacks the key.
+// (tinygltf's Value::Get asserts on non-objects, which hostile files can trigger.)
+const tinygltf::Value& member(const tinygltf::Value& value, const char* key);
+// Element `i` of a JSON array of numbers as a float, or `fallback`.
+float number_at(const tinygltf::Value& array, int i, float fallback);
 
 template <int N>
 bool all_finite(const glm::vec<N, float>& v) {

@@ -79,7 +79,7 @@ glm::mat4 local_transform(const tinygltf::Node& node, const Context& ctx, const 
 }
 
 bool is_dynamic(const tinygltf::Node& node) {
-  const tinygltf::Value& flag = node.extras.Get("probebake").Get("dynamic");
+  const tinygltf::Value& flag = detail::member(detail::member(node.extras, "probebake"), "dynamic");
   return flag.IsBool() && flag.Get<bool>();
 }
 
@@ -124,8 +124,8 @@ public:
     const bool dynamic = parent_dynamic || is_dynamic(node);
     if (node.mesh >= 0) add_mesh_instance(node, index, world, dynamic, place);
     auto light = node.extensions.find("KHR_lights_punctual");
-    if (light != node.extensions.end() && light->second.Get("light").IsInt()) {
-      const int li = light->second.Get("light").Get<int>();
+    if (light != node.extensions.end() && detail::member(light->second, "light").IsInt()) {
+      const int li = detail::member(light->second, "light").Get<int>();
       if (li < 0 || std::size_t(li) >= model_.lights.size()) ctx_.fail(place, fmt::format("light {} does not exist", li));
       scene_.lights.push_back(convert_light(model_.lights[std::size_t(li)], world, ctx_, place));
     }

@@ -98,12 +98,12 @@ TextureLookup resolve_texture(const tinygltf::Model& model, const tinygltf::Text
   auto ext = info.extensions.find("KHR_texture_transform");
   if (ext != info.extensions.end()) {
     const tinygltf::Value& t = ext->second;
-    if (t.Get("offset").IsArray() && t.Get("offset").ArrayLen() == 2)
-      lookup.offset = {float(t.Get("offset").Get(0).GetNumberAsDouble()), float(t.Get("offset").Get(1).GetNumberAsDouble())};
-    if (t.Get("scale").IsArray() && t.Get("scale").ArrayLen() == 2)
-      lookup.scale = {float(t.Get("scale").Get(0).GetNumberAsDouble()), float(t.Get("scale").Get(1).GetNumberAsDouble())};
-    if (t.Get("rotation").IsNumber()) lookup.rotation = float(t.Get("rotation").GetNumberAsDouble());
-    if (t.Get("texCoord").IsInt()) lookup.texcoord = t.Get("texCoord").Get<int>();
+    const tinygltf::Value& offset = member(t, "offset");
+    const tinygltf::Value& scale = member(t, "scale");
+    lookup.offset = {number_at(offset, 0, 0.0f), number_at(offset, 1, 0.0f)};
+    lookup.scale = {number_at(scale, 0, 1.0f), number_at(scale, 1, 1.0f)};
+    if (member(t, "rotation").IsNumber()) lookup.rotation = float(member(t, "rotation").GetNumberAsDouble());
+    if (member(t, "texCoord").IsInt()) lookup.texcoord = member(t, "texCoord").Get<int>();
   }
   return lookup;
 }
@@ -154,8 +154,8 @@ scene::Material convert_material(const tinygltf::Model& model, int index, const 
   out.base_color = factor3(m.pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
   float strength = 1.0f;
   auto ext = m.extensions.find("KHR_materials_emissive_strength");
-  if (ext != m.extensions.end() && ext->second.Get("emissiveStrength").IsNumber())
-    strength = float(ext->second.Get("emissiveStrength").GetNumberAsDouble());
+  if (ext != m.extensions.end() && member(ext->second, "emissiveStrength").IsNumber())
+    strength = float(member(ext->second, "emissiveStrength").GetNumberAsDouble());
   out.emission = factor3(m.emissiveFactor, glm::vec3(0.0f)) * strength;
   out.base_color_texture = m.pbrMetallicRoughness.baseColorTexture.index;
   out.emissive_texture = m.emissiveTexture.index;

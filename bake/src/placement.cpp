@@ -1,13 +1,40 @@
 // Octree probe placement (octree-probe-surfel-placement-ddgi-thesis §3.2.2, state L1 and the M1-M3
 // transitions it triggers), evaluated breadth-first on the CPU until the tree no longer changes.
+//
+// One addition to the thesis's rule: a node whose centre probe sees too little (f < LOW) but whose cube
+// still overlaps triangles is split rather than left empty while it is above max depth. The thesis's
+// scenes fill the root cube; in a scene that does not (two rooms in a wide root cube, a room below a
+// tall one) the first children's centres lie outside the rooms, see only the backs of floors and
+// ceilings, and the rule alone would free every probe before the tree reached the rooms.
 #include "placement.h"
 
 #include <algorithm>
+
+#include <glm/common.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "parallel.h"
 
 namespace probebake::bake::detail {
 namespace {
+
+// Triangles whose bounding boxes overlap a node's cube, handed down from parent to children.
+using TriangleList = std::vector<std::uint32_t>;
+
+bool box_overlaps_cube(const scene::Scene& s, std::uint32_t t, const formats::NodeCube& c) {
+  const glm::uvec3 tri = s.triangles[t];
+  const glm::vec3 lo = glm::min(glm::min(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
+  const glm::vec3 hi = glm::max(glm::max(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
+  const glm::vec3 cmax = c.min + glm::vec3(c.size);
+  return glm::all(glm::lessThanEqual(lo, cmax)) && glm::all(glm::greaterThanEqual(hi, c.min));
+}
+
+TriangleList overlapping(const scene::Scene& s, const TriangleList& parent, const formats::NodeCube& cube) {
+  TriangleList out;
+  for (std::uint32_t t : parent)
+    if (box_overlaps_cube(s, t, cube)) out.push_back(t);
+  return out;
+}
 
 Cube to_cube(const formats::NodeCube& c) { return {c.min, c.size}; }
 
@@ -23,7 +50,10 @@ std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cub
 
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress) {
   const BakeSettings& s = *in.settings;
+  const scene::Scene& scene = in.rays->scene();
   std::vector<formats::NodeCube> pending = {formats::root_cube(tree.volume().info)};
+  std::vector<TriangleList> pending_triangles(1, TriangleList(scene.triangles.size()));
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) pending_triangles[0][t] = std::uint32_t(t);
   std::vector<PlacedProbe> placed;
   while (!pending.empty()) {
     if (progress) progress("place", double(pending.front().depth) / double(s.max_depth + 1));
@@ -35,15 +65,19 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
     }
     const std::vector<ProbeRays> results = trace_all(in, cubes, centres);
     std::vector<formats::NodeCube> next;
+    std::vector<TriangleList> next_triangles;
     for (std::size_t i = 0; i < pending.size(); ++i) {
       const formats::NodeCube& node = pending[i];
       const float f = results[i].hit_fraction();
-      if (f < s.split_low) continue; // M2: the leaf stays without a probe
-      if (f >= s.split_high && node.depth < s.max_depth) {
+      const bool below_max = node.depth < s.max_depth;
+      const bool refine_towards_geometry = f < s.split_low && below_max && !pending_triangles[i].empty();
+      if (f < s.split_low && !refine_towards_geometry) continue; // M2: the leaf stays without a probe
+      if ((f >= s.split_high && below_max) || refine_towards_geometry) {
         const int meta = tree.split(node.node); // M3
         for (int octant = 0; octant < 8; ++octant) {
           formats::NodeCube child = formats::child_cube(node, octant);
           child.node = formats::child_node(meta, octant);
+          next_triangles.push_back(overlapping(scene, pending_triangles[i], child));
           next.push_back(child);
         }
         continue;
@@ -55,6 +89,7 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
       placed.push_back({probe, cubes[i], results[i]});
     }
     pending = std::move(next);
+    pending_triangles = std::move(next_triangles);
   }
   return placed;
 }

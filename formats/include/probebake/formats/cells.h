@@ -13,7 +13,6 @@
 // Only cells owning at least one element get a record; records are sorted by cell_index.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <vector>
 

@@ -1,0 +1,77 @@
+// `probebake SCENE` end to end: default output name, report JSON, validate, byte-identical rebakes,
+// usage errors.
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include "bake_test_util.h"
+#include "probebake/samples/scenes.h"
+
+namespace probebake::test {
+namespace {
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;
+};
+
+CliRun run(const std::string& args) {
+  const auto out = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "bake" / "cli_out.txt";
+  const std::string command = std::string(PROBEBAKE_CLI) + " " + args + " > '" + out.string() + "' 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(out);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
+}
+
+std::string read_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(BakeCli, CornellAtDepth3WritesAValidFileWithFewProbesAndRebakesIdentically) {
+  const auto scene = write_generated(samples::cornell(), "cli_cornell");
+  const auto probes = scene.parent_path() / "cli_cornell.probes";
+  std::filesystem::remove(probes);
+  CliRun bake = run("'" + scene.string() + "' --max-depth 3 --svo-depth 4 --json");
+  ASSERT_EQ(bake.exit_code, 0) << bake.out;
+  ASSERT_TRUE(std::filesystem::exists(probes)); // default output: beside the scene
+  const auto report = nlohmann::json::parse(bake.out);
+  EXPECT_LT(report["probes"].get<int>(), 512);
+  EXPECT_EQ(report["output"].get<std::string>(), probes.string());
+
+  const CliRun validate = run("validate '" + probes.string() + "'");
+  EXPECT_EQ(validate.exit_code, 0) << validate.out;
+  const CliRun info = run("info --json '" + probes.string() + "'");
+  ASSERT_EQ(info.exit_code, 0) << info.out;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["probes"].get<int>(), report["probes"].get<int>());
+
+  const auto again = scene.parent_path() / "again.probes";
+  ASSERT_EQ(run("bake '" + scene.string() + "' --max-depth 3 --svo-depth 4 --threads 1 -o '" + again.string() + "'").exit_code, 0);
+  EXPECT_EQ(read_bytes(probes), read_bytes(again));
+}
+
+TEST(BakeCli, GridOf21CubedPlaces9261Probes) {
+  const auto scene = write_generated(samples::cornell(), "cli_grid");
+  const CliRun bake = run("'" + scene.string() + "' --placement grid --grid 21 --svo-depth 3 --json");
+  ASSERT_EQ(bake.exit_code, 0) << bake.out;
+  const auto report = nlohmann::json::parse(bake.out);
+  EXPECT_EQ(report["probes"].get<int>() + report["freed_probes"].get<int>(), 9261);
+}
+
+TEST(BakeCli, BadSettingsAreUsageErrorsAndWriteNothing) {
+  const auto scene = write_generated(samples::cornell(), "cli_bad");
+  const auto out = scene.parent_path() / "bad.probes";
+  std::filesystem::remove(out);
+  EXPECT_EQ(run("'" + scene.string() + "' --max-depth 40 -o '" + out.string() + "'").exit_code, 1);
+  EXPECT_EQ(run("'" + scene.string() + "' --split-range 0.9,0.1 -o '" + out.string() + "'").exit_code, 1);
+  EXPECT_EQ(run("'" + scene.string() + "' --lattice cubic -o '" + out.string() + "'").exit_code, 1);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_EQ(run("missing.glb").exit_code, 2);
+}
+
+} // namespace
+} // namespace probebake::test

@@ -1,0 +1,178 @@
+// The bake on generated scenes: placement rules, relocation, SVO, determinism, validity.
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "bake_test_util.h"
+#include "probebake/formats/octree.h"
+#include "probebake/formats/probes_file.h"
+#include "probebake/formats/validate.h"
+#include "probebake/formats/volume_stats.h"
+#include "probebake/samples/geometry.h"
+#include "probebake/samples/scenes.h"
+
+namespace probebake::test {
+namespace {
+
+std::string violations(const formats::ValidationReport& r) {
+  std::string out;
+  for (const auto& v : r.violations) out += v.invariant + " @" + v.section + "[" + std::to_string(v.index) + "] " + v.message + "\n";
+  return out;
+}
+
+void expect_valid(const formats::ProbeVolume& v) {
+  const formats::ValidationReport report = formats::validate(v);
+  EXPECT_TRUE(report.valid()) << violations(report);
+}
+
+// No probe inside geometry, none closer to a surface than the clearance (checked independently).
+void expect_probes_outside_geometry(const scene::Scene& s, const bake::BakeResult& r) {
+  const scene::RayScene rays(s);
+  for (std::size_t i = 0; i < r.volume.probes.size(); ++i) {
+    const gpu::Probe& p = r.volume.probes[i];
+    if (p.link == 0) continue;
+    EXPECT_FALSE(inside_geometry(rays, p.position)) << "probe " << i;
+    EXPECT_GE(nearest_surface(rays, p.position), 0.99f * r.report.clearance) << "probe " << i;
+  }
+}
+
+TEST(Bake, CornellOctreeIsValidSparseAndDeeperNearGeometry) {
+  const scene::Scene s = load_generated(samples::cornell(), "cornell");
+  const bake::BakeResult r = bake::bake(s, test_settings());
+  expect_valid(r.volume);
+  expect_probes_outside_geometry(s, r);
+  EXPECT_GT(r.report.probes, 8);
+  EXPECT_LT(r.report.probes, 512); // the 21^3 grid has 9261
+  // Deeper leaves where geometry is dense: probes at max depth are nearer to surfaces on average.
+  const scene::RayScene rays(s);
+  double near_deep = 0, near_shallow = 0;
+  int deep = 0, shallow = 0;
+  for (const gpu::Probe& p : r.volume.probes) {
+    if (p.link == 0) continue;
+    const double d = nearest_surface(rays, p.position) / (r.volume.info.root_size / double(1 << p.depth));
+    (p.depth == 3 ? near_deep : near_shallow) += nearest_surface(rays, p.position);
+    (p.depth == 3 ? deep : shallow) += 1;
+    EXPECT_GT(d, 0.0);
+  }
+  ASSERT_GT(deep, 0);
+  ASSERT_GT(shallow, 0);
+  EXPECT_LT(near_deep / deep, near_shallow / shallow);
+}
+
+TEST(Bake, HitFractionRuleHolds) {
+  const scene::Scene s = load_generated(samples::cornell(), "cornell_rule");
+  bake::BakeSettings settings = test_settings();
+  const bake::BakeResult r = bake::bake(s, settings);
+  for (const gpu::Probe& p : r.volume.probes) {
+    if (p.link == 0) continue;
+    EXPECT_GE(p.hit_fraction, settings.split_low);                                     // else freed
+    if (p.depth < settings.max_depth) {
+      EXPECT_LT(p.hit_fraction, settings.split_high); // else split
+    }
+  }
+}
+
+TEST(Bake, GridPlacesNCubedProbesOrFreesThoseInsideGeometry) {
+  const scene::Scene s = load_generated(samples::cornell(), "cornell_grid");
+  bake::BakeSettings settings = test_settings();
+  settings.placement = bake::Placement::grid;
+  settings.grid_resolution = 9;
+  const bake::BakeResult r = bake::bake(s, settings);
+  expect_valid(r.volume);
+  EXPECT_EQ(r.report.probes + r.report.freed_probes, 9 * 9 * 9);
+  EXPECT_GT(r.report.moved_probes, 0); // the blocks cut through some cells
+  expect_probes_outside_geometry(s, r);
+}
+
+TEST(Bake, DeterministicAcrossThreadCounts) {
+  const scene::Scene s = load_generated(samples::cornell(), "cornell_det");
+  bake::BakeSettings one = test_settings(), two = test_settings();
+  one.threads = 1;
+  two.threads = 2;
+  const auto a = formats::write_probes(bake::bake(s, one).volume);
+  const auto b = formats::write_probes(bake::bake(s, two).volume);
+  const auto c = formats::write_probes(bake::bake(s, two).volume);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(b, c);
+  EXPECT_EQ(bake::bake_input_hash(s, one), bake::bake_input_hash(s, two)); // threads are not an input
+}
+
+TEST(Bake, ProbeCentreOnAWallIsMoved) {
+  // Furnace cube [-0.5, 0.5]^3 plus a wall through its centre: the root probe (max depth 0) sits on it.
+  samples::SceneBuilder builder = samples::furnace({.albedo = 0.5f, .emission = 1.0f});
+  const auto white = builder.add_material({.name = "wall"});
+  const auto wall = builder.add_mesh("wall", samples::box({-0.01f, -0.5f, -0.5f}, {0.01f, 0.5f, 0.5f}, samples::Facing::outward), white);
+  builder.add_mesh_node("wall", wall);
+  const scene::Scene s = load_generated(builder, "wall");
+  bake::BakeSettings settings = test_settings();
+  settings.max_depth = 0;
+  const bake::BakeResult r = bake::bake(s, settings);
+  expect_valid(r.volume);
+  ASSERT_EQ(r.report.probes, 1);
+  EXPECT_EQ(r.report.dead_probes, 1);
+  EXPECT_EQ(r.report.moved_probes, 1);
+  const glm::vec3 p = r.volume.probes[0].position;
+  EXPECT_GE(std::abs(p.x) - 0.01f, 0.99f * r.report.clearance);
+  expect_probes_outside_geometry(s, r);
+}
+
+TEST(Bake, SingleTriangleGivesAValidSmallFile) {
+  const scene::Scene s = load_generated(samples::triangle(), "triangle");
+  const bake::BakeResult r = bake::bake(s, test_settings());
+  expect_valid(r.volume);
+  EXPECT_LT(formats::write_probes(r.volume).size(), 64u * 1024u);
+}
+
+TEST(Bake, EveryGeneratedSceneBakesValid) {
+  struct Case { const char* name; samples::SceneBuilder builder; };
+  std::vector<Case> cases;
+  cases.push_back({"furnace", samples::furnace({.albedo = 0.99f, .emission = 1.0f})});
+  cases.push_back({"leak", samples::leak()});
+  cases.push_back({"plane_light", samples::plane_light()});
+  for (auto& c : cases) {
+    const scene::Scene s = load_generated(c.builder, c.name);
+    for (bake::Placement placement : {bake::Placement::octree, bake::Placement::grid}) {
+      bake::BakeSettings settings = test_settings();
+      settings.placement = placement;
+      settings.grid_resolution = 6;
+      const bake::BakeResult r = bake::bake(s, settings);
+      SCOPED_TRACE(c.name);
+      expect_valid(r.volume);
+      expect_probes_outside_geometry(s, r);
+      // A lone plane gives no octree probes: a cube touching it sees it in 1/6 of its directions,
+      // below the default LOW of 0.25 (the thesis's rule, kept as specified).
+      if (std::string(c.name) != "plane_light" || placement == bake::Placement::grid) {
+        EXPECT_GT(r.report.probes, 0);
+      }
+    }
+  }
+}
+
+TEST(Bake, LatticesAndSurfelStorage) {
+  const scene::Scene s = load_generated(samples::cornell(), "cornell_lattice");
+  for (bake::Lattice lattice : {bake::Lattice::fibonacci, bake::Lattice::latlong, bake::Lattice::equal_area}) {
+    bake::BakeSettings settings = test_settings();
+    settings.lattice = lattice;
+    settings.store_surfels = true;
+    settings.surfels_per_probe = 40; // three batches per probe, the last one partial
+    const bake::BakeResult r = bake::bake(s, settings);
+    expect_valid(r.volume);
+    EXPECT_EQ(formats::compute_stats(r.volume).surfel_batches, 3 * r.report.probes);
+  }
+}
+
+TEST(Bake, SettingsOutOfRangeAreUsageErrors) {
+  const scene::Scene s = load_generated(samples::triangle(), "triangle_settings");
+  bake::BakeSettings bad = test_settings();
+  bad.max_depth = 13;
+  EXPECT_THROW(bake::bake(s, bad), Error);
+  bad = test_settings();
+  bad.split_low = 0.8f;
+  bad.split_high = 0.2f;
+  EXPECT_THROW(bake::bake(s, bad), Error);
+}
+
+} // namespace
+} // namespace probebake::test

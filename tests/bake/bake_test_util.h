@@ -1,0 +1,27 @@
+// Shared helpers of the bake tests: generated scenes loaded through the real loader, and an independent
+// inside-geometry check.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "probebake/bake/bake.h"
+#include "probebake/bake/ray_scene.h"
+#include "probebake/samples/scene_builder.h"
+
+namespace probebake::test {
+
+// Writes the builder's .glb under the test temp dir and loads it like the CLI does.
+scene::Scene load_generated(const samples::SceneBuilder& builder, const std::string& name);
+std::filesystem::path write_generated(const samples::SceneBuilder& builder, const std::string& name);
+
+// Independent of the bake's own dead-probe test: 1024 pseudo-random directions (not the bake's lattice);
+// a point is inside geometry when more than half of the rays that hit anything hit a back face.
+bool inside_geometry(const scene::RayScene& rays, glm::vec3 p);
+// Distance to the nearest surface along those directions.
+float nearest_surface(const scene::RayScene& rays, glm::vec3 p);
+
+// Small, fast settings for tests.
+bake::BakeSettings test_settings();
+
+} // namespace probebake::test

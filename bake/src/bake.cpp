@@ -124,6 +124,20 @@ SdfSettings sdf_settings(const scene::Scene& scene, float clearance) {
   return settings;
 }
 
+// The octree's buffers grow by doubling while placing; the file keeps no unused capacity (the runtime
+// allocates its own). arrange_cells has moved free probes and batches behind every cell's elements.
+void trim_trailing_free(formats::ProbeVolume& v) {
+  while (!v.probes.empty() && v.probes.back().link == 0) v.probes.pop_back();
+  while (!v.surfel_batches.empty() && v.surfel_batches.back().link == 0) v.surfel_batches.pop_back();
+  const auto free_cluster_at_end = [&] {
+    if (v.octree.size() < 10 || (v.octree.size() - 1) % 9 != 0) return false;
+    return std::all_of(v.octree.end() - 9, v.octree.end(), [](std::int32_t e) { return e == 0; });
+  };
+  while (free_cluster_at_end()) v.octree.resize(v.octree.size() - 9);
+  formats::sync_info_counts(v);
+  formats::rebuild_probe_index(v);
+}
+
 void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
   report.depth_histogram.assign(std::size_t(std::max(v.info.max_depth, 0) + 1), 0);
   for (const gpu::Probe& p : v.probes) {
@@ -219,6 +233,8 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   formats::sync_info_counts(volume);
   formats::rebuild_probe_index(volume);
   formats::arrange_cells(volume, settings.cell_depth);
+  trim_trailing_free(volume);
+  formats::arrange_cells(volume, settings.cell_depth); // byte ranges of the trimmed sections
   volume.input_hash = bake_input_hash(scene, settings);
   timer.stage("");
   fill_report(volume, report);

@@ -5,7 +5,8 @@
 // still overlaps triangles is split rather than left empty while it is above max depth. The thesis's
 // scenes fill the root cube; in a scene that does not (two rooms in a wide root cube, a room below a
 // tall one) the first children's centres lie outside the rooms, see only the backs of floors and
-// ceilings, and the rule alone would free every probe before the tree reached the rooms.
+// ceilings, and the rule alone would free every probe before the tree reached the rooms. A centre that
+// mostly sees back faces (it is inside geometry) is treated the same way.
 #include "placement.h"
 
 #include <algorithm>
@@ -70,7 +71,9 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
       const formats::NodeCube& node = pending[i];
       const float f = results[i].hit_fraction();
       const bool below_max = node.depth < s.max_depth;
-      const bool refine_towards_geometry = f < s.split_low && below_max && !pending_triangles[i].empty();
+      // A centre inside geometry (mostly back faces) cannot judge its node either.
+      const bool centre_blind = f < s.split_low || results[i].backface_fraction() > 0.5f;
+      const bool refine_towards_geometry = centre_blind && below_max && !pending_triangles[i].empty();
       if (f < s.split_low && !refine_towards_geometry) continue; // M2: the leaf stays without a probe
       if ((f >= s.split_high && below_max) || refine_towards_geometry) {
         const int meta = tree.split(node.node); // M3

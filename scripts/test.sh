@@ -8,9 +8,13 @@ jobs=$(nproc)
 
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPROBEBAKE_SANITIZE=address,undefined \
   -DPROBEBAKE_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build-asan -j "$jobs" --target probebake scene_tests formats_tests
-(cd build-asan/tests/scene && ./scene_tests --gtest_brief=1)
-(cd build-asan/tests/formats && ./formats_tests --gtest_brief=1)
+asan_tests="scene_tests formats_file_test formats_corruption_test formats_validate_test formats_octree_test"
+cmake --build build-asan -j "$jobs" --target probebake $asan_tests
+for t in $asan_tests; do
+  dir=$(dirname "$(find build-asan/tests -name "$t" -type f | head -n 1)")
+  echo "== $t (address + undefined behaviour sanitizers)"
+  (cd "$dir" && "./$t" --gtest_brief=1)
+done
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPROBEBAKE_WERROR=ON >/dev/null
 cmake --build build -j "$jobs"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <set>
 
 #include <fmt/core.h>
@@ -35,13 +36,12 @@ std::string first_line(const std::string& text) {
   return line.empty() ? "unknown parse error" : line;
 }
 
-tinygltf::Model parse_gltf(const std::filesystem::path& path, const Context& ctx) {
-  std::vector<unsigned char> bytes = read_file_bytes(path, ctx);
+tinygltf::Model parse_gltf(std::vector<unsigned char> bytes, const std::string& base_dir, const Context& ctx) {
   if (bytes.empty()) ctx.fail("parse", "file is empty");
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) ctx.fail("parse", "file is larger than 4 GiB");
   tinygltf::TinyGLTF parser;
   tinygltf::Model model;
   std::string err, warn;
-  const std::string base_dir = path.parent_path().string();
   const bool is_glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
   detail::prepare_draco_for_tinygltf(bytes, is_glb, ctx);
   const bool ok = is_glb ? parser.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
@@ -230,9 +230,15 @@ std::vector<int> root_nodes(const tinygltf::Model& model, const Context& ctx) {
 } // namespace
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
+  const Context ctx{path.string(), nullptr};
+  return load_scene_from_memory(read_file_bytes(path, ctx), path.string(), path.parent_path(), options);
+}
+
+Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string& name,
+                             const std::filesystem::path& base_dir, const LoadOptions& options) {
   Scene scene;
-  const Context ctx{path.string(), &scene.warnings};
-  const tinygltf::Model model = parse_gltf(path, ctx);
+  const Context ctx{name, &scene.warnings};
+  const tinygltf::Model model = parse_gltf(std::move(bytes), base_dir.string(), ctx);
   check_required_extensions(model, ctx);
   scene.extensions_used = model.extensionsUsed;
   scene.extensions_required = model.extensionsRequired;

@@ -90,6 +90,9 @@ struct LoadOptions {
 // Loads .gltf (external files or data URIs) or .glb. Throws probebake::Error (ErrorKind::input) with a
 // one-line "<file>: <place>: <reason>" message on any malformed, truncated or unsupported input.
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
+// The same from bytes in memory; `name` is used in messages, external URIs resolve against `base_dir`.
+Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string& name,
+                             const std::filesystem::path& base_dir, const LoadOptions& options = {});
 
 struct SceneSummary {
   std::size_t emissive_triangles = 0;

@@ -73,5 +73,13 @@ TEST(BakeCli, BadSettingsAreUsageErrorsAndWriteNothing) {
   EXPECT_EQ(run("missing.glb").exit_code, 2);
 }
 
+TEST(BakeCli, EmptySceneIsAClearRefusal) {
+  const auto scene = write_generated(samples::empty(), "cli_empty");
+  const CliRun bake = run("'" + scene.string() + "'");
+  EXPECT_EQ(bake.exit_code, 2);
+  EXPECT_NE(bake.out.find("scene has no triangles"), std::string::npos) << bake.out;
+  EXPECT_FALSE(std::filesystem::exists(scene.parent_path() / "cli_empty.probes"));
+}
+
 } // namespace
 } // namespace probebake::test

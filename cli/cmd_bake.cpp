@@ -31,6 +31,7 @@ nlohmann::json report_json(const bake::BakeReport& r, const std::string& output,
   j["output"] = output;
   j["bytes"] = bytes;
   j["probes"] = r.probes;
+  j["placed_probes"] = r.placed_probes;
   j["leaves"] = r.leaves;
   j["depth_histogram"] = r.depth_histogram;
   j["dead_probes"] = r.dead_probes;
@@ -58,7 +59,8 @@ nlohmann::json report_json(const bake::BakeReport& r, const std::string& output,
 
 void print_report(const nlohmann::json& j) {
   fmt::print("wrote        {} ({} bytes)\n", j["output"].get<std::string>(), j["bytes"].get<std::size_t>());
-  fmt::print("probes       {} in {} leaves\n", j["probes"].get<int>(), j["leaves"].get<int>());
+  fmt::print("probes       {} in {} leaves ({} placed, {} freed inside geometry)\n", j["probes"].get<int>(),
+             j["leaves"].get<int>(), j["placed_probes"].get<int>(), j["freed_probes"].get<int>());
   std::string histogram;
   const auto depths = j["depth_histogram"].get<std::vector<int>>();
   for (std::size_t d = 0; d < depths.size(); ++d) histogram += fmt::format(" d{}:{}", d, depths[d]);

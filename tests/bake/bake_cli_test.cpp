@@ -59,6 +59,7 @@ TEST(BakeCli, GridOf21CubedPlaces9261Probes) {
   const CliRun bake = run("'" + scene.string() + "' --placement grid --grid 21 --svo-depth 3 --json");
   ASSERT_EQ(bake.exit_code, 0) << bake.out;
   const auto report = nlohmann::json::parse(bake.out);
+  EXPECT_EQ(report["placed_probes"].get<int>(), 9261);
   EXPECT_EQ(report["probes"].get<int>() + report["freed_probes"].get<int>(), 9261);
 }
 

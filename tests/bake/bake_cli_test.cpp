@@ -6,26 +6,17 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include "bake_test_util.h"
+#include "run_cli.h"
 #include "probebake/samples/scenes.h"
 
 namespace probebake::test {
 namespace {
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-};
+using CliRun = CliResult;
 
-CliRun run(const std::string& args) {
-  const auto out = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "bake" / "cli_out.txt";
-  const std::string command = std::string(PROBEBAKE_CLI) + " " + args + " > '" + out.string() + "' 2>&1";
-  const int status = std::system(command.c_str());
-  std::ifstream in(out);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
-}
+CliRun run(const std::string& args) { return run_cli(args); }
 
 std::string read_bytes(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -78,7 +69,7 @@ TEST(BakeCli, EmptySceneIsAClearRefusal) {
   const auto scene = write_generated(samples::empty(), "cli_empty");
   const CliRun bake = run("'" + scene.string() + "'");
   EXPECT_EQ(bake.exit_code, 2);
-  EXPECT_NE(bake.out.find("scene has no triangles"), std::string::npos) << bake.out;
+  EXPECT_NE(bake.err.find("scene has no triangles"), std::string::npos) << bake.err;
   EXPECT_FALSE(std::filesystem::exists(scene.parent_path() / "cli_empty.probes"));
 }
 

@@ -12,31 +12,15 @@
 
 #include "info_probes.h"
 #include "probebake/formats/probes_file.h"
+#include "run_cli.h"
 #include "sample_volumes.h"
 #include "test_bytes.h"
 
 namespace probebake::formats {
 namespace {
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-RunResult run_cli(const std::string& arguments) {
-  const std::string command = std::string("'") + PROBEBAKE_CLI + "' " + arguments + " 2>/dev/null";
-  RunResult result;
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
-std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+using test::quoted;
+using test::run_cli;
 
 class CliValidate : public ::testing::Test {
 protected:
@@ -55,42 +39,42 @@ protected:
 
 TEST_F(CliValidate, GoldenFileIsValid) {
   const std::filesystem::path golden = testing::golden_path(testing::golden_name(testing::Sample::small));
-  const RunResult json = run_cli("validate --json " + quoted(golden));
-  EXPECT_EQ(json.exit_code, 0) << json.output;
-  EXPECT_TRUE(nlohmann::json::parse(json.output)["valid"].get<bool>());
-  const RunResult text = run_cli("validate " + quoted(golden));
+  const test::CliResult json = run_cli("validate --json " + quoted(golden));
+  EXPECT_EQ(json.exit_code, 0) << json.out;
+  EXPECT_TRUE(nlohmann::json::parse(json.out)["valid"].get<bool>());
+  const test::CliResult text = run_cli("validate " + quoted(golden));
   EXPECT_EQ(text.exit_code, 0);
-  EXPECT_NE(text.output.find(": valid"), std::string::npos) << text.output;
+  EXPECT_NE(text.out.find(": valid"), std::string::npos) << text.out;
 }
 
 TEST_F(CliValidate, BrokenTreeIsInvalidAndNamed) {
   ProbeVolume volume = testing::make_sample(testing::Sample::small);
   volume.octree[12] = 10; // a node pointing at its own ancestor cluster
   const std::filesystem::path path = write_bytes("cycle.probes", write_probes(volume));
-  const RunResult json = run_cli("validate --json " + quoted(path));
-  EXPECT_EQ(json.exit_code, 1) << json.output;
-  const nlohmann::json report = nlohmann::json::parse(json.output);
+  const test::CliResult json = run_cli("validate --json " + quoted(path));
+  EXPECT_EQ(json.exit_code, 1) << json.out;
+  const nlohmann::json report = nlohmann::json::parse(json.out);
   EXPECT_FALSE(report["valid"].get<bool>());
   EXPECT_EQ(report["violations"][0]["invariant"], "octree_cycle");
-  const RunResult text = run_cli("validate " + quoted(path));
+  const test::CliResult text = run_cli("validate " + quoted(path));
   EXPECT_EQ(text.exit_code, 1);
-  EXPECT_NE(text.output.find("octree[10]: octree_cycle"), std::string::npos) << text.output;
+  EXPECT_NE(text.out.find("octree[10]: octree_cycle"), std::string::npos) << text.out;
 }
 
 TEST_F(CliValidate, FlippedByteIsAChecksumViolation) {
   std::vector<std::uint8_t> bytes = read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::small)));
   bytes[bytes.size() - 3] ^= 0x10;
-  const RunResult json = run_cli("validate --json " + quoted(write_bytes("flipped.probes", bytes)));
-  EXPECT_EQ(json.exit_code, 1) << json.output;
-  EXPECT_EQ(nlohmann::json::parse(json.output)["violations"][0]["invariant"], "checksum");
+  const test::CliResult json = run_cli("validate --json " + quoted(write_bytes("flipped.probes", bytes)));
+  EXPECT_EQ(json.exit_code, 1) << json.out;
+  EXPECT_EQ(nlohmann::json::parse(json.out)["violations"][0]["invariant"], "checksum");
 }
 
 TEST_F(CliValidate, MaxErrorsLimitsTheReport) {
   ProbeVolume volume = testing::make_sample(testing::Sample::small);
   for (gpu::Probe& probe : volume.probes) probe.pad0 = std::nanf("");
-  const RunResult json = run_cli("validate --json --max-errors 2 " + quoted(write_bytes("nan.probes", write_probes(volume))));
+  const test::CliResult json = run_cli("validate --json --max-errors 2 " + quoted(write_bytes("nan.probes", write_probes(volume))));
   EXPECT_EQ(json.exit_code, 1);
-  const nlohmann::json report = nlohmann::json::parse(json.output);
+  const nlohmann::json report = nlohmann::json::parse(json.out);
   EXPECT_EQ(report["violations"].size(), 2u);
   EXPECT_TRUE(report["truncated"].get<bool>());
 }
@@ -101,9 +85,9 @@ TEST_F(CliValidate, UnreadableFilesExitTwo) {
   const std::vector<std::uint8_t> garbage = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 1, 2, 3};
   for (const std::filesystem::path& path :
        {write_bytes("truncated.probes", truncated), write_bytes("garbage.probes", garbage), dir_ / "missing.probes"}) {
-    const RunResult json = run_cli("validate --json " + quoted(path));
+    const test::CliResult json = run_cli("validate --json " + quoted(path));
     EXPECT_EQ(json.exit_code, 2) << path;
-    const nlohmann::json report = nlohmann::json::parse(json.output);
+    const nlohmann::json report = nlohmann::json::parse(json.out);
     EXPECT_FALSE(report["readable"].get<bool>());
     EXPECT_EQ(report["violations"][0]["invariant"], "container");
     EXPECT_EQ(run_cli("validate " + quoted(path)).exit_code, 2);

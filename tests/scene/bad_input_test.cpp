@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "mini_gltf.h"
+#include "run_cli.h"
 #include "probebake/bake/scene.h"
 #include "probebake/formats/error.h"
 
@@ -17,19 +18,7 @@ namespace {
 
 const std::vector<glm::vec3> kTri = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 
-struct CliResult {
-  int exit_code = -1;
-  std::string stderr_text;
-};
-
-CliResult run_info(const std::filesystem::path& file) {
-  const auto err = file.parent_path() / "stderr.txt";
-  const std::string command = std::string(PROBEBAKE_CLI) + " info '" + file.string() + "' > /dev/null 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  std::ifstream in(err);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
-}
+CliResult run_info(const std::filesystem::path& file) { return run_cli("info " + quoted(file)); }
 
 // The library throws an input error mentioning `reason`; the CLI exits 2 with exactly one stderr line
 // that names the file and the reason.
@@ -43,10 +32,10 @@ void expect_rejected(const std::filesystem::path& file, const std::string& reaso
     EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
   }
   const CliResult cli = run_info(file);
-  EXPECT_EQ(cli.exit_code, 2) << cli.stderr_text;
-  EXPECT_EQ(std::count(cli.stderr_text.begin(), cli.stderr_text.end(), '\n'), 1) << cli.stderr_text;
-  EXPECT_NE(cli.stderr_text.find(file.string()), std::string::npos) << cli.stderr_text;
-  EXPECT_NE(cli.stderr_text.find(reason), std::string::npos) << cli.stderr_text;
+  EXPECT_EQ(cli.exit_code, 2) << cli.err;
+  EXPECT_EQ(std::count(cli.err.begin(), cli.err.end(), '\n'), 1) << cli.err;
+  EXPECT_NE(cli.err.find(file.string()), std::string::npos) << cli.err;
+  EXPECT_NE(cli.err.find(reason), std::string::npos) << cli.err;
 }
 
 TEST(BadInput, MissingFile) { expect_rejected(test_dir("missing") / "nope.glb", "does not exist"); }
@@ -63,7 +52,7 @@ TEST(BadInput, TruncatedGlbAtEveryLength) {
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size() / 2));
   const CliResult cli = run_info(path);
   EXPECT_EQ(cli.exit_code, 2);
-  EXPECT_NE(cli.stderr_text.find("half.glb"), std::string::npos);
+  EXPECT_NE(cli.err.find("half.glb"), std::string::npos);
 }
 
 TEST(BadInput, GltfPointingAtMissingBin) {

@@ -23,7 +23,9 @@ TEST(SharedBake, EverySharedSceneBakesValidWithProbesOutsideGeometry) {
       EXPECT_TRUE(report.valid()) << (report.violations.empty() ? "" : report.violations[0].message);
       const scene::RayScene rays(s);
       for (const gpu::Probe& p : r.volume.probes)
-        if (p.link != 0) EXPECT_FALSE(inside_geometry(rays, p.position));
+        if (p.link != 0) {
+          EXPECT_FALSE(inside_geometry(rays, p.position));
+        }
       ++baked;
     }
   }

@@ -38,6 +38,10 @@ nlohmann::json report_json(const bake::BakeReport& r, const std::string& output,
   j["moved_probes"] = r.moved_probes;
   j["freed_probes"] = r.freed_probes;
   j["clearance"] = r.clearance;
+  j["lighting"] = {{"iterations", r.lighting.iterations}, {"extrapolations", r.lighting.extrapolations},
+                   {"converged", r.lighting.converged}, {"change", r.lighting.change},
+                   {"estimated_error", r.lighting.estimated_error}, {"rays", r.lighting.rays},
+                   {"seconds", r.lighting.seconds}};
   j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves},
               {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
   j["sections"] = {{"octree", v.octree.size() * 4},
@@ -67,6 +71,11 @@ void print_report(const nlohmann::json& j) {
   fmt::print("depths      {}\n", histogram);
   fmt::print("dead probes  {} ({} moved, {} freed; clearance {:.4g})\n", j["dead_probes"].get<int>(),
              j["moved_probes"].get<int>(), j["freed_probes"].get<int>(), j["clearance"].get<float>());
+  const auto& lighting = j["lighting"];
+  if (lighting["iterations"].get<int>() > 0)
+    fmt::print("lighting     {} iterations ({} extrapolated), {}, estimated error {:.2g}\n",
+               lighting["iterations"].get<int>(), lighting["extrapolations"].get<int>(),
+               lighting["converged"].get<bool>() ? "converged" : "NOT converged", lighting["estimated_error"].get<float>());
   fmt::print("svo          {} nodes, {} leaves, {} bytes\n", j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(),
              j["svo"]["bytes"].get<std::size_t>());
   fmt::print("sections    ");
@@ -128,6 +137,10 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");
   app->add_option("--threads", s->bake.threads, "Worker threads (0 = all cores); output does not depend on it");
   app->add_option("--cell-depth", s->bake.cell_depth, "Streaming cells: (2^N)^3 grid");
+  app->add_option("--light-rays", s->bake.lighting.rays, "Rays per probe for the bake-time lighting");
+  app->add_option("--light-tolerance", s->bake.lighting.tolerance, "Relative error at which the bounce iteration stops");
+  app->add_option("--light-max-iterations", s->bake.lighting.max_iterations, "Bounce iterations at most");
+  app->add_flag("!--no-lighting", s->bake.lighting.enabled, "Leave probe irradiance at zero (placement only)");
   app->add_flag("--surfels-out", s->bake.store_surfels, "Also store surfel batches (for dynamic runtime updates)");
   app->add_flag("--json", s->json, "Print the report as JSON");
   return {app, [s] { return run_bake(*s); }};

@@ -18,5 +18,7 @@ struct Command {
 Command add_bake_command(CLI::App& root);
 Command add_info_command(CLI::App& root);
 Command add_validate_command(CLI::App& root);
+Command add_reference_command(CLI::App& root);
+Command add_eval_command(CLI::App& root);
 
 } // namespace probebake::cli

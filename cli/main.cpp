@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
       cli::add_bake_command(app),
       cli::add_info_command(app),
       cli::add_validate_command(app),
+      cli::add_reference_command(app),
+      cli::add_eval_command(app),
   };
 
   // `probebake scene.gltf` is short for `probebake bake scene.gltf`.

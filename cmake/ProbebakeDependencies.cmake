@@ -24,6 +24,7 @@ find_path(OPENVDB_INCLUDE_DIR openvdb/openvdb.h REQUIRED)
 find_library(OPENVDB_LIBRARY openvdb REQUIRED)
 find_path(BOOST_INCLUDE_DIR boost/version.hpp REQUIRED)
 find_package(Imath CONFIG REQUIRED) # OpenVDB's inline half-float conversions reference libImath
+find_package(OpenEXR CONFIG REQUIRED) # reference images (probebake_reference)
 add_library(probebake_openvdb INTERFACE)
 target_include_directories(probebake_openvdb SYSTEM INTERFACE "${OPENVDB_INCLUDE_DIR}" "${BOOST_INCLUDE_DIR}")
 target_link_libraries(probebake_openvdb INTERFACE "${OPENVDB_LIBRARY}" TBB::tbb Imath::Imath)

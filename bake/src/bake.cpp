@@ -163,6 +163,7 @@ void check_settings(const BakeSettings& s) {
   require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
   require(s.threads >= 0, "--threads must be >= 0");
   require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
+  check_lighting_settings(s.lighting);
 }
 
 std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) {
@@ -184,6 +185,11 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
   const float floats[] = {s.split_low, s.split_high, s.clearance};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
+  const auto& l = s.lighting;
+  const std::int32_t lighting_ints[] = {l.enabled ? 1 : 0, l.rays, l.max_iterations, l.accelerate ? 1 : 0};
+  const float lighting_floats[] = {l.tolerance, l.sky_radiance.x, l.sky_radiance.y, l.sky_radiance.z};
+  add(lighting_ints, sizeof(lighting_ints));
+  add(lighting_floats, sizeof(lighting_floats));
   const std::uint64_t hash = XXH3_64bits_digest(state);
   XXH3_freeState(state);
   return hash;
@@ -229,6 +235,14 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   if (progress) progress("svo", 0.0);
   const detail::SvoStats svo = detail::build_svo(rays, volume, settings.svo_depth, settings.threads);
   (void)svo;
+
+  if (settings.lighting.enabled) {
+    timer.stage("lighting");
+    if (progress) progress("lighting", 0.0);
+    LightingSettings lighting = settings.lighting;
+    lighting.threads = settings.threads;
+    report.lighting = bake_lighting(scene, rays, volume, lighting);
+  }
 
   timer.stage("cells");
   formats::sync_info_counts(volume);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "probebake/bake/lattice.h"
+#include "probebake/bake/lighting.h"
 #include "probebake/bake/scene.h"
 #include "probebake/formats/probe_volume.h"
 
@@ -32,6 +33,7 @@ struct BakeSettings {
   int threads = 0;                // 0 = all cores
   bool store_surfels = false;     // write the surfel batches (for runtime updates of dynamic scenes)
   int cell_depth = 1;             // streaming cells: (2^cell_depth)^3
+  LightingSettings lighting;      // probe irradiance (lighting.h); its `threads` is replaced by `threads`
 };
 
 // Throws Error(usage) with a message naming the option when a setting is out of range.
@@ -53,6 +55,7 @@ struct BakeReport {
   int svo_nodes = 0;
   int svo_leaves = 0;
   float clearance = 0.0f;             // the clearance actually used
+  LightingReport lighting;            // when settings.lighting.enabled
   std::vector<StageTime> stages;
 };
 

@@ -1,0 +1,85 @@
+// Bake-time lighting (lighting.h): trace and cache every probe's rays once (octree thesis §3.2.2 L1),
+// then re-light the cached hits from the previous sweep's probes until the probes stop changing (the
+// thesis's L2 step run to convergence, DDGI's probe-to-probe recursion for multiple bounces).
+#include "probebake/bake/lighting.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+
+#include "hit_cache.h"
+#include "iteration.h"
+#include "probebake/formats/error.h"
+
+namespace probebake::bake {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+void require(bool ok, const char* message) {
+  if (!ok) throw Error(ErrorKind::usage, message);
+}
+
+// Sweeps until converged or out of iterations; `current` ends with the last iterate.
+void iterate(const lighting_detail::HitCache& cache, const LightingSettings& s, lighting_detail::ShBuffer& current,
+             LightingReport& report) {
+  lighting_detail::ShBuffer other(current.size(), 0.0);
+  lighting_detail::Convergence convergence(s.tolerance, s.accelerate);
+  for (int sweep = 1; sweep <= s.max_iterations; ++sweep) {
+    lighting_detail::sweep(cache, current, other, s.threads);
+    lighting_detail::check_finite(cache, other, sweep);
+    const lighting_detail::SweepChange change = lighting_detail::measure_change(cache, current, other);
+    std::swap(current, other); // current = new iterate, other = the one before
+    report.iterations = sweep;
+    report.converged = convergence.add(change);
+    if (report.converged) break;
+    if (const double factor = convergence.extrapolation_factor(); factor > 0.0) {
+      lighting_detail::extrapolate(cache, current, other, factor);
+      lighting_detail::check_finite(cache, current, sweep);
+      ++report.extrapolations;
+    }
+  }
+  report.change = convergence.change();
+  report.rate = std::max(convergence.rate(), 0.0f);
+  report.estimated_error = convergence.estimated_error();
+}
+
+} // namespace
+
+void check_lighting_settings(const LightingSettings& s) {
+  require(s.rays >= 1 && s.rays <= 65536, "lighting rays must be in [1, 65536]");
+  require(std::isfinite(s.tolerance) && s.tolerance > 0.0f && s.tolerance < 1.0f, "lighting tolerance must be in (0, 1)");
+  require(s.max_iterations >= 1, "lighting max iterations must be >= 1");
+  for (int c = 0; c < 3; ++c)
+    require(std::isfinite(s.sky_radiance[c]) && s.sky_radiance[c] >= 0.0f, "sky radiance must be finite and >= 0");
+  require(s.threads >= 0, "threads must be >= 0");
+}
+
+LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& rays, formats::ProbeVolume& volume,
+                             const LightingSettings& settings) {
+  check_lighting_settings(settings);
+  const auto start = Clock::now();
+  LightingReport report;
+  const lighting_detail::HitCache cache = lighting_detail::build_hit_cache(scene, rays, volume, settings);
+  report.probes = int(cache.probes.size());
+  report.rays = cache.records.size();
+  report.backface_hits = cache.backface_hits;
+  report.misses = cache.misses;
+  report.indirect_misses = cache.indirect_misses;
+  report.trace_seconds = seconds_since(start);
+
+  const auto iterate_start = Clock::now();
+  lighting_detail::ShBuffer sh(27 * volume.probes.size(), 0.0);
+  if (!cache.probes.empty()) iterate(cache, settings, sh, report);
+  else report.converged = true;
+  for (int p : cache.probes)
+    for (int v = 0; v < 27; ++v) volume.probes[std::size_t(p)].irradiance_sh[v] = float(sh[27 * std::size_t(p) + std::size_t(v)]);
+  report.iterate_seconds = seconds_since(iterate_start);
+  report.seconds = seconds_since(start);
+  return report;
+}
+
+} // namespace probebake::bake

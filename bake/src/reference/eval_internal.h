@@ -1,0 +1,34 @@
+// Internals of `probebake eval` shared by its translation units.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "probebake/bake/eval.h"
+#include "probebake/bake/reference.h"
+
+namespace probebake::bake::detail {
+
+struct ReferencePoints {
+  std::vector<SamplePoint> points;
+  ReferenceResult values;
+  std::filesystem::path cache_file;
+  bool from_cache = false;
+  bool cache_written = false;
+};
+
+// Reads the cache beside the scene or computes (and then writes) it.
+ReferencePoints cached_reference(const std::filesystem::path& scene_path, const scene::Scene& scene,
+                                 const scene::RayScene& rays, const EvalSettings& settings);
+
+// Per-point RGB RMS errors of `estimate` against `reference`, summarised.
+struct ErrorStats {
+  double rmse = 0.0, p95 = 0.0, max = 0.0, leak_rmse = 0.0;
+  int leak_points = 0;
+};
+ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector<glm::vec3>& reference,
+                       double mean_reference);
+
+double mean_irradiance(const std::vector<glm::vec3>& values); // over points and channels
+
+} // namespace probebake::bake::detail

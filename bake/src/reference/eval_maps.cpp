@@ -1,0 +1,41 @@
+#include "eval_maps.h"
+
+#include <fmt/core.h>
+
+#include "probebake/bake/lighting.h"
+#include "probebake/bake/sampler.h"
+#include "probebake/formats/error.h"
+
+namespace probebake::bake::detail {
+
+ErrorMaps::ErrorMaps(const scene::Scene& scene, const scene::RayScene& rays, const EvalSettings& s)
+    : dir_(s.error_map_dir), camera_(*s.camera) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot create folder: {}", dir_.string(), ec.message()));
+  const auto hits = camera_surface_points(rays, camera_);
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    if (!hits[i]) continue;
+    pixels_.push_back(i);
+    points_.push_back(*hits[i]);
+    direct_.push_back(direct_irradiance(scene, rays, hits[i]->position, hits[i]->normal));
+  }
+  reference_ = reference_irradiance(scene, rays, points_, {.paths = s.image_paths, .seed = s.seed, .threads = s.threads}).irradiance;
+  Image image{camera_.width, camera_.height, std::vector<glm::vec3>(hits.size(), glm::vec3(0.0f))};
+  for (std::size_t k = 0; k < points_.size(); ++k) image.pixels[pixels_[k]] = reference_[k];
+  write_exr(reference_path(), image);
+}
+
+std::filesystem::path ErrorMaps::write(const std::string& label, const formats::ProbeVolume& volume) const {
+  Image image{camera_.width, camera_.height,
+              std::vector<glm::vec3>(std::size_t(camera_.width) * std::size_t(camera_.height), glm::vec3(0.0f))};
+  for (std::size_t k = 0; k < points_.size(); ++k) {
+    const glm::vec3 estimate = direct_[k] + sample_irradiance(volume, points_[k].position, points_[k].normal);
+    image.pixels[pixels_[k]] = glm::abs(estimate - reference_[k]);
+  }
+  const std::filesystem::path path = dir_ / (label + ".exr");
+  write_exr(path, image);
+  return path;
+}
+
+} // namespace probebake::bake::detail

@@ -1,0 +1,26 @@
+// Camera options shared by `probebake reference` and `probebake eval`:
+// --camera x,y,z --look-at x,y,z --fov deg --size WxH.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "probebake/bake/reference.h"
+
+namespace probebake::cli {
+
+struct CameraOptions {
+  std::vector<float> position;
+  std::vector<float> look_at;
+  float fov = 60.0f;
+  std::string size = "512x512";
+
+  void add_to(CLI::App& app);
+  // The camera when --camera was given (--look-at is then required); Error(usage) on bad values.
+  std::optional<bake::Camera> camera() const;
+};
+
+} // namespace probebake::cli

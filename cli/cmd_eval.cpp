@@ -1,0 +1,108 @@
+// `probebake eval SCENE`: error against bake time over a sweep of bake settings, scored against the
+// path-traced reference (cached beside the scene). Markdown table on stdout; --csv, --json, --plot (SVG),
+// --error-map DIR (per-configuration error images from --camera).
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "camera_options.h"
+#include "commands.h"
+#include "probebake/bake/eval.h"
+#include "probebake/formats/error.h"
+
+namespace probebake::cli {
+namespace {
+
+struct EvalCommandSettings {
+  std::string scene;
+  bool quick = false;
+  bool no_cache = false;
+  std::string csv;
+  std::string plot;
+  std::string error_map;
+  bool json = false;
+  bake::EvalSettings eval;
+  CameraOptions camera;
+  CLI::Option* points_option = nullptr;
+  CLI::Option* samples_option = nullptr;
+};
+
+nlohmann::json row_json(const bake::EvalRow& r) {
+  return {{"label", r.label}, {"sampler", r.sampler},
+          {"placement", r.bake.placement == bake::Placement::grid ? "grid" : "octree"},
+          {"max_depth", r.bake.max_depth}, {"grid", r.bake.grid_resolution}, {"surfels", r.bake.surfels_per_probe},
+          {"lattice", std::string(bake::lattice_name(r.bake.lattice))}, {"svo_depth", r.bake.svo_depth},
+          {"probes", r.probes}, {"file_bytes", r.file_bytes}, {"bake_seconds", r.bake_seconds},
+          {"sample_ns", r.sample_ns}, {"rmse", r.rmse}, {"relative_rmse", r.relative_rmse}, {"bias", r.bias}, {"p95", r.p95},
+          {"max_error", r.max_error}, {"leak_rmse", r.leak_rmse}, {"leak_points", r.leak_points},
+          {"misses", r.misses}};
+}
+
+nlohmann::json result_json(const bake::EvalResult& r) {
+  nlohmann::json j = {{"scene", r.scene.string()}, {"points", r.points}, {"paths", r.paths}, {"seed", r.seed},
+                      {"mean_reference", r.mean_reference}, {"reference_noise", r.reference_noise},
+                      {"reference_seconds", r.reference_seconds}, {"reference_cached", r.reference_from_cache},
+                      {"cache_file", r.cache_file.string()}, {"cache_written", r.cache_written}};
+  j["rows"] = nlohmann::json::array();
+  for (const bake::EvalRow& row : r.rows) j["rows"].push_back(row_json(row));
+  j["error_maps"] = nlohmann::json::array();
+  for (const auto& p : r.error_maps) j["error_maps"].push_back(p.string());
+  return j;
+}
+
+int run_eval(EvalCommandSettings& s) {
+  if (s.quick) {
+    s.eval.configs = bake::quick_sweep();
+    if (s.points_option->count() == 0) s.eval.points = 64;
+    if (s.samples_option->count() == 0) s.eval.paths = 64;
+  }
+  s.eval.use_cache = !s.no_cache;
+  s.eval.camera = s.camera.camera();
+  s.eval.error_map_dir = s.error_map;
+  bake::check_eval_settings(s.eval); // usage errors before any work
+  bake::EvalProgress progress;
+  if (isatty(STDERR_FILENO) != 0)
+    progress = [](const std::string& message) {
+      fmt::print(stderr, "\r{:<40}", message);
+      std::fflush(stderr);
+    };
+  const bake::EvalResult result = bake::evaluate(s.scene, s.eval, progress);
+  if (progress) fmt::print(stderr, "\r{:<40}\r", "");
+  if (!s.csv.empty()) bake::write_eval_csv(s.csv, result);
+  if (!s.plot.empty()) bake::write_text_file(s.plot, bake::eval_svg_plot(result));
+  if (s.json) {
+    std::puts(result_json(result).dump(2).c_str());
+  } else {
+    fmt::print("{}", bake::eval_markdown_table(result));
+    for (const auto& p : result.error_maps) fmt::print("wrote {}\n", p.string());
+  }
+  return 0;
+}
+
+} // namespace
+
+Command add_eval_command(CLI::App& root) {
+  auto s = std::make_shared<EvalCommandSettings>();
+  CLI::App* app = root.add_subcommand("eval", "Error against bake time over a sweep of settings, vs. the path-traced reference");
+  app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
+  s->points_option = app->add_option("--points", s->eval.points, "Seeded surface points (default 1000, --quick 64)");
+  s->samples_option = app->add_option("--samples", s->eval.paths, "Reference paths per point (default 4096, --quick 64)");
+  app->add_option("--seed", s->eval.seed, "Seed of the points and the reference");
+  app->add_option("--threads", s->eval.threads, "Worker threads for bakes and the reference (0 = all cores)");
+  app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests");
+  app->add_option("--baseline", s->eval.baseline, "Configuration also sampled with all probes (default octree-d4)");
+  app->add_flag("--no-cache", s->no_cache, "Neither read nor write the reference cache beside the scene");
+  app->add_option("--csv", s->csv, "Write the table as CSV");
+  app->add_option("--plot", s->plot, "Write relative RMSE against bake time as SVG, Pareto front marked");
+  app->add_option("--error-map", s->error_map, "Write per-configuration error images (OpenEXR) from --camera to DIR");
+  app->add_option("--image-samples", s->eval.image_paths, "Reference paths per pixel of the error maps");
+  s->camera.add_to(*app);
+  app->add_flag("--json", s->json, "Print the result as JSON");
+  return {app, [s] { return run_eval(*s); }};
+}
+
+} // namespace probebake::cli

@@ -41,7 +41,7 @@ Row run(const std::string& name, const std::filesystem::path& path, const std::s
 }
 
 void print(const std::vector<Row>& rows) {
-  const char* stages[] = {"bvh", "place", "sdf", "relocate", "svo", "cells"};
+  const char* stages[] = {"bvh", "place", "sdf", "relocate", "svo", "lighting", "cells"};
   fmt::print("| scene | settings | triangles | probes | dead / moved / freed | file bytes | load s |");
   for (const char* s : stages) fmt::print(" {} s |", s);
   fmt::print(" bake total s |\n|---|---|---:|---:|---|---:|---:|");

@@ -13,3 +13,9 @@ if(PROBEBAKE_SANITIZE)
   add_compile_options(-fsanitize=${PROBEBAKE_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${PROBEBAKE_SANITIZE})
 endif()
+
+# Fuzzing builds instrument every library for coverage (the fuzz targets add the libFuzzer main).
+if(PROBEBAKE_BUILD_FUZZERS AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()

@@ -42,7 +42,8 @@ nlohmann::json report_json(const bake::BakeReport& r, const std::string& output,
                    {"converged", r.lighting.converged}, {"change", r.lighting.change},
                    {"estimated_error", r.lighting.estimated_error}, {"rays", r.lighting.rays},
                    {"seconds", r.lighting.seconds}};
-  j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves},
+  j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves}, {"solid_voxels", r.svo_solid_voxels},
+              {"uncovered_voxels", r.svo_uncovered_voxels},
               {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
   j["sections"] = {{"octree", v.octree.size() * 4},
                    {"probes", v.probes.size() * sizeof(gpu::Probe)},
@@ -76,8 +77,9 @@ void print_report(const nlohmann::json& j) {
     fmt::print("lighting     {} iterations ({} extrapolated), {}, estimated error {:.2g}\n",
                lighting["iterations"].get<int>(), lighting["extrapolations"].get<int>(),
                lighting["converged"].get<bool>() ? "converged" : "NOT converged", lighting["estimated_error"].get<float>());
-  fmt::print("svo          {} nodes, {} leaves, {} bytes\n", j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(),
-             j["svo"]["bytes"].get<std::size_t>());
+  fmt::print("svo          {} nodes, {} leaves, {} bytes ({} solid and {} uncovered voxels left empty)\n",
+             j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(), j["svo"]["bytes"].get<std::size_t>(),
+             j["svo"]["solid_voxels"].get<int>(), j["svo"]["uncovered_voxels"].get<int>());
   fmt::print("sections    ");
   for (const auto& [name, bytes] : j["sections"].items())
     if (bytes.get<std::size_t>() > 0) fmt::print(" {}:{}", name, bytes.get<std::size_t>());

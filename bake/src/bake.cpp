@@ -234,7 +234,8 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   timer.stage("svo");
   if (progress) progress("svo", 0.0);
   const detail::SvoStats svo = detail::build_svo(rays, volume, settings.svo_depth, settings.threads);
-  (void)svo;
+  report.svo_solid_voxels = svo.solid_voxels;
+  report.svo_uncovered_voxels = svo.uncovered_voxels;
 
   if (settings.lighting.enabled) {
     timer.stage("lighting");

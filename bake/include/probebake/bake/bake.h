@@ -54,6 +54,8 @@ struct BakeReport {
   int freed_probes = 0;               // dead probes that could not be moved out
   int svo_nodes = 0;
   int svo_leaves = 0;
+  int svo_solid_voxels = 0;           // leaf-depth voxels left out: inside geometry
+  int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
   LightingReport lighting;            // when settings.lighting.enabled
   std::vector<StageTime> stages;

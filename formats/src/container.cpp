@@ -8,6 +8,8 @@
 #include <cstring>
 #include <string>
 
+// Header-only xxhash: the runtime links formats and must run where only libvulkan and libstdc++ exist.
+#define XXH_INLINE_ALL
 #include <xxhash.h>
 
 #include "byte_io.h"

@@ -1,0 +1,232 @@
+// probebake runtime: a baked probe volume (.probes) on a Vulkan device, its per-frame compute passes and
+// irradiance lookups. This is the only public header of probebake_runtime; docs/RUNTIME.md explains the
+// buffers, passes and barriers, and how a game samples the volume in its own shaders.
+//
+// Units: world space in metres (glTF, Y up), irradiance in W/m^2 (docs/LIGHTING.md), times in ms.
+// Errors: no function throws; each returns a Status, or a Result<T> holding a value or a Status. The
+//         message is one line naming what failed ("<file>: <place>: <reason>" for file errors).
+// Ownership: a Context owns the Vulkan objects it creates (instance, device, queue use, command pool,
+//         memory); with Context::borrow it uses the host's instance, device and queue and destroys none of
+//         them. A Volume owns its buffers and keeps its Context's device alive, so Volumes may outlive the
+//         Context object they came from. Both are move-only.
+// Thread-safety: none inside. Calls on one Context and on the Volumes made from it must not overlap (they
+//         submit to one queue); distinct Contexts are independent. With a borrowed queue the host must not
+//         use that VkQueue during a call (Vulkan requires external synchronisation of queues).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <vulkan/vulkan_core.h>
+
+#include "probebake/formats/probe_volume.h"
+#include "probebake/formats/validate.h"
+
+namespace probebake::runtime {
+
+// ---- Status ---------------------------------------------------------------------------------------------
+enum class StatusCode {
+  ok,
+  invalid_argument, // the caller broke a documented precondition (sizes differ, null handles)
+  file_error,       // the file cannot be read or is not a .probes file we can decode
+  invalid_volume,   // the volume breaks an invariant of formats::validate()
+  no_device,        // no Vulkan loader, no device with Vulkan 1.2 compute, or the validation layer is missing
+  unsupported,      // the device cannot hold the volume (a buffer over maxStorageBufferRange, ...)
+  out_of_memory,    // host or device memory exhausted
+  vulkan_error,     // any other Vulkan failure (device lost, ...)
+  internal,         // a bug in the runtime
+};
+const char* to_string(StatusCode code);
+
+struct Status {
+  StatusCode code = StatusCode::ok;
+  std::string message; // empty when ok
+  bool ok() const { return code == StatusCode::ok; }
+};
+
+// A value or the Status that explains why there is none.
+template <class T>
+class Result {
+public:
+  Result(T value) : value_(std::move(value)) {}                  // NOLINT: implicit by design
+  Result(Status status) : status_(std::move(status)) {           // NOLINT: implicit by design
+    if (status_.ok()) status_ = {StatusCode::internal, "Result made from an ok Status without a value"};
+  }
+  bool ok() const { return value_.has_value(); }
+  const Status& status() const { return status_; }
+  // Precondition: ok().
+  T& value() & { return *value_; }
+  const T& value() const& { return *value_; }
+  T&& value() && { return std::move(*value_); }
+  T* operator->() { return &*value_; }
+  const T* operator->() const { return &*value_; }
+
+private:
+  std::optional<T> value_;
+  Status status_;
+};
+
+namespace detail {
+struct Device;
+struct VolumeState;
+} // namespace detail
+
+// ---- Context: the Vulkan device the runtime works on ------------------------------------------------------
+struct ValidationMessage {
+  enum class Severity { info, warning, error };
+  Severity severity = Severity::warning;
+  std::string id;      // VUID or message id name, e.g. "SYNC-HAZARD-WRITE-AFTER-READ"
+  std::string text;
+};
+
+struct ContextOptions {
+  // Enables VK_LAYER_KHRONOS_validation with synchronization validation and a debug-utils messenger that
+  // counts every warning and error (Context::validation_message_count). no_device when the layer is absent.
+  // Ignored by Context::borrow (the host owns the instance and its layers).
+  bool validation = false;
+  // Device choice for Context::create: the first device whose name contains this text, if not empty;
+  // otherwise discrete GPU, then integrated, virtual, other, and CPU (lavapipe) last.
+  std::string device_name_contains;
+  // Called for every validation message, on the thread that made the Vulkan call, possibly while the
+  // Context is being destroyed (the callback must outlive the Context). Optional.
+  std::function<void(const ValidationMessage&)> on_validation_message;
+};
+
+// The host's Vulkan objects, for Context::borrow. The device must support Vulkan 1.2 and `queue` must be
+// from family `queue_family_index` with compute support. The host keeps them alive until every Context and
+// Volume that uses them is destroyed.
+struct HostVulkan {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  std::uint32_t queue_family_index = 0;
+};
+
+struct DeviceInfo {
+  std::string name;                          // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string type;                          // "discrete", "integrated", "virtual", "cpu", "other"
+  std::uint32_t api_version = 0;             // VK_MAKE_API_VERSION encoded
+  std::uint64_t max_storage_buffer_range = 0; // bytes; a larger section is refused (unsupported)
+  bool timestamps = false;                   // per-pass GPU times are measured
+  bool borrowed = false;
+  bool validation = false;
+};
+
+struct MemoryStats {
+  std::size_t live_buffers = 0;
+  std::uint64_t live_bytes = 0;   // device memory of live buffers
+  std::uint64_t peak_bytes = 0;
+  std::size_t allocations = 0;    // vkAllocateMemory calls so far (one per buffer)
+};
+
+class Context {
+public:
+  // Creates an instance (Vulkan 1.2), picks a device (see ContextOptions) and creates a compute queue.
+  static Result<Context> create(const ContextOptions& options = {});
+  // Uses the host's objects (see HostVulkan); creates only a command pool and the runtime's own objects.
+  static Result<Context> borrow(const HostVulkan& host, const ContextOptions& options = {});
+
+  Context(Context&&) noexcept;
+  Context& operator=(Context&&) noexcept;
+  ~Context();
+
+  const DeviceInfo& device_info() const;
+  // Validation warnings and errors so far (0 without validation), and the first 64 of them as text.
+  std::uint64_t validation_message_count() const;
+  std::vector<std::string> validation_messages() const;
+  MemoryStats memory_stats() const;
+
+private:
+  explicit Context(std::shared_ptr<detail::Device> device);
+  friend class Volume;
+  std::shared_ptr<detail::Device> device_;
+};
+
+// ---- Volume: one probe volume in GPU storage buffers ---------------------------------------------------
+struct UploadOptions {
+  // Run formats::validate() before uploading and refuse an invalid volume (invalid_volume). Turn off only
+  // to test the runtime on deliberately broken data.
+  bool validate = true;
+};
+
+struct PassTime {
+  std::string name;    // "probe_index", later "light_update", ...
+  double gpu_ms = -1;  // GPU timestamp difference; -1 when the queue has no timestamps
+};
+
+struct FrameStats {
+  std::uint64_t frame = 0;      // frames run on this Volume, this one included
+  std::vector<PassTime> passes; // in execution order
+  double cpu_ms = 0.0;          // record + submit + wait, measured on the host
+  int live_probes = 0;          // allocated probes found by this frame's probe index build
+  int probe_capacity = 0;
+};
+
+struct SampleStats {
+  std::size_t samples = 0;
+  std::size_t misses = 0;   // lookups without a probe (as bake::SamplerStats)
+  std::size_t dispatches = 0;
+  double gpu_ms = -1;       // sum over dispatches; -1 without timestamps
+  double cpu_ms = 0.0;      // including uploads and read-backs of queries and results
+};
+
+// A buffer of the volume for binding in the host's own descriptor sets; buffer is VK_NULL_HANDLE when the
+// file has no such section. size in bytes; the whole buffer is the section, offset 0.
+struct BufferView {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize size = 0;
+};
+
+// One storage buffer per .probes section, laid out exactly as the section (gpu_types.h, std430).
+struct VolumeBuffers {
+  BufferView volume_info, octree, probes, surfel_batches, leaf_queue_header, leaf_entries, probe_index,
+      svo_nodes, svo_leaves;
+};
+
+class Volume {
+public:
+  // Reads the file (formats::read_probes_file), validates it and uploads it.
+  static Result<Volume> load(Context& context, const std::filesystem::path& path, const UploadOptions& options = {});
+  // Uploads an in-memory volume (copied; the caller keeps its own).
+  static Result<Volume> upload(Context& context, const formats::ProbeVolume& volume, const UploadOptions& options = {});
+
+  Volume(Volume&&) noexcept;
+  Volume& operator=(Volume&&) noexcept;
+  ~Volume();
+
+  // One frame of the runtime's passes on the queue, waited for: today the probe index build (thesis
+  // §3.2.3); the memory and light updates will run before it.
+  Result<FrameStats> run_frame();
+
+  // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
+  // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the
+  // device's maxStorageBufferRange allows are split into several dispatches.
+  Result<std::vector<glm::vec3>> sample_irradiance(std::span<const glm::vec3> positions,
+                                                   std::span<const glm::vec3> normals, SampleStats* stats = nullptr);
+
+  // Copies every GPU buffer back into a ProbeVolume; the CPU-only parts (streaming cells, cell depth, input
+  // hash) come from the uploaded volume.
+  Result<formats::ProbeVolume> read_back();
+  // read_back() + formats::validate(): invalid_volume naming the first violations when the live state breaks
+  // an invariant. `report` (optional) receives the full report.
+  Status validate_live(formats::ValidationReport* report = nullptr);
+
+  VolumeBuffers buffers() const;
+  const gpu::VolumeInfo& info() const;
+
+private:
+  explicit Volume(std::unique_ptr<detail::VolumeState> state);
+  std::unique_ptr<detail::VolumeState> state_;
+};
+
+} // namespace probebake::runtime

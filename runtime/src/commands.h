@@ -1,0 +1,73 @@
+// Command recording helpers: a one-time command buffer submitted and waited for with a fence, global
+// memory barriers (Vulkan 1.2 vkCmdPipelineBarrier; a VkMemoryBarrier covers every buffer, which is what
+// compute passes over many buffers need), and per-pass GPU timestamps.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan_core.h>
+
+#include "device.h"
+#include "handles.h"
+
+namespace probebake::runtime::detail {
+
+class Submission {
+public:
+  explicit Submission(Device& device); // allocates a primary command buffer and begins it
+  Submission(const Submission&) = delete;
+  Submission& operator=(const Submission&) = delete;
+  ~Submission();
+
+  VkCommandBuffer cmd() const { return cmd_; }
+  // Ends, submits and waits (vulkan_error after 60 s). Call once.
+  void submit_and_wait();
+
+private:
+  Device& device_;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+};
+
+struct Access {
+  VkPipelineStageFlags stages;
+  VkAccessFlags access;
+};
+inline constexpr Access kComputeWrite{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT};
+inline constexpr Access kComputeRead{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT};
+inline constexpr Access kComputeReadWrite{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT};
+inline constexpr Access kTransferWrite{VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT};
+inline constexpr Access kTransferRead{VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT};
+inline constexpr Access kHostRead{VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT};
+// Everything the runtime does to its buffers on the device: used at frame and submission boundaries.
+inline constexpr Access kAnyDeviceAccess{
+    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+
+// Global memory barrier: `before` accesses happen before and are visible to `after` accesses.
+void barrier(VkCommandBuffer cmd, Access before, Access after);
+
+// Dispatches `groups` workgroups split over x and y (shaders use probebake_flat_workgroup()); extra
+// groups in the last row must return early (the shaders check their counts).
+void dispatch_groups(VkCommandBuffer cmd, const Device& device, std::uint32_t groups);
+
+// Begin/end timestamps of named passes; without timestamp support every time is -1.
+class PassTimer {
+public:
+  PassTimer(Device& device, std::uint32_t max_passes);
+  // Call before the first pass in a command buffer.
+  void reset(VkCommandBuffer cmd);
+  void begin(VkCommandBuffer cmd, std::uint32_t pass);
+  void end(VkCommandBuffer cmd, std::uint32_t pass);
+  // After the command buffer completed: ms per pass for passes [0, passes).
+  std::vector<double> read_ms(std::uint32_t passes) const;
+
+private:
+  Device& device_;
+  std::uint32_t max_passes_;
+  DeviceObject<VkQueryPool> pool_;
+};
+
+} // namespace probebake::runtime::detail

@@ -1,0 +1,55 @@
+// The storage buffers of one probe volume: one per .probes section, each byte-for-byte the section
+// (gpu_types.h, std430), created only for the sections the volume uses. Upload through one staging
+// buffer; read-back of every buffer into a ProbeVolume.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include <vulkan/vulkan_core.h>
+
+#include "allocator.h"
+#include "device.h"
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::runtime::detail {
+
+enum class Section : std::size_t {
+  volume_info,
+  octree,
+  probes,
+  surfel_batches,
+  leaf_queue_header,
+  leaf_entries,
+  probe_index,
+  svo_nodes,
+  svo_leaves,
+};
+inline constexpr std::size_t kSectionCount = 9;
+const char* section_name(Section section);
+
+class GpuVolume {
+public:
+  // Creates the buffers and uploads `volume`. Throws RuntimeError(unsupported) when a section is larger
+  // than maxStorageBufferRange, naming the section and both sizes.
+  GpuVolume(Device& device, const formats::ProbeVolume& volume);
+
+  // A copy of every buffer; the CPU-only members (cells, cell_depth, input_hash) come from `cpu_parts`.
+  formats::ProbeVolume read_back(const formats::ProbeVolume& cpu_parts) const;
+
+  // The section's buffer, or an empty Buffer when the volume has no such section.
+  const Buffer& buffer(Section section) const { return buffers_[static_cast<std::size_t>(section)]; }
+  // The section's buffer for descriptor sets: a 16-byte placeholder when the section is empty (shaders
+  // check the counts in VolumeInfo and never read it).
+  VkBuffer binding(Section section) const;
+  // Elements of the section's vector at upload.
+  std::size_t elements(Section section) const { return elements_[static_cast<std::size_t>(section)]; }
+
+private:
+  Device& device_;
+  std::array<Buffer, kSectionCount> buffers_;
+  std::array<std::size_t, kSectionCount> elements_{};
+  Buffer placeholder_;
+};
+
+} // namespace probebake::runtime::detail

@@ -1,0 +1,110 @@
+#include "pipelines.h"
+
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "handles.h"
+#include "probebake/runtime_types.h"
+#include "probebake/shader_library.h"
+
+namespace probebake::runtime::detail {
+namespace {
+
+constexpr std::uint32_t kPushConstantBytes = 16; // ProbeIndexPush, SamplePush
+
+PassLayout make_pass_layout(VkDevice device, std::uint32_t bindings) {
+  std::vector<VkDescriptorSetLayoutBinding> entries(bindings);
+  for (std::uint32_t i = 0; i < bindings; ++i)
+    entries[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  set_info.bindingCount = bindings;
+  set_info.pBindings = entries.data();
+  PassLayout pass;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  check_vk(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+  pass.set_layout = DeviceObject<VkDescriptorSetLayout>(device, set_layout, vkDestroyDescriptorSetLayout);
+
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushConstantBytes};
+  auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  check_vk(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
+  pass.layout = DeviceObject<VkPipelineLayout>(device, layout, vkDestroyPipelineLayout);
+  return pass;
+}
+
+DeviceObject<VkPipeline> make_pipeline(VkDevice device, VkPipelineLayout layout, std::string_view shader) {
+  const std::span<const std::uint32_t> words = shaders::spirv(shader);
+  if (words.empty()) fail(StatusCode::internal, "no embedded SPIR-V for shader " + std::string(shader));
+  auto module_info = vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+  module_info.codeSize = words.size_bytes();
+  module_info.pCode = words.data();
+  VkShaderModule raw_module = VK_NULL_HANDLE;
+  check_vk(vkCreateShaderModule(device, &module_info, nullptr, &raw_module), "vkCreateShaderModule");
+  const DeviceObject<VkShaderModule> module(device, raw_module, vkDestroyShaderModule);
+
+  auto info = vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+  info.stage = vk_struct<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module.get();
+  info.stage.pName = "main";
+  info.layout = layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  check_vk(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+           ("vkCreateComputePipelines " + std::string(shader)).c_str());
+  return DeviceObject<VkPipeline>(device, pipeline, vkDestroyPipeline);
+}
+
+} // namespace
+
+Pipelines::Pipelines(VkDevice device) {
+  static_assert(sizeof(gpu::ProbeIndexPush) == kPushConstantBytes && sizeof(gpu::SamplePush) == kPushConstantBytes);
+  probe_index = make_pass_layout(device, kIndexBindings);
+  probe_index_count = make_pipeline(device, probe_index.layout.get(), "probe_index_count");
+  probe_index_scan = make_pipeline(device, probe_index.layout.get(), "probe_index_scan");
+  probe_index_scatter = make_pipeline(device, probe_index.layout.get(), "probe_index_scatter");
+  sample = make_pass_layout(device, kSampleBindings);
+  sample_irradiance = make_pipeline(device, sample.layout.get(), "sample_irradiance");
+}
+
+DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set) {
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sets * buffers_per_set};
+  auto info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  info.maxSets = sets;
+  info.poolSizeCount = 1;
+  info.pPoolSizes = &size;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  check_vk(vkCreateDescriptorPool(device, &info, nullptr, &pool), "vkCreateDescriptorPool");
+  return DeviceObject<VkDescriptorPool>(device, pool, vkDestroyDescriptorPool);
+}
+
+VkDescriptorSet allocate_set(VkDevice device, VkDescriptorPool pool, VkDescriptorSetLayout layout) {
+  auto info = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  info.descriptorPool = pool;
+  info.descriptorSetCount = 1;
+  info.pSetLayouts = &layout;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  check_vk(vkAllocateDescriptorSets(device, &info, &set), "vkAllocateDescriptorSets");
+  return set;
+}
+
+void write_storage_buffers(VkDevice device, VkDescriptorSet set, std::span<const VkBuffer> buffers) {
+  std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+  std::vector<VkWriteDescriptorSet> writes(buffers.size());
+  for (std::size_t i = 0; i < buffers.size(); ++i) {
+    infos[i] = {buffers[i], 0, VK_WHOLE_SIZE};
+    writes[i] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    writes[i].dstSet = set;
+    writes[i].dstBinding = static_cast<std::uint32_t>(i);
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &infos[i];
+  }
+  vkUpdateDescriptorSets(device, static_cast<std::uint32_t>(writes.size()), writes.data(), 0, nullptr);
+}
+
+} // namespace probebake::runtime::detail

@@ -1,0 +1,126 @@
+// The public API (runtime.h): argument checks and the conversion of every exception into a Status.
+#include "probebake/runtime/runtime.h"
+
+#include <string>
+#include <utility>
+
+#include "device.h"
+#include "error.h"
+#include "probebake/formats/probes_file.h"
+#include "volume_state.h"
+
+namespace probebake::runtime {
+namespace {
+
+using detail::guarded;
+using detail::Section;
+
+// invalid_volume naming the first violations, or ok.
+Status status_of(const formats::ValidationReport& report) {
+  if (report.valid()) return {};
+  std::string message = report.name + ": " + std::to_string(report.violations.size()) +
+                        (report.truncated ? "+" : "") + " violation(s)";
+  for (std::size_t i = 0; i < report.violations.size() && i < 3; ++i)
+    message += (i == 0 ? ": " : "; ") + formats::format_violation(report.violations[i]);
+  return {StatusCode::invalid_volume, message};
+}
+
+BufferView view(const detail::GpuVolume& gpu, Section section) {
+  const detail::Buffer& b = gpu.buffer(section);
+  return {b.get(), b.size()};
+}
+
+} // namespace
+
+// ---- Context ---------------------------------------------------------------------------------------------
+Context::Context(std::shared_ptr<detail::Device> device) : device_(std::move(device)) {}
+Context::Context(Context&&) noexcept = default;
+Context& Context::operator=(Context&&) noexcept = default;
+Context::~Context() = default;
+
+Result<Context> Context::create(const ContextOptions& options) {
+  return guarded([&]() -> Result<Context> { return Context(detail::create_device(options)); });
+}
+
+Result<Context> Context::borrow(const HostVulkan& host, const ContextOptions& options) {
+  return guarded([&]() -> Result<Context> { return Context(detail::borrow_device(host, options)); });
+}
+
+const DeviceInfo& Context::device_info() const { return device_->info; }
+std::uint64_t Context::validation_message_count() const { return device_->log->count(); }
+std::vector<std::string> Context::validation_messages() const { return device_->log->kept(); }
+MemoryStats Context::memory_stats() const { return device_->allocator->stats(); }
+
+// ---- Volume ----------------------------------------------------------------------------------------------
+Volume::Volume(std::unique_ptr<detail::VolumeState> state) : state_(std::move(state)) {}
+Volume::Volume(Volume&&) noexcept = default;
+Volume& Volume::operator=(Volume&&) noexcept = default;
+Volume::~Volume() = default;
+
+Result<Volume> Volume::upload(Context& context, const formats::ProbeVolume& volume, const UploadOptions& options) {
+  return guarded([&]() -> Result<Volume> {
+    if (options.validate) {
+      const Status valid = status_of(formats::validate(volume));
+      if (!valid.ok()) return valid;
+    }
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume));
+  });
+}
+
+Result<Volume> Volume::load(Context& context, const std::filesystem::path& path, const UploadOptions& options) {
+  return guarded([&]() -> Result<Volume> {
+    formats::ProbeVolume volume = formats::read_probes_file(path);
+    if (options.validate) {
+      formats::ValidationReport report = formats::validate(volume);
+      report.name = path.string();
+      const Status valid = status_of(report);
+      if (!valid.ok()) return valid;
+    }
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume));
+  });
+}
+
+Result<FrameStats> Volume::run_frame() {
+  return guarded([&]() -> Result<FrameStats> { return state_->run_frame(); });
+}
+
+Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::vec3> positions,
+                                                         std::span<const glm::vec3> normals, SampleStats* stats) {
+  return guarded([&]() -> Result<std::vector<glm::vec3>> {
+    if (positions.size() != normals.size())
+      return Status{StatusCode::invalid_argument, "sample_irradiance: " + std::to_string(positions.size()) +
+                                                      " positions but " + std::to_string(normals.size()) + " normals"};
+    std::vector<glm::vec3> out(positions.size());
+    SampleStats local;
+    state_->sample->run(positions, normals, out, local);
+    if (stats) *stats = local;
+    return out;
+  });
+}
+
+Result<formats::ProbeVolume> Volume::read_back() {
+  return guarded([&]() -> Result<formats::ProbeVolume> { return state_->gpu->read_back(state_->cpu_parts); });
+}
+
+Status Volume::validate_live(formats::ValidationReport* report) {
+  return guarded([&]() -> Status {
+    Result<formats::ProbeVolume> live = read_back();
+    if (!live.ok()) return live.status();
+    formats::ValidationReport checked = formats::validate(live.value());
+    checked.name = "live volume";
+    Status status = status_of(checked);
+    if (report) *report = std::move(checked);
+    return status;
+  });
+}
+
+VolumeBuffers Volume::buffers() const {
+  const detail::GpuVolume& gpu = *state_->gpu;
+  return {view(gpu, Section::volume_info), view(gpu, Section::octree),       view(gpu, Section::probes),
+          view(gpu, Section::surfel_batches), view(gpu, Section::leaf_queue_header), view(gpu, Section::leaf_entries),
+          view(gpu, Section::probe_index), view(gpu, Section::svo_nodes),    view(gpu, Section::svo_leaves)};
+}
+
+const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }
+
+} // namespace probebake::runtime

@@ -1,0 +1,103 @@
+#include "sample_pass.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+
+#include "allocator.h"
+#include "commands.h"
+#include "pipelines.h"
+#include "probebake/runtime_types.h"
+
+namespace probebake::runtime::detail {
+namespace {
+
+constexpr std::size_t kMaxBatch = std::size_t(1) << 20; // bounds staging memory per call (48 MiB)
+constexpr VkBufferUsageFlags kQueryUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+constexpr VkBufferUsageFlags kResultUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+
+// Buffers of one run, sized for the largest batch of that run.
+struct BatchBuffers {
+  Buffer queries, results, queries_host, results_host;
+  BatchBuffers(Allocator& allocator, std::size_t batch)
+      : queries(allocator.create_buffer(batch * sizeof(gpu::SampleQuery), kQueryUsage, MemoryUse::device, "sample queries")),
+        results(allocator.create_buffer(batch * sizeof(gpu::SampleResult), kResultUsage, MemoryUse::device, "sample results")),
+        queries_host(allocator.create_buffer(batch * sizeof(gpu::SampleQuery), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                             MemoryUse::upload, "sample queries (host)")),
+        results_host(allocator.create_buffer(batch * sizeof(gpu::SampleResult), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                             MemoryUse::readback, "sample results (host)")) {}
+};
+
+void write_queries(void* mapped, std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
+  auto* queries = static_cast<gpu::SampleQuery*>(mapped);
+  for (std::size_t i = 0; i < positions.size(); ++i) queries[i] = {positions[i], 0.0f, normals[i], 0.0f};
+}
+
+// Copies the results out; returns the number of misses.
+std::size_t read_results(const void* mapped, std::span<glm::vec3> out) {
+  const auto* results = static_cast<const gpu::SampleResult*>(mapped);
+  std::size_t misses = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = results[i].irradiance;
+    misses += results[i].probes_used == 0 ? 1 : 0;
+  }
+  return misses;
+}
+
+} // namespace
+
+SamplePass::SamplePass(Device& device, const GpuVolume& volume) : device_(device), volume_(volume) {
+  const std::size_t by_range = device.info.max_storage_buffer_range / sizeof(gpu::SampleQuery);
+  max_batch_ = std::max<std::size_t>(1, std::min(by_range, kMaxBatch));
+  pool_ = make_descriptor_pool(device.vk(), 1, kSampleBindings);
+  set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().sample.set_layout.get());
+}
+
+void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
+                     SampleStats& stats) {
+  const auto start = std::chrono::steady_clock::now();
+  stats.samples += positions.size();
+  if (positions.empty()) return;
+  Pipelines& pipelines = device_.compute_pipelines();
+  const VkPipelineLayout layout = pipelines.sample.layout.get();
+  const std::size_t batch = std::min(max_batch_, positions.size());
+  BatchBuffers buffers(*device_.allocator, batch);
+  const std::array<VkBuffer, kSampleBindings> bindings{
+      volume_.binding(Section::volume_info), volume_.binding(Section::probes), volume_.binding(Section::svo_nodes),
+      volume_.binding(Section::svo_leaves), buffers.queries.get(), buffers.results.get()};
+  write_storage_buffers(device_.vk(), set_, bindings); // the previous run has completed: the set is idle
+  PassTimer timer(device_, 1);
+
+  for (std::size_t first = 0; first < positions.size(); first += batch) {
+    const std::size_t count = std::min(batch, positions.size() - first);
+    write_queries(buffers.queries_host.mapped(), positions.subspan(first, count), normals.subspan(first, count));
+    Submission submission(device_);
+    const VkCommandBuffer cmd = submission.cmd();
+    timer.reset(cmd);
+    barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess); // earlier frames' writes and the last batch's reads
+    const VkBufferCopy queries{0, 0, count * sizeof(gpu::SampleQuery)};
+    vkCmdCopyBuffer(cmd, buffers.queries_host.get(), buffers.queries.get(), 1, &queries);
+    barrier(cmd, kTransferWrite, kComputeRead);
+    const gpu::SamplePush push{static_cast<std::uint32_t>(count), 0, 0, 0};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.sample_irradiance.get());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set_, 0, nullptr);
+    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    timer.begin(cmd, 0);
+    dispatch_groups(cmd, device_, static_cast<std::uint32_t>((count + gpu::RUNTIME_WORKGROUP_SIZE - 1) /
+                                                             gpu::RUNTIME_WORKGROUP_SIZE));
+    timer.end(cmd, 0);
+    barrier(cmd, kComputeWrite, kTransferRead);
+    const VkBufferCopy results{0, 0, count * sizeof(gpu::SampleResult)};
+    vkCmdCopyBuffer(cmd, buffers.results.get(), buffers.results_host.get(), 1, &results);
+    barrier(cmd, kTransferWrite, kHostRead);
+    submission.submit_and_wait();
+
+    stats.misses += read_results(buffers.results_host.mapped(), out.subspan(first, count));
+    const double ms = timer.read_ms(1)[0];
+    if (ms >= 0.0) stats.gpu_ms = (stats.gpu_ms < 0.0 ? 0.0 : stats.gpu_ms) + ms;
+    ++stats.dispatches;
+  }
+  stats.cpu_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+} // namespace probebake::runtime::detail

@@ -1,0 +1,38 @@
+// The irradiance sampling pass: queries (position, normal) in, SampleResult out, through
+// shaders/sample_irradiance.comp, which runs the GLSL include games use (probebake/sample_irradiance.glsl).
+// Batches are split so that no query or result buffer exceeds maxStorageBufferRange.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <vulkan/vulkan_core.h>
+
+#include "device.h"
+#include "gpu_volume.h"
+#include "handles.h"
+
+namespace probebake::runtime::detail {
+
+class SamplePass {
+public:
+  SamplePass(Device& device, const GpuVolume& volume);
+
+  // out[i] = irradiance at (positions[i], normals[i]); sizes must be equal (checked by the caller).
+  void run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
+           SampleStats& stats);
+
+  // Queries per dispatch: limited by maxStorageBufferRange and by a staging budget.
+  std::size_t max_batch() const { return max_batch_; }
+
+private:
+  Device& device_;
+  const GpuVolume& volume_;
+  std::size_t max_batch_ = 0;
+  DeviceObject<VkDescriptorPool> pool_;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+} // namespace probebake::runtime::detail

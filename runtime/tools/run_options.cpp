@@ -1,0 +1,65 @@
+#include "run_options.h"
+
+#include <charconv>
+#include <string_view>
+
+namespace probebake::run {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
+    "                     [--device NAME] [--samples N]\n"
+    "  --frames N        frames to run (default 1); each runs the probe index build\n"
+    "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity per pass\n"
+    "  --validate        read the live state back and run the .probes validator after every frame\n"
+    "  --vk-validation   enable VK_LAYER_KHRONOS_validation (synchronization validation on)\n"
+    "  --device NAME     use the first Vulkan device whose name contains NAME\n"
+    "  --samples N       after the frames, time N irradiance lookups at random points\n"
+    "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
+
+bool parse_int(std::string_view text, int minimum, int& out) {
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return error == std::errc() && end == text.data() + text.size() && out >= minimum;
+}
+
+} // namespace
+
+std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& message, int& exit_code) {
+  RunOptions options;
+  exit_code = 1;
+  auto usage_error = [&](const std::string& what) {
+    message = "probebake-run: " + what + "\n" + kUsage;
+    return std::nullopt;
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--help" || arg == "-h") {
+      message = kUsage;
+      exit_code = 0;
+      return std::nullopt;
+    } else if (arg == "--validate") {
+      options.validate = true;
+    } else if (arg == "--vk-validation") {
+      options.vulkan_validation = true;
+    } else if (arg == "--frames" || arg == "--samples") {
+      int value = 0;
+      if (!has_value || !parse_int(argv[++i], arg == "--frames" ? 1 : 0, value))
+        return usage_error(std::string(arg) + " needs a whole number" + (arg == "--frames" ? " >= 1" : " >= 0"));
+      (arg == "--frames" ? options.frames : options.samples) = value;
+    } else if (arg == "--csv" || arg == "--device") {
+      if (!has_value) return usage_error(std::string(arg) + " needs a value");
+      (arg == "--csv" ? options.csv.emplace() : options.device) = argv[++i];
+    } else if (!arg.empty() && arg[0] == '-') {
+      return usage_error("unknown option " + std::string(arg));
+    } else if (options.input.empty()) {
+      options.input = arg;
+    } else {
+      return usage_error("more than one input file");
+    }
+  }
+  if (options.input.empty()) return usage_error("no input file");
+  return options;
+}
+
+} // namespace probebake::run

@@ -1,0 +1,23 @@
+// Command line of probebake-run (a plain argv parser: the tool links only the runtime and formats).
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace probebake::run {
+
+struct RunOptions {
+  std::string input;                 // .probes file
+  int frames = 1;                    // >= 1
+  std::optional<std::string> csv;    // per-frame, per-pass times
+  bool validate = false;             // validate the live state after every frame
+  bool vulkan_validation = false;    // VK_LAYER_KHRONOS_validation with synchronization validation
+  std::string device;                // device name filter
+  int samples = 0;                   // irradiance lookups after the frames (random points in the root cube)
+};
+
+// Parses argv; on error or --help returns nullopt and sets `message` (usage text or the error) and
+// `exit_code` (0 for --help, 1 for a usage error).
+std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& message, int& exit_code);
+
+} // namespace probebake::run

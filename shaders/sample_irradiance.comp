@@ -1,0 +1,23 @@
+// Irradiance sampling pass: one query (position, normal) per invocation, through the same GLSL include a
+// game uses (probebake/sample_irradiance.glsl, bindings 0-3); queries at binding 4, results at binding 5.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "probebake/runtime_types.h"
+#include "probebake/dispatch.glsl"
+#include "probebake/sample_irradiance.glsl"
+
+layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
+
+layout(std430, set = 0, binding = 4) readonly buffer Queries { SampleQuery queries[]; };
+layout(std430, set = 0, binding = 5) writeonly buffer Results { SampleResult results[]; };
+layout(push_constant) uniform Push { SamplePush push; };
+
+void main() {
+  const uint i = probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex;
+  if (i >= push.count) return;
+  const SampleQuery q = queries[i];
+  const ProbebakeStencil s = probebake_svo_stencil(q.position, q.normal);
+  int used = 0;
+  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) used += s.probes[k] >= 0 ? 1 : 0;
+  results[i] = SampleResult(probebake_apply_stencil(s, q.normal), used);
+}

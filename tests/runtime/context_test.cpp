@@ -1,0 +1,127 @@
+// Context creation and ownership: the device picked, memory accounting (no leaks), a Volume that outlives its
+// Context object, and a Context borrowed from a host that created its own Vulkan objects.
+#include <cstring>
+#include <vector>
+
+#include <vulkan/vulkan_core.h>
+
+#include "runtime_test_util.h"
+
+namespace probebake::test {
+namespace {
+
+using ContextTest = RuntimeTest;
+
+TEST_F(ContextTest, ReportsTheDeviceItRunsOn) {
+  const runtime::DeviceInfo& d = context().device_info();
+  EXPECT_FALSE(d.name.empty());
+  EXPECT_GE(d.api_version, VK_API_VERSION_1_2);
+  EXPECT_GE(d.max_storage_buffer_range, 1u << 27); // 128 MiB on lavapipe, more on GPUs
+  EXPECT_TRUE(d.validation);
+  EXPECT_FALSE(d.borrowed);
+  if (d.name.find("llvmpipe") != std::string::npos) {
+    EXPECT_EQ(d.type, "cpu");
+    EXPECT_TRUE(d.timestamps); // lavapipe's compute queue has timestamps
+  }
+}
+
+TEST_F(ContextTest, EveryBufferIsFreedWithItsVolume) {
+  const runtime::MemoryStats before = context().memory_stats();
+  {
+    auto volume = runtime::Volume::upload(context(), baked_cornell_full());
+    ASSERT_TRUE(volume.ok()) << volume.status().message;
+    ASSERT_TRUE(volume->run_frame().ok());
+    const runtime::MemoryStats during = context().memory_stats();
+    EXPECT_GT(during.live_buffers, before.live_buffers + 9); // 9 sections + scratch + placeholder
+    EXPECT_GT(during.live_bytes, before.live_bytes);
+  }
+  const runtime::MemoryStats after = context().memory_stats();
+  EXPECT_EQ(after.live_buffers, before.live_buffers);
+  EXPECT_EQ(after.live_bytes, before.live_bytes);
+  EXPECT_GE(after.peak_bytes, after.live_bytes);
+}
+
+TEST_F(ContextTest, VolumeKeepsTheDeviceAliveAfterTheContextIsGone) {
+  auto own = runtime::Context::create(validated_options());
+  ASSERT_TRUE(own.ok()) << own.status().message;
+  auto volume = runtime::Volume::upload(own.value(), baked_cornell_octree());
+  ASSERT_TRUE(volume.ok()) << volume.status().message;
+  { runtime::Context gone = std::move(own).value(); }
+  auto frame = volume->run_frame();
+  ASSERT_TRUE(frame.ok()) << frame.status().message;
+  auto back = volume->read_back();
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->probe_index, baked_cornell_octree().probe_index);
+}
+
+// ---- Borrowed: the host creates instance, device and queue; the runtime must not destroy them. ------------
+struct HostObjects {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  std::uint32_t family = 0;
+  ~HostObjects() {
+    if (device) vkDestroyDevice(device, nullptr);
+    if (instance) vkDestroyInstance(instance, nullptr);
+  }
+};
+
+bool make_host(HostObjects& host) {
+  VkApplicationInfo app{};
+  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+  app.apiVersion = VK_API_VERSION_1_2;
+  VkInstanceCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+  info.pApplicationInfo = &app;
+  if (vkCreateInstance(&info, nullptr, &host.instance) != VK_SUCCESS) return false;
+  std::uint32_t count = 1;
+  const VkResult listed = vkEnumeratePhysicalDevices(host.instance, &count, &host.physical_device);
+  if ((listed != VK_SUCCESS && listed != VK_INCOMPLETE) || count == 0) return false;
+  std::uint32_t families = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(host.physical_device, &families, nullptr);
+  std::vector<VkQueueFamilyProperties> props(families);
+  vkGetPhysicalDeviceQueueFamilyProperties(host.physical_device, &families, props.data());
+  while (host.family < families && !(props[host.family].queueFlags & VK_QUEUE_COMPUTE_BIT)) ++host.family;
+  if (host.family == families) return false;
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue{};
+  queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+  queue.queueFamilyIndex = host.family;
+  queue.queueCount = 1;
+  queue.pQueuePriorities = &priority;
+  VkDeviceCreateInfo device{};
+  device.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+  device.queueCreateInfoCount = 1;
+  device.pQueueCreateInfos = &queue;
+  if (vkCreateDevice(host.physical_device, &device, nullptr, &host.device) != VK_SUCCESS) return false;
+  vkGetDeviceQueue(host.device, host.family, 0, &host.queue);
+  return true;
+}
+
+TEST_F(ContextTest, BorrowsTheHostsDeviceAndLeavesItAlive) {
+  HostObjects host;
+  ASSERT_TRUE(make_host(host));
+  {
+    auto borrowed = runtime::Context::borrow({host.instance, host.physical_device, host.device, host.queue, host.family});
+    ASSERT_TRUE(borrowed.ok()) << borrowed.status().message;
+    EXPECT_TRUE(borrowed->device_info().borrowed);
+    auto volume = runtime::Volume::upload(borrowed.value(), baked_cornell_octree());
+    ASSERT_TRUE(volume.ok()) << volume.status().message;
+    auto frame = volume->run_frame();
+    ASSERT_TRUE(frame.ok()) << frame.status().message;
+    EXPECT_EQ(frame->live_probes, live_probe_count(baked_cornell_octree()));
+  }
+  // Still usable by the host: the runtime destroyed nothing of it.
+  EXPECT_EQ(vkDeviceWaitIdle(host.device), VK_SUCCESS);
+}
+
+TEST_F(ContextTest, BorrowRefusesMissingHandles) {
+  auto borrowed = runtime::Context::borrow({});
+  ASSERT_FALSE(borrowed.ok());
+  EXPECT_EQ(borrowed.status().code, runtime::StatusCode::invalid_argument);
+  EXPECT_NE(borrowed.status().message.find("borrow"), std::string::npos);
+}
+
+} // namespace
+} // namespace probebake::test

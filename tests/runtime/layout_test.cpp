@@ -1,0 +1,146 @@
+// The GPU structs as the shaders see them: member offsets and array strides read from the embedded SPIR-V
+// (OpMemberDecorate Offset, OpDecorate ArrayStride) must equal the C++ offsets of gpu_types.h and
+// runtime_types.h, so that the buffers the runtime uploads mean the same thing on both sides.
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "probebake/runtime_types.h"
+#include "probebake/shader_library.h"
+
+namespace probebake::test {
+namespace {
+
+// Offsets per member name of every struct type named `name` in a SPIR-V module (several types may carry
+// the name; each is returned).
+struct SpirvStructs {
+  std::map<std::uint32_t, std::string> names;                                  // id -> OpName
+  std::map<std::uint32_t, std::map<std::uint32_t, std::string>> member_names;  // id -> member -> name
+  std::map<std::uint32_t, std::map<std::uint32_t, std::uint32_t>> offsets;     // id -> member -> Offset
+  std::map<std::uint32_t, std::uint32_t> array_strides;                        // type id -> ArrayStride
+  std::map<std::uint32_t, std::vector<std::uint32_t>> struct_members;          // struct id -> member type ids
+};
+
+std::string literal_string(std::span<const std::uint32_t> words) {
+  std::string s;
+  for (std::uint32_t w : words)
+    for (int b = 0; b < 4; ++b) {
+      const char c = static_cast<char>((w >> (8 * b)) & 0xffu);
+      if (c == '\0') return s;
+      s += c;
+    }
+  return s;
+}
+
+SpirvStructs reflect(std::span<const std::uint32_t> module) {
+  constexpr std::uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeStruct = 30, kOpDecorate = 71, kOpMemberDecorate = 72;
+  constexpr std::uint32_t kArrayStride = 6, kOffset = 35;
+  SpirvStructs out;
+  for (std::size_t i = 5; i < module.size();) {
+    const std::uint32_t op = module[i] & 0xffffu, count = module[i] >> 16;
+    if (count == 0 || i + count > module.size()) break;
+    const std::span<const std::uint32_t> w = module.subspan(i, count);
+    if (op == kOpName) out.names[w[1]] = literal_string(w.subspan(2));
+    if (op == kOpMemberName) out.member_names[w[1]][w[2]] = literal_string(w.subspan(3));
+    if (op == kOpMemberDecorate && w[3] == kOffset) out.offsets[w[1]][w[2]] = w[4];
+    if (op == kOpDecorate && w[2] == kArrayStride) out.array_strides[w[1]] = w[3];
+    if (op == kOpTypeStruct) out.struct_members[w[1]] = std::vector<std::uint32_t>(w.begin() + 2, w.end());
+    i += count;
+  }
+  return out;
+}
+
+struct Member {
+  const char* name;
+  std::size_t offset;
+};
+
+// Checks every struct named `type` in `shader`; returns how many it found.
+int expect_layout(const char* shader, const char* type, const std::vector<Member>& members) {
+  const SpirvStructs s = reflect(shaders::spirv(shader));
+  int found = 0;
+  for (const auto& [id, name] : s.names) {
+    if (name != type || !s.offsets.count(id)) continue;
+    ++found;
+    for (const Member& m : members) {
+      bool seen = false;
+      for (const auto& [index, member_name] : s.member_names.at(id)) {
+        if (member_name != m.name) continue;
+        seen = true;
+        EXPECT_EQ(s.offsets.at(id).at(index), m.offset) << shader << ": " << type << "." << m.name;
+      }
+      EXPECT_TRUE(seen) << shader << ": " << type << " has no member " << m.name;
+    }
+  }
+  return found;
+}
+
+TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
+  for (const char* name : {"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance"}) {
+    const auto words = shaders::spirv(name);
+    ASSERT_GT(words.size(), 5u) << name;
+    EXPECT_EQ(words[0], 0x07230203u) << name; // SPIR-V magic
+  }
+  EXPECT_TRUE(shaders::spirv("no_such_shader").empty());
+}
+
+TEST(GpuLayout, ProbeMatchesGpuTypes) {
+  using gpu::Probe;
+  const std::vector<Member> members{{"position", offsetof(Probe, position)}, {"link", offsetof(Probe, link)},
+                                    {"node", offsetof(Probe, node)},         {"depth", offsetof(Probe, depth)},
+                                    {"hit_fraction", offsetof(Probe, hit_fraction)},
+                                    {"backface_fraction", offsetof(Probe, backface_fraction)},
+                                    {"irradiance_sh", offsetof(Probe, irradiance_sh)}, {"pad0", offsetof(Probe, pad0)}};
+  EXPECT_GE(expect_layout("sample_irradiance", "Probe", members), 1);
+  EXPECT_GE(expect_layout("probe_index_count", "Probe", members), 1);
+  // The probe buffer's runtime array has the C++ stride.
+  const SpirvStructs s = reflect(shaders::spirv("sample_irradiance"));
+  bool stride_checked = false;
+  for (const auto& [id, name] : s.names) {
+    if (name != "ProbebakeProbes") continue;
+    const std::uint32_t array_type = s.struct_members.at(id).at(0);
+    EXPECT_EQ(s.array_strides.at(array_type), sizeof(Probe));
+    stride_checked = true;
+  }
+  EXPECT_TRUE(stride_checked);
+}
+
+TEST(GpuLayout, VolumeInfoAndSvoLeafMatchGpuTypes) {
+  using gpu::SvoLeaf;
+  using gpu::VolumeInfo;
+  EXPECT_EQ(expect_layout("sample_irradiance", "VolumeInfo",
+                          {{"root_min", offsetof(VolumeInfo, root_min)}, {"root_size", offsetof(VolumeInfo, root_size)},
+                           {"svo_depth", offsetof(VolumeInfo, svo_depth)},
+                           {"probe_capacity", offsetof(VolumeInfo, probe_capacity)},
+                           {"svo_nodes", offsetof(VolumeInfo, svo_nodes)}, {"svo_leaves", offsetof(VolumeInfo, svo_leaves)},
+                           {"pad2", offsetof(VolumeInfo, pad2)}}),
+            1);
+  EXPECT_EQ(expect_layout("sample_irradiance", "SvoLeaf",
+                          {{"probes", offsetof(SvoLeaf, probes)}, {"weights", offsetof(SvoLeaf, weights)}}),
+            1);
+}
+
+TEST(GpuLayout, RuntimeTypesMatch) {
+  EXPECT_EQ(expect_layout("sample_irradiance", "SampleQuery",
+                          {{"position", offsetof(gpu::SampleQuery, position)}, {"normal", offsetof(gpu::SampleQuery, normal)},
+                           {"pad1", offsetof(gpu::SampleQuery, pad1)}}),
+            1);
+  EXPECT_EQ(expect_layout("sample_irradiance", "SampleResult",
+                          {{"irradiance", offsetof(gpu::SampleResult, irradiance)},
+                           {"probes_used", offsetof(gpu::SampleResult, probes_used)}}),
+            1);
+  EXPECT_EQ(expect_layout("probe_index_scan", "RuntimeCounters",
+                          {{"live_probes", offsetof(gpu::RuntimeCounters, live_probes)}}),
+            1);
+  EXPECT_EQ(expect_layout("probe_index_scatter", "ProbeIndexPush",
+                          {{"probe_capacity", offsetof(gpu::ProbeIndexPush, probe_capacity)},
+                           {"block_count", offsetof(gpu::ProbeIndexPush, block_count)}}),
+            1);
+}
+
+} // namespace
+} // namespace probebake::test

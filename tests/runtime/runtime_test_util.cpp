@@ -1,0 +1,138 @@
+#include "runtime_test_util.h"
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+#include "probebake/bake/bake.h"
+#include "probebake/bake/scene.h"
+#include "probebake/formats/octree.h"
+#include "probebake/samples/scenes.h"
+
+namespace probebake::test {
+namespace {
+
+std::atomic<std::uint64_t> g_messages{0};
+
+struct SharedContext {
+  std::unique_ptr<runtime::Context> context;
+  std::string reason;
+};
+
+bool lavapipe_installed() {
+  for (const char* dir : {"/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d"}) {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+      if (entry.path().filename().string().starts_with("lvp_icd")) return true;
+  }
+  return false;
+}
+
+SharedContext& shared() {
+  static SharedContext s = [] {
+    SharedContext made;
+    auto context = runtime::Context::create(validated_options());
+    if (context.ok()) {
+      made.context = std::make_unique<runtime::Context>(std::move(context).value());
+      const runtime::DeviceInfo& d = made.context->device_info();
+      std::printf("[runtime] device %s (%s), validation %d, timestamps %d\n", d.name.c_str(), d.type.c_str(),
+                  int(d.validation), int(d.timestamps));
+    } else {
+      made.reason = std::string(runtime::to_string(context.status().code)) + ": " + context.status().message;
+    }
+    return made;
+  }();
+  return s;
+}
+
+// Destroys the shared context after the last test and checks that its destruction was silent too.
+class VulkanEnvironment : public ::testing::Environment {
+public:
+  void TearDown() override {
+    shared().context.reset();
+    EXPECT_EQ(validation_messages_total(), 0u) << "validation messages over the whole run";
+    std::printf("[runtime] validation messages over the whole run: %llu\n",
+                static_cast<unsigned long long>(validation_messages_total()));
+  }
+};
+[[maybe_unused]] ::testing::Environment* const g_environment =
+    ::testing::AddGlobalTestEnvironment(new VulkanEnvironment);
+
+formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid, bool full) {
+  const std::vector<std::uint8_t> glb = builder.to_glb();
+  const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), name, ".",
+                                                           {.require_triangles = true});
+  bake::BakeSettings s;
+  s.placement = grid ? bake::Placement::grid : bake::Placement::octree;
+  s.grid_resolution = 6;
+  s.max_depth = 3;
+  s.surfels_per_probe = 64;
+  s.svo_depth = 4;
+  s.lighting.rays = 96;
+  s.store_surfels = full;
+  formats::ProbeVolume volume = bake::bake(scene, s).volume;
+  if (full) formats::init_leaf_queue(volume, 64);
+  return volume;
+}
+
+} // namespace
+
+runtime::ContextOptions validated_options() {
+  runtime::ContextOptions options;
+  options.validation = true;
+  options.on_validation_message = [](const runtime::ValidationMessage& m) {
+    g_messages.fetch_add(1);
+    std::fprintf(stderr, "[validation] %s: %s\n", m.id.c_str(), m.text.c_str());
+  };
+  return options;
+}
+
+runtime::Context* shared_context() { return shared().context.get(); }
+const std::string& no_device_reason() { return shared().reason; }
+std::uint64_t validation_messages_total() { return g_messages.load(); }
+
+void RuntimeTest::SetUp() {
+  if (!shared_context()) {
+    if (lavapipe_installed()) FAIL() << "lavapipe is installed but no Vulkan context: " << no_device_reason();
+    GTEST_SKIP() << "no Vulkan device on this machine (" << no_device_reason() << ")";
+  }
+  messages_before_ = validation_messages_total();
+}
+
+void RuntimeTest::TearDown() {
+  if (!shared_context()) return;
+  EXPECT_EQ(validation_messages_total(), messages_before_) << "the validation layer reported messages (see stderr)";
+}
+
+const formats::ProbeVolume& baked_cornell_octree() {
+  static const formats::ProbeVolume v = bake_scene(samples::cornell(), "cornell", false, false);
+  return v;
+}
+const formats::ProbeVolume& baked_leak_octree() {
+  static const formats::ProbeVolume v = bake_scene(samples::leak(), "leak", false, false);
+  return v;
+}
+const formats::ProbeVolume& baked_cornell_grid() {
+  static const formats::ProbeVolume v = bake_scene(samples::cornell(), "cornell-grid", true, false);
+  return v;
+}
+const formats::ProbeVolume& baked_cornell_full() {
+  static const formats::ProbeVolume v = bake_scene(samples::cornell(), "cornell-full", false, true);
+  return v;
+}
+
+int live_probe_count(const formats::ProbeVolume& volume) {
+  int live = 0;
+  for (const gpu::Probe& p : volume.probes) live += p.link != 0 ? 1 : 0;
+  return live;
+}
+
+std::string temp_path(const std::string& name) {
+  const auto dir = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "runtime";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+} // namespace probebake::test

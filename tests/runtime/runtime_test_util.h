@@ -1,0 +1,49 @@
+// Shared fixtures of the runtime tests: one validated Vulkan context per process (lavapipe on CI), volumes
+// baked in-process from generated scenes, and a per-test check that the validation layer stayed silent.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "probebake/formats/probe_volume.h"
+#include "probebake/runtime/runtime.h"
+
+namespace probebake::test {
+
+// The shared context (validation + synchronization validation on), or nullptr when this machine has no
+// Vulkan device at all; the tests then skip. Where lavapipe's ICD is installed, a missing device is a
+// failure, not a skip.
+runtime::Context* shared_context();
+const std::string& no_device_reason();
+
+// Validation messages counted by every context the tests made (survives their destruction).
+std::uint64_t validation_messages_total();
+runtime::ContextOptions validated_options();
+
+// Runtime test: skips without a device; fails when the test made the validation layer report anything.
+class RuntimeTest : public ::testing::Test {
+protected:
+  void SetUp() override;
+  void TearDown() override;
+  runtime::Context& context() { return *shared_context(); }
+
+private:
+  std::uint64_t messages_before_ = 0;
+};
+
+// Baked volumes, cached per process (small settings, lighting on).
+const formats::ProbeVolume& baked_cornell_octree();
+const formats::ProbeVolume& baked_leak_octree();
+const formats::ProbeVolume& baked_cornell_grid();
+// The same Cornell box bake with surfel batches and a leaf queue (all sections present).
+const formats::ProbeVolume& baked_cornell_full();
+
+// Probes with link != 0.
+int live_probe_count(const formats::ProbeVolume& volume);
+
+// Temporary directory of the runtime tests (created).
+std::string temp_path(const std::string& name);
+
+} // namespace probebake::test

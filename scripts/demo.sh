@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fresh-machine path: install the Debian packages, build, generate the Cornell box and run probebake on it.
+# Fresh-machine path: install the Debian packages, build, generate the Cornell box, describe it, bake it,
+# validate the file and load it into the Vulkan runtime (lavapipe when there is no GPU).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -8,3 +9,6 @@ cmake --build build -j "$(nproc)"
 mkdir -p out
 ./build/samples/make-scene cornell -o out/cornell.glb
 ./build/cli/probebake info out/cornell.glb
+./build/cli/probebake out/cornell.glb --max-depth 3
+./build/cli/probebake validate out/cornell.probes
+./build/runtime/probebake-run out/cornell.probes --frames 10 --validate

@@ -25,9 +25,9 @@ struct BakeCommandSettings {
   bake::BakeSettings bake;
 };
 
-nlohmann::json report_json(const bake::BakeReport& r, const std::string& output, std::size_t bytes,
+nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string& output, std::size_t bytes,
                            const formats::ProbeVolume& v) {
-  nlohmann::json j;
+  nlohmann::ordered_json j;
   j["output"] = output;
   j["bytes"] = bytes;
   j["probes"] = r.probes;
@@ -52,7 +52,7 @@ nlohmann::json report_json(const bake::BakeReport& r, const std::string& output,
                    {"svo_nodes", v.svo_nodes.size() * 4},
                    {"svo_leaves", v.svo_leaves.size() * sizeof(gpu::SvoLeaf)},
                    {"cells", v.cells.size() * sizeof(formats::Cell)}};
-  j["stages"] = nlohmann::json::object();
+  j["stages"] = nlohmann::ordered_json::object();
   double total = 0.0;
   for (const auto& s : r.stages) {
     j["stages"][s.stage] = s.seconds;
@@ -62,7 +62,7 @@ nlohmann::json report_json(const bake::BakeReport& r, const std::string& output,
   return j;
 }
 
-void print_report(const nlohmann::json& j) {
+void print_report(const nlohmann::ordered_json& j) {
   fmt::print("wrote        {} ({} bytes)\n", j["output"].get<std::string>(), j["bytes"].get<std::size_t>());
   fmt::print("probes       {} in {} leaves ({} placed, {} freed inside geometry)\n", j["probes"].get<int>(),
              j["leaves"].get<int>(), j["placed_probes"].get<int>(), j["freed_probes"].get<int>());
@@ -115,7 +115,7 @@ int run_bake(BakeCommandSettings& s) {
   const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
   formats::write_probes_file(output, result.volume);
   const auto bytes = std::filesystem::file_size(output);
-  const nlohmann::json report = report_json(result.report, output, bytes, result.volume);
+  const nlohmann::ordered_json report = report_json(result.report, output, bytes, result.volume);
   if (s.json) std::puts(report.dump(2).c_str());
   else print_report(report);
   return 0;

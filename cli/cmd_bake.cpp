@@ -143,6 +143,10 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--light-tolerance", s->bake.lighting.tolerance, "Relative error at which the bounce iteration stops");
   app->add_option("--light-max-iterations", s->bake.lighting.max_iterations, "Bounce iterations at most");
   app->add_flag("!--no-lighting", s->bake.lighting.enabled, "Leave probe irradiance at zero (placement only)");
+  app->add_flag("!--emitters-in-probes", s->bake.lighting.emissive_as_lights,
+                "Let probes carry the light of emissive surfaces seen directly (default: emissive triangles are "
+                "area lights added at shading points, like punctual lights)");
+  app->add_option("--emitter-samples", s->bake.lighting.emitter_samples, "Sub-triangles per emitter lookup (area lights)");
   app->add_flag("--surfels-out", s->bake.store_surfels, "Also store surfel batches (for dynamic runtime updates)");
   app->add_flag("--json", s->json, "Print the report as JSON");
   return {app, [s] { return run_bake(*s); }};

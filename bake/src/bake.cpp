@@ -186,7 +186,8 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
   const auto& l = s.lighting;
-  const std::int32_t lighting_ints[] = {l.enabled ? 1 : 0, l.rays, l.max_iterations, l.accelerate ? 1 : 0};
+  const std::int32_t lighting_ints[] = {l.enabled ? 1 : 0, l.rays, l.max_iterations, l.accelerate ? 1 : 0,
+                                       l.emissive_as_lights ? 1 : 0, l.emitter_samples};
   const float lighting_floats[] = {l.tolerance, l.sky_radiance.x, l.sky_radiance.y, l.sky_radiance.z};
   add(lighting_ints, sizeof(lighting_ints));
   add(lighting_floats, sizeof(lighting_floats));

@@ -1,27 +1,50 @@
-// Direct irradiance from KHR_lights_punctual lights with Embree shadow rays (lighting.h describes the
-// model). Built once per scene; irradiance() is thread-safe.
+// Direct irradiance at a surface point: KHR_lights_punctual lights with Embree shadow rays and, with
+// LightingSettings::emissive_as_lights, the scene's emissive triangles as area lights (lighting.h
+// describes both models). Built once per scene; irradiance() is thread-safe.
 #pragma once
+
+#include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "probebake/bake/lighting.h"
 #include "probebake/bake/ray_scene.h"
 #include "probebake/bake/scene.h"
 
 namespace probebake::bake::lighting_detail {
 
+// One piece of an emissive triangle: the sub-triangles of emitter_patches() are lit as area lights.
+struct EmitterPatch {
+  glm::vec3 a{0.0f}, b{0.0f}, c{0.0f}; // counter-clockwise seen from the emitting (front) side
+  glm::vec3 normal{0.0f};              // unit, towards the front side
+  glm::vec3 radiance{0.0f};            // emitted radiance, W/(m^2 sr)
+};
+
+// The emissive triangles (emission > 0 in some channel, area > 0), in triangle order, each split into
+// k^2 congruent sub-triangles (k - 1 cuts parallel to each edge), k = max(1, floor(sqrt(samples * P_t / P))),
+// P_t = area * max channel of the emission, P = sum of P_t. Row-major in barycentric (i, j) order.
+std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples);
+
+// Unoccluded irradiance at `p` with unit normal `n` from a patch, and the point the shadow ray aims at
+// (centroid of the patch clipped to n's hemisphere). Returns false when the patch faces away from `p` or
+// lies below its horizon.
+bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, glm::vec3& irradiance, glm::vec3& target);
+
 class DirectLighting {
 public:
-  DirectLighting(const scene::Scene& scene, const scene::RayScene& rays);
-  // Sum over the scene's lights at a surface point with unit normal `normal`.
+  DirectLighting(const scene::Scene& scene, const scene::RayScene& rays, const LightingSettings& settings);
+  // Sum over the scene's punctual lights (and emitter patches when enabled) at a surface point.
   glm::vec3 irradiance(glm::vec3 position, glm::vec3 normal) const;
 
 private:
   glm::vec3 from_light(const scene::Light& light, glm::vec3 position, glm::vec3 normal) const;
+  glm::vec3 from_emitters(glm::vec3 position, glm::vec3 normal) const;
   bool visible(glm::vec3 origin, glm::vec3 target) const;
 
   const scene::Scene& scene_;
   const scene::RayScene& rays_;
   float offset_; // shadow-ray origin offset along the normal: 1e-4 of the scene's largest extent
+  std::vector<EmitterPatch> patches_; // empty unless emissive_as_lights
 };
 
 // KHR_lights_punctual's range window, clamp(1 - (r / range)^4, 0, 1); 1 for range <= 0.

@@ -32,12 +32,15 @@ std::vector<std::array<float, 9>> projection_table(const std::vector<glm::vec3>&
   return table;
 }
 
+// With emissive_as_lights the emitters' own radiance is left out of the probes (shading points add it
+// through direct_irradiance), but the light they cast on this hit stays in, through E_direct.
 HitRecord shade_hit(const scene::Scene& scene, const formats::ProbeVolume& volume, const DirectLighting& direct,
-                    glm::vec3 point, const scene::RayHit& hit) {
+                    bool emission_seen, glm::vec3 point, const scene::RayHit& hit) {
   HitRecord h;
   h.normal = hit.normal;
   h.reflect = scene.triangle_albedo[hit.triangle] * kInvPi;
-  h.base = scene.triangle_emission[hit.triangle] + h.reflect * direct.irradiance(point, hit.normal);
+  h.base = (emission_seen ? scene.triangle_emission[hit.triangle] : glm::vec3(0.0f)) +
+           h.reflect * direct.irradiance(point, hit.normal);
   h.stencil = svo_stencil(volume, point, hit.normal);
   return h;
 }
@@ -62,7 +65,7 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
   const std::size_t r = directions.size();
   cache.records.resize(cache.probes.size() * r);
   std::vector<ProbeCounts> counts(cache.probes.size());
-  const DirectLighting direct(scene, rays);
+  const DirectLighting direct(scene, rays, settings);
   parallel_for(cache.probes.size(), settings.threads, [&](std::size_t i) {
     const glm::vec3 origin = volume.probes[std::size_t(cache.probes[i])].position;
     for (std::size_t j = 0; j < r; ++j) {
@@ -74,7 +77,7 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
       } else if (hit->backface) {
         ++counts[i].backface;
       } else {
-        h = shade_hit(scene, volume, direct, origin + hit->distance * directions[j], *hit);
+        h = shade_hit(scene, volume, direct, !settings.emissive_as_lights, origin + hit->distance * directions[j], *hit);
         counts[i].indirect_misses += h.stencil.empty() ? 1 : 0;
         check_finite(h, cache.probes[i], j);
       }

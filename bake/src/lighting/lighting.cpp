@@ -56,6 +56,7 @@ void check_lighting_settings(const LightingSettings& s) {
   for (int c = 0; c < 3; ++c)
     require(std::isfinite(s.sky_radiance[c]) && s.sky_radiance[c] >= 0.0f, "sky radiance must be finite and >= 0");
   require(s.threads >= 0, "threads must be >= 0");
+  require(s.emitter_samples >= 1 && s.emitter_samples <= 65536, "lighting emitter samples must be in [1, 65536]");
 }
 
 LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& rays, formats::ProbeVolume& volume,

@@ -31,7 +31,7 @@ EvalConfig grid(int n) {
 
 std::vector<EvalConfig> default_sweep() {
   return {octree(2), octree(3), octree(4), octree(5),
-          grid(8), grid(12), grid(16), grid(21),
+          grid(5), grid(8), grid(12), grid(16), grid(21),
           octree(4, 64), octree(4, 256),
           octree(4, 128, Lattice::latlong), octree(4, 128, Lattice::equal_area)};
 }

@@ -24,7 +24,7 @@ struct EvalConfig {
   BakeSettings bake;
 };
 
-// Octree max depth 2..5; grid 8, 12, 16, 21; 64 and 256 surfels at depth 4; latlong and equal-area
+// Octree max depth 2..5; grid 5, 8, 12, 16, 21; 64 and 256 surfels at depth 4; latlong and equal-area
 // lattices at depth 4 (the depth-4 / 128 / fibonacci configuration appears once).
 std::vector<EvalConfig> default_sweep();
 // Three small configurations, for tests.

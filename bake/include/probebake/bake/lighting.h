@@ -8,9 +8,10 @@
 // Each live probe traces `rays` Fibonacci directions over the full sphere to the nearest hit. Radiance
 // leaving a hit towards the probe: back face 0 (inside geometry); miss sky_radiance; front face
 //   L = L_e + albedo / pi * (E_direct + E_indirect),
-// E_direct = direct_irradiance() (punctual lights with a shadow ray), E_indirect = sample_irradiance()
-// (SVO mode) at the hit with the previous iteration's probes. Emissive triangles are not sampled at hits:
-// the probes' rays already see them. Probes hold no punctual light themselves: runtimes add
+// E_direct = direct_irradiance() (punctual lights with a shadow ray; with emissive_as_lights also the
+// emissive triangles as area lights, and then L_e is left out of L so that it is counted once),
+// E_indirect = sample_irradiance() (SVO mode) at the hit with the previous iteration's probes. Probes hold
+// no punctual light (and, with emissive_as_lights, no emitted light) themselves: runtimes add
 // direct_irradiance per pixel, and E_direct + sample_irradiance is a pixel's total irradiance.
 //
 // Units: W/m^2 of irradiance for emission in W/(m^2 sr) and intensities in W/sr (candela) or W/m^2 (lux).
@@ -34,6 +35,11 @@ struct LightingSettings {
   int max_iterations = 5000;        // at least 1
   bool accelerate = true;           // geometric-series extrapolation once the contraction rate is steady
   glm::vec3 sky_radiance{0.0f};     // radiance of rays that leave the scene, >= 0
+  // Emissive triangles as area lights: direct_irradiance() adds their light (exact unoccluded irradiance
+  // of fixed sub-triangles, one shadow ray each) and probes leave out the emission their rays see, so
+  // that it is counted once. false: probes carry the emitters' light like any other surface's.
+  bool emissive_as_lights = true;
+  int emitter_samples = 64;         // sub-triangle budget per lookup, shared by emitter power (>= 1)
   int threads = 0;                  // 0 = all cores (bake::bake passes BakeSettings::threads)
 };
 
@@ -67,8 +73,12 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
 // Irradiance (W/m^2) at a surface point with unit `normal` from the scene's KHR_lights_punctual lights:
 // point/spot I cos / r^2 with the glTF range window clamp(1 - (r/range)^4, 0, 1) when range > 0, spot cone
 // falloff per the KHR_lights_punctual spec; directional I cos. A shadow ray starts 1e-4 * scene size
-// along the normal. A light exactly at the point contributes 0.
+// along the normal. A light exactly at the point contributes 0. With settings.emissive_as_lights, plus
+// the emissive triangles: fixed sub-triangles (settings.emitter_samples shared by power), each its exact
+// unoccluded irradiance (Lambert's formula, clipped to the hemisphere) times one shadow ray
+// (docs/LIGHTING.md). Must be called with the settings the volume was baked with. Builds the patch list
+// per call (O(triangles)); the bake builds it once.
 glm::vec3 direct_irradiance(const scene::Scene& scene, const scene::RayScene& rays, glm::vec3 position,
-                            glm::vec3 normal);
+                            glm::vec3 normal, const LightingSettings& settings = {});
 
 } // namespace probebake::bake

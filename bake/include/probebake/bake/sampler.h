@@ -1,5 +1,9 @@
 // Irradiance lookup from a baked probe volume: the CPU reference that the Vulkan runtime reproduces
-// step for step. Probes store L2 spherical harmonics of irradiance (gpu_types.h, Probe::irradiance_sh).
+// step for step. Probes store L2 spherical harmonics of irradiance (gpu_types.h, Probe::irradiance_sh):
+// light reflected by surfaces (and sky), without punctual lights and - with the default
+// LightingSettings::emissive_as_lights - without the emitters' own radiance; a renderer adds both per
+// pixel with direct_irradiance() (lighting.h, algorithm in docs/LIGHTING.md). The lookup itself does not
+// depend on that setting.
 //
 // References: DDGI smooth back-face weight (Majercik et al. 2019, as discussed in the DDGI relocation
 // paper, /work/shared/papers/ddgi-probe-relocation.txt §2.1); SVO probe index (non-uniform placement paper

@@ -66,7 +66,7 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
   cache.records.resize(cache.probes.size() * r);
   std::vector<ProbeCounts> counts(cache.probes.size());
   const DirectLighting direct(scene, rays, settings);
-  parallel_for(cache.probes.size(), settings.threads, [&](std::size_t i) {
+  detail::parallel_for(cache.probes.size(), settings.threads, [&](std::size_t i) {
     const glm::vec3 origin = volume.probes[std::size_t(cache.probes[i])].position;
     for (std::size_t j = 0; j < r; ++j) {
       HitRecord& h = cache.records[i * r + j];

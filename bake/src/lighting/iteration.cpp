@@ -43,7 +43,7 @@ float recent_rate(const std::deque<double>& changes) {
 } // namespace
 
 void sweep(const HitCache& cache, const ShBuffer& prev, ShBuffer& next, int threads) {
-  parallel_for(cache.probes.size(), threads, [&](std::size_t i) {
+  detail::parallel_for(cache.probes.size(), threads, [&](std::size_t i) {
     shade_probe(cache, i, prev, next.data() + 27 * std::size_t(cache.probes[i]));
   });
 }

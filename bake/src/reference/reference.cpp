@@ -53,7 +53,7 @@ ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::Ray
                                     settings.max_bounces};
   const std::size_t chunks = (std::size_t(settings.paths) + kChunk - 1) / kChunk;
   std::vector<Moments> moments(points.size() * chunks);
-  detail::reference_parallel_for(moments.size(), settings.threads, [&](std::size_t task) {
+  detail::parallel_for(moments.size(), settings.threads, [&](std::size_t task) {
     const std::size_t p = task / chunks, c = task % chunks;
     const int paths = std::min(kChunk, settings.paths - int(c) * kChunk);
     // Keyed by (point, chunk): more paths extend a point's streams, fewer points keep the others' streams.

@@ -107,7 +107,7 @@ std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, const 
   for (int round = 0; round < kMaxRounds && int(visible.size()) < count; ++round) {
     const std::vector<Candidate> c = candidates(scene, table, count, seed, round);
     std::vector<char> keep(c.size(), 0);
-    detail::reference_parallel_for(c.size(), 0, [&](std::size_t i) { keep[i] = hidden(rays, c[i].point, epsilon) ? 0 : 1; });
+    detail::parallel_for(c.size(), 0, [&](std::size_t i) { keep[i] = hidden(rays, c[i].point, epsilon) ? 0 : 1; });
     for (std::size_t i = 0; i < c.size(); ++i)
       if (keep[i] != 0) visible.push_back(c[i]);
   }

@@ -1,5 +1,5 @@
-// Deterministic parallel loops: each index writes only its own result slot, so the output does not
-// depend on the thread count or scheduling.
+// Deterministic parallel loops for every bake library (bake, lighting, reference): each index writes only
+// its own result slot, so the output does not depend on the thread count or scheduling.
 #pragma once
 
 #include <cstddef>

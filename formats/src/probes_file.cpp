@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "byte_io.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 #include "text.h"
 
@@ -85,38 +86,6 @@ void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uin
 
 std::string errno_text() { return std::strerror(errno); }
 
-// Writes all bytes to a new file and flushes them to disk; false with errno set on failure.
-bool write_new_file(const std::string& path, std::span<const std::uint8_t> bytes) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return false;
-  std::size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int saved = errno;
-      ::close(fd);
-      errno = saved;
-      return false;
-    }
-    written += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    const int saved = errno;
-    ::close(fd);
-    errno = saved;
-    return false;
-  }
-  return ::close(fd) == 0;
-}
-
-std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
-  static std::atomic<unsigned> counter{0};
-  std::filesystem::path temporary = path;
-  temporary += detail::concat(".tmp.", ::getpid(), ".", counter++);
-  return temporary;
-}
-
 } // namespace
 
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
@@ -136,21 +105,7 @@ std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
 }
 
 void write_probes_file(const std::filesystem::path& path, const ProbeVolume& volume) {
-  const std::vector<std::uint8_t> bytes = write_probes(volume);
-  const std::filesystem::path temporary = temporary_path_for(path);
-  if (!write_new_file(temporary.string(), bytes)) {
-    const std::string reason = errno_text();
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw Error(ErrorKind::output, path.string() + ": cannot write: " + reason);
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw Error(ErrorKind::output, path.string() + ": cannot replace: " + error.message());
-  }
+  write_file_atomically(path, write_probes(volume));
 }
 
 ProbeVolume decode_probes(const ContainerView& container, std::string_view name) {

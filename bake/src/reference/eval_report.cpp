@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "probebake/bake/eval.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake {
@@ -35,20 +36,7 @@ std::string eval_markdown_table(const EvalResult& result) {
 }
 
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw Error(ErrorKind::output, fmt::format("{}: cannot write", path.string()));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+  write_file_atomically(path, std::string_view(text));
 }
 
 void write_eval_csv(const std::filesystem::path& path, const EvalResult& result) {

@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "probebake/bake/reference.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake {
@@ -20,27 +21,15 @@ float max_channel(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
 
 void write_reference_csv(const std::filesystem::path& path, std::span<const SamplePoint> points,
                          const ReferenceResult& reference) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << kHeader << '\n';
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const SamplePoint& p = points[i];
-      const glm::vec3& e = reference.irradiance[i];
-      out << fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", p.position.x,
-                         p.position.y, p.position.z, p.normal.x, p.normal.y, p.normal.z, e.x, e.y, e.z,
-                         max_channel(reference.standard_error[i]));
-    }
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      throw Error(ErrorKind::output, fmt::format("{}: cannot write", path.string()));
-    }
+  std::string out = std::string(kHeader) + '\n';
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SamplePoint& p = points[i];
+    const glm::vec3& e = reference.irradiance[i];
+    out += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", p.position.x,
+                       p.position.y, p.position.z, p.normal.x, p.normal.y, p.normal.z, e.x, e.y, e.z,
+                       max_channel(reference.standard_error[i]));
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+  write_file_atomically(path, std::string_view(out));
 }
 
 bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points, ReferenceResult& reference) {

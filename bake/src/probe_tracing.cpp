@@ -5,9 +5,9 @@
 
 namespace probebake::bake::detail {
 
-bool Cube::contains(glm::vec3 p, float inset) const {
+bool Cube::contains(glm::vec3 p) const {
   for (int a = 0; a < 3; ++a)
-    if (!(p[a] >= min[a] + inset && p[a] <= min[a] + size - inset)) return false;
+    if (!(p[a] >= min[a] && p[a] <= min[a] + size)) return false;
   return true;
 }
 

@@ -17,7 +17,7 @@ struct Cube {
   glm::vec3 min{0.0f};
   float size = 0.0f;
   glm::vec3 centre() const { return min + glm::vec3(0.5f * size); }
-  bool contains(glm::vec3 p, float inset = 0.0f) const;
+  bool contains(glm::vec3 p) const; // boundary included
   // Distance from `inside` along unit `direction` to the cube's boundary.
   float exit_distance(glm::vec3 inside, glm::vec3 direction) const;
 };

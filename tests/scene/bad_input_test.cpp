@@ -20,6 +20,13 @@ const std::vector<glm::vec3> kTri = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 
 CliResult run_info(const std::filesystem::path& file) { return run_cli("info " + quoted(file)); }
 
+// Writes one malformed case as <test-tmp>/<name>/scene.glb.
+std::filesystem::path write_case(const MiniGltf& g, const std::string& name) {
+  const auto path = test_dir(name) / "scene.glb";
+  g.write_glb(path);
+  return path;
+}
+
 // The library throws an input error mentioning `reason`; the CLI exits 2 with exactly one stderr line
 // that names the file and the reason.
 void expect_rejected(const std::filesystem::path& file, const std::string& reason) {
@@ -65,8 +72,7 @@ TEST(BadInput, GltfPointingAtMissingBin) {
 TEST(BadInput, AccessorPastItsBufferView) {
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   g.json["accessors"][0]["count"] = 4; // the view holds three vec3
-  const auto path = test_dir("accessor") / "scene.glb";
-  g.write_glb(path);
+  const auto path = write_case(g, "accessor");
   expect_rejected(path, "reaches past bufferView");
 }
 
@@ -91,8 +97,7 @@ TEST(BadInput, CorruptedDracoPayload) {
   g.json["meshes"][0]["primitives"][0]["extensions"] = {
       {"KHR_draco_mesh_compression", {{"bufferView", view}, {"attributes", {{"POSITION", 0}}}}}};
   g.json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-  const auto path = test_dir("draco") / "scene.glb";
-  g.write_glb(path);
+  const auto path = write_case(g, "draco");
   expect_rejected(path, "corrupted Draco payload");
 }
 
@@ -100,24 +105,21 @@ TEST(BadInput, UnsupportedRequiredExtension) {
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   g.json["extensionsUsed"] = {"EXT_made_up"};
   g.json["extensionsRequired"] = {"EXT_made_up"};
-  const auto path = test_dir("extension") / "scene.glb";
-  g.write_glb(path);
+  const auto path = write_case(g, "extension");
   expect_rejected(path, "required extension EXT_made_up is not supported");
 }
 
 TEST(BadInput, ZeroTriangles) {
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   g.json["nodes"][0].erase("mesh");
-  const auto path = test_dir("empty") / "scene.glb";
-  g.write_glb(path);
+  const auto path = write_case(g, "empty");
   expect_rejected(path, "scene has no triangles");
 }
 
 TEST(BadInput, NodeCycle) {
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   g.json["nodes"][0]["children"] = {0};
-  const auto path = test_dir("cycle") / "scene.glb";
-  g.write_glb(path);
+  const auto path = write_case(g, "cycle");
   expect_rejected(path, "reached twice");
 }
 

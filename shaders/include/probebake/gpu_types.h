@@ -154,6 +154,85 @@ struct VolumeInfo {
   int pad2;               // offset 76
 };                        // size 80
 
+// ---- Runtime lighting (format 1.1, optional sections) ------------------------------------------------------
+// What the runtime's light update (thesis §3.2.2) needs to reproduce the bake's lighting on any Vulkan
+// device without ray-tracing extensions: the static triangles in a BVH of our own layout (built with
+// Embree's rtcBuildBVH), the punctual lights, the emitter patches, the ray directions and the settings.
+// docs/LIGHTING.md defines the lighting, docs/FORMAT.md the sections.
+PB_CONSTANT(int, BVH_MAX_LEAF_TRIANGLES, 4);
+PB_CONSTANT(int, BVH_MAX_DEPTH, 48); // traversal stack size in the shaders; the builder stays below it
+
+// Binary BVH, root at 0. Inner node (count == 0): children at first and first + 1, first > this node's
+// index. Leaf (count > 0): trace_triangles[first, first + count).
+struct BvhNode {
+  vec3 lower; // offset  0: bounding box minimum
+  int first;  // offset 12
+  vec3 upper; // offset 16: bounding box maximum
+  int count;  // offset 28: 0 = inner node, 1..BVH_MAX_LEAF_TRIANGLES = leaf
+};            // size 32
+
+// A scene triangle as the shaders trace it, in BVH leaf order (Moller-Trumbore on v0, edge1, edge2).
+struct TraceTriangle {
+  vec3 v0;       // offset  0
+  int source;    // offset 12: index of the triangle in the bake's flattened scene (diagnostics)
+  vec3 edge1;    // offset 16: v1 - v0
+  float pad0;    // offset 28
+  vec3 edge2;    // offset 32: v2 - v0
+  float pad1;    // offset 44
+  vec3 normal;   // offset 48: unit geometric normal of the counter-clockwise front face
+  float pad2;    // offset 60
+  vec3 albedo;   // offset 64: diffuse albedo (texture averaged over the triangle)
+  float pad3;    // offset 76
+  vec3 emission; // offset 80: emitted radiance, W/(m^2 sr)
+  float pad4;    // offset 92
+};               // size 96
+
+PB_CONSTANT(int, LIGHT_POINT, 0);
+PB_CONSTANT(int, LIGHT_SPOT, 1);
+PB_CONSTANT(int, LIGHT_DIRECTIONAL, 2);
+
+// A KHR_lights_punctual light (docs/LIGHTING.md: range window, spot falloff, radiometric units).
+struct PunctualLight {
+  vec3 position;    // offset  0: world space (point, spot)
+  int type;         // offset 12: LIGHT_*
+  vec3 direction;   // offset 16: unit direction the light travels (spot, directional)
+  float range;      // offset 28: 0 = infinite
+  vec3 intensity;   // offset 32: colour * intensity, W/sr (point, spot) or W/m^2 (directional)
+  float cos_outer;  // offset 44: cos(outer cone angle) (spot)
+  float spot_scale; // offset 48: 1 / max(0.001, cos(inner) - cos(outer)) (spot)
+  float pad0;       // offset 52
+  float pad1;       // offset 56
+  float pad2;       // offset 60
+};                  // size 64
+
+// A sub-triangle of an emissive triangle, lit as an area light at shading points (docs/LIGHTING.md).
+struct EmitterPatch {
+  vec3 a;        // offset  0: vertices, counter-clockwise seen from the emitting side
+  float pad0;    // offset 12
+  vec3 b;        // offset 16
+  float pad1;    // offset 28
+  vec3 c;        // offset 32
+  float pad2;    // offset 44
+  vec3 normal;   // offset 48: unit normal of the emitting side
+  float pad3;    // offset 60
+  vec3 radiance; // offset 64: W/(m^2 sr)
+  float pad4;    // offset 76
+};               // size 80
+
+// The bake's lighting settings and the counts of the lighting sections.
+struct LightingInfo {
+  vec3 sky_radiance;      // offset  0: radiance of rays that leave the scene
+  int rays;               // offset 12: lighting rays per probe = ray_directions[0, rays) (Fibonacci)
+  float shadow_offset;    // offset 16: shadow-ray origin offset along the normal (1e-4 x scene extent)
+  int emissive_as_lights; // offset 20: 1 = emitters lit through emitter_patches, probes leave out L_e
+  int bvh_nodes;          // offset 24: BvhNode elements
+  int triangles;          // offset 28: TraceTriangle elements
+  int lights;             // offset 32: PunctualLight elements
+  int emitter_patches;    // offset 36: EmitterPatch elements
+  int placement_rays;     // offset 40: = surfels_per_probe: ray_directions[rays, rays + placement_rays)
+  int pad0;               // offset 44
+};                        // size 48
+
 #ifdef __cplusplus
 static_assert(sizeof(Probe) == 144 && alignof(Probe) == 4);
 static_assert(offsetof(Probe, link) == 12 && offsetof(Probe, node) == 16 && offsetof(Probe, depth) == 20);
@@ -165,6 +244,11 @@ static_assert(sizeof(LeafEntry) == 8 && sizeof(LeafQueueHeader) == 32);
 static_assert(sizeof(SvoLeaf) == 32 && offsetof(SvoLeaf, weights) == 16);
 static_assert(sizeof(VolumeInfo) == 80 && offsetof(VolumeInfo, placement) == 16);
 static_assert(offsetof(VolumeInfo, probe_capacity) == 48 && offsetof(VolumeInfo, svo_leaves) == 64);
+static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, upper) == 16 && offsetof(BvhNode, count) == 28);
+static_assert(sizeof(TraceTriangle) == 96 && offsetof(TraceTriangle, normal) == 48 && offsetof(TraceTriangle, emission) == 80);
+static_assert(sizeof(PunctualLight) == 64 && offsetof(PunctualLight, intensity) == 32 && offsetof(PunctualLight, spot_scale) == 48);
+static_assert(sizeof(EmitterPatch) == 80 && offsetof(EmitterPatch, normal) == 48 && offsetof(EmitterPatch, radiance) == 64);
+static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset) == 16 && offsetof(LightingInfo, placement_rays) == 40);
 } // namespace probebake::gpu
 #endif
 

@@ -51,7 +51,17 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
                    {"probe_index", v.probe_index.size() * 4},
                    {"svo_nodes", v.svo_nodes.size() * 4},
                    {"svo_leaves", v.svo_leaves.size() * sizeof(gpu::SvoLeaf)},
-                   {"cells", v.cells.size() * sizeof(formats::Cell)}};
+                   {"cells", v.cells.size() * sizeof(formats::Cell)},
+                   {"lighting_info", v.lighting ? sizeof(gpu::LightingInfo) : 0},
+                   {"ray_directions", v.ray_directions.size() * sizeof(glm::vec4)},
+                   {"bvh_nodes", v.bvh_nodes.size() * sizeof(gpu::BvhNode)},
+                   {"trace_triangles", v.trace_triangles.size() * sizeof(gpu::TraceTriangle)},
+                   {"punctual_lights", v.punctual_lights.size() * sizeof(gpu::PunctualLight)},
+                   {"emitter_patches", v.emitter_patches.size() * sizeof(gpu::EmitterPatch)}};
+  const bake::RuntimeLightingReport& g = r.runtime_lighting;
+  j["runtime_lighting"] = {{"written", g.written}, {"bvh_nodes", g.bvh_nodes}, {"bvh_depth", g.bvh_depth},
+                           {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},
+                           {"emitter_patches", g.emitter_patches}, {"bytes", g.bytes}, {"bvh_seconds", g.bvh_seconds}};
   j["stages"] = nlohmann::ordered_json::object();
   double total = 0.0;
   for (const auto& s : r.stages) {
@@ -80,6 +90,12 @@ void print_report(const nlohmann::ordered_json& j) {
   fmt::print("svo          {} nodes, {} leaves, {} bytes ({} solid and {} uncovered voxels left empty)\n",
              j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(), j["svo"]["bytes"].get<std::size_t>(),
              j["svo"]["solid_voxels"].get<int>(), j["svo"]["uncovered_voxels"].get<int>());
+  const auto& gpu_scene = j["runtime_lighting"];
+  if (gpu_scene["written"].get<bool>())
+    fmt::print("gpu scene    {} BVH nodes (depth {}), {} triangles, {} lights, {} emitter patches, {} bytes; BVH {:.1f} ms\n",
+               gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(), gpu_scene["triangles"].get<int>(),
+               gpu_scene["lights"].get<int>(), gpu_scene["emitter_patches"].get<int>(), gpu_scene["bytes"].get<std::size_t>(),
+               1e3 * gpu_scene["bvh_seconds"].get<double>());
   fmt::print("sections    ");
   for (const auto& [name, bytes] : j["sections"].items())
     if (bytes.get<std::size_t>() > 0) fmt::print(" {}:{}", name, bytes.get<std::size_t>());
@@ -148,6 +164,8 @@ Command add_bake_command(CLI::App& root) {
                 "area lights added at shading points, like punctual lights)");
   app->add_option("--emitter-samples", s->bake.lighting.emitter_samples, "Sub-triangles per emitter lookup (area lights)");
   app->add_flag("--surfels-out", s->bake.store_surfels, "Also store surfel batches (for dynamic runtime updates)");
+  app->add_flag("!--no-runtime-lighting", s->bake.runtime_lighting,
+                "Leave out the runtime lighting sections (BVH, triangles, lights, emitter patches, ray directions)");
   app->add_flag("--json", s->json, "Print the report as JSON");
   return {app, [s] { return run_bake(*s); }};
 }

@@ -1,4 +1,5 @@
-// The bake pipeline: settings check, placement, dead-probe relocation, SVO probe index, streaming cells.
+// The bake pipeline: settings check, placement, dead-probe relocation, SVO probe index, lighting, the
+// runtime lighting sections (gpu_scene), streaming cells.
 #include "probebake/bake/bake.h"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "placement.h"
 #include "relocation.h"
 #include "svo_builder.h"
+#include "probebake/bake/gpu_scene.h"
 #include "probebake/bake/ray_scene.h"
 #include "probebake/bake/scene_sdf.h"
 #include "probebake/formats/cells.h"
@@ -181,7 +183,7 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
     add(values, sizeof(values));
   }
   const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
-                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth};
+                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0};
   const float floats[] = {s.split_low, s.split_high, s.clearance};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
@@ -244,6 +246,12 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
     LightingSettings lighting = settings.lighting;
     lighting.threads = settings.threads;
     report.lighting = bake_lighting(scene, rays, volume, lighting);
+  }
+
+  if (settings.runtime_lighting) {
+    timer.stage("gpu_scene");
+    if (progress) progress("gpu_scene", 0.0);
+    report.runtime_lighting = add_runtime_lighting(scene, settings, volume);
   }
 
   timer.stage("cells");

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <string>
 
 // Header-only xxhash: the runtime links formats and must run where only libvulkan and libstdc++ exist.
@@ -166,8 +167,11 @@ private:
 } // namespace
 
 std::string section_name(std::uint32_t type) {
-  static constexpr const char* kNames[] = {"volume_info", "octree",      "probes",    "surfel_batches", "leaf_queue_header",
-                                           "leaf_entries", "probe_index", "svo_nodes", "svo_leaves",     "cells"};
+  static constexpr const char* kNames[] = {"volume_info",   "octree",         "probes",          "surfel_batches",
+                                           "leaf_queue_header", "leaf_entries", "probe_index",  "svo_nodes",
+                                           "svo_leaves",    "cells",          "lighting_info",   "ray_directions",
+                                           "bvh_nodes",     "trace_triangles", "punctual_lights", "emitter_patches"};
+  static_assert(std::size(kNames) == kSectionTypeCount);
   if (is_known_type(type)) return kNames[type - 1];
   return "section_" + std::to_string(type);
 }
@@ -178,7 +182,7 @@ std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, s
   FileHeader header{};
   std::memcpy(header.magic, kProbesMagic, sizeof(kProbesMagic));
   header.version_major = kFormatVersionMajor;
-  header.version_minor = kFormatVersionMinor;
+  header.version_minor = fields.version_minor;
   header.header_size = sizeof(FileHeader);
   header.section_count = static_cast<std::uint32_t>(sections.size());
   header.section_entry_size = sizeof(SectionEntry);

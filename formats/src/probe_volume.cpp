@@ -33,6 +33,12 @@ void sync_info_counts(ProbeVolume& volume) {
   volume.info.batch_capacity = checked_count(volume.surfel_batches.size(), "surfel_batches");
   volume.info.svo_nodes = checked_count(volume.svo_nodes.size(), "svo_nodes");
   volume.info.svo_leaves = checked_count(volume.svo_leaves.size(), "svo_leaves");
+  if (!volume.lighting) return;
+  gpu::LightingInfo& lighting = *volume.lighting;
+  lighting.bvh_nodes = checked_count(volume.bvh_nodes.size(), "bvh_nodes");
+  lighting.triangles = checked_count(volume.trace_triangles.size(), "trace_triangles");
+  lighting.lights = checked_count(volume.punctual_lights.size(), "punctual_lights");
+  lighting.emitter_patches = checked_count(volume.emitter_patches.size(), "emitter_patches");
 }
 
 void init_leaf_queue(ProbeVolume& volume, int segment_capacity) {

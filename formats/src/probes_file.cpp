@@ -17,6 +17,7 @@
 #include "byte_io.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/format_version.h"
 #include "text.h"
 
 namespace probebake::formats {
@@ -29,8 +30,27 @@ void add_section(std::vector<SectionPayload>& sections, SectionType type, std::u
 }
 
 template <typename T>
-void add_single(std::vector<SectionPayload>& sections, SectionType type, const T& value) {
-  sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), kSectionRequired, sizeof(T), 1, detail::as_bytes(value)});
+void add_single(std::vector<SectionPayload>& sections, SectionType type, const T& value, std::uint32_t flags = kSectionRequired) {
+  sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), flags, sizeof(T), 1, detail::as_bytes(value)});
+}
+
+// The runtime lighting sections (1.1): optional (flags 0), so that a 1.0 reader skips them.
+void add_lighting_sections(std::vector<SectionPayload>& sections, const ProbeVolume& volume) {
+  if (volume.lighting) add_single(sections, SectionType::lighting_info, *volume.lighting, 0);
+  add_section(sections, SectionType::ray_directions, 0, volume.ray_directions);
+  add_section(sections, SectionType::bvh_nodes, 0, volume.bvh_nodes);
+  add_section(sections, SectionType::trace_triangles, 0, volume.trace_triangles);
+  add_section(sections, SectionType::punctual_lights, 0, volume.punctual_lights);
+  add_section(sections, SectionType::emitter_patches, 0, volume.emitter_patches);
+}
+
+// The lowest minor version whose section types the file uses: 1.0 files stay byte-identical to 1.0.
+std::uint16_t minor_version_for(const std::vector<SectionPayload>& sections) {
+  std::uint16_t minor = 0;
+  for (const SectionPayload& section : sections) {
+    if (section.type >= static_cast<std::uint32_t>(SectionType::lighting_info)) minor = kLightingSectionsMinor;
+  }
+  return minor;
 }
 
 // Decodes one known section into `out`; element size and (for singletons) count are checked here.
@@ -80,6 +100,12 @@ void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uin
   case SectionType::svo_nodes: volume.svo_nodes = section.elements<std::int32_t>(); break;
   case SectionType::svo_leaves: volume.svo_leaves = section.elements<gpu::SvoLeaf>(); break;
   case SectionType::cells: volume.cells = section.elements<Cell>(); break;
+  case SectionType::lighting_info: volume.lighting = section.single<gpu::LightingInfo>(); break;
+  case SectionType::ray_directions: volume.ray_directions = section.elements<glm::vec4>(); break;
+  case SectionType::bvh_nodes: volume.bvh_nodes = section.elements<gpu::BvhNode>(); break;
+  case SectionType::trace_triangles: volume.trace_triangles = section.elements<gpu::TraceTriangle>(); break;
+  case SectionType::punctual_lights: volume.punctual_lights = section.elements<gpu::PunctualLight>(); break;
+  case SectionType::emitter_patches: volume.emitter_patches = section.elements<gpu::EmitterPatch>(); break;
   default: break; // unknown optional section (parse_container refused unknown required ones)
   }
 }
@@ -100,7 +126,8 @@ std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
   add_section(sections, SectionType::svo_nodes, kSectionRequired, volume.svo_nodes);
   add_section(sections, SectionType::svo_leaves, kSectionRequired, volume.svo_leaves);
   add_section(sections, SectionType::cells, 0, volume.cells); // optional: a reader may load everything
-  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash};
+  add_lighting_sections(sections, volume);
+  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections)};
   return write_container(fields, sections);
 }
 

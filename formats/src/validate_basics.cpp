@@ -100,6 +100,7 @@ void check_finite(const ProbeVolume& volume, Reporter& out) {
       out.add("non_finite", "cells", static_cast<long long>(i), "bounds are NaN or infinite");
     }
   }
+  check_lighting_finite(volume, out);
 }
 
 // §3.1.4: three segments used as a ring; entries in use hold (leaf node, state) pairs, each node at most

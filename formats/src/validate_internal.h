@@ -53,5 +53,9 @@ void check_probe_index(const ProbeVolume& volume, Reporter& out);
 void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
 void check_svo(const ProbeVolume& volume, Reporter& out);
 void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
+// Runtime lighting sections (validate_lighting.cpp): their floats, called by check_finite; then the
+// sections, values and BVH, run last.
+void check_lighting_finite(const ProbeVolume& volume, Reporter& out);
+void check_lighting(const ProbeVolume& volume, Reporter& out);
 
 } // namespace probebake::formats::detail

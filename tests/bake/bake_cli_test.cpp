@@ -2,6 +2,7 @@
 // usage errors.
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 
 #include <gtest/gtest.h>
@@ -18,6 +19,27 @@ using CliRun = CliResult;
 
 CliRun run(const std::string& args) { return run_cli(args); }
 
+// One command-line word: text as is, a path in single quotes.
+struct Arg {
+  Arg(const char* word) : text(word) {}
+  Arg(const std::filesystem::path& path) {
+    text += '\'';
+    text += path.string();
+    text += '\'';
+  }
+  std::string text;
+};
+
+// Joined with +=: GCC 12 at -O3 warns falsely (-Wrestrict) on "'" + std::string&&.
+CliRun run(std::initializer_list<Arg> args) {
+  std::string line;
+  for (const Arg& arg : args) {
+    if (!line.empty()) line += ' ';
+    line += arg.text;
+  }
+  return run_cli(line);
+}
+
 std::string read_bytes(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
@@ -27,27 +49,53 @@ TEST(BakeCli, CornellAtDepth3WritesAValidFileWithFewProbesAndRebakesIdentically)
   const auto scene = write_generated(samples::cornell(), "cli_cornell");
   const auto probes = scene.parent_path() / "cli_cornell.probes";
   std::filesystem::remove(probes);
-  CliRun bake = run("'" + scene.string() + "' --max-depth 3 --svo-depth 4 --json");
+  CliRun bake = run({scene, "--max-depth 3 --svo-depth 4 --json"});
   ASSERT_EQ(bake.exit_code, 0) << bake.out;
   ASSERT_TRUE(std::filesystem::exists(probes)); // default output: beside the scene
   const auto report = nlohmann::json::parse(bake.out);
   EXPECT_LT(report["probes"].get<int>(), 512);
   EXPECT_EQ(report["output"].get<std::string>(), probes.string());
 
-  const CliRun validate = run("validate '" + probes.string() + "'");
+  const CliRun validate = run({"validate", probes});
   EXPECT_EQ(validate.exit_code, 0) << validate.out;
-  const CliRun info = run("info --json '" + probes.string() + "'");
+  const CliRun info = run({"info --json", probes});
   ASSERT_EQ(info.exit_code, 0) << info.out;
   EXPECT_EQ(nlohmann::json::parse(info.out)["probes"].get<int>(), report["probes"].get<int>());
 
   const auto again = scene.parent_path() / "again.probes";
-  ASSERT_EQ(run("bake '" + scene.string() + "' --max-depth 3 --svo-depth 4 --threads 1 -o '" + again.string() + "'").exit_code, 0);
+  ASSERT_EQ(run({"bake", scene, "--max-depth 3 --svo-depth 4 --threads 1 -o", again}).exit_code, 0);
   EXPECT_EQ(read_bytes(probes), read_bytes(again));
+}
+
+// The runtime lighting sections are written by default and reported; --no-runtime-lighting leaves them out.
+TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
+  const auto scene = write_generated(samples::triangle(), "cli_runtime_lighting");
+  const auto with = scene.parent_path() / "with.probes", without = scene.parent_path() / "without.probes";
+  const CliRun bake = run({scene, "--json -o", with});
+  ASSERT_EQ(bake.exit_code, 0) << bake.err;
+  const auto report = nlohmann::json::parse(bake.out);
+  EXPECT_TRUE(report["runtime_lighting"]["written"].get<bool>());
+  EXPECT_EQ(report["runtime_lighting"]["bvh_nodes"].get<int>(), 1);
+  EXPECT_EQ(report["runtime_lighting"]["triangles"].get<int>(), 1);
+  EXPECT_EQ(report["runtime_lighting"]["lights"].get<int>(), 1);
+  EXPECT_EQ(report["sections"]["trace_triangles"].get<int>(), 96);
+  EXPECT_EQ(report["sections"]["punctual_lights"].get<int>(), 64);
+  EXPECT_TRUE(report["stages"].contains("gpu_scene"));
+  const auto info = nlohmann::json::parse(run({"info --json", with}).out);
+  EXPECT_EQ(info["format_version"].get<std::string>(), "1.1");
+  EXPECT_EQ(run({"validate", with}).exit_code, 0);
+
+  const CliRun off = run({scene, "--no-runtime-lighting --json -o", without});
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  EXPECT_FALSE(nlohmann::json::parse(off.out)["runtime_lighting"]["written"].get<bool>());
+  const auto plain = nlohmann::json::parse(run({"info --json", without}).out);
+  EXPECT_EQ(plain["format_version"].get<std::string>(), "1.0");
+  for (const auto& section : plain["sections"]) EXPECT_LE(section["type"].get<int>(), 10) << section["name"];
 }
 
 TEST(BakeCli, GridOf21CubedPlaces9261Probes) {
   const auto scene = write_generated(samples::cornell(), "cli_grid");
-  const CliRun bake = run("'" + scene.string() + "' --placement grid --grid 21 --svo-depth 3 --json");
+  const CliRun bake = run({scene, "--placement grid --grid 21 --svo-depth 3 --json"});
   ASSERT_EQ(bake.exit_code, 0) << bake.out;
   const auto report = nlohmann::json::parse(bake.out);
   EXPECT_EQ(report["placed_probes"].get<int>(), 9261);
@@ -58,16 +106,16 @@ TEST(BakeCli, BadSettingsAreUsageErrorsAndWriteNothing) {
   const auto scene = write_generated(samples::cornell(), "cli_bad");
   const auto out = scene.parent_path() / "bad.probes";
   std::filesystem::remove(out);
-  EXPECT_EQ(run("'" + scene.string() + "' --max-depth 40 -o '" + out.string() + "'").exit_code, 1);
-  EXPECT_EQ(run("'" + scene.string() + "' --split-range 0.9,0.1 -o '" + out.string() + "'").exit_code, 1);
-  EXPECT_EQ(run("'" + scene.string() + "' --lattice cubic -o '" + out.string() + "'").exit_code, 1);
+  EXPECT_EQ(run({scene, "--max-depth 40 -o", out}).exit_code, 1);
+  EXPECT_EQ(run({scene, "--split-range 0.9,0.1 -o", out}).exit_code, 1);
+  EXPECT_EQ(run({scene, "--lattice cubic -o", out}).exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_EQ(run("missing.glb").exit_code, 2);
 }
 
 TEST(BakeCli, EmptySceneIsAClearRefusal) {
   const auto scene = write_generated(samples::empty(), "cli_empty");
-  const CliRun bake = run("'" + scene.string() + "'");
+  const CliRun bake = run({"bake", scene});
   EXPECT_EQ(bake.exit_code, 2);
   EXPECT_NE(bake.err.find("scene has no triangles"), std::string::npos) << bake.err;
   EXPECT_FALSE(std::filesystem::exists(scene.parent_path() / "cli_empty.probes"));

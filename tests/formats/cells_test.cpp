@@ -65,7 +65,7 @@ TEST(Cells, RootNodeIsMinusOneWhereTheTreeIsShallower) {
 }
 
 TEST(Cells, ArrangeIsIdempotentAndWorksAtEveryDepth) {
-  for (Sample sample : {Sample::small, Sample::static_set, Sample::grid}) {
+  for (Sample sample : testing::kAllSamples) {
     for (int depth = 0; depth <= kMaxCellDepth; ++depth) {
       ProbeVolume volume = testing::make_sample(sample);
       arrange_cells(volume, depth);

@@ -75,10 +75,8 @@ TEST_P(Corruption, PayloadChangeIsAChecksumViolationNotUnreadable) {
   EXPECT_EQ(report.violations.front().section, "octree");
 }
 
-INSTANTIATE_TEST_SUITE_P(Golden, Corruption, ::testing::Values(Sample::small, Sample::static_set, Sample::grid),
-                         [](const ::testing::TestParamInfo<Sample>& param) {
-                           return param.param == Sample::small ? "small" : param.param == Sample::static_set ? "static" : "grid";
-                         });
+INSTANTIATE_TEST_SUITE_P(Golden, Corruption, ::testing::ValuesIn(testing::kAllSamples),
+                         [](const ::testing::TestParamInfo<Sample>& param) { return testing::sample_name(param.param); });
 
 TEST(CorruptionRandom, GarbageIsUnreadable) {
   std::mt19937 rng(7);

@@ -74,6 +74,28 @@ const std::map<std::string, Layout>& code_layouts() {
                 sizeof(Cell)}},
       {"CellRange", {{FIELD(CellRange, first), FIELD(CellRange, count), FIELD(CellRange, byte_offset), FIELD(CellRange, byte_size)},
                      sizeof(CellRange)}},
+      {"LightingInfo", {{FIELD(gpu::LightingInfo, sky_radiance), FIELD(gpu::LightingInfo, rays), FIELD(gpu::LightingInfo, shadow_offset),
+                         FIELD(gpu::LightingInfo, emissive_as_lights), FIELD(gpu::LightingInfo, bvh_nodes),
+                         FIELD(gpu::LightingInfo, triangles), FIELD(gpu::LightingInfo, lights), FIELD(gpu::LightingInfo, emitter_patches),
+                         FIELD(gpu::LightingInfo, placement_rays), FIELD(gpu::LightingInfo, pad0)},
+                        sizeof(gpu::LightingInfo)}},
+      {"BvhNode", {{FIELD(gpu::BvhNode, lower), FIELD(gpu::BvhNode, first), FIELD(gpu::BvhNode, upper), FIELD(gpu::BvhNode, count)},
+                   sizeof(gpu::BvhNode)}},
+      {"TraceTriangle", {{FIELD(gpu::TraceTriangle, v0), FIELD(gpu::TraceTriangle, source), FIELD(gpu::TraceTriangle, edge1),
+                          FIELD(gpu::TraceTriangle, pad0), FIELD(gpu::TraceTriangle, edge2), FIELD(gpu::TraceTriangle, pad1),
+                          FIELD(gpu::TraceTriangle, normal), FIELD(gpu::TraceTriangle, pad2), FIELD(gpu::TraceTriangle, albedo),
+                          FIELD(gpu::TraceTriangle, pad3), FIELD(gpu::TraceTriangle, emission), FIELD(gpu::TraceTriangle, pad4)},
+                         sizeof(gpu::TraceTriangle)}},
+      {"PunctualLight", {{FIELD(gpu::PunctualLight, position), FIELD(gpu::PunctualLight, type), FIELD(gpu::PunctualLight, direction),
+                          FIELD(gpu::PunctualLight, range), FIELD(gpu::PunctualLight, intensity), FIELD(gpu::PunctualLight, cos_outer),
+                          FIELD(gpu::PunctualLight, spot_scale), FIELD(gpu::PunctualLight, pad0), FIELD(gpu::PunctualLight, pad1),
+                          FIELD(gpu::PunctualLight, pad2)},
+                         sizeof(gpu::PunctualLight)}},
+      {"EmitterPatch", {{FIELD(gpu::EmitterPatch, a), FIELD(gpu::EmitterPatch, pad0), FIELD(gpu::EmitterPatch, b),
+                         FIELD(gpu::EmitterPatch, pad1), FIELD(gpu::EmitterPatch, c), FIELD(gpu::EmitterPatch, pad2),
+                         FIELD(gpu::EmitterPatch, normal), FIELD(gpu::EmitterPatch, pad3), FIELD(gpu::EmitterPatch, radiance),
+                         FIELD(gpu::EmitterPatch, pad4)},
+                        sizeof(gpu::EmitterPatch)}},
   };
   return layouts;
 }
@@ -142,16 +164,25 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
       {"volume_info", sizeof(gpu::VolumeInfo)}, {"octree", 4},        {"probes", sizeof(gpu::Probe)},
       {"surfel_batches", sizeof(gpu::SurfelBatch)}, {"leaf_queue_header", sizeof(gpu::LeafQueueHeader)},
       {"leaf_entries", sizeof(gpu::LeafEntry)}, {"probe_index", 4},   {"svo_nodes", 4},
-      {"svo_leaves", sizeof(gpu::SvoLeaf)},     {"cells", sizeof(Cell)}};
+      {"svo_leaves", sizeof(gpu::SvoLeaf)},     {"cells", sizeof(Cell)},
+      {"lighting_info", sizeof(gpu::LightingInfo)}, {"ray_directions", 16}, {"bvh_nodes", sizeof(gpu::BvhNode)},
+      {"trace_triangles", sizeof(gpu::TraceTriangle)}, {"punctual_lights", sizeof(gpu::PunctualLight)},
+      {"emitter_patches", sizeof(gpu::EmitterPatch)}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
-  const ContainerView view = parse_container(write_probes(testing::make_sample(testing::Sample::small)), "small");
+  // Between them the two samples hold every section type.
+  std::vector<SectionEntry> entries;
+  for (testing::Sample sample : {testing::Sample::small, testing::Sample::lighting}) {
+    const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(sample));
+    const ContainerView view = parse_container(bytes, testing::sample_name(sample));
+    entries.insert(entries.end(), view.sections.begin(), view.sections.end());
+  }
   for (const Row& row : rows) {
     const std::uint32_t id = static_cast<std::uint32_t>(std::stoul(row[1]));
     EXPECT_EQ(section_name(id), row[0]);
     EXPECT_EQ(std::stoul(row[2]), element_sizes.at(row[0])) << row[0];
     bool written = false;
-    for (const SectionEntry& entry : view.sections) {
+    for (const SectionEntry& entry : entries) {
       if (entry.type != id) continue;
       written = true;
       EXPECT_EQ(entry.element_size, std::stoul(row[2])) << row[0];

@@ -41,7 +41,7 @@ std::string error_of(const std::vector<std::uint8_t>& bytes) {
 }
 
 TEST(ProbesFile, RoundTripIsByteIdentical) {
-  for (Sample sample : {Sample::small, Sample::static_set, Sample::grid}) {
+  for (Sample sample : testing::kAllSamples) {
     const ProbeVolume volume = testing::make_sample(sample);
     const std::vector<std::uint8_t> bytes = write_probes(volume);
     const ProbeVolume back = read_probes(bytes, "sample");
@@ -59,7 +59,7 @@ TEST(ProbesFile, RoundTripIsByteIdentical) {
 
 TEST(ProbesFile, OnlySectionsWithDataAreWritten) {
   const ContainerView full = parse_container(write_probes(testing::make_sample(Sample::small)), "small");
-  EXPECT_EQ(full.sections.size(), kSectionTypeCount);
+  EXPECT_EQ(full.sections.size(), 10u); // every section type of 1.0
   const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(Sample::static_set));
   const ContainerView view = parse_container(bytes, "static");
   for (const SectionEntry& entry : view.sections) {
@@ -69,7 +69,80 @@ TEST(ProbesFile, OnlySectionsWithDataAreWritten) {
     EXPECT_GT(entry.size, 0u);
     EXPECT_EQ(entry.offset % 16, 0u);
   }
-  EXPECT_EQ(view.sections.size(), kSectionTypeCount - 3);
+  EXPECT_EQ(view.sections.size(), 10u - 3u);
+}
+
+// Format 1.1: the six lighting sections are optional (a 1.0 reader skips them), come after the 1.0
+// sections, and make the file a 1.1 file; without them the writer still writes 1.0.
+TEST(ProbesFile, LightingSectionsAreOptionalAndMakeTheFile1_1) {
+  const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(Sample::lighting));
+  const ContainerView view = parse_container(bytes, "lighting");
+  EXPECT_EQ(view.header.version_minor, 1);
+  ASSERT_EQ(view.sections.size(), 7u + 6u); // the static sample's sections + 6
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    const SectionEntry& entry = view.sections[7 + k];
+    EXPECT_EQ(entry.type, static_cast<std::uint32_t>(SectionType::lighting_info) + k);
+    EXPECT_EQ(entry.flags, 0u) << section_name(entry.type);
+  }
+  EXPECT_EQ(section_name(static_cast<std::uint32_t>(SectionType::emitter_patches)), "emitter_patches");
+  EXPECT_EQ(testing::header_of(write_probes(testing::make_sample(Sample::static_set))).version_minor, 0);
+}
+
+TEST(ProbesFile, LightingRoundTripKeepsEveryValue) {
+  const ProbeVolume volume = testing::make_sample(Sample::lighting);
+  const std::vector<std::uint8_t> bytes = write_probes(volume);
+  const ProbeVolume back = read_probes(bytes, "lighting");
+  EXPECT_EQ(write_probes(back), bytes);
+  ASSERT_TRUE(back.lighting.has_value());
+  EXPECT_EQ(std::memcmp(&*back.lighting, &*volume.lighting, sizeof(gpu::LightingInfo)), 0);
+  EXPECT_EQ(back.lighting->rays, 6);
+  EXPECT_EQ(back.lighting->placement_rays, 32);
+  EXPECT_EQ(back.lighting->bvh_nodes, 5);
+  EXPECT_EQ(back.lighting->triangles, 6);
+  EXPECT_EQ(back.lighting->lights, 3);
+  EXPECT_EQ(back.lighting->emitter_patches, 2);
+  ASSERT_EQ(back.ray_directions.size(), 38u);
+  EXPECT_EQ(std::memcmp(back.ray_directions.data(), volume.ray_directions.data(), 38 * sizeof(glm::vec4)), 0);
+  ASSERT_EQ(back.bvh_nodes.size(), 5u);
+  EXPECT_EQ(std::memcmp(back.bvh_nodes.data(), volume.bvh_nodes.data(), 5 * sizeof(gpu::BvhNode)), 0);
+  ASSERT_EQ(back.trace_triangles.size(), 6u);
+  EXPECT_EQ(std::memcmp(back.trace_triangles.data(), volume.trace_triangles.data(), 6 * sizeof(gpu::TraceTriangle)), 0);
+  ASSERT_EQ(back.punctual_lights.size(), 3u);
+  EXPECT_EQ(back.punctual_lights[1].spot_scale, 4.0f);
+  ASSERT_EQ(back.emitter_patches.size(), 2u);
+  EXPECT_EQ(back.emitter_patches[1].b, glm::vec3(1.5f, 2.0f, 0.5f));
+  EXPECT_TRUE(validate(back).valid());
+}
+
+// Sections without elements are not written: no lights, no patches -> no such sections, still valid.
+TEST(ProbesFile, EmptyLightingSectionsAreLeftOut) {
+  ProbeVolume volume = testing::make_sample(Sample::lighting);
+  volume.punctual_lights.clear();
+  volume.emitter_patches.clear();
+  volume.lighting->emissive_as_lights = 0;
+  sync_info_counts(volume);
+  const ProbeVolume back = read_probes(write_probes(volume), "no lights");
+  EXPECT_EQ(parse_container(write_probes(volume), "no lights").sections.size(), 7u + 4u);
+  EXPECT_EQ(back.lighting->lights, 0);
+  EXPECT_EQ(back.lighting->emissive_as_lights, 0);
+  EXPECT_TRUE(validate(back).valid());
+}
+
+// A 1.0 file (the golden files) reads without lighting, and a 1.0 reader's rule (skip unknown optional
+// sections) applied to a 1.1 file gives the same volume as the file without its lighting sections.
+TEST(ProbesFile, Version1_0FileReadsWithoutLighting) {
+  const std::vector<std::uint8_t> bytes = read_file_bytes(testing::golden_path("v1_0_static.probes"));
+  EXPECT_EQ(testing::header_of(bytes).version_minor, 0);
+  const ProbeVolume volume = read_probes(bytes, "v1_0");
+  EXPECT_FALSE(volume.lighting.has_value());
+  EXPECT_TRUE(volume.ray_directions.empty() && volume.bvh_nodes.empty() && volume.trace_triangles.empty());
+  EXPECT_TRUE(volume.punctual_lights.empty() && volume.emitter_patches.empty());
+  EXPECT_EQ(write_probes(volume), bytes);
+  ProbeVolume stripped = read_probes(write_probes(testing::make_sample(Sample::lighting)), "v1_1");
+  stripped.lighting.reset();
+  stripped.ray_directions.clear(), stripped.bvh_nodes.clear(), stripped.trace_triangles.clear();
+  stripped.punctual_lights.clear(), stripped.emitter_patches.clear();
+  EXPECT_EQ(write_probes(stripped), bytes);
 }
 
 TEST(ProbesFile, UnknownOptionalSectionIsSkipped) {

@@ -3,7 +3,11 @@
 #include "sample_volumes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "probebake/formats/cells.h"
 #include "probebake/formats/octree.h"
@@ -168,14 +172,105 @@ ProbeVolume make_grid_sample() {
   return volume;
 }
 
+gpu::TraceTriangle trace_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, int source, glm::vec3 emission = glm::vec3(0.0f)) {
+  gpu::TraceTriangle t{};
+  t.v0 = a;
+  t.edge1 = b - a;
+  t.edge2 = c - a;
+  t.source = source;
+  const glm::vec3 n = glm::cross(t.edge1, t.edge2); // axis-aligned in the sample: the division is exact
+  t.normal = n / std::max({std::abs(n.x), std::abs(n.y), std::abs(n.z)});
+  t.albedo = glm::vec3(0.5f, 0.25f, 0.75f);
+  t.emission = emission;
+  return t;
+}
+
+// Floor (2 triangles) and wall (2) in one leaf, an emissive ceiling triangle and a small block triangle
+// in one leaf each: root -> {leaf 1, inner 2 -> {leaf 3, leaf 4}}. Boxes are the exact vertex bounds.
+void build_sample_bvh(ProbeVolume& v) {
+  const glm::vec3 o(0.0f);
+  v.trace_triangles = {
+      trace_triangle(o, {0, 0, 2}, {2, 0, 0}, 0),         trace_triangle({2, 0, 0}, {0, 0, 2}, {2, 0, 2}, 1),
+      trace_triangle(o, {0, 2, 0}, {0, 0, 2}, 2),         trace_triangle({0, 2, 0}, {0, 2, 2}, {0, 0, 2}, 3),
+      trace_triangle({0.5f, 2, 0.5f}, {1.5f, 2, 0.5f}, {0.5f, 2, 1.5f}, 5, glm::vec3(4.0f)),
+      trace_triangle({1, 0, 1}, {1.5f, 0, 1}, {1, 0.5f, 1}, 4)};
+  v.bvh_nodes = {{{}, 1, {}, 0}, {{}, 0, {}, 4}, {{}, 3, {}, 0}, {{}, 4, {}, 1}, {{}, 5, {}, 1}};
+  for (int node : {4, 3, 1, 2, 0}) { // children before parents
+    gpu::BvhNode& n = v.bvh_nodes[node];
+    n.lower = glm::vec3(1e30f), n.upper = glm::vec3(-1e30f);
+    const auto extend = [&](glm::vec3 p) { n.lower = glm::min(n.lower, p), n.upper = glm::max(n.upper, p); };
+    if (n.count == 0) {
+      for (int c : {n.first, n.first + 1}) extend(v.bvh_nodes[c].lower), extend(v.bvh_nodes[c].upper);
+    }
+    for (int t = n.first; t < n.first + n.count; ++t) {
+      const gpu::TraceTriangle& tri = v.trace_triangles[t];
+      extend(tri.v0), extend(tri.v0 + tri.edge1), extend(tri.v0 + tri.edge2);
+    }
+  }
+}
+
+gpu::PunctualLight punctual_light(int type, glm::vec3 position, glm::vec3 direction, glm::vec3 intensity) {
+  gpu::PunctualLight l{};
+  l.type = type;
+  l.position = position;
+  l.direction = direction;
+  l.intensity = intensity;
+  return l;
+}
+
+// Six axis directions for lighting, then 32 placement directions (a, b, c) / d of Pythagorean quadruples.
+std::vector<glm::vec4> sample_directions() {
+  std::vector<glm::vec4> d = {{1, 0, 0, 0}, {-1, 0, 0, 0}, {0, 1, 0, 0}, {0, -1, 0, 0}, {0, 0, 1, 0}, {0, 0, -1, 0}};
+  const glm::vec3 quadruples[] = {{1, 2, 2}, {2, 1, 2}, {2, 2, 1}, {2, 3, 6}};
+  const float lengths[] = {3, 3, 3, 7};
+  for (int q = 0; q < 4; ++q) {
+    for (int signs = 0; signs < 8; ++signs) {
+      const glm::vec3 s(signs & 1 ? -1.0f : 1.0f, signs & 2 ? -1.0f : 1.0f, signs & 4 ? -1.0f : 1.0f);
+      d.push_back(glm::vec4(s * quadruples[q] / lengths[q], 0.0f));
+    }
+  }
+  return d;
+}
+
+void add_sample_lighting(ProbeVolume& v) {
+  gpu::LightingInfo info{};
+  info.sky_radiance = glm::vec3(0.25f, 0.5f, 1.0f);
+  info.rays = 6;
+  info.shadow_offset = 0.00048828125f;
+  info.emissive_as_lights = 1;
+  info.placement_rays = v.info.surfels_per_probe; // 32
+  v.lighting = info;
+  v.ray_directions = sample_directions();
+  build_sample_bvh(v);
+  v.punctual_lights = {punctual_light(gpu::LIGHT_POINT, {1, 1.5f, 1}, {}, glm::vec3(10.0f)),
+                       punctual_light(gpu::LIGHT_SPOT, {1, 1.875f, 1}, {0, -1, 0}, {5, 4, 3}),
+                       punctual_light(gpu::LIGHT_DIRECTIONAL, {}, {0, -0.6f, -0.8f}, glm::vec3(1.0f))};
+  v.punctual_lights[1].range = 4.0f;
+  v.punctual_lights[1].cos_outer = 0.75f;
+  v.punctual_lights[1].spot_scale = 4.0f; // 1 / (cos inner - cos outer) = 1 / (1 - 0.75)
+  const glm::vec3 a(0.5f, 2, 0.5f), b(1.5f, 2, 0.5f), c(0.5f, 2, 1.5f), ab = 0.5f * (a + b);
+  v.emitter_patches = {{a, 0, ab, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}, {ab, 0, b, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}};
+}
+
 } // namespace
 
 ProbeVolume make_sample(Sample sample) {
   ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
+  if (sample == Sample::lighting) add_sample_lighting(volume);
   sync_info_counts(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
   volume.input_hash = kSampleInputHash;
   return volume;
+}
+
+const char* sample_name(Sample sample) {
+  switch (sample) {
+  case Sample::small: return "small";
+  case Sample::static_set: return "static";
+  case Sample::grid: return "grid";
+  case Sample::lighting: return "lighting";
+  }
+  return "";
 }
 
 const char* golden_name(Sample sample) {
@@ -183,6 +278,7 @@ const char* golden_name(Sample sample) {
   case Sample::small: return "v1_0_small.probes";
   case Sample::static_set: return "v1_0_static.probes";
   case Sample::grid: return "v1_0_grid.probes";
+  case Sample::lighting: return "v1_1_lighting.probes";
   }
   return "";
 }

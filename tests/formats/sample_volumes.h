@@ -11,11 +11,19 @@ enum class Sample {
   small,      // depth-2 octree, probes, surfel batches, leaf buffer, probe index, SVO, cells of depth 1
   static_set, // the same without surfel batches and without a leaf buffer (static scene)
   grid,       // 2x2x2 grid placement: root-only octree, probes with node -1, SVO, cells of depth 1
+  lighting,   // static_set plus the runtime lighting sections of format 1.1 (BVH of 6 triangles, 3 lights,
+              // 2 emitter patches, 6 + 32 ray directions)
 };
+
+// Every sample, for tests that loop over them.
+inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting};
 
 ProbeVolume make_sample(Sample sample);
 
-// Golden file name under tests/data/golden for a sample ("v1_0_small.probes", ...).
+// "small", "static", "grid", "lighting" (test parameter names).
+const char* sample_name(Sample sample);
+
+// Golden file name under tests/data/golden for a sample ("v1_0_small.probes", ..., "v1_1_lighting.probes").
 const char* golden_name(Sample sample);
 
 } // namespace probebake::formats::testing

@@ -64,6 +64,21 @@ std::vector<int> svo_leaf_nodes(const ProbeVolume& v) {
   return nodes;
 }
 
+// Replaces the sample's BVH by a chain whose deepest leaf is at `depth`: inner node 2k has the leaf 2k + 1
+// (triangle k) and the next inner node 2k + 2; node 2 * depth is the last leaf. All boxes are one box.
+void make_bvh_chain(ProbeVolume& v, int depth) {
+  const gpu::TraceTriangle triangle = v.trace_triangles[5];
+  const gpu::BvhNode box = v.bvh_nodes[4];
+  v.trace_triangles.assign(static_cast<std::size_t>(depth) + 1, triangle);
+  v.bvh_nodes.clear();
+  for (int k = 0; k < depth; ++k) {
+    v.bvh_nodes.push_back(gpu::BvhNode{box.lower, 2 * k + 1, box.upper, 0});
+    v.bvh_nodes.push_back(gpu::BvhNode{box.lower, k, box.upper, 1});
+  }
+  v.bvh_nodes.push_back(gpu::BvhNode{box.lower, depth, box.upper, 1});
+  sync_info_counts(v);
+}
+
 struct Corruption {
   const char* invariant;
   Sample sample;
@@ -141,12 +156,35 @@ const std::vector<Corruption>& corruptions() {
          v.cells[0].probes.count -= 1;
          v.cells[0].probes.byte_size -= sizeof(gpu::Probe);
        }},
+      // Runtime lighting (format 1.1). Sample layout: nodes 0 (root) -> {1 leaf of triangles 0..3,
+      // 2 -> {3 leaf of triangle 4, 4 leaf of triangle 5}}; lights point, spot, directional.
+      {"non_finite", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[2].albedo.y = std::nanf(""); }},
+      {"non_finite", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[3].upper.x = INFINITY; }},
+      {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting->triangles += 1; }},
+      {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting.reset(); }},
+      {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting->placement_rays = 31, v.lighting->rays = 7; }},
+      {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting->emissive_as_lights = 0; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.lighting->shadow_offset = 0.0f; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.ray_directions[7].x *= 1.01f; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[1].normal = -v.trace_triangles[1].normal; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[0].emission.z = -1.0f; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[0].type = 3; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[1].range = -1.0f; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[2].position.x = 1.0f; }},
+      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.emitter_patches[1].pad3 = 1.0f; }},
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 1; }},      // node 1 reached twice
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 2; }},      // child = itself
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[1].count = 5; }},      // more than 4 triangles
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[4].first = 4; }},      // triangle 4 twice, 5 in none
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[3].upper.x -= 0.25f; }}, // misses its triangle
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[0].upper.y = 1.0f; }},   // child box sticks out
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { make_bvh_chain(v, gpu::BVH_MAX_DEPTH); }},
   };
   return list;
 }
 
 TEST(Validate, SamplesAreValid) {
-  for (Sample sample : {Sample::small, Sample::static_set, Sample::grid}) {
+  for (Sample sample : testing::kAllSamples) {
     const ValidationReport report = validate(testing::make_sample(sample));
     EXPECT_TRUE(report.valid()) << testing::golden_name(sample) << "\n" << violations_text(report);
   }
@@ -181,6 +219,30 @@ TEST(Validate, ReportedIdsAreRegistered) {
     corruption.corrupt(volume);
     for (const Violation& v : validate(volume).violations) EXPECT_TRUE(registered.count(v.invariant)) << v.invariant;
   }
+}
+
+TEST(Validate, BvhDepthLimitIsTheShadersStackSize) {
+  ProbeVolume volume = testing::make_sample(Sample::lighting);
+  make_bvh_chain(volume, gpu::BVH_MAX_DEPTH - 1);
+  EXPECT_TRUE(validate(volume).valid()) << violations_text(validate(volume));
+  make_bvh_chain(volume, gpu::BVH_MAX_DEPTH);
+  const ValidationReport report = validate(volume);
+  ASSERT_EQ(report.violations.size(), 2u) << violations_text(report); // the two deepest leaves
+  EXPECT_EQ(format_violation(report.violations[0]), "bvh_nodes[96]: bvh_tree: depth 48 reaches BVH_MAX_DEPTH");
+  EXPECT_EQ(format_violation(report.violations[1]), "bvh_nodes[95]: bvh_tree: depth 48 reaches BVH_MAX_DEPTH");
+}
+
+TEST(Validate, BvhOfAnEmptySceneIsEmpty) {
+  ProbeVolume volume = testing::make_sample(Sample::lighting);
+  volume.bvh_nodes.clear();
+  volume.trace_triangles.clear();
+  sync_info_counts(volume);
+  EXPECT_TRUE(validate(volume).valid()) << violations_text(validate(volume));
+  volume.trace_triangles.push_back(testing::make_sample(Sample::lighting).trace_triangles[0]);
+  sync_info_counts(volume);
+  const ValidationReport report = validate(volume);
+  ASSERT_FALSE(report.valid());
+  EXPECT_EQ(format_violation(report.violations[0]), "trace_triangles: bvh_tree: triangles but no BVH nodes");
 }
 
 TEST(Validate, MaxErrorsTruncates) {

@@ -20,11 +20,22 @@ float range_window(float range, float distance) {
   return std::clamp(1.0f - q * q * q * q, 0.0f, 1.0f);
 }
 
+SpotCone spot_cone(const scene::Light& light) {
+  SpotCone cone;
+  cone.cos_outer = std::cos(light.outer_cone_angle);
+  cone.scale = 1.0f / std::max(0.001f, std::cos(light.inner_cone_angle) - cone.cos_outer);
+  return cone;
+}
+
 float spot_falloff(const scene::Light& light, glm::vec3 light_to_point) {
-  const float cos_outer = std::cos(light.outer_cone_angle);
-  const float scale = 1.0f / std::max(0.001f, std::cos(light.inner_cone_angle) - cos_outer);
-  const float a = std::clamp((glm::dot(light.direction, light_to_point) - cos_outer) * scale, 0.0f, 1.0f);
+  const SpotCone cone = spot_cone(light);
+  const float a = std::clamp((glm::dot(light.direction, light_to_point) - cone.cos_outer) * cone.scale, 0.0f, 1.0f);
   return a * a;
+}
+
+float shadow_offset(const scene::Scene& scene) {
+  const glm::vec3 extent = scene.bounds.empty() ? glm::vec3(1.0f) : scene.bounds.max - scene.bounds.min;
+  return 1e-4f * std::max({extent.x, extent.y, extent.z, 1e-30f});
 }
 
 std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples) {
@@ -89,9 +100,7 @@ bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, glm::
 }
 
 DirectLighting::DirectLighting(const scene::Scene& scene, const scene::RayScene& rays, const LightingSettings& settings)
-    : scene_(scene), rays_(rays) {
-  const glm::vec3 extent = scene.bounds.empty() ? glm::vec3(1.0f) : scene.bounds.max - scene.bounds.min;
-  offset_ = 1e-4f * std::max({extent.x, extent.y, extent.z, 1e-30f});
+    : scene_(scene), rays_(rays), offset_(shadow_offset(scene)) {
   if (settings.emissive_as_lights) patches_ = emitter_patches(scene, settings.emitter_samples);
 }
 

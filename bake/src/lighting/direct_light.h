@@ -43,9 +43,21 @@ private:
 
   const scene::Scene& scene_;
   const scene::RayScene& rays_;
-  float offset_; // shadow-ray origin offset along the normal: 1e-4 of the scene's largest extent
+  float offset_; // shadow_offset(scene): along the normal, for every shadow ray
   std::vector<EmitterPatch> patches_; // empty unless emissive_as_lights
 };
+
+// Shadow-ray origin offset along the normal: 1e-4 of the scene's largest extent (1e-4 for an empty
+// scene). One definition for the bake's shadow rays and the runtime's (LightingInfo::shadow_offset).
+float shadow_offset(const scene::Scene& scene);
+
+// The spot cone as spot_falloff uses it, in float: cos(outer cone angle) and 1 / max(0.001, cos(inner) -
+// cos(outer)). The runtime gets exactly these values (PunctualLight::cos_outer, spot_scale).
+struct SpotCone {
+  float cos_outer = 0.0f;
+  float scale = 0.0f;
+};
+SpotCone spot_cone(const scene::Light& light);
 
 // KHR_lights_punctual's range window, clamp(1 - (r / range)^4, 0, 1); 1 for range <= 0.
 float range_window(float range, float distance);

@@ -34,6 +34,10 @@ struct BakeSettings {
   bool store_surfels = false;     // write the surfel batches (for runtime updates of dynamic scenes)
   int cell_depth = 1;             // streaming cells: (2^cell_depth)^3
   LightingSettings lighting;      // probe irradiance (lighting.h); its `threads` is replaced by `threads`
+  // Write the runtime lighting sections (format 1.1: BVH, trace triangles, lights, emitter patches, ray
+  // directions, LightingInfo) so that a GPU runtime can reproduce `lighting` without ray-tracing
+  // extensions. Also when lighting.enabled is false (the runtime can then light from zero).
+  bool runtime_lighting = true;
 };
 
 // Throws Error(usage) with a message naming the option when a setting is out of range.
@@ -42,6 +46,19 @@ void check_settings(const BakeSettings& settings);
 struct StageTime {
   std::string stage;
   double seconds = 0.0;
+};
+
+// The runtime lighting sections of a bake (stage "gpu_scene"), when settings.runtime_lighting.
+struct RuntimeLightingReport {
+  bool written = false;
+  int bvh_nodes = 0;
+  int bvh_depth = 0;                  // deepest BVH node (root = 0), below gpu::BVH_MAX_DEPTH
+  int triangles = 0;                  // trace triangles
+  int left_out_triangles = 0;         // zero-area triangles (never hit) left out of the BVH
+  int lights = 0;
+  int emitter_patches = 0;
+  std::size_t bytes = 0;              // payload bytes of the six sections
+  double bvh_seconds = 0.0;           // rtcBuildBVH, flattening and refit
 };
 
 struct BakeReport {
@@ -58,6 +75,7 @@ struct BakeReport {
   int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
   LightingReport lighting;            // when settings.lighting.enabled
+  RuntimeLightingReport runtime_lighting;
   std::vector<StageTime> stages;
 };
 

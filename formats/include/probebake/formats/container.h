@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "probebake/formats/format_version.h"
+
 namespace probebake::formats {
 
 inline constexpr char kProbesMagic[8] = {'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'};
@@ -71,8 +73,15 @@ enum class SectionType : std::uint32_t {
   svo_nodes = 8,         // int32 x info.svo_nodes
   svo_leaves = 9,        // gpu::SvoLeaf x info.svo_leaves
   cells = 10,            // Cell x cells (optional: a reader may load everything instead)
+  // Runtime lighting (1.1), all optional: a 1.0 reader skips them.
+  lighting_info = 11,    // gpu::LightingInfo x 1
+  ray_directions = 12,   // vec4 x (lighting.rays + lighting.placement_rays)
+  bvh_nodes = 13,        // gpu::BvhNode x lighting.bvh_nodes
+  trace_triangles = 14,  // gpu::TraceTriangle x lighting.triangles
+  punctual_lights = 15,  // gpu::PunctualLight x lighting.lights
+  emitter_patches = 16,  // gpu::EmitterPatch x lighting.emitter_patches
 };
-inline constexpr std::uint32_t kSectionTypeCount = 10;
+inline constexpr std::uint32_t kSectionTypeCount = 16;
 
 // "octree", "probes", ...; "section_<id>" for unknown types.
 std::string section_name(std::uint32_t type);
@@ -89,6 +98,7 @@ struct SectionPayload {
 struct ContainerHeaderFields {
   std::uint32_t cell_depth = 0;
   std::uint64_t input_hash = 0;
+  std::uint16_t version_minor = kFormatVersionMinor; // write_probes: the lowest minor the sections need
 };
 
 // Writes header, table and payloads (in the given order, each aligned to kSectionAlignment, padding

@@ -6,5 +6,8 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 0;
+inline constexpr std::uint16_t kFormatVersionMinor = 1;
+// 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
+// file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
+inline constexpr std::uint16_t kLightingSectionsMinor = 1;
 } // namespace probebake::formats

@@ -8,9 +8,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "probebake/gpu_types.h"
 
@@ -44,6 +46,10 @@ static_assert(sizeof(CellRange) == 24 && sizeof(Cell) == 104);
 // Everything a .probes file holds. Vectors that a scene does not use stay empty and are not written
 // (static scenes: no surfel_batches; bakes without a runtime queue: no leaf buffer; no cells: no index).
 // Counts in `info` must equal the vector sizes (validate() reports count_mismatch otherwise).
+//
+// Runtime lighting (format 1.1, optional sections): what a GPU light update needs to reproduce the
+// bake's lighting without ray-tracing extensions. Present exactly when `lighting` is; its counts must
+// equal the sizes of the five vectors after it (validate() reports lighting_sections otherwise).
 struct ProbeVolume {
   gpu::VolumeInfo info{};
   std::vector<std::int32_t> octree;               // info.octree_elements; [0] is the root
@@ -57,13 +63,22 @@ struct ProbeVolume {
   std::int32_t cell_depth = 0;                    // the cell grid is (2^cell_depth)^3; see cells.h
   std::vector<Cell> cells;                        // streaming index, or empty (load everything)
   std::uint64_t input_hash = 0;                   // hash of the bake's inputs and settings (given by it)
+
+  std::optional<gpu::LightingInfo> lighting;      // settings and counts of the sections below
+  std::vector<glm::vec4> ray_directions;          // lighting->rays Fibonacci lighting rays, then
+                                                  // placement_rays lattice directions; unit xyz, w = 0
+  std::vector<gpu::BvhNode> bvh_nodes;            // root at 0; empty for a scene without triangles
+  std::vector<gpu::TraceTriangle> trace_triangles; // in BVH leaf order
+  std::vector<gpu::PunctualLight> punctual_lights;
+  std::vector<gpu::EmitterPatch> emitter_patches; // empty unless emissive_as_lights
 };
 
 // A volume with a root-only octree (one leaf without probe) and every other buffer empty; `settings`
 // provides root cube, placement and bake parameters, its count fields are overwritten.
 ProbeVolume make_empty_volume(const gpu::VolumeInfo& settings);
 
-// Sets the count fields of volume.info from the vector sizes (octree, probes, batches, SVO).
+// Sets the count fields of volume.info from the vector sizes (octree, probes, batches, SVO) and, when
+// the volume has lighting, those of volume.lighting (BVH nodes, triangles, lights, emitter patches).
 // Throws Error(internal) when a vector holds more than INT32_MAX elements.
 void sync_info_counts(ProbeVolume& volume);
 

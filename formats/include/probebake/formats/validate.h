@@ -1,5 +1,6 @@
 // The validator: every invariant of the octree thesis §3.1.1-3.1.5 and of the SVO probe index (non-uniform
-// placement paper §4.1), plus counts, cells and finiteness. validate() works on a ProbeVolume, so the same
+// placement paper §4.1), plus counts, cells, finiteness and the runtime lighting sections (format 1.1: the
+// BVH the GPU traverses, lights, patches). validate() works on a ProbeVolume, so the same
 // checks run on file contents and on buffers read back from the GPU runtime; validate_file() checks the
 // container first. Cheap structural checks run first, deep ones (traversals, per-element scans) after.
 //

@@ -1,0 +1,360 @@
+// The runtime lighting sections (stage "gpu_scene", format 1.1): a test-only closest-hit traversal of the
+// baked BvhNode / TraceTriangle arrays (stack traversal, Moller-Trumbore, what the shaders do) finds the
+// same hits as Embree (RayScene::intersect) on the Cornell box and the rooms; lights, emitter patches, ray
+// directions and LightingInfo are the bake's own values; the bake writes the sections by default.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <random>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "bake_test_util.h"
+#include "probebake/bake/gpu_scene.h"
+#include "probebake/bake/lattice.h"
+#include "probebake/formats/container.h"
+#include "probebake/formats/probes_file.h"
+#include "probebake/formats/validate.h"
+#include "probebake/samples/scenes.h"
+
+namespace probebake::test {
+namespace {
+
+std::string violations(const formats::ValidationReport& r) {
+  std::string out;
+  for (const auto& v : r.violations) out += formats::format_violation(v) + "\n";
+  return out;
+}
+
+// An otherwise empty, valid volume with the scene's runtime lighting sections.
+formats::ProbeVolume lighting_volume(const scene::Scene& s, const bake::BakeSettings& settings,
+                                     bake::RuntimeLightingReport* report = nullptr) {
+  gpu::VolumeInfo info{};
+  info.root_size = 1.0f;
+  info.lattice = int(settings.lattice);
+  info.surfels_per_probe = settings.surfels_per_probe;
+  formats::ProbeVolume v = formats::make_empty_volume(info);
+  const bake::RuntimeLightingReport r = bake::add_runtime_lighting(s, settings, v);
+  if (report != nullptr) *report = r;
+  return v;
+}
+
+// ---- a test-only GPU-style tracer over the baked arrays -------------------------------------------------
+
+struct GpuHit {
+  float distance = 0.0f;
+  int triangle = -1; // index into trace_triangles
+};
+
+// Slab test with the far distance scaled by 1 + 2 gamma(3) (Ize 2013), so that rounding never culls a box
+// the ray touches; fmin/fmax ignore the NaN of 0 * inf for a ray inside a slab's plane.
+bool hits_box(const gpu::BvhNode& node, glm::vec3 origin, glm::vec3 inverse, float t_max) {
+  float t_near = 0.0f, t_far = t_max;
+  for (int a = 0; a < 3; ++a) {
+    const float t0 = (node.lower[a] - origin[a]) * inverse[a], t1 = (node.upper[a] - origin[a]) * inverse[a];
+    t_near = std::fmax(t_near, std::fmin(t0, t1));
+    t_far = std::fmin(t_far, std::fmax(t0, t1) * 1.0000004f);
+  }
+  return t_near <= t_far;
+}
+
+// Moller-Trumbore, both faces.
+std::optional<float> intersect(const gpu::TraceTriangle& tri, glm::vec3 origin, glm::vec3 direction) {
+  const glm::vec3 p = glm::cross(direction, tri.edge2);
+  const float det = glm::dot(tri.edge1, p);
+  if (det == 0.0f) return std::nullopt;
+  const float inv = 1.0f / det;
+  const glm::vec3 s = origin - tri.v0;
+  const float u = glm::dot(s, p) * inv;
+  if (u < 0.0f || u > 1.0f) return std::nullopt;
+  const glm::vec3 q = glm::cross(s, tri.edge1);
+  const float v = glm::dot(direction, q) * inv;
+  if (v < 0.0f || u + v > 1.0f) return std::nullopt;
+  return glm::dot(tri.edge2, q) * inv;
+}
+
+std::optional<GpuHit> trace(const formats::ProbeVolume& v, glm::vec3 origin, glm::vec3 direction) {
+  if (v.bvh_nodes.empty()) return std::nullopt;
+  const glm::vec3 inverse = 1.0f / direction;
+  GpuHit best{std::numeric_limits<float>::max(), -1};
+  std::array<int, gpu::BVH_MAX_DEPTH> stack{};
+  int size = 0;
+  stack[size++] = 0;
+  while (size > 0) {
+    const gpu::BvhNode& node = v.bvh_nodes[std::size_t(stack[--size])];
+    if (!hits_box(node, origin, inverse, best.distance)) continue;
+    if (node.count == 0) {
+      stack[size++] = node.first + 1;
+      stack[size++] = node.first;
+      continue;
+    }
+    for (int t = node.first; t < node.first + node.count; ++t) {
+      const auto d = intersect(v.trace_triangles[std::size_t(t)], origin, direction);
+      if (d && *d >= 0.0f && *d < best.distance) best = {*d, t};
+    }
+  }
+  if (best.triangle < 0) return std::nullopt;
+  return best;
+}
+
+struct Comparison {
+  int rays = 0, hits = 0, backfaces = 0, ties = 0, opposite_ties = 0;
+  int only_gpu = 0, only_embree = 0, other_triangle = 0, other_face = 0, far = 0;
+  double max_relative = 0.0; // |t_gpu - t_embree| / t over hits farther than 1 % of the scene size
+};
+
+// Random origins in the scene bounds (padded 10 %), random directions: rays from inside solids reach back
+// faces too. Distances must agree within 1e-5 relative to max(t, scene size): near the origin both
+// computations carry the absolute rounding of the coordinates. A different triangle is accepted only as
+// an exact tie (the same distance); a tie between coincident triangles facing opposite ways (the rooms
+// have some) may also differ in the face.
+Comparison compare_with_embree(const scene::Scene& s, const formats::ProbeVolume& v, int rays) {
+  const scene::RayScene embree(s);
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::normal_distribution<float> normal;
+  const glm::vec3 extent = s.bounds.max - s.bounds.min;
+  const double scene_size = std::max({extent.x, extent.y, extent.z});
+  const glm::vec3 low = s.bounds.min - 0.1f * extent, size = 1.2f * extent;
+  Comparison c;
+  for (; c.rays < rays; ++c.rays) {
+    const glm::vec3 origin = low + size * glm::vec3(unit(rng), unit(rng), unit(rng));
+    const glm::vec3 direction = glm::normalize(glm::vec3(normal(rng), normal(rng), normal(rng)));
+    const auto a = embree.intersect(origin, direction);
+    const auto b = trace(v, origin, direction);
+    if (a.has_value() != b.has_value()) {
+      (a ? c.only_embree : c.only_gpu) += 1;
+      continue;
+    }
+    if (!a) continue;
+    ++c.hits;
+    const gpu::TraceTriangle& tri = v.trace_triangles[std::size_t(b->triangle)];
+    const double difference = std::abs(double(b->distance) - a->distance);
+    c.far += difference > 1e-5 * std::max(double(a->distance), scene_size) ? 1 : 0;
+    if (a->distance > 0.01 * scene_size) c.max_relative = std::max(c.max_relative, difference / a->distance);
+    const bool backface = glm::dot(tri.normal, direction) > 0.0f;
+    c.backfaces += backface ? 1 : 0;
+    const bool tie = std::uint32_t(tri.source) != a->triangle;
+    if (tie && difference > 1e-5 * std::max(double(a->distance), scene_size)) ++c.other_triangle;
+    else if (tie) (backface == a->backface ? c.ties : c.opposite_ties) += 1;
+    else if (backface != a->backface) ++c.other_face;
+  }
+  return c;
+}
+
+void expect_same_hits(const scene::Scene& s, const char* name) {
+  bake::BakeSettings settings = test_settings();
+  bake::RuntimeLightingReport report;
+  const formats::ProbeVolume volume = lighting_volume(s, settings, &report);
+  const formats::ValidationReport validation = formats::validate(volume);
+  EXPECT_TRUE(validation.valid()) << violations(validation);
+  const Comparison c = compare_with_embree(s, volume, 20000);
+  std::printf("[ %s ] %d triangles, %d BVH nodes, depth %d, %.1f ms: %d rays, %d hits (%d back faces), %d ties (%d between "
+              "opposite faces), max relative distance error %.2g\n",
+              name, report.triangles, report.bvh_nodes, report.bvh_depth, 1e3 * report.bvh_seconds, c.rays, c.hits, c.backfaces,
+              c.ties + c.opposite_ties, c.opposite_ties, c.max_relative);
+  EXPECT_GT(c.hits, c.rays / 4);
+  EXPECT_GT(c.backfaces, 0);
+  EXPECT_EQ(c.only_gpu, 0);
+  EXPECT_EQ(c.only_embree, 0);
+  EXPECT_EQ(c.other_triangle, 0);
+  EXPECT_EQ(c.other_face, 0);
+  EXPECT_EQ(c.far, 0);
+  EXPECT_LE(c.ties + c.opposite_ties, c.hits / 1000);
+  EXPECT_LT(c.max_relative, 1e-5);
+}
+
+TEST(GpuScene, TraversalFindsEmbreesHitsInTheCornellBox) {
+  const scene::Scene s = load_generated(samples::cornell(), "gpu_cornell");
+  expect_same_hits(s, "cornell");
+}
+
+TEST(GpuScene, TraversalFindsEmbreesHitsInTheRooms) {
+  const scene::Scene s = load_generated(samples::rooms({.count = 4, .detail = 8}), "gpu_rooms");
+  ASSERT_GT(s.triangles.size(), 40000u);
+  expect_same_hits(s, "rooms");
+}
+
+// ---- conversions -------------------------------------------------------------------------------------
+
+samples::SceneBuilder lit_scene() {
+  samples::SceneBuilder b = samples::triangle();
+  b.add_light_node("spot", b.add_light({"spot", samples::LightType::spot, glm::vec3(1.0f, 0.5f, 0.25f), 50.0f, 4.0f, 0.3f, 0.6f}),
+                   {0.25f, 2.0f, -0.25f}, glm::normalize(glm::vec3(0.1f, -1.0f, 0.2f)));
+  b.add_light_node("sun", b.add_light({"sun", samples::LightType::directional, glm::vec3(0.5f), 3.0f}), {5, 5, 5},
+                   glm::normalize(glm::vec3(1.0f, -2.0f, 0.5f)));
+  return b;
+}
+
+TEST(GpuScene, PunctualLightsAreTheBakesFormulas) {
+  const scene::Scene s = load_generated(lit_scene(), "gpu_lights");
+  bake::BakeSettings settings = test_settings();
+  formats::ProbeVolume v = lighting_volume(s, settings);
+  ASSERT_EQ(s.lights.size(), 3u);
+  ASSERT_EQ(v.punctual_lights.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const scene::Light& in = s.lights[i];
+    const gpu::PunctualLight& out = v.punctual_lights[i];
+    SCOPED_TRACE(in.name);
+    EXPECT_EQ(out.intensity, in.color * in.intensity);
+    EXPECT_EQ(out.pad0, 0.0f);
+    if (in.type == scene::LightType::point) {
+      EXPECT_EQ(out.type, gpu::LIGHT_POINT);
+      EXPECT_EQ(out.position, in.position);
+      EXPECT_EQ(out.direction, glm::vec3(0.0f));
+      EXPECT_EQ(out.intensity, glm::vec3(10.0f)); // the triangle scene's 10 cd light
+    } else if (in.type == scene::LightType::spot) {
+      EXPECT_EQ(out.type, gpu::LIGHT_SPOT);
+      EXPECT_EQ(out.position, in.position);
+      EXPECT_EQ(out.direction, in.direction);
+      EXPECT_EQ(out.range, 4.0f);
+      EXPECT_EQ(out.intensity, glm::vec3(50.0f, 25.0f, 12.5f));
+      const float cos_outer = std::cos(in.outer_cone_angle);
+      EXPECT_EQ(out.cos_outer, cos_outer);
+      EXPECT_EQ(out.spot_scale, 1.0f / std::max(0.001f, std::cos(in.inner_cone_angle) - cos_outer));
+      EXPECT_NEAR(out.cos_outer, std::cos(0.6), 1e-6);
+      EXPECT_NEAR(out.spot_scale, 1.0 / (std::cos(0.3) - std::cos(0.6)), 1e-3);
+    } else {
+      EXPECT_EQ(out.type, gpu::LIGHT_DIRECTIONAL);
+      EXPECT_EQ(out.direction, in.direction);
+      EXPECT_NEAR(glm::dot(out.direction, glm::normalize(glm::vec3(1.0f, -2.0f, 0.5f))), 1.0f, 1e-6f);
+      EXPECT_EQ(out.position, glm::vec3(0.0f));
+      EXPECT_EQ(out.range, 0.0f);
+      EXPECT_EQ(out.intensity, glm::vec3(1.5f));
+    }
+  }
+  EXPECT_TRUE(v.emitter_patches.empty()); // no emissive triangle
+  EXPECT_TRUE(formats::validate(v).valid()) << violations(formats::validate(v));
+}
+
+// docs/LIGHTING.md: the Cornell light is 2 triangles x 25 patches; each patch keeps its triangle's normal
+// and radiance and the patches tile the triangles (their areas add up).
+TEST(GpuScene, EmitterPatchesTileTheCornellLight) {
+  const scene::Scene s = load_generated(samples::cornell(), "gpu_patches");
+  bake::BakeSettings settings = test_settings();
+  formats::ProbeVolume v = lighting_volume(s, settings);
+  ASSERT_EQ(v.emitter_patches.size(), 50u);
+  double emitter_area = 0.0, patch_area = 0.0;
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    if (s.triangle_emission[t].x > 0.0f) emitter_area += scene::triangle_area(s, t);
+  }
+  const glm::vec3 radiance(samples::cornell_light_radiance[0], samples::cornell_light_radiance[1], samples::cornell_light_radiance[2]);
+  for (const gpu::EmitterPatch& p : v.emitter_patches) {
+    patch_area += 0.5 * glm::length(glm::cross(p.b - p.a, p.c - p.a));
+    EXPECT_EQ(p.radiance, radiance);
+    EXPECT_NEAR(p.normal.y, -1.0f, 1e-6f); // facing down from the ceiling
+    EXPECT_GT(glm::dot(glm::cross(p.b - p.a, p.c - p.a), p.normal), 0.0f); // counter-clockwise from the front
+  }
+  EXPECT_NEAR(patch_area, emitter_area, 1e-6 * emitter_area);
+  EXPECT_EQ(v.lighting->emissive_as_lights, 1);
+
+  settings.lighting.emissive_as_lights = false; // emitters then reach the runtime through the probes
+  bake::add_runtime_lighting(s, settings, v);
+  EXPECT_TRUE(v.emitter_patches.empty());
+  EXPECT_EQ(v.lighting->emissive_as_lights, 0);
+  EXPECT_EQ(v.lighting->emitter_patches, 0);
+}
+
+TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
+  const scene::Scene s = load_generated(samples::cornell(), "gpu_info");
+  bake::BakeSettings settings = test_settings();
+  settings.lighting.rays = 100;
+  settings.lighting.sky_radiance = glm::vec3(0.5f, 0.25f, 2.0f);
+  settings.lattice = bake::Lattice::equal_area;
+  settings.surfels_per_probe = 40;
+  const formats::ProbeVolume v = lighting_volume(s, settings);
+  ASSERT_TRUE(v.lighting.has_value());
+  const gpu::LightingInfo& info = *v.lighting;
+  const glm::vec3 extent = s.bounds.max - s.bounds.min;
+  EXPECT_EQ(info.shadow_offset, 1e-4f * std::max({extent.x, extent.y, extent.z}));
+  EXPECT_NEAR(info.shadow_offset, 1e-4f * 0.5592f, 1e-7f); // the box is 0.5592 m deep
+  EXPECT_EQ(info.rays, 100);
+  EXPECT_EQ(info.placement_rays, 40);
+  EXPECT_EQ(info.sky_radiance, settings.lighting.sky_radiance);
+  EXPECT_EQ(info.triangles, 32);
+  EXPECT_EQ(info.bvh_nodes, int(v.bvh_nodes.size()));
+  ASSERT_EQ(v.ray_directions.size(), 140u);
+  const auto lighting = bake::lattice_directions(bake::Lattice::fibonacci, 100);
+  const auto placement = bake::lattice_directions(bake::Lattice::equal_area, 40);
+  for (std::size_t i = 0; i < 100; ++i) EXPECT_EQ(v.ray_directions[i], glm::vec4(lighting[i], 0.0f)) << i;
+  for (std::size_t i = 0; i < 40; ++i) EXPECT_EQ(v.ray_directions[100 + i], glm::vec4(placement[i], 0.0f)) << i;
+  EXPECT_TRUE(formats::validate(v).valid()) << violations(formats::validate(v));
+}
+
+// Zero-area triangles are never hit: left out. No triangles at all: an empty BVH, still valid.
+TEST(GpuScene, ZeroAreaTrianglesAreLeftOutAndAnEmptySceneHasNoNodes) {
+  scene::Scene s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, -1}, {2, 0, 0}};
+  s.triangles = {{0, 1, 2}, {0, 1, 3}, {1, 1, 2}};
+  s.triangle_albedo.assign(3, glm::vec3(0.5f));
+  s.triangle_emission.assign(3, glm::vec3(0.0f));
+  for (const glm::vec3& p : s.positions) s.bounds.extend(p);
+  bake::BakeSettings settings = test_settings();
+  bake::RuntimeLightingReport report;
+  formats::ProbeVolume v = lighting_volume(s, settings, &report);
+  EXPECT_EQ(report.left_out_triangles, 2);
+  ASSERT_EQ(v.trace_triangles.size(), 1u);
+  EXPECT_EQ(v.trace_triangles[0].source, 0);
+  EXPECT_EQ(v.trace_triangles[0].normal, glm::vec3(0, 1, 0));
+  ASSERT_EQ(v.bvh_nodes.size(), 1u); // the root is the leaf
+  EXPECT_EQ(v.bvh_nodes[0].count, 1);
+  EXPECT_EQ(v.bvh_nodes[0].lower, glm::vec3(0, 0, -1));
+  EXPECT_EQ(v.bvh_nodes[0].upper, glm::vec3(1, 0, 0));
+  EXPECT_TRUE(formats::validate(v).valid()) << violations(formats::validate(v));
+
+  const scene::Scene empty;
+  bake::add_runtime_lighting(empty, settings, v);
+  EXPECT_TRUE(v.bvh_nodes.empty());
+  EXPECT_TRUE(v.trace_triangles.empty());
+  EXPECT_EQ(v.lighting->shadow_offset, 1e-4f);
+  EXPECT_TRUE(formats::validate(v).valid()) << violations(formats::validate(v));
+}
+
+// ---- in the bake ----------------------------------------------------------------------------------------
+
+std::vector<std::uint32_t> section_types(const std::vector<std::uint8_t>& bytes) {
+  std::vector<std::uint32_t> types;
+  for (const formats::SectionEntry& e : formats::parse_container(bytes, "bake").sections) types.push_back(e.type);
+  return types;
+}
+
+bool has_section(const std::vector<std::uint32_t>& types, formats::SectionType type) {
+  return std::find(types.begin(), types.end(), static_cast<std::uint32_t>(type)) != types.end();
+}
+
+TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
+  const scene::Scene s = load_generated(lit_scene(), "gpu_bake");
+  bake::BakeSettings settings = test_settings();
+  settings.lighting.enabled = false; // the runtime can light from zero
+  const bake::BakeResult with = bake::bake(s, settings);
+  EXPECT_TRUE(formats::validate(with.volume).valid()) << violations(formats::validate(with.volume));
+  EXPECT_TRUE(with.report.runtime_lighting.written);
+  EXPECT_EQ(with.report.runtime_lighting.triangles, 1);
+  EXPECT_EQ(with.report.runtime_lighting.lights, 3);
+  const auto stage = std::find_if(with.report.stages.begin(), with.report.stages.end(), [](const auto& t) { return t.stage == "gpu_scene"; });
+  EXPECT_NE(stage, with.report.stages.end());
+  const std::vector<std::uint8_t> bytes = formats::write_probes(with.volume);
+  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, 1);
+  const auto types = section_types(bytes);
+  for (auto type : {formats::SectionType::lighting_info, formats::SectionType::ray_directions, formats::SectionType::bvh_nodes,
+                    formats::SectionType::trace_triangles, formats::SectionType::punctual_lights}) {
+    EXPECT_TRUE(has_section(types, type)) << formats::section_name(static_cast<std::uint32_t>(type));
+  }
+  EXPECT_FALSE(has_section(types, formats::SectionType::emitter_patches)); // no emitters
+
+  settings.runtime_lighting = false;
+  const bake::BakeResult without = bake::bake(s, settings);
+  EXPECT_FALSE(without.volume.lighting.has_value());
+  EXPECT_FALSE(without.report.runtime_lighting.written);
+  const std::vector<std::uint8_t> plain = formats::write_probes(without.volume);
+  EXPECT_EQ(formats::parse_container(plain, "bake").header.version_minor, 0);
+  for (std::uint32_t type : section_types(plain)) EXPECT_LE(type, 10u);
+  EXPECT_NE(bake::bake_input_hash(s, settings), with.volume.input_hash); // the setting is an input
+}
+
+} // namespace
+} // namespace probebake::test

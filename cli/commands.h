@@ -20,5 +20,8 @@ Command add_info_command(CLI::App& root);
 Command add_validate_command(CLI::App& root);
 Command add_reference_command(CLI::App& root);
 Command add_eval_command(CLI::App& root);
+#ifdef PROBEBAKE_HAS_RUNTIME
+Command add_run_command(CLI::App& root); // the Vulkan runtime's run driver
+#endif
 
 } // namespace probebake::cli

@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
       cli::add_validate_command(app),
       cli::add_reference_command(app),
       cli::add_eval_command(app),
+#ifdef PROBEBAKE_HAS_RUNTIME
+      cli::add_run_command(app),
+#endif
   };
 
   // `probebake scene.gltf` is short for `probebake bake scene.gltf`.

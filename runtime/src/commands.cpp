@@ -87,18 +87,20 @@ void PassTimer::end(VkCommandBuffer cmd, std::uint32_t pass) {
 
 std::vector<double> PassTimer::read_ms(std::uint32_t passes) const {
   std::vector<double> ms(passes, -1.0);
-  if (!pool_ || passes == 0) return ms;
-  std::vector<std::uint64_t> ticks(2 * passes);
-  check_vk(vkGetQueryPoolResults(device_.vk(), pool_.get(), 0, 2 * passes, ticks.size() * sizeof(std::uint64_t),
-                                 ticks.data(), sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+  for (std::uint32_t i = 0; i < passes; ++i) ms[i] = read_pass_ms(i);
+  return ms;
+}
+
+double PassTimer::read_pass_ms(std::uint32_t pass) const {
+  if (!pool_) return -1.0;
+  std::uint64_t ticks[2] = {0, 0};
+  check_vk(vkGetQueryPoolResults(device_.vk(), pool_.get(), 2 * pass, 2, sizeof(ticks), ticks, sizeof(std::uint64_t),
+                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
            "vkGetQueryPoolResults");
   const std::uint32_t bits = device_.timestamp_valid_bits;
   const std::uint64_t mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;
-  for (std::uint32_t i = 0; i < passes; ++i) {
-    const std::uint64_t elapsed = ((ticks[2 * i + 1] & mask) - (ticks[2 * i] & mask)) & mask;
-    ms[i] = static_cast<double>(elapsed) * static_cast<double>(device_.limits.timestampPeriod) * 1e-6;
-  }
-  return ms;
+  const std::uint64_t elapsed = ((ticks[1] & mask) - (ticks[0] & mask)) & mask;
+  return static_cast<double>(elapsed) * static_cast<double>(device_.limits.timestampPeriod) * 1e-6;
 }
 
 } // namespace probebake::runtime::detail

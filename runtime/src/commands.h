@@ -61,8 +61,10 @@ public:
   void reset(VkCommandBuffer cmd);
   void begin(VkCommandBuffer cmd, std::uint32_t pass);
   void end(VkCommandBuffer cmd, std::uint32_t pass);
-  // After the command buffer completed: ms per pass for passes [0, passes).
+  // After the command buffer completed: ms per pass for passes [0, passes), all of which were recorded.
   std::vector<double> read_ms(std::uint32_t passes) const;
+  // The same for one recorded pass (a frame skips some passes; their queries stay unavailable).
+  double read_pass_ms(std::uint32_t pass) const;
 
 private:
   Device& device_;

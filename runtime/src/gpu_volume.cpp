@@ -1,6 +1,7 @@
 #include "gpu_volume.h"
 
 #include <cstring>
+#include <optional>
 #include <string>
 #include <type_traits>
 
@@ -26,6 +27,13 @@ SectionBytes<Byte> one(T& value) {
   return {reinterpret_cast<Byte*>(&value), 1, sizeof(T)};
 }
 
+// A singleton section that a volume may lack (std::optional, const or not).
+template <class Byte, class Optional>
+SectionBytes<Byte> optional_one(Optional& value) {
+  return {reinterpret_cast<Byte*>(value ? &*value : nullptr), value ? 1u : 0u,
+          sizeof(typename std::decay_t<Optional>::value_type)};
+}
+
 template <class Byte, class Vector>
 SectionBytes<Byte> many(Vector& vector) {
   return {reinterpret_cast<Byte*>(vector.data()), vector.size(), sizeof(typename std::decay_t<Vector>::value_type)};
@@ -41,7 +49,9 @@ auto sections_of(Volume& v) {
   return std::array<SectionBytes<Byte>, kSectionCount>{
       one<Byte>(v.info),        many<Byte>(v.octree),      many<Byte>(v.probes),
       many<Byte>(v.surfel_batches), header,                many<Byte>(v.leaf_entries),
-      many<Byte>(v.probe_index), many<Byte>(v.svo_nodes), many<Byte>(v.svo_leaves)};
+      many<Byte>(v.probe_index), many<Byte>(v.svo_nodes), many<Byte>(v.svo_leaves),
+      optional_one<Byte>(v.lighting), many<Byte>(v.ray_directions), many<Byte>(v.bvh_nodes),
+      many<Byte>(v.trace_triangles), many<Byte>(v.punctual_lights), many<Byte>(v.emitter_patches)};
 }
 
 } // namespace
@@ -49,7 +59,8 @@ auto sections_of(Volume& v) {
 const char* section_name(Section section) {
   static constexpr const char* kNames[kSectionCount] = {
       "volume_info", "octree", "probes", "surfel_batches", "leaf_queue_header",
-      "leaf_entries", "probe_index", "svo_nodes", "svo_leaves"};
+      "leaf_entries", "probe_index", "svo_nodes", "svo_leaves", "lighting_info",
+      "ray_directions", "bvh_nodes", "trace_triangles", "punctual_lights", "emitter_patches"};
   return kNames[static_cast<std::size_t>(section)];
 }
 
@@ -100,6 +111,12 @@ formats::ProbeVolume GpuVolume::read_back(const formats::ProbeVolume& cpu_parts)
   out.probe_index.resize(elements(Section::probe_index));
   out.svo_nodes.resize(elements(Section::svo_nodes));
   out.svo_leaves.resize(elements(Section::svo_leaves));
+  if (elements(Section::lighting_info) != 0) out.lighting.emplace();
+  out.ray_directions.resize(elements(Section::ray_directions));
+  out.bvh_nodes.resize(elements(Section::bvh_nodes));
+  out.trace_triangles.resize(elements(Section::trace_triangles));
+  out.punctual_lights.resize(elements(Section::punctual_lights));
+  out.emitter_patches.resize(elements(Section::emitter_patches));
   const auto sections = sections_of(out);
 
   std::size_t total = 0;

@@ -24,8 +24,15 @@ enum class Section : std::size_t {
   probe_index,
   svo_nodes,
   svo_leaves,
+  // Runtime lighting (format 1.1, optional): what the light update traces and relights.
+  lighting_info,
+  ray_directions,
+  bvh_nodes,
+  trace_triangles,
+  punctual_lights,
+  emitter_patches,
 };
-inline constexpr std::size_t kSectionCount = 9;
+inline constexpr std::size_t kSectionCount = 15;
 const char* section_name(Section section);
 
 class GpuVolume {

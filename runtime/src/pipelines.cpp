@@ -11,7 +11,7 @@
 namespace probebake::runtime::detail {
 namespace {
 
-constexpr std::uint32_t kPushConstantBytes = 16; // ProbeIndexPush, SamplePush
+constexpr std::uint32_t kPushConstantBytes = 16; // ProbeIndexPush, SamplePush, LightPush
 
 PassLayout make_pass_layout(VkDevice device, std::uint32_t bindings) {
   std::vector<VkDescriptorSetLayoutBinding> entries(bindings);
@@ -69,6 +69,13 @@ Pipelines::Pipelines(VkDevice device) {
   probe_index_scatter = make_pipeline(device, probe_index.layout.get(), "probe_index_scatter");
   sample = make_pass_layout(device, kSampleBindings);
   sample_irradiance = make_pipeline(device, sample.layout.get(), "sample_irradiance");
+  sample_all = make_pass_layout(device, kAllBindings);
+  sample_all_probes = make_pipeline(device, sample_all.layout.get(), "sample_all_probes");
+  static_assert(sizeof(gpu::LightPush) == kPushConstantBytes);
+  light = make_pass_layout(device, kLightBindings);
+  light_trace = make_pipeline(device, light.layout.get(), "light_trace");
+  light_gather = make_pipeline(device, light.layout.get(), "light_gather");
+  light_resolve = make_pipeline(device, light.layout.get(), "light_resolve");
 }
 
 DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set) {

@@ -26,6 +26,40 @@ enum SampleBinding : std::uint32_t {
   kSampleBindings
 };
 
+// Bindings of the all-probe baseline sampler (shaders/sample_all_probes.comp).
+enum SampleAllBinding : std::uint32_t {
+  kAllVolumeInfo,
+  kAllProbes,
+  kAllSvoNodes,
+  kAllSvoLeaves,
+  kAllProbeIndex,
+  kAllLightingInfo,
+  kAllBvhNodes,
+  kAllTriangles,
+  kAllQueries,
+  kAllResults,
+  kAllBindings
+};
+
+// Bindings of the light update passes (shaders/include/probebake/light_bindings.glsl).
+enum LightBinding : std::uint32_t {
+  kLightVolumeInfo,
+  kLightProbes,
+  kLightSvoNodes,
+  kLightSvoLeaves,
+  kLightOctree,
+  kLightLightingInfo,
+  kLightRayDirections,
+  kLightBvhNodes,
+  kLightTriangles,
+  kLightPunctualLights,
+  kLightEmitterPatches,
+  kLightRecords,
+  kLightNextIrradiance,
+  kLightCounters,
+  kLightBindings
+};
+
 struct PassLayout {
   DeviceObject<VkDescriptorSetLayout> set_layout;
   DeviceObject<VkPipelineLayout> layout;
@@ -39,6 +73,10 @@ public:
   DeviceObject<VkPipeline> probe_index_count, probe_index_scan, probe_index_scatter;
   PassLayout sample;
   DeviceObject<VkPipeline> sample_irradiance;
+  PassLayout sample_all;
+  DeviceObject<VkPipeline> sample_all_probes;
+  PassLayout light;
+  DeviceObject<VkPipeline> light_trace, light_gather, light_resolve;
 };
 
 // A pool for `sets` descriptor sets of up to `buffers_per_set` storage buffers each.

@@ -25,6 +25,12 @@ Status status_of(const formats::ValidationReport& report) {
   return {StatusCode::invalid_volume, message};
 }
 
+Status check_options(const UploadOptions& options) {
+  if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
+    return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
+  return {};
+}
+
 BufferView view(const detail::GpuVolume& gpu, Section section) {
   const detail::Buffer& b = gpu.buffer(section);
   return {b.get(), b.size()};
@@ -59,16 +65,18 @@ Volume::~Volume() = default;
 
 Result<Volume> Volume::upload(Context& context, const formats::ProbeVolume& volume, const UploadOptions& options) {
   return guarded([&]() -> Result<Volume> {
+    if (const Status checked = check_options(options); !checked.ok()) return checked;
     if (options.validate) {
       const Status valid = status_of(formats::validate(volume));
       if (!valid.ok()) return valid;
     }
-    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume));
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
   });
 }
 
 Result<Volume> Volume::load(Context& context, const std::filesystem::path& path, const UploadOptions& options) {
   return guarded([&]() -> Result<Volume> {
+    if (const Status checked = check_options(options); !checked.ok()) return checked;
     formats::ProbeVolume volume = formats::read_probes_file(path);
     if (options.validate) {
       formats::ValidationReport report = formats::validate(volume);
@@ -76,7 +84,7 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
       const Status valid = status_of(report);
       if (!valid.ok()) return valid;
     }
-    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume));
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
   });
 }
 
@@ -85,14 +93,15 @@ Result<FrameStats> Volume::run_frame() {
 }
 
 Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::vec3> positions,
-                                                         std::span<const glm::vec3> normals, SampleStats* stats) {
+                                                         std::span<const glm::vec3> normals, SampleStats* stats,
+                                                         SampleMethod method) {
   return guarded([&]() -> Result<std::vector<glm::vec3>> {
     if (positions.size() != normals.size())
       return Status{StatusCode::invalid_argument, "sample_irradiance: " + std::to_string(positions.size()) +
                                                       " positions but " + std::to_string(normals.size()) + " normals"};
     std::vector<glm::vec3> out(positions.size());
     SampleStats local;
-    state_->sample->run(positions, normals, out, local);
+    state_->sample->run(positions, normals, out, local, method);
     if (stats) *stats = local;
     return out;
   });
@@ -118,7 +127,9 @@ VolumeBuffers Volume::buffers() const {
   const detail::GpuVolume& gpu = *state_->gpu;
   return {view(gpu, Section::volume_info), view(gpu, Section::octree),       view(gpu, Section::probes),
           view(gpu, Section::surfel_batches), view(gpu, Section::leaf_queue_header), view(gpu, Section::leaf_entries),
-          view(gpu, Section::probe_index), view(gpu, Section::svo_nodes),    view(gpu, Section::svo_leaves)};
+          view(gpu, Section::probe_index), view(gpu, Section::svo_nodes),    view(gpu, Section::svo_leaves),
+          view(gpu, Section::lighting_info), view(gpu, Section::ray_directions), view(gpu, Section::bvh_nodes),
+          view(gpu, Section::trace_triangles), view(gpu, Section::punctual_lights), view(gpu, Section::emitter_patches)};
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }

@@ -6,6 +6,7 @@
 
 #include "allocator.h"
 #include "commands.h"
+#include "error.h"
 #include "pipelines.h"
 #include "probebake/runtime_types.h"
 
@@ -49,23 +50,41 @@ std::size_t read_results(const void* mapped, std::span<glm::vec3> out) {
 SamplePass::SamplePass(Device& device, const GpuVolume& volume) : device_(device), volume_(volume) {
   const std::size_t by_range = device.info.max_storage_buffer_range / sizeof(gpu::SampleQuery);
   max_batch_ = std::max<std::size_t>(1, std::min(by_range, kMaxBatch));
-  pool_ = make_descriptor_pool(device.vk(), 1, kSampleBindings);
+  pool_ = make_descriptor_pool(device.vk(), 2, kAllBindings);
   set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().sample.set_layout.get());
+  all_set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().sample_all.set_layout.get());
 }
 
 void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
-                     SampleStats& stats) {
+                     SampleStats& stats, SampleMethod method) {
   const auto start = std::chrono::steady_clock::now();
+  const bool all_probes = method == SampleMethod::all_probes;
+  if (all_probes && volume_.elements(Section::lighting_info) == 0)
+    fail(StatusCode::unsupported, "the all-probe sampler traces visibility rays: the volume has no lighting sections "
+                                  "(baked with --no-runtime-lighting)");
   stats.samples += positions.size();
   if (positions.empty()) return;
   Pipelines& pipelines = device_.compute_pipelines();
-  const VkPipelineLayout layout = pipelines.sample.layout.get();
+  const VkPipelineLayout layout = all_probes ? pipelines.sample_all.layout.get() : pipelines.sample.layout.get();
+  const VkPipeline pipeline = all_probes ? pipelines.sample_all_probes.get() : pipelines.sample_irradiance.get();
+  const VkDescriptorSet set = all_probes ? all_set_ : set_;
   const std::size_t batch = std::min(max_batch_, positions.size());
   BatchBuffers buffers(*device_.allocator, batch);
-  const std::array<VkBuffer, kSampleBindings> bindings{
-      volume_.binding(Section::volume_info), volume_.binding(Section::probes), volume_.binding(Section::svo_nodes),
-      volume_.binding(Section::svo_leaves), buffers.queries.get(), buffers.results.get()};
-  write_storage_buffers(device_.vk(), set_, bindings); // the previous run has completed: the set is idle
+  // The previous run has completed: the sets are idle.
+  if (all_probes) {
+    const std::array<VkBuffer, kAllBindings> bindings{
+        volume_.binding(Section::volume_info),   volume_.binding(Section::probes),
+        volume_.binding(Section::svo_nodes),     volume_.binding(Section::svo_leaves),
+        volume_.binding(Section::probe_index),   volume_.binding(Section::lighting_info),
+        volume_.binding(Section::bvh_nodes),     volume_.binding(Section::trace_triangles),
+        buffers.queries.get(),                   buffers.results.get()};
+    write_storage_buffers(device_.vk(), set, bindings);
+  } else {
+    const std::array<VkBuffer, kSampleBindings> bindings{
+        volume_.binding(Section::volume_info), volume_.binding(Section::probes), volume_.binding(Section::svo_nodes),
+        volume_.binding(Section::svo_leaves), buffers.queries.get(), buffers.results.get()};
+    write_storage_buffers(device_.vk(), set, bindings);
+  }
   PassTimer timer(device_, 1);
 
   for (std::size_t first = 0; first < positions.size(); first += batch) {
@@ -79,8 +98,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     vkCmdCopyBuffer(cmd, buffers.queries_host.get(), buffers.queries.get(), 1, &queries);
     barrier(cmd, kTransferWrite, kComputeRead);
     const gpu::SamplePush push{static_cast<std::uint32_t>(count), 0, 0, 0};
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.sample_irradiance.get());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set_, 0, nullptr);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     timer.begin(cmd, 0);
     dispatch_groups(cmd, device_, static_cast<std::uint32_t>((count + gpu::RUNTIME_WORKGROUP_SIZE - 1) /

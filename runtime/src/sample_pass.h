@@ -21,8 +21,9 @@ public:
   SamplePass(Device& device, const GpuVolume& volume);
 
   // out[i] = irradiance at (positions[i], normals[i]); sizes must be equal (checked by the caller).
+  // SampleMethod::all_probes throws RuntimeError(unsupported) for volumes without the lighting sections.
   void run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
-           SampleStats& stats);
+           SampleStats& stats, SampleMethod method);
 
   // Queries per dispatch: limited by maxStorageBufferRange and by a staging budget.
   std::size_t max_batch() const { return max_batch_; }
@@ -32,7 +33,8 @@ private:
   const GpuVolume& volume_;
   std::size_t max_batch_ = 0;
   DeviceObject<VkDescriptorPool> pool_;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;     // SVO sampler
+  VkDescriptorSet all_set_ = VK_NULL_HANDLE; // all-probe baseline
 };
 
 } // namespace probebake::runtime::detail

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "device.h"
 #include "gpu_volume.h"
+#include "light_update_pass.h"
 #include "probe_index_pass.h"
 #include "probebake/formats/probe_volume.h"
 #include "sample_pass.h"
@@ -20,10 +21,11 @@ struct VolumeState {
   std::unique_ptr<GpuVolume> gpu;
   std::unique_ptr<ProbeIndexPass> probe_index;
   std::unique_ptr<SamplePass> sample;
+  std::unique_ptr<LightUpdatePass> light; // only for volumes with the lighting sections
   std::unique_ptr<PassTimer> frame_timer;
   std::uint64_t frames = 0;
 
-  VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume);
+  VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume, const UploadOptions& options);
   FrameStats run_frame();
 };
 

@@ -8,18 +8,28 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
-    "                     [--device NAME] [--samples N]\n"
-    "  --frames N        frames to run (default 1); each runs the probe index build\n"
-    "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity per pass\n"
+    "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
+    "                     [--no-light-update]\n"
+    "  --frames N        frames to run (default 1): probe index build, then the light update\n"
+    "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
+    "                    indirect_misses,non_finite per pass\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
     "  --vk-validation   enable VK_LAYER_KHRONOS_validation (synchronization validation on)\n"
     "  --device NAME     use the first Vulkan device whose name contains NAME\n"
     "  --samples N       after the frames, time N irradiance lookups at random points\n"
+    "  --compare-all-probes  also time the all-probe loop (thesis 3.2.4) on the same points\n"
+    "  --hysteresis H    weight of the old irradiance per frame, in [0, 1) (default 0.9)\n"
+    "  --no-light-update keep the baked irradiance (no light passes, no light buffers)\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
 
 bool parse_int(std::string_view text, int minimum, int& out) {
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
   return error == std::errc() && end == text.data() + text.size() && out >= minimum;
+}
+
+bool parse_fraction(std::string_view text, float& out) {
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return error == std::errc() && end == text.data() + text.size() && out >= 0.0f && out < 1.0f;
 }
 
 } // namespace
@@ -40,6 +50,12 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       return std::nullopt;
     } else if (arg == "--validate") {
       options.validate = true;
+    } else if (arg == "--compare-all-probes") {
+      options.compare_all_probes = true;
+    } else if (arg == "--no-light-update") {
+      options.light_update = false;
+    } else if (arg == "--hysteresis") {
+      if (!has_value || !parse_fraction(argv[++i], options.hysteresis)) return usage_error("--hysteresis needs a number in [0, 1)");
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
     } else if (arg == "--frames" || arg == "--samples") {

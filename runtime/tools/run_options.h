@@ -14,6 +14,10 @@ struct RunOptions {
   bool vulkan_validation = false;    // VK_LAYER_KHRONOS_validation with synchronization validation
   std::string device;                // device name filter
   int samples = 0;                   // irradiance lookups after the frames (random points in the root cube)
+  bool compare_all_probes = false;   // also time the thesis's all-probe loop on the same points
+  bool light_update = true;          // run the light update when the file has the lighting sections
+  float hysteresis = 0.9f;           // runtime::UploadOptions::hysteresis, [0, 1)
+  std::string program = "probebake-run"; // prefix of error messages
 };
 
 // Parses argv; on error or --help returns nullopt and sets `message` (usage text or the error) and

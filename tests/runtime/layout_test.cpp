@@ -80,7 +80,8 @@ int expect_layout(const char* shader, const char* type, const std::vector<Member
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
-  for (const char* name : {"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance"}) {
+  for (const char* name : {"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance",
+                           "light_trace", "light_gather", "light_resolve", "sample_all_probes"}) {
     const auto words = shaders::spirv(name);
     ASSERT_GT(words.size(), 5u) << name;
     EXPECT_EQ(words[0], 0x07230203u) << name; // SPIR-V magic
@@ -139,6 +140,58 @@ TEST(GpuLayout, RuntimeTypesMatch) {
   EXPECT_EQ(expect_layout("probe_index_scatter", "ProbeIndexPush",
                           {{"probe_capacity", offsetof(gpu::ProbeIndexPush, probe_capacity)},
                            {"block_count", offsetof(gpu::ProbeIndexPush, block_count)}}),
+            1);
+}
+
+TEST(GpuLayout, LightingSectionsMatchGpuTypes) {
+  using namespace gpu;
+  EXPECT_GE(expect_layout("light_trace", "BvhNode",
+                          {{"lower", offsetof(BvhNode, lower)}, {"first", offsetof(BvhNode, first)},
+                           {"upper", offsetof(BvhNode, upper)}, {"count", offsetof(BvhNode, count)}}),
+            1);
+  EXPECT_GE(expect_layout("light_trace", "TraceTriangle",
+                          {{"v0", offsetof(TraceTriangle, v0)}, {"edge1", offsetof(TraceTriangle, edge1)},
+                           {"edge2", offsetof(TraceTriangle, edge2)}, {"normal", offsetof(TraceTriangle, normal)},
+                           {"albedo", offsetof(TraceTriangle, albedo)}, {"emission", offsetof(TraceTriangle, emission)}}),
+            1);
+  EXPECT_GE(expect_layout("light_gather", "PunctualLight",
+                          {{"position", offsetof(PunctualLight, position)}, {"type", offsetof(PunctualLight, type)},
+                           {"direction", offsetof(PunctualLight, direction)}, {"range", offsetof(PunctualLight, range)},
+                           {"intensity", offsetof(PunctualLight, intensity)},
+                           {"cos_outer", offsetof(PunctualLight, cos_outer)},
+                           {"spot_scale", offsetof(PunctualLight, spot_scale)}}),
+            1);
+  EXPECT_GE(expect_layout("light_trace", "EmitterPatch",
+                          {{"a", offsetof(EmitterPatch, a)}, {"b", offsetof(EmitterPatch, b)}, {"c", offsetof(EmitterPatch, c)},
+                           {"normal", offsetof(EmitterPatch, normal)}, {"radiance", offsetof(EmitterPatch, radiance)}}),
+            1);
+  EXPECT_GE(expect_layout("light_trace", "LightingInfo",
+                          {{"sky_radiance", offsetof(LightingInfo, sky_radiance)}, {"rays", offsetof(LightingInfo, rays)},
+                           {"shadow_offset", offsetof(LightingInfo, shadow_offset)},
+                           {"emissive_as_lights", offsetof(LightingInfo, emissive_as_lights)},
+                           {"bvh_nodes", offsetof(LightingInfo, bvh_nodes)},
+                           {"emitter_patches", offsetof(LightingInfo, emitter_patches)},
+                           {"placement_rays", offsetof(LightingInfo, placement_rays)}}),
+            1);
+}
+
+TEST(GpuLayout, LightUpdateTypesMatch) {
+  using namespace gpu;
+  EXPECT_GE(expect_layout("light_gather", "LightRecord",
+                          {{"position", offsetof(LightRecord, position)}, {"kind", offsetof(LightRecord, kind)},
+                           {"normal", offsetof(LightRecord, normal)}, {"base", offsetof(LightRecord, base)},
+                           {"reflect", offsetof(LightRecord, reflect)}}),
+            1);
+  EXPECT_GE(expect_layout("light_gather", "LightPush",
+                          {{"probe_capacity", offsetof(LightPush, probe_capacity)},
+                           {"hysteresis", offsetof(LightPush, hysteresis)}}),
+            1);
+  EXPECT_GE(expect_layout("light_resolve", "LightCounters",
+                          {{"traced_probes", offsetof(LightCounters, traced_probes)},
+                           {"lit_probes", offsetof(LightCounters, lit_probes)},
+                           {"non_finite", offsetof(LightCounters, non_finite)},
+                           {"want_split", offsetof(LightCounters, want_split)},
+                           {"want_free", offsetof(LightCounters, want_free)}}),
             1);
 }
 

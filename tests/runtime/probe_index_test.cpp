@@ -16,7 +16,7 @@ using ProbeIndexTest = RuntimeTest;
 std::vector<std::int32_t> gpu_index(runtime::Context& context, formats::ProbeVolume volume, int frames,
                                     int* live_probes = nullptr) {
   std::fill(volume.probe_index.begin(), volume.probe_index.end(), 12345); // the pass must rewrite all of it
-  auto uploaded = runtime::Volume::upload(context, volume, {.validate = false});
+  auto uploaded = runtime::Volume::upload(context, volume, {.validate = false, .light_update = false});
   EXPECT_TRUE(uploaded.ok()) << uploaded.status().message;
   if (!uploaded.ok()) return {};
   for (int f = 0; f < frames; ++f) {

@@ -1,6 +1,8 @@
 // Upload -> frames -> read-back: the buffers come back bit-identical to the volume that went up (the probe
 // index build reproduces the baked index exactly), and the live state passes formats::validate() after
-// 100 frames. Also through a .probes file, with every section present.
+// 100 frames. Also through a .probes file, with every section present. The light update is off here (it
+// rewrites the probes' irradiance and hit fractions by design; light_update_test.cpp checks that it
+// writes nothing else).
 #include <cstring>
 
 #include "probebake/formats/probes_file.h"
@@ -11,6 +13,7 @@ namespace probebake::test {
 namespace {
 
 using RoundTripTest = RuntimeTest;
+constexpr runtime::UploadOptions kStatic{.light_update = false};
 
 void expect_identical_after_frames(runtime::Volume& volume, const formats::ProbeVolume& original, int frames) {
   double gpu_ms = 0.0;
@@ -34,7 +37,7 @@ void expect_identical_after_frames(runtime::Volume& volume, const formats::Probe
 }
 
 TEST_F(RoundTripTest, HundredFramesLeaveTheVolumeBitIdenticalAndValid) {
-  auto volume = runtime::Volume::upload(context(), baked_leak_octree());
+  auto volume = runtime::Volume::upload(context(), baked_leak_octree(), kStatic);
   ASSERT_TRUE(volume.ok()) << volume.status().message;
   expect_identical_after_frames(volume.value(), baked_leak_octree(), 100);
 }
@@ -45,7 +48,7 @@ TEST_F(RoundTripTest, EverySectionSurvivesTheRoundTripThroughAFile) {
   ASSERT_FALSE(full.leaf_entries.empty());
   const std::string path = temp_path("cornell-full.probes");
   formats::write_probes_file(path, full);
-  auto volume = runtime::Volume::load(context(), path);
+  auto volume = runtime::Volume::load(context(), path, kStatic);
   ASSERT_TRUE(volume.ok()) << volume.status().message;
   const runtime::VolumeBuffers buffers = volume->buffers();
   EXPECT_NE(buffers.surfel_batches.buffer, VK_NULL_HANDLE);
@@ -56,7 +59,7 @@ TEST_F(RoundTripTest, EverySectionSurvivesTheRoundTripThroughAFile) {
 }
 
 TEST_F(RoundTripTest, SectionsTheFileDoesNotUseGetNoBuffer) {
-  auto volume = runtime::Volume::upload(context(), baked_cornell_octree());
+  auto volume = runtime::Volume::upload(context(), baked_cornell_octree(), kStatic);
   ASSERT_TRUE(volume.ok()) << volume.status().message;
   const runtime::VolumeBuffers buffers = volume->buffers();
   EXPECT_EQ(buffers.surfel_batches.buffer, VK_NULL_HANDLE);

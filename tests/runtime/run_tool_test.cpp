@@ -35,14 +35,19 @@ TEST_F(RunToolTest, RunsFramesValidatesAndWritesCsv) {
   const std::string probes = temp_path("tool-cornell.probes"), csv = temp_path("tool-cornell.csv");
   formats::write_probes_file(probes, baked_cornell_full());
   const CliResult r =
-      run_cli(shell_path(probes) + " --frames 5 --validate --vk-validation --samples 1000 --csv " + shell_path(csv));
+      run_cli(shell_path(probes) + " --frames 5 --validate --vk-validation --samples 1000 --compare-all-probes --csv " + shell_path(csv));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("device: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("frame 5: probe_index "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("live state valid after every frame"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("samples: 1000 lookups"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("samples (SVO probe index): 1000 lookups"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("samples (all probes, thesis 3.2.4): 1000 lookups"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("compare: all-probe loop / SVO = "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
-  EXPECT_EQ(count_lines(csv), 1 + 5); // header + one pass per frame
+  EXPECT_NE(r.out.find("light_gather "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("traced "), std::string::npos) << r.out; // L1 statistics of frame 1
+  // header + per frame the probe index build, gather and resolve, + the trace of frame 1
+  EXPECT_EQ(count_lines(csv), 1 + 5 * 3 + 1);
 }
 
 TEST_F(RunToolTest, BadInputExitsWithTwo) {

@@ -59,11 +59,58 @@ struct SamplePush {
   uint pad2;  // offset 12
 };            // size 16
 
+// ---- Light update (octree thesis §3.2.2), light_trace.comp / light_gather.comp / light_resolve.comp -------
+// One workgroup per probe slot for trace and gather (threads over the probe's rays), one thread per probe
+// for resolve. docs/RUNTIME.md describes the states and buffers.
+PB_CONSTANT(uint, LIGHT_WORKGROUP_SIZE, 64u);
+PB_CONSTANT(int, LIGHT_RECORD_MISS, 0);     // the ray left the scene: sky radiance
+PB_CONSTANT(int, LIGHT_RECORD_BACKFACE, 1); // the ray hit a back face (inside geometry): no light
+PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // the ray hit a front face: relit every frame
+
+// One lighting ray of one probe, written by L1 (light_trace) and relit by L2 (light_gather) every frame:
+//   L = base + reflect * (E_punctual(position, normal) + E_probes(position, normal)).
+// Records of probe p are records[p * rays, (p + 1) * rays).
+struct LightRecord {
+  vec3 position; // offset  0: the hit point (front hits)
+  int kind;      // offset 12: LIGHT_RECORD_*
+  vec3 normal;   // offset 16: unit normal of the hit triangle (front hits)
+  float pad0;    // offset 28
+  vec3 base;     // offset 32: sky radiance (miss); emitted + albedo / pi * emitter irradiance (front hit)
+  float pad1;    // offset 44
+  vec3 reflect;  // offset 48: albedo / pi (front hits), else 0
+  float pad2;    // offset 60
+};               // size 64
+
+struct LightPush {
+  uint probe_capacity; // offset  0
+  float hysteresis;    // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
+  uint pad0;           // offset  8
+  uint pad1;           // offset 12
+};                     // size 16
+
+// Statistics of the light update, reset every frame; trace counts are written only in frames that trace.
+struct LightCounters {
+  int traced_probes;   // offset  0: probes traced by L1 this frame
+  int front_hits;      // offset  4: lighting rays that hit a front face (L1)
+  int backface_hits;   // offset  8: ... a back face (L1)
+  int misses;          // offset 12: ... nothing (L1)
+  int lit_probes;      // offset 16: probes gathered by L2 this frame
+  int indirect_misses; // offset 20: front hits whose SVO lookup found no probe (L2)
+  int non_finite;      // offset 24: probes whose gathered irradiance was not finite: kept their old value
+  int want_split;      // offset 28: L3: hit fraction >= split_high below max depth
+  int want_free;       // offset 32: L3: hit fraction < split_low
+  int pad0;            // offset 36
+  int pad1;            // offset 40
+  int pad2;            // offset 44
+};                     // size 48
+
 #ifdef __cplusplus
 static_assert(PROBE_INDEX_BLOCK == PROBE_INDEX_THREADS * PROBE_INDEX_PER_THREAD);
 static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && sizeof(SamplePush) == 16);
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);
 static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) == 12);
+static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48);
+static_assert(sizeof(LightPush) == 16 && sizeof(LightCounters) == 48 && offsetof(LightCounters, want_free) == 32);
 } // namespace probebake::gpu
 #endif
 

@@ -157,19 +157,42 @@ struct UploadOptions {
   // Run formats::validate() before uploading and refuse an invalid volume (invalid_volume). Turn off only
   // to test the runtime on deliberately broken data.
   bool validate = true;
+  // Run the light update (thesis §3.2.2) every frame when the volume carries the runtime lighting sections
+  // (the bake writes them unless --no-runtime-lighting). false, or a volume without them: probes keep
+  // their baked irradiance and no light-update buffer is allocated.
+  bool light_update = true;
+  // Weight of a probe's previous irradiance in each frame's update, in [0, 1): 0 makes every frame one
+  // full sweep of the bake's iteration (one more bounce); larger values spread a change over about
+  // 1 / (1 - hysteresis) frames (smoother, slower). The converged irradiance does not depend on it.
+  float hysteresis = 0.9f;
 };
 
 struct PassTime {
-  std::string name;    // "probe_index", later "light_update", ...
+  std::string name;    // "probe_index", "light_trace", "light_gather", "light_resolve"
   double gpu_ms = -1;  // GPU timestamp difference; -1 when the queue has no timestamps
+};
+
+// Statistics of one frame's light update (all 0 and active = false when the volume has none).
+struct LightStats {
+  bool active = false;
+  int traced_probes = 0;   // L1 (records and hit fractions): the first frame only
+  int front_hits = 0;      // lighting rays of traced probes that hit a front face / a back face / nothing
+  int backface_hits = 0;
+  int misses = 0;
+  int lit_probes = 0;      // L2: probes relit and gathered this frame
+  int indirect_misses = 0; // front hits whose SVO lookup found no probe (no indirect light there)
+  int non_finite = 0;      // probes whose new irradiance was not finite: kept their old value
+  int want_split = 0;      // L3: leaves whose hit fraction asks for a split / for freeing their probe
+  int want_free = 0;       //     (counted; the memory update that acts on them is not built yet)
 };
 
 struct FrameStats {
   std::uint64_t frame = 0;      // frames run on this Volume, this one included
-  std::vector<PassTime> passes; // in execution order
+  std::vector<PassTime> passes; // in execution order; passes a frame does not run are not listed
   double cpu_ms = 0.0;          // record + submit + wait, measured on the host
   int live_probes = 0;          // allocated probes found by this frame's probe index build
   int probe_capacity = 0;
+  LightStats light;
 };
 
 struct SampleStats {
@@ -178,6 +201,13 @@ struct SampleStats {
   std::size_t dispatches = 0;
   double gpu_ms = -1;       // sum over dispatches; -1 without timestamps
   double cpu_ms = 0.0;      // including uploads and read-backs of queries and results
+};
+
+// How Volume::sample_irradiance finds the probes of a point.
+enum class SampleMethod {
+  svo,        // the SVO probe index: one leaf, at most four probes (what games use)
+  all_probes, // the octree thesis's baseline (§3.2.4): every live probe, one visibility ray each through the
+              // BVH; for comparison only; needs the lighting sections (unsupported otherwise)
 };
 
 // A buffer of the volume for binding in the host's own descriptor sets; buffer is VK_NULL_HANDLE when the
@@ -191,6 +221,8 @@ struct BufferView {
 struct VolumeBuffers {
   BufferView volume_info, octree, probes, surfel_batches, leaf_queue_header, leaf_entries, probe_index,
       svo_nodes, svo_leaves;
+  // Runtime lighting sections (format 1.1): the light update's inputs, e.g. for the game's own ray queries.
+  BufferView lighting_info, ray_directions, bvh_nodes, trace_triangles, punctual_lights, emitter_patches;
 };
 
 class Volume {
@@ -204,15 +236,16 @@ public:
   Volume& operator=(Volume&&) noexcept;
   ~Volume();
 
-  // One frame of the runtime's passes on the queue, waited for: today the probe index build (thesis
-  // §3.2.3); the memory and light updates will run before it.
+  // One frame of the runtime's passes on the queue, waited for: the probe index build (thesis §3.2.3),
+  // then the light update (§3.2.2) when the volume has one. The memory update (M0-M4) is not built yet.
   Result<FrameStats> run_frame();
 
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
   // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the
   // device's maxStorageBufferRange allows are split into several dispatches.
   Result<std::vector<glm::vec3>> sample_irradiance(std::span<const glm::vec3> positions,
-                                                   std::span<const glm::vec3> normals, SampleStats* stats = nullptr);
+                                                   std::span<const glm::vec3> normals, SampleStats* stats = nullptr,
+                                                   SampleMethod method = SampleMethod::svo);
 
   // Copies every GPU buffer back into a ProbeVolume; the CPU-only parts (streaming cells, cell depth, input
   // hash) come from the uploaded volume.

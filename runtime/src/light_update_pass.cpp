@@ -1,0 +1,106 @@
+#include "light_update_pass.h"
+
+#include <array>
+#include <cstring>
+#include <string>
+
+#include "error.h"
+#include "pipelines.h"
+#include "probebake/runtime_types.h"
+
+namespace probebake::runtime::detail {
+namespace {
+
+constexpr VkBufferUsageFlags kScratchUsage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+Buffer create_scratch(Device& device, VkDeviceSize bytes, const char* name) {
+  if (bytes > device.info.max_storage_buffer_range)
+    fail(StatusCode::unsupported, std::string(name) + ": " + std::to_string(bytes) +
+                                      " bytes exceed maxStorageBufferRange (" +
+                                      std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name +
+                                      "; bake with fewer probes or lighting rays, or load with light_update = false");
+  return device.allocator->create_buffer(bytes, kScratchUsage, MemoryUse::device, name);
+}
+
+} // namespace
+
+bool LightUpdatePass::applies(const GpuVolume& volume) {
+  return volume.elements(Section::lighting_info) == 1 && volume.elements(Section::probes) > 0;
+}
+
+LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis)
+    : device_(device), hysteresis_(hysteresis) {
+  probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
+  records_ = create_scratch(device, VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * sizeof(gpu::LightRecord),
+                            "light records");
+  next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
+  counters_ = create_scratch(device, sizeof(gpu::LightCounters), "light counters");
+  counters_host_ = device.allocator->create_buffer(sizeof(gpu::LightCounters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                                   MemoryUse::readback, "light counters (host)");
+  pool_ = make_descriptor_pool(device.vk(), 1, kLightBindings);
+  set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().light.set_layout.get());
+  const std::array<VkBuffer, kLightBindings> buffers{
+      volume.binding(Section::volume_info),     volume.binding(Section::probes),
+      volume.binding(Section::svo_nodes),       volume.binding(Section::svo_leaves),
+      volume.binding(Section::octree),          volume.binding(Section::lighting_info),
+      volume.binding(Section::ray_directions),  volume.binding(Section::bvh_nodes),
+      volume.binding(Section::trace_triangles), volume.binding(Section::punctual_lights),
+      volume.binding(Section::emitter_patches), records_.get(),
+      next_irradiance_.get(),                   counters_.get()};
+  write_storage_buffers(device.vk(), set_, buffers);
+}
+
+bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots) {
+  Pipelines& pipelines = device_.compute_pipelines();
+  const VkPipelineLayout layout = pipelines.light.layout.get();
+  const gpu::LightPush push{probe_capacity_, hysteresis_, 0, 0};
+  vkCmdFillBuffer(cmd, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+  barrier(cmd, kTransferWrite, kComputeReadWrite);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set_, 0, nullptr);
+  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  const bool traced = trace_pending_;
+  if (trace_pending_) { // L1: records and hit fractions
+    timer.begin(cmd, slots.trace);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_trace.get());
+    dispatch_groups(cmd, device_, probe_capacity_);
+    timer.end(cmd, slots.trace);
+    barrier(cmd, kComputeWrite, kComputeReadWrite);
+    trace_pending_ = false;
+  }
+  timer.begin(cmd, slots.gather); // L2: relight the records, gather into next_irradiance
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_gather.get());
+  dispatch_groups(cmd, device_, probe_capacity_);
+  timer.end(cmd, slots.gather);
+  // The resolve overwrites probes the gather read (write after read) and reads what it wrote.
+  barrier(cmd, kComputeReadWrite, kComputeReadWrite);
+  timer.begin(cmd, slots.resolve); // end of L2 and L3
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_resolve.get());
+  dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+  timer.end(cmd, slots.resolve);
+  barrier(cmd, kComputeWrite, Access{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT});
+  const VkBufferCopy region{0, 0, sizeof(gpu::LightCounters)};
+  vkCmdCopyBuffer(cmd, counters_.get(), counters_host_.get(), 1, &region);
+  barrier(cmd, kTransferWrite, kHostRead);
+  return traced;
+}
+
+LightStats LightUpdatePass::stats() const {
+  gpu::LightCounters c;
+  std::memcpy(&c, counters_host_.mapped(), sizeof(c));
+  LightStats s;
+  s.active = true;
+  s.traced_probes = c.traced_probes;
+  s.front_hits = c.front_hits;
+  s.backface_hits = c.backface_hits;
+  s.misses = c.misses;
+  s.lit_probes = c.lit_probes;
+  s.indirect_misses = c.indirect_misses;
+  s.non_finite = c.non_finite;
+  s.want_split = c.want_split;
+  s.want_free = c.want_free;
+  return s;
+}
+
+} // namespace probebake::runtime::detail

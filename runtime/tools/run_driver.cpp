@@ -1,0 +1,206 @@
+// The run driver behind `probebake run` and the runtime-only `probebake-run`: loads a .probes file onto a
+// Vulkan device, runs the runtime's per-frame passes, prints per-pass GPU times and statistics
+// (docs/RUNTIME.md). The only place that turns a runtime Status into an exit code.
+#include "run_driver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "probebake/runtime/runtime.h"
+
+namespace probebake::run {
+namespace {
+
+using namespace probebake;
+
+int exit_code_of(runtime::StatusCode code) {
+  switch (code) {
+  case runtime::StatusCode::ok: return 0;
+  case runtime::StatusCode::invalid_argument: return 1;
+  case runtime::StatusCode::file_error:
+  case runtime::StatusCode::invalid_volume: return 2;
+  default: return 4;
+  }
+}
+
+int report(const RunOptions& options, const runtime::Status& status) {
+  std::fprintf(stderr, "%s: %s: %s\n", options.program.c_str(), runtime::to_string(status.code), status.message.c_str());
+  return exit_code_of(status.code);
+}
+
+struct PassSummary {
+  std::vector<double> ms;
+  void add(double value) { ms.push_back(value); }
+  // "mean M median D min A max B over N frames" (the median hides lavapipe's shader JIT in frame 1).
+  std::string text() const {
+    std::vector<double> sorted = ms;
+    std::sort(sorted.begin(), sorted.end());
+    double sum = 0.0;
+    for (double v : sorted) sum += v;
+    char line[160];
+    std::snprintf(line, sizeof(line), "mean %.3f median %.3f min %.3f max %.3f over %zu frames",
+                  sum / double(sorted.size()), sorted[sorted.size() / 2], sorted.front(), sorted.back(), sorted.size());
+    return line;
+  }
+};
+
+void print_device(const runtime::DeviceInfo& d) {
+  std::printf("device: %s (%s, Vulkan %u.%u.%u), maxStorageBufferRange %llu bytes, timestamps %s%s\n", d.name.c_str(),
+              d.type.c_str(), VK_API_VERSION_MAJOR(d.api_version), VK_API_VERSION_MINOR(d.api_version),
+              VK_API_VERSION_PATCH(d.api_version), static_cast<unsigned long long>(d.max_storage_buffer_range),
+              d.timestamps ? "yes" : "no", d.validation ? ", validation layer on" : "");
+}
+
+void print_frame(const runtime::FrameStats& f) {
+  std::printf("frame %llu:", static_cast<unsigned long long>(f.frame));
+  for (const runtime::PassTime& p : f.passes) std::printf(" %s %.3f ms", p.name.c_str(), p.gpu_ms);
+  std::printf(" | cpu %.3f ms | live probes %d / %d", f.cpu_ms, f.live_probes, f.probe_capacity);
+  const runtime::LightStats& l = f.light;
+  if (l.active) {
+    std::printf(" | lit %d", l.lit_probes);
+    if (l.traced_probes > 0)
+      std::printf(", traced %d (rays: %d front, %d back, %d miss)", l.traced_probes, l.front_hits, l.backface_hits, l.misses);
+    std::printf(", indirect misses %d, non-finite %d, L3 split %d free %d", l.indirect_misses, l.non_finite,
+                l.want_split, l.want_free);
+  }
+  std::printf("\n");
+}
+
+struct SamplePoints {
+  std::vector<glm::vec3> positions, normals;
+};
+
+// Random points in the root cube with random unit normals (fixed seed: the same points every run).
+SamplePoints random_points(const gpu::VolumeInfo& info, int count) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::normal_distribution<float> gauss;
+  SamplePoints points;
+  for (int i = 0; i < count; ++i) {
+    points.positions.push_back(info.root_min + info.root_size * glm::vec3(unit(rng), unit(rng), unit(rng)));
+    const glm::vec3 n(gauss(rng), gauss(rng), gauss(rng));
+    points.normals.push_back(glm::length(n) > 1e-6f ? glm::normalize(n) : glm::vec3(0, 1, 0));
+  }
+  return points;
+}
+
+// Times one sampler on the points: a warm-up run (lavapipe compiles the shader on first use), then the
+// measured one. Prints a line and returns the result.
+runtime::Result<std::vector<glm::vec3>> time_sampler(runtime::Volume& volume, const SamplePoints& points,
+                                                     runtime::SampleMethod method, runtime::SampleStats& stats) {
+  auto warm = volume.sample_irradiance(points.positions, points.normals, nullptr, method);
+  if (!warm.ok()) return warm.status();
+  auto result = volume.sample_irradiance(points.positions, points.normals, &stats, method);
+  if (!result.ok()) return result.status();
+  std::printf("samples (%s): %zu lookups, %zu misses, %zu dispatch(es), gpu %.3f ms (%.2f ns per lookup), "
+              "cpu %.3f ms (with copies)\n",
+              method == runtime::SampleMethod::svo ? "SVO probe index" : "all probes, thesis 3.2.4", stats.samples,
+              stats.misses, stats.dispatches, stats.gpu_ms, 1e6 * stats.gpu_ms / double(std::max<std::size_t>(stats.samples, 1)),
+              stats.cpu_ms);
+  return result;
+}
+
+// The SVO sampler, and with `compare` the all-probe baseline on the same points: time ratio and how far
+// apart their answers are (relative RMS of the difference over the RMS of the baseline).
+runtime::Status run_samples(runtime::Volume& volume, int count, bool compare) {
+  const SamplePoints points = random_points(volume.info(), count);
+  runtime::SampleStats svo_stats;
+  auto svo = time_sampler(volume, points, runtime::SampleMethod::svo, svo_stats);
+  if (!svo.ok() || !compare) return svo.status();
+  runtime::SampleStats all_stats;
+  auto all = time_sampler(volume, points, runtime::SampleMethod::all_probes, all_stats);
+  if (!all.ok()) return all.status();
+  double diff2 = 0.0, base2 = 0.0;
+  const std::vector<glm::vec3>& a = svo.value();
+  const std::vector<glm::vec3>& base = all.value();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const glm::dvec3 d = glm::dvec3(a[i] - base[i]), b = glm::dvec3(base[i]);
+    diff2 += glm::dot(d, d);
+    base2 += glm::dot(b, b);
+  }
+  std::printf("compare: all-probe loop / SVO = %.1fx GPU time (%.3f ms / %.3f ms); relative RMS difference %.3f\n",
+              all_stats.gpu_ms / std::max(svo_stats.gpu_ms, 1e-9), all_stats.gpu_ms, svo_stats.gpu_ms,
+              base2 > 0.0 ? std::sqrt(diff2 / base2) : 0.0);
+  return {};
+}
+
+} // namespace
+
+int run_volume(const RunOptions& options) {
+  runtime::ContextOptions context_options;
+  context_options.validation = options.vulkan_validation;
+  context_options.device_name_contains = options.device;
+  context_options.on_validation_message = [](const runtime::ValidationMessage& m) {
+    std::fprintf(stderr, "vulkan validation: %s: %s\n", m.id.c_str(), m.text.c_str());
+  };
+  auto context = runtime::Context::create(context_options);
+  if (!context.ok()) return report(options, context.status());
+  print_device(context->device_info());
+
+  runtime::UploadOptions upload;
+  upload.light_update = options.light_update;
+  upload.hysteresis = options.hysteresis;
+  auto volume = runtime::Volume::load(context.value(), options.input, upload);
+  if (!volume.ok()) return report(options, volume.status());
+  const gpu::VolumeInfo& info = volume->info();
+  std::printf("volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %llu bytes on the GPU\n",
+              options.input.c_str(), info.probe_capacity, info.octree_elements, info.svo_nodes, info.svo_leaves,
+              static_cast<unsigned long long>(context->memory_stats().live_bytes));
+
+  std::ofstream csv;
+  if (options.csv) {
+    csv.open(*options.csv);
+    if (!csv) {
+      std::fprintf(stderr, "%s: %s: cannot be written\n", options.program.c_str(), options.csv->c_str());
+      return 3;
+    }
+    csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite\n";
+  }
+  std::map<std::string, PassSummary> summary;
+  PassSummary cpu;
+  for (int frame = 0; frame < options.frames; ++frame) {
+    auto stats = volume->run_frame();
+    if (!stats.ok()) return report(options, stats.status());
+    print_frame(stats.value());
+    cpu.add(stats->cpu_ms);
+    for (const runtime::PassTime& p : stats->passes) {
+      summary[p.name].add(p.gpu_ms);
+      if (csv.is_open())
+        csv << stats->frame << ',' << p.name << ',' << p.gpu_ms << ',' << stats->cpu_ms << ',' << stats->live_probes
+            << ',' << stats->probe_capacity << ',' << stats->light.lit_probes << ',' << stats->light.indirect_misses
+            << ',' << stats->light.non_finite << '\n';
+    }
+    if (options.validate) {
+      const runtime::Status valid = volume->validate_live();
+      if (!valid.ok()) return report(options, valid);
+    }
+  }
+  for (const auto& [name, s] : summary) std::printf("summary: %s gpu ms %s\n", name.c_str(), s.text().c_str());
+  std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
+              options.validate ? "; live state valid after every frame" : "");
+  if (options.samples > 0) {
+    const runtime::Status sampled = run_samples(volume.value(), options.samples, options.compare_all_probes);
+    if (!sampled.ok()) return report(options, sampled);
+  }
+  if (csv.is_open() && !csv.flush()) {
+    std::fprintf(stderr, "%s: %s: write failed\n", options.program.c_str(), options.csv->c_str());
+    return 3;
+  }
+  if (options.vulkan_validation) {
+    std::printf("validation messages: %llu\n", static_cast<unsigned long long>(context->validation_message_count()));
+    for (const std::string& m : context->validation_messages()) std::printf("  %s\n", m.c_str());
+    if (context->validation_message_count() > 0) return 4;
+  }
+  return 0;
+}
+
+
+} // namespace probebake::run

@@ -1,0 +1,106 @@
+// Direct irradiance at a surface point, the GPU twin of bake/src/lighting/direct_light.cpp (docs/LIGHTING.md):
+// KHR_lights_punctual lights and the emitter patches (emissive triangles as area lights), each with one
+// shadow ray through bvh_trace.glsl. Same formulas in the same order as the CPU, so results agree to rounding.
+//
+// The including shader declares (std430) what bvh_trace.glsl needs, plus PunctualLight probebake_lights[]
+// and EmitterPatch probebake_emitter_patches[] (counts in probebake_lighting).
+#ifndef PROBEBAKE_DIRECT_LIGHT_GLSL
+#define PROBEBAKE_DIRECT_LIGHT_GLSL
+
+#include "probebake/bvh_trace.glsl"
+
+// KHR_lights_punctual range window clamp(1 - (r / range)^4, 0, 1); 1 without a range.
+float probebake_range_window(float range, float distance) {
+  if (!(range > 0.0)) return 1.0;
+  const float q = distance / range;
+  return clamp(1.0 - q * q * q * q, 0.0, 1.0);
+}
+
+bool probebake_visible(vec3 origin, vec3 target) {
+  const vec3 to = target - origin;
+  const float dist = length(to);
+  return !(dist > 0.0) || !probebake_occluded(origin, to / dist, 0.0, dist);
+}
+
+vec3 probebake_light_irradiance(int index, vec3 p, vec3 n) {
+  const PunctualLight light = probebake_lights[index];
+  if (light.intensity == vec3(0.0)) return vec3(0.0);
+  const vec3 origin = p + n * probebake_lighting.shadow_offset;
+  if (light.type == LIGHT_DIRECTIONAL) {
+    const vec3 l = -light.direction;
+    const float cosine = dot(n, l);
+    if (cosine <= 0.0 || probebake_occluded(origin, l, 0.0, 3.0e38)) return vec3(0.0);
+    return light.intensity * cosine;
+  }
+  const vec3 to = light.position - p;
+  const float r2 = dot(to, to);
+  if (!(r2 > 0.0)) return vec3(0.0); // the light sits on the point: no defined direction
+  const float r = sqrt(r2);
+  const vec3 l = to / r;
+  const float cosine = dot(n, l);
+  if (cosine <= 0.0) return vec3(0.0);
+  float attenuation = probebake_range_window(light.range, r) / r2;
+  if (light.type == LIGHT_SPOT) {
+    const float a = clamp((dot(light.direction, -l) - light.cos_outer) * light.spot_scale, 0.0, 1.0);
+    attenuation *= a * a;
+  }
+  if (attenuation == 0.0 || !probebake_visible(origin, light.position)) return vec3(0.0);
+  return light.intensity * (cosine * attenuation);
+}
+
+vec3 probebake_punctual_irradiance(vec3 p, vec3 n) {
+  vec3 e = vec3(0.0);
+  for (int i = 0; i < probebake_lighting.lights; ++i) e += probebake_light_irradiance(i, p, n);
+  return e;
+}
+
+// Unoccluded irradiance of one patch (Lambert's formula after clipping the patch to n's hemisphere) and
+// the shadow ray's target (the clipped polygon's vertex mean); false when the patch cannot light p.
+bool probebake_patch_irradiance(int index, vec3 p, vec3 n, out vec3 irradiance, out vec3 target) {
+  irradiance = vec3(0.0);
+  target = p;
+  const EmitterPatch ep = probebake_emitter_patches[index];
+  if (!(dot(p - ep.a, ep.normal) > 0.0)) return false; // behind the emitter or in its plane
+  vec3 v[3] = vec3[3](ep.a - p, ep.b - p, ep.c - p);
+  vec3 q[4];
+  int count = 0;
+  for (int i = 0; i < 3; ++i) {
+    const vec3 s = v[i], e = v[(i + 1) % 3];
+    const float ds = dot(n, s), de = dot(n, e);
+    if (ds >= 0.0) q[count++] = s;
+    if ((ds >= 0.0) != (de >= 0.0)) q[count++] = s + (e - s) * (ds / (ds - de));
+  }
+  if (count < 3) return false;
+  float sum = 0.0;
+  vec3 centre = vec3(0.0);
+  for (int i = 0; i < count; ++i) {
+    const vec3 s = q[i], e = q[(i + 1) % count];
+    centre += s;
+    const vec3 c = cross(s, e);
+    const float len = length(c);
+    if (!(len > 0.0)) continue;
+    sum += atan(len, dot(s, e)) * (dot(n, c) / len);
+  }
+  const float form = 0.5 * abs(sum); // projected solid angle
+  if (!(form > 0.0)) return false;
+  irradiance = ep.radiance * form;
+  target = p + centre / float(count);
+  return true;
+}
+
+vec3 probebake_emitter_irradiance(vec3 p, vec3 n) {
+  const vec3 origin = p + n * probebake_lighting.shadow_offset;
+  vec3 e = vec3(0.0);
+  for (int i = 0; i < probebake_lighting.emitter_patches; ++i) {
+    vec3 patch_e, target;
+    if (!probebake_patch_irradiance(i, p, n, patch_e, target)) continue;
+    const vec3 to = target - origin;
+    const float dist = length(to);
+    // Stop short of the emitter itself (a relative 1e-3 of the distance).
+    if (dist > 0.0 && probebake_occluded(origin, to / dist, 0.0, dist * 0.999)) continue;
+    e += patch_e;
+  }
+  return e;
+}
+
+#endif // PROBEBAKE_DIRECT_LIGHT_GLSL

@@ -1,0 +1,72 @@
+// Light update L2 (octree thesis §3.2.2, "light surfels and probe"): one workgroup per probe slot. Every
+// record is relit, L = base + reflect * (E_punctual + E_probes), E_probes from the previous frame's probes
+// through the SVO sampler (sample_irradiance.glsl); the radiance is projected onto L2 SH irradiance with
+// Monte Carlo weight 4 pi / rays (bake/src/lighting/iteration.cpp) and blended with the probe's old value
+// by the hysteresis into next_irradiance (the probes themselves are written by light_resolve, so that every
+// probe of this frame reads last frame's values: a Jacobi sweep, deterministic).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "probebake/light_bindings.glsl"
+#include "probebake/dispatch.glsl"
+#include "probebake/direct_light.glsl"
+#include "probebake/sample_irradiance.glsl"
+
+layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
+
+shared float partial[LIGHT_WORKGROUP_SIZE][27];
+shared uint indirect_misses;
+
+const float SH_BAND[9] = float[9](3.14159265, 2.09439510, 2.09439510, 2.09439510, 0.785398163, 0.785398163,
+                                  0.785398163, 0.785398163, 0.785398163);
+
+vec3 relight(LightRecord rec) {
+  if (rec.kind != LIGHT_RECORD_FRONT) return rec.base;
+  const ProbebakeStencil s = probebake_svo_stencil(rec.position, rec.normal);
+  if (s.probes.x < 0) atomicAdd(indirect_misses, 1u);
+  const vec3 e = probebake_punctual_irradiance(rec.position, rec.normal) + probebake_apply_stencil(s, rec.normal);
+  return rec.base + rec.reflect * e;
+}
+
+void main() {
+  const uint slot = probebake_flat_workgroup();
+  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  const uint t = gl_LocalInvocationIndex;
+  if (t == 0) indirect_misses = 0u;
+  float acc[27];
+  for (int v = 0; v < 27; ++v) acc[v] = 0.0;
+  const int rays = probebake_lighting.rays;
+  const float weight = 4.0 * 3.14159265 / float(rays);
+  barrier();
+  for (int r = int(t); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
+    const vec3 radiance = relight(light_records[slot * uint(rays) + uint(r)]);
+    float y[9];
+    probebake_sh_basis(probebake_ray_directions[r].xyz, y);
+    for (int k = 0; k < 9; ++k) {
+      const float w = y[k] * (weight * SH_BAND[k]); // the CPU's projection table, same rounding
+      acc[3 * k] += radiance.r * w;
+      acc[3 * k + 1] += radiance.g * w;
+      acc[3 * k + 2] += radiance.b * w;
+    }
+  }
+  for (int v = 0; v < 27; ++v) partial[t][v] = acc[v];
+  barrier();
+  // Fixed-order tree reduction: the same sum on every run.
+  for (uint stride = LIGHT_WORKGROUP_SIZE / 2u; stride > 0u; stride >>= 1u) {
+    if (t < stride)
+      for (int v = 0; v < 27; ++v) partial[t][v] += partial[t + stride][v];
+    barrier();
+  }
+  if (t != 0u) return;
+  bool finite = true;
+  float blended[27];
+  for (int v = 0; v < 27; ++v) {
+    const float old = probebake_probes[slot].irradiance_sh[v];
+    blended[v] = push.hysteresis * old + (1.0 - push.hysteresis) * partial[0][v];
+    finite = finite && !isnan(blended[v]) && !isinf(blended[v]);
+  }
+  // No NaN or Inf leaves the pass: a probe that would overflow keeps its value and is counted.
+  for (int v = 0; v < 27; ++v) next_irradiance[27u * slot + uint(v)] = finite ? blended[v] : probebake_probes[slot].irradiance_sh[v];
+  atomicAdd(light_counters.lit_probes, 1);
+  atomicAdd(light_counters.indirect_misses, int(indirect_misses));
+  if (!finite) atomicAdd(light_counters.non_finite, 1);
+}

@@ -11,4 +11,4 @@ mkdir -p out
 ./build/cli/probebake info out/cornell.glb
 ./build/cli/probebake out/cornell.glb --max-depth 3
 ./build/cli/probebake validate out/cornell.probes
-./build/runtime/probebake-run out/cornell.probes --frames 10 --validate
+./build/cli/probebake run out/cornell.probes --frames 100

@@ -261,7 +261,6 @@ TEST_F(LightUpdateTest, VolumesWithoutLightingSectionsRunNoLightPasses) {
   s.runtime_lighting = false;
   const Baked b = bake_generated(samples::cornell(), "cornell", s);
   ASSERT_FALSE(b.volume.lighting.has_value());
-  const auto before = context().memory_stats().live_buffers;
   auto gpu = runtime::Volume::upload(context(), b.volume);
   ASSERT_TRUE(gpu.ok()) << gpu.status().message;
   auto stats = gpu.value().run_frame();

@@ -123,16 +123,17 @@ private:
   // byte of a file is covered by a checksum or by a check.
   void check_padding() {
     std::uint64_t cursor = table_end_;
-    auto check_zero = [&](std::uint64_t from, std::uint64_t to) {
+    auto check_zero = [&](std::uint64_t from, std::uint64_t to, const char* where) {
       for (std::uint64_t at = from; at < to; ++at) {
-        if (bytes_[at] != 0) fail("padding", detail::concat("byte ", at, " between sections is not zero"));
+        if (bytes_[at] != 0) fail("padding", detail::concat("byte ", at, " ", where, " is not zero"));
       }
     };
     for (const SectionEntry& entry : view_.sections) {
-      check_zero(cursor, entry.offset);
+      check_zero(cursor, entry.offset, "between sections");
       cursor = entry.offset + entry.size;
     }
-    check_zero(cursor, bytes_.size());
+    // Zero bytes here are read (validate reports them as trailing_bytes); others could hide data.
+    check_zero(cursor, bytes_.size(), "after the last payload");
   }
 
   void check_checksums() {

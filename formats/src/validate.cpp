@@ -17,6 +17,7 @@ void run_phases(const ProbeVolume& volume, detail::Reporter& out) {
   try {
     detail::check_volume_info(volume, out);
     detail::check_counts(volume, out);
+    detail::check_dependencies(volume, out);
     detail::check_finite(volume, out);
     const detail::OctreeFacts octree = detail::check_octree(volume, out);
     detail::check_probes(volume, octree, out);
@@ -34,8 +35,14 @@ void run_phases(const ProbeVolume& volume, detail::Reporter& out) {
 constexpr InvariantInfo kInvariants[] = {
     {"container", "the bytes are not a readable .probes container (magic, version, sizes, table)"},
     {"checksum", "a section's or the header's XXH3-64 checksum does not match"},
+    {"format_version", "the minor version covers the file's section types; a known minor has a 64-byte header and 48-byte table entries"},
+    {"section_flags", "a known section's REQUIRED flag is the one docs/FORMAT.md gives its type; reserved flag bits are zero"},
+    {"section_layout", "no empty known section; each payload starts at the first multiple of its alignment after the previous one"},
+    {"trailing_bytes", "the file ends right after the last payload"},
+    {"section_dependency", "no section without the one it needs: surfel batches need probes, SVO leaves SVO nodes, leaf header <-> entries"},
     {"volume_info", "VolumeInfo settings in range (root size, placement, depths, lattice, thresholds, padding)"},
-    {"cell_depth", "the cell grid depth is within [0, kMaxCellDepth]"},
+    {"cell_depth", "the cell grid depth is within [0, kMaxCellDepth], and 0 when allocated probes have no cells"},
+    {"grid_resolution", "grid placement: 1 <= N <= kMaxGridResolution and at most N^3 allocated probes; octree placement: 0"},
     {"count_mismatch", "VolumeInfo counts equal the buffer sizes; probe index = capacity + 1; leaf buffer = 3 segments"},
     {"non_finite", "every float is finite"},
     {"octree_root", "the octree buffer holds the root at index 0"},
@@ -52,12 +59,15 @@ constexpr InvariantInfo kInvariants[] = {
     {"probe_leaf_link", "probe <-> leaf links are one-to-one and the probe's node field links back (-1 for grid probes)"},
     {"probe_depth_mismatch", "a probe's depth equals its node's depth (0 for grid probes)"},
     {"probe_outside_node", "a probe lies inside its node's cube (relative epsilon)"},
+    {"probe_values", "hit and back-face fractions in [0, 1], padding zero"},
     {"batch_link", "surfel chain links point at allocated batches in range"},
     {"batch_chain_endless", "a surfel chain ends (no loop)"},
     {"batch_shared", "no batch is in two chains"},
     {"batch_owner", "a batch's probe field and its chain end's link name the owning probe"},
     {"batch_count", "a batch holds 1..SURFELS_PER_BATCH surfels"},
     {"batch_orphan", "every allocated batch is in its owner's chain"},
+    {"batch_lattice", "a batch's lattice range [first, first + count) lies inside [0, surfels_per_probe)"},
+    {"surfel_values", "surfels in use: known flags, distance >= 0, unit normal on hits, colours >= 0, padding zero; unused surfels zero"},
     {"probe_index_list", "the probe index list is the allocated probes ascending, then negative values"},
     {"leaf_queue_header", "pull origin in {0,1,2}, segment counts within capacity, padding zero"},
     {"leaf_entry_node", "leaf buffer entries in use name leaf nodes of the octree"},
@@ -102,6 +112,7 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
       out.add("checksum", section, -1, message);
     });
     volume = decode_probes(container, name);
+    detail::check_container(container, out);
   } catch (const detail::StopValidation&) {
     return report;
   } catch (const Error& error) {
@@ -113,7 +124,7 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
   return report;
 }
 
-std::string format_violation(const Violation& violation) {
+std::string violation_place(const Violation& violation) {
   std::string place = violation.section;
   if (violation.index >= 0) {
     // Appended piecewise: GCC 12 at -O3 warns falsely (-Wrestrict) on "[" + std::string&&.
@@ -121,7 +132,11 @@ std::string format_violation(const Violation& violation) {
     place += std::to_string(violation.index);
     place += ']';
   }
-  return place + ": " + violation.invariant + ": " + violation.message;
+  return place;
+}
+
+std::string format_violation(const Violation& violation) {
+  return violation_place(violation) + ": " + violation.invariant + ": " + violation.message;
 }
 
 nlohmann::json report_to_json(const ValidationReport& report) {

@@ -1,5 +1,6 @@
-// Validator phases that need no traversal: VolumeInfo settings, counts against buffer sizes, finiteness
-// of every float, and the leaf buffer of the octree thesis §3.1.4.
+// Validator phases that need no traversal: VolumeInfo settings (grid resolution, cell depth), counts
+// against buffer sizes, buffers that need another one, finiteness of every float, and the leaf buffer of
+// the octree thesis §3.1.4.
 #include <cmath>
 #include <initializer_list>
 #include <unordered_set>
@@ -34,6 +35,42 @@ bool surfel_finite(const gpu::Surfel& s) {
   return finite(s.position) && finite(s.normal) && finite(s.albedo) && finite(s.radiance) && finite({s.distance, s.pad0, s.pad1});
 }
 
+long long allocated_probes(const ProbeVolume& volume) {
+  long long allocated = 0;
+  for (const gpu::Probe& probe : volume.probes) allocated += probe.link != 0;
+  return allocated;
+}
+
+// Grid placement puts at most N^3 probes (dead ones are freed); N is bounded like the bake's --grid.
+void check_grid_resolution(const ProbeVolume& volume, Reporter& out) {
+  const gpu::VolumeInfo& info = volume.info;
+  auto bad = [&](const std::string& message) { out.add("grid_resolution", "volume_info", 0, message); };
+  if (info.placement != gpu::PLACEMENT_GRID) {
+    if (info.grid_resolution != 0) bad(concat("grid_resolution ", info.grid_resolution, " with octree placement (must be 0)"));
+    return;
+  }
+  if (info.grid_resolution < 1 || info.grid_resolution > kMaxGridResolution) {
+    return bad(concat("grid_resolution ", info.grid_resolution, " outside [1, ", kMaxGridResolution, "]"));
+  }
+  const long long n = info.grid_resolution, allocated = allocated_probes(volume);
+  if (allocated > n * n * n) bad(concat(allocated, " allocated probes, more than grid_resolution^3 = ", n * n * n));
+}
+
+// The header's cell depth describes the cells section: a file without cells has depth 0. Without any
+// allocated probe arrange_cells writes no record, so the depth alone proves nothing then.
+void check_cell_depth(const ProbeVolume& volume, Reporter& out) {
+  if (volume.cell_depth < 0 || volume.cell_depth > kMaxCellDepth) {
+    out.add("cell_depth", "cells", -1, concat("cell depth ", volume.cell_depth, " outside [0, ", kMaxCellDepth, "]"));
+  } else if (volume.cell_depth != 0 && volume.cells.empty() && allocated_probes(volume) > 0) {
+    out.add("cell_depth", "cells", -1, concat("cell depth ", volume.cell_depth, " but no cells section (a file without cells has depth 0)"));
+  }
+}
+
+bool is_zero(const gpu::LeafQueueHeader& h) {
+  return h.pull_origin == 0 && h.segment_capacity == 0 && h.count[0] == 0 && h.count[1] == 0 && h.count[2] == 0 && h.pad0 == 0 &&
+         h.pad1 == 0 && h.pad2 == 0;
+}
+
 void check_count(Reporter& out, const char* section, long long expected, std::size_t actual, const char* what) {
   if (static_cast<long long>(actual) != expected) {
     out.add("count_mismatch", section, -1, concat(what, " is ", expected, " but the buffer has ", actual, " elements"));
@@ -50,16 +87,15 @@ void check_volume_info(const ProbeVolume& volume, Reporter& out) {
   if (info.max_depth < 0 || info.max_depth > gpu::OCTREE_MAX_DEPTH) bad(concat("max_depth ", info.max_depth, " outside [0, OCTREE_MAX_DEPTH]"));
   if (info.svo_depth < 0 || info.svo_depth > kMaxSvoDepth) bad(concat("svo_depth ", info.svo_depth, " outside [0, ", kMaxSvoDepth, "]"));
   if (info.lattice < gpu::LATTICE_FIBONACCI || info.lattice > gpu::LATTICE_EQUAL_AREA) bad(concat("unknown lattice ", info.lattice));
-  if (info.surfels_per_probe < 0) bad(concat("surfels_per_probe ", info.surfels_per_probe, " is negative"));
+  if (info.surfels_per_probe < 1 || info.surfels_per_probe > kMaxSurfelsPerProbe) {
+    bad(concat("surfels_per_probe ", info.surfels_per_probe, " outside [1, ", kMaxSurfelsPerProbe, "]"));
+  }
   if (finite({info.split_low, info.split_high}) && !(info.split_low >= 0.0f && info.split_low <= info.split_high && info.split_high <= 1.0f)) {
     bad(concat("split thresholds ", info.split_low, ", ", info.split_high, " not 0 <= low <= high <= 1"));
   }
-  const bool grid = info.placement == gpu::PLACEMENT_GRID;
-  if (grid ? info.grid_resolution <= 0 : info.grid_resolution != 0) bad(concat("grid_resolution ", info.grid_resolution, " does not fit the placement"));
   if (info.pad0 != 0 || info.pad1 != 0 || info.pad2 != 0) bad("padding is not zero");
-  if (volume.cell_depth < 0 || volume.cell_depth > kMaxCellDepth) {
-    out.add("cell_depth", "cells", -1, concat("cell depth ", volume.cell_depth, " outside [0, ", kMaxCellDepth, "]"));
-  }
+  check_grid_resolution(volume, out);
+  check_cell_depth(volume, out);
 }
 
 void check_counts(const ProbeVolume& volume, Reporter& out) {
@@ -73,6 +109,17 @@ void check_counts(const ProbeVolume& volume, Reporter& out) {
   if (!volume.leaf_entries.empty() || volume.leaf_header.segment_capacity != 0) {
     check_count(out, "leaf_entries", 3LL * volume.leaf_header.segment_capacity, volume.leaf_entries.size(), "3 x segment_capacity");
   }
+}
+
+// Buffers that only make sense with another one (a missing section is an empty buffer). The lighting
+// sections' dependency on lighting_info is checked with them (lighting_sections).
+void check_dependencies(const ProbeVolume& volume, Reporter& out) {
+  auto needs = [&](bool present, const char* section, bool dependency_present, const char* why) {
+    if (present && !dependency_present) out.add("section_dependency", section, -1, why);
+  };
+  needs(!volume.surfel_batches.empty(), "surfel_batches", !volume.probes.empty(), "surfel batches without probes to own them");
+  needs(!volume.svo_leaves.empty(), "svo_leaves", !volume.svo_nodes.empty(), "SVO leaf payloads without SVO nodes to reference them");
+  needs(!is_zero(volume.leaf_header), "leaf_queue_header", !volume.leaf_entries.empty(), "a leaf queue header without leaf entries");
 }
 
 void check_finite(const ProbeVolume& volume, Reporter& out) {

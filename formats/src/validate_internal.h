@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "probebake/formats/container.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/validate.h"
 
@@ -42,9 +43,14 @@ struct OctreeFacts {
   }
 };
 
+// File level (validate_container.cpp), run by validate_file() before the model phases: what the reader
+// accepts but the format does not allow (version, flags, gaps, trailing bytes, section presence).
+void check_container(const ContainerView& container, Reporter& out);
+
 // Phases, in the order validate() runs them (cheap and structural first).
 void check_volume_info(const ProbeVolume& volume, Reporter& out);
 void check_counts(const ProbeVolume& volume, Reporter& out);
+void check_dependencies(const ProbeVolume& volume, Reporter& out);
 void check_finite(const ProbeVolume& volume, Reporter& out);
 OctreeFacts check_octree(const ProbeVolume& volume, Reporter& out);
 void check_probes(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);

@@ -1,7 +1,13 @@
 // Validator phases for probes (octree thesis §3.1.2), surfel batches (§3.1.3) and the probe index list
 // (§3.1.5): probe <-> leaf links one-to-one, probe inside its node's cube at the node's depth, surfel
-// chains finite, unshared and owned, free elements zeroed, the index list equal to the allocated probes.
+// chains finite, unshared and owned, free elements zeroed, the index list equal to the allocated probes;
+// the values in probes and surfels (fractions, lattice ranges, flags, padding) in range.
+#include <bit>
 #include <cmath>
+#include <cstring>
+#include <initializer_list>
+
+#include <glm/geometric.hpp>
 
 #include "text.h"
 #include "validate_internal.h"
@@ -45,6 +51,82 @@ std::vector<int> leaf_links(const ProbeVolume& volume, const OctreeFacts& octree
   return linked_from;
 }
 
+constexpr float kUnitTolerance = 1e-4f; // |length - 1| of a hit surfel's normal
+
+bool all_finite(std::initializer_list<float> values) {
+  for (float value : values) {
+    if (!std::isfinite(value)) return false;
+  }
+  return true;
+}
+
+bool finite3(const glm::vec3& v) { return all_finite({v.x, v.y, v.z}); }
+
+// Padding must be +0.0 bit for bit (the writer zero-initialises every struct).
+bool zero_bits(std::initializer_list<float> values) {
+  for (float value : values) {
+    if (std::bit_cast<std::uint32_t>(value) != 0u) return false;
+  }
+  return true;
+}
+
+bool fraction(float value) { return value >= 0.0f && value <= 1.0f; }
+bool negative(const glm::vec3& v) { return v.x < 0.0f || v.y < 0.0f || v.z < 0.0f; }
+
+// Fractions are counts over counts, so they lie in [0, 1] for free probes (zero) too. Non-finite values
+// are non_finite's.
+void check_probe_values(const ProbeVolume& volume, Reporter& out) {
+  for (std::size_t i = 0; i < volume.probes.size(); ++i) {
+    const gpu::Probe& probe = volume.probes[i];
+    if (!all_finite({probe.hit_fraction, probe.backface_fraction, probe.pad0})) continue;
+    const long long index = static_cast<long long>(i);
+    if (!fraction(probe.hit_fraction) || !fraction(probe.backface_fraction)) {
+      out.add("probe_values", "probes", index, concat("fractions ", probe.hit_fraction, ", ", probe.backface_fraction, " not in [0, 1]"));
+    } else if (!zero_bits({probe.pad0})) {
+      out.add("probe_values", "probes", index, "padding is not zero");
+    }
+  }
+}
+
+bool surfel_finite(const gpu::Surfel& s) {
+  return finite3(s.position) && finite3(s.normal) && finite3(s.albedo) && finite3(s.radiance) && all_finite({s.distance, s.pad0, s.pad1});
+}
+
+std::string surfel_problem(const gpu::Surfel& s) {
+  if ((s.flags & ~(gpu::SURFEL_FLAG_HIT | gpu::SURFEL_FLAG_BACKFACE)) != 0) return concat("unknown flag bits ", s.flags);
+  const bool hit = (s.flags & gpu::SURFEL_FLAG_HIT) != 0;
+  if (!hit && (s.flags & gpu::SURFEL_FLAG_BACKFACE) != 0) return "back-face flag without the hit flag";
+  if (s.distance < 0.0f) return concat("distance ", s.distance, " is negative");
+  if (hit && std::abs(glm::length(s.normal) - 1.0f) > kUnitTolerance) return "a hit's normal is not a unit vector";
+  if (negative(s.albedo) || negative(s.radiance)) return "negative albedo or radiance";
+  if (!zero_bits({s.pad0, s.pad1})) return "padding is not zero";
+  return "";
+}
+
+// Surfels in use hold sane values; the ones past `count` were never written and stay zero. One
+// violation per batch is enough to find it.
+void check_surfels(const gpu::SurfelBatch& batch, long long index, Reporter& out) {
+  static const gpu::Surfel kZero{};
+  for (int k = 0; k < gpu::SURFELS_PER_BATCH; ++k) {
+    const gpu::Surfel& surfel = batch.surfels[k];
+    std::string problem;
+    if (k >= batch.count) {
+      if (std::memcmp(&surfel, &kZero, sizeof(gpu::Surfel)) != 0) problem = concat("surfel ", k, " is past count ", batch.count, " but not zero");
+    } else if (surfel_finite(surfel)) {
+      if (const std::string what = surfel_problem(surfel); !what.empty()) problem = concat("surfel ", k, ": ", what);
+    }
+    if (!problem.empty()) return out.add("surfel_values", "surfel_batches", index, problem);
+  }
+}
+
+// The batch's surfels are lattice points [first, first + count) of its probe's lattice.
+void check_batch_lattice(const gpu::SurfelBatch& batch, long long index, int surfels_per_probe, Reporter& out) {
+  const long long first = batch.first, end = first + batch.count;
+  if (first < 0 || end > surfels_per_probe) {
+    out.add("batch_lattice", "surfel_batches", index, concat("lattice range [", first, ", ", end, ") outside [0, ", surfels_per_probe, ")"));
+  }
+}
+
 void check_grid_probe(const gpu::Probe& probe, long long index, const ProbeVolume& volume, Reporter& out) {
   if (probe.node != -1) out.add("probe_leaf_link", "probes", index, concat("grid probe has node ", probe.node, ", expected -1"));
   if (probe.depth != 0) out.add("probe_depth_mismatch", "probes", index, concat("grid probe has depth ", probe.depth, ", expected 0"));
@@ -56,6 +138,7 @@ void check_grid_probe(const gpu::Probe& probe, long long index, const ProbeVolum
 } // namespace
 
 void check_probes(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out) {
+  check_probe_values(volume, out);
   const bool grid = volume.info.placement == gpu::PLACEMENT_GRID;
   std::vector<bool> reported(volume.probes.size(), false);
   const std::vector<int> linked_from = grid ? std::vector<int>(volume.probes.size(), -1) : leaf_links(volume, octree, reported, out);
@@ -128,9 +211,12 @@ void check_surfel_batches(const ProbeVolume& volume, Reporter& out) {
     const long long index = static_cast<long long>(b);
     if (batch.link == 0) {
       if (batch.probe != 0 || batch.count != 0) out.add("free_not_zeroed", "surfel_batches", index, "free batch has an owner or count");
-    } else if (owner[b] < 0) {
-      out.add("batch_orphan", "surfel_batches", index, "allocated, but in no probe's chain");
+      continue;
     }
+    if (owner[b] < 0) out.add("batch_orphan", "surfel_batches", index, "allocated, but in no probe's chain");
+    if (batch.count < 1 || batch.count > gpu::SURFELS_PER_BATCH) continue; // batch_count's (or an orphan's)
+    check_batch_lattice(batch, index, volume.info.surfels_per_probe, out);
+    check_surfels(batch, index, out);
   }
 }
 

@@ -87,6 +87,7 @@ TEST(Cells, RandomTreesStayValidWhenArranged) {
   info.root_min = glm::vec3(3.0f, -5.0f, 0.5f);
   info.root_size = 10.0f;
   info.max_depth = 4;
+  info.surfels_per_probe = 2 * gpu::SURFELS_PER_BATCH; // batches below hold lattice points [0, 1)
   info.split_high = 1.0f;
   for (int trial = 0; trial < 20; ++trial) {
     ProbeVolume volume = make_empty_volume(info);

@@ -1,9 +1,13 @@
 // Untrusted bytes (meshoptimizer / NanoVDB style): every strict prefix of a golden file is refused as
 // unreadable, and every single-byte change (XOR 0x01 and XOR 0xFF at every offset) is detected by both
-// the reader and the validator.
+// the reader and the validator. Files that the reader reads but the format does not allow (gaps, trailing
+// zero bytes, wrong flags, versions, a leaf header without entries) are refused by the validator only.
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -77,6 +81,132 @@ TEST_P(Corruption, PayloadChangeIsAChecksumViolationNotUnreadable) {
 
 INSTANTIATE_TEST_SUITE_P(Golden, Corruption, ::testing::ValuesIn(testing::kAllSamples),
                          [](const ::testing::TestParamInfo<Sample>& param) { return testing::sample_name(param.param); });
+
+std::vector<std::uint8_t> golden_bytes(Sample sample) { return read_file_bytes(testing::golden_path(testing::golden_name(sample))); }
+
+std::uint32_t type_id(SectionType type) { return static_cast<std::uint32_t>(type); }
+
+void drop_section(std::vector<SectionPayload>& sections, SectionType type) {
+  std::erase_if(sections, [&](const SectionPayload& s) { return s.type == type_id(type); });
+}
+
+void set_flags(std::vector<SectionPayload>& sections, SectionType type, std::uint32_t flags) {
+  for (SectionPayload& s : sections) {
+    if (s.type == type_id(type)) s.flags = flags;
+  }
+}
+
+std::uint64_t section_offset(const std::vector<std::uint8_t>& bytes, SectionType type) {
+  const ContainerView view = parse_container(bytes, "offset");
+  for (const SectionEntry& entry : view.sections) {
+    if (entry.type == type_id(type)) return entry.offset;
+  }
+  ADD_FAILURE() << "no section " << section_name(type_id(type));
+  return 0;
+}
+
+struct FileCase {
+  const char* invariant;
+  const char* what;
+  std::function<std::vector<std::uint8_t>()> bytes;
+};
+
+const std::vector<FileCase>& file_cases() {
+  static const std::vector<FileCase> cases = {
+      {"trailing_bytes", "16 zero bytes after the last payload", [] {
+         std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
+         testing::insert_zeros(bytes, bytes.size(), 16);
+         testing::refresh_header_checksum(bytes);
+         return bytes;
+       }},
+      {"section_layout", "16 zero bytes before the last payload", [] {
+         std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
+         testing::insert_zeros(bytes, section_offset(bytes, SectionType::cells), 16);
+         testing::refresh_header_checksum(bytes);
+         return bytes;
+       }},
+      {"section_layout", "a surfel_batches section without elements", [] {
+         return testing::rewrite_sections(golden_bytes(Sample::static_set), [](std::vector<SectionPayload>& sections) {
+           sections.push_back(SectionPayload{type_id(SectionType::surfel_batches), kSectionRequired, sizeof(gpu::SurfelBatch), 0, {}});
+         });
+       }},
+      {"section_flags", "probes not REQUIRED", [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small),
+                                          [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::probes, 0); });
+       }},
+      {"section_flags", "lighting_info REQUIRED", [] {
+         return testing::rewrite_sections(golden_bytes(Sample::lighting),
+                                          [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::lighting_info, kSectionRequired); });
+       }},
+      {"section_flags", "a reserved flag bit", [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small), [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::cells, 2); });
+       }},
+      {"format_version", "lighting sections in a 1.0 file", [] {
+         std::vector<std::uint8_t> bytes = golden_bytes(Sample::lighting);
+         FileHeader header = testing::header_of(bytes);
+         header.version_minor = 0;
+         testing::put_header(bytes, header);
+         testing::refresh_header_checksum(bytes);
+         return bytes;
+       }},
+      {"format_version", "a 1.0 header of 80 bytes", [] {
+         std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
+         testing::insert_zeros(bytes, sizeof(FileHeader), 16);
+         FileHeader header = testing::header_of(bytes);
+         header.header_size += 16;
+         testing::put_header(bytes, header);
+         testing::refresh_header_checksum(bytes);
+         return bytes;
+       }},
+      {"section_dependency", "leaf_queue_header without leaf_entries", [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small),
+                                          [](std::vector<SectionPayload>& s) { drop_section(s, SectionType::leaf_entries); });
+       }},
+      {"section_dependency", "leaf_entries without leaf_queue_header", [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small),
+                                          [](std::vector<SectionPayload>& s) { drop_section(s, SectionType::leaf_queue_header); });
+       }},
+  };
+  return cases;
+}
+
+// The reader reads these files (nothing in them can be misread); the validator names what is wrong, as
+// its first violation, and still calls the file readable (exit code 1, not 2).
+TEST(FileLevel, ReadableButInvalidFilesNameTheirInvariant) {
+  for (const FileCase& c : file_cases()) {
+    const std::vector<std::uint8_t> bytes = c.bytes();
+    EXPECT_NO_THROW(read_probes(bytes, c.what)) << c.what;
+    const ValidationReport report = validate_file(bytes, c.what);
+    EXPECT_TRUE(report.readable) << c.what;
+    ASSERT_FALSE(report.violations.empty()) << c.what;
+    EXPECT_EQ(report.violations.front().invariant, c.invariant) << c.what << ": " << format_violation(report.violations.front());
+    if (std::getenv("PROBEBAKE_VERBOSE")) {
+      std::printf("%s:\n", c.what);
+      for (const Violation& v : report.violations) std::printf("  %s\n", format_violation(v).c_str());
+    }
+  }
+}
+
+TEST(FileLevel, EveryFileLevelInvariantHasACase) {
+  std::set<std::string> covered;
+  for (const FileCase& c : file_cases()) covered.insert(c.invariant);
+  for (const char* id : {"format_version", "section_flags", "section_layout", "trailing_bytes", "section_dependency"}) {
+    EXPECT_TRUE(covered.count(id)) << id;
+  }
+}
+
+// The same trailing bytes, but not zero: the reader refuses them, naming where they are.
+TEST(FileLevel, NonZeroTrailingBytesAreUnreadable) {
+  std::vector<std::uint8_t> bytes = golden_bytes(Sample::static_set);
+  testing::insert_zeros(bytes, bytes.size(), 16);
+  bytes[bytes.size() - 5] = 0x2a;
+  testing::refresh_header_checksum(bytes);
+  EXPECT_TRUE(reader_refuses(bytes));
+  const ValidationReport report = validate_file(bytes, "tail");
+  EXPECT_FALSE(report.readable);
+  ASSERT_EQ(report.violations.size(), 1u);
+  EXPECT_NE(report.violations[0].message.find("after the last payload"), std::string::npos) << report.violations[0].message;
+}
 
 TEST(CorruptionRandom, GarbageIsUnreadable) {
   std::mt19937 rng(7);

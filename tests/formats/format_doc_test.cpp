@@ -211,9 +211,11 @@ TEST(FormatDoc, ConstantsMatch) {
   EXPECT_EQ(values["maximum section count"], std::to_string(kMaxSections));
   EXPECT_EQ(values["REQUIRED flag"], std::to_string(kSectionRequired));
   EXPECT_EQ(values["maximum cell depth"], std::to_string(kMaxCellDepth));
+  EXPECT_EQ(values["maximum grid resolution"], std::to_string(kMaxGridResolution));
+  EXPECT_EQ(values["maximum surfels per probe"], std::to_string(kMaxSurfelsPerProbe));
   EXPECT_EQ(values["format major"], std::to_string(kFormatVersionMajor));
   EXPECT_EQ(values["format minor"], std::to_string(kFormatVersionMinor));
-  EXPECT_EQ(values.size(), 9u);
+  EXPECT_EQ(values.size(), 11u);
 }
 
 } // namespace

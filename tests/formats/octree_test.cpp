@@ -19,6 +19,7 @@ gpu::VolumeInfo settings(int max_depth) {
   info.root_size = 16.0f;
   info.max_depth = max_depth;
   info.svo_depth = 0;
+  info.surfels_per_probe = gpu::SURFELS_PER_BATCH; // batches below hold lattice points [0, count)
   info.split_low = 0.125f;
   info.split_high = 0.5f;
   return info;

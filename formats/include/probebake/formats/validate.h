@@ -35,6 +35,11 @@ struct ValidationReport {
   bool valid() const { return readable && violations.empty(); }
 };
 
+// Bounds of VolumeInfo settings that the format itself does not fix by a struct size (docs/FORMAT.md,
+// "Constants"); the bake's own option limits are the same.
+inline constexpr int kMaxGridResolution = 256;
+inline constexpr int kMaxSurfelsPerProbe = 65536;
+
 struct ValidateOptions {
   std::size_t max_errors = 1000;     // stop after this many violations (0 = no limit)
   float position_epsilon = 1e-4f;    // probe-in-cube tolerance, relative to the cube size
@@ -58,6 +63,8 @@ std::span<const InvariantInfo> invariants();
 
 // "<section>[<index>]: <invariant>: <message>" (or "<section>: ..." without an index).
 std::string format_violation(const Violation& violation);
+// "<section>[<index>]" or "<section>": where a violation is.
+std::string violation_place(const Violation& violation);
 
 // {"file", "valid", "readable", "truncated", "violation_count", "violations": [{"invariant", "section",
 // "index", "message"}]}

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "probebake/bake/bake.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
 
@@ -119,6 +120,10 @@ int run_bake(BakeCommandSettings& s) {
   bake::check_settings(s.bake); // usage errors before any work
   const scene::Scene scene = scene::load_scene(s.scene, {.require_triangles = true});
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
+  const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
+  // Before the bake, not after it. TODO(loader): also the buffers and images the load read.
+  const std::vector<std::filesystem::path> inputs = {s.scene};
+  check_output_path(output, inputs);
   const bool tty = isatty(STDERR_FILENO) != 0 && !s.json;
   bake::ProgressCallback progress;
   if (tty)
@@ -128,7 +133,6 @@ int run_bake(BakeCommandSettings& s) {
     };
   const bake::BakeResult result = bake::bake(scene, s.bake, progress);
   if (tty) fmt::print(stderr, "\r{:<20}\r", "");
-  const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
   formats::write_probes_file(output, result.volume);
   const auto bytes = std::filesystem::file_size(output);
   const nlohmann::ordered_json report = report_json(result.report, output, bytes, result.volume);

@@ -12,6 +12,7 @@
 #include "camera_options.h"
 #include "commands.h"
 #include "probebake/bake/eval.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::cli {
@@ -64,6 +65,13 @@ int run_eval(EvalCommandSettings& s) {
   s.eval.camera = s.camera.camera();
   s.eval.error_map_dir = s.error_map;
   bake::check_eval_settings(s.eval); // usage errors before any work
+  // Outputs before the sweep. TODO(loader): also the buffers and images the load inside evaluate() reads.
+  const std::vector<std::filesystem::path> inputs = {s.scene};
+  for (const std::string* output : {&s.csv, &s.plot})
+    if (!output->empty()) check_output_path(*output, inputs);
+  std::error_code ec;
+  if (!s.error_map.empty() && std::filesystem::exists(s.error_map, ec) && !std::filesystem::is_directory(s.error_map, ec))
+    throw Error(ErrorKind::output, s.error_map + ": is not a folder (--error-map names a folder)");
   bake::EvalProgress progress;
   if (isatty(STDERR_FILENO) != 0)
     progress = [](const std::string& message) {

@@ -11,6 +11,7 @@
 #include "camera_options.h"
 #include "commands.h"
 #include "probebake/bake/reference.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::cli {
@@ -64,6 +65,10 @@ int run_reference(ReferenceCommandSettings& s) {
   if (s.points == 0 && s.image.empty()) throw Error(ErrorKind::usage, "nothing to do: --points 0 and no --image");
   const scene::Scene scene = scene::load_scene(s.scene, {.require_triangles = true});
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
+  // Before the path tracing. TODO(loader): also the buffers and images the load read.
+  const std::vector<std::filesystem::path> inputs = {s.scene};
+  if (s.points > 0 && !s.csv.empty()) check_output_path(s.csv, inputs);
+  if (!s.image.empty()) check_output_path(s.image, inputs);
   const scene::RayScene rays(scene);
   nlohmann::json j = {{"scene", s.scene}, {"paths", s.reference.paths}, {"seed", s.reference.seed}};
   if (s.points > 0) {

@@ -2,12 +2,14 @@
 //   make-scene KIND [options] [-o OUT.glb]
 // Exit codes (probebake's): 0 written (or --help), 1 usage error, 2 unreadable input (e.g. --with),
 // 3 output not writable, 4 internal error.
+#include "probebake/formats/atomic_file.h"
 #include "probebake/samples/scenes.h"
 #include "probebake/version.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -95,10 +97,13 @@ void apply_placement(samples::SceneBuilder& scene, const Settings& settings) {
   if (!placement.is_identity()) scene.wrap_roots("placement", placement);
 }
 
-int make(const std::string& kind, const MakeScene& make_scene, const Settings& settings) {
+// `inputs`: files the scene reads (cornell --with), which the output must not overwrite.
+int make(const std::string& kind, const MakeScene& make_scene, const Settings& settings,
+         const std::vector<std::filesystem::path>& inputs) {
+  const std::string output = settings.output.empty() ? kind + ".glb" : settings.output;
+  probebake::check_output_path(output, inputs); // before a large scene is built
   samples::SceneBuilder scene = make_scene();
   apply_placement(scene, settings);
-  const std::string output = settings.output.empty() ? kind + ".glb" : settings.output;
   const std::vector<std::uint8_t> bytes = scene.to_glb();
   samples::write_file_atomically(output, bytes);
   if (!settings.quiet) {
@@ -137,8 +142,10 @@ int main(int argc, char** argv) {
     return exit_usage;
   }
   CLI::App* kind = app.get_subcommands().front();
+  std::vector<std::filesystem::path> inputs;
+  if (kind->get_name() == "cornell" && !options.cornell_with.empty()) inputs.emplace_back(options.cornell_with);
   try {
-    return make(kind->get_name(), makers.at(kind), settings);
+    return make(kind->get_name(), makers.at(kind), settings, inputs);
   } catch (const probebake::Error& e) {
     std::fprintf(stderr, "make-scene: error: %s\n", e.what());
     return e.exit_code();

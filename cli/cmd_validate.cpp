@@ -1,8 +1,11 @@
-// `probebake validate FILE.probes [--json] [--max-errors N]`: checks the container and every invariant of
-// the model (formats/validate.h). Exit 0 valid, 1 invalid, 2 unreadable or not a .probes file.
+// `probebake validate FILE.probes [--verbose] [--json] [--max-errors N]`: checks the container and every
+// invariant of the model (formats/validate.h). Text: one summary line per violated invariant, then a
+// verdict; --verbose adds every violation, --json gives them all. Exit 0 valid, 1 invalid, 2 unreadable.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -22,6 +25,7 @@ constexpr int kExitUnreadable = static_cast<int>(ErrorKind::input);
 struct ValidateSettings {
   std::string path;
   bool json = false;
+  bool verbose = false;
   std::size_t max_errors = 100;
 };
 
@@ -38,20 +42,47 @@ formats::ValidationReport validate_path(const ValidateSettings& settings) {
   }
 }
 
-void print_text(const formats::ValidationReport& report) {
+// The violations of one invariant: one corrupt node can break thousands of elements in the same way, so
+// the text report names each problem once.
+struct ProblemClass {
+  const formats::Violation* first;
+  std::size_t count;
+};
+
+// In order of first appearance, which is the validator's cheap-first phase order.
+std::vector<ProblemClass> problem_classes(const formats::ValidationReport& report) {
+  std::vector<ProblemClass> classes;
   for (const formats::Violation& violation : report.violations) {
-    if (violation.invariant == "container") { // already "<file>: <place>: <reason>"
-      fmt::print("{}\n", violation.message);
+    auto same = [&](const ProblemClass& c) { return c.first->invariant == violation.invariant; };
+    if (auto it = std::find_if(classes.begin(), classes.end(), same); it != classes.end()) {
+      ++it->count;
     } else {
-      fmt::print("{}: {}\n", report.name, formats::format_violation(violation));
+      classes.push_back(ProblemClass{&violation, 1});
     }
+  }
+  return classes;
+}
+
+std::string plural(std::size_t count, const char* noun) { return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s"); }
+
+void print_text(const formats::ValidationReport& report, bool verbose) {
+  if (!report.readable) { // one "container" violation, already "<file>: <place>: <reason>"
+    for (const formats::Violation& violation : report.violations) fmt::print("{}\n", violation.message);
+    fmt::print("{}: unreadable\n", report.name);
+    return;
+  }
+  if (verbose) {
+    for (const formats::Violation& violation : report.violations) fmt::print("{}: {}\n", report.name, formats::format_violation(violation));
+  }
+  const std::vector<ProblemClass> classes = problem_classes(report);
+  for (const ProblemClass& c : classes) {
+    fmt::print("{}: invalid: {}: {}, first: {}: {}\n", report.name, c.first->invariant, plural(c.count, "violation"),
+               formats::violation_place(*c.first), c.first->message);
   }
   if (report.valid()) {
     fmt::print("{}: valid\n", report.name);
-  } else if (!report.readable) {
-    fmt::print("{}: unreadable\n", report.name);
   } else {
-    fmt::print("{}: invalid: {} violation{}{}\n", report.name, report.violations.size(), report.violations.size() == 1 ? "" : "s",
+    fmt::print("{}: invalid: {} of {}{}\n", report.name, plural(report.violations.size(), "violation"), plural(classes.size(), "invariant"),
                report.truncated ? " (stopped at --max-errors)" : "");
   }
 }
@@ -61,7 +92,7 @@ int run_validate(const ValidateSettings& settings) {
   if (settings.json) {
     std::puts(formats::report_to_json(report).dump(2).c_str());
   } else {
-    print_text(report);
+    print_text(report, settings.verbose);
   }
   if (!report.readable) return kExitUnreadable;
   return report.valid() ? kExitValid : kExitInvalid;
@@ -74,7 +105,8 @@ Command add_validate_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand("validate", "Check a .probes file against every invariant of the format "
                                                   "(exit 0 valid, 1 invalid, 2 unreadable)");
   app->add_option("file", settings->path, ".probes file")->required();
-  app->add_flag("--json", settings->json, "Print the report as one JSON object");
+  app->add_flag("--json", settings->json, "Print the report as one JSON object, with every violation");
+  app->add_flag("-v,--verbose", settings->verbose, "Also print every violation, not only one line per invariant");
   app->add_option("--max-errors", settings->max_errors, "Stop after N violations (0: report all)")->capture_default_str();
   return {app, [settings] { return run_validate(*settings); }};
 }

@@ -1,11 +1,14 @@
-// The probebake CLI on .probes files: `probebake validate` exit codes (0 valid, 1 invalid, 2 unreadable)
-// and JSON, and run_info_probes (cli/info_probes.cpp, linked in directly).
+// The probebake CLI on .probes files: `probebake validate` exit codes (0 valid, 1 invalid, 2 unreadable),
+// its text (one line per violated invariant, every violation with --verbose) and JSON, and
+// run_info_probes (cli/info_probes.cpp, linked in directly).
 #include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -30,6 +33,14 @@ std::string with_path(const char* words, const std::filesystem::path& path) {
 }
 
 using test::run_cli;
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::size_t start = 0;
+  for (std::size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1) lines.push_back(text.substr(start, end - start));
+  if (start < text.size()) lines.push_back(text.substr(start));
+  return lines;
+}
 
 class CliValidate : public ::testing::Test {
 protected:
@@ -67,7 +78,49 @@ TEST_F(CliValidate, BrokenTreeIsInvalidAndNamed) {
   EXPECT_EQ(report["violations"][0]["invariant"], "octree_cycle");
   const test::CliResult text = run_cli(with_path("validate", path));
   EXPECT_EQ(text.exit_code, 1);
-  EXPECT_NE(text.out.find("octree[10]: octree_cycle"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(path.string() + ": invalid: octree_cycle: 1 violation, first: octree[10]: "), std::string::npos) << text.out;
+  EXPECT_EQ(text.out.find("octree[10]: octree_cycle"), std::string::npos) << "details only with --verbose\n" << text.out;
+  const test::CliResult verbose = run_cli(with_path("validate --verbose", path));
+  EXPECT_EQ(verbose.exit_code, 1);
+  EXPECT_NE(verbose.out.find(path.string() + ": octree[10]: octree_cycle: "), std::string::npos) << verbose.out;
+}
+
+// Thirty broken probes are one problem: one summary line for it, then the verdict; --verbose adds the
+// thirty details, --json keeps them all.
+TEST_F(CliValidate, TextIsOneLinePerInvariant) {
+  ProbeVolume volume = testing::make_sample(testing::Sample::small);
+  for (gpu::Probe& probe : volume.probes) probe.hit_fraction = std::nanf("");
+  volume.info.split_low = -0.25f; // a second class, reported first (settings run before probes)
+  const std::filesystem::path path = write_bytes("nan.probes", write_probes(volume));
+  const std::size_t probes = volume.probes.size();
+
+  const test::CliResult text = run_cli(with_path("validate --max-errors 0", path));
+  EXPECT_EQ(text.exit_code, 1);
+  const std::vector<std::string> lines = lines_of(text.out);
+  ASSERT_EQ(lines.size(), 3u) << text.out;
+  const std::string name = path.string();
+  EXPECT_EQ(lines[0].rfind(name + ": invalid: volume_info: 1 violation, first: volume_info[0]: split thresholds -0.25", 0), 0u) << lines[0];
+  EXPECT_EQ(lines[1], name + ": invalid: non_finite: " + std::to_string(probes) + " violations, first: probes[0]: a float is NaN or infinite");
+  EXPECT_EQ(lines[2], name + ": invalid: " + std::to_string(probes + 1) + " violations of 2 invariants");
+
+  const test::CliResult verbose = run_cli(with_path("validate --verbose --max-errors 0", path));
+  EXPECT_EQ(lines_of(verbose.out).size(), probes + 1 + 3) << verbose.out;
+  const nlohmann::json json = nlohmann::json::parse(run_cli(with_path("validate --json --max-errors 0", path)).out);
+  EXPECT_EQ(json["violations"].size(), probes + 1);
+
+  const test::CliResult stopped = run_cli(with_path("validate --max-errors 5", path));
+  EXPECT_NE(stopped.out.find(": invalid: 5 violations of 2 invariants (stopped at --max-errors)"), std::string::npos) << stopped.out;
+}
+
+// Zero bytes after the last payload: readable (the reader reads the file), but invalid.
+TEST_F(CliValidate, TrailingBytesAreInvalidNotUnreadable) {
+  std::vector<std::uint8_t> bytes = read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::small)));
+  testing::insert_zeros(bytes, bytes.size(), 32);
+  testing::refresh_header_checksum(bytes);
+  const test::CliResult text = run_cli(with_path("validate", write_bytes("tail.probes", bytes)));
+  EXPECT_EQ(text.exit_code, 1) << text.out;
+  EXPECT_NE(text.out.find(": invalid: trailing_bytes: 1 violation, first: container: 32 bytes after the last payload"), std::string::npos)
+      << text.out;
 }
 
 TEST_F(CliValidate, FlippedByteIsAChecksumViolation) {
@@ -99,7 +152,10 @@ TEST_F(CliValidate, UnreadableFilesExitTwo) {
     const nlohmann::json report = nlohmann::json::parse(json.out);
     EXPECT_FALSE(report["readable"].get<bool>());
     EXPECT_EQ(report["violations"][0]["invariant"], "container");
-    EXPECT_EQ(run_cli(with_path("validate", path)).exit_code, 2);
+    const test::CliResult text = run_cli(with_path("validate", path));
+    EXPECT_EQ(text.exit_code, 2);
+    ASSERT_EQ(lines_of(text.out).size(), 2u) << text.out; // the reader's one-line reason, then the verdict
+    EXPECT_EQ(lines_of(text.out)[1], path.string() + ": unreadable");
   }
   EXPECT_EQ(run_cli("validate").exit_code, 1); // usage error: no file
 }

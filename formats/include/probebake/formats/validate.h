@@ -49,7 +49,9 @@ struct ValidateOptions {
 ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& options = {});
 
 // Container checks (readable = false and a "container" violation when the bytes cannot be decoded;
-// "checksum" violations for mismatches), then validate() on the decoded volume.
+// "checksum" violations for mismatches; format_version, section_flags, section_layout, trailing_bytes and
+// section_dependency for what the reader reads but the format does not allow), then validate() on the
+// decoded volume.
 ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name,
                                const ValidateOptions& options = {});
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "scene_input.h"
 #include "probebake/bake/bake.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
@@ -24,6 +25,7 @@ struct BakeCommandSettings {
   std::vector<float> split_range;
   bool json = false;
   bake::BakeSettings bake;
+  SceneInputOptions input;
 };
 
 nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string& output, std::size_t bytes,
@@ -118,12 +120,10 @@ int run_bake(BakeCommandSettings& s) {
     s.bake.split_high = s.split_range[1];
   }
   bake::check_settings(s.bake); // usage errors before any work
-  const scene::Scene scene = scene::load_scene(s.scene, {.require_triangles = true});
+  const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
   const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
-  // Before the bake, not after it. TODO(loader): also the buffers and images the load read.
-  const std::vector<std::filesystem::path> inputs = {s.scene};
-  check_output_path(output, inputs);
+  check_output_path(output, scene.input_files); // before the bake, not after it
   const bool tty = isatty(STDERR_FILENO) != 0 && !s.json;
   bake::ProgressCallback progress;
   if (tty)
@@ -147,6 +147,7 @@ Command add_bake_command(CLI::App& root) {
   auto s = std::make_shared<BakeCommandSettings>();
   CLI::App* app = root.add_subcommand("bake", "Bake probes for a glTF scene into a .probes file (default command)");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
+  add_scene_input_options(app, s->input);
   app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
   app->add_option("--placement", s->placement, "Probe placement")->check(CLI::IsMember({"octree", "grid"}));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");

@@ -11,6 +11,7 @@
 
 #include "camera_options.h"
 #include "commands.h"
+#include "scene_input.h"
 #include "probebake/bake/eval.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
@@ -30,6 +31,7 @@ struct EvalCommandSettings {
   CameraOptions camera;
   CLI::Option* points_option = nullptr;
   CLI::Option* samples_option = nullptr;
+  SceneInputOptions input;
 };
 
 nlohmann::json row_json(const bake::EvalRow& r) {
@@ -65,10 +67,13 @@ int run_eval(EvalCommandSettings& s) {
   s.eval.camera = s.camera.camera();
   s.eval.error_map_dir = s.error_map;
   bake::check_eval_settings(s.eval); // usage errors before any work
-  // Outputs before the sweep. TODO(loader): also the buffers and images the load inside evaluate() reads.
+  // Outputs before the sweep: against the scene file here, against its buffers and images in evaluate().
   const std::vector<std::filesystem::path> inputs = {s.scene};
   for (const std::string* output : {&s.csv, &s.plot})
-    if (!output->empty()) check_output_path(*output, inputs);
+    if (!output->empty()) {
+      check_output_path(*output, inputs);
+      s.eval.outputs.emplace_back(*output);
+    }
   std::error_code ec;
   if (!s.error_map.empty() && std::filesystem::exists(s.error_map, ec) && !std::filesystem::is_directory(s.error_map, ec))
     throw Error(ErrorKind::output, s.error_map + ": is not a folder (--error-map names a folder)");
@@ -78,6 +83,7 @@ int run_eval(EvalCommandSettings& s) {
       fmt::print(stderr, "\r{:<40}", message);
       std::fflush(stderr);
     };
+  s.eval.scene_input = load_options(s.input, true);
   const bake::EvalResult result = bake::evaluate(s.scene, s.eval, progress);
   if (progress) fmt::print(stderr, "\r{:<40}\r", "");
   if (!s.csv.empty()) bake::write_eval_csv(s.csv, result);
@@ -97,6 +103,7 @@ Command add_eval_command(CLI::App& root) {
   auto s = std::make_shared<EvalCommandSettings>();
   CLI::App* app = root.add_subcommand("eval", "Error against bake time over a sweep of settings, vs. the path-traced reference");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
+  add_scene_input_options(app, s->input);
   s->points_option = app->add_option("--points", s->eval.points, "Seeded surface points (default 1000, --quick 64)");
   s->samples_option = app->add_option("--samples", s->eval.paths, "Reference paths per point (default 4096, --quick 64)");
   app->add_option("--seed", s->eval.seed, "Seed of the points and the reference");

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "scene_input.h"
 #include "info_probes.h"
 #include "probebake/formats/container.h"
 #include "probebake/bake/scene.h"
@@ -18,6 +19,7 @@ namespace {
 struct InfoSettings {
   std::string path;
   bool json = false;
+  SceneInputOptions input;
 };
 
 const char* light_type_name(scene::LightType type) {
@@ -88,7 +90,7 @@ bool is_probes_file(const std::string& path) {
 
 int run_info(const InfoSettings& settings) {
   if (is_probes_file(settings.path)) return run_info_probes(settings.path, settings.json);
-  const scene::Scene s = scene::load_scene(settings.path, {.require_triangles = true});
+  const scene::Scene s = scene::load_scene(settings.path, load_options(settings.input, true));
   if (settings.json) {
     std::puts(scene_info_json(s).dump(2).c_str());
   } else {
@@ -104,6 +106,7 @@ Command add_info_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand("info", "Describe a glTF scene (.gltf/.glb) or a baked .probes file");
   app->add_option("file", settings->path, "Scene or .probes file")->required();
   app->add_flag("--json", settings->json, "Print one JSON object instead of text");
+  add_scene_input_options(app, settings->input);
   return {app, [settings] { return run_info(*settings); }};
 }
 

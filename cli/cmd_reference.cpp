@@ -10,6 +10,7 @@
 
 #include "camera_options.h"
 #include "commands.h"
+#include "scene_input.h"
 #include "probebake/bake/reference.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
@@ -26,6 +27,7 @@ struct ReferenceCommandSettings {
   bool json = false;
   bake::ReferenceSettings reference;
   CameraOptions camera;
+  SceneInputOptions input;
 };
 
 nlohmann::json points_json(const bake::ReferenceResult& r) {
@@ -63,12 +65,11 @@ int run_reference(ReferenceCommandSettings& s) {
   const std::optional<bake::Camera> camera = s.camera.camera();
   if (!s.image.empty() && !camera) throw Error(ErrorKind::usage, "--image needs --camera and --look-at");
   if (s.points == 0 && s.image.empty()) throw Error(ErrorKind::usage, "nothing to do: --points 0 and no --image");
-  const scene::Scene scene = scene::load_scene(s.scene, {.require_triangles = true});
+  const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
-  // Before the path tracing. TODO(loader): also the buffers and images the load read.
-  const std::vector<std::filesystem::path> inputs = {s.scene};
-  if (s.points > 0 && !s.csv.empty()) check_output_path(s.csv, inputs);
-  if (!s.image.empty()) check_output_path(s.image, inputs);
+  // Before the path tracing: the scene and every buffer and image it read.
+  if (s.points > 0 && !s.csv.empty()) check_output_path(s.csv, scene.input_files);
+  if (!s.image.empty()) check_output_path(s.image, scene.input_files);
   const scene::RayScene rays(scene);
   nlohmann::json j = {{"scene", s.scene}, {"paths", s.reference.paths}, {"seed", s.reference.seed}};
   if (s.points > 0) {
@@ -100,6 +101,7 @@ Command add_reference_command(CLI::App& root) {
   auto s = std::make_shared<ReferenceCommandSettings>();
   CLI::App* app = root.add_subcommand("reference", "Path-traced reference irradiance at surface points and/or as an image");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
+  add_scene_input_options(app, s->input);
   app->add_option("--points", s->points, "Seeded surface points, stratified by area (0 = none)");
   app->add_option("--samples", s->reference.paths, "Paths per point");
   app->add_option("--seed", s->reference.seed, "Seed of the points and paths");

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,10 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     std::fprintf(stderr, "probebake: error: %s\n", e.what());
     return e.exit_code();
+  } catch (const std::bad_alloc&) { // an allocation past --max-memory that no earlier check foresaw
+    std::fprintf(stderr, "probebake: error: out of memory: the input needs more than the memory budget "
+                         "(--max-memory) or the machine has\n");
+    return static_cast<int>(ErrorKind::input);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "probebake: internal error: %s\n", e.what());
     return static_cast<int>(ErrorKind::internal);

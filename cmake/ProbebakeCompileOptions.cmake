@@ -10,6 +10,7 @@ function(probebake_target_defaults target)
 endfunction()
 
 if(PROBEBAKE_SANITIZE)
+  add_compile_definitions(PROBEBAKE_SANITIZED=1)
   add_compile_options(-fsanitize=${PROBEBAKE_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${PROBEBAKE_SANITIZE})
 endif()

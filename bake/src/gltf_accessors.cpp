@@ -104,10 +104,14 @@ std::vector<double> read_accessor(const tinygltf::Model& model, const tinygltf::
     ctx.fail(place, fmt::format("unsupported accessor type {} / componentType {}", acc.type, acc.componentType));
   if (acc.count > (std::size_t(1) << 31)) ctx.fail(place, fmt::format("accessor count {} is too large", acc.count));
   const std::size_t nc = std::size_t(components);
-  std::vector<double> out(acc.count * nc, 0.0); // an accessor without bufferView is all zeros (spec)
+  // The view is checked before anything is allocated: a declared count must fit in its buffer. An
+  // accessor without bufferView is all zeros (spec) and only the memory budget bounds it.
+  ElementView view;
+  if (acc.bufferView >= 0)
+    view = checked_view(model, acc.bufferView, acc.byteOffset, acc.count, nc * std::size_t(info.size), true, ctx, place);
+  ctx.charge(acc.count * nc, sizeof(double) + sizeof(float), place);
+  std::vector<double> out(acc.count * nc, 0.0);
   if (acc.bufferView >= 0) {
-    const std::size_t element_size = nc * std::size_t(info.size);
-    ElementView view = checked_view(model, acc.bufferView, acc.byteOffset, acc.count, element_size, true, ctx, place);
     for (std::size_t i = 0; i < acc.count; ++i)
       for (std::size_t c = 0; c < nc; ++c)
         out[i * nc + c] = read_component(view.base + i * view.stride + c * std::size_t(info.size), acc.componentType,

@@ -123,12 +123,6 @@ bool strip_draco_indices(nlohmann::json& gltf) {
   return changed;
 }
 
-std::uint32_t read_u32(const unsigned char* p) {
-  std::uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v; // glTF is little-endian, as is every platform probebake runs on
-}
-
 void append_u32(std::vector<unsigned char>& out, std::uint32_t v) {
   const auto* p = reinterpret_cast<const unsigned char*>(&v);
   out.insert(out.end(), p, p + 4);
@@ -147,27 +141,22 @@ nlohmann::json parse_json(const char* begin, std::size_t size, const Context& ct
 bool prepare_draco_for_tinygltf(std::vector<unsigned char>& bytes, bool is_glb, const Context& ctx) {
   static const char kName[] = "KHR_draco_mesh_compression";
   if (std::search(bytes.begin(), bytes.end(), kName, kName + sizeof(kName) - 1) == bytes.end()) return false;
+  const std::string_view json = gltf_json_text(bytes, is_glb, ctx);
+  nlohmann::json gltf = parse_json(json.data(), json.size(), ctx);
+  if (!strip_draco_indices(gltf)) return false;
+  std::string text = gltf.dump();
   if (!is_glb) {
-    nlohmann::json gltf = parse_json(reinterpret_cast<const char*>(bytes.data()), bytes.size(), ctx);
-    if (!strip_draco_indices(gltf)) return false;
-    const std::string text = gltf.dump();
     bytes.assign(text.begin(), text.end());
     return true;
   }
-  // GLB: 12-byte header, then a JSON chunk and an optional BIN chunk (glTF 2.0 spec §4.4).
-  if (bytes.size() < 20) ctx.fail("glb", "file is shorter than a GLB header");
-  const std::uint32_t json_length = read_u32(&bytes[12]);
-  if (read_u32(&bytes[16]) != 0x4E4F534Au || json_length > bytes.size() - 20)
-    ctx.fail("glb", "first chunk is not a complete JSON chunk");
-  nlohmann::json gltf = parse_json(reinterpret_cast<const char*>(&bytes[20]), json_length, ctx);
-  if (!strip_draco_indices(gltf)) return false;
-  std::string text = gltf.dump();
+  // GLB: the 12-byte header, the rewritten JSON chunk (padded to 4 bytes), then the BIN chunk as it was.
   while (text.size() % 4 != 0) text.push_back(' ');
+  const std::size_t bin_start = 20 + json.size();
   std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
   append_u32(out, static_cast<std::uint32_t>(text.size()));
   append_u32(out, 0x4E4F534Au);
   out.insert(out.end(), text.begin(), text.end());
-  out.insert(out.end(), bytes.begin() + 20 + std::ptrdiff_t(json_length), bytes.end()); // BIN chunk as it was
+  out.insert(out.end(), bytes.begin() + std::ptrdiff_t(bin_start), bytes.end());
   const auto total = static_cast<std::uint32_t>(out.size());
   std::memcpy(&out[8], &total, 4);
   bytes = std::move(out);

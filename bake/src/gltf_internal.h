@@ -1,11 +1,13 @@
 // Internals of the glTF loader, shared by its translation units (gltf_*.cpp). Not a public header.
 #pragma once
 
-#include <cstdint>
-#include <string>
-#include <vector>
-
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -14,6 +16,7 @@
 
 namespace tinygltf {
 class Model;
+class TinyGLTF;
 class Value;
 struct Primitive;
 struct Material;
@@ -38,17 +41,64 @@ bool all_finite(const glm::vec<N, float>& v) {
   return true;
 }
 
+struct Context;
+
+// Bytes the loader may still allocate for file contents and decoded data (LoadOptions::max_memory).
+// charge() is called before each large allocation, so a hostile count fails before it is allocated.
+class MemoryBudget {
+public:
+  explicit MemoryBudget(std::uint64_t limit) : limit_(limit) {}
+  void charge(std::uint64_t bytes, const Context& ctx, const std::string& place);
+
+private:
+  std::uint64_t limit_ = 0; // 0 = no limit
+  std::uint64_t used_ = 0;
+};
+
 // Where an error happened, for "<file>: <place>: <reason>" messages.
 struct Context {
   std::string file;
   std::vector<std::string>* warnings = nullptr; // where non-fatal problems go (Scene::warnings)
+  MemoryBudget* budget = nullptr;
   void warn(const std::string& message) const {
     if (warnings != nullptr) warnings->push_back(message);
   }
   [[noreturn]] void fail(const std::string& place, const std::string& reason) const {
     throw Error(ErrorKind::input, file + ": " + place + ": " + reason);
   }
+  // Charges `count` elements of `size` bytes, refusing counts whose product overflows.
+  void charge(std::uint64_t count, std::uint64_t size, const std::string& place) const {
+    if (size != 0 && count > UINT64_MAX / size) fail(place, "element count overflows");
+    if (budget != nullptr) budget->charge(count * size, *this, place);
+  }
 };
+
+// Where external files may come from (the scene's folder and --allow-path folders, resolved), and where
+// what was read is recorded. tinygltf's callbacks receive a pointer to it (gltf_files.cpp).
+struct InputPolicy {
+  InputPolicy(const std::filesystem::path& scene_folder, const std::vector<std::filesystem::path>& allowed,
+              MemoryBudget& memory, const Context& context);
+  // True when `path`, with symlinks and ".." resolved, lies inside one of the roots.
+  bool allows(const std::filesystem::path& path) const;
+
+  std::filesystem::path base_dir;            // the scene's folder, resolved
+  std::vector<std::filesystem::path> roots;  // base_dir first
+  MemoryBudget* budget;
+  const Context& ctx;
+  std::vector<std::filesystem::path> files_read; // external files, resolved
+};
+
+// Installs the confined file-system callbacks and the size-checking image loader.
+void configure_parser(tinygltf::TinyGLTF& parser, InputPolicy& policy);
+
+constexpr std::size_t kMaxJsonDepth = 64; // real glTF needs about 10; extras get the rest
+
+// The JSON text of a .gltf, or the JSON chunk of a .glb (header and chunk sizes checked).
+std::string_view gltf_json_text(std::span<const unsigned char> bytes, bool is_glb, const Context& ctx);
+// Checks nesting depth, data URIs and external URIs before any tree is built from the JSON.
+void preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx);
+// URI percent-decoding as tinygltf applies it before opening a file.
+std::string percent_decode(const std::string& uri);
 
 // Geometry of one triangle primitive in its mesh's local space.
 struct PrimitiveGeometry {

@@ -21,13 +21,25 @@ namespace {
 
 using detail::Context;
 
+// tinygltf keeps the JSON tree and its own copy of every value: a generous bound on its bytes per
+// character of JSON text, charged before parsing.
+constexpr std::uint64_t kJsonTreeBytesPerChar = 16;
+// Scene arrays per triangle: indices, material, albedo, emission.
+constexpr std::uint64_t kSceneBytesPerTriangle = sizeof(glm::uvec3) + sizeof(std::uint32_t) + 2 * sizeof(glm::vec3);
+
 std::vector<unsigned char> read_file_bytes(const std::filesystem::path& path, const Context& ctx) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) ctx.fail("open", "file does not exist");
-  if (std::filesystem::is_directory(path, ec)) ctx.fail("open", "is a directory, not a glTF file");
+  if (!std::filesystem::is_regular_file(path, ec)) ctx.fail("open", "is not a regular file");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) ctx.fail("open", "cannot read the file size");
+  ctx.charge(size, 1, "open");
   std::ifstream in(path, std::ios::binary);
   if (!in) ctx.fail("open", "cannot open for reading");
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::vector<unsigned char> bytes(size);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)) || in.gcount() != std::streamsize(size))
+    ctx.fail("open", "cannot read the whole file (did it change while reading?)");
+  return bytes;
 }
 
 std::string first_line(const std::string& text) {
@@ -36,14 +48,19 @@ std::string first_line(const std::string& text) {
   return line.empty() ? "unknown parse error" : line;
 }
 
-tinygltf::Model parse_gltf(std::vector<unsigned char> bytes, const std::string& base_dir, const Context& ctx) {
+tinygltf::Model parse_gltf(std::vector<unsigned char> bytes, detail::InputPolicy& policy, const Context& ctx) {
   if (bytes.empty()) ctx.fail("parse", "file is empty");
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) ctx.fail("parse", "file is larger than 4 GiB");
+  const bool is_glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
+  const std::string_view json = detail::gltf_json_text(bytes, is_glb, ctx);
+  detail::preflight_gltf_json(json, policy, ctx);
+  ctx.charge(json.size(), kJsonTreeBytesPerChar, "json");
+  detail::prepare_draco_for_tinygltf(bytes, is_glb, ctx);
   tinygltf::TinyGLTF parser;
+  detail::configure_parser(parser, policy);
   tinygltf::Model model;
   std::string err, warn;
-  const bool is_glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
-  detail::prepare_draco_for_tinygltf(bytes, is_glb, ctx);
+  const std::string base_dir = policy.base_dir.string();
   const bool ok = is_glb ? parser.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
                                                        static_cast<unsigned int>(bytes.size()), base_dir)
                          : parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
@@ -161,7 +178,11 @@ private:
     const bool draco = primitive.extensions.count("KHR_draco_mesh_compression") != 0;
     detail::PrimitiveGeometry g = draco ? detail::decode_draco_primitive(model_, primitive, ctx_, place)
                                         : detail::read_plain_primitive(model_, primitive, ctx_, place);
+    if (primitive.mode == TINYGLTF_MODE_TRIANGLE_STRIP || primitive.mode == TINYGLTF_MODE_TRIANGLE_FAN)
+      ctx_.charge(g.indices.size(), 3 * sizeof(std::uint32_t), place);
     expand_strips_and_fans(g, primitive.mode);
+    ctx_.charge(g.positions.size(), sizeof(glm::vec3), place);
+    ctx_.charge(g.indices.size() / 3, kSceneBytesPerTriangle, place);
     for (std::uint32_t i : g.indices)
       if (i >= g.positions.size())
         ctx_.fail(place, fmt::format("index {} is past the vertex count {}", i, g.positions.size()));
@@ -230,15 +251,23 @@ std::vector<int> root_nodes(const tinygltf::Model& model, const Context& ctx) {
 } // namespace
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
-  const Context ctx{path.string(), nullptr};
-  return load_scene_from_memory(read_file_bytes(path, ctx), path.string(), path.parent_path(), options);
+  detail::MemoryBudget budget(options.max_memory);
+  const Context ctx{path.string(), nullptr, &budget};
+  Scene scene = load_scene_from_memory(read_file_bytes(path, ctx), path.string(), path.parent_path(), options);
+  std::error_code ec;
+  scene.input_files.insert(scene.input_files.begin(), std::filesystem::weakly_canonical(path, ec));
+  return scene;
 }
 
 Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string& name,
                              const std::filesystem::path& base_dir, const LoadOptions& options) {
   Scene scene;
-  const Context ctx{name, &scene.warnings};
-  const tinygltf::Model model = parse_gltf(std::move(bytes), base_dir.string(), ctx);
+  detail::MemoryBudget budget(options.max_memory);
+  const Context ctx{name, &scene.warnings, &budget};
+  ctx.charge(bytes.size(), 1, "open");
+  detail::InputPolicy policy(base_dir, options.allowed_paths, budget, ctx);
+  const tinygltf::Model model = parse_gltf(std::move(bytes), policy, ctx);
+  scene.input_files = std::move(policy.files_read);
   check_required_extensions(model, ctx);
   scene.extensions_used = model.extensionsUsed;
   scene.extensions_required = model.extensionsRequired;

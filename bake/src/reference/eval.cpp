@@ -9,6 +9,7 @@
 #include "eval_maps.h"
 #include "probebake/bake/lighting.h"
 #include "probebake/bake/sampler.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
 
@@ -89,7 +90,10 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   const std::vector<EvalConfig> configs = settings.configs.empty() ? default_sweep() : settings.configs;
   const std::string baseline = baseline_label(settings, configs);
   auto say = [&](const std::string& m) { if (progress) progress(m); };
-  const scene::Scene scene = scene::load_scene(scene_path, {.require_triangles = true});
+  scene::LoadOptions load = settings.scene_input;
+  load.require_triangles = true;
+  const scene::Scene scene = scene::load_scene(scene_path, load);
+  for (const auto& output : settings.outputs) check_output_path(output, scene.input_files);
   const scene::RayScene rays(scene);
 
   say("reference");

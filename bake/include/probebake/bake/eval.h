@@ -42,6 +42,8 @@ struct EvalSettings {
   std::optional<Camera> camera;       // with error_map_dir: per-configuration error images
   std::filesystem::path error_map_dir;
   int image_paths = 64;               // reference paths per pixel of the error maps
+  scene::LoadOptions scene_input = {}; // confinement and memory budget of the scene load
+  std::vector<std::filesystem::path> outputs = {}; // checked against every file the load read
 };
 
 // Throws Error(usage) naming the option when a setting is out of range.

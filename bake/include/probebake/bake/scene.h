@@ -78,6 +78,7 @@ struct Scene {
   std::vector<std::string> warnings;              // things skipped, e.g. non-triangle primitives
   int mesh_count = 0;
   Bounds bounds;                                  // of all triangles
+  std::vector<std::filesystem::path> input_files; // every file read: the scene, then its buffers and images (resolved)
 
   std::size_t triangle_count() const { return triangles.size(); }
 };
@@ -85,10 +86,16 @@ struct Scene {
 struct LoadOptions {
   // Refuse scenes without triangles (the bake needs geometry; `info` accepts them).
   bool require_triangles = false;
+  // External buffers and images resolve only inside the scene's folder (symlinks and ".." resolved) and
+  // these folders; never through the working directory. Absolute URIs and URI schemes are refused.
+  std::vector<std::filesystem::path> allowed_paths = {};
+  // Bytes the loader may allocate for file contents and decoded geometry and images; 0 = no limit.
+  std::uint64_t max_memory = 0;
 };
 
 // Loads .gltf (external files or data URIs) or .glb. Throws probebake::Error (ErrorKind::input) with a
-// one-line "<file>: <place>: <reason>" message on any malformed, truncated or unsupported input.
+// one-line "<file>: <place>: <reason>" message on any malformed, truncated, unsupported or unsafe input
+// (README "Security": confinement, JSON depth, sizes checked before allocation).
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
 // The same from bytes in memory; `name` is used in messages, external URIs resolve against `base_dir`.
 Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string& name,

@@ -1,0 +1,71 @@
+#include "scene_input.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cmath>
+
+#include "probebake/formats/error.h"
+
+namespace probebake::cli {
+namespace {
+
+// Address space beyond the budget: code, thread stacks and allocator arenas, which are reserved, not used.
+constexpr std::uint64_t kAddressSpaceHeadroom = std::uint64_t(4) << 30;
+
+std::uint64_t default_budget() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return 0;
+  return std::uint64_t(pages) * std::uint64_t(page_size) / 4 * 3;
+}
+
+void cap_address_space(std::uint64_t budget) {
+#if !defined(PROBEBAKE_SANITIZED)
+  if (budget == 0) return;
+  const rlimit limit{budget + kAddressSpaceHeadroom, budget + kAddressSpaceHeadroom};
+  ::setrlimit(RLIMIT_AS, &limit); // best effort: a lower hard limit set by the caller stays in force
+#else
+  (void)budget; // sanitizers reserve terabytes of address space
+#endif
+}
+
+} // namespace
+
+std::uint64_t parse_byte_size(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  const std::string suffix = text.substr(used);
+  double scale = 1.0;
+  if (suffix == "K" || suffix == "KiB") scale = 1024.0;
+  else if (suffix == "M" || suffix == "MiB") scale = 1024.0 * 1024.0;
+  else if (suffix == "G" || suffix == "GiB") scale = 1024.0 * 1024.0 * 1024.0;
+  else if (suffix == "T" || suffix == "TiB") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  else if (!suffix.empty()) used = 0;
+  if (used == 0 || !std::isfinite(value) || value < 0.0 || value * scale > 1.8e19)
+    throw Error(ErrorKind::usage, "--max-memory: '" + text + "' is not a size like 512M, 8G or a byte count");
+  return static_cast<std::uint64_t>(value * scale);
+}
+
+void add_scene_input_options(CLI::App* app, SceneInputOptions& options) {
+  app->add_option("--allow-path", options.allow_paths,
+                  "Also let the scene's external buffers and images come from DIR (repeatable; default: only the "
+                  "scene's own folder)");
+  app->add_option("--max-memory", options.max_memory,
+                  "Memory budget, e.g. 8G (default: 3/4 of physical memory; 0: no limit)");
+}
+
+scene::LoadOptions load_options(const SceneInputOptions& options, bool require_triangles) {
+  scene::LoadOptions load;
+  load.require_triangles = require_triangles;
+  for (const std::string& dir : options.allow_paths) load.allowed_paths.emplace_back(dir);
+  load.max_memory = options.max_memory.empty() ? default_budget() : parse_byte_size(options.max_memory);
+  cap_address_space(load.max_memory);
+  return load;
+}
+
+} // namespace probebake::cli

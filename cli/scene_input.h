@@ -1,0 +1,29 @@
+// Options every command that reads a glTF scene shares (README "Security"): folders besides the scene's own
+// that external files may come from, and the memory budget of the load and of the whole process.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "probebake/bake/scene.h"
+
+namespace probebake::cli {
+
+struct SceneInputOptions {
+  std::vector<std::string> allow_paths;
+  std::string max_memory; // "" = the default (3/4 of physical memory); "0" = no limit
+};
+
+void add_scene_input_options(CLI::App* app, SceneInputOptions& options);
+
+// Loader options; also caps the process's address space at the budget plus headroom (not under
+// sanitizers), so an allocation no check foresaw fails as std::bad_alloc instead of exhausting the machine.
+scene::LoadOptions load_options(const SceneInputOptions& options, bool require_triangles);
+
+// "512M", "8G", "1.5G", "1048576" -> bytes. Throws Error(usage) on anything else.
+std::uint64_t parse_byte_size(const std::string& text);
+
+} // namespace probebake::cli

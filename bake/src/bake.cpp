@@ -200,6 +200,7 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
 
 BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress) {
   check_settings(settings);
+  const detail::ThreadLimit thread_limit(settings.threads);
   BakeResult result;
   BakeReport& report = result.report;
   StageTimer timer(report);

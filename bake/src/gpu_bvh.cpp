@@ -14,6 +14,7 @@
 #include <fmt/core.h>
 #include <glm/common.hpp>
 
+#include "parallel.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake::detail {
@@ -131,7 +132,7 @@ void refit(GpuBvh& bvh, std::span<const gpu::TraceTriangle> triangles) {
 class EmbreeBvh {
 public:
   EmbreeBvh() {
-    device_ = rtcNewDevice("threads=1"); // one thread: the same tree on every run
+    device_ = rtcNewDevice(nullptr); // built on one thread (build()): the same tree on every run
     if (device_ == nullptr) throw Error(ErrorKind::internal, "gpu_scene: Embree: rtcNewDevice failed");
     bvh_ = rtcNewBVH(device_);
   }
@@ -159,7 +160,8 @@ public:
     args.setNodeBounds = set_bounds;
     args.createLeaf = create_leaf;
     args.userPtr = &state;
-    const auto* root = static_cast<const BuildNode*>(rtcBuildBVH(&args));
+    const BuildNode* root = nullptr;
+    run_on_one_thread([&] { root = static_cast<const BuildNode*>(rtcBuildBVH(&args)); });
     if (root == nullptr || state.unexpected || rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
       throw Error(ErrorKind::internal, fmt::format("gpu_scene: Embree: rtcBuildBVH failed (error {}{})", int(rtcGetDeviceError(device_)),
                                                    state.unexpected ? ", unexpected node shape" : ""));

@@ -1,12 +1,14 @@
 // Embree 3 triangle BVH over the flattened scene, in Embree-owned buffers; the device and scene handles are
-// owned here and released in the destructor. The BVH is built on one thread so that the tree, and with it
-// the choice between exactly coincident hits, is the same on every run (bakes must be deterministic).
+// owned here and released in the destructor. The BVH is built on one thread (run_on_one_thread) so that the
+// tree, and with it the choice between exactly coincident hits, is the same on every run and for every
+// --threads (bakes must be deterministic); queries then run on all threads.
 #include <embree3/rtcore.h>
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
 
 #include "probebake/bake/ray_scene.h"
 #include "probebake/formats/error.h"
+#include "parallel.h"
 
 namespace probebake::scene {
 namespace {
@@ -30,7 +32,7 @@ struct RayScene::Impl {
 
 RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   impl_->scene = &scene;
-  impl_->device = rtcNewDevice("threads=1");
+  impl_->device = rtcNewDevice(nullptr);
   if (impl_->device == nullptr) throw Error(ErrorKind::internal, "Embree: rtcNewDevice failed");
   impl_->handle = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->handle, RTC_BUILD_QUALITY_HIGH);
@@ -52,7 +54,7 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     rtcAttachGeometry(impl_->handle, geometry);
     rtcReleaseGeometry(geometry);
   }
-  rtcCommitScene(impl_->handle);
+  bake::detail::run_on_one_thread([&] { rtcCommitScene(impl_->handle); });
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) throw_embree_error(impl_->device, "scene build");
 }
 

@@ -1,6 +1,7 @@
 #include "parallel.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -13,6 +14,20 @@ void parallel_for(std::size_t count, int threads, const std::function<void(std::
       for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
     });
   });
+}
+
+struct ThreadLimit::Impl {
+  explicit Impl(int threads) : control(tbb::global_control::max_allowed_parallelism, std::size_t(threads)) {}
+  tbb::global_control control;
+};
+
+ThreadLimit::ThreadLimit(int threads) : impl_(threads > 0 ? std::make_unique<Impl>(threads) : nullptr) {}
+
+ThreadLimit::~ThreadLimit() = default;
+
+void run_on_one_thread(const std::function<void()>& work) {
+  tbb::task_arena arena(1);
+  arena.execute(work);
 }
 
 } // namespace probebake::bake::detail

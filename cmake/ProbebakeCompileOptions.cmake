@@ -15,8 +15,9 @@ if(PROBEBAKE_SANITIZE)
   add_link_options(-fsanitize=${PROBEBAKE_SANITIZE})
 endif()
 
-# Fuzzing builds instrument every library for coverage (the fuzz targets add the libFuzzer main).
+# Fuzzing builds instrument every library for coverage (the fuzz targets add the libFuzzer main). UBSan
+# must not recover, or libFuzzer would count undefined behaviour as a pass.
 if(PROBEBAKE_BUILD_FUZZERS AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)
 endif()

@@ -66,7 +66,7 @@ private:
 
   void visit_children(const SvoVisit& visit, int first, std::vector<SvoVisit>& stack) {
     if (static_cast<std::size_t>(first) + 8 > nodes_.size()) {
-      out_.add("svo_index_range", "svo_nodes", visit.node, concat("children ", first, "..", first + 7, " out of range"));
+      out_.add("svo_index_range", "svo_nodes", visit.node, concat("children ", first, "..", static_cast<long long>(first) + 7, " out of range"));
       return;
     }
     if (first <= visit.node) {

@@ -112,6 +112,16 @@ std::string default_output(const std::string& scene) {
   return (p.parent_path() / p.stem()).string() + ".probes";
 }
 
+// Input errors of the bake (degenerate or out-of-range geometry, no probes) name the scene, like the loader's.
+bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings& s, const bake::ProgressCallback& progress) {
+  try {
+    return bake::bake(scene, s.bake, progress);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::input) throw;
+    throw Error(ErrorKind::input, s.scene + ": " + e.what());
+  }
+}
+
 int run_bake(BakeCommandSettings& s) {
   s.bake.placement = s.placement == "grid" ? bake::Placement::grid : bake::Placement::octree;
   s.bake.lattice = *bake::parse_lattice(s.lattice);
@@ -131,7 +141,7 @@ int run_bake(BakeCommandSettings& s) {
       fmt::print(stderr, "\r{:<10} {:3.0f}%", stage, 100.0 * fraction);
       std::fflush(stderr);
     };
-  const bake::BakeResult result = bake::bake(scene, s.bake, progress);
+  const bake::BakeResult result = bake_scene(scene, s, progress);
   if (tty) fmt::print(stderr, "\r{:<20}\r", "");
   formats::write_probes_file(output, result.volume);
   const auto bytes = std::filesystem::file_size(output);

@@ -152,6 +152,34 @@ void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
   report.svo_leaves = int(v.svo_leaves.size());
 }
 
+// Measured (docs/RESULTS.md, "Scale range"): the generated Cornell box bakes the same probes from 1e-5 to
+// 1e10 times its size and 1e4 of its size from the origin; beyond that 32-bit positions, Embree's ray
+// epsilons and the SDF lose it. The limits keep a factor of ten from where it breaks.
+constexpr float kMinSceneSize = 1e-4f;        // metres across (0.1 mm)
+constexpr float kMaxSceneSize = 1e8f;         // metres across (100,000 km)
+constexpr float kMaxOffsetPerSize = 1e4f;     // distance of the bounds from the origin / size across
+
+void bake_fail(const std::string& reason) { throw Error(ErrorKind::input, "bake: " + reason); }
+
+void check_scene(const scene::Scene& scene) {
+  bool any_area = false;
+  for (std::size_t t = 0; t < scene.triangles.size() && !any_area; ++t)
+    any_area = scene::triangle_normal(scene, t) != glm::vec3(0.0f);
+  if (!any_area) bake_fail("no triangle has a non-zero area (degenerate geometry): there is nothing to place probes around");
+  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
+  const float size = std::max({extent.x, extent.y, extent.z});
+  if (size < kMinSceneSize)
+    bake_fail(fmt::format("the scene is {:.3g} m across, below the {:.0e} m the bake resolves in 32-bit floats; scale "
+                          "it up (a glTF node scale)", size, kMinSceneSize));
+  if (size > kMaxSceneSize)
+    bake_fail(fmt::format("the scene is {:.3g} m across, above the {:.0e} m the bake resolves in 32-bit floats; scale "
+                          "it down (a glTF node scale)", size, kMaxSceneSize));
+  const float offset = std::max(glm::length(scene.bounds.min), glm::length(scene.bounds.max));
+  if (offset > kMaxOffsetPerSize * size)
+    bake_fail(fmt::format("the scene is {:.3g} m across but {:.3g} m from the origin: 32-bit positions cannot resolve "
+                          "it there; move it nearer the origin (a glTF node translation)", size, offset));
+}
+
 } // namespace
 
 void check_settings(const BakeSettings& s) {
@@ -200,6 +228,7 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
 
 BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress) {
   check_settings(settings);
+  check_scene(scene);
   const detail::ThreadLimit thread_limit(settings.threads);
   BakeResult result;
   BakeReport& report = result.report;
@@ -264,6 +293,10 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   volume.input_hash = bake_input_hash(scene, settings);
   timer.stage("");
   fill_report(volume, report);
+  if (report.probes == 0)
+    bake_fail(fmt::format("no probes placed: all {} candidates were inside geometry or could not be moved {:.3g} m "
+                          "clear of it; try a smaller --clearance, a deeper --max-depth or --placement grid",
+                          report.placed_probes, report.clearance));
   return result;
 }
 

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <glm/geometric.hpp>
 
 #include "probebake/bake/scene.h"
@@ -30,11 +31,13 @@ double triangle_area(const Scene& scene, std::size_t t) {
 }
 
 glm::vec3 triangle_normal(const Scene& scene, std::size_t t) {
+  // In double: the squared length of a float cross product overflows for edges above ~1e9 m and
+  // underflows below ~1e-10 m, which left non-unit normals in the file at extreme scales.
   const glm::uvec3 tri = scene.triangles[t];
-  const glm::vec3 a = scene.positions[tri.x], b = scene.positions[tri.y], c = scene.positions[tri.z];
-  const glm::vec3 n = glm::cross(b - a, c - a);
-  const float len = glm::length(n);
-  return len > 0.0f ? n / len : glm::vec3(0.0f);
+  const glm::dvec3 a(scene.positions[tri.x]), b(scene.positions[tri.y]), c(scene.positions[tri.z]);
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double len = glm::length(n);
+  return len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : glm::vec3(0.0f);
 }
 
 SceneSummary summarize(const Scene& scene) {

@@ -225,7 +225,9 @@ FloatGrid::Ptr mesh_to_volume(const scene::Scene& scene, float voxel, float exte
   for (const glm::uvec3& t : scene.triangles) triangles.emplace_back(t.x, t.y, t.z);
 
   const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> mesh(points, triangles);
-  const openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(voxel);
+  // Index space throughout (distances in voxels, scaled by Impl::sample): OpenVDB refuses a transform
+  // whose determinant voxel^3 is below its tolerance (about 1e-8), i.e. every scene under ~0.5 m across.
+  const openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(1.0);
   // OpenVDB would delete surfaces lying inside another closed surface (it takes them for self-intersection
   // debris) and renormalise the distances around them: a solid standing in a closed room would vanish.
   // Keep every surface and the exact closest-triangle distances; resign_enclosed sorts out the sign.
@@ -268,7 +270,7 @@ struct SceneSdf::Impl {
     if (!grid || !all_finite(p)) return band;
     const FloatGrid::ConstUnsafeAccessor accessor = grid->getConstUnsafeAccessor(); // per call: thread-safe
     const openvdb::Vec3R index(double(p.x) / voxel, double(p.y) / voxel, double(p.z) / voxel);
-    const float d = openvdb::tools::BoxSampler::sample(accessor, index);
+    const float d = openvdb::tools::BoxSampler::sample(accessor, index) * voxel; // voxels to metres
     return std::isnan(d) ? band : std::min(d, band);
   }
 

@@ -71,7 +71,7 @@ TEST(BakeCli, CornellAtDepth3WritesAValidFileWithFewProbesAndRebakesIdentically)
 TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
   const auto scene = write_generated(samples::triangle(), "cli_runtime_lighting");
   const auto with = scene.parent_path() / "with.probes", without = scene.parent_path() / "without.probes";
-  const CliRun bake = run({scene, "--json -o", with});
+  const CliRun bake = run({scene, "--placement grid --grid 3 --json -o", with});
   ASSERT_EQ(bake.exit_code, 0) << bake.err;
   const auto report = nlohmann::json::parse(bake.out);
   EXPECT_TRUE(report["runtime_lighting"]["written"].get<bool>());
@@ -85,7 +85,7 @@ TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
   EXPECT_EQ(info["format_version"].get<std::string>(), "1.1");
   EXPECT_EQ(run({"validate", with}).exit_code, 0);
 
-  const CliRun off = run({scene, "--no-runtime-lighting --json -o", without});
+  const CliRun off = run({scene, "--placement grid --grid 3 --no-runtime-lighting --json -o", without});
   ASSERT_EQ(off.exit_code, 0) << off.err;
   EXPECT_FALSE(nlohmann::json::parse(off.out)["runtime_lighting"]["written"].get<bool>());
   const auto plain = nlohmann::json::parse(run({"info --json", without}).out);

@@ -330,6 +330,8 @@ TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
   const scene::Scene s = load_generated(lit_scene(), "gpu_bake");
   bake::BakeSettings settings = test_settings();
   settings.lighting.enabled = false; // the runtime can light from zero
+  settings.placement = bake::Placement::grid; // the octree places no probe around a lone triangle
+  settings.grid_resolution = 2;
   const bake::BakeResult with = bake::bake(s, settings);
   EXPECT_TRUE(formats::validate(with.volume).valid()) << violations(formats::validate(with.volume));
   EXPECT_TRUE(with.report.runtime_lighting.written);

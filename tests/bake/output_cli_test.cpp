@@ -144,7 +144,7 @@ TEST(OutputCli, AnOutputLinkIsWrittenThrough) {
   fs::create_directories(dir / "real");
   std::ofstream(dir / "real" / "out.probes") << "old";
   fs::create_symlink("real/out.probes", dir / "out.probes");
-  const CliResult r = run_cli(quoted(dir / "scene.glb") + " --no-lighting --max-depth 2 -o " + quoted(dir / "out.probes"));
+  const CliResult r = run_cli(quoted(dir / "scene.glb") + " --no-lighting --placement grid --grid 2 -o " + quoted(dir / "out.probes"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_symlink(dir / "out.probes"));
   EXPECT_EQ(run_cli("validate " + quoted(dir / "real" / "out.probes")).exit_code, 0);

@@ -54,8 +54,8 @@ for t in "${targets[@]}"; do
   artifacts="$build/fuzz-artifacts/$t/"
   scratch="$build/fuzz-scratch/$t"
   mkdir -p "$artifacts" "$scratch"
-  dict=()
-  [ "$t" = scene_loader ] || dict=(-dict="$src/tests/formats/fuzz_probes_reader.dict")
+  dict=(-dict="$src/tests/formats/fuzz_probes_reader.dict")
+  [ "$t" = scene_loader ] && dict=(-dict="$src/tests/scene/fuzz_scene_loader.dict")
   echo "== fuzz_$t for ${seconds}s (corpus $build/fuzz-corpus/$t)"
   # The loader resolves external URIs against $scratch/scene only (fuzz_scene_loader_entry.cpp).
   if ! (cd "$scratch" && PROBEBAKE_FUZZ_SCRATCH="$scratch" UBSAN_OPTIONS=print_stacktrace=1 \

@@ -1,16 +1,18 @@
 // OpenEXR output of irradiance images: 32-bit float R, G, B (half floats would clip bright emitters at
-// 65504 and lose precision in error maps). Written to a temporary file and renamed into place.
+// 65504 and lose precision in error maps). Encoded in memory and written with write_file_atomically, like
+// every other output (non-regular targets refused, temporaries removed on signals).
 #include <filesystem>
-#include <system_error>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
 #include <fmt/core.h>
 
 #include "probebake/bake/reference.h"
+#include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake {
@@ -29,24 +31,20 @@ Imf::Slice rgb_slice(std::vector<glm::vec3>& pixels, int width, int c) {
 void write_exr(const std::filesystem::path& path, const Image& image) {
   if (image.width < 1 || image.height < 1 || image.pixels.size() != std::size_t(image.width) * std::size_t(image.height))
     throw Error(ErrorKind::internal, fmt::format("{}: image size does not match its pixels", path.string()));
-  const std::filesystem::path tmp = path.string() + ".tmp";
+  Imf::StdOSStream stream; // encoded in memory, then written through the one atomic writer
   try {
     Imf::Header header(image.width, image.height);
     for (const char* name : kChannels) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     std::vector<glm::vec3> pixels = image.pixels; // the frame buffer API takes non-const pointers
     Imf::FrameBuffer frame;
     for (int c = 0; c < 3; ++c) frame.insert(kChannels[c], rgb_slice(pixels, image.width, c));
-    Imf::OutputFile file(tmp.c_str(), header);
+    Imf::OutputFile file(stream, header);
     file.setFrameBuffer(frame);
     file.writePixels(image.height);
   } catch (const std::exception& e) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw Error(ErrorKind::output, fmt::format("{}: cannot write OpenEXR: {}", path.string(), e.what()));
+    throw Error(ErrorKind::output, fmt::format("{}: cannot encode OpenEXR: {}", path.string(), e.what()));
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+  write_file_atomically(path, stream.str());
 }
 
 Image read_exr(const std::filesystem::path& path) {

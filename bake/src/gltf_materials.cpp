@@ -43,7 +43,9 @@ struct TextureLookup {
 };
 
 float wrap_coordinate(float x, int mode) {
+  if (std::isnan(x)) return 0.0f; // a NaN texture coordinate (the int conversions below would be undefined)
   if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return std::clamp(x, 0.0f, 1.0f);
+  if (!(std::fabs(x) < 16777216.0f)) return 0.0f; // infinite, or >= 2^24 where every float is an even integer
   const float f = x - std::floor(x);
   if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT && int(std::floor(x)) % 2 != 0) return 1.0f - f;
   return f;

@@ -180,6 +180,15 @@ void check_scene(const scene::Scene& scene) {
                           "it there; move it nearer the origin (a glTF node translation)", size, offset));
 }
 
+// No probe can be farther than half the scene's size from every surface; a larger clearance would also
+// make the SDF band (1.5 x clearance) cover the scene many times over.
+void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
+  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
+  const float half_size = 0.5f * std::max({extent.x, extent.y, extent.z});
+  require(s.clearance <= half_size, fmt::format("--clearance {:.3g} m is more than half the scene's size ({:.3g} m)",
+                                                s.clearance, 2.0f * half_size));
+}
+
 } // namespace
 
 void check_settings(const BakeSettings& s) {
@@ -229,6 +238,7 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
 BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress) {
   check_settings(settings);
   check_scene(scene);
+  check_clearance(scene, settings);
   const detail::ThreadLimit thread_limit(settings.threads);
   BakeResult result;
   BakeReport& report = result.report;

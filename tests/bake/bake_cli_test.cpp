@@ -109,7 +109,16 @@ TEST(BakeCli, BadSettingsAreUsageErrorsAndWriteNothing) {
   EXPECT_EQ(run({scene, "--max-depth 40 -o", out}).exit_code, 1);
   EXPECT_EQ(run({scene, "--split-range 0.9,0.1 -o", out}).exit_code, 1);
   EXPECT_EQ(run({scene, "--lattice cubic -o", out}).exit_code, 1);
+  const CliRun clearance = run({scene, "--clearance 1e30 -o", out}); // used to hang building the SDF
+  EXPECT_EQ(clearance.exit_code, 1);
+  EXPECT_NE(clearance.err.find("more than half the scene's size"), std::string::npos) << clearance.err;
+  EXPECT_EQ(run({scene, "--max-memory lots -o", out}).exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(out));
+  // More threads than cores are clamped (TBB crashed asked for 100000) and change nothing.
+  const auto a = scene.parent_path() / "threads-a.probes", b = scene.parent_path() / "threads-b.probes";
+  ASSERT_EQ(run({scene, "--max-depth 2 --light-rays 32 --threads 100000 -o", a}).exit_code, 0);
+  ASSERT_EQ(run({scene, "--max-depth 2 --light-rays 32 --threads 1 -o", b}).exit_code, 0);
+  EXPECT_EQ(read_bytes(a), read_bytes(b));
   EXPECT_EQ(run("missing.glb").exit_code, 2);
 }
 

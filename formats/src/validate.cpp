@@ -3,6 +3,9 @@
 // before checksums, checksums before the model).
 #include "probebake/formats/validate.h"
 
+#include <utility>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "probebake/formats/container.h"
@@ -106,17 +109,21 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
   report.name = std::string(name);
   detail::Reporter out(report, options);
   ProbeVolume volume;
+  std::vector<std::pair<std::string, std::string>> checksums; // section, message
   try {
-    // The violation is about a whole section (index -1); the message names its table entry.
+    // Checksum mismatches are collected, not reported, until the file has decoded: whether it is readable
+    // at all (exit 2 against 1) must not depend on --max-errors.
     const ContainerView container = parse_container(bytes, name, [&](const std::string& section, long long, const std::string& message) {
-      out.add("checksum", section, -1, message);
+      checksums.emplace_back(section, message);
     });
     volume = decode_probes(container, name);
+    for (const auto& [section, message] : checksums) out.add("checksum", section, -1, message); // whole section
     detail::check_container(container, out);
   } catch (const detail::StopValidation&) {
     return report;
   } catch (const Error& error) {
     report.readable = false;
+    report.violations.clear();
     report.violations.push_back(Violation{"container", "container", -1, error.what()});
     return report;
   }

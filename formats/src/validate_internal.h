@@ -11,19 +11,20 @@
 
 namespace probebake::formats::detail {
 
-// Thrown by Reporter::add when max_errors is reached; caught by the validate() driver only.
+// Thrown by Reporter::add past max_errors; caught by the validate() driver only.
 struct StopValidation {};
 
 class Reporter {
 public:
   Reporter(ValidationReport& report, const ValidateOptions& options) : report_(report), options_(options) {}
 
+  // Stops at the first violation past max_errors, so `truncated` means that something was left out.
   void add(const std::string& invariant, const std::string& section, long long index, const std::string& message) {
-    report_.violations.push_back(Violation{invariant, section, index, message});
     if (options_.max_errors != 0 && report_.violations.size() >= options_.max_errors) {
       report_.truncated = true;
       throw StopValidation{};
     }
+    report_.violations.push_back(Violation{invariant, section, index, message});
   }
   std::size_t count() const { return report_.violations.size(); }
   const ValidateOptions& options() const { return options_; }

@@ -68,6 +68,22 @@ TEST_P(Corruption, EverySingleByteChangeIsDetected) {
   EXPECT_EQ(by_validator, changes);
 }
 
+// The verdict (unreadable: exit 2, invalid: exit 1) and the first violations do not depend on
+// --max-errors; `truncated` says that something was left out, never only that the limit was reached.
+TEST_P(Corruption, VerdictDoesNotDependOnMaxErrors) {
+  std::vector<std::uint8_t> bytes = golden();
+  for (std::size_t at = 0; at < bytes.size(); at += 3) {
+    bytes[at] ^= 0xFF;
+    const ValidationReport all = validate_file(bytes, "flipped", ValidateOptions{0});
+    const ValidationReport one = validate_file(bytes, "flipped", ValidateOptions{1});
+    bytes[at] ^= 0xFF;
+    ASSERT_EQ(all.readable, one.readable) << "byte " << at;
+    ASSERT_FALSE(one.violations.empty()) << "byte " << at;
+    EXPECT_EQ(one.violations[0].invariant, all.violations[0].invariant) << "byte " << at;
+    EXPECT_EQ(one.truncated, all.violations.size() > 1) << "byte " << at;
+  }
+}
+
 TEST_P(Corruption, PayloadChangeIsAChecksumViolationNotUnreadable) {
   std::vector<std::uint8_t> bytes = golden();
   const ContainerView view = parse_container(bytes, "golden");

@@ -11,6 +11,8 @@ pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 # Heavy dependencies are only needed by bake/ (never by formats/ or runtime/).
 find_package(embree 3 REQUIRED)
 find_package(draco REQUIRED)
+find_package(meshoptimizer CONFIG REQUIRED) # EXT_meshopt_compression (decoder; encoder in samples/)
+pkg_check_modules(WEBP REQUIRED IMPORTED_TARGET libwebp) # EXT_texture_webp images
 find_package(TBB REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)

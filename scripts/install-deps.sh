@@ -10,6 +10,8 @@ packages=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   # scene input: glTF (tinygltf needs nlohmann-json and stb), Draco, images
   libtinygltf-dev nlohmann-json3-dev libstb-dev libdraco-dev
+  # optimised glTF: EXT_meshopt_compression geometry, EXT_texture_webp images
+  libmeshoptimizer-dev libwebp-dev
   # CPU rays, signed distance fields (OpenVDB needs Boost headers and TBB), EXR images
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-dev libtbb-dev libopenexr-dev libimath-dev
   # command line and text

@@ -10,15 +10,12 @@
 #include <array>
 
 #include <fmt/core.h>
-#include <stb_image.h>
 #include <tiny_gltf.h>
 
 #include "gltf_internal.h"
 
 namespace probebake::scene::detail {
 namespace {
-
-constexpr int kMaxImageSide = 16384; // larger textures are refused: probes only need an average colour
 
 std::filesystem::path resolve(const std::filesystem::path& path) {
   std::error_code ec;
@@ -104,20 +101,9 @@ bool refuse_write(std::string* err, const std::string&, const std::vector<unsign
   return false;
 }
 
-// Image decoding with the dimensions checked (and charged) before stb allocates the pixels.
-bool load_image(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int req_width,
-                int req_height, const unsigned char* bytes, int size, void* user) {
-  auto& policy = *static_cast<InputPolicy*>(user);
-  int width = 0, height = 0, components = 0;
-  if (stbi_info_from_memory(bytes, size, &width, &height, &components) != 0) {
-    if (width > kMaxImageSide || height > kMaxImageSide)
-      policy.ctx.fail(fmt::format("images[{}]", index), fmt::format("{}x{} is larger than the limit of {}x{}", width,
-                                                                    height, kMaxImageSide, kMaxImageSide));
-    const bool wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
-    policy.budget->charge(std::uint64_t(width) * std::uint64_t(height) * 4u * (wide ? 2u : 1u), policy.ctx,
-                          fmt::format("images[{}]", index));
-  }
-  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size, nullptr);
+bool load_image(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                const unsigned char* bytes, int size, void* user) {
+  return decode_image(image, index, bytes, size, *static_cast<InputPolicy*>(user));
 }
 
 } // namespace

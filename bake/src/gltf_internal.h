@@ -1,9 +1,11 @@
 // Internals of the glTF loader, shared by its translation units (gltf_*.cpp). Not a public header.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -19,6 +21,7 @@ class Model;
 class TinyGLTF;
 class Value;
 struct Primitive;
+struct Image;
 struct Material;
 } // namespace tinygltf
 
@@ -60,8 +63,14 @@ struct Context {
   std::string file;
   std::vector<std::string>* warnings = nullptr; // where non-fatal problems go (Scene::warnings)
   MemoryBudget* budget = nullptr;
+  bool strict = false; // LoadOptions::strict: degraded content (textures) is an error
   void warn(const std::string& message) const {
     if (warnings != nullptr) warnings->push_back(message);
+  }
+  // Content the bake replaces by an approximation (an undecodable texture): a warning, or an error when strict.
+  void degrade(const std::string& place, const std::string& reason) const {
+    if (strict) fail(place, reason + " (--strict)");
+    warn(place + ": " + reason);
   }
   [[noreturn]] void fail(const std::string& place, const std::string& reason) const {
     throw Error(ErrorKind::input, file + ": " + place + ": " + reason);
@@ -86,6 +95,7 @@ struct InputPolicy {
   MemoryBudget* budget;
   const Context& ctx;
   std::vector<std::filesystem::path> files_read; // external files, resolved
+  std::map<int, std::string> image_problems;     // images[i] that could not be decoded, and why
 };
 
 // Installs the confined file-system callbacks and the size-checking image loader.
@@ -95,8 +105,41 @@ constexpr std::size_t kMaxJsonDepth = 64; // real glTF needs about 10; extras ge
 
 // The JSON text of a .gltf, or the JSON chunk of a .glb (header and chunk sizes checked).
 std::string_view gltf_json_text(std::span<const unsigned char> bytes, bool is_glb, const Context& ctx);
+// What the preflight saw that tinygltf 2.7 would refuse although the glTF spec allows it.
+struct PreflightFacts {
+  std::vector<int> buffers_without_uri;      // GLB BIN, placeholder/fallback buffers, unused buffers
+  std::vector<int> accessors_without_view;   // all zeros (plus sparse values)
+  std::vector<int> images_with_other_media;  // data URIs of media types tinygltf does not know (image/webp, image/ktx2)
+};
 // Checks nesting depth, data URIs and external URIs before any tree is built from the JSON.
-void preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx);
+PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx);
+
+// Rewrites the JSON (in memory) so that tinygltf 2.7 accepts what the spec allows: Draco primitives lose
+// their index accessor (the bitstream has the indices), index accessors without bufferView are hidden from
+// tinygltf's check, uri-less buffers other than the GLB BIN become one-byte placeholders, and image data
+// URIs of other media types become application/octet-stream (the image decoder sniffs the bytes).
+struct TinygltfRewrite {
+  std::vector<int> placeholder_buffers;                   // emptied after parsing
+  std::vector<std::array<int, 3>> hidden_indices;         // {mesh, primitive, accessor}, restored after parsing
+};
+TinygltfRewrite prepare_for_tinygltf(std::vector<unsigned char>& bytes, bool is_glb, const PreflightFacts& facts,
+                                     const Context& ctx);
+// Undoes what prepare_for_tinygltf hid from tinygltf.
+void restore_after_tinygltf(tinygltf::Model& model, const TinygltfRewrite& rewrite);
+
+// EXT_meshopt_compression: decodes every compressed bufferView (bounds and sizes checked first, memory
+// charged) into a new buffer of its own and points the bufferView at it, so accessors read it as usual.
+void decode_meshopt_buffer_views(tinygltf::Model& model, const Context& ctx);
+// One compressed stream: `count` elements of `stride` bytes (mode/filter as in the extension's JSON).
+std::vector<unsigned char> decode_meshopt_stream(std::span<const unsigned char> source, std::size_t count,
+                                                 std::size_t stride, const std::string& mode,
+                                                 const std::string& filter, const Context& ctx,
+                                                 const std::string& place);
+
+// Image decoding for tinygltf's callback: WebP through libwebp, PNG/JPEG/... through stb, sizes checked and
+// charged before pixels are allocated. An image that cannot be decoded is recorded in
+// policy.image_problems and left empty: a texture never fails the load by itself.
+bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy);
 // URI percent-decoding as tinygltf applies it before opening a file.
 std::string percent_decode(const std::string& uri);
 
@@ -119,11 +162,6 @@ std::vector<std::uint32_t> read_accessor_indices(const tinygltf::Model& model, i
 PrimitiveGeometry decode_draco_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
                                          const Context& ctx, const std::string& place);
 
-// Removes the index accessors of KHR_draco_mesh_compression primitives from a .gltf/.glb in memory
-// (tinygltf refuses them before decoding; the indices come from the Draco bitstream). Returns whether
-// anything changed.
-bool prepare_draco_for_tinygltf(std::vector<unsigned char>& bytes, bool is_glb, const Context& ctx);
-
 // Reads a plain (uncompressed) primitive.
 PrimitiveGeometry read_plain_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
                                        const Context& ctx, const std::string& place);
@@ -134,7 +172,13 @@ struct TriangleColors {
   std::vector<glm::vec3> emission;
 };
 scene::Material convert_material(const tinygltf::Model& model, int material, const Context& ctx);
-TriangleColors average_triangle_colors(const tinygltf::Model& model, int material_index,
+// For each texture, the image the bake samples (EXT_texture_webp source, else the texture's own source,
+// which is KHR_texture_basisu's fallback), or -1. A texture that a material uses and that has no decodable
+// image gets one warning naming it (an error under ctx.strict); its materials use their factors.
+std::vector<int> select_texture_images(const tinygltf::Model& model, const std::map<int, std::string>& problems,
+                                       const Context& ctx);
+TriangleColors average_triangle_colors(const tinygltf::Model& model, const std::vector<int>& texture_images,
+                                       int material_index,
                                        const scene::Material& material, const PrimitiveGeometry& geometry,
                                        const Context& ctx);
 

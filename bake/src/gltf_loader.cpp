@@ -53,9 +53,9 @@ tinygltf::Model parse_gltf(std::vector<unsigned char> bytes, detail::InputPolicy
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) ctx.fail("parse", "file is larger than 4 GiB");
   const bool is_glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
   const std::string_view json = detail::gltf_json_text(bytes, is_glb, ctx);
-  detail::preflight_gltf_json(json, policy, ctx);
+  const detail::PreflightFacts facts = detail::preflight_gltf_json(json, policy, ctx);
   ctx.charge(json.size(), kJsonTreeBytesPerChar, "json");
-  detail::prepare_draco_for_tinygltf(bytes, is_glb, ctx);
+  const detail::TinygltfRewrite rewrite = detail::prepare_for_tinygltf(bytes, is_glb, facts, ctx);
   tinygltf::TinyGLTF parser;
   detail::configure_parser(parser, policy);
   tinygltf::Model model;
@@ -67,6 +67,7 @@ tinygltf::Model parse_gltf(std::vector<unsigned char> bytes, detail::InputPolicy
                                                       static_cast<unsigned int>(bytes.size()), base_dir);
   if (!ok) ctx.fail(is_glb ? "glb" : "gltf", first_line(err));
   if (!warn.empty()) ctx.warn(first_line(warn));
+  detail::restore_after_tinygltf(model, rewrite);
   return model;
 }
 
@@ -126,7 +127,8 @@ class SceneBuilder {
   static constexpr int kMaxNodeDepth = 4096; // keeps hostile node chains from exhausting the stack
 
 public:
-  SceneBuilder(const tinygltf::Model& model, Scene& scene, const Context& ctx) : model_(model), scene_(scene), ctx_(ctx) {}
+  SceneBuilder(const tinygltf::Model& model, const std::vector<int>& texture_images, Scene& scene, const Context& ctx)
+      : model_(model), texture_images_(texture_images), scene_(scene), ctx_(ctx) {}
 
   void add_node(int index, const glm::mat4& parent, bool parent_dynamic, int depth) {
     const std::string place = fmt::format("nodes[{}]", index);
@@ -191,7 +193,7 @@ private:
       ctx_.fail(place, fmt::format("material {} does not exist", material));
     const std::size_t material_slot = material >= 0 ? std::size_t(material) : scene_.materials.size() - 1;
     const detail::TriangleColors colors =
-        detail::average_triangle_colors(model_, material, scene_.materials[material_slot], g, ctx_);
+        detail::average_triangle_colors(model_, texture_images_, material, scene_.materials[material_slot], g, ctx_);
 
     const bool flip = glm::determinant(glm::mat3(world)) < 0.0f; // mirrored instances reverse the winding
     const auto base = static_cast<std::uint32_t>(scene_.positions.size());
@@ -227,6 +229,7 @@ private:
   }
 
   const tinygltf::Model& model_;
+  const std::vector<int>& texture_images_;
   Scene& scene_;
   const Context& ctx_;
   std::set<int> visited_;
@@ -263,23 +266,28 @@ Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string
                              const std::filesystem::path& base_dir, const LoadOptions& options) {
   Scene scene;
   detail::MemoryBudget budget(options.max_memory);
-  const Context ctx{name, &scene.warnings, &budget};
+  const Context ctx{name, &scene.warnings, &budget, options.strict};
   ctx.charge(bytes.size(), 1, "open");
   detail::InputPolicy policy(base_dir, options.allowed_paths, budget, ctx);
-  const tinygltf::Model model = parse_gltf(std::move(bytes), policy, ctx);
+  tinygltf::Model parsed = parse_gltf(std::move(bytes), policy, ctx);
+  check_required_extensions(parsed, ctx);
+  detail::decode_meshopt_buffer_views(parsed, ctx);
+  const tinygltf::Model& model = parsed;
   scene.input_files = std::move(policy.files_read);
-  check_required_extensions(model, ctx);
   scene.extensions_used = model.extensionsUsed;
   scene.extensions_required = model.extensionsRequired;
   scene.mesh_count = int(model.meshes.size());
   for (std::size_t m = 0; m < model.materials.size(); ++m)
     scene.materials.push_back(detail::convert_material(model, int(m), ctx));
   scene.materials.push_back(detail::convert_material(model, -1, ctx)); // glTF default material
+  const std::vector<int> texture_images = detail::select_texture_images(model, policy.image_problems, ctx);
 
-  SceneBuilder builder(model, scene, ctx);
+  SceneBuilder builder(model, texture_images, scene, ctx);
   for (int root : root_nodes(model, ctx)) builder.add_node(root, glm::mat4(1.0f), false, 0);
   for (const glm::vec3& p : scene.positions) scene.bounds.extend(p);
-  if (options.require_triangles && scene.triangles.empty()) ctx.fail("meshes", "scene has no triangles");
+  if (options.require_triangles && scene.triangles.empty())
+    ctx.fail("meshes", fmt::format("scene has no triangles to bake ({} meshes, {} lights; `probebake info` describes it)",
+                                   scene.mesh_count, scene.lights.size()));
   return scene;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
@@ -75,22 +76,40 @@ bool image_is_usable(const tinygltf::Image& image) {
   return image.image.size() >= need;
 }
 
-TextureLookup resolve_texture(const tinygltf::Model& model, const tinygltf::TextureInfo& info, const char* what,
-                              const Context& ctx, const std::string& place) {
+// The image of `texture` that the bake samples: EXT_texture_webp's source when it decodes, else the
+// texture's own source (the fallback of EXT_texture_webp and KHR_texture_basisu), else -1.
+int usable_image(const tinygltf::Model& model, const tinygltf::Texture& texture, std::string& why,
+                 const std::map<int, std::string>& problems) {
+  std::vector<int> candidates;
+  for (const char* extension : {"EXT_texture_webp", "KHR_texture_basisu"}) {
+    auto ext = texture.extensions.find(extension);
+    if (ext != texture.extensions.end() && member(ext->second, "source").IsInt())
+      candidates.push_back(member(ext->second, "source").Get<int>());
+  }
+  if (texture.source >= 0) candidates.push_back(texture.source);
+  why = "has no image";
+  for (int source : candidates) {
+    if (source < 0 || std::size_t(source) >= model.images.size()) {
+      why = fmt::format("image {} does not exist", source);
+      continue;
+    }
+    const tinygltf::Image& image = model.images[std::size_t(source)];
+    if (image_is_usable(image)) return source;
+    auto problem = problems.find(source);
+    const std::string name = !image.name.empty() ? image.name : image.uri.starts_with("data:") ? "" : image.uri;
+    why = fmt::format("image {}{}: {}", source, name.empty() ? "" : " '" + name + "'",
+                      problem != problems.end() ? problem->second : "no image data (file missing or unreadable)");
+  }
+  return -1;
+}
+
+TextureLookup resolve_texture(const tinygltf::Model& model, const std::vector<int>& texture_images,
+                              const tinygltf::TextureInfo& info) {
   TextureLookup lookup;
-  if (info.index < 0) return lookup;
-  if (std::size_t(info.index) >= model.textures.size())
-    ctx.fail(place, fmt::format("{} references missing texture {}", what, info.index));
+  if (info.index < 0 || std::size_t(info.index) >= texture_images.size() || texture_images[std::size_t(info.index)] < 0)
+    return lookup;
   const tinygltf::Texture& texture = model.textures[std::size_t(info.index)];
-  if (texture.source < 0 || std::size_t(texture.source) >= model.images.size()) {
-    ctx.warn(fmt::format("{}: {} texture {} has no usable image; factor used alone", place, what, info.index));
-    return lookup;
-  }
-  const tinygltf::Image& image = model.images[std::size_t(texture.source)];
-  if (!image_is_usable(image)) {
-    ctx.warn(fmt::format("{}: {} image {} could not be decoded; factor used alone", place, what, texture.source));
-    return lookup;
-  }
+  const tinygltf::Image& image = model.images[std::size_t(texture_images[std::size_t(info.index)])];
   lookup.image = &image;
   lookup.texcoord = info.texCoord;
   if (texture.sampler >= 0 && std::size_t(texture.sampler) < model.samplers.size()) {
@@ -173,15 +192,38 @@ scene::Material convert_material(const tinygltf::Model& model, int index, const 
   return out;
 }
 
-TriangleColors average_triangle_colors(const tinygltf::Model& model, int index, const scene::Material& material,
-                                       const PrimitiveGeometry& geometry, const Context& ctx) {
+std::vector<int> select_texture_images(const tinygltf::Model& model, const std::map<int, std::string>& problems,
+                                       const Context& ctx) {
+  std::vector<int> images(model.textures.size(), -1);
+  std::vector<bool> used(model.textures.size(), false);
+  for (std::size_t m = 0; m < model.materials.size(); ++m) {
+    const tinygltf::Material& material = model.materials[m];
+    for (const auto* info : {&material.pbrMetallicRoughness.baseColorTexture, &material.emissiveTexture}) {
+      if (info->index < 0) continue;
+      if (std::size_t(info->index) >= model.textures.size())
+        ctx.fail(fmt::format("materials[{}]", m), fmt::format("references missing texture {}", info->index));
+      used[std::size_t(info->index)] = true;
+    }
+  }
+  for (std::size_t t = 0; t < model.textures.size(); ++t) {
+    if (!used[t]) continue; // not sampled by the bake (normal maps, ...): never a reason to warn
+    std::string why;
+    images[t] = usable_image(model, model.textures[t], why, problems);
+    if (images[t] < 0)
+      ctx.degrade(fmt::format("textures[{}]", t), why + "; its materials use their factors instead");
+  }
+  return images;
+}
+
+TriangleColors average_triangle_colors(const tinygltf::Model& model, const std::vector<int>& texture_images, int index,
+                                       const scene::Material& material, const PrimitiveGeometry& geometry,
+                                       const Context&) {
   const std::size_t triangles = geometry.indices.size() / 3;
   TextureLookup base, emissive;
   if (index >= 0) {
-    const std::string place = fmt::format("materials[{}]", index);
     const tinygltf::Material& m = model.materials[std::size_t(index)];
-    base = resolve_texture(model, m.pbrMetallicRoughness.baseColorTexture, "baseColorTexture", ctx, place);
-    emissive = resolve_texture(model, m.emissiveTexture, "emissiveTexture", ctx, place);
+    base = resolve_texture(model, texture_images, m.pbrMetallicRoughness.baseColorTexture);
+    emissive = resolve_texture(model, texture_images, m.emissiveTexture);
   }
   TriangleColors colors;
   colors.albedo.assign(triangles, material.base_color);

@@ -48,6 +48,14 @@ void check_data_uri(const std::string& uri, const Context& ctx, const std::strin
     ctx.fail(place, "data URI payload is not valid base64");
 }
 
+// The data URI headers tinygltf 2.7 decodes for images (it refuses others, e.g. image/webp, image/ktx2).
+bool is_tinygltf_media_type(const std::string& uri) {
+  for (const char* header : {"data:image/png;base64,", "data:image/jpeg;base64,", "data:image/bmp;base64,",
+                             "data:image/gif;base64,", "data:application/octet-stream;base64,"})
+    if (uri.starts_with(header)) return true;
+  return false;
+}
+
 // A URI with a scheme ("http:", "file:", "c:") names no file inside the scene's folder.
 bool has_scheme(const std::string& uri) {
   const std::size_t colon = uri.find(':');
@@ -92,12 +100,19 @@ public:
   }
   bool start_object(std::size_t) override { return open(false); }
   bool start_array(std::size_t) override { return open(true); }
-  bool end_object() override { return close(); }
+  bool end_object() override {
+    if (is_top_level_element()) record_element(frames_.back());
+    return close();
+  }
   bool end_array() override { return close(); }
   bool key(string_t& name) override {
     frames_.back().key = name;
+    frames_.back().has_uri |= name == "uri";
+    frames_.back().has_buffer_view |= name == "bufferView";
     return true;
   }
+
+  PreflightFacts facts;
   bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
     ctx_.fail("json", fmt::format("byte {}: {}", position, strip_prefix(e.what())));
   }
@@ -107,6 +122,7 @@ private:
     bool array = false;
     std::size_t index = 0; // arrays: index of the next element
     std::string key;       // objects: the key of the value being read
+    bool has_uri = false, has_buffer_view = false; // objects: keys seen so far
   };
 
   static std::string strip_prefix(const char* what) { // "[json.exception.parse_error.101] parse error at ..."
@@ -129,15 +145,23 @@ private:
     frames_.pop_back();
     return value();
   }
+  // Root object -> top-level array -> element object (frames_.back()).
+  bool is_top_level_element() const { return frames_.size() == 3 && frames_[1].array; }
+  void record_element(const Frame& element) {
+    const int index = int(frames_[1].index);
+    if (frames_[0].key == "buffers" && !element.has_uri) facts.buffers_without_uri.push_back(index);
+    if (frames_[0].key == "accessors" && !element.has_buffer_view) facts.accessors_without_view.push_back(index);
+  }
   // Root object -> "buffers"/"images" array -> element object -> "uri".
   bool is_uri_value() const {
     return frames_.size() == 3 && frames_[2].key == "uri" && frames_[1].array &&
            (frames_[0].key == "buffers" || frames_[0].key == "images");
   }
-  void check_uri(const std::string& uri) const {
+  void check_uri(const std::string& uri) {
     const std::string place = fmt::format("{}[{}].uri", frames_[0].key, frames_[1].index);
-    if (uri.starts_with("data:")) check_data_uri(uri, ctx_, place);
-    else check_file_uri(uri, policy_, ctx_, place);
+    if (!uri.starts_with("data:")) return check_file_uri(uri, policy_, ctx_, place);
+    check_data_uri(uri, ctx_, place);
+    if (frames_[0].key == "images" && !is_tinygltf_media_type(uri)) facts.images_with_other_media.push_back(int(frames_[1].index));
   }
 
   const InputPolicy& policy_;
@@ -180,9 +204,10 @@ std::string percent_decode(const std::string& uri) {
   return out;
 }
 
-void preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx) {
+PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx) {
   Preflight sax(policy, ctx);
   nlohmann::json::sax_parse(json.begin(), json.end(), &sax);
+  return std::move(sax.facts);
 }
 
 } // namespace probebake::scene::detail

@@ -91,6 +91,9 @@ struct LoadOptions {
   std::vector<std::filesystem::path> allowed_paths = {};
   // Bytes the loader may allocate for file contents and decoded geometry and images; 0 = no limit.
   std::uint64_t max_memory = 0;
+  // A texture that cannot be decoded (unknown format, KTX2 without fallback, missing file, corrupt data) is
+  // an error instead of a warning (its materials would otherwise use their factors alone).
+  bool strict = false;
 };
 
 // Loads .gltf (external files or data URIs) or .glb. Throws probebake::Error (ErrorKind::input) with a

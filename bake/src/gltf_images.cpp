@@ -1,0 +1,94 @@
+// Texture images: WebP (EXT_texture_webp) through libwebp, PNG/JPEG/BMP/GIF/... through stb (tinygltf's
+// decoder). Dimensions are read from the header and checked, and the pixels charged to the memory budget,
+// before anything is decoded. An image that cannot be decoded (unknown format, KTX2/Basis, corrupt data,
+// too large) is not an error here: it is recorded, left empty, and its textures fall back to the
+// material's factors (select_texture_images warns once per texture).
+#include <cstring>
+
+#include <fmt/core.h>
+#include <stb_image.h>
+#include <tiny_gltf.h>
+#include <webp/decode.h>
+
+#include "gltf_internal.h"
+
+namespace probebake::scene::detail {
+namespace {
+
+constexpr int kMaxImageSide = 16384; // larger textures are not decoded: probes only need an average colour
+
+bool starts_with(const unsigned char* bytes, int size, const char* magic, int offset = 0) {
+  const int n = int(std::strlen(magic));
+  return size >= offset + n && std::memcmp(bytes + offset, magic, std::size_t(n)) == 0;
+}
+
+bool is_webp(const unsigned char* bytes, int size) {
+  return starts_with(bytes, size, "RIFF") && starts_with(bytes, size, "WEBP", 8);
+}
+
+bool is_ktx2(const unsigned char* bytes, int size) { return starts_with(bytes, size, "\xABKTX 20\xBB"); }
+
+// Pixels decoded by libwebp (RGBA8); false with `why` set when the stream is not a decodable WebP.
+bool decode_webp(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy,
+                 std::string& why) {
+  int width = 0, height = 0;
+  if (WebPGetInfo(bytes, std::size_t(size), &width, &height) == 0) {
+    why = "corrupt WebP header";
+    return false;
+  }
+  if (width > kMaxImageSide || height > kMaxImageSide) {
+    why = fmt::format("{}x{} is larger than the limit of {}x{}", width, height, kMaxImageSide, kMaxImageSide);
+    return false;
+  }
+  policy.ctx.charge(std::uint64_t(width) * std::uint64_t(height), 4, fmt::format("images[{}]", index));
+  image->image.resize(std::size_t(width) * std::size_t(height) * 4);
+  if (WebPDecodeRGBAInto(bytes, std::size_t(size), image->image.data(), image->image.size(), width * 4) == nullptr) {
+    image->image.clear();
+    why = "corrupt WebP data";
+    return false;
+  }
+  image->width = width;
+  image->height = height;
+  image->component = 4;
+  image->bits = 8;
+  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  return true;
+}
+
+bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy,
+                     std::string& why) {
+  int width = 0, height = 0, components = 0;
+  if (stbi_info_from_memory(bytes, size, &width, &height, &components) == 0) {
+    why = is_ktx2(bytes, size) ? "KTX2/Basis Universal (no decoder in this build; add a PNG/JPEG fallback `source`)"
+                               : "unknown image format";
+    return false;
+  }
+  if (width > kMaxImageSide || height > kMaxImageSide) {
+    why = fmt::format("{}x{} is larger than the limit of {}x{}", width, height, kMaxImageSide, kMaxImageSide);
+    return false;
+  }
+  const bool wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
+  policy.ctx.charge(std::uint64_t(width) * std::uint64_t(height), 4u * (wide ? 2u : 1u), fmt::format("images[{}]", index));
+  std::string err, warn;
+  if (!tinygltf::LoadImageData(image, index, &err, &warn, 0, 0, bytes, size, nullptr)) {
+    why = "corrupt image data";
+    return false;
+  }
+  return true;
+}
+
+} // namespace
+
+bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy) {
+  std::string why;
+  const bool ok = size > 0 && (is_webp(bytes, size) ? decode_webp(image, index, bytes, size, policy, why)
+                                                    : decode_with_stb(image, index, bytes, size, policy, why));
+  if (!ok) {
+    policy.image_problems[index] = why.empty() ? "empty image data" : why;
+    image->image.clear();
+    image->width = image->height = image->component = 0; // unusable: select_texture_images skips it
+  }
+  return true; // a texture never fails the load by itself
+}
+
+} // namespace probebake::scene::detail

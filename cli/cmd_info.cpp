@@ -39,7 +39,8 @@ nlohmann::json scene_info_json(const scene::Scene& s) {
   j["vertices"] = s.positions.size();
   j["meshes"] = s.mesh_count;
   j["instances"] = s.instances.size();
-  j["bounds"] = {{"min", vec_json(s.bounds.min)}, {"max", vec_json(s.bounds.max)}};
+  j["bounds"] = s.bounds.empty() ? nlohmann::json(nullptr)
+                                 : nlohmann::json{{"min", vec_json(s.bounds.min)}, {"max", vec_json(s.bounds.max)}};
   j["materials"] = nlohmann::json::array();
   for (const auto& m : s.materials)
     j["materials"].push_back({{"name", m.name}, {"base_color", vec_json(m.base_color)},
@@ -66,8 +67,9 @@ void print_scene_info(const std::string& path, const scene::Scene& s) {
   fmt::print("scene        {}\n", path);
   fmt::print("triangles    {} ({} degenerate)\n", s.triangle_count(), summary.degenerate_triangles);
   fmt::print("meshes       {} in {} instances ({} dynamic)\n", s.mesh_count, s.instances.size(), summary.dynamic_instances);
-  fmt::print("bounds       ({:.4g}, {:.4g}, {:.4g}) .. ({:.4g}, {:.4g}, {:.4g})\n", s.bounds.min.x, s.bounds.min.y,
-             s.bounds.min.z, s.bounds.max.x, s.bounds.max.y, s.bounds.max.z);
+  if (s.bounds.empty()) fmt::print("bounds       (empty: no triangles, nothing to bake)\n");
+  else fmt::print("bounds       ({:.4g}, {:.4g}, {:.4g}) .. ({:.4g}, {:.4g}, {:.4g})\n", s.bounds.min.x, s.bounds.min.y,
+                  s.bounds.min.z, s.bounds.max.x, s.bounds.max.y, s.bounds.max.z);
   fmt::print("materials    {}\n", s.materials.size() - 1); // the glTF default material is not counted
   fmt::print("emissive     {} triangles, {:.4g} m^2\n", summary.emissive_triangles, summary.emissive_area);
   fmt::print("lights       {}\n", s.lights.size());
@@ -90,7 +92,7 @@ bool is_probes_file(const std::string& path) {
 
 int run_info(const InfoSettings& settings) {
   if (is_probes_file(settings.path)) return run_info_probes(settings.path, settings.json);
-  const scene::Scene s = scene::load_scene(settings.path, load_options(settings.input, true));
+  const scene::Scene s = scene::load_scene(settings.path, load_options(settings.input, false)); // any readable scene
   if (settings.json) {
     std::puts(scene_info_json(s).dump(2).c_str());
   } else {

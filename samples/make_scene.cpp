@@ -3,6 +3,7 @@
 // Exit codes (probebake's): 0 written (or --help), 1 usage error, 2 unreadable input (e.g. --with),
 // 3 output not writable, 4 internal error.
 #include "probebake/formats/atomic_file.h"
+#include "probebake/samples/meshopt_gltf.h"
 #include "probebake/samples/scenes.h"
 #include "probebake/version.h"
 
@@ -29,6 +30,8 @@ struct Settings {
   float scale = 1.0f;
   std::vector<float> offset;    // empty or X Y Z
   bool quiet = false;
+  bool meshopt = false;         // geometry through meshoptimizer's encoder (EXT_meshopt_compression)
+  std::string convert_input;    // `convert`: the glTF to rewrite
 };
 
 // Each kind's options, filled by CLI11.
@@ -104,12 +107,24 @@ int make(const std::string& kind, const MakeScene& make_scene, const Settings& s
   probebake::check_output_path(output, inputs); // before a large scene is built
   samples::SceneBuilder scene = make_scene();
   apply_placement(scene, settings);
-  const std::vector<std::uint8_t> bytes = scene.to_glb();
+  std::vector<std::uint8_t> bytes = scene.to_glb();
+  if (settings.meshopt) bytes = samples::meshopt_compress_gltf(bytes, ".");
   samples::write_file_atomically(output, bytes);
   if (!settings.quiet) {
     std::printf("make-scene: wrote %s: %zu triangles, %zu materials, %zu lights, %zu bytes\n", output.c_str(),
                 scene.triangle_count(), scene.materials().size(), scene.lights().size(), bytes.size());
   }
+  return exit_ok;
+}
+
+int convert(const Settings& settings) {
+  if (!settings.meshopt) throw probebake::Error(probebake::ErrorKind::usage, "convert needs --meshopt");
+  const std::string output = settings.output.empty() ? "converted.glb" : settings.output;
+  const std::vector<std::filesystem::path> inputs{settings.convert_input};
+  probebake::check_output_path(output, inputs);
+  const std::vector<std::uint8_t> bytes = samples::meshopt_compress_file(settings.convert_input);
+  samples::write_file_atomically(output, bytes);
+  if (!settings.quiet) std::printf("make-scene: wrote %s: %zu bytes\n", output.c_str(), bytes.size());
   return exit_ok;
 }
 
@@ -126,6 +141,11 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--offset", settings.offset, "move the whole scene by X Y Z metres")->expected(3);
   app.add_flag("-q,--quiet", settings.quiet, "print nothing on success");
+  app.add_flag("--meshopt", settings.meshopt,
+               "write geometry through meshoptimizer's encoder (EXT_meshopt_compression, as gltfpack -cc)");
+  CLI::App* convert_kind = app.add_subcommand("convert", "rewrite an existing .glb/.gltf (with --meshopt)");
+  convert_kind->fallthrough();
+  convert_kind->add_option("input", settings.convert_input, "the .glb or .gltf to rewrite")->required();
   KindOptions options;
   std::map<CLI::App*, MakeScene> makers;
   add_kinds(app, makers, options);
@@ -145,6 +165,7 @@ int main(int argc, char** argv) {
   std::vector<std::filesystem::path> inputs;
   if (kind->get_name() == "cornell" && !options.cornell_with.empty()) inputs.emplace_back(options.cornell_with);
   try {
+    if (kind == convert_kind) return convert(settings);
     return make(kind->get_name(), makers.at(kind), settings, inputs);
   } catch (const probebake::Error& e) {
     std::fprintf(stderr, "make-scene: error: %s\n", e.what());

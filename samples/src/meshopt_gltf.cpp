@@ -1,0 +1,347 @@
+// See meshopt_gltf.h. Works on the JSON (nlohmann) and raw buffer bytes, so everything the converter does
+// not touch (materials, lights, extras, images' bytes) is carried over exactly.
+#include "probebake/samples/meshopt_gltf.h"
+
+#include "probebake/formats/error.h"
+
+#include <meshoptimizer.h>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+
+namespace probebake::samples {
+namespace {
+
+using nlohmann::json;
+using Bytes = std::vector<std::uint8_t>;
+
+[[noreturn]] void fail(const std::string& message) { throw Error(ErrorKind::input, "meshopt: " + message); }
+
+std::uint32_t read_u32(const Bytes& b, std::size_t at) {
+  std::uint32_t v = 0;
+  if (at + 4 <= b.size()) std::memcpy(&v, &b[at], 4);
+  return v;
+}
+
+std::string percent_decode(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size()) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+Bytes read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("cannot read " + path.string());
+  return Bytes(std::istreambuf_iterator<char>(in), {});
+}
+
+struct Input {
+  json gltf;
+  std::vector<Bytes> buffers;
+};
+
+Input parse_input(const Bytes& bytes, const std::filesystem::path& base_dir) {
+  Input in;
+  Bytes bin;
+  const bool glb = bytes.size() >= 20 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  std::size_t json_length = glb ? read_u32(bytes, 12) : bytes.size();
+  const std::size_t json_start = glb ? 20 : 0;
+  if (json_start + json_length > bytes.size()) fail("truncated GLB");
+  if (glb && json_start + json_length + 8 <= bytes.size()) {
+    const std::size_t bin_start = json_start + json_length + 8;
+    const std::size_t bin_length = std::min<std::size_t>(read_u32(bytes, json_start + json_length), bytes.size() - bin_start);
+    bin.assign(bytes.begin() + std::ptrdiff_t(bin_start), bytes.begin() + std::ptrdiff_t(bin_start + bin_length));
+  }
+  in.gltf = json::parse(bytes.begin() + std::ptrdiff_t(json_start), bytes.begin() + std::ptrdiff_t(json_start + json_length));
+  const std::vector<std::string> used = in.gltf.value("extensionsUsed", std::vector<std::string>{});
+  for (const std::string& name : used)
+    if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression")
+      fail("the input already uses " + name + "; give the uncompressed original");
+  const json buffers = in.gltf.contains("buffers") ? in.gltf["buffers"] : json::array();
+  for (const json& buffer : buffers) {
+    const std::string uri = buffer.value("uri", "");
+    Bytes data;
+    if (uri.empty()) data = in.buffers.empty() ? bin : Bytes();
+    else if (tinygltf::IsDataURI(uri)) {
+      std::string mime;
+      if (!tinygltf::DecodeDataURI(&data, mime, uri, 0, false)) fail("bad data URI in a buffer");
+    } else data = read_file(base_dir / percent_decode(uri));
+    in.buffers.push_back(std::move(data));
+  }
+  return in;
+}
+
+std::size_t component_size(int type) { return type == 5120 || type == 5121 ? 1 : type == 5122 || type == 5123 ? 2 : 4; }
+
+std::size_t component_count(const std::string& type) {
+  if (type == "SCALAR") return 1;
+  if (type == "VEC2") return 2;
+  if (type == "VEC3") return 3;
+  if (type == "VEC4" || type == "MAT2") return 4;
+  return type == "MAT3" ? 9 : 16;
+}
+
+class Writer {
+ public:
+  explicit Writer(Input& in) : in_(in) {}
+
+  Bytes run() {
+    collect_geometry_accessors();
+    json& gltf = in_.gltf;
+    json views = json::array();
+    remap_old_views(views);
+    embed_images(views);
+    for (const auto& [accessor, role] : geometry_) compress_accessor(accessor, role, views);
+    gltf["bufferViews"] = views;
+    json fallback = {{"byteLength", std::max<std::size_t>(fallback_size_, 1)},
+                     {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}};
+    gltf["buffers"] = json::array({{{"byteLength", bin_.size()}}, fallback});
+    add_extension("extensionsUsed", "EXT_meshopt_compression");
+    add_extension("extensionsRequired", "EXT_meshopt_compression");
+    if (quantized_normals_) add_extension("extensionsUsed", "KHR_mesh_quantization");
+    if (quantized_normals_) add_extension("extensionsRequired", "KHR_mesh_quantization");
+    return glb();
+  }
+
+ private:
+  enum class Role { attribute, normal, triangles, indices };
+
+  void collect_geometry_accessors() {
+    const json& meshes = in_.gltf.contains("meshes") ? in_.gltf["meshes"] : empty_;
+    for (const json& mesh : meshes) {
+      if (!mesh.contains("primitives")) continue;
+      for (const json& primitive : mesh["primitives"]) {
+        if (primitive.contains("attributes"))
+          for (const auto& [name, accessor] : primitive["attributes"].items())
+            add_geometry(accessor.get<int>(), name == "NORMAL" ? Role::normal : Role::attribute);
+        if (primitive.contains("indices"))
+          add_geometry(primitive["indices"].get<int>(), primitive.value("mode", 4) == 4 ? Role::triangles : Role::indices);
+      }
+    }
+  }
+  void add_geometry(int accessor, Role role) {
+    const json& a = in_.gltf["accessors"].at(std::size_t(accessor));
+    if (!a.contains("bufferView") || a.contains("sparse")) return;  // left as it is
+    if (role == Role::triangles && a.value("count", 0) % 3 != 0) role = Role::indices;
+    geometry_.emplace(accessor, role);
+  }
+
+  const Bytes& view_bytes(const json& view, std::size_t& offset) {
+    const Bytes& data = in_.buffers.at(view.value("buffer", 0));
+    offset = view.value("byteOffset", std::size_t(0));
+    if (offset + view.value("byteLength", std::size_t(0)) > data.size()) fail("a bufferView reaches past its buffer");
+    return data;
+  }
+
+  std::size_t append(const void* data, std::size_t size) {
+    bin_.resize((bin_.size() + 3) & ~std::size_t{3}, 0);
+    const std::size_t at = bin_.size();
+    bin_.insert(bin_.end(), static_cast<const std::uint8_t*>(data), static_cast<const std::uint8_t*>(data) + size);
+    return at;
+  }
+
+  // Views still referenced after geometry is compressed (images, sparse data, other accessors) are copied.
+  void remap_old_views(json& views) {
+    std::vector<int> remap(in_.gltf.contains("bufferViews") ? in_.gltf["bufferViews"].size() : 0, -1);
+    auto keep = [&](json& holder) {
+      if (!holder.is_object() || !holder.contains("bufferView")) return;
+      const std::size_t old = holder["bufferView"].get<std::size_t>();
+      if (remap.at(old) < 0) {
+        json view = in_.gltf["bufferViews"][old];
+        std::size_t offset = 0;
+        const Bytes& data = view_bytes(view, offset);
+        view["buffer"] = 0;
+        view["byteOffset"] = append(data.data() + offset, view.value("byteLength", std::size_t(0)));
+        remap[old] = int(views.size());
+        views.push_back(view);
+      }
+      holder["bufferView"] = remap[old];
+    };
+    const std::size_t accessors = in_.gltf.contains("accessors") ? in_.gltf["accessors"].size() : 0;
+    for (std::size_t i = 0; i < accessors; ++i) {
+      json& a = in_.gltf["accessors"][i];
+      if (a.contains("sparse")) {
+        keep(a["sparse"]["indices"]);
+        keep(a["sparse"]["values"]);
+      }
+      if (!geometry_.count(int(i))) keep(a);
+    }
+    if (in_.gltf.contains("images"))
+      for (json& image : in_.gltf["images"]) keep(image);
+  }
+
+  void embed_images(json& views) {
+    if (!in_.gltf.contains("images")) return;
+    for (json& image : in_.gltf["images"]) {
+      if (!image.contains("uri")) continue;
+      const std::string uri = image["uri"].get<std::string>();
+      Bytes data;
+      std::string mime;
+      if (uri.rfind("data:", 0) == 0) {
+        mime = uri.substr(5, uri.find(';') - 5);
+        std::string ignored;
+        if (!tinygltf::DecodeDataURI(&data, ignored, "data:application/octet-stream;base64," + uri.substr(uri.find(',') + 1), 0, false))
+          fail("bad image data URI");
+      } else {
+        data = read_file(base_dir_ / percent_decode(uri));
+        const std::string ext = std::filesystem::path(uri).extension().string();
+        mime = ext == ".png" ? "image/png" : ext == ".webp" ? "image/webp" : ext == ".ktx2" ? "image/ktx2" : "image/jpeg";
+      }
+      image.erase("uri");
+      image["mimeType"] = mime;
+      image["bufferView"] = views.size();
+      views.push_back({{"buffer", 0}, {"byteOffset", append(data.data(), data.size())}, {"byteLength", data.size()}});
+    }
+  }
+
+  void compress_accessor(int index, Role role, json& views) {
+    json& a = in_.gltf["accessors"][std::size_t(index)];
+    const json& source_view = in_.gltf["bufferViews"].at(a["bufferView"].get<std::size_t>());
+    const std::size_t count = a.value("count", std::size_t(0));
+    int type = a.value("componentType", 5126);
+    const std::size_t element = component_count(a.value("type", "SCALAR")) * component_size(type);
+    std::size_t offset = 0;
+    const Bytes& data = view_bytes(source_view, offset);
+    const std::size_t src_stride = source_view.value("byteStride", element);
+    offset += a.value("byteOffset", std::size_t(0));
+    if (count > 0 && offset + (count - 1) * src_stride + element > data.size()) fail("an accessor reaches past its buffer");
+    const bool index_data = role == Role::triangles || role == Role::indices;
+    std::size_t stride = index_data ? std::max<std::size_t>(element, 2) : (element + 3) & ~std::size_t{3};
+    Bytes packed(count * stride, 0);
+    for (std::size_t i = 0; i < count; ++i) {
+      if (index_data && element == 1) packed[i * 2] = data[offset + i * src_stride];  // uint8 -> uint16
+      else std::memcpy(&packed[i * stride], &data[offset + i * src_stride], element);
+    }
+    if (index_data && element == 1) a["componentType"] = type = 5123;
+    std::string filter = "NONE";
+    if (role == Role::normal && type == 5126 && a.value("type", "") == "VEC3") {
+      packed = oct_normals(packed, count);
+      stride = 8;
+      filter = "OCTAHEDRAL";
+      a["componentType"] = 5122;
+      a["normalized"] = true;
+      a.erase("min");
+      a.erase("max");
+      quantized_normals_ = true;
+    }
+    const Bytes encoded = encode(packed, count, stride, role);
+    json view = {{"buffer", 1}, {"byteOffset", fallback_size_}, {"byteLength", packed.size()}};
+    if (!index_data) view["byteStride"] = stride;
+    fallback_size_ = (fallback_size_ + packed.size() + 3) & ~std::size_t{3};
+    const char* mode = role == Role::triangles ? "TRIANGLES" : role == Role::indices ? "INDICES" : "ATTRIBUTES";
+    json ext = {{"buffer", 0}, {"byteOffset", append(encoded.data(), encoded.size())}, {"byteLength", encoded.size()},
+                {"byteStride", stride}, {"count", count}, {"mode", mode}};
+    if (filter != "NONE") ext["filter"] = filter;
+    view["extensions"] = {{"EXT_meshopt_compression", ext}};
+    a["bufferView"] = views.size();
+    a.erase("byteOffset");
+    views.push_back(view);
+  }
+
+  static Bytes oct_normals(const Bytes& packed, std::size_t count) {
+    std::vector<float> xyzw(count * 4, 1.0f);
+    for (std::size_t i = 0; i < count; ++i) std::memcpy(&xyzw[i * 4], &packed[i * 12], 12);
+    Bytes out(count * 8);
+    if (count > 0) meshopt_encodeFilterOct(out.data(), count, 8, 16, xyzw.data());
+    return out;
+  }
+
+  static Bytes encode(const Bytes& packed, std::size_t count, std::size_t stride, Role role) {
+    Bytes out;
+    if (role == Role::triangles || role == Role::indices) {
+      std::vector<unsigned int> indices(count);
+      for (std::size_t i = 0; i < count; ++i) {
+        std::uint32_t v = 0;
+        std::memcpy(&v, &packed[i * stride], stride);
+        indices[i] = v;
+      }
+      const std::size_t vertices = count == 0 ? 0 : *std::max_element(indices.begin(), indices.end()) + 1;
+      if (role == Role::triangles) {
+        out.resize(meshopt_encodeIndexBufferBound(count, vertices));
+        out.resize(meshopt_encodeIndexBuffer(out.data(), out.size(), indices.data(), count));
+      } else {
+        out.resize(meshopt_encodeIndexSequenceBound(count, vertices));
+        out.resize(meshopt_encodeIndexSequence(out.data(), out.size(), indices.data(), count));
+      }
+    } else {
+      out.resize(meshopt_encodeVertexBufferBound(count, stride));
+      out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), packed.data(), count, stride));
+    }
+    if (out.empty() && count > 0) fail("the encoder failed");
+    return out;
+  }
+
+  void add_extension(const char* list, const char* name) {
+    json& names = in_.gltf[list];
+    if (!names.is_array()) names = json::array();
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+
+  Bytes glb() const {
+    std::string text = in_.gltf.dump();
+    while (text.size() % 4 != 0) text.push_back(' ');
+    Bytes bin = bin_;
+    bin.resize((bin.size() + 3) & ~std::size_t{3}, 0);
+    Bytes out;
+    auto u32 = [&out](std::size_t v) {
+      const auto x = static_cast<std::uint32_t>(v);
+      out.insert(out.end(), reinterpret_cast<const std::uint8_t*>(&x), reinterpret_cast<const std::uint8_t*>(&x) + 4);
+    };
+    out.insert(out.end(), {'g', 'l', 'T', 'F'});
+    u32(2);
+    u32(12 + 8 + text.size() + 8 + bin.size());
+    u32(text.size());
+    u32(0x4E4F534Au);
+    out.insert(out.end(), text.begin(), text.end());
+    u32(bin.size());
+    u32(0x004E4942u);
+    out.insert(out.end(), bin.begin(), bin.end());
+    return out;
+  }
+
+ public:
+  std::filesystem::path base_dir_;
+
+ private:
+  Input& in_;
+  std::map<int, Role> geometry_;
+  Bytes bin_;
+  std::size_t fallback_size_ = 0;
+  bool quantized_normals_ = false;
+  const json empty_ = json::array();
+};
+
+}  // namespace
+
+std::vector<std::uint8_t> meshopt_compress_gltf(const std::vector<std::uint8_t>& input,
+                                                const std::filesystem::path& base_dir) {
+  Input parsed;
+  try {
+    parsed = parse_input(input, base_dir);
+    Writer writer(parsed);
+    writer.base_dir_ = base_dir;
+    return writer.run();
+  } catch (const json::exception& e) {
+    fail(std::string("malformed glTF JSON: ") + e.what());
+  }
+}
+
+std::vector<std::uint8_t> meshopt_compress_file(const std::filesystem::path& path) {
+  return meshopt_compress_gltf(read_file(path), path.parent_path());
+}
+
+}  // namespace probebake::samples

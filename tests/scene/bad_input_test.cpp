@@ -109,11 +109,18 @@ TEST(BadInput, UnsupportedRequiredExtension) {
   expect_rejected(path, "required extension EXT_made_up is not supported");
 }
 
-TEST(BadInput, ZeroTriangles) {
+TEST(BadInput, ZeroTrianglesAreDescribedButNotBaked) {
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   g.json["nodes"][0].erase("mesh");
   const auto path = write_case(g, "empty");
-  expect_rejected(path, "scene has no triangles");
+  EXPECT_EQ(scene::load_scene(path).triangle_count(), 0u); // `info` describes it
+  EXPECT_EQ(run_info(path).exit_code, 0);
+  try {
+    scene::load_scene(path, {.require_triangles = true});
+    ADD_FAILURE() << "a scene without triangles was accepted for baking";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scene has no triangles to bake"), std::string::npos) << e.what();
+  }
 }
 
 TEST(BadInput, NodeCycle) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
@@ -66,9 +67,7 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
 }
 
 float effective_clearance(const scene::Scene& scene, const BakeSettings& s) {
-  if (s.clearance > 0.0f) return s.clearance;
-  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
-  return 0.02f * std::max({extent.x, extent.y, extent.z, 1e-6f});
+  return s.clearance > 0.0f ? s.clearance : detail::default_clearance(scene);
 }
 
 // Moves or frees every dead probe; grid probes without a valid position are freed too.
@@ -245,7 +244,15 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   StageTimer timer(report);
 
   timer.stage("bvh");
-  const scene::RayScene rays(scene);
+  const scene::RayScene full_rays(scene);
+  // Placement, relocation, the SVO and lighting see only what open space can see (placement.h); the
+  // runtime lighting sections keep every triangle.
+  const std::optional<scene::Scene> culled = detail::without_sealed(scene, detail::sealed_triangles(full_rays, settings.threads));
+  const scene::Scene& visible = culled ? *culled : scene;
+  std::optional<scene::RayScene> culled_rays;
+  if (culled) culled_rays.emplace(*culled);
+  const scene::RayScene& rays = culled_rays ? *culled_rays : full_rays;
+  report.sealed_triangles = int(scene.triangles.size() - visible.triangles.size());
   report.clearance = effective_clearance(scene, settings);
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
@@ -263,7 +270,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
                                     [&](const detail::PlacedProbe& p) { return detail::is_dead(p.rays, report.clearance); });
   if (any_dead) {
     timer.stage("sdf");
-    const SceneSdf sdf(scene, sdf_settings(scene, report.clearance));
+    const SceneSdf sdf(visible, sdf_settings(scene, report.clearance));
     timer.stage("relocate");
     if (progress) progress("relocate", 0.0);
     const detail::RelocationContext ctx{&rays, &sdf, input.directions, report.clearance};
@@ -285,7 +292,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
     if (progress) progress("lighting", 0.0);
     LightingSettings lighting = settings.lighting;
     lighting.threads = settings.threads;
-    report.lighting = bake_lighting(scene, rays, volume, lighting);
+    report.lighting = bake_lighting(visible, rays, volume, lighting);
   }
 
   if (settings.runtime_lighting) {

@@ -12,9 +12,11 @@
 #include <algorithm>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "parallel.h"
+#include "probebake/bake/lattice.h"
 
 namespace probebake::bake::detail {
 namespace {
@@ -47,7 +49,62 @@ std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cub
   return results;
 }
 
+constexpr int kSealRays = 64; // per sample point, over the front hemisphere
+
+// Fibonacci directions flipped into the hemisphere around `n` (the sphere lattice is symmetric enough).
+std::vector<glm::vec3> front_hemisphere(const std::vector<glm::vec3>& sphere, glm::vec3 n) {
+  std::vector<glm::vec3> out(sphere);
+  for (glm::vec3& d : out)
+    if (glm::dot(d, n) < 0.0f) d = -d;
+  return out;
+}
+
+bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::vector<glm::vec3>& sphere, float lift) {
+  const scene::Scene& s = rays.scene();
+  const glm::vec3 n = scene::triangle_normal(s, t);
+  if (n == glm::vec3(0.0f)) return false; // degenerate: nothing to see either way
+  const glm::uvec3 tri = s.triangles[t];
+  const glm::vec3 a = s.positions[tri.x], b = s.positions[tri.y], c = s.positions[tri.z];
+  const std::vector<glm::vec3> dirs = front_hemisphere(sphere, n);
+  const glm::vec3 samples[] = {(a + b + c) / 3.0f, 0.8f * a + 0.1f * (b + c), 0.8f * b + 0.1f * (a + c),
+                               0.8f * c + 0.1f * (a + b)};
+  for (const glm::vec3& p : samples) {
+    const glm::vec3 q = p + lift * n;
+    if (!is_dead(trace_probe(rays, q, Cube{q, 0.0f}, dirs), 0.0f)) return false;
+  }
+  return true;
+}
+
 } // namespace
+
+std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads) {
+  const scene::Scene& s = rays.scene();
+  const std::vector<glm::vec3> sphere = lattice_directions(Lattice::fibonacci, kSealRays);
+  const glm::vec3 extent = s.bounds.max - s.bounds.min;
+  const glm::vec3 far = glm::max(glm::abs(s.bounds.min), glm::abs(s.bounds.max));
+  // Off the surface by the reference's ray epsilon (relative to size and coordinate magnitude).
+  const float lift = std::max(1e-5f * std::max({extent.x, extent.y, extent.z}) + 1e-6f * std::max({far.x, far.y, far.z}), 1e-7f);
+  std::vector<char> sealed(s.triangles.size(), 0);
+  parallel_for(sealed.size(), threads, [&](std::size_t t) { sealed[t] = triangle_sealed(rays, std::uint32_t(t), sphere, lift) ? 1 : 0; });
+  return sealed;
+}
+
+std::optional<scene::Scene> without_sealed(const scene::Scene& scene, const std::vector<char>& sealed) {
+  if (std::find(sealed.begin(), sealed.end(), 1) == sealed.end()) return std::nullopt;
+  scene::Scene out;
+  out.positions = scene.positions;
+  out.materials = scene.materials;
+  out.lights = scene.lights;
+  out.bounds = scene.bounds; // the root cube and the clearance stay those of the whole scene
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    if (sealed[t] != 0) continue;
+    out.triangles.push_back(scene.triangles[t]);
+    out.triangle_material.push_back(scene.triangle_material[t]);
+    out.triangle_albedo.push_back(scene.triangle_albedo[t]);
+    out.triangle_emission.push_back(scene.triangle_emission[t]);
+  }
+  return out;
+}
 
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress) {
   const BakeSettings& s = *in.settings;

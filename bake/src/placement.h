@@ -2,6 +2,7 @@
 // and the uniform grid baseline. Both fill a ProbeVolume through formats::Octree.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "probe_tracing.h"
@@ -27,6 +28,16 @@ struct PlacedProbe {
 // f < split_low frees the probe, f >= split_high below max_depth splits the node, otherwise it stays.
 // Newly created children are evaluated in the next round until nothing changes.
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress);
+
+// Sealed triangles, which placement and lighting never see: every sample point just in front of the
+// triangle (its centroid and three points near its corners) sees mostly back faces over its front
+// hemisphere (is_dead's back-face rule), so it lies inside a solid and no point of open space can see
+// it, e.g. a cube hidden inside a block. Without this, such triangles split octree nodes inside solids
+// and move probes although nothing visible changed.
+std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads);
+// `scene` without the sealed triangles (same vertices, materials, lights and bounds), or nothing when
+// none is sealed.
+std::optional<scene::Scene> without_sealed(const scene::Scene& scene, const std::vector<char>& sealed);
 
 // Grid: N^3 probes at the cell centres of the scene bounds (node -1, depth 0).
 std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);

@@ -59,4 +59,13 @@ bool is_dead(const ProbeRays& r, float clearance) {
   return r.backface_fraction() > 0.5f || r.nearest < clearance;
 }
 
+float default_clearance(const scene::Scene& scene) {
+  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
+  return 0.02f * std::max({extent.x, extent.y, extent.z, 1e-6f});
+}
+
+bool is_open(const scene::RayScene& rays, glm::vec3 p, float clearance, std::span<const glm::vec3> directions) {
+  return !is_dead(trace_probe(rays, p, Cube{p, 0.0f}, directions), clearance);
+}
+
 } // namespace probebake::bake::detail

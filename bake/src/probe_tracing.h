@@ -45,4 +45,11 @@ ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cub
 // than the clearance.
 bool is_dead(const ProbeRays& r, float clearance);
 
+// The clearance a bake uses when BakeSettings::clearance is 0: 2% of the scene's largest extent.
+float default_clearance(const scene::Scene& scene);
+
+// Open space: a probe at `p` would not be dead (is_dead) at `clearance` over `directions`. The eval's
+// viewpoints use the bake's own test, so "where a player can be" and "where a probe can live" agree.
+bool is_open(const scene::RayScene& rays, glm::vec3 p, float clearance, std::span<const glm::vec3> directions);
+
 } // namespace probebake::bake::detail

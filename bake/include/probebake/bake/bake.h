@@ -66,6 +66,7 @@ struct BakeReport {
   int placed_probes = 0;              // probes placed before dead ones were freed
   std::vector<int> depth_histogram;   // probes per octree depth (grid: all at depth 0)
   int leaves = 0;
+  int sealed_triangles = 0;           // inside solids, unseen from open space: ignored by placement and lighting
   int dead_probes = 0;                // probes found inside geometry or closer than the clearance
   int moved_probes = 0;
   int freed_probes = 0;               // dead probes that could not be moved out

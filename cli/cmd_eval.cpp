@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include <fmt/core.h>
@@ -42,11 +43,15 @@ nlohmann::json row_json(const bake::EvalRow& r) {
           {"probes", r.probes}, {"file_bytes", r.file_bytes}, {"bake_seconds", r.bake_seconds},
           {"sample_ns", r.sample_ns}, {"rmse", r.rmse}, {"relative_rmse", r.relative_rmse}, {"bias", r.bias}, {"p95", r.p95},
           {"max_error", r.max_error}, {"leak_rmse", r.leak_rmse}, {"leak_points", r.leak_points},
-          {"misses", r.misses}};
+          {"misses", r.misses}, {"coverage", r.coverage}, {"relative_median", r.relative_median},
+          {"relative_p95", r.relative_p95}, {"image_relative_rmse", r.image_relative_rmse},
+          {"image_mean_error", r.image_mean_error}};
 }
 
 nlohmann::json result_json(const bake::EvalResult& r) {
-  nlohmann::json j = {{"scene", r.scene.string()}, {"points", r.points}, {"paths", r.paths}, {"seed", r.seed},
+  nlohmann::json j = {{"scene", r.scene.string()}, {"receivers", r.receivers}, {"viewpoints", r.viewpoints},
+                      {"points", r.points}, {"image_pixels", r.image_pixels},
+                      {"image_mean_reference", r.image_mean_reference}, {"paths", r.paths}, {"seed", r.seed},
                       {"mean_reference", r.mean_reference}, {"reference_noise", r.reference_noise},
                       {"reference_seconds", r.reference_seconds}, {"reference_cached", r.reference_from_cache},
                       {"cache_file", r.cache_file.string()}, {"cache_written", r.cache_written}};
@@ -104,8 +109,13 @@ Command add_eval_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand("eval", "Error against bake time over a sweep of settings, vs. the path-traced reference");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
-  s->points_option = app->add_option("--points", s->eval.points, "Seeded surface points (default 1000, --quick 64)");
+  s->points_option = app->add_option("--points", s->eval.points, "Seeded receivers (default 1000, --quick 64)");
   s->samples_option = app->add_option("--samples", s->eval.paths, "Reference paths per point (default 4096, --quick 64)");
+  app->add_option("--receivers", s->eval.receivers,
+                  "visible: surfaces seen from open space (default); volume: open-space points, random normals; "
+                  "area: every front face by area")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bake::ReceiverMode>{
+          {"visible", bake::ReceiverMode::visible}, {"volume", bake::ReceiverMode::volume}, {"area", bake::ReceiverMode::area}}));
   app->add_option("--seed", s->eval.seed, "Seed of the points and the reference");
   app->add_option("--threads", s->eval.threads, "Worker threads for bakes and the reference (0 = all cores)");
   app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests");

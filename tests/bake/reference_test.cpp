@@ -233,7 +233,9 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   EXPECT_TRUE(j["reference_cached"].get<bool>());
   EXPECT_TRUE(std::filesystem::exists(j["cache_file"].get<std::string>()));
   ASSERT_EQ(j["rows"].size(), configs + 1);
+  EXPECT_EQ(j["receivers"].get<std::string>(), "visible");
   for (const auto& row : j["rows"]) {
+    EXPECT_GT(row["coverage"].get<double>(), 0.0);
     EXPECT_GT(row["probes"].get<int>(), 0);
     EXPECT_GT(row["file_bytes"].get<long>(), 0);
     EXPECT_TRUE(std::isfinite(row["relative_rmse"].get<double>()));
@@ -245,6 +247,7 @@ TEST(EvalCli, BadOptionsAreUsageErrors) {
   EXPECT_EQ(run("eval " + quoted(scene) + " --quick --points 0").exit_code, 1);
   EXPECT_EQ(run("eval " + quoted(scene) + " --quick --error-map maps").exit_code, 1); // needs a camera
   EXPECT_EQ(run("eval " + quoted(scene) + " --quick --camera 0,0,1").exit_code, 1);   // needs --look-at
+  EXPECT_EQ(run("eval " + quoted(scene) + " --quick --receivers surfaces").exit_code, 1);
 }
 
 } // namespace

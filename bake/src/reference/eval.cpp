@@ -48,6 +48,9 @@ void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
   row.leak_rmse = e.leak_rmse;
   row.leak_points = e.leak_points;
   row.misses = stats.misses;
+  row.coverage = truth.points.empty() ? 0.0 : 1.0 - double(stats.misses) / double(truth.points.size());
+  row.relative_median = e.relative_median;
+  row.relative_p95 = e.relative_p95;
 }
 
 EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake_seconds) {
@@ -101,6 +104,8 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   const Truth truth = make_truth(scene, rays, ref);
   EvalResult result;
   result.scene = scene_path;
+  result.receivers = std::string(receiver_mode_name(settings.receivers));
+  result.viewpoints = ref.viewpoints;
   result.points = int(truth.points.size());
   result.paths = settings.paths;
   result.seed = settings.seed;
@@ -112,10 +117,12 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   result.cache_written = ref.cache_written;
 
   std::optional<detail::ErrorMaps> maps;
-  if (settings.camera && !settings.error_map_dir.empty()) {
-    say("error-map reference");
+  if (settings.camera) {
+    say("image reference");
     maps.emplace(scene, rays, settings);
-    result.error_maps.push_back(maps->reference_path());
+    result.image_pixels = maps->pixels();
+    result.image_mean_reference = maps->mean_reference();
+    if (maps->writes()) result.error_maps.push_back(maps->reference_path());
   }
   for (const EvalConfig& config : configs) {
     say("bake " + config.label);
@@ -126,8 +133,9 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     EvalRow row = baked_row(config, baked, seconds_since(start));
     const formats::ProbeVolume& v = baked.volume;
     score(row, truth, [&](const SamplePoint& p, SamplerStats& st) { return sample_irradiance(v, p.position, p.normal, &st); });
+    if (maps)
+      if (auto path = maps->score(row, v)) result.error_maps.push_back(*path);
     result.rows.push_back(row);
-    if (maps) result.error_maps.push_back(maps->write(config.label, v));
     if (config.label != baseline) continue;
     say("all-probes " + config.label);
     row.sampler = "all-probes";

@@ -9,7 +9,7 @@
 namespace probebake::bake {
 namespace {
 
-constexpr char kCacheVersion[] = "probebake-reference-1"; // bump when the estimator changes
+constexpr char kCacheVersion[] = "probebake-reference-2"; // bump when the estimator or the receivers change
 
 class Hasher {
 public:
@@ -31,7 +31,8 @@ private:
 
 } // namespace
 
-std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_t seed, int paths) {
+std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_t seed, int paths, ReceiverMode mode,
+                             std::span<const glm::vec3> anchors) {
   Hasher h;
   h.add_value(sizeof(kCacheVersion));
   for (char c : kCacheVersion) h.add_value(c);
@@ -53,10 +54,17 @@ std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_
   h.add_value(points);
   h.add_value(seed);
   h.add_value(paths);
+  h.add_value(int(mode));
+  h.add(std::vector<glm::vec3>(anchors.begin(), anchors.end()));
   return h.digest();
 }
 
 namespace detail {
+
+std::vector<glm::vec3> receiver_anchors(const EvalSettings& s) {
+  if (!s.camera) return {};
+  return {s.camera->position};
+}
 
 std::filesystem::path reference_cache_path(const std::filesystem::path& scene_path, std::uint64_t hash) {
   return scene_path.parent_path() / fmt::format("{}.reference.{:016x}.csv", scene_path.filename().string(), hash);
@@ -65,13 +73,19 @@ std::filesystem::path reference_cache_path(const std::filesystem::path& scene_pa
 ReferencePoints cached_reference(const std::filesystem::path& scene_path, const scene::Scene& scene,
                                  const scene::RayScene& rays, const EvalSettings& s) {
   ReferencePoints r;
-  r.cache_file = reference_cache_path(scene_path, reference_hash(scene, s.points, s.seed, s.paths));
+  const std::vector<glm::vec3> anchors = receiver_anchors(s);
+  r.cache_file = reference_cache_path(scene_path, reference_hash(scene, s.points, s.seed, s.paths, s.receivers, anchors));
   if (s.use_cache && read_reference_csv(r.cache_file, r.points, r.values) && !r.points.empty()) {
     r.from_cache = true;
     return r;
   }
-  r.points = surface_sample_points(scene, rays, s.points, s.seed);
-  if (r.points.empty()) throw Error(ErrorKind::input, fmt::format("{}: no visible surface to sample", scene_path.string()));
+  const Receivers receivers = make_receivers(
+      scene, rays, {.mode = s.receivers, .count = s.points, .seed = s.seed, .anchors = anchors, .threads = s.threads});
+  r.points = receivers.points;
+  r.viewpoints = receivers.viewpoints;
+  if (r.points.empty())
+    throw Error(ErrorKind::input, fmt::format("{}: no visible surface to sample ({} receivers)", scene_path.string(),
+                                              receiver_mode_name(s.receivers)));
   r.values = reference_irradiance(scene, rays, r.points, {.paths = s.paths, .seed = s.seed, .threads = s.threads});
   if (s.use_cache) {
     try {

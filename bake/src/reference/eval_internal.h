@@ -15,7 +15,11 @@ struct ReferencePoints {
   std::filesystem::path cache_file;
   bool from_cache = false;
   bool cache_written = false;
+  int viewpoints = 0; // 0 when read from the cache
 };
+
+// Where the player is: the camera's position, when there is one.
+std::vector<glm::vec3> receiver_anchors(const EvalSettings& settings);
 
 // Reads the cache beside the scene or computes (and then writes) it.
 ReferencePoints cached_reference(const std::filesystem::path& scene_path, const scene::Scene& scene,
@@ -24,6 +28,7 @@ ReferencePoints cached_reference(const std::filesystem::path& scene_path, const 
 // Per-point RGB RMS errors of `estimate` against `reference`, summarised.
 struct ErrorStats {
   double rmse = 0.0, p95 = 0.0, max = 0.0, leak_rmse = 0.0;
+  double relative_median = 0.0, relative_p95 = 0.0; // of |error| / max(|reference|, 1% of the mean)
   int leak_points = 0;
 };
 ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector<glm::vec3>& reference,

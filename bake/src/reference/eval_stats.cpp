@@ -15,6 +15,13 @@ double rgb_rms(const glm::vec3& a, const glm::vec3& b) {
   return std::sqrt((d.x * d.x + d.y * d.y + d.z * d.z) / 3.0);
 }
 
+// Nearest rank (sorts `values`).
+double percentile(std::vector<double>& values, double q) {
+  std::sort(values.begin(), values.end());
+  const auto rank = std::size_t(std::ceil(q * double(values.size())));
+  return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
+}
+
 } // namespace
 
 double mean_irradiance(const std::vector<glm::vec3>& values) {
@@ -27,10 +34,12 @@ ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector
                        double mean_reference) {
   ErrorStats s;
   if (reference.empty()) return s;
-  std::vector<double> errors(reference.size());
+  std::vector<double> errors(reference.size()), relative(reference.size());
   double squares = 0.0, leak_squares = 0.0;
   for (std::size_t i = 0; i < reference.size(); ++i) {
     errors[i] = rgb_rms(estimate[i], reference[i]);
+    // A floor of 1% of the mean keeps dark receivers (the leak points) from dividing by ~0.
+    relative[i] = errors[i] / std::max(rgb_rms(reference[i], glm::vec3(0.0f)), 0.01 * mean_reference);
     squares += errors[i] * errors[i];
     // Leak points: the reference is (nearly) dark, so whatever the probes put there came through walls.
     if (mean_channel(reference[i]) < 0.01 * mean_reference) {
@@ -40,11 +49,10 @@ ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector
   }
   s.rmse = std::sqrt(squares / double(errors.size()));
   s.leak_rmse = s.leak_points > 0 ? std::sqrt(leak_squares / s.leak_points) : 0.0;
-  std::sort(errors.begin(), errors.end());
-  // Nearest-rank 95th percentile.
-  const auto rank = std::size_t(std::ceil(0.95 * double(errors.size())));
-  s.p95 = errors[std::clamp<std::size_t>(rank, 1, errors.size()) - 1];
-  s.max = errors.back();
+  s.p95 = percentile(errors, 0.95);
+  s.max = *std::max_element(errors.begin(), errors.end());
+  s.relative_median = percentile(relative, 0.5);
+  s.relative_p95 = percentile(relative, 0.95);
   return s;
 }
 

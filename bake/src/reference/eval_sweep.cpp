@@ -54,6 +54,7 @@ void check_eval_settings(const EvalSettings& s) {
   require(s.threads >= 0, "--threads must be >= 0");
   require(s.image_paths >= 2, "--image-samples must be at least 2");
   require(s.error_map_dir.empty() || s.camera.has_value(), "--error-map needs --camera and --look-at");
+  require(parse_receiver_mode(receiver_mode_name(s.receivers)) == s.receivers, "--receivers must be visible, volume or area");
   if (s.camera) check_camera(*s.camera);
   for (const EvalConfig& c : s.configs) check_settings(c.bake);
 }

@@ -11,13 +11,45 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "probebake/bake/bake.h"
 #include "probebake/bake/reference.h"
 
 namespace probebake::bake {
+
+// ---- Receivers: where eval measures -------------------------------------------------------------------
+// visible (default): first hits of uniformly random rays from viewpoints in the open space of the scene
+//   bounds (cell centres where a probe would not be dead at the bake's clearance), restricted to the
+//   player's open regions (README "Receivers"); front faces only, with open space in front of them.
+// volume: points in that open space with random normals (where dynamic objects sample probes).
+// area: the old points spread over every front face by area, minus points inside geometry.
+enum class ReceiverMode { visible, volume, area };
+std::string_view receiver_mode_name(ReceiverMode mode);
+std::optional<ReceiverMode> parse_receiver_mode(std::string_view name);
+
+struct ReceiverSettings {
+  ReceiverMode mode = ReceiverMode::visible;
+  int count = 1000;
+  std::uint64_t seed = 1;
+  float clearance = 0.0f;          // viewpoints' distance from surfaces; 0 = the bake's default (2% of the size)
+  int cells = 32;                  // viewpoint cells along the largest axis of the scene bounds
+  std::vector<glm::vec3> anchors = {}; // camera positions: the open regions holding them are the player's
+  int threads = 0;
+};
+
+struct Receivers {
+  std::vector<SamplePoint> points; // fewer than asked only when the open space sees almost nothing
+  int viewpoints = 0;              // open cells in the kept regions (0 for area receivers)
+  int regions = 0;                 // open regions kept, of open_regions
+  int open_regions = 0;
+};
+
+// Same (scene, settings) -> same receivers, for any thread count.
+Receivers make_receivers(const scene::Scene& scene, const scene::RayScene& rays, const ReceiverSettings& settings);
 
 struct EvalConfig {
   std::string label; // unique, file-name safe (error maps are named after it)
@@ -38,8 +70,10 @@ struct EvalSettings {
   std::vector<EvalConfig> configs;  // empty: default_sweep()
   std::string baseline;        // label of the configuration also sampled with all probes; empty: "octree-d4"
                                // when swept, else the first octree configuration
+  ReceiverMode receivers = ReceiverMode::visible;
   bool use_cache = true;
-  std::optional<Camera> camera;       // with error_map_dir: per-configuration error images
+  std::optional<Camera> camera;       // adds image receivers (its visible pixels) and anchors the player's region;
+                                      // with error_map_dir also per-configuration error images
   std::filesystem::path error_map_dir;
   int image_paths = 64;               // reference paths per pixel of the error maps
   scene::LoadOptions scene_input = {}; // confinement and memory budget of the scene load
@@ -64,12 +98,21 @@ struct EvalRow {
   double max_error = 0.0;
   double leak_rmse = 0.0;       // rmse over points darker than 1% of the mean reference (0 when none)
   int leak_points = 0;
-  std::size_t misses = 0;       // lookups that found no probe
+  std::size_t misses = 0;       // lookups that found no probe: scored as what a runtime shows (direct light only)
+  double coverage = 0.0;        // fraction of receivers whose lookup found probes
+  double relative_median = 0.0; // median and 95th percentile of the per-receiver relative error
+  double relative_p95 = 0.0;    //   |error| / max(|reference|, 1% of the mean reference)
+  double image_mean_error = 0.0;    // camera receivers: mean over pixels and channels of |error| (the error map's mean)
+  double image_relative_rmse = 0.0; // camera receivers: RMSE / their mean reference
 };
 
 struct EvalResult {
   std::filesystem::path scene;
+  std::string receivers;               // receiver_mode_name
+  int viewpoints = 0;                  // 0 when the receivers came from the cache or by area
   int points = 0;                      // may be below the requested count when most surfaces are hidden
+  int image_pixels = 0;                // camera receivers (0 without --camera)
+  double image_mean_reference = 0.0;
   int paths = 0;
   std::uint64_t seed = 0;
   double mean_reference = 0.0;         // W/m^2, mean over points and channels
@@ -95,7 +138,9 @@ void write_eval_csv(const std::filesystem::path& path, const EvalResult& result)
 std::string eval_svg_plot(const EvalResult& result);
 void write_text_file(const std::filesystem::path& path, const std::string& text); // Error(output) on failure
 
-// The cache key: scene geometry, materials and lights, point count, seed, paths per point.
-std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_t seed, int paths);
+// The cache key: scene geometry, materials and lights, point count, seed, paths per point, receiver mode
+// and the anchors that chose the player's region.
+std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_t seed, int paths,
+                             ReceiverMode mode = ReceiverMode::visible, std::span<const glm::vec3> anchors = {});
 
 } // namespace probebake::bake

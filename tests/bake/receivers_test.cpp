@@ -1,0 +1,241 @@
+// `probebake eval`'s receivers (what a player can see), coverage, relative-error percentiles, image
+// receivers, and the invariance of receivers, metrics and the bake under geometry sealed inside solids.
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "bake_test_util.h"
+#include "probebake/bake/eval.h"
+#include "probebake/bake/reference.h"
+#include "probebake/samples/geometry.h"
+#include "probebake/samples/scenes.h"
+
+namespace probebake::test {
+namespace {
+
+const scene::Instance& instance(const scene::Scene& s, const std::string& name) {
+  const auto it = std::find_if(s.instances.begin(), s.instances.end(), [&](const scene::Instance& i) { return i.node_name == name; });
+  if (it == s.instances.end()) throw std::runtime_error("no instance " + name);
+  return *it;
+}
+
+// The generated Cornell box with a closed cube sealed inside each block, high enough that the floor
+// under the (bottomless) blocks subtends less than half of any cube face's hemisphere.
+samples::SceneBuilder cornell_with_hidden_cubes() {
+  const scene::Scene plain = load_generated(samples::cornell(), "recv_cornell_plain");
+  samples::SceneBuilder builder = samples::cornell();
+  const samples::MaterialId white = builder.add_material({"hidden", glm::vec3(0.9f), glm::vec3(0.0f)});
+  for (const char* block : {"short_block", "tall_block"}) {
+    const scene::Bounds b = instance(plain, block).bounds;
+    const glm::vec3 extent = b.max - b.min;
+    const float half = 0.15f * std::min(extent.x, extent.z);
+    const glm::vec3 centre(0.5f * (b.min.x + b.max.x), b.min.y + 0.65f * extent.y, 0.5f * (b.min.z + b.max.z));
+    const samples::MeshId mesh = builder.add_mesh(std::string("hidden_") + block,
+                                                  samples::box(centre - half, centre + half, samples::Facing::outward), white);
+    builder.add_mesh_node(std::string("hidden_") + block, mesh);
+  }
+  return builder;
+}
+
+// A closed 3.6 x 3 x 3.6 m room inside 0.2 m thick walls (outer faces outward, inner faces inward), a
+// point light inside and a sun outside.
+samples::SceneBuilder closed_room() {
+  samples::SceneBuilder builder("closed_room");
+  const samples::MaterialId wall = builder.add_material({"wall", glm::vec3(0.7f), glm::vec3(0.0f)});
+  samples::MeshData shell = samples::box({-2.0f, -0.2f, -2.0f}, {2.0f, 3.2f, 2.0f}, samples::Facing::outward);
+  shell.append(samples::box({-1.8f, 0.0f, -1.8f}, {1.8f, 3.0f, 1.8f}, samples::Facing::inward));
+  builder.add_mesh_node("shell", builder.add_mesh("shell", shell, wall));
+  builder.add_light_node("lamp", builder.add_light({.name = "lamp", .intensity = 20.0f}), {0.3f, 2.0f, -0.2f});
+  builder.add_light_node("sun", builder.add_light({.name = "sun", .type = samples::LightType::directional, .intensity = 1000.0f}),
+                         {0.0f, 5.0f, 0.0f}, glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)));
+  return builder;
+}
+
+bool inside_inner_room(glm::vec3 p) {
+  const float e = 1e-4f;
+  return std::abs(p.x) <= 1.8f + e && std::abs(p.z) <= 1.8f + e && p.y >= -e && p.y <= 3.0f + e;
+}
+
+bake::Receivers receivers_of(const scene::Scene& s, bake::ReceiverMode mode, int count) {
+  const scene::RayScene rays(s);
+  return bake::make_receivers(s, rays, {.mode = mode, .count = count, .seed = 3});
+}
+
+TEST(Receivers, ClosedRoomSeenFromInsideHasNoReceiversOnItsOuterFaces) {
+  const scene::Scene s = load_generated(closed_room(), "recv_closed_room");
+  const bake::Receivers visible = receivers_of(s, bake::ReceiverMode::visible, 300);
+  ASSERT_EQ(visible.points.size(), 300u);
+  EXPECT_EQ(visible.regions, 1);
+  for (const bake::SamplePoint& p : visible.points) {
+    EXPECT_TRUE(inside_inner_room(p.position)) << p.position.x << " " << p.position.y << " " << p.position.z;
+    EXPECT_LE(glm::dot(p.normal, p.position - glm::vec3(0.0f, 1.5f, 0.0f)), 0.0f) << "faces into the room";
+  }
+  // The area receivers put about half their points outside (the outer faces are larger).
+  const bake::Receivers area = receivers_of(s, bake::ReceiverMode::area, 300);
+  const auto outside = std::count_if(area.points.begin(), area.points.end(), [](const bake::SamplePoint& p) { return !inside_inner_room(p.position); });
+  std::printf("[ closed room ] visible: %zu receivers from %d viewpoints, 0 outside; area: %ld of %zu outside\n",
+              visible.points.size(), visible.viewpoints, long(outside), area.points.size());
+  EXPECT_GT(outside, 100);
+}
+
+TEST(Receivers, VolumeReceiversLieInOpenSpaceInsideTheRoom) {
+  const scene::Scene s = load_generated(closed_room(), "recv_closed_room_volume");
+  const scene::RayScene rays(s);
+  const bake::Receivers volume = bake::make_receivers(s, rays, {.mode = bake::ReceiverMode::volume, .count = 50, .seed = 3});
+  ASSERT_EQ(volume.points.size(), 50u);
+  for (const bake::SamplePoint& p : volume.points) {
+    EXPECT_TRUE(inside_inner_room(p.position));
+    EXPECT_FALSE(inside_geometry(rays, p.position));
+    EXPECT_NEAR(glm::length(p.normal), 1.0f, 1e-5f);
+  }
+}
+
+TEST(Receivers, NoneInTheGapBetweenTheCornellLightAndTheCeiling) {
+  const scene::Scene s = load_generated(samples::cornell(), "recv_cornell_gap");
+  const scene::Bounds light = instance(s, "light").bounds;
+  const bake::Receivers r = receivers_of(s, bake::ReceiverMode::visible, 1000);
+  ASSERT_EQ(r.points.size(), 1000u);
+  int above_light = 0;
+  for (const bake::SamplePoint& p : r.points)
+    // The ceiling over the light, 0.5 mm above its (back) face; the light's own face is a fine receiver.
+    if (p.position.y > light.max.y + 2e-4f && p.position.x > light.min.x && p.position.x < light.max.x &&
+        p.position.z > light.min.z && p.position.z < light.max.z)
+      ++above_light;
+  EXPECT_EQ(above_light, 0);
+}
+
+TEST(Receivers, SameForAnyThreadCount) {
+  const scene::Scene s = load_generated(samples::cornell(), "recv_cornell_threads");
+  const scene::RayScene rays(s);
+  const auto one = bake::make_receivers(s, rays, {.count = 200, .seed = 5, .threads = 1});
+  const auto two = bake::make_receivers(s, rays, {.count = 200, .seed = 5, .threads = 2});
+  ASSERT_EQ(one.points.size(), two.points.size());
+  for (std::size_t i = 0; i < one.points.size(); ++i) EXPECT_EQ(one.points[i].position, two.points[i].position);
+  EXPECT_THROW(bake::make_receivers(s, rays, {.count = 0}), Error);
+}
+
+TEST(Receivers, CacheKeyIncludesTheReceiverMode) {
+  const scene::Scene s = load_generated(samples::triangle(), "recv_triangle");
+  const auto visible = bake::reference_hash(s, 100, 1, 64, bake::ReceiverMode::visible);
+  EXPECT_NE(visible, bake::reference_hash(s, 100, 1, 64, bake::ReceiverMode::area));
+  EXPECT_NE(visible, bake::reference_hash(s, 100, 1, 64, bake::ReceiverMode::volume));
+  const glm::vec3 camera(0.1f, 0.5f, 0.2f);
+  EXPECT_NE(visible, bake::reference_hash(s, 100, 1, 64, bake::ReceiverMode::visible, std::span(&camera, 1)));
+}
+
+// ---- Sealed geometry ---------------------------------------------------------------------------------
+
+TEST(HiddenGeometry, SealedCubesLeaveReceiversAndProbeLayoutUnchanged) {
+  const scene::Scene plain = load_generated(samples::cornell(), "recv_cornell_a");
+  const scene::Scene hidden = load_generated(cornell_with_hidden_cubes(), "recv_cornell_hidden");
+  ASSERT_EQ(hidden.triangles.size(), plain.triangles.size() + 24);
+  const bake::Receivers a = receivers_of(plain, bake::ReceiverMode::visible, 500);
+  const bake::Receivers b = receivers_of(hidden, bake::ReceiverMode::visible, 500);
+  EXPECT_EQ(a.viewpoints, b.viewpoints);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].position, b.points[i].position) << i;
+    EXPECT_EQ(a.points[i].normal, b.points[i].normal) << i;
+  }
+  bake::BakeSettings settings = test_settings();
+  settings.max_depth = 5;
+  settings.lighting.rays = 32;
+  const bake::BakeResult pa = bake::bake(plain, settings);
+  const bake::BakeResult pb = bake::bake(hidden, settings);
+  EXPECT_EQ(pa.report.sealed_triangles, 0);
+  EXPECT_EQ(pb.report.sealed_triangles, 24);
+  std::printf("[ hidden cubes ] depth 5: %d probes without, %d with\n", pa.report.probes, pb.report.probes);
+  EXPECT_EQ(pa.report.probes, pb.report.probes);
+  ASSERT_EQ(pa.volume.probes.size(), pb.volume.probes.size());
+  for (std::size_t i = 0; i < pa.volume.probes.size(); ++i) {
+    EXPECT_EQ(pa.volume.probes[i].position, pb.volume.probes[i].position) << i;
+    EXPECT_EQ(pa.volume.probes[i].link, pb.volume.probes[i].link) << i;
+    for (int k = 0; k < 27; ++k) EXPECT_EQ(pa.volume.probes[i].irradiance_sh[k], pb.volume.probes[i].irradiance_sh[k]) << i;
+  }
+  EXPECT_EQ(pa.volume.octree, pb.volume.octree);
+  EXPECT_EQ(pa.volume.svo_nodes, pb.volume.svo_nodes);
+}
+
+bake::EvalResult quick_eval(const samples::SceneBuilder& builder, const std::string& name, bake::EvalSettings s) {
+  const auto path = write_generated(builder, name);
+  s.use_cache = false;
+  s.threads = 2;
+  return bake::evaluate(path, s);
+}
+
+bake::EvalSettings quick_settings() {
+  bake::EvalSettings s;
+  s.points = 64;
+  s.paths = 64;
+  s.configs = bake::quick_sweep();
+  return s;
+}
+
+TEST(HiddenGeometry, SealedCubesLeaveEveryRowsMetricsUnchanged) {
+  const bake::EvalResult a = quick_eval(samples::cornell(), "recv_eval_plain", quick_settings());
+  const bake::EvalResult b = quick_eval(cornell_with_hidden_cubes(), "recv_eval_hidden", quick_settings());
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  EXPECT_NEAR(a.mean_reference, b.mean_reference, a.reference_noise * a.mean_reference);
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    EXPECT_EQ(a.rows[i].probes, b.rows[i].probes) << a.rows[i].label;
+    EXPECT_NEAR(a.rows[i].relative_rmse, b.rows[i].relative_rmse, a.reference_noise) << a.rows[i].label;
+    EXPECT_NEAR(a.rows[i].relative_median, b.rows[i].relative_median, a.reference_noise) << a.rows[i].label;
+    EXPECT_NEAR(a.rows[i].relative_p95, b.rows[i].relative_p95, a.reference_noise) << a.rows[i].label;
+    EXPECT_EQ(a.rows[i].coverage, b.rows[i].coverage) << a.rows[i].label;
+  }
+}
+
+// ---- Coverage and image receivers --------------------------------------------------------------------
+
+TEST(EvalReceivers, GridCoveringTheSceneHasCoverageOne) {
+  bake::EvalSettings s = quick_settings();
+  s.configs = {s.configs.back()}; // grid-4
+  ASSERT_EQ(s.configs[0].bake.placement, bake::Placement::grid);
+  const bake::EvalResult r = quick_eval(samples::cornell(), "recv_eval_grid", s);
+  ASSERT_FALSE(r.rows.empty());
+  EXPECT_EQ(r.receivers, "visible");
+  EXPECT_GT(r.viewpoints, 0);
+  EXPECT_EQ(r.points, 64);
+  for (const bake::EvalRow& row : r.rows) {
+    EXPECT_EQ(row.coverage, 1.0) << row.label << " " << row.sampler;
+    EXPECT_EQ(row.misses, 0u);
+    EXPECT_GT(row.relative_p95, row.relative_median);
+    EXPECT_GT(row.relative_median, 0.0);
+  }
+}
+
+TEST(EvalReceivers, ImageReceiversAverageToTheErrorMapMean) {
+  bake::EvalSettings s = quick_settings();
+  s.configs = {s.configs.front()};
+  s.baseline = s.configs.front().label;
+  s.camera = bake::Camera{.position = {0.0f, 0.274f, 1.0f}, .look_at = {0.0f, 0.274f, 0.0f}, .fov_degrees = 40.0f,
+                          .width = 16, .height = 12};
+  s.image_paths = 4;
+  const auto path = write_generated(samples::cornell(), "recv_eval_image");
+  s.error_map_dir = path.parent_path() / "recv_eval_maps";
+  s.use_cache = false;
+  const bake::EvalResult r = bake::evaluate(path, s);
+  ASSERT_GT(r.image_pixels, 16 * 12 / 2);
+  const bake::EvalRow& row = r.rows.front();
+  const bake::Image map = bake::read_exr(s.error_map_dir / (row.label + ".exr"));
+  const scene::Scene scene = scene::load_scene(path);
+  const scene::RayScene rays(scene);
+  const auto visible = bake::camera_surface_points(rays, *s.camera);
+  double sum = 0.0;
+  int pixels = 0;
+  for (std::size_t i = 0; i < visible.size(); ++i) {
+    if (!visible[i]) continue;
+    sum += (double(map.pixels[i].x) + double(map.pixels[i].y) + double(map.pixels[i].z)) / 3.0;
+    ++pixels;
+  }
+  EXPECT_EQ(pixels, r.image_pixels);
+  EXPECT_GT(row.image_mean_error, 0.0);
+  EXPECT_NEAR(row.image_mean_error, sum / pixels, 1e-6 * row.image_mean_error);
+  EXPECT_GT(row.image_relative_rmse, 0.0);
+}
+
+} // namespace
+} // namespace probebake::test

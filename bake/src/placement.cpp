@@ -50,6 +50,7 @@ std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cub
 }
 
 constexpr int kSealRays = 64; // per sample point, over the front hemisphere
+constexpr std::size_t kSealScreenStride = 8; // 8 of the 64 directions screen first
 
 // Fibonacci directions flipped into the hemisphere around `n` (the sphere lattice is symmetric enough).
 std::vector<glm::vec3> front_hemisphere(const std::vector<glm::vec3>& sphere, glm::vec3 n) {
@@ -68,6 +69,13 @@ bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::ve
   const std::vector<glm::vec3> dirs = front_hemisphere(sphere, n);
   const glm::vec3 samples[] = {(a + b + c) / 3.0f, 0.8f * a + 0.1f * (b + c), 0.8f * b + 0.1f * (a + c),
                                0.8f * c + 0.1f * (a + b)};
+  // Screen: most triangles are plainly visible. Every kSealScreenStride-th lattice direction (spread over
+  // the hemisphere) from the centroid; if none of them meets a back face, the triangle is open without
+  // the full test (which cost ten times the rest of the bvh stage on a 291k-triangle scene).
+  std::vector<glm::vec3> screen;
+  for (std::size_t i = 0; i < dirs.size(); i += kSealScreenStride) screen.push_back(dirs[i]);
+  const glm::vec3 centroid = samples[0] + lift * n;
+  if (trace_probe(rays, centroid, Cube{centroid, 0.0f}, screen).backface_hits == 0) return false;
   for (const glm::vec3& p : samples) {
     const glm::vec3 q = p + lift * n;
     if (!is_dead(trace_probe(rays, q, Cube{q, 0.0f}, dirs), 0.0f)) return false;

@@ -148,10 +148,25 @@ public:
       if (li < 0 || std::size_t(li) >= model_.lights.size()) ctx_.fail(place, fmt::format("light {} does not exist", li));
       scene_.lights.push_back(convert_light(model_.lights[std::size_t(li)], world, ctx_, place));
     }
+    if (node.camera >= 0) add_camera(node, world, place);
     for (int child : node.children) add_node(child, world, dynamic, depth + 1);
   }
 
 private:
+  void add_camera(const tinygltf::Node& node, const glm::mat4& world, const std::string& place) {
+    if (std::size_t(node.camera) >= model_.cameras.size()) ctx_.fail(place, fmt::format("camera {} does not exist", node.camera));
+    const tinygltf::Camera& camera = model_.cameras[std::size_t(node.camera)];
+    if (camera.type != "perspective") {
+      ctx_.warn(fmt::format("{}: {} camera not used (eval takes perspective cameras)", place, camera.type));
+      return;
+    }
+    const glm::vec3 forward = glm::mat3(world) * glm::vec3(0, 0, -1);
+    const float yfov = float(camera.perspective.yfov);
+    if (!(glm::length(forward) > 0.0f) || !(yfov > 0.0f && yfov < 3.14159f))
+      ctx_.fail(place, "camera has no direction or a field of view outside (0, pi)");
+    scene_.cameras.push_back({node.name, glm::vec3(world * glm::vec4(0, 0, 0, 1)), glm::normalize(forward), yfov});
+  }
+
   void add_mesh_instance(const tinygltf::Node& node, int index, const glm::mat4& world, bool dynamic,
                          const std::string& place) {
     if (std::size_t(node.mesh) >= model_.meshes.size()) ctx_.fail(place, fmt::format("mesh {} does not exist", node.mesh));

@@ -148,7 +148,7 @@ tinygltf::Value dynamic_extras() {
   return tinygltf::Value(std::move(extras));
 }
 
-tinygltf::Node encode_node(const SceneBuilder::NodeEntry& source) {
+tinygltf::Node encode_node(const SceneBuilder::NodeEntry& source, tinygltf::Model& model) {
   tinygltf::Node node;
   node.name = source.name;
   const Transform& t = source.transform;
@@ -161,6 +161,15 @@ tinygltf::Node encode_node(const SceneBuilder::NodeEntry& source) {
   if (source.light) {
     tinygltf::Value::Object light{{"light", tinygltf::Value(source.light->index)}};
     node.extensions["KHR_lights_punctual"] = tinygltf::Value(std::move(light));
+  }
+  if (source.camera_yfov) {
+    tinygltf::Camera camera;
+    camera.type = "perspective";
+    camera.perspective.yfov = *source.camera_yfov;
+    camera.perspective.aspectRatio = 1.0;
+    camera.perspective.znear = 0.01;
+    node.camera = int(model.cameras.size());
+    model.cameras.push_back(camera);
   }
   if (source.dynamic) node.extras = dynamic_extras();
   node.children = source.children;
@@ -178,7 +187,7 @@ tinygltf::Model encode_model(const SceneBuilder& scene) {
   for (const Material& material : scene.materials()) model.materials.push_back(encode_material(material, uses_strength));
   if (uses_strength) model.extensionsUsed.push_back("KHR_materials_emissive_strength");
   for (const Light& light : scene.lights()) model.lights.push_back(encode_light(light));  // adds KHR_lights_punctual
-  for (const auto& node : scene.nodes()) model.nodes.push_back(encode_node(node));
+  for (const auto& node : scene.nodes()) model.nodes.push_back(encode_node(node, model));
   tinygltf::Scene gltf_scene;
   gltf_scene.name = scene.scene_name();
   gltf_scene.nodes = scene.roots();

@@ -96,7 +96,7 @@ NodeId SceneBuilder::add_node(std::string name, const Transform& transform, std:
   } else {
     roots_.push_back(index);
   }
-  nodes_.push_back(NodeEntry{std::move(name), transform, std::nullopt, std::nullopt, false, {}});
+  nodes_.push_back(NodeEntry{std::move(name), transform, std::nullopt, std::nullopt, std::nullopt, false, {}});
   return NodeId{index};
 }
 
@@ -119,6 +119,19 @@ NodeId SceneBuilder::add_light_node(std::string name, LightId light, glm::vec3 p
   }
   const NodeId node = add_node(std::move(name), transform, parent);
   nodes_[static_cast<std::size_t>(node.index)].light = light;
+  return node;
+}
+
+NodeId SceneBuilder::add_camera_node(std::string name, glm::vec3 position, glm::vec3 look_at, float yfov) {
+  const glm::vec3 forward = look_at - position;
+  if (!finite(position) || !finite(look_at) || glm::length(forward) == 0.0f || !(yfov > 0.0f && yfov < 3.14159f))
+    invalid("camera node '" + name + "': bad position, target or field of view");
+  Transform transform;
+  transform.translation = position;
+  // glTF cameras look along -Z with +Y up: the inverse of a look-at view matrix.
+  transform.rotation = glm::quat_cast(glm::inverse(glm::mat3(glm::lookAt(position, look_at, glm::vec3(0, 1, 0)))));
+  const NodeId node = add_node(std::move(name), transform);
+  nodes_[static_cast<std::size_t>(node.index)].camera_yfov = yfov;
   return node;
 }
 

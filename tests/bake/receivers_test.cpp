@@ -5,6 +5,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
@@ -205,6 +206,33 @@ TEST(EvalReceivers, GridCoveringTheSceneHasCoverageOne) {
     EXPECT_GT(row.relative_p95, row.relative_median);
     EXPECT_GT(row.relative_median, 0.0);
   }
+}
+
+// Without --camera, the scene's glTF camera does exactly what the same --camera does: it anchors the
+// player's region and adds image receivers.
+TEST(EvalReceivers, AGltfCameraActsAsTheSameCameraOption) {
+  const glm::vec3 position{0.0f, 0.274f, 1.0f}, target{0.0f, 0.274f, 0.0f};
+  samples::SceneBuilder builder = samples::cornell();
+  builder.add_camera_node("view", position, target, glm::radians(40.0f));
+  const auto path = write_generated(builder, "recv_eval_gltf_camera");
+  bake::EvalSettings s = quick_settings();
+  s.configs = {s.configs.front()};
+  s.baseline = s.configs.front().label;
+  s.image_paths = 2;
+  s.use_cache = false;
+  const scene::Scene scene = scene::load_scene(path);
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  EXPECT_NEAR(glm::length(scene.cameras[0].position - position), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::dot(scene.cameras[0].forward, glm::vec3(0, 0, -1)), 1.0f, 1e-5f);
+  const bake::EvalResult from_scene = bake::evaluate(path, s);
+  s.camera = bake::Camera{.position = position, .look_at = target, .fov_degrees = 40.0f, .width = 128, .height = 128};
+  const bake::EvalResult from_option = bake::evaluate(path, s);
+  ASSERT_GT(from_scene.image_pixels, 128 * 128 / 2);
+  EXPECT_EQ(from_scene.image_pixels, from_option.image_pixels);
+  EXPECT_EQ(from_scene.points, from_option.points);
+  EXPECT_EQ(from_scene.viewpoints, from_option.viewpoints);
+  EXPECT_NEAR(from_scene.rows.front().image_mean_error, from_option.rows.front().image_mean_error,
+              1e-4 * from_option.rows.front().image_mean_error);
 }
 
 TEST(EvalReceivers, ImageReceiversAverageToTheErrorMapMean) {

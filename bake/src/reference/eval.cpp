@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/core.h>
+#include <glm/trigonometric.hpp>
 
 #include "eval_internal.h"
 #include "eval_maps.h"
@@ -86,6 +87,21 @@ double reference_noise(const ReferenceResult& r, double mean) {
   return mean > 0.0 && !r.standard_error.empty() ? std::sqrt(sum / double(r.standard_error.size())) / mean : 0.0;
 }
 
+constexpr int kSceneCameraPixels = 128; // image receivers of a glTF camera: 128 x 128 (--camera sets its own size)
+
+EvalSettings with_scene_camera(const EvalSettings& settings, const scene::Scene& scene) {
+  EvalSettings out = settings;
+  if (out.camera || scene.cameras.empty()) return out;
+  const scene::SceneCamera& c = scene.cameras.front();
+  Camera camera;
+  camera.position = c.position;
+  camera.look_at = c.position + c.forward;
+  camera.fov_degrees = glm::degrees(c.yfov);
+  camera.width = camera.height = kSceneCameraPixels;
+  out.camera = camera;
+  return out;
+}
+
 } // namespace
 
 EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings& settings, const EvalProgress& progress) {
@@ -97,18 +113,20 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   load.require_triangles = true;
   const scene::Scene scene = scene::load_scene(scene_path, load);
   for (const auto& output : settings.outputs) check_output_path(output, scene.input_files);
+  // Without --camera, the scene's first glTF camera anchors the player's region and adds image receivers.
+  const EvalSettings effective = with_scene_camera(settings, scene);
   const scene::RayScene rays(scene);
 
   say("reference");
-  const detail::ReferencePoints ref = detail::cached_reference(scene_path, scene, rays, settings);
+  const detail::ReferencePoints ref = detail::cached_reference(scene_path, scene, rays, effective);
   const Truth truth = make_truth(scene, rays, ref);
   EvalResult result;
   result.scene = scene_path;
-  result.receivers = std::string(receiver_mode_name(settings.receivers));
+  result.receivers = std::string(receiver_mode_name(effective.receivers));
   result.viewpoints = ref.viewpoints;
   result.points = int(truth.points.size());
-  result.paths = settings.paths;
-  result.seed = settings.seed;
+  result.paths = effective.paths;
+  result.seed = effective.seed;
   result.mean_reference = truth.mean;
   result.reference_noise = reference_noise(ref.values, truth.mean);
   result.reference_seconds = ref.from_cache ? 0.0 : ref.values.seconds;
@@ -117,9 +135,9 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   result.cache_written = ref.cache_written;
 
   std::optional<detail::ErrorMaps> maps;
-  if (settings.camera) {
+  if (effective.camera) {
     say("image reference");
-    maps.emplace(scene, rays, settings);
+    maps.emplace(scene, rays, effective);
     result.image_pixels = maps->pixels();
     result.image_mean_reference = maps->mean_reference();
     if (maps->writes()) result.error_maps.push_back(maps->reference_path());
@@ -127,7 +145,7 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   for (const EvalConfig& config : configs) {
     say("bake " + config.label);
     BakeSettings bs = config.bake;
-    bs.threads = settings.threads;
+    bs.threads = effective.threads;
     const auto start = Clock::now();
     const BakeResult baked = bake(scene, bs);
     EvalRow row = baked_row(config, baked, seconds_since(start));

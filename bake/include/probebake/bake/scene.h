@@ -43,6 +43,14 @@ struct Light {
   float outer_cone_angle = 0.785398163f; // radians (spot), glTF default pi/4
 };
 
+// A glTF perspective camera placed by its node (eval's viewpoints and image receivers).
+struct SceneCamera {
+  std::string name;
+  glm::vec3 position{0.0f};
+  glm::vec3 forward{0, 0, -1}; // unit, world space (the node's -Z)
+  float yfov = 0.8f;           // vertical field of view, radians
+};
+
 struct Material {
   std::string name;
   glm::vec3 base_color{1.0f};  // baseColorFactor (linear RGB, alpha ignored)
@@ -72,6 +80,7 @@ struct Scene {
   std::vector<glm::vec3> triangle_emission;       // emitted radiance, texture averaged
   std::vector<Material> materials;                // always at least one (the glTF default material last)
   std::vector<Light> lights;
+  std::vector<SceneCamera> cameras;               // perspective cameras, scene order (orthographic ones skipped)
   std::vector<Instance> instances;
   std::vector<std::string> extensions_used;
   std::vector<std::string> extensions_required;

@@ -80,6 +80,7 @@ class SceneBuilder {
     Transform transform;
     std::optional<MeshId> mesh;
     std::optional<LightId> light;
+    std::optional<float> camera_yfov; // a perspective camera (radians) looking along the node's -Z
     bool dynamic = false;
     std::vector<int> children;
   };
@@ -105,6 +106,8 @@ class SceneBuilder {
   // A light node at `position`; spot and directional lights shine along `direction` (glTF's -Z axis).
   NodeId add_light_node(std::string name, LightId light, glm::vec3 position,
                         glm::vec3 direction = {0.0f, -1.0f, 0.0f}, std::optional<NodeId> parent = {});
+  // A perspective camera node at `position` looking at `look_at` (+Y up), vertical field of view in radians.
+  NodeId add_camera_node(std::string name, glm::vec3 position, glm::vec3 look_at, float yfov);
   // Marks a node as moving at run time (the extras key above).
   void set_dynamic(NodeId node, bool dynamic = true);
   // Puts every current root under one new root with this transform (e.g. to scale or move the scene).

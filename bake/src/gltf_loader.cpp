@@ -27,13 +27,15 @@ constexpr std::uint64_t kJsonTreeBytesPerChar = 16;
 // Scene arrays per triangle: indices, material, albedo, emission.
 constexpr std::uint64_t kSceneBytesPerTriangle = sizeof(glm::uvec3) + sizeof(std::uint32_t) + 2 * sizeof(glm::vec3);
 
-std::vector<unsigned char> read_file_bytes(const std::filesystem::path& path, const Context& ctx) {
+// The file must fit the budget before it is read; load_scene_from_memory then charges it to the load's budget.
+std::vector<unsigned char> read_file_bytes(const std::filesystem::path& path, std::uint64_t max_memory,
+                                           const Context& ctx) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) ctx.fail("open", "file does not exist");
   if (!std::filesystem::is_regular_file(path, ec)) ctx.fail("open", "is not a regular file");
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec) ctx.fail("open", "cannot read the file size");
-  ctx.charge(size, 1, "open");
+  detail::MemoryBudget(max_memory).charge(size, ctx, "open");
   std::ifstream in(path, std::ios::binary);
   if (!in) ctx.fail("open", "cannot open for reading");
   std::vector<unsigned char> bytes(size);
@@ -269,9 +271,9 @@ std::vector<int> root_nodes(const tinygltf::Model& model, const Context& ctx) {
 } // namespace
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
-  detail::MemoryBudget budget(options.max_memory);
-  const Context ctx{path.string(), nullptr, &budget};
-  Scene scene = load_scene_from_memory(read_file_bytes(path, ctx), path.string(), path.parent_path(), options);
+  const Context ctx{path.string()};
+  Scene scene =
+      load_scene_from_memory(read_file_bytes(path, options.max_memory, ctx), path.string(), path.parent_path(), options);
   std::error_code ec;
   scene.input_files.insert(scene.input_files.begin(), std::filesystem::weakly_canonical(path, ec));
   return scene;

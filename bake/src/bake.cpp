@@ -21,6 +21,7 @@
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/octree.h"
+#include "probebake/formats/validate.h"
 
 namespace probebake::bake {
 namespace {
@@ -50,8 +51,7 @@ void require(bool ok, const std::string& message) {
 // The root cube: the scene bounds' bounding cube, padded so that surfaces on the bounds are inside.
 gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
   gpu::VolumeInfo info{};
-  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
-  const float largest = std::max({extent.x, extent.y, extent.z});
+  const float largest = scene.bounds.largest_extent();
   const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
   info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
   info.root_size = size;
@@ -165,8 +165,7 @@ void check_scene(const scene::Scene& scene) {
   for (std::size_t t = 0; t < scene.triangles.size() && !any_area; ++t)
     any_area = scene::triangle_normal(scene, t) != glm::vec3(0.0f);
   if (!any_area) bake_fail("no triangle has a non-zero area (degenerate geometry): there is nothing to place probes around");
-  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
-  const float size = std::max({extent.x, extent.y, extent.z});
+  const float size = scene.bounds.largest_extent();
   if (size < kMinSceneSize)
     bake_fail(fmt::format("the scene is {:.3g} m across, below the {:.0e} m the bake resolves in 32-bit floats; scale "
                           "it up (a glTF node scale)", size, kMinSceneSize));
@@ -182,8 +181,7 @@ void check_scene(const scene::Scene& scene) {
 // No probe can be farther than half the scene's size from every surface; a larger clearance would also
 // make the SDF band (1.5 x clearance) cover the scene many times over.
 void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
-  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
-  const float half_size = 0.5f * std::max({extent.x, extent.y, extent.z});
+  const float half_size = 0.5f * scene.bounds.largest_extent();
   require(s.clearance <= half_size, fmt::format("--clearance {:.3g} m is more than half the scene's size ({:.3g} m)",
                                                 s.clearance, 2.0f * half_size));
 }
@@ -192,11 +190,13 @@ void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
 
 void check_settings(const BakeSettings& s) {
   require(s.max_depth >= 0 && s.max_depth <= gpu::OCTREE_MAX_DEPTH, fmt::format("--max-depth must be in [0, {}]", gpu::OCTREE_MAX_DEPTH));
-  require(s.surfels_per_probe >= 1 && s.surfels_per_probe <= 65536, "--surfels must be in [1, 65536]");
+  require(s.surfels_per_probe >= 1 && s.surfels_per_probe <= formats::kMaxSurfelsPerProbe,
+          fmt::format("--surfels must be in [1, {}]", formats::kMaxSurfelsPerProbe)); // what the validator accepts
   require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
               s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
-  require(s.grid_resolution >= 1 && s.grid_resolution <= 256, "--grid must be in [1, 256]");
+  require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,
+          fmt::format("--grid must be in [1, {}]", formats::kMaxGridResolution));
   require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
   require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
   require(s.threads >= 0, "--threads must be >= 0");

@@ -140,8 +140,6 @@ std::vector<unsigned char> decode_meshopt_stream(std::span<const unsigned char> 
 // charged before pixels are allocated. An image that cannot be decoded is recorded in
 // policy.image_problems and left empty: a texture never fails the load by itself.
 bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy);
-// URI percent-decoding as tinygltf applies it before opening a file.
-std::string percent_decode(const std::string& uri);
 
 // Geometry of one triangle primitive in its mesh's local space.
 struct PrimitiveGeometry {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gltf_internal.h"
+#include "probebake/bake/scene.h"
 
 namespace probebake::scene::detail {
 namespace {
@@ -70,7 +71,7 @@ bool has_scheme(const std::string& uri) {
 }
 
 void check_file_uri(const std::string& uri, const InputPolicy& policy, const Context& ctx, const std::string& place) {
-  const std::string path = percent_decode(uri);
+  const std::string path = scene::percent_decode(uri);
   const std::string quoted = fmt::format("'{}'", uri);
   if (path.empty()) ctx.fail(place, "URI is empty");
   if (path.find('\0') != std::string::npos) ctx.fail(place, fmt::format("URI {} holds a NUL character", quoted));
@@ -181,6 +182,17 @@ std::string_view gltf_json_text(std::span<const unsigned char> bytes, bool is_gl
   return {reinterpret_cast<const char*>(&bytes[20]), json_length};
 }
 
+
+PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx) {
+  Preflight sax(policy, ctx);
+  nlohmann::json::sax_parse(json.begin(), json.end(), &sax);
+  return std::move(sax.facts);
+}
+
+} // namespace probebake::scene::detail
+
+namespace probebake::scene {
+
 std::string percent_decode(const std::string& uri) {
   // The same decoding tinygltf applies before opening a file (including '+' as a space), so the path
   // checked here is the path it opens.
@@ -204,10 +216,4 @@ std::string percent_decode(const std::string& uri) {
   return out;
 }
 
-PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx) {
-  Preflight sax(policy, ctx);
-  nlohmann::json::sax_parse(json.begin(), json.end(), &sax);
-  return std::move(sax.facts);
-}
-
-} // namespace probebake::scene::detail
+} // namespace probebake::scene

@@ -60,8 +60,7 @@ bool is_dead(const ProbeRays& r, float clearance) {
 }
 
 float default_clearance(const scene::Scene& scene) {
-  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
-  return 0.02f * std::max({extent.x, extent.y, extent.z, 1e-6f});
+  return 0.02f * std::max(scene.bounds.largest_extent(), 1e-6f);
 }
 
 bool is_open(const scene::RayScene& rays, glm::vec3 p, float clearance, std::span<const glm::vec3> directions) {

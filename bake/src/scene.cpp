@@ -1,4 +1,7 @@
 #include <cmath>
+#include <algorithm>
+
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "probebake/bake/scene.h"
@@ -8,6 +11,18 @@ namespace probebake::scene {
 void Bounds::extend(const glm::vec3& p) {
   min = glm::min(min, p);
   max = glm::max(max, p);
+}
+
+float Bounds::largest_extent() const {
+  if (empty()) return 0.0f;
+  const glm::vec3 extent = max - min;
+  return std::max({extent.x, extent.y, extent.z});
+}
+
+float ray_epsilon(const Scene& scene) {
+  if (scene.bounds.empty()) return 1e-5f;
+  const glm::vec3 far = glm::max(glm::abs(scene.bounds.min), glm::abs(scene.bounds.max));
+  return std::max(1e-5f * scene.bounds.largest_extent() + 1e-6f * std::max({far.x, far.y, far.z}), 1e-7f);
 }
 
 void Bounds::extend(const Bounds& b) {

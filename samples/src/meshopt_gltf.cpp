@@ -1,5 +1,6 @@
 // See meshopt_gltf.h. Works on the JSON (nlohmann) and raw buffer bytes, so everything the converter does
 // not touch (materials, lights, extras, images' bytes) is carried over exactly.
+#include "probebake/bake/scene.h"
 #include "probebake/samples/meshopt_gltf.h"
 
 #include "probebake/formats/error.h"
@@ -28,19 +29,6 @@ std::uint32_t read_u32(const Bytes& b, std::size_t at) {
   std::uint32_t v = 0;
   if (at + 4 <= b.size()) std::memcpy(&v, &b[at], 4);
   return v;
-}
-
-std::string percent_decode(const std::string& uri) {
-  std::string out;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size()) {
-      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      out += uri[i];
-    }
-  }
-  return out;
 }
 
 Bytes read_file(const std::filesystem::path& path) {
@@ -79,7 +67,7 @@ Input parse_input(const Bytes& bytes, const std::filesystem::path& base_dir) {
     else if (tinygltf::IsDataURI(uri)) {
       std::string mime;
       if (!tinygltf::DecodeDataURI(&data, mime, uri, 0, false)) fail("bad data URI in a buffer");
-    } else data = read_file(base_dir / percent_decode(uri));
+    } else data = read_file(base_dir / scene::percent_decode(uri));
     in.buffers.push_back(std::move(data));
   }
   return in;
@@ -197,7 +185,7 @@ class Writer {
         if (!tinygltf::DecodeDataURI(&data, ignored, "data:application/octet-stream;base64," + uri.substr(uri.find(',') + 1), 0, false))
           fail("bad image data URI");
       } else {
-        data = read_file(base_dir_ / percent_decode(uri));
+        data = read_file(base_dir_ / scene::percent_decode(uri));
         const std::string ext = std::filesystem::path(uri).extension().string();
         mime = ext == ".png" ? "image/png" : ext == ".webp" ? "image/webp" : ext == ".ktx2" ? "image/ktx2" : "image/jpeg";
       }

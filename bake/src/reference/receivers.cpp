@@ -165,7 +165,7 @@ std::vector<SamplePoint> collect(const OpenSpace& space, const ReceiverSettings&
 
 std::vector<SamplePoint> visible_points(const scene::Scene& scene, const scene::RayScene& rays, const OpenSpace& space,
                                         const ReceiverSettings& s, float clearance) {
-  const float epsilon = detail::ray_epsilon(scene);
+  const float epsilon = scene::ray_epsilon(scene);
   // Open space in front of a receiver: nothing within a quarter of the clearance along its normal, which
   // drops sub-millimetre gaps (a light fixture just below a ceiling) that a grazing ray can still enter.
   const float gap = 0.25f * clearance;

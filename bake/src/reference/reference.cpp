@@ -49,7 +49,7 @@ ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::Ray
   check_reference_settings(settings);
   const auto start = std::chrono::steady_clock::now();
   const detail::EmitterTable emitters(scene);
-  const detail::PathContext context{&scene, &rays, &emitters, detail::ray_epsilon(scene), settings.roulette_after,
+  const detail::PathContext context{&scene, &rays, &emitters, scene::ray_epsilon(scene), settings.roulette_after,
                                     settings.max_bounces};
   const std::size_t chunks = (std::size_t(settings.paths) + kChunk - 1) / kChunk;
   std::vector<Moments> moments(points.size() * chunks);

@@ -100,7 +100,7 @@ std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, const 
   if (count < 1) throw Error(ErrorKind::usage, fmt::format("--points must be at least 1 (got {})", count));
   const AreaTable table = area_table(scene);
   if (table.triangles.empty()) return {};
-  const float epsilon = detail::ray_epsilon(scene);
+  const float epsilon = scene::ray_epsilon(scene);
   // Whole rounds of stratified candidates until enough are visible (each round is uniform over the visible
   // area, so their union is too); then `count` of them at even steps along the cumulative area.
   std::vector<Candidate> visible;

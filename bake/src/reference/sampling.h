@@ -49,17 +49,6 @@ inline float power_heuristic(float pdf_a, float pdf_b) {
   return a2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-// Distance by which ray origins are lifted off their surface: relative to the scene's size and to the
-// magnitude of its coordinates (float spacing grows with them).
-inline float ray_epsilon(const scene::Scene& scene) {
-  if (scene.bounds.empty()) return 1e-5f;
-  const glm::vec3 extent = scene.bounds.max - scene.bounds.min;
-  const glm::vec3 far = glm::max(glm::abs(scene.bounds.min), glm::abs(scene.bounds.max));
-  const float size = std::max({extent.x, extent.y, extent.z});
-  const float magnitude = std::max({far.x, far.y, far.z});
-  return std::max(1e-5f * size + 1e-6f * magnitude, 1e-7f);
-}
-
 inline glm::vec3 triangle_point(const scene::Scene& scene, std::uint32_t t, float u, float v) {
   const glm::uvec3 tri = scene.triangles[t];
   return (1.0f - u - v) * scene.positions[tri.x] + u * scene.positions[tri.y] + v * scene.positions[tri.z];

@@ -25,6 +25,7 @@ struct Bounds {
   glm::vec3 max{-std::numeric_limits<float>::infinity()};
 
   bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+  float largest_extent() const; // 0 when empty
   void extend(const glm::vec3& p);
   void extend(const Bounds& b);
 };
@@ -123,6 +124,14 @@ SceneSummary summarize(const Scene& scene);
 
 double triangle_area(const Scene& scene, std::size_t triangle);
 glm::vec3 triangle_normal(const Scene& scene, std::size_t triangle); // unit geometric normal (CCW)
+
+// Distance by which ray origins are lifted off their surface: relative to the scene's size and to the
+// magnitude of its coordinates (float spacing grows with them).
+float ray_epsilon(const Scene& scene);
+
+// A glTF URI percent-decoded as tinygltf decodes it before opening the file ('+' as a space), so that the
+// path checked is the path opened.
+std::string percent_decode(const std::string& uri);
 
 // The glTF extensions the loader understands (others in extensionsRequired are refused).
 const std::vector<std::string>& supported_extensions();

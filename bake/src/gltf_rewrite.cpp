@@ -99,11 +99,12 @@ void replace_json(std::vector<unsigned char>& bytes, bool is_glb, std::size_t ol
   bytes = std::move(out);
 }
 
-bool needs_rewrite(const std::vector<unsigned char>& bytes, bool is_glb, const PreflightFacts& facts) {
+// Draco is searched in the JSON only, never in a GLB's binary chunk.
+bool needs_rewrite(std::string_view json, bool is_glb, const PreflightFacts& facts) {
   static const char kDraco[] = "KHR_draco_mesh_compression";
   const bool placeholders = facts.buffers_without_uri.size() > (is_glb && contains(facts.buffers_without_uri, 0) ? 1u : 0u);
   return placeholders || !facts.accessors_without_view.empty() || !facts.images_with_other_media.empty() ||
-         std::search(bytes.begin(), bytes.end(), kDraco, kDraco + sizeof(kDraco) - 1) != bytes.end();
+         json.find(kDraco) != std::string_view::npos;
 }
 
 } // namespace
@@ -111,8 +112,8 @@ bool needs_rewrite(const std::vector<unsigned char>& bytes, bool is_glb, const P
 TinygltfRewrite prepare_for_tinygltf(std::vector<unsigned char>& bytes, bool is_glb, const PreflightFacts& facts,
                                      const Context& ctx) {
   TinygltfRewrite out;
-  if (!needs_rewrite(bytes, is_glb, facts)) return out;
   const std::string_view json = gltf_json_text(bytes, is_glb, ctx);
+  if (!needs_rewrite(json, is_glb, facts)) return out;
   nlohmann::json gltf = parse_json(json.data(), json.size(), ctx);
   if (!gltf.is_object()) return out; // tinygltf reports it
   hide_indices(gltf, facts, out);

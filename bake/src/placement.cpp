@@ -10,6 +10,7 @@
 #include "placement.h"
 
 #include <algorithm>
+#include <array>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -50,15 +51,10 @@ std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cub
 }
 
 constexpr int kSealRays = 64; // per sample point, over the front hemisphere
-constexpr std::size_t kSealScreenStride = 8; // 8 of the 64 directions screen first
+constexpr int kSealScreenStride = 8; // 8 of the 64 directions screen first
 
 // Fibonacci directions flipped into the hemisphere around `n` (the sphere lattice is symmetric enough).
-std::vector<glm::vec3> front_hemisphere(const std::vector<glm::vec3>& sphere, glm::vec3 n) {
-  std::vector<glm::vec3> out(sphere);
-  for (glm::vec3& d : out)
-    if (glm::dot(d, n) < 0.0f) d = -d;
-  return out;
-}
+glm::vec3 into_front(glm::vec3 d, glm::vec3 n) { return glm::dot(d, n) < 0.0f ? -d : d; }
 
 bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::vector<glm::vec3>& sphere, float lift) {
   const scene::Scene& s = rays.scene();
@@ -66,20 +62,20 @@ bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::ve
   if (n == glm::vec3(0.0f)) return false; // degenerate: nothing to see either way
   const glm::uvec3 tri = s.triangles[t];
   const glm::vec3 a = s.positions[tri.x], b = s.positions[tri.y], c = s.positions[tri.z];
-  const std::vector<glm::vec3> dirs = front_hemisphere(sphere, n);
   const glm::vec3 samples[] = {(a + b + c) / 3.0f, 0.8f * a + 0.1f * (b + c), 0.8f * b + 0.1f * (a + c),
                                0.8f * c + 0.1f * (a + b)};
   // Screen: most triangles are plainly visible. Every kSealScreenStride-th lattice direction (spread over
   // the hemisphere) from the centroid; if none of them meets a back face, the triangle is open without
   // the full test (which cost ten times the rest of the bvh stage on a 291k-triangle scene).
-  std::vector<glm::vec3> screen;
-  for (std::size_t i = 0; i < dirs.size(); i += kSealScreenStride) screen.push_back(dirs[i]);
+  // (No allocation on this path, which every triangle takes.)
+  std::array<glm::vec3, kSealRays / kSealScreenStride> screen;
+  for (std::size_t i = 0; i < screen.size(); ++i) screen[i] = into_front(sphere[i * kSealScreenStride], n);
   const glm::vec3 centroid = samples[0] + lift * n;
   if (trace_probe(rays, centroid, Cube{centroid, 0.0f}, screen).backface_hits == 0) return false;
-  for (const glm::vec3& p : samples) {
-    const glm::vec3 q = p + lift * n;
-    if (!is_dead(trace_probe(rays, q, Cube{q, 0.0f}, dirs), 0.0f)) return false;
-  }
+  std::vector<glm::vec3> dirs(sphere.size());
+  std::transform(sphere.begin(), sphere.end(), dirs.begin(), [&](glm::vec3 d) { return into_front(d, n); });
+  for (const glm::vec3& p : samples)
+    if (is_open(rays, p + lift * n, 0.0f, dirs)) return false;
   return true;
 }
 
@@ -88,10 +84,7 @@ bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::ve
 std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads) {
   const scene::Scene& s = rays.scene();
   const std::vector<glm::vec3> sphere = lattice_directions(Lattice::fibonacci, kSealRays);
-  const glm::vec3 extent = s.bounds.max - s.bounds.min;
-  const glm::vec3 far = glm::max(glm::abs(s.bounds.min), glm::abs(s.bounds.max));
-  // Off the surface by the reference's ray epsilon (relative to size and coordinate magnitude).
-  const float lift = std::max(1e-5f * std::max({extent.x, extent.y, extent.z}) + 1e-6f * std::max({far.x, far.y, far.z}), 1e-7f);
+  const float lift = scene::ray_epsilon(s); // off the surface as the reference's rays are
   std::vector<char> sealed(s.triangles.size(), 0);
   parallel_for(sealed.size(), threads, [&](std::size_t t) { sealed[t] = triangle_sealed(rays, std::uint32_t(t), sphere, lift) ? 1 : 0; });
   return sealed;

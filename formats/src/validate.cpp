@@ -123,7 +123,6 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
     return report;
   } catch (const Error& error) {
     report.readable = false;
-    report.violations.clear();
     report.violations.push_back(Violation{"container", "container", -1, error.what()});
     return report;
   }

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "probebake/formats/error.h"
@@ -21,9 +22,13 @@ std::uint64_t default_budget() {
 
 void cap_address_space(std::uint64_t budget) {
 #if !defined(PROBEBAKE_SANITIZED)
-  if (budget == 0) return;
-  const rlimit limit{budget + kAddressSpaceHeadroom, budget + kAddressSpaceHeadroom};
-  ::setrlimit(RLIMIT_AS, &limit); // best effort: a lower hard limit set by the caller stays in force
+  rlimit limit{};
+  if (budget == 0 || ::getrlimit(RLIMIT_AS, &limit) != 0) return;
+  // Only ever lowered: a tighter limit set by the caller (ulimit -v) stays in force, even for root.
+  const rlim_t cap = budget + kAddressSpaceHeadroom;
+  limit.rlim_cur = std::min(limit.rlim_cur, cap);
+  limit.rlim_max = std::min(limit.rlim_max, cap);
+  ::setrlimit(RLIMIT_AS, &limit);
 #else
   (void)budget; // sanitizers reserve terabytes of address space
 #endif

@@ -44,16 +44,6 @@ std::vector<std::string> entries(const fs::path& folder) {
   return names;
 }
 
-// run_cli for another program (make-scene).
-CliResult run_program(const std::string& program, const std::string& arguments, const fs::path& dir) {
-  const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
-  const int status = std::system(("'" + program + "' " + arguments + " > '" + out + "' 2> '" + err + "'").c_str());
-  CliResult result{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_bytes(out), read_bytes(err)};
-  fs::remove(out);
-  fs::remove(err);
-  return result;
-}
-
 fs::path fresh_folder(const std::string& name) {
   const fs::path dir = fs::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "output-cli" / name;
   fs::remove_all(dir);

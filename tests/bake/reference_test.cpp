@@ -20,6 +20,7 @@
 #include "probebake/bake/eval.h"
 #include "probebake/bake/reference.h"
 #include "probebake/samples/scenes.h"
+#include "run_cli.h"
 
 namespace probebake::test {
 namespace {
@@ -153,18 +154,8 @@ TEST(Reference, BadSettingsAreUsageErrors) {
 
 // ---- CLI: probebake reference / eval ----------------------------------------------------------------------
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-};
-
-CliRun run(const std::string& args) {
-  const auto out = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "bake" / "ref_cli_out.txt";
-  const std::string command = std::string(PROBEBAKE_CLI) + " " + args + " > '" + out.string() + "' 2>/dev/null";
-  const int status = std::system(command.c_str());
-  std::ifstream in(out);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
-}
+// The CLI's stdout; stderr is not part of these checks.
+CliResult run(const std::string& args) { return run_cli(args); }
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
@@ -178,12 +169,10 @@ std::string read_text(const std::filesystem::path& p) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-std::string quoted(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
-
 TEST(ReferenceCli, WritesCsvAndImage) {
   const auto scene = write_generated(samples::cornell(), "ref_cli_cornell");
   const auto dir = scene.parent_path();
-  const CliRun r = run("reference " + quoted(scene) + " --points 16 --samples 16 --csv " + quoted(dir / "ref_cli.csv") +
+  const CliResult r = run("reference " + quoted(scene) + " --points 16 --samples 16 --csv " + quoted(dir / "ref_cli.csv") +
                        " --image " + quoted(dir / "ref_cli.exr") + " --camera 0,0.27,1 --look-at 0,0.27,0 --size 8x6 --json");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(nlohmann::json::parse(r.out)["points"]["count"].get<int>(), 16);
@@ -213,7 +202,7 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   for (const auto& entry : std::filesystem::directory_iterator(dir)) // start without a cached reference
     if (entry.path().filename().string().starts_with("ref_eval_cornell.glb.reference.")) std::filesystem::remove(entry.path());
   const auto csv = dir / "ref_eval.csv", svg = dir / "ref_eval.svg";
-  const CliRun first = run("eval " + quoted(scene) + " --quick --csv " + quoted(csv) + " --plot " + quoted(svg));
+  const CliResult first = run("eval " + quoted(scene) + " --quick --csv " + quoted(csv) + " --plot " + quoted(svg));
   ASSERT_EQ(first.exit_code, 0) << first.out;
   const std::size_t configs = bake::quick_sweep().size();
   const auto rows = table_rows(first.out);
@@ -227,7 +216,7 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   EXPECT_NE(plot.find("Pareto front"), std::string::npos);
   EXPECT_NE(plot.find("</svg>"), std::string::npos);
 
-  const CliRun second = run("eval " + quoted(scene) + " --quick --json");
+  const CliResult second = run("eval " + quoted(scene) + " --quick --json");
   ASSERT_EQ(second.exit_code, 0) << second.out;
   const auto j = nlohmann::json::parse(second.out);
   EXPECT_TRUE(j["reference_cached"].get<bool>());

@@ -1,11 +1,9 @@
 // The make-scene executable: exit codes, one-line errors, default output name.
 #include "gltf_readback.h"
+#include "run_cli.h"
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -13,25 +11,11 @@ namespace pt = probebake::samples::test;
 
 namespace {
 
-struct CommandResult {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using probebake::test::CliResult;
 
 // Runs make-scene with `arguments` (shell syntax) inside `folder`.
-CommandResult make_scene(const std::filesystem::path& folder, const std::string& arguments) {
-  const std::string command = "cd '" + folder.string() + "' && '" MAKE_SCENE_EXE "' " + arguments + " >stdout.txt 2>stderr.txt";
-  const int status = std::system(command.c_str());
-  CommandResult run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(folder / "stdout.txt"), slurp(folder / "stderr.txt")};
-  std::filesystem::remove(folder / "stdout.txt");
-  std::filesystem::remove(folder / "stderr.txt");
-  return run;
+CliResult make_scene(const std::filesystem::path& folder, const std::string& arguments) {
+  return probebake::test::run_program(MAKE_SCENE_EXE, arguments, folder);
 }
 
 bool is_one_error_line(const std::string& text) {
@@ -42,12 +26,12 @@ bool is_one_error_line(const std::string& text) {
 
 TEST(MakeSceneCli, HelpAndVersionSucceed) {
   const auto folder = pt::fresh_folder("cli_help");
-  const CommandResult help = make_scene(folder, "--help");
+  const CliResult help = make_scene(folder, "--help");
   EXPECT_EQ(help.exit_code, 0);
   for (const char* kind : {"cornell", "furnace", "leak", "plane-light", "rooms", "triangle", "empty"}) {
     EXPECT_NE(help.out.find(kind), std::string::npos) << kind;
   }
-  const CommandResult furnace_help = make_scene(folder, "furnace --help");
+  const CliResult furnace_help = make_scene(folder, "furnace --help");
   EXPECT_EQ(furnace_help.exit_code, 0);
   EXPECT_NE(furnace_help.out.find("--albedo"), std::string::npos);
   EXPECT_EQ(make_scene(folder, "--version").exit_code, 0);
@@ -55,7 +39,7 @@ TEST(MakeSceneCli, HelpAndVersionSucceed) {
 
 TEST(MakeSceneCli, DefaultOutputIsKindInCurrentFolder) {
   const auto folder = pt::fresh_folder("cli_default");
-  const CommandResult run = make_scene(folder, "plane-light");
+  const CliResult run = make_scene(folder, "plane-light");
   EXPECT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(std::filesystem::exists(folder / "plane-light.glb"));
   EXPECT_NE(run.out.find("2 triangles"), std::string::npos) << run.out;
@@ -63,7 +47,7 @@ TEST(MakeSceneCli, DefaultOutputIsKindInCurrentFolder) {
 
 TEST(MakeSceneCli, OptionsAfterTheKindAndPlacement) {
   const auto folder = pt::fresh_folder("cli_options");
-  const CommandResult run = make_scene(folder, "furnace --albedo 0.99 --emission 2 -o box.glb --scale 2 --offset 10 0 0 -q");
+  const CliResult run = make_scene(folder, "furnace --albedo 0.99 --emission 2 -o box.glb --scale 2 --offset 10 0 0 -q");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(run.out.empty());
   std::string error;
@@ -85,7 +69,7 @@ TEST(MakeSceneCli, UsageErrorsExitOne) {
   const auto folder = pt::fresh_folder("cli_usage");
   for (const char* arguments : {"", "bogus", "furnace --albedo abc", "furnace --albedo 2", "furnace --nope",
                                 "rooms --count 0", "furnace --scale -1", "furnace --offset 1 2"}) {
-    const CommandResult run = make_scene(folder, arguments);
+    const CliResult run = make_scene(folder, arguments);
     EXPECT_EQ(run.exit_code, 1) << arguments;
     EXPECT_TRUE(is_one_error_line(run.err)) << arguments << ": " << run.err;
   }
@@ -96,7 +80,7 @@ TEST(MakeSceneCli, UnreadableInputExitsTwo) {
   const auto folder = pt::fresh_folder("cli_input");
   std::ofstream(folder / "junk.glb") << "not a model";
   for (const char* arguments : {"cornell --with missing.glb", "cornell --with junk.glb"}) {
-    const CommandResult run = make_scene(folder, arguments);
+    const CliResult run = make_scene(folder, arguments);
     EXPECT_EQ(run.exit_code, 2) << arguments;
     EXPECT_TRUE(is_one_error_line(run.err)) << run.err;
   }
@@ -105,7 +89,7 @@ TEST(MakeSceneCli, UnreadableInputExitsTwo) {
 
 TEST(MakeSceneCli, UnwritableOutputExitsThree) {
   const auto folder = pt::fresh_folder("cli_output");
-  const CommandResult run = make_scene(folder, "triangle -o no/such/folder/t.glb");
+  const CliResult run = make_scene(folder, "triangle -o no/such/folder/t.glb");
   EXPECT_EQ(run.exit_code, 3);
   EXPECT_TRUE(is_one_error_line(run.err)) << run.err;
 }

@@ -15,11 +15,7 @@ namespace {
 const std::filesystem::path kScenes = PROBEBAKE_SHARED_SCENES;
 const std::string kFastBake = " --max-depth 3 --surfels 64 --light-rays 64 --threads 2";
 
-CliResult make_scene(const std::string& arguments) {
-  const std::string command = std::string("'") + PROBEBAKE_MAKE_SCENE + "' " + arguments + " > /dev/null 2>&1";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, "", ""};
-}
+CliResult make_scene(const std::string& arguments) { return run_program(PROBEBAKE_MAKE_SCENE, arguments); }
 
 std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -85,6 +85,7 @@ std::optional<RayHit> RayScene::intersect(const glm::vec3& origin, const glm::ve
   // Embree's Ng is cross(e1, e0) for CCW winding, i.e. it points to the back side; use our own normal.
   hit.normal = triangle_normal(*impl_->scene, hit.triangle);
   hit.backface = glm::dot(hit.normal, direction) > 0.0f;
+  hit.double_sided = is_double_sided(*impl_->scene, hit.triangle);
   return hit;
 }
 

@@ -46,6 +46,10 @@ double triangle_area(const Scene& scene, std::size_t t) {
   return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
+bool is_double_sided(const Scene& scene, std::size_t t) {
+  return scene.materials[scene.triangle_material[t]].double_sided;
+}
+
 glm::vec3 triangle_normal(const Scene& scene, std::size_t t) {
   // In double: the squared length of a float cross product overflows for edges above ~1e9 m and
   // underflows below ~1e-10 m, which left non-unit normals in the file at extreme scales.

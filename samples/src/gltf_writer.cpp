@@ -106,6 +106,7 @@ tinygltf::Material encode_material(const Material& source, bool& uses_strength) 
   material.pbrMetallicRoughness.baseColorFactor = {tidy(source.albedo.r), tidy(source.albedo.g), tidy(source.albedo.b), 1.0};
   material.pbrMetallicRoughness.metallicFactor = 0.0;   // purely diffuse
   material.pbrMetallicRoughness.roughnessFactor = 1.0;
+  material.doubleSided = source.double_sided;
   const float strength = std::max({source.emission.r, source.emission.g, source.emission.b});
   if (strength <= 1.0f) {
     material.emissiveFactor = tidy3(source.emission);

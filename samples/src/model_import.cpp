@@ -37,6 +37,7 @@ Material averaged_material(const scene::Material& source, const MaterialTotals& 
   material.name = source.name.empty() ? "model_material" : source.name;
   material.albedo = glm::clamp(glm::vec3(totals.albedo_sum / count), 0.0f, 1.0f);
   material.emission = glm::max(glm::vec3(totals.emission_sum / count), 0.0f);
+  material.double_sided = source.double_sided;
   return material;
 }
 

@@ -17,7 +17,15 @@ struct RayHit {
   std::uint32_t triangle = 0; // index into Scene::triangles
   glm::vec3 normal{0.0f};     // unit geometric normal of the triangle's front side (CCW)
   bool backface = false;      // the ray arrived at the triangle's back side
+  bool double_sided = false;  // the triangle's material is glTF doubleSided: both sides reflect and emit
   float u = 0.0f, v = 0.0f;   // barycentrics of the hit (weights of vertices 1 and 2)
+
+  // The ray is inside a solid: it arrived at the back of a single-sided surface (black, absorbing,
+  // non-emitting). The back of a double-sided surface is open space like its front.
+  bool inside() const { return backface && !double_sided; }
+  // The unit normal of the side the ray arrived at (the side that reflects and emits towards it); only
+  // meaningful when !inside().
+  glm::vec3 facing_normal() const { return backface ? -normal : normal; }
 };
 
 class RayScene {

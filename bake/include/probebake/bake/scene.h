@@ -124,6 +124,9 @@ SceneSummary summarize(const Scene& scene);
 
 double triangle_area(const Scene& scene, std::size_t triangle);
 glm::vec3 triangle_normal(const Scene& scene, std::size_t triangle); // unit geometric normal (CCW)
+// glTF doubleSided of the triangle's material: both sides reflect and emit (the back with the normal
+// reversed) and neither side is the inside of a solid.
+bool is_double_sided(const Scene& scene, std::size_t triangle);
 
 // Distance by which ray origins are lifted off their surface: relative to the scene's size and to the
 // magnitude of its coordinates (float spacing grows with them).

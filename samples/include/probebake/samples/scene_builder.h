@@ -33,6 +33,7 @@ struct Material {
   glm::vec3 albedo{0.8f};    // baseColorFactor.rgb (alpha 1): the diffuse albedo, each in [0, 1]
   glm::vec3 emission{0.0f};  // emitted radiance, >= 0; written as emissiveFactor, with
                              // KHR_materials_emissive_strength when a component exceeds 1
+  bool double_sided = false; // glTF doubleSided: both sides reflect and emit
 };
 
 enum class LightType { point, spot, directional };

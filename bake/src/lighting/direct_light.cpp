@@ -59,17 +59,22 @@ std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples
     const glm::vec3 a = scene.positions[tri.x], ab = scene.positions[tri.y] - a, ac = scene.positions[tri.z] - a;
     const auto at = [&](int u, int v) { return a + (float(u) / float(k)) * ab + (float(v) / float(k)) * ac; };
     const glm::vec3 normal = scene::triangle_normal(scene, t), radiance = scene.triangle_emission[t];
+    const bool double_sided = scene::is_double_sided(scene, t);
     for (int u = 0; u < k; ++u)
       for (int v = 0; u + v < k; ++v) {
-        patches.push_back({at(u, v), at(u + 1, v), at(u, v + 1), normal, radiance});
-        if (u + v < k - 1) patches.push_back({at(u + 1, v), at(u + 1, v + 1), at(u, v + 1), normal, radiance});
+        patches.push_back({at(u, v), at(u + 1, v), at(u, v + 1), normal, radiance, double_sided});
+        if (u + v < k - 1)
+          patches.push_back({at(u + 1, v), at(u + 1, v + 1), at(u, v + 1), normal, radiance, double_sided});
       }
   }
   return patches;
 }
 
 bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, glm::vec3& irradiance, glm::vec3& target) {
-  if (!(glm::dot(p - patch.a, patch.normal) > 0.0f)) return false; // behind the emitter or in its plane
+  // In the emitter's plane: nothing; behind it: nothing unless it emits from both sides. Lambert's formula
+  // below does not depend on the polygon's winding, so the back of a double-sided patch needs no flip.
+  const float side = glm::dot(p - patch.a, patch.normal);
+  if (!(side > 0.0f) && !(patch.double_sided && side < 0.0f)) return false;
   // Sutherland-Hodgman against the plane dot(n, q) = 0 (q relative to p): at most 4 vertices.
   const glm::vec3 in[3] = {patch.a - p, patch.b - p, patch.c - p};
   glm::vec3 q[4];

@@ -18,6 +18,9 @@ struct EmitterPatch {
   glm::vec3 a{0.0f}, b{0.0f}, c{0.0f}; // counter-clockwise seen from the emitting (front) side
   glm::vec3 normal{0.0f};              // unit, towards the front side
   glm::vec3 radiance{0.0f};            // emitted radiance, W/(m^2 sr)
+  // glTF doubleSided material: emits the same radiance from both sides (|cos| at the emitter); a
+  // single-sided patch lights nothing behind its plane.
+  bool double_sided = false;
 };
 
 // The emissive triangles (emission > 0 in some channel, area > 0), in triangle order, each split into
@@ -26,8 +29,9 @@ struct EmitterPatch {
 std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples);
 
 // Unoccluded irradiance at `p` with unit normal `n` from a patch, and the point the shadow ray aims at
-// (centroid of the patch clipped to n's hemisphere). Returns false when the patch faces away from `p` or
-// lies below its horizon.
+// (centroid of the patch clipped to n's hemisphere). Returns false when `p` lies in the patch's plane,
+// behind a single-sided patch, or when the patch lies below p's horizon. Behind a double-sided patch the
+// result equals the one in front (the formula integrates |cos| at the emitter).
 bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, glm::vec3& irradiance, glm::vec3& target);
 
 class DirectLighting {

@@ -19,6 +19,13 @@
 // of its closest triangle, with the angle-weighted pseudonormal of the closest feature (face, edge or
 // vertex; Bærentzen & Aanæs 2005), which gives the right sign for closed oriented meshes also near edges
 // and corners. Voxels reachable from outside stay positive: open meshes have no inside.
+//
+// glTF doubleSided triangles are thin shells: both sides are open space, so they may never make anything
+// "inside", yet probes keep their clearance from them. They are left out of the signed field above (a
+// room modelled as double-sided planes would otherwise enclose an "inside" wherever winding says so) and
+// get a second, unsigned narrow-band field (meshToVolume with UNSIGNED_DISTANCE_FIELD). distance() is
+// the minimum of the two: the distance to the union of both surface sets, negative only inside a solid
+// of single-sided geometry (a double-sided decal inside a wall stays inside the wall).
 #include "probebake/bake/scene_sdf.h"
 
 #include <openvdb/openvdb.h>
@@ -38,6 +45,7 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace probebake::bake {
@@ -131,10 +139,38 @@ ClosestPoint closest_on_triangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::
   return {a + ab * (vb * denom) + ac * (vc * denom), Feature::face};
 }
 
+// The triangles of one kind (single- or double-sided) over the scene's positions; closest-triangle
+// indices of the field built from it index `triangles`.
+struct TriangleSet {
+  const std::vector<glm::vec3>* positions = nullptr;
+  std::vector<glm::uvec3> triangles;
+  bool empty() const { return triangles.empty(); }
+};
+
+// Hand-built scenes (tests) may have no materials: their triangles are single-sided.
+bool double_sided(const scene::Scene& scene, std::size_t t) {
+  return t < scene.triangle_material.size() && scene.triangle_material[t] < scene.materials.size() &&
+         scene::is_double_sided(scene, t);
+}
+
+std::pair<TriangleSet, TriangleSet> split_by_sides(const scene::Scene& scene) {
+  TriangleSet single{&scene.positions, {}}, both{&scene.positions, {}};
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+    (double_sided(scene, t) ? both : single).triangles.push_back(scene.triangles[t]);
+  return {std::move(single), std::move(both)};
+}
+
+scene::Bounds set_bounds(const TriangleSet& set) {
+  scene::Bounds bounds;
+  for (const glm::uvec3& t : set.triangles)
+    for (int k = 0; k < 3; ++k) bounds.extend((*set.positions)[t[k]]);
+  return bounds;
+}
+
 class Pseudonormals {
  public:
-  explicit Pseudonormals(const scene::Scene& scene) {
-    weld(scene);
+  explicit Pseudonormals(const TriangleSet& set) {
+    weld(set);
     accumulate();
   }
 
@@ -153,24 +189,25 @@ class Pseudonormals {
   }
 
   // glTF splits vertices at UV and normal seams; pseudonormals need shared edges, so weld by position.
-  void weld(const scene::Scene& scene) {
+  void weld(const TriangleSet& set) {
     struct Hash {
       std::size_t operator()(const std::array<std::uint32_t, 3>& k) const {
         return (std::size_t(k[0]) * 73856093u) ^ (std::size_t(k[1]) * 19349663u) ^ (std::size_t(k[2]) * 83492791u);
       }
     };
     std::unordered_map<std::array<std::uint32_t, 3>, std::uint32_t, Hash> ids;
-    std::vector<std::uint32_t> remap(scene.positions.size());
-    for (std::size_t i = 0; i < scene.positions.size(); ++i) {
-      const glm::vec3 p = scene.positions[i] + glm::vec3(0.0f); // -0 -> +0
+    const std::vector<glm::vec3>& positions = *set.positions;
+    std::vector<std::uint32_t> remap(positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      const glm::vec3 p = positions[i] + glm::vec3(0.0f); // -0 -> +0
       std::array<std::uint32_t, 3> key{};
       std::memcpy(key.data(), &p, sizeof key);
       const auto [it, added] = ids.try_emplace(key, std::uint32_t(pos_.size()));
       if (added) pos_.push_back(glm::dvec3(p));
       remap[i] = it->second;
     }
-    tris_.reserve(scene.triangles.size());
-    for (const glm::uvec3& t : scene.triangles) tris_.push_back({remap[t.x], remap[t.y], remap[t.z]});
+    tris_.reserve(set.triangles.size());
+    for (const glm::uvec3& t : set.triangles) tris_.push_back({remap[t.x], remap[t.y], remap[t.z]});
   }
 
   // Sequential, in triangle order, so the sums (and the field) are the same on every run.
@@ -215,14 +252,15 @@ class Pseudonormals {
 
 // ---- building ----
 
-FloatGrid::Ptr mesh_to_volume(const scene::Scene& scene, float voxel, float exterior, float interior,
-                              IndexGrid& closest) {
+// `flags`: extra meshToVolume flags (UNSIGNED_DISTANCE_FIELD for the double-sided shells).
+FloatGrid::Ptr mesh_to_volume(const TriangleSet& set, float voxel, float exterior, float interior,
+                              IndexGrid& closest, int flags = 0) {
   std::vector<openvdb::Vec3s> points;
-  points.reserve(scene.positions.size());
-  for (const glm::vec3& p : scene.positions) points.emplace_back(p.x / voxel, p.y / voxel, p.z / voxel);
+  points.reserve(set.positions->size());
+  for (const glm::vec3& p : *set.positions) points.emplace_back(p.x / voxel, p.y / voxel, p.z / voxel);
   std::vector<openvdb::Vec3I> triangles;
-  triangles.reserve(scene.triangles.size());
-  for (const glm::uvec3& t : scene.triangles) triangles.emplace_back(t.x, t.y, t.z);
+  triangles.reserve(set.triangles.size());
+  for (const glm::uvec3& t : set.triangles) triangles.emplace_back(t.x, t.y, t.z);
 
   const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> mesh(points, triangles);
   // Index space throughout (distances in voxels, scaled by Impl::sample): OpenVDB refuses a transform
@@ -231,7 +269,7 @@ FloatGrid::Ptr mesh_to_volume(const scene::Scene& scene, float voxel, float exte
   // OpenVDB would delete surfaces lying inside another closed surface (it takes them for self-intersection
   // debris) and renormalise the distances around them: a solid standing in a closed room would vanish.
   // Keep every surface and the exact closest-triangle distances; resign_enclosed sorts out the sign.
-  const int flags = openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL | openvdb::tools::DISABLE_RENORMALIZATION;
+  flags |= openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL | openvdb::tools::DISABLE_RENORMALIZATION;
   return openvdb::tools::meshToVolume<FloatGrid>(mesh, *transform, exterior, interior, flags, &closest);
 }
 
@@ -264,15 +302,20 @@ void resign_enclosed(FloatGrid& grid, const IndexGrid& closest, const Pseudonorm
 struct SceneSdf::Impl {
   float voxel = 1.0f;
   float band = 1.0f;
-  FloatGrid::Ptr grid; // null for a scene without triangles
+  FloatGrid::Ptr grid;   // signed, single-sided triangles; null when there are none
+  FloatGrid::Ptr shells; // unsigned, double-sided triangles; null when there are none
 
-  float sample(glm::vec3 p) const {
-    if (!grid || !all_finite(p)) return band;
-    const FloatGrid::ConstUnsafeAccessor accessor = grid->getConstUnsafeAccessor(); // per call: thread-safe
+  // Trilinear sample of one grid in world units, +band where it is absent or p is not finite.
+  float sample_grid(const FloatGrid::Ptr& g, glm::vec3 p) const {
+    if (!g || !all_finite(p)) return band;
+    const FloatGrid::ConstUnsafeAccessor accessor = g->getConstUnsafeAccessor(); // per call: thread-safe
     const openvdb::Vec3R index(double(p.x) / voxel, double(p.y) / voxel, double(p.z) / voxel);
     const float d = openvdb::tools::BoxSampler::sample(accessor, index) * voxel; // voxels to metres
     return std::isnan(d) ? band : std::min(d, band);
   }
+
+  // Distance to the union of solids and shells (see the construction note at the top).
+  float sample(glm::vec3 p) const { return std::min(sample_grid(grid, p), sample_grid(shells, p)); }
 
   // Steepest one-sided ascent along the six axes (first in +x,-x,+y,-y,+z,-z order on ties): the way
   // out where central differences cancel, e.g. at the centre of a symmetric solid.
@@ -304,10 +347,18 @@ SceneSdf::SceneSdf(const scene::Scene& scene, const SdfSettings& settings) : imp
   if (bounds.empty() || !(voxel > 0.0f)) return;
 
   initialize_openvdb();
-  IndexGrid closest(openvdb::Int32(openvdb::util::INVALID_IDX));
-  const float interior = interior_band_voxels(bounds, voxel, settings.band_voxels);
-  impl_->grid = mesh_to_volume(scene, voxel, settings.band_voxels, interior, closest);
-  resign_enclosed(*impl_->grid, closest, Pseudonormals(scene), voxel);
+  const auto [single, both] = split_by_sides(scene);
+  if (!single.empty()) {
+    IndexGrid closest(openvdb::Int32(openvdb::util::INVALID_IDX));
+    const float interior = interior_band_voxels(set_bounds(single), voxel, settings.band_voxels);
+    impl_->grid = mesh_to_volume(single, voxel, settings.band_voxels, interior, closest);
+    resign_enclosed(*impl_->grid, closest, Pseudonormals(single), voxel);
+  }
+  if (!both.empty()) {
+    IndexGrid closest(openvdb::Int32(openvdb::util::INVALID_IDX));
+    impl_->shells = mesh_to_volume(both, voxel, settings.band_voxels, 0.0f, closest,
+                                   openvdb::tools::UNSIGNED_DISTANCE_FIELD);
+  }
 }
 
 SceneSdf::~SceneSdf() = default;

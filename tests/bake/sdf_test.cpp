@@ -51,6 +51,30 @@ Scene room(bool with_cube) {
   return scene;
 }
 
+// Gives every triangle from `first` on a material of its own kind: the scene's materials become
+// {single-sided, double-sided} (hand-built scenes have none, which reads as single-sided).
+void mark_double_sided(Scene& scene, std::size_t first) {
+  if (scene.materials.empty()) {
+    scene.materials.resize(2);
+    scene.materials[1].double_sided = true;
+  }
+  scene.triangle_material.resize(scene.triangles.size(), 0);
+  for (std::size_t t = first; t < scene.triangles.size(); ++t) scene.triangle_material[t] = 1;
+}
+
+// The room's walls wound the wrong way (normals out, as a solid box) but double-sided: by the glTF
+// rule the same room as room(false), which must be free space inside, not a solid.
+Scene reversed_double_sided_room(bool with_cube) {
+  Scene scene;
+  add_box(scene, glm::vec3(0.0f), glm::vec3(4.0f), false);
+  mark_double_sided(scene, 0);
+  if (with_cube) {
+    add_box(scene, glm::vec3(1.5f), glm::vec3(2.5f), false); // single-sided solid
+    scene.triangle_material.resize(scene.triangles.size(), 0);
+  }
+  return scene;
+}
+
 // 0.02 voxels, band 0.4: wide enough to see 0.3 outside a face unclamped.
 const pb::SdfSettings cube_settings{0.02f, 20.0f};
 const pb::SdfSettings room_settings{0.05f, 8.0f};
@@ -186,6 +210,61 @@ TEST(SceneSdf, OpenPlaneHasNoInside) {
   EXPECT_LT(sdf.gradient(glm::vec3(0.5f, 0.5f, -0.2f)).z, -0.99f);
 }
 
+TEST(SceneSdf, DoubleSidedPlaneIsOutsideOnBothSidesAtItsDistance) {
+  Scene scene;
+  scene.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  scene.triangles = {{0, 1, 2}, {0, 2, 3}}; // normal +z
+  mark_double_sided(scene, 0);
+  const pb::SceneSdf sdf(scene, cube_settings);
+  for (const float z : {0.3f, 0.1f, 0.04f, -0.04f, -0.1f, -0.3f}) {
+    EXPECT_NEAR(sdf.distance(glm::vec3(0.5f, 0.5f, z)), std::abs(z), sdf.voxel_size()) << z;
+    EXPECT_GT(sdf.gradient(glm::vec3(0.5f, 0.5f, z)).z * z, 0.99f * std::abs(z)) << z; // away from the plane
+  }
+  // Beside its edge: the distance to the edge, not to the plane's infinite extension.
+  EXPECT_NEAR(sdf.distance(glm::vec3(1.3f, 0.5f, 0.0f)), 0.3f, sdf.voxel_size());
+  // A probe 0.05 behind it is pushed to the clearance on its own side, not through the plane.
+  const auto out = sdf.push_out(glm::vec3(0.5f, 0.5f, -0.05f), 0.2f);
+  ASSERT_TRUE(out.has_value());
+  EXPECT_NEAR(out->z, -0.2f, 2.0f * sdf.voxel_size());
+}
+
+TEST(SceneSdf, ReversedDoubleSidedRoomIsFreeSpaceInside) {
+  Scene single;
+  add_box(single, glm::vec3(0.0f), glm::vec3(4.0f), false);
+  EXPECT_NEAR(pb::SceneSdf(single, room_settings).distance(glm::vec3(2.0f)), -2.0f, 0.05f); // the solid it would be
+  const pb::SceneSdf sdf(reversed_double_sided_room(false), room_settings);
+  EXPECT_FLOAT_EQ(sdf.distance(glm::vec3(2.0f)), sdf.band_width());
+  for (const glm::vec3& n : face_normals) {
+    const glm::vec3 p = glm::vec3(2.0f) + n * 1.8f; // 0.2 from a wall, inside
+    EXPECT_NEAR(sdf.distance(p), 0.2f, sdf.voxel_size());
+    EXPECT_GT(glm::dot(sdf.gradient(p), -n), 0.99f); // away from the wall, into the room
+    EXPECT_NEAR(sdf.distance(glm::vec3(2.0f) + n * 2.2f), 0.2f, sdf.voxel_size()); // and outside it
+  }
+  for (const glm::vec3& p : sample_points(glm::vec3(-0.5f), glm::vec3(4.5f), 9)) EXPECT_GE(sdf.distance(p), 0.0f);
+}
+
+TEST(SceneSdf, SolidInsideADoubleSidedRoomIsStillSolid) {
+  const pb::SceneSdf sdf(reversed_double_sided_room(true), room_settings);
+  EXPECT_NEAR(sdf.distance(glm::vec3(2.0f)), -0.5f, sdf.voxel_size());
+  EXPECT_NEAR(sdf.distance(glm::vec3(2.0f, 2.0f, 2.8f)), 0.3f, sdf.voxel_size());
+  EXPECT_NEAR(sdf.distance(glm::vec3(0.2f, 2.0f, 2.0f)), 0.2f, sdf.voxel_size());
+  const auto out = sdf.push_out(glm::vec3(2.0f), 0.2f);
+  ASSERT_TRUE(out.has_value());
+  EXPECT_GE(sdf.distance(*out), 0.2f);
+}
+
+TEST(SceneSdf, DoubleSidedPlaneInsideASolidStaysInside) {
+  Scene scene = unit_cube();
+  const auto base = static_cast<unsigned>(scene.positions.size());
+  scene.positions.insert(scene.positions.end(), {{0.1f, 0.1f, 0.5f}, {0.9f, 0.1f, 0.5f}, {0.9f, 0.9f, 0.5f}, {0.1f, 0.9f, 0.5f}});
+  scene.triangles.push_back({base, base + 1, base + 2});
+  scene.triangles.push_back({base, base + 2, base + 3});
+  mark_double_sided(scene, 12);
+  const pb::SceneSdf sdf(scene, cube_settings);
+  EXPECT_NEAR(sdf.distance(glm::vec3(0.5f, 0.5f, 0.3f)), -0.3f, sdf.voxel_size());
+  EXPECT_NEAR(sdf.distance(glm::vec3(0.5f, 0.5f, 0.5f)), -0.5f, sdf.voxel_size()); // on the plane: the solid's depth
+}
+
 TEST(SceneSdf, EmptySceneIsFreeSpace) {
   const pb::SceneSdf sdf(Scene{});
   EXPECT_FLOAT_EQ(sdf.distance(glm::vec3(0.0f)), sdf.band_width());
@@ -218,7 +297,9 @@ TEST(SceneSdf, NeverNaN) {
 }
 
 TEST(SceneSdf, SameValuesForAnyThreadCountAndConcurrentQueries) {
-  const Scene scene = room(true);
+  Scene scene = room(true);
+  add_box(scene, glm::vec3(0.5f), glm::vec3(1.0f), false);
+  mark_double_sided(scene, 24); // a double-sided box as well: both grids
   const std::vector<glm::vec3> points = sample_points(glm::vec3(-0.5f), glm::vec3(4.5f), 16);
   std::vector<float> serial;
   {

@@ -44,13 +44,14 @@ void add_lighting_sections(std::vector<SectionPayload>& sections, const ProbeVol
   add_section(sections, SectionType::emitter_patches, 0, volume.emitter_patches);
 }
 
-// The lowest minor version whose section types the file uses: 1.0 files stay byte-identical to 1.0.
-std::uint16_t minor_version_for(const std::vector<SectionPayload>& sections) {
+// The lowest minor version whose section types and flags the file uses: 1.0 files stay byte-identical
+// to 1.0, 1.1 files to 1.1.
+std::uint16_t minor_version_for(const std::vector<SectionPayload>& sections, const ProbeVolume& volume) {
   std::uint16_t minor = 0;
   for (const SectionPayload& section : sections) {
     if (section.type >= static_cast<std::uint32_t>(SectionType::lighting_info)) minor = kLightingSectionsMinor;
   }
-  return minor;
+  return std::max(minor, minor_version_for_flags(volume));
 }
 
 // Decodes one known section into `out`; element size and (for singletons) count are checked here.
@@ -114,6 +115,13 @@ std::string errno_text() { return std::strerror(errno); }
 
 } // namespace
 
+std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
+  const auto flagged = [](const auto& element) { return element.flags != 0u; };
+  const bool flags = std::any_of(volume.trace_triangles.begin(), volume.trace_triangles.end(), flagged) ||
+                     std::any_of(volume.emitter_patches.begin(), volume.emitter_patches.end(), flagged);
+  return flags ? kDoubleSidedFlagsMinor : std::uint16_t{0};
+}
+
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
   std::vector<SectionPayload> sections;
   add_single(sections, SectionType::volume_info, volume.info);
@@ -127,7 +135,7 @@ std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
   add_section(sections, SectionType::svo_leaves, kSectionRequired, volume.svo_leaves);
   add_section(sections, SectionType::cells, 0, volume.cells); // optional: a reader may load everything
   add_lighting_sections(sections, volume);
-  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections)};
+  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections, volume)};
   return write_container(fields, sections);
 }
 

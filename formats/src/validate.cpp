@@ -38,7 +38,7 @@ void run_phases(const ProbeVolume& volume, detail::Reporter& out) {
 constexpr InvariantInfo kInvariants[] = {
     {"container", "the bytes are not a readable .probes container (magic, version, sizes, table)"},
     {"checksum", "a section's or the header's XXH3-64 checksum does not match"},
-    {"format_version", "the minor version covers the file's section types; a known minor has a 64-byte header and 48-byte table entries"},
+    {"format_version", "the minor version covers the file's section types and flags; a known minor has a 64-byte header and 48-byte table entries"},
     {"section_flags", "a known section's REQUIRED flag is the one docs/FORMAT.md gives its type; reserved flag bits are zero"},
     {"section_layout", "no empty known section; each payload starts at the first multiple of its alignment after the previous one"},
     {"trailing_bytes", "the file ends right after the last payload"},
@@ -89,6 +89,7 @@ constexpr InvariantInfo kInvariants[] = {
     {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
     {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; placement_rays = surfels_per_probe"},
     {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero"},
+    {"lighting_flags", "trace triangle and emitter patch flags set no bit but bit 0 (double-sided)"},
     {"bvh_tree", "BVH: children after their node, each node reached once, leaves of 1..4 triangles covering each once, depth, boxes"},
 };
 
@@ -118,7 +119,7 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
     });
     volume = decode_probes(container, name);
     for (const auto& [section, message] : checksums) out.add("checksum", section, -1, message); // whole section
-    detail::check_container(container, out);
+    detail::check_container(container, volume, out);
   } catch (const detail::StopValidation&) {
     return report;
   } catch (const Error& error) {

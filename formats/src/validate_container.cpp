@@ -1,10 +1,13 @@
 // Validator phase for the container (docs/FORMAT.md sections 1-4 and 7): what read_probes accepts,
 // because it is harmless to read or needed for forward compatibility, but a file of this format must not
-// hold: a minor version below what its sections need, a header or table entries longer than a known
+// hold: a minor version below what its sections and flags need, a header or table entries longer than a known
 // minor defines, REQUIRED flags that differ from the section type table, slack between payloads, empty
 // sections, zero bytes after the last payload, and a leaf queue header without its entries (or back).
 // The reader has already checked bounds, order, padding and sizes, so this phase only compares numbers.
+#include <algorithm>
+
 #include "probebake/formats/format_version.h"
+#include "probebake/formats/probes_file.h"
 #include "text.h"
 #include "validate_internal.h"
 
@@ -19,12 +22,13 @@ std::uint32_t type_id(SectionType type) { return static_cast<std::uint32_t>(type
 // a reader without them still reads the file.
 std::uint32_t expected_flags(std::uint32_t type) { return type <= type_id(SectionType::svo_leaves) ? kSectionRequired : 0u; }
 
-std::uint16_t minor_needed(const ContainerView& container) {
+// Section types (1.1: lighting sections) and flag bits in their elements (1.2: double-sided).
+std::uint16_t minor_needed(const ContainerView& container, const ProbeVolume& volume) {
   std::uint16_t minor = 0;
   for (const SectionEntry& entry : container.sections) {
     if (is_known(entry.type) && entry.type >= type_id(SectionType::lighting_info)) minor = kLightingSectionsMinor;
   }
-  return minor;
+  return std::max(minor, minor_version_for_flags(volume));
 }
 
 bool has_section(const ContainerView& container, SectionType type) {
@@ -36,12 +40,12 @@ bool has_section(const ContainerView& container, SectionType type) {
 
 std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment) { return (value + alignment - 1) / alignment * alignment; }
 
-void check_version(const ContainerView& container, Reporter& out) {
+void check_version(const ContainerView& container, const ProbeVolume& volume, Reporter& out) {
   const FileHeader& header = container.header;
-  const std::uint16_t needed = minor_needed(container);
+  const std::uint16_t needed = minor_needed(container, volume);
   if (header.version_minor < needed) {
     out.add("format_version", "header", -1, concat("version ", header.version_major, ".", header.version_minor,
-                                                   " but its sections need ", header.version_major, ".", needed));
+                                                   " but its sections and flags need ", header.version_major, ".", needed));
   }
   // Later minors may append header fields and grow table entries; the minors known here did neither,
   // so longer ones would hold bytes that no version defines.
@@ -104,8 +108,8 @@ void check_presence(const ContainerView& container, Reporter& out) {
 
 } // namespace
 
-void check_container(const ContainerView& container, Reporter& out) {
-  check_version(container, out);
+void check_container(const ContainerView& container, const ProbeVolume& volume, Reporter& out) {
+  check_version(container, volume, out);
   check_flags(container, out);
   check_layout(container, out);
   check_presence(container, out);

@@ -46,7 +46,8 @@ struct OctreeFacts {
 
 // File level (validate_container.cpp), run by validate_file() before the model phases: what the reader
 // accepts but the format does not allow (version, flags, gaps, trailing bytes, section presence).
-void check_container(const ContainerView& container, Reporter& out);
+// `volume` is the decoded container (its element flags decide the minor version too).
+void check_container(const ContainerView& container, const ProbeVolume& volume, Reporter& out);
 
 // Phases, in the order validate() runs them (cheap and structural first).
 void check_volume_info(const ProbeVolume& volume, Reporter& out);

@@ -1,5 +1,6 @@
 // Validator phase for the runtime lighting sections (format 1.1, docs/FORMAT.md): which sections are
-// present and their counts (lighting_sections), the values the shaders rely on (lighting_values), and the
+// present and their counts (lighting_sections), the values the shaders rely on (lighting_values), the
+// flag bits of triangles and emitter patches (lighting_flags, 1.2), and the
 // BVH that the GPU traverses without bounds checks of its own (bvh_tree). Finiteness is checked with the
 // other floats by check_finite (non_finite), so NaN values are not reported twice here.
 #include <algorithm>
@@ -47,7 +48,7 @@ bool negative(const glm::vec3& v) { return v.x < 0.0f || v.y < 0.0f || v.z < 0.0
 
 bool triangle_finite(const gpu::TraceTriangle& t) {
   return finite3(t.v0) && finite3(t.edge1) && finite3(t.edge2) && finite3(t.normal) && finite3(t.albedo) &&
-         finite3(t.emission) && all_finite({t.pad0, t.pad1, t.pad2, t.pad3, t.pad4});
+         finite3(t.emission) && all_finite({t.pad1, t.pad2, t.pad3, t.pad4});
 }
 
 bool light_finite(const gpu::PunctualLight& l) {
@@ -57,7 +58,7 @@ bool light_finite(const gpu::PunctualLight& l) {
 
 bool patch_finite(const gpu::EmitterPatch& p) {
   return finite3(p.a) && finite3(p.b) && finite3(p.c) && finite3(p.normal) && finite3(p.radiance) &&
-         all_finite({p.pad0, p.pad1, p.pad2, p.pad3, p.pad4});
+         all_finite({p.pad1, p.pad2, p.pad3, p.pad4});
 }
 
 template <typename T, typename Finite>
@@ -134,7 +135,7 @@ std::string triangle_problem(const gpu::TraceTriangle& t) {
   if (!(length > 0.0f)) return "zero area (such triangles are left out)";
   if (!unit(t.normal) || glm::length(t.normal - cross / length) > kUnitTolerance) return "normal is not the unit normal of edge1 x edge2";
   if (negative(t.albedo) || negative(t.emission)) return "negative albedo or emission";
-  if (!zero_bits({t.pad0, t.pad1, t.pad2, t.pad3, t.pad4})) return "padding is not zero";
+  if (!zero_bits({t.pad1, t.pad2, t.pad3, t.pad4})) return "padding is not zero";
   return "";
 }
 
@@ -160,8 +161,25 @@ std::string light_problem(const gpu::PunctualLight& l) {
 std::string patch_problem(const gpu::EmitterPatch& p) {
   if (!unit(p.normal)) return "normal is not a unit vector";
   if (negative(p.radiance)) return "negative radiance";
-  if (!zero_bits({p.pad0, p.pad1, p.pad2, p.pad3, p.pad4})) return "padding is not zero";
+  if (!zero_bits({p.pad1, p.pad2, p.pad3, p.pad4})) return "padding is not zero";
   return "";
+}
+
+// ---- lighting_flags -------------------------------------------------------------------------------------
+
+// Bit 0 (double-sided) is the only flag of 1.2; a later bit would change what the shaders do, so a file
+// that sets one is refused rather than traced as if the bit were not there.
+template <typename T>
+void check_flag_bits(const std::vector<T>& elements, const char* section, std::uint32_t known, Reporter& out) {
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const std::uint32_t unknown = elements[i].flags & ~known;
+    if (unknown != 0) out.add("lighting_flags", section, static_cast<long long>(i), concat("flags ", elements[i].flags, " set unknown bits (bit 0, double-sided, is the only one)"));
+  }
+}
+
+void check_lighting_flags(const ProbeVolume& v, Reporter& out) {
+  check_flag_bits(v.trace_triangles, "trace_triangles", gpu::TRIANGLE_DOUBLE_SIDED, out);
+  check_flag_bits(v.emitter_patches, "emitter_patches", gpu::EMITTER_DOUBLE_SIDED, out);
 }
 
 template <typename T, typename Finite, typename Problem>
@@ -291,6 +309,7 @@ void check_lighting_finite(const ProbeVolume& v, Reporter& out) {
 void check_lighting(const ProbeVolume& volume, Reporter& out) {
   check_lighting_sections(volume, out);
   check_lighting_values(volume, out);
+  check_lighting_flags(volume, out);
   BvhChecker(volume, out).run();
 }
 

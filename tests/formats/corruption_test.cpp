@@ -165,6 +165,14 @@ const std::vector<FileCase>& file_cases() {
          testing::refresh_header_checksum(bytes);
          return bytes;
        }},
+      {"format_version", "double-sided flags in a 1.1 file", [] {
+         std::vector<std::uint8_t> bytes = golden_bytes(Sample::double_sided);
+         FileHeader header = testing::header_of(bytes);
+         header.version_minor = 1;
+         testing::put_header(bytes, header);
+         testing::refresh_header_checksum(bytes);
+         return bytes;
+       }},
       {"format_version", "a 1.0 header of 80 bytes", [] {
          std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
          testing::insert_zeros(bytes, sizeof(FileHeader), 16);

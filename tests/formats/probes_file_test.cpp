@@ -88,6 +88,27 @@ TEST(ProbesFile, LightingSectionsAreOptionalAndMakeTheFile1_1) {
   EXPECT_EQ(testing::header_of(write_probes(testing::make_sample(Sample::static_set))).version_minor, 0);
 }
 
+// Format 1.2: a set double-sided flag makes the file 1.2 and round-trips; the same sections without flags
+// stay 1.1, byte for byte the file a 1.1 writer produces (the golden), so flags cost no byte.
+TEST(ProbesFile, DoubleSidedFlagsMakeTheFile1_2) {
+  const ProbeVolume volume = testing::make_sample(Sample::double_sided);
+  const std::vector<std::uint8_t> bytes = write_probes(volume);
+  EXPECT_EQ(testing::header_of(bytes).version_minor, kDoubleSidedFlagsMinor);
+  EXPECT_EQ(kDoubleSidedFlagsMinor, 2);
+  const ProbeVolume back = read_probes(bytes, "double_sided");
+  ASSERT_EQ(back.trace_triangles.size(), 6u);
+  const std::uint32_t expected[6] = {0u, 0u, gpu::TRIANGLE_DOUBLE_SIDED, gpu::TRIANGLE_DOUBLE_SIDED, gpu::TRIANGLE_DOUBLE_SIDED, 0u};
+  for (std::size_t t = 0; t < 6; ++t) EXPECT_EQ(back.trace_triangles[t].flags, expected[t]) << t;
+  ASSERT_EQ(back.emitter_patches.size(), 2u);
+  for (const gpu::EmitterPatch& patch : back.emitter_patches) EXPECT_EQ(patch.flags, gpu::EMITTER_DOUBLE_SIDED);
+  EXPECT_EQ(bytes.size(), write_probes(testing::make_sample(Sample::lighting)).size());
+  EXPECT_EQ(minor_version_for_flags(testing::make_sample(Sample::lighting)), 0);
+  ProbeVolume cleared = back;
+  for (gpu::TraceTriangle& t : cleared.trace_triangles) t.flags = 0u;
+  for (gpu::EmitterPatch& p : cleared.emitter_patches) p.flags = 0u;
+  EXPECT_EQ(write_probes(cleared), read_file_bytes(testing::golden_path("v1_1_lighting.probes")));
+}
+
 TEST(ProbesFile, LightingRoundTripKeepsEveryValue) {
   const ProbeVolume volume = testing::make_sample(Sample::lighting);
   const std::vector<std::uint8_t> bytes = write_probes(volume);

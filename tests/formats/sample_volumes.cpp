@@ -252,11 +252,18 @@ void add_sample_lighting(ProbeVolume& v) {
   v.emitter_patches = {{a, 0, ab, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}, {ab, 0, b, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}};
 }
 
+// Format 1.2: the wall (trace triangles 2, 3) and the emissive ceiling triangle (4) with its two patches.
+void mark_double_sided(ProbeVolume& v) {
+  for (int t : {2, 3, 4}) v.trace_triangles[t].flags = gpu::TRIANGLE_DOUBLE_SIDED;
+  for (gpu::EmitterPatch& patch : v.emitter_patches) patch.flags = gpu::EMITTER_DOUBLE_SIDED;
+}
+
 } // namespace
 
 ProbeVolume make_sample(Sample sample) {
   ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
-  if (sample == Sample::lighting) add_sample_lighting(volume);
+  if (sample == Sample::lighting || sample == Sample::double_sided) add_sample_lighting(volume);
+  if (sample == Sample::double_sided) mark_double_sided(volume);
   sync_info_counts(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
   volume.input_hash = kSampleInputHash;
@@ -269,6 +276,7 @@ const char* sample_name(Sample sample) {
   case Sample::static_set: return "static";
   case Sample::grid: return "grid";
   case Sample::lighting: return "lighting";
+  case Sample::double_sided: return "double_sided";
   }
   return "";
 }
@@ -279,6 +287,7 @@ const char* golden_name(Sample sample) {
   case Sample::static_set: return "v1_0_static.probes";
   case Sample::grid: return "v1_0_grid.probes";
   case Sample::lighting: return "v1_1_lighting.probes";
+  case Sample::double_sided: return "v1_2_double_sided.probes";
   }
   return "";
 }

@@ -13,17 +13,20 @@ enum class Sample {
   grid,       // 2x2x2 grid placement: root-only octree, probes with node -1, SVO, cells of depth 1
   lighting,   // static_set plus the runtime lighting sections of format 1.1 (BVH of 6 triangles, 3 lights,
               // 2 emitter patches, 6 + 32 ray directions)
+  double_sided, // lighting with format 1.2's flags: the wall and the emissive ceiling (and its patches)
+                // double-sided
 };
 
 // Every sample, for tests that loop over them.
-inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting};
+inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting,
+                                           Sample::double_sided};
 
 ProbeVolume make_sample(Sample sample);
 
-// "small", "static", "grid", "lighting" (test parameter names).
+// "small", "static", "grid", "lighting", "double_sided" (test parameter names).
 const char* sample_name(Sample sample);
 
-// Golden file name under tests/data/golden for a sample ("v1_0_small.probes", ..., "v1_1_lighting.probes").
+// Golden file name under tests/data/golden for a sample ("v1_0_small.probes", ..., "v1_2_double_sided.probes").
 const char* golden_name(Sample sample);
 
 } // namespace probebake::formats::testing

@@ -207,6 +207,9 @@ const std::vector<Corruption>& corruptions() {
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[1].range = -1.0f; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[2].position.x = 1.0f; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.emitter_patches[1].pad3 = 1.0f; }},
+      {"lighting_flags", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[0].flags = 2u; }},
+      {"lighting_flags", Sample::double_sided, [](ProbeVolume& v) { v.trace_triangles[3].flags |= 0x80000000u; }},
+      {"lighting_flags", Sample::double_sided, [](ProbeVolume& v) { v.emitter_patches[1].flags = 3u; }},
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 1; }},      // node 1 reached twice
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 2; }},      // child = itself
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[1].count = 5; }},      // more than 4 triangles

@@ -171,12 +171,19 @@ struct BvhNode {
   int count;  // offset 28: 0 = inner node, 1..BVH_MAX_LEAF_TRIANGLES = leaf
 };            // size 32
 
+// TraceTriangle::flags and EmitterPatch::flags (format 1.2; other bits are zero). A double-sided
+// triangle (glTF doubleSided) reflects and emits from both sides, its back shaded with the reversed
+// normal; only the back of a single-sided triangle is the inside of a solid (docs/LIGHTING.md).
+PB_CONSTANT(uint, TRIANGLE_DOUBLE_SIDED, 1u);
+// A double-sided emitter patch lights shading points on both sides of its plane.
+PB_CONSTANT(uint, EMITTER_DOUBLE_SIDED, 1u);
+
 // A scene triangle as the shaders trace it, in BVH leaf order (Moller-Trumbore on v0, edge1, edge2).
 struct TraceTriangle {
   vec3 v0;       // offset  0
   int source;    // offset 12: index of the triangle in the bake's flattened scene (diagnostics)
   vec3 edge1;    // offset 16: v1 - v0
-  float pad0;    // offset 28
+  uint flags;    // offset 28: TRIANGLE_DOUBLE_SIDED
   vec3 edge2;    // offset 32: v2 - v0
   float pad1;    // offset 44
   vec3 normal;   // offset 48: unit geometric normal of the counter-clockwise front face
@@ -207,13 +214,13 @@ struct PunctualLight {
 
 // A sub-triangle of an emissive triangle, lit as an area light at shading points (docs/LIGHTING.md).
 struct EmitterPatch {
-  vec3 a;        // offset  0: vertices, counter-clockwise seen from the emitting side
-  float pad0;    // offset 12
+  vec3 a;        // offset  0: vertices, counter-clockwise seen from the (front) emitting side
+  uint flags;    // offset 12: EMITTER_DOUBLE_SIDED (emits from the back too)
   vec3 b;        // offset 16
   float pad1;    // offset 28
   vec3 c;        // offset 32
   float pad2;    // offset 44
-  vec3 normal;   // offset 48: unit normal of the emitting side
+  vec3 normal;   // offset 48: unit normal of the front (emitting) side
   float pad3;    // offset 60
   vec3 radiance; // offset 64: W/(m^2 sr)
   float pad4;    // offset 76
@@ -246,6 +253,7 @@ static_assert(sizeof(VolumeInfo) == 80 && offsetof(VolumeInfo, placement) == 16)
 static_assert(offsetof(VolumeInfo, probe_capacity) == 48 && offsetof(VolumeInfo, svo_leaves) == 64);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, upper) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(TraceTriangle) == 96 && offsetof(TraceTriangle, normal) == 48 && offsetof(TraceTriangle, emission) == 80);
+static_assert(offsetof(TraceTriangle, flags) == 28 && offsetof(EmitterPatch, flags) == 12);
 static_assert(sizeof(PunctualLight) == 64 && offsetof(PunctualLight, intensity) == 32 && offsetof(PunctualLight, spot_scale) == 48);
 static_assert(sizeof(EmitterPatch) == 80 && offsetof(EmitterPatch, normal) == 48 && offsetof(EmitterPatch, radiance) == 64);
 static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset) == 16 && offsetof(LightingInfo, placement_rays) == 40);

@@ -6,8 +6,12 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 1;
+inline constexpr std::uint16_t kFormatVersionMinor = 2;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
+// 1.2 gave trace triangles and emitter patches a flags word (bit 0: double-sided) in what was padding.
+// A file stamps 1.2 only when a flag is set; a 1.1 validator (and the runtime, which validates on load)
+// refuses such a file ("padding is not zero") instead of tracing double-sided surfaces as single-sided.
+inline constexpr std::uint16_t kDoubleSidedFlagsMinor = 2;
 } // namespace probebake::formats

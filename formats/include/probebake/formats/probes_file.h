@@ -17,6 +17,11 @@ namespace probebake::formats {
 // always do). Deterministic: the same volume gives the same bytes. Does not validate the volume.
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume);
 
+// The lowest minor version the volume's contents need beyond its section types: kDoubleSidedFlagsMinor
+// when a trace triangle or emitter patch sets a flag, else 0. The writer stamps the larger of this and
+// what the section types need; the validator checks the same rule (format_version).
+std::uint16_t minor_version_for_flags(const ProbeVolume& volume);
+
 // Writes atomically: the bytes go to a temporary file in the same directory, are flushed to disk, and
 // the temporary file is renamed over `path`; on any failure it is removed and Error(output) thrown.
 void write_probes_file(const std::filesystem::path& path, const ProbeVolume& volume);

@@ -1,6 +1,6 @@
 // Stage "gpu_scene" (probebake/bake/gpu_scene.h): the scene as the runtime lighting sections. Each value
 // comes from the function the bake's own lighting uses (triangle_normal, shadow_offset, spot_cone,
-// emitter_patches, lattice_directions), so that the GPU works with the numbers the CPU bake used.
+// emitter_patches, lattice_directions, is_double_sided), so that the GPU works with the numbers the CPU bake used.
 #include "probebake/bake/gpu_scene.h"
 
 #include <chrono>
@@ -34,6 +34,7 @@ std::vector<gpu::TraceTriangle> scene_triangles(const scene::Scene& scene) {
     triangle.normal = normal;
     triangle.albedo = scene.triangle_albedo[t];
     triangle.emission = scene.triangle_emission[t];
+    triangle.flags = scene::is_double_sided(scene, t) ? gpu::TRIANGLE_DOUBLE_SIDED : 0u;
     triangles.push_back(triangle);
   }
   return triangles;
@@ -71,6 +72,7 @@ std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const Ligh
   for (const lighting_detail::EmitterPatch& p : lighting_detail::emitter_patches(scene, lighting.emitter_samples)) {
     gpu::EmitterPatch out{};
     out.a = p.a, out.b = p.b, out.c = p.c, out.normal = p.normal, out.radiance = p.radiance;
+    out.flags = p.double_sided ? gpu::EMITTER_DOUBLE_SIDED : 0u;
     patches.push_back(out);
   }
   return patches;

@@ -259,6 +259,49 @@ TEST(GpuScene, EmitterPatchesTileTheCornellLight) {
   EXPECT_EQ(v.lighting->emitter_patches, 0);
 }
 
+// glTF doubleSided (#19): each trace triangle's flag is its material's, each patch its emitter's; the file
+// becomes 1.2 and stays valid. A floor (single-sided), a double-sided wall, a single-sided emitter and a
+// double-sided one.
+samples::SceneBuilder mixed_sides_scene() {
+  samples::SceneBuilder b("mixed_sides");
+  const samples::MaterialId floor = b.add_material({"floor", glm::vec3(0.5f), {}});
+  const samples::MaterialId wall = b.add_material({"wall", glm::vec3(0.7f), {}, true});
+  const samples::MaterialId one_side = b.add_material({"lamp_one_side", glm::vec3(0.5f), glm::vec3(3.0f)});
+  const samples::MaterialId two_sides = b.add_material({"lamp_two_sides", glm::vec3(0.5f), glm::vec3(5.0f), true});
+  b.add_mesh_node("floor", b.add_mesh("floor", samples::quad({-1, 0, 1}, {2, 0, 0}, {0, 0, -2}), floor));
+  b.add_mesh_node("wall", b.add_mesh("wall", samples::quad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, 2), wall));
+  b.add_mesh_node("lamp1", b.add_mesh("lamp1", samples::quad({-0.5f, 1.5f, 0.5f}, {0, 0, -0.3f}, {0.3f, 0, 0}), one_side));
+  b.add_mesh_node("lamp2", b.add_mesh("lamp2", samples::quad({0.2f, 1.5f, 0.5f}, {0.3f, 0, 0}, {0, 0, -0.3f}), two_sides));
+  return b;
+}
+
+TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
+  const scene::Scene s = load_generated(mixed_sides_scene(), "gpu_sides");
+  bake::BakeSettings settings = test_settings();
+  const formats::ProbeVolume v = lighting_volume(s, settings);
+  ASSERT_EQ(v.trace_triangles.size(), 2u + 8u + 2u + 2u);
+  int flagged = 0;
+  for (const gpu::TraceTriangle& t : v.trace_triangles) {
+    EXPECT_EQ(t.flags, scene::is_double_sided(s, std::size_t(t.source)) ? gpu::TRIANGLE_DOUBLE_SIDED : 0u) << t.source;
+    flagged += t.flags != 0u ? 1 : 0;
+  }
+  EXPECT_EQ(flagged, 8 + 2); // the wall and the two-sided lamp
+  int one_side = 0, two_sides = 0;
+  for (const gpu::EmitterPatch& p : v.emitter_patches) {
+    // The lamps differ in radiance: 3 (single-sided, faces down) and 5 (double-sided, faces up).
+    const bool double_sided = p.radiance.x > 4.0f;
+    EXPECT_EQ(p.flags, double_sided ? gpu::EMITTER_DOUBLE_SIDED : 0u);
+    EXPECT_NEAR(p.normal.y, double_sided ? 1.0f : -1.0f, 1e-6f);
+    (double_sided ? two_sides : one_side) += 1;
+  }
+  EXPECT_GT(one_side, 0);
+  EXPECT_GT(two_sides, 0);
+  EXPECT_EQ(std::size_t(one_side + two_sides), v.emitter_patches.size());
+  const formats::ValidationReport validation = formats::validate(v);
+  EXPECT_TRUE(validation.valid()) << violations(validation);
+  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kDoubleSidedFlagsMinor);
+}
+
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
   const scene::Scene s = load_generated(samples::cornell(), "gpu_info");
   bake::BakeSettings settings = test_settings();
@@ -292,6 +335,8 @@ TEST(GpuScene, ZeroAreaTrianglesAreLeftOutAndAnEmptySceneHasNoNodes) {
   s.triangles = {{0, 1, 2}, {0, 1, 3}, {1, 1, 2}};
   s.triangle_albedo.assign(3, glm::vec3(0.5f));
   s.triangle_emission.assign(3, glm::vec3(0.0f));
+  s.materials.resize(1); // the Scene contract: at least one material, one per triangle
+  s.triangle_material.assign(3, 0);
   for (const glm::vec3& p : s.positions) s.bounds.extend(p);
   bake::BakeSettings settings = test_settings();
   bake::RuntimeLightingReport report;

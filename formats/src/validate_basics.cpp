@@ -150,8 +150,8 @@ void check_finite(const ProbeVolume& volume, Reporter& out) {
   check_lighting_finite(volume, out);
 }
 
-// §3.1.4: three segments used as a ring; entries in use hold (leaf node, state) pairs, each node at most
-// once per segment. Entries past a segment's count are scratch space and not checked.
+// §3.1.4: three segments used as a ring; entries in use hold (node, state) pairs, each node at most once
+// per segment. Entries past a segment's count are scratch space and not checked.
 void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out) {
   if (volume.leaf_entries.empty()) return;
   const gpu::LeafQueueHeader& header = volume.leaf_header;
@@ -173,8 +173,11 @@ void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Repo
     for (int e = 0; e < header.count[s]; ++e) {
       const long long index = static_cast<long long>(s) * capacity + e;
       const gpu::LeafEntry& entry = volume.leaf_entries[static_cast<std::size_t>(index)];
-      if (!octree.reachable(entry.node) || volume.octree[entry.node] > 0) {
-        out.add("leaf_entry_node", "leaf_entries", index, concat("node ", entry.node, " is not a leaf of the octree"));
+      // M0 and M4 address a parent (a child allocates; free the children); every other state a leaf.
+      const bool parent_state = entry.state == gpu::LEAF_M0_CHILD_ALLOCATING || entry.state == gpu::LEAF_M4_FREE_CLUSTER;
+      if (!octree.reachable(entry.node) || (volume.octree[entry.node] > 0) != parent_state) {
+        out.add("leaf_entry_node", "leaf_entries", index,
+                concat("node ", entry.node, parent_state ? " is not a parent of the octree" : " is not a leaf of the octree"));
       }
       if (entry.state < 0 || entry.state >= gpu::LEAF_STATE_COUNT) {
         out.add("leaf_entry_state", "leaf_entries", index, concat("state ", entry.state, " is not a LEAF_* state"));

@@ -70,11 +70,14 @@ std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples
   return patches;
 }
 
-bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, glm::vec3& irradiance, glm::vec3& target) {
-  // In the emitter's plane: nothing; behind it: nothing unless it emits from both sides. Lambert's formula
-  // below does not depend on the polygon's winding, so the back of a double-sided patch needs no flip.
+bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, float plane_margin, glm::vec3& irradiance,
+                      glm::vec3& target) {
+  // Within plane_margin of the emitter's plane: nothing (a point on the emitter itself, whose distance to
+  // the plane is rounding noise of either sign: Lambert's formula is singular there and would give pi L);
+  // behind it: nothing unless it emits from both sides. Lambert's formula below does not depend on the
+  // polygon's winding, so the back of a double-sided patch needs no flip.
   const float side = glm::dot(p - patch.a, patch.normal);
-  if (!(side > 0.0f) && !(patch.double_sided && side < 0.0f)) return false;
+  if (!(std::abs(side) > plane_margin) || (side < 0.0f && !patch.double_sided)) return false;
   // Sutherland-Hodgman against the plane dot(n, q) = 0 (q relative to p): at most 4 vertices.
   const glm::vec3 in[3] = {patch.a - p, patch.b - p, patch.c - p};
   glm::vec3 q[4];
@@ -120,7 +123,7 @@ glm::vec3 DirectLighting::from_emitters(glm::vec3 p, glm::vec3 n) const {
   const glm::vec3 origin = p + n * offset_;
   glm::vec3 e(0.0f), patch_e, target;
   for (const EmitterPatch& patch : patches_) {
-    if (!patch_irradiance(patch, p, n, patch_e, target)) continue;
+    if (!patch_irradiance(patch, p, n, offset_, patch_e, target)) continue;
     const glm::vec3 to = target - origin;
     const float dist = glm::length(to);
     // Stop short of the emitter itself (a relative 1e-3 of the distance).

@@ -33,15 +33,16 @@ std::vector<std::array<float, 9>> projection_table(const std::vector<glm::vec3>&
 }
 
 // With emissive_as_lights the emitters' own radiance is left out of the probes (shading points add it
-// through direct_irradiance), but the light they cast on this hit stays in, through E_direct.
+// through direct_irradiance), but the light they cast on this hit stays in, through E_direct. A hit on
+// either side of a double-sided surface is shaded with the normal of the side the ray arrived at.
 HitRecord shade_hit(const scene::Scene& scene, const formats::ProbeVolume& volume, const DirectLighting& direct,
                     bool emission_seen, glm::vec3 point, const scene::RayHit& hit) {
   HitRecord h;
-  h.normal = hit.normal;
+  h.normal = hit.facing_normal();
   h.reflect = scene.triangle_albedo[hit.triangle] * kInvPi;
   h.base = (emission_seen ? scene.triangle_emission[hit.triangle] : glm::vec3(0.0f)) +
-           h.reflect * direct.irradiance(point, hit.normal);
-  h.stencil = svo_stencil(volume, point, hit.normal);
+           h.reflect * direct.irradiance(point, h.normal);
+  h.stencil = svo_stencil(volume, point, h.normal);
   return h;
 }
 
@@ -74,7 +75,7 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
       if (!hit) {
         h.base = settings.sky_radiance;
         ++counts[i].misses;
-      } else if (hit->backface) {
+      } else if (hit->inside()) { // the back of a single-sided surface: black and absorbing
         ++counts[i].backface;
       } else {
         h = shade_hit(scene, volume, direct, !settings.emissive_as_lights, origin + hit->distance * directions[j], *hit);

@@ -1,8 +1,9 @@
 // The probes' rays, traced once (octree thesis §3.2.2 L1/L2: surfels placed once, lit many times). Each
 // hit keeps what the iteration needs to re-evaluate its outgoing radiance from new probe values:
 //   L = base + reflect * apply_stencil(stencil, normal, probes),
-// base = L_e + albedo / pi * E_direct (front hit), sky radiance (miss) or 0 (back face); reflect =
-// albedo / pi for front hits, else 0; stencil = the SVO sampler's probes and weights at the hit.
+// base = L_e + albedo / pi * E_direct (front hit, or either side of a double-sided surface, with the
+// facing normal), sky radiance (miss) or 0 (back of a single-sided surface: inside a solid); reflect =
+// albedo / pi for shaded hits, else 0; stencil = the SVO sampler's probes and weights at the hit.
 #pragma once
 
 #include <array>
@@ -29,7 +30,7 @@ struct HitCache {
   std::vector<HitRecord> records;                   // probe-major: records[i * rays_per_probe + j]
   // projection[j][k] = (4 pi / R) * A_l(k) * Y_k(direction j): radiance of ray j -> irradiance SH.
   std::vector<std::array<float, 9>> projection;
-  std::size_t backface_hits = 0;
+  std::size_t backface_hits = 0; // RayHit::inside(): backs of single-sided surfaces only
   std::size_t misses = 0;
   std::size_t indirect_misses = 0;
 };

@@ -112,7 +112,9 @@ glm::vec3 emitter_irradiance_sample(const scene::Scene& scene, const scene::RayS
   if (!(dist > epsilon)) return glm::vec3(0.0f);
   const glm::vec3 w = d / dist;
   const float cos_x = glm::dot(n, w);
-  const float cos_y = -glm::dot(scene::triangle_normal(scene, s.triangle), w); // emitters shine from the front
+  // Emitters shine from the front; double-sided ones (glTF doubleSided) from both sides, |cos| at the emitter.
+  const float cos_front = -glm::dot(scene::triangle_normal(scene, s.triangle), w);
+  const float cos_y = scene::is_double_sided(scene, s.triangle) ? std::abs(cos_front) : cos_front;
   if (cos_x <= 0.0f || cos_y <= 0.0f) return glm::vec3(0.0f);
   if (!visible(rays, x + epsilon * n, s.position, epsilon)) return glm::vec3(0.0f);
   const float pdf_light = emitters.pdf_area(s.triangle) * dist2 / cos_y; // solid angle at origin

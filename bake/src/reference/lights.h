@@ -45,12 +45,14 @@ glm::vec3 punctual_irradiance(const scene::Scene& scene, const scene::RayScene& 
                               const glm::vec3& n, float epsilon);
 
 // One light sample of the irradiance at x from emissive triangles, MIS-weighted against cosine sampling.
+// Single-sided emitters light only their front; double-sided ones both sides (pdf with |cos| at the emitter).
 glm::vec3 emitter_irradiance_sample(const scene::Scene& scene, const scene::RayScene& rays,
                                     const EmitterTable& emitters, const glm::vec3& x, const glm::vec3& n,
                                     float epsilon, Pcg32& rng);
 
 // MIS weight of a cosine-sampled ray (density cos_x / pi) that hit emitter triangle t at distance dist
-// with cosine cos_y at the emitter.
+// with cosine cos_y at the emitter, measured against the normal of the side it hit (> 0 for any hit that
+// counts: the front, or either side of a double-sided emitter).
 float bsdf_hit_weight(const EmitterTable& emitters, std::uint32_t t, float cos_x, float dist, float cos_y);
 
 } // namespace probebake::bake::detail

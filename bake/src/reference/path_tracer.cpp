@@ -34,11 +34,13 @@ glm::vec3 irradiance_path(const PathContext& c, const SamplePoint& point, Pcg32&
     const float cos_x = glm::dot(n, w);
     if (cos_x <= 0.0f) break;
     const auto hit = c.rays->intersect(x + c.epsilon * n, w);
-    if (!hit || hit->backface) break; // nothing, or the inside of a closed object: no light
+    if (!hit || hit->inside()) break; // nothing, or the back of a single-sided surface (inside a solid): no light
+    // Either side of a double-sided surface reflects and emits like a front side, about its facing normal.
+    const glm::vec3 facing = hit->facing_normal();
     const glm::vec3 y = triangle_point(scene, hit->triangle, hit->u, hit->v);
     const glm::vec3 emission = scene.triangle_emission[hit->triangle];
     if (emission_weight(emission) > 0.0f) { // distance from x, as next-event estimation measures it
-      const float cos_y = -glm::dot(hit->normal, w);
+      const float cos_y = -glm::dot(facing, w);
       result += beta * emission * (kPi * bsdf_hit_weight(*c.emitters, hit->triangle, cos_x, glm::length(y - x), cos_y));
     }
     beta *= glm::clamp(scene.triangle_albedo[hit->triangle], 0.0f, 1.0f);
@@ -50,7 +52,7 @@ glm::vec3 irradiance_path(const PathContext& c, const SamplePoint& point, Pcg32&
       break;
     }
     x = y;
-    n = hit->normal;
+    n = facing;
   }
   return result;
 }

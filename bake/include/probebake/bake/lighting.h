@@ -6,7 +6,9 @@
 // probe-to-probe recursion that gives multiple bounces. Algorithm and choices: docs/LIGHTING.md.
 //
 // Each live probe traces `rays` Fibonacci directions over the full sphere to the nearest hit. Radiance
-// leaving a hit towards the probe: back face 0 (inside geometry); miss sky_radiance; front face
+// leaving a hit towards the probe: back face of a single-sided surface 0 (inside geometry); miss
+// sky_radiance; front face, or either face of a double-sided (glTF doubleSided) surface with the normal
+// facing the ray,
 //   L = L_e + albedo / pi * (E_direct + E_indirect),
 // E_direct = direct_irradiance() (punctual lights with a shadow ray; with emissive_as_lights also the
 // emissive triangles as area lights, and then L_e is left out of L so that it is counted once),
@@ -49,7 +51,7 @@ void check_lighting_settings(const LightingSettings& settings);
 struct LightingReport {
   int probes = 0;                   // live probes lit
   std::size_t rays = 0;             // probe rays traced (probes * rays)
-  std::size_t backface_hits = 0;
+  std::size_t backface_hits = 0;    // rays that ended inside a solid (back of a single-sided surface)
   std::size_t misses = 0;           // rays that left the scene (sky)
   std::size_t indirect_misses = 0;  // front hits whose SVO lookup found no probe (they get no E_indirect)
   int iterations = 0;               // Jacobi sweeps (sweep 1 = emission + direct light, one bounce each more)
@@ -74,7 +76,8 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
 // point/spot I cos / r^2 with the glTF range window clamp(1 - (r/range)^4, 0, 1) when range > 0, spot cone
 // falloff per the KHR_lights_punctual spec; directional I cos. A shadow ray starts 1e-4 * scene size
 // along the normal. A light exactly at the point contributes 0. With settings.emissive_as_lights, plus
-// the emissive triangles: fixed sub-triangles (settings.emitter_samples shared by power), each its exact
+// the emissive triangles (double-sided ones from both sides, single-sided ones only in front of them):
+// fixed sub-triangles (settings.emitter_samples shared by power), each its exact
 // unoccluded irradiance (Lambert's formula, clipped to the hemisphere) times one shadow ray
 // (docs/LIGHTING.md). Must be called with the settings the volume was baked with. Builds the patch list
 // per call (O(triangles)); the bake builds it once.

@@ -3,6 +3,7 @@
 // Exit codes (probebake's): 0 written (or --help), 1 usage error, 2 unreadable input (e.g. --with),
 // 3 output not writable, 4 internal error.
 #include "probebake/formats/atomic_file.h"
+#include "probebake/samples/flip_gltf.h"
 #include "probebake/samples/meshopt_gltf.h"
 #include "probebake/samples/scenes.h"
 #include "probebake/version.h"
@@ -31,6 +32,7 @@ struct Settings {
   std::vector<float> offset;    // empty or X Y Z
   bool quiet = false;
   bool meshopt = false;         // geometry through meshoptimizer's encoder (EXT_meshopt_compression)
+  bool flip = false;            // `convert`: every surface's sides swapped, materials double-sided
   std::string convert_input;    // `convert`: the glTF to rewrite
 };
 
@@ -118,11 +120,19 @@ int make(const std::string& kind, const MakeScene& make_scene, const Settings& s
 }
 
 int convert(const Settings& settings) {
-  if (!settings.meshopt) throw probebake::Error(probebake::ErrorKind::usage, "convert needs --meshopt");
+  if (!settings.meshopt && !settings.flip)
+    throw probebake::Error(probebake::ErrorKind::usage, "convert needs --flip and/or --meshopt");
   const std::string output = settings.output.empty() ? "converted.glb" : settings.output;
   const std::vector<std::filesystem::path> inputs{settings.convert_input};
   probebake::check_output_path(output, inputs);
-  const std::vector<std::uint8_t> bytes = samples::meshopt_compress_file(settings.convert_input);
+  std::vector<std::uint8_t> bytes;
+  if (settings.flip) {
+    bytes = samples::flip_sides_file(settings.convert_input);
+    // The flipped .glb is self-contained: nothing left to resolve against a folder.
+    if (settings.meshopt) bytes = samples::meshopt_compress_gltf(bytes, ".");
+  } else {
+    bytes = samples::meshopt_compress_file(settings.convert_input);
+  }
   samples::write_file_atomically(output, bytes);
   if (!settings.quiet) std::printf("make-scene: wrote %s: %zu bytes\n", output.c_str(), bytes.size());
   return exit_ok;
@@ -143,8 +153,11 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", settings.quiet, "print nothing on success");
   app.add_flag("--meshopt", settings.meshopt,
                "write geometry through meshoptimizer's encoder (EXT_meshopt_compression, as gltfpack -cc)");
-  CLI::App* convert_kind = app.add_subcommand("convert", "rewrite an existing .glb/.gltf (with --meshopt)");
+  CLI::App* convert_kind = app.add_subcommand("convert", "rewrite an existing .glb/.gltf (--flip and/or --meshopt)");
   convert_kind->fallthrough();
+  convert_kind->add_flag("--flip", settings.flip,
+                         "reverse every triangle's winding, negate NORMAL, make every material doubleSided "
+                         "(the same scene by the glTF spec, seen from the other side of every surface)");
   convert_kind->add_option("input", settings.convert_input, "the .glb or .gltf to rewrite")->required();
   KindOptions options;
   std::map<CLI::App*, MakeScene> makers;

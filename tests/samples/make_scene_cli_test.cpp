@@ -93,3 +93,26 @@ TEST(MakeSceneCli, UnwritableOutputExitsThree) {
   EXPECT_EQ(run.exit_code, 3);
   EXPECT_TRUE(is_one_error_line(run.err)) << run.err;
 }
+
+TEST(MakeSceneCli, ConvertFlipWritesTheFlippedScene) {
+  const auto folder = pt::fresh_folder("cli_flip");
+  ASSERT_EQ(make_scene(folder, "cornell -q -o c.glb").exit_code, 0);
+  ASSERT_EQ(make_scene(folder, "convert c.glb --flip -q -o f.glb").exit_code, 0);
+  ASSERT_EQ(make_scene(folder, "convert f.glb --flip --meshopt -q -o ff.glb").exit_code, 0);
+  std::string error;
+  const tinygltf::Model flipped = pt::load_glb(pt::read_file(folder / "f.glb"), error);
+  ASSERT_TRUE(error.empty()) << error;
+  for (const tinygltf::Material& m : flipped.materials) EXPECT_TRUE(m.doubleSided) << m.name;
+  const auto original = pt::world_triangles(pt::load_glb(pt::read_file(folder / "c.glb"), error));
+  const auto reversed = pt::world_triangles(flipped);
+  ASSERT_EQ(reversed.size(), original.size());
+  for (std::size_t i = 0; i < original.size(); ++i) EXPECT_EQ(reversed[i].b, original[i].c) << i;
+  // Neither --flip nor --meshopt: usage; a compressed input: input error; the input as output: exit 3.
+  const CliResult none = make_scene(folder, "convert c.glb -o n.glb");
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_TRUE(is_one_error_line(none.err)) << none.err;
+  const CliResult compressed = make_scene(folder, "convert ff.glb --flip -o n.glb");
+  EXPECT_EQ(compressed.exit_code, 2);
+  EXPECT_TRUE(is_one_error_line(compressed.err)) << compressed.err;
+  EXPECT_EQ(make_scene(folder, "convert c.glb --flip -o c.glb").exit_code, 3);
+}

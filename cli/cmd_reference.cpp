@@ -1,9 +1,12 @@
-// `probebake reference SCENE`: path-traced reference irradiance at seeded surface points (--csv) and/or
-// an irradiance image from a pinhole camera (--image, OpenEXR).
+// `probebake reference SCENE`: path-traced reference irradiance at seeded surface points or at given
+// receivers (--at FILE.csv; --csv writes the values) and/or an irradiance image from a pinhole camera
+// (--image, OpenEXR).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -21,6 +24,7 @@ namespace {
 struct ReferenceCommandSettings {
   std::string scene;
   int points = 1000;
+  std::string at;  // receivers x,y,z,nx,ny,nz instead of seeded points
   int image_samples = 64;
   std::string csv;
   std::string image;
@@ -64,16 +68,21 @@ int run_reference(ReferenceCommandSettings& s) {
   if (s.points < 0) throw Error(ErrorKind::usage, "--points must be >= 0");
   const std::optional<bake::Camera> camera = s.camera.camera();
   if (!s.image.empty() && !camera) throw Error(ErrorKind::usage, "--image needs --camera and --look-at");
-  if (s.points == 0 && s.image.empty()) throw Error(ErrorKind::usage, "nothing to do: --points 0 and no --image");
+  const bool want_points = s.points > 0 || !s.at.empty();
+  if (!want_points && s.image.empty()) throw Error(ErrorKind::usage, "nothing to do: --points 0 and no --image");
+  // Given receivers are read (and refused when malformed) before the scene is loaded.
+  const std::vector<bake::SamplePoint> given = s.at.empty() ? std::vector<bake::SamplePoint>{} : bake::read_receivers_csv(s.at);
   const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
-  // Before the path tracing: the scene and every buffer and image it read.
-  if (s.points > 0 && !s.csv.empty()) check_output_path(s.csv, scene.input_files);
-  if (!s.image.empty()) check_output_path(s.image, scene.input_files);
+  // Before the path tracing: the scene, every buffer and image it read, and the receivers file.
+  std::vector<std::filesystem::path> inputs = scene.input_files;
+  if (!s.at.empty()) inputs.emplace_back(s.at);
+  if (want_points && !s.csv.empty()) check_output_path(s.csv, inputs);
+  if (!s.image.empty()) check_output_path(s.image, inputs);
   const scene::RayScene rays(scene);
   nlohmann::json j = {{"scene", s.scene}, {"paths", s.reference.paths}, {"seed", s.reference.seed}};
-  if (s.points > 0) {
-    const auto points = bake::surface_sample_points(scene, rays, s.points, s.reference.seed);
+  if (want_points) {
+    const auto points = s.at.empty() ? bake::surface_sample_points(scene, rays, s.points, s.reference.seed) : given;
     const bake::ReferenceResult r = bake::reference_irradiance(scene, rays, points, s.reference);
     j["points"] = points_json(r);
     if (!s.csv.empty()) {
@@ -102,7 +111,11 @@ Command add_reference_command(CLI::App& root) {
   CLI::App* app = root.add_subcommand("reference", "Path-traced reference irradiance at surface points and/or as an image");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
-  app->add_option("--points", s->points, "Seeded surface points, stratified by area (0 = none)");
+  CLI::Option* points = app->add_option("--points", s->points, "Seeded surface points, stratified by area (0 = none)");
+  app->add_option("--at", s->at,
+                  "Receivers from a CSV file instead of seeded points: rows x,y,z,nx,ny,nz (header line optional; "
+                  "the normal picks the side of a double-sided surface)")
+      ->excludes(points);
   app->add_option("--samples", s->reference.paths, "Paths per point");
   app->add_option("--seed", s->reference.seed, "Seed of the points and paths");
   app->add_option("--threads", s->reference.threads, "Worker threads (0 = all cores); results do not depend on it");

@@ -1,7 +1,10 @@
 // `probebake eval`'s receivers (what a player can see), coverage, relative-error percentiles, image
-// receivers, and the invariance of receivers, metrics and the bake under geometry sealed inside solids.
+// receivers, the invariance of receivers, metrics and the bake under geometry sealed inside solids, both
+// sides of double-sided surfaces as receivers, and the Cornell box flipped by make-scene convert --flip
+// (the same scene by the glTF rule) against the original: probes, reference and eval errors.
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -11,6 +14,7 @@
 #include "bake_test_util.h"
 #include "probebake/bake/eval.h"
 #include "probebake/bake/reference.h"
+#include "probebake/samples/flip_gltf.h"
 #include "probebake/samples/geometry.h"
 #include "probebake/samples/scenes.h"
 
@@ -263,6 +267,137 @@ TEST(EvalReceivers, ImageReceiversAverageToTheErrorMapMean) {
   EXPECT_GT(row.image_mean_error, 0.0);
   EXPECT_NEAR(row.image_mean_error, sum / pixels, 1e-6 * row.image_mean_error);
   EXPECT_GT(row.image_relative_rmse, 0.0);
+}
+
+} // namespace
+} // namespace probebake::test
+
+// ---- Double-sided surfaces: two receivers per point --------------------------------------------------
+
+namespace probebake::test {
+namespace {
+
+// A 2 x 2 m plane at y = 0 (front +Y) with a point light above and one below.
+samples::SceneBuilder lit_plane(bool double_sided) {
+  samples::SceneBuilder builder("lit_plane");
+  const samples::MaterialId grey = builder.add_material({"grey", glm::vec3(0.5f), glm::vec3(0.0f), double_sided});
+  builder.add_mesh_node("plane", builder.add_mesh("plane", samples::quad({-1.0f, 0.0f, 1.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -2.0f}, 4), grey));
+  builder.add_light_node("above", builder.add_light({.name = "above", .intensity = 4.0f}), {0.0f, 1.0f, 0.0f});
+  builder.add_light_node("below", builder.add_light({.name = "below", .intensity = 1.0f}), {0.0f, -1.0f, 0.0f});
+  return builder;
+}
+
+int facing_down(const std::vector<bake::SamplePoint>& points) {
+  return int(std::count_if(points.begin(), points.end(), [](const bake::SamplePoint& p) { return p.normal.y < -0.999f; }));
+}
+
+TEST(Receivers, BothSidesOfADoubleSidedPlaneAreReceivers) {
+  const scene::Scene single = load_generated(lit_plane(false), "recv_plane_single");
+  const scene::Scene both = load_generated(lit_plane(true), "recv_plane_double");
+  for (bake::ReceiverMode mode : {bake::ReceiverMode::area, bake::ReceiverMode::visible}) {
+    const bake::Receivers one = receivers_of(single, mode, 400), two = receivers_of(both, mode, 400);
+    ASSERT_EQ(one.points.size(), 400u);
+    ASSERT_EQ(two.points.size(), 400u);
+    EXPECT_EQ(facing_down(one.points), 0) << bake::receiver_mode_name(mode);
+    // Equal areas on both sides: about half face down (binomial, 400 draws: 200 +- 10 for 1 sigma).
+    EXPECT_GT(facing_down(two.points), 150) << bake::receiver_mode_name(mode);
+    EXPECT_LT(facing_down(two.points), 250) << bake::receiver_mode_name(mode);
+    for (const bake::SamplePoint& p : two.points) EXPECT_NEAR(std::abs(p.normal.y), 1.0f, 1e-6f);
+  }
+  // Each side sees its own light: E = I / h^2 straight under it (4 above, 1 below; nothing else to bounce
+  // light, point lights are sampled exactly).
+  const std::vector<bake::SamplePoint> at = {{{0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}, {{0.0f, 0.0f, 0.0f}, {0.0f, -1.0f, 0.0f}}};
+  bake::ReferenceSettings settings;
+  settings.paths = 256;
+  const scene::RayScene rays_both(both);
+  const bake::ReferenceResult r = bake::reference_irradiance(both, rays_both, at, settings);
+  const float up = r.irradiance[0].x, down = r.irradiance[1].x;
+  std::printf("[ double-sided plane ] E up %.5f, down %.5f W/m^2 (exact: 4 and 1)\n", up, down);
+  EXPECT_NEAR(up, 4.0f, 1e-3f);
+  EXPECT_NEAR(down, 1.0f, 1e-3f);
+}
+
+TEST(Receivers, CameraSeesTheBackOfADoubleSidedPlaneWithItsFacingNormal) {
+  const bake::Camera below{.position = {0.1f, -1.0f, 0.2f}, .look_at = {0.0f, 0.0f, 0.0f}, .fov_degrees = 30.0f, .width = 8, .height = 8};
+  const scene::Scene single = load_generated(lit_plane(false), "recv_plane_cam_single");
+  const scene::Scene both = load_generated(lit_plane(true), "recv_plane_cam_double");
+  const scene::RayScene rays_single(single), rays_both(both);
+  for (const auto& p : bake::camera_surface_points(rays_single, below)) EXPECT_FALSE(p.has_value()) << "back of a single-sided plane";
+  const auto seen = bake::camera_surface_points(rays_both, below);
+  ASSERT_EQ(seen.size(), 64u);
+  for (const auto& p : seen) {
+    ASSERT_TRUE(p.has_value());
+    EXPECT_EQ(p->normal, glm::vec3(0.0f, -1.0f, 0.0f));
+  }
+}
+
+// ---- The flipped Cornell box: the same scene by the glTF rule -----------------------------------------
+
+std::filesystem::path write_flipped(const samples::SceneBuilder& builder, const std::string& name) {
+  const std::filesystem::path original = write_generated(builder, name);
+  const std::vector<std::uint8_t> bytes = samples::flip_sides_file(original);
+  const std::filesystem::path flipped = original.parent_path() / (name + "_flipped.glb");
+  std::ofstream(flipped, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  return flipped;
+}
+
+double mean_of(const std::vector<glm::vec3>& v) {
+  double sum = 0.0;
+  for (const glm::vec3& e : v) sum += (double(e.x) + e.y + e.z) / 3.0;
+  return sum / double(std::max<std::size_t>(v.size(), 1));
+}
+
+TEST(FlippedCornell, SameReferenceAtTheOriginalsReceivers) {
+  const scene::Scene original = scene::load_scene(write_generated(samples::cornell(), "flip_cornell_ref"));
+  const scene::Scene flipped = scene::load_scene(write_flipped(samples::cornell(), "flip_cornell_ref"));
+  const scene::RayScene rays_a(original), rays_b(flipped);
+  const bake::Receivers receivers = bake::make_receivers(original, rays_a, {.count = 64, .seed = 7});
+  ASSERT_EQ(receivers.points.size(), 64u);
+  bake::ReferenceSettings settings;
+  settings.paths = 256;
+  const bake::ReferenceResult a = bake::reference_irradiance(original, rays_a, receivers.points, settings);
+  const bake::ReferenceResult b = bake::reference_irradiance(flipped, rays_b, receivers.points, settings);
+  // Independent estimates (the flipped scene's rays meet other sides, so its paths differ): the means
+  // agree within 4 combined standard errors of the mean.
+  double variance = 0.0;
+  for (std::size_t i = 0; i < a.irradiance.size(); ++i) {
+    const double se_a = (a.standard_error[i].x + a.standard_error[i].y + a.standard_error[i].z) / 3.0;
+    const double se_b = (b.standard_error[i].x + b.standard_error[i].y + b.standard_error[i].z) / 3.0;
+    variance += se_a * se_a + se_b * se_b;
+  }
+  const double n = double(a.irradiance.size());
+  const double mean_a = mean_of(a.irradiance), mean_b = mean_of(b.irradiance);
+  std::printf("[ flipped cornell ] reference at 64 receivers x 256 paths: mean %.4f (original) vs %.4f (flipped), "
+              "sigma of the difference %.4f\n", mean_a, mean_b, std::sqrt(variance) / n);
+  EXPECT_GT(mean_a, 0.1);
+  EXPECT_NEAR(mean_b, mean_a, 4.0 * std::sqrt(variance) / n);
+}
+
+TEST(FlippedCornell, SameProbeCountWithinFivePercent) {
+  const scene::Scene original = scene::load_scene(write_generated(samples::cornell(), "flip_cornell_bake"));
+  const scene::Scene flipped = scene::load_scene(write_flipped(samples::cornell(), "flip_cornell_bake"));
+  const bake::BakeResult a = bake::bake(original, test_settings());
+  const bake::BakeResult b = bake::bake(flipped, test_settings());
+  std::printf("[ flipped cornell ] probes: %d (original) vs %d (flipped)\n", a.report.probes, b.report.probes);
+  EXPECT_GT(a.report.probes, 8);
+  EXPECT_LE(std::abs(a.report.probes - b.report.probes), std::max(1, a.report.probes / 20));
+}
+
+TEST(FlippedCornell, EvalErrorsWithinTenPercent) {
+  const auto original = write_generated(samples::cornell(), "flip_cornell_eval");
+  const auto flipped = write_flipped(samples::cornell(), "flip_cornell_eval");
+  bake::EvalSettings s = quick_settings();
+  s.use_cache = false;
+  s.threads = 2;
+  const bake::EvalResult a = bake::evaluate(original, s), b = bake::evaluate(flipped, s);
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  EXPECT_NEAR(b.mean_reference, a.mean_reference, 0.05 * a.mean_reference);
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    std::printf("[ flipped cornell ] %-16s relative RMSE %.4f (original) vs %.4f (flipped), probes %d vs %d\n",
+                a.rows[i].label.c_str(), a.rows[i].relative_rmse, b.rows[i].relative_rmse, a.rows[i].probes, b.rows[i].probes);
+    EXPECT_NEAR(b.rows[i].relative_rmse, a.rows[i].relative_rmse, 0.1 * a.rows[i].relative_rmse + a.reference_noise)
+        << a.rows[i].label;
+  }
 }
 
 } // namespace

@@ -185,6 +185,56 @@ TEST(ReferenceCli, WritesCsvAndImage) {
   EXPECT_EQ(run("reference missing.glb").exit_code, 2);
 }
 
+void write_text(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+TEST(ReferenceCli, AtReadsReceiversAndItsOwnCsvBack) {
+  const auto scene = write_generated(samples::plane_light({.size = 4.0f, .height = 1.0f, .intensity = 10.0f}), "ref_at_plane");
+  const auto dir = scene.parent_path();
+  // Header, blank line, CRLF and spaces are accepted; the normal is normalised.
+  write_text(dir / "at.csv", "x,y,z,nx,ny,nz\n0,0,0,0,2,0\r\n\n 0.5 , 0 , 0 , 0 , 1 , 0\n");
+  const CliResult r = run("reference " + quoted(scene) + " --at " + quoted(dir / "at.csv") + " --samples 16 --csv " +
+                          quoted(dir / "at_out.csv") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["points"]["count"].get<int>(), 2);
+  const auto points = bake::read_receivers_csv(dir / "at_out.csv");  // the --csv output reads back as --at
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_EQ(points[0].normal, glm::vec3(0.0f, 1.0f, 0.0f));
+  EXPECT_EQ(points[1].position, glm::vec3(0.5f, 0.0f, 0.0f));
+  std::vector<bake::SamplePoint> p;
+  bake::ReferenceResult values;
+  ASSERT_TRUE(bake::read_reference_csv(dir / "at_out.csv", p, values));
+  // E = I h / r^3 under a 10 cd light 1 m up (the plane is black): 10 and 10 / 1.25^1.5.
+  EXPECT_NEAR(values.irradiance[0].x, 10.0f, 1e-3f);
+  EXPECT_NEAR(values.irradiance[1].x, 10.0f / std::pow(1.25f, 1.5f), 1e-3f);
+}
+
+TEST(ReferenceCli, AtRefusesMalformedRowsNamingFileAndLine) {
+  const auto scene = write_generated(samples::triangle(), "ref_at_bad");
+  const auto dir = scene.parent_path();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"0,0,0,0,1,0\n0,0,abc,0,1,0\n", "line 2: column 3: 'abc' is not a number"},
+      {"0,0,0,0,1\n", "line 1: 5 columns"},
+      {"x,y,z,nx,ny,nz\n0,0,0,0,0,0\n", "line 2: the normal nx,ny,nz has no direction"},
+      {"0,0,nan,0,1,0\n", "line 1: column 3: nan is not finite"},
+      {"0,0,1e39,0,1,0\n", "line 1: column 3: '1e39' is not a number"},
+      {"0,0,0,0,1,0,\n", "line 1: column 7: '' is not a number"},
+      {"\n\n", "no receivers"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto file = dir / ("bad" + std::to_string(i) + ".csv");
+    write_text(file, cases[i].first);
+    const CliResult r = run("reference " + quoted(scene) + " --at " + quoted(file) + " --samples 4");
+    EXPECT_EQ(r.exit_code, 2) << cases[i].first;
+    EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find(file.string() + ": " + cases[i].second), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(run("reference " + quoted(scene) + " --at " + quoted(dir / "missing.csv")).exit_code, 2);
+  EXPECT_EQ(run("reference " + quoted(scene) + " --at " + quoted(dir / "bad0.csv") + " --points 4").exit_code, 1);
+  // The output may not replace the receivers it reads.
+  write_text(dir / "good.csv", "0.2,0,-0.2,0,1,0\n");
+  EXPECT_EQ(run("reference " + quoted(scene) + " --at " + quoted(dir / "good.csv") + " --csv " + quoted(dir / "good.csv")).exit_code, 3);
+}
+
 // Markdown rows after the header separator.
 std::vector<std::string> table_rows(const std::string& out) {
   std::vector<std::string> rows;

@@ -54,7 +54,9 @@ std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RaySc
     const glm::vec3 dir = glm::normalize(v.forward + v.right * ((2.0f * px - 1.0f) * v.tan_half_y * v.aspect) +
                                          v.up * ((1.0f - 2.0f * py) * v.tan_half_y));
     const auto hit = rays.intersect(camera.position, dir);
-    if (hit && !hit->backface) points[i] = SamplePoint{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->normal};
+    // The side the ray arrived at; the back of a single-sided surface is inside a solid and shows nothing.
+    if (hit && !hit->inside())
+      points[i] = SamplePoint{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->facing_normal()};
   });
   return points;
 }

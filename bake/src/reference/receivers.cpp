@@ -171,8 +171,9 @@ std::vector<SamplePoint> visible_points(const scene::Scene& scene, const scene::
   const float gap = 0.25f * clearance;
   return collect(space, s, 0x7669736900000000ull, [&](detail::Pcg32& rng, const glm::vec3& viewpoint) -> std::optional<SamplePoint> {
     const auto hit = rays.intersect(viewpoint, uniform_sphere(rng));
-    if (!hit || hit->backface) return std::nullopt; // the sky, or the back of a single-sided surface
-    const SamplePoint p{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->normal};
+    if (!hit || hit->inside()) return std::nullopt; // the sky, or the back of a single-sided surface
+    // The side the viewpoint sees: either side of a double-sided surface is a receiver with its own normal.
+    const SamplePoint p{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->facing_normal()};
     if (rays.occluded(p.position + epsilon * p.normal, p.normal, 0.0f, gap)) return std::nullopt;
     return p;
   });

@@ -1,4 +1,5 @@
-// surface_sample_points: area-stratified points on front faces, without points hidden inside geometry.
+// surface_sample_points: area-stratified points on the sides of surfaces (front faces; both sides of
+// double-sided ones), without points hidden inside geometry.
 #include <algorithm>
 #include <cmath>
 
@@ -33,8 +34,8 @@ const std::vector<glm::vec3>& hemisphere_directions() {
   return dirs;
 }
 
-// Hidden: most of the hits over the front hemisphere of the lifted point are back faces (the point lies
-// inside a closed object, e.g. the floor under a block).
+// Hidden: most of the hits over the hemisphere of the lifted point are inside solids (backs of single-sided
+// surfaces: the point lies inside a closed object, e.g. the floor under a block).
 bool hidden(const scene::RayScene& rays, const SamplePoint& p, float epsilon) {
   glm::vec3 t, b;
   detail::orthonormal_basis(p.normal, t, b);
@@ -43,14 +44,20 @@ bool hidden(const scene::RayScene& rays, const SamplePoint& p, float epsilon) {
   for (const glm::vec3& d : hemisphere_directions()) {
     if (const auto hit = rays.intersect(origin, t * d.x + b * d.y + p.normal * d.z)) {
       ++hits;
-      back += hit->backface ? 1 : 0;
+      back += hit->inside() ? 1 : 0;
     }
   }
   return 2 * back > hits;
 }
 
+// One side of a triangle: a double-sided triangle is two surfaces of the same area, each a receiver.
+struct Side {
+  std::uint32_t triangle = 0;
+  bool back = false;
+};
+
 struct AreaTable {
-  std::vector<std::uint32_t> triangles;
+  std::vector<Side> sides;
   std::vector<double> cdf; // normalised inclusive prefix sums of the areas
 };
 
@@ -60,9 +67,12 @@ AreaTable area_table(const scene::Scene& scene) {
   for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
     const double area = scene::triangle_area(scene, t);
     if (!(area > 0.0)) continue;
-    total += area;
-    table.triangles.push_back(t);
-    table.cdf.push_back(total);
+    for (const bool back : {false, true}) {
+      if (back && !scene::is_double_sided(scene, t)) break;
+      total += area;
+      table.sides.push_back({t, back});
+      table.cdf.push_back(total);
+    }
   }
   for (double& c : table.cdf) c /= total;
   if (!table.cdf.empty()) table.cdf.back() = 1.0;
@@ -83,12 +93,13 @@ std::vector<Candidate> candidates(const scene::Scene& scene, const AreaTable& ta
   for (int i = 0; i < count; ++i) {
     const double u = (double(i) + double(rng.uniform())) / double(count);
     const auto it = std::lower_bound(table.cdf.begin(), table.cdf.end(), u);
-    const std::uint32_t t = table.triangles[std::min(std::size_t(it - table.cdf.begin()), table.triangles.size() - 1)];
-    const glm::uvec3 tri = scene.triangles[t];
+    const Side side = table.sides[std::min(std::size_t(it - table.cdf.begin()), table.sides.size() - 1)];
+    const glm::uvec3 tri = scene.triangles[side.triangle];
+    const glm::vec3 front = scene::triangle_normal(scene, side.triangle);
     const float u1 = rng.uniform(), u2 = rng.uniform();
     points.push_back({u, {detail::uniform_triangle_point(scene.positions[tri.x], scene.positions[tri.y],
                                                          scene.positions[tri.z], u1, u2),
-                          scene::triangle_normal(scene, t)}});
+                          side.back ? -front : front}});
   }
   return points;
 }
@@ -99,7 +110,7 @@ std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, const 
                                                std::uint64_t seed) {
   if (count < 1) throw Error(ErrorKind::usage, fmt::format("--points must be at least 1 (got {})", count));
   const AreaTable table = area_table(scene);
-  if (table.triangles.empty()) return {};
+  if (table.sides.empty()) return {};
   const float epsilon = scene::ray_epsilon(scene);
   // Whole rounds of stratified candidates until enough are visible (each round is uniform over the visible
   // area, so their union is too); then `count` of them at even steps along the cumulative area.

@@ -1,8 +1,9 @@
 // Ground truth for the probes: a CPU path tracer that estimates diffuse irradiance E at surface points,
 // with a standard error per point, and images of it from a pinhole camera (OpenEXR).
 //
-// Light transport follows the bake's conventions (scene.h): Lambertian surfaces (albedo / pi), emitted
-// radiance from front faces only, back faces black, glTF punctual intensities taken as radiometric
+// Light transport follows the bake's conventions (scene.h, docs/LIGHTING.md): Lambertian surfaces
+// (albedo / pi); single-sided surfaces reflect and emit from their front only (the back is black, inside a
+// solid), glTF doubleSided ones from both sides with the normal facing the ray; glTF punctual intensities taken as radiometric
 // (point/spot: I in W/sr, E = I cos / r^2 with the KHR_lights_punctual range window and spot cone
 // falloff; directional: W/m^2). Estimator: cosine-weighted hemisphere sampling, next-event estimation on
 // punctual lights and on emissive triangles (power-proportional area sampling) combined with BSDF hits
@@ -25,7 +26,8 @@
 
 namespace probebake::bake {
 
-// A point on a surface and the unit normal of its visible (front) side.
+// A point on a surface and the unit normal of the side that receives: the front of a single-sided surface,
+// either side of a double-sided one (each side is a receiver of its own).
 struct SamplePoint {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f, 1.0f, 0.0f};
@@ -52,8 +54,9 @@ ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::Ray
                                      std::span<const SamplePoint> points, const ReferenceSettings& settings);
 
 // `count` points spread over the scene's surfaces proportionally to area (stratified along the cumulative
-// area of the triangles), front sides only, without points that lie inside geometry (a point whose
-// slightly offset position sees mostly back faces over its hemisphere, e.g. floor under a box). The same
+// area of the triangles' sides: the front of a single-sided triangle, both sides of a double-sided one,
+// each side with its own normal), without points that lie inside geometry (a point whose slightly offset
+// position sees mostly backs of single-sided surfaces over its hemisphere, e.g. floor under a box). The same
 // (scene, count, seed) gives the same points. Fewer than `count` only when almost every surface is hidden.
 std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, const scene::RayScene& rays, int count,
                                                std::uint64_t seed);
@@ -66,6 +69,15 @@ void write_reference_csv(const std::filesystem::path& path, std::span<const Samp
                          const ReferenceResult& reference);
 // Returns false when the file is missing or not such a CSV (stderr comes back in every channel).
 bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points, ReferenceResult& reference);
+
+// Receivers for `probebake reference --at`: one per line, x,y,z,nx,ny,nz (scene units; the normal picks
+// the side of a double-sided surface and is normalised). A first line "x,y,z,nx,ny,nz" or the header of
+// write_reference_csv is skipped, blank lines are skipped, and rows of a reference CSV (10 columns) are
+// read for their first six. Hostile input: the file size is checked before it is read, at most
+// kMaxReceivers rows, every number finite. Throws Error(input) "<file>: line N: <reason>".
+constexpr std::uintmax_t kMaxReceiverFileBytes = 256ull << 20;
+constexpr std::size_t kMaxReceivers = 1'000'000;
+std::vector<SamplePoint> read_receivers_csv(const std::filesystem::path& path);
 
 // ---- Images ------------------------------------------------------------------------------------------
 
@@ -87,11 +99,12 @@ struct Image {
   std::vector<glm::vec3> pixels;
 };
 
-// The first surface seen through each pixel's centre, or nothing where the ray misses or first meets a
-// back face.
+// The first surface seen through each pixel's centre with the normal of the side seen, or nothing where
+// the ray misses or first meets the back of a single-sided surface.
 std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RayScene& rays, const Camera& camera);
 
-// Reference irradiance of the first visible surface per pixel (0 where nothing or a back face is seen);
+// Reference irradiance of the first visible surface per pixel (0 where nothing or the back of a
+// single-sided surface is seen);
 // settings.paths paths per pixel.
 Image render_irradiance_image(const scene::Scene& scene, const scene::RayScene& rays, const Camera& camera,
                               const ReferenceSettings& settings);

@@ -59,7 +59,7 @@ void measure_hit_fraction(int probe) {
     const int tri = probebake_trace(centre, dir, 0.0, t, false);
     if (tri < 0) continue;
     atomicAdd(hits, 1u);
-    if (dot(probebake_trace_triangles[tri].normal, dir) > 0.0) atomicAdd(backface_hits, 1u);
+    if (probebake_inside(tri, dir)) atomicAdd(backface_hits, 1u);
     if (t <= exit_distance(cube_min, size, centre, dir)) atomicAdd(hits_in_cube, 1u);
   }
 }
@@ -75,11 +75,13 @@ LightRecord trace_record(vec3 origin, vec3 dir) {
   }
   rec.normal = probebake_trace_triangles[tri].normal;
   rec.base = vec3(0.0);
-  if (dot(rec.normal, dir) > 0.0) {
+  if (probebake_inside(tri, dir)) {
     rec.kind = LIGHT_RECORD_BACKFACE;
     atomicAdd(back_count, 1u);
     return rec;
   }
+  // The front, or the back of a double-sided triangle: shaded alike with the normal facing the probe.
+  rec.normal = probebake_facing_normal(tri, dir);
   atomicAdd(front_count, 1u);
   rec.kind = LIGHT_RECORD_FRONT;
   rec.position = origin + t * dir;

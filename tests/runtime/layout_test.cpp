@@ -151,7 +151,7 @@ TEST(GpuLayout, LightingSectionsMatchGpuTypes) {
             1);
   EXPECT_GE(expect_layout("light_trace", "TraceTriangle",
                           {{"v0", offsetof(TraceTriangle, v0)}, {"edge1", offsetof(TraceTriangle, edge1)},
-                           {"edge2", offsetof(TraceTriangle, edge2)}, {"normal", offsetof(TraceTriangle, normal)},
+                           {"flags", offsetof(TraceTriangle, flags)}, {"edge2", offsetof(TraceTriangle, edge2)}, {"normal", offsetof(TraceTriangle, normal)},
                            {"albedo", offsetof(TraceTriangle, albedo)}, {"emission", offsetof(TraceTriangle, emission)}}),
             1);
   EXPECT_GE(expect_layout("light_gather", "PunctualLight",
@@ -162,7 +162,8 @@ TEST(GpuLayout, LightingSectionsMatchGpuTypes) {
                            {"spot_scale", offsetof(PunctualLight, spot_scale)}}),
             1);
   EXPECT_GE(expect_layout("light_trace", "EmitterPatch",
-                          {{"a", offsetof(EmitterPatch, a)}, {"b", offsetof(EmitterPatch, b)}, {"c", offsetof(EmitterPatch, c)},
+                          {{"a", offsetof(EmitterPatch, a)}, {"flags", offsetof(EmitterPatch, flags)},
+                           {"b", offsetof(EmitterPatch, b)}, {"c", offsetof(EmitterPatch, c)},
                            {"normal", offsetof(EmitterPatch, normal)}, {"radiance", offsetof(EmitterPatch, radiance)}}),
             1);
   EXPECT_GE(expect_layout("light_trace", "LightingInfo",

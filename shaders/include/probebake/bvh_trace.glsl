@@ -95,6 +95,20 @@ int probebake_trace(vec3 origin, vec3 dir, float t_min, inout float t_max, bool 
   return hit;
 }
 
+// The ray arrived at the back of a single-sided triangle: inside a solid (scene::RayHit::inside). The back
+// of a double-sided triangle is open space like its front.
+bool probebake_backface(int index, vec3 dir) { return dot(probebake_trace_triangles[index].normal, dir) > 0.0; }
+
+bool probebake_inside(int index, vec3 dir) {
+  return probebake_backface(index, dir) && (probebake_trace_triangles[index].flags & TRIANGLE_DOUBLE_SIDED) == 0u;
+}
+
+// The unit normal of the side the ray arrived at (scene::RayHit::facing_normal).
+vec3 probebake_facing_normal(int index, vec3 dir) {
+  const vec3 n = probebake_trace_triangles[index].normal;
+  return probebake_backface(index, dir) ? -n : n;
+}
+
 bool probebake_occluded(vec3 origin, vec3 dir, float t_min, float t_max) {
   return probebake_trace(origin, dir, t_min, t_max, true) >= 0;
 }

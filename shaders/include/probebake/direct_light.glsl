@@ -55,12 +55,18 @@ vec3 probebake_punctual_irradiance(vec3 p, vec3 n) {
 }
 
 // Unoccluded irradiance of one patch (Lambert's formula after clipping the patch to n's hemisphere) and
-// the shadow ray's target (the clipped polygon's vertex mean); false when the patch cannot light p.
+// the shadow ray's target (the clipped polygon's vertex mean); false when the patch cannot light p
+// (bake's patch_irradiance with plane_margin = shadow_offset).
 bool probebake_patch_irradiance(int index, vec3 p, vec3 n, out vec3 irradiance, out vec3 target) {
   irradiance = vec3(0.0);
   target = p;
   const EmitterPatch ep = probebake_emitter_patches[index];
-  if (!(dot(p - ep.a, ep.normal) > 0.0)) return false; // behind the emitter or in its plane
+  // Within shadow_offset of the emitter's plane: nothing (p on the emitter itself, where the distance is
+  // rounding noise of either sign and Lambert's formula is singular); behind it: nothing unless it emits
+  // from both sides (the formula does not depend on the winding: the back needs no flip).
+  const float side = dot(p - ep.a, ep.normal);
+  const bool double_sided = (ep.flags & EMITTER_DOUBLE_SIDED) != 0u;
+  if (!(abs(side) > probebake_lighting.shadow_offset) || (side < 0.0 && !double_sided)) return false;
   vec3 v[3] = vec3[3](ep.a - p, ep.b - p, ep.c - p);
   vec3 q[4];
   int count = 0;

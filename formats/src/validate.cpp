@@ -73,7 +73,7 @@ constexpr InvariantInfo kInvariants[] = {
     {"surfel_values", "surfels in use: known flags, distance >= 0, unit normal on hits, colours >= 0, padding zero; unused surfels zero"},
     {"probe_index_list", "the probe index list is the allocated probes ascending, then negative values"},
     {"leaf_queue_header", "pull origin in {0,1,2}, segment counts within capacity, padding zero"},
-    {"leaf_entry_node", "leaf buffer entries in use name leaf nodes of the octree"},
+    {"leaf_entry_node", "leaf buffer entries in use name reachable nodes: parents in M0/M4, leaves in every other state"},
     {"leaf_entry_state", "leaf buffer entries in use hold a LEAF_* state"},
     {"leaf_entry_duplicate", "no node appears twice in one segment"},
     {"svo_index_range", "SVO child blocks, payload indices and probe slots are in range"},

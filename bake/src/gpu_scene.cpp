@@ -1,6 +1,7 @@
 // Stage "gpu_scene" (probebake/bake/gpu_scene.h): the scene as the runtime lighting sections. Each value
 // comes from the function the bake's own lighting uses (triangle_normal, shadow_offset, spot_cone,
-// emitter_patches, lattice_directions, is_double_sided), so that the GPU works with the numbers the CPU bake used.
+// emitter_patches, lattice_directions, is_double_sided), so that the GPU works with the numbers the CPU
+// bake used.
 #include "probebake/bake/gpu_scene.h"
 
 #include <chrono>

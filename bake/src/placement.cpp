@@ -6,7 +6,8 @@
 // scenes fill the root cube; in a scene that does not (two rooms in a wide root cube, a room below a
 // tall one) the first children's centres lie outside the rooms, see only the backs of floors and
 // ceilings, and the rule alone would free every probe before the tree reached the rooms. A centre that
-// mostly sees back faces (it is inside geometry) is treated the same way.
+// mostly sees back faces of single-sided surfaces (it is inside geometry) is treated the same way; the
+// back of a double-sided surface is open space and counts as an ordinary hit.
 #include "placement.h"
 
 #include <algorithm>
@@ -56,10 +57,10 @@ constexpr int kSealScreenStride = 8; // 8 of the 64 directions screen first
 // Fibonacci directions flipped into the hemisphere around `n` (the sphere lattice is symmetric enough).
 glm::vec3 into_front(glm::vec3 d, glm::vec3 n) { return glm::dot(d, n) < 0.0f ? -d : d; }
 
-bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::vector<glm::vec3>& sphere, float lift) {
+// Sealed on the side `n` faces: every sample point lifted off that side sees mostly back faces of
+// single-sided surfaces (trace_probe counts only RayHit::inside() hits).
+bool side_sealed(const scene::RayScene& rays, std::uint32_t t, glm::vec3 n, const std::vector<glm::vec3>& sphere, float lift) {
   const scene::Scene& s = rays.scene();
-  const glm::vec3 n = scene::triangle_normal(s, t);
-  if (n == glm::vec3(0.0f)) return false; // degenerate: nothing to see either way
   const glm::uvec3 tri = s.triangles[t];
   const glm::vec3 a = s.positions[tri.x], b = s.positions[tri.y], c = s.positions[tri.z];
   const glm::vec3 samples[] = {(a + b + c) / 3.0f, 0.8f * a + 0.1f * (b + c), 0.8f * b + 0.1f * (a + c),
@@ -77,6 +78,16 @@ bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::ve
   for (const glm::vec3& p : samples)
     if (is_open(rays, p + lift * n, 0.0f, dirs)) return false;
   return true;
+}
+
+// A single-sided triangle is seen only from its front; a double-sided one from both sides, so it is
+// sealed only when both are (a double-sided plane inside a solid, not a double-sided wall of a room).
+bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::vector<glm::vec3>& sphere, float lift) {
+  const scene::Scene& s = rays.scene();
+  const glm::vec3 n = scene::triangle_normal(s, t);
+  if (n == glm::vec3(0.0f)) return false; // degenerate: nothing to see either way
+  if (!side_sealed(rays, t, n, sphere, lift)) return false;
+  return !scene::is_double_sided(s, t) || side_sealed(rays, t, -n, sphere, lift);
 }
 
 } // namespace

@@ -33,7 +33,8 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
 // triangle (its centroid and three points near its corners) sees mostly back faces over its front
 // hemisphere (is_dead's back-face rule), so it lies inside a solid and no point of open space can see
 // it, e.g. a cube hidden inside a block. Without this, such triangles split octree nodes inside solids
-// and move probes although nothing visible changed.
+// and move probes although nothing visible changed. A double-sided triangle is seen from both sides, so
+// it is sealed only when the sample points in front of both sides are.
 std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads);
 // `scene` without the sealed triangles (same vertices, materials, lights and bounds), or nothing when
 // none is sealed.

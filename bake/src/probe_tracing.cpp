@@ -33,13 +33,14 @@ ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cub
     const bool in_cube = hit.has_value() && hit->distance <= exit;
     if (hit) {
       ++r.hits;
-      r.backface_hits += hit->backface ? 1 : 0;
+      r.backface_hits += hit->inside() ? 1 : 0;
       r.hits_in_cube += in_cube ? 1 : 0;
       if (hit->distance < r.nearest) {
         r.nearest = hit->distance;
         r.nearest_point = position + d * hit->distance;
         r.nearest_normal = hit->normal;
-        r.nearest_backface = hit->backface;
+        r.nearest_backface = hit->inside();
+        r.nearest_facing_normal = hit->facing_normal();
       }
     }
     if (surfels == nullptr) continue;
@@ -47,8 +48,9 @@ ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cub
     s.distance = in_cube ? hit->distance : exit;
     s.position = position + d * s.distance;
     if (in_cube) {
-      s.flags = gpu::SURFEL_FLAG_HIT | (hit->backface ? gpu::SURFEL_FLAG_BACKFACE : 0u);
-      s.normal = hit->backface ? -hit->normal : hit->normal; // the side facing the probe
+      // The back of a double-sided surface is a lit surface facing the probe, not the inside of a solid.
+      s.flags = gpu::SURFEL_FLAG_HIT | (hit->inside() ? gpu::SURFEL_FLAG_BACKFACE : 0u);
+      s.normal = hit->facing_normal(); // the side facing the probe
       s.albedo = scene.triangle_albedo[hit->triangle];
     }
   }

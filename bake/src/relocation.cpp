@@ -29,10 +29,12 @@ std::optional<glm::vec3> relocate_probe(const RelocationContext& ctx, glm::vec3 
       return out;
   }
   if (rays.hits > 0) {
-    // Behind the nearest surface: cross it along its front normal. In front but too close: step back.
-    const glm::vec3 n = rays.nearest_normal;
-    const glm::vec3 candidate = rays.nearest_backface ? rays.nearest_point + n * (ctx.clearance * 1.5f)
-                                                      : position + n * (ctx.clearance * 1.5f - rays.nearest);
+    // Behind the nearest surface (a single-sided one seen from its back): cross it along its front
+    // normal. In front of it, or of either side of a double-sided one, but too close: step back along
+    // the normal of the side the probe sees.
+    const glm::vec3 candidate = rays.nearest_backface
+                                    ? rays.nearest_point + rays.nearest_normal * (ctx.clearance * 1.5f)
+                                    : position + rays.nearest_facing_normal * (ctx.clearance * 1.5f - rays.nearest);
     if (is_valid_position(ctx, candidate, cube)) return candidate;
   }
   const float max_radius = 0.5f * cube.size * std::sqrt(3.0f);

@@ -41,13 +41,14 @@ std::array<glm::vec3, 9> voxel_points(glm::vec3 min, float size) {
   return p;
 }
 
-// Inside geometry: most of six axis rays hit back faces.
+// Inside geometry: most of six axis rays hit back faces of single-sided surfaces (RayHit::inside; the
+// back of a double-sided surface is open space).
 bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
   static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   int back = 0;
   for (const glm::vec3& d : axes) {
     const auto hit = rays.intersect(p, d);
-    back += hit && hit->backface ? 1 : 0;
+    back += hit && hit->inside() ? 1 : 0;
   }
   return back >= 4;
 }

@@ -41,7 +41,7 @@ bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
   for (const glm::vec3& d : random_directions()) {
     if (auto hit = rays.intersect(p, d)) {
       ++hits;
-      back += hit->backface ? 1 : 0;
+      back += hit->inside() ? 1 : 0; // the back of a single-sided surface (double-sided: open space)
     }
   }
   return hits > 0 && 2 * back > hits;

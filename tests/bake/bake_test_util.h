@@ -16,7 +16,8 @@ scene::Scene load_generated(const samples::SceneBuilder& builder, const std::str
 std::filesystem::path write_generated(const samples::SceneBuilder& builder, const std::string& name);
 
 // Independent of the bake's own dead-probe test: 1024 pseudo-random directions (not the bake's lattice);
-// a point is inside geometry when more than half of the rays that hit anything hit a back face.
+// a point is inside geometry when more than half of the rays that hit anything hit a back face of a
+// single-sided surface (RayHit::inside).
 bool inside_geometry(const scene::RayScene& rays, glm::vec3 p);
 // Distance to the nearest surface along those directions.
 float nearest_surface(const scene::RayScene& rays, glm::vec3 p);

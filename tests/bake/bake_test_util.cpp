@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -52,6 +53,12 @@ float nearest_surface(const scene::RayScene& rays, glm::vec3 p) {
   for (const glm::vec3& d : random_directions())
     if (auto hit = rays.intersect(p, d)) nearest = std::min(nearest, hit->distance);
   return nearest;
+}
+
+scene::Scene reversed_double_sided(scene::Scene s) {
+  for (glm::uvec3& t : s.triangles) std::swap(t.y, t.z);
+  for (scene::Material& m : s.materials) m.double_sided = true;
+  return s;
 }
 
 bake::BakeSettings test_settings() {

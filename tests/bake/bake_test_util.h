@@ -22,6 +22,10 @@ bool inside_geometry(const scene::RayScene& rays, glm::vec3 p);
 // Distance to the nearest surface along those directions.
 float nearest_surface(const scene::RayScene& rays, glm::vec3 p);
 
+// The same scene by the glTF rule (#19): every triangle wound the other way and every material
+// double-sided.
+scene::Scene reversed_double_sided(scene::Scene s);
+
 // Small, fast settings for tests.
 bake::BakeSettings test_settings();
 

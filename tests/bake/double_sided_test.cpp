@@ -180,6 +180,31 @@ TEST(DoubleSided, SingleSidedSquareEmitterIsDarkBehind) {
   EXPECT_GT(s.backface_hits, 0u); // the probe behind it sees the inside of a solid
 }
 
+// A point on the emitter itself (a probe ray's hit on the light, a pixel of it) lies in its plane up to
+// rounding of either sign, where Lambert's formula is singular: it gets none of the emitter's light, on
+// either side; 10 shadow offsets off the plane it gets the closed form again (nearly pi L).
+TEST(DoubleSided, PointOnTheEmitterGetsNoneOfItsLight) {
+  for (const bool double_sided : {true, false}) {
+    const Loaded l = load(square_emitter(double_sided), double_sided ? "square_on_double" : "square_on_single");
+    const float offset = 1e-4f * l.scene->bounds.largest_extent();
+    for (const float y : {0.0f, 1e-7f, -1e-7f, 0.5f * offset, -0.5f * offset}) {
+      const glm::vec3 p(0.1f, y, -0.2f);
+      EXPECT_EQ(bake::direct_irradiance(*l.scene, *l.rays, p, {0.0f, 1.0f, 0.0f}), glm::vec3(0.0f)) << y;
+      EXPECT_EQ(bake::direct_irradiance(*l.scene, *l.rays, p, {0.0f, -1.0f, 0.0f}), glm::vec3(0.0f)) << y;
+    }
+    const float h = 10.0f * offset;
+    const glm::vec3 above = bake::direct_irradiance(*l.scene, *l.rays, {0.0f, h, 0.0f}, {0.0f, -1.0f, 0.0f});
+    const glm::vec3 below = bake::direct_irradiance(*l.scene, *l.rays, {0.0f, -h, 0.0f}, {0.0f, 1.0f, 0.0f});
+    const double expected = square_irradiance(1.0, kHalf, h);
+    std::printf("[double-sided] %s square, %.0e m off its plane: closed form %.6f L, front %.6f L, behind %.6f L\n",
+                double_sided ? "double-sided" : "single-sided", double(h), expected, double(above.x / kRadiance.x),
+                double(below.x / kRadiance.x));
+    EXPECT_NEAR(above.x, kRadiance.x * expected, 1e-5 * kRadiance.x * expected);
+    if (double_sided) EXPECT_NEAR(below.x, kRadiance.x * expected, 1e-5 * kRadiance.x * expected);
+    else EXPECT_EQ(below, glm::vec3(0.0f));
+  }
+}
+
 // ---- (b) A plane lit from below --------------------------------------------------------------------------
 
 constexpr float kPlaneHalf = 2.0f, kBelow = 1.0f; // X = 2

@@ -76,7 +76,8 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
 // point/spot I cos / r^2 with the glTF range window clamp(1 - (r/range)^4, 0, 1) when range > 0, spot cone
 // falloff per the KHR_lights_punctual spec; directional I cos. A shadow ray starts 1e-4 * scene size
 // along the normal. A light exactly at the point contributes 0. With settings.emissive_as_lights, plus
-// the emissive triangles (double-sided ones from both sides, single-sided ones only in front of them):
+// the emissive triangles (double-sided ones from both sides, single-sided ones only in front of them;
+// none at a point within the shadow offset of an emitter's plane, i.e. on the emitter itself):
 // fixed sub-triangles (settings.emitter_samples shared by power), each its exact
 // unoccluded irradiance (Lambert's formula, clipped to the hemisphere) times one shadow ray
 // (docs/LIGHTING.md). Must be called with the settings the volume was baked with. Builds the patch list

@@ -383,20 +383,31 @@ TEST(FlippedCornell, SameProbeCountWithinFivePercent) {
   EXPECT_LE(std::abs(a.report.probes - b.report.probes), std::max(1, a.report.probes / 20));
 }
 
+// The fair pair for eval: the generated light quad is single-sided and 0.5 mm below the ceiling; flipped
+// it is double-sided and also emits up into that gap (a different scene). Flipping twice gives the
+// original winding with every material double-sided: against it, the once-flipped box differs only in
+// which side of every surface is the front. 128 receivers x 512 paths: the gap's light makes the
+// reference heavy-tailed (noise ~11 %), and at 64 x 256 its noise alone moved grid-4 by 27 %.
 TEST(FlippedCornell, EvalErrorsWithinTenPercent) {
-  const auto original = write_generated(samples::cornell(), "flip_cornell_eval");
-  const auto flipped = write_flipped(samples::cornell(), "flip_cornell_eval");
+  const auto once = write_flipped(samples::cornell(), "flip_cornell_eval");
+  const std::vector<std::uint8_t> twice_bytes = samples::flip_sides_file(once);
+  const std::filesystem::path twice = once.parent_path() / "flip_cornell_eval_twice.glb";
+  std::ofstream(twice, std::ios::binary).write(reinterpret_cast<const char*>(twice_bytes.data()), std::streamsize(twice_bytes.size()));
   bake::EvalSettings s = quick_settings();
+  s.points = 128;
+  s.paths = 512;
   s.use_cache = false;
   s.threads = 2;
-  const bake::EvalResult a = bake::evaluate(original, s), b = bake::evaluate(flipped, s);
+  const bake::EvalResult a = bake::evaluate(twice, s), b = bake::evaluate(once, s);
   ASSERT_EQ(a.rows.size(), b.rows.size());
-  EXPECT_NEAR(b.mean_reference, a.mean_reference, 0.05 * a.mean_reference);
+  std::printf("[ flipped cornell ] eval: mean reference %.4f (flipped twice) vs %.4f (once), reference noise %.3f\n",
+              a.mean_reference, b.mean_reference, a.reference_noise);
+  EXPECT_NEAR(b.mean_reference, a.mean_reference, 4.0 * a.reference_noise / std::sqrt(double(s.points)) * a.mean_reference);
   for (std::size_t i = 0; i < a.rows.size(); ++i) {
-    std::printf("[ flipped cornell ] %-16s relative RMSE %.4f (original) vs %.4f (flipped), probes %d vs %d\n",
+    std::printf("[ flipped cornell ] %-16s relative RMSE %.4f (twice) vs %.4f (once), probes %d vs %d\n",
                 a.rows[i].label.c_str(), a.rows[i].relative_rmse, b.rows[i].relative_rmse, a.rows[i].probes, b.rows[i].probes);
-    EXPECT_NEAR(b.rows[i].relative_rmse, a.rows[i].relative_rmse, 0.1 * a.rows[i].relative_rmse + a.reference_noise)
-        << a.rows[i].label;
+    EXPECT_NEAR(b.rows[i].relative_rmse, a.rows[i].relative_rmse, 0.1 * a.rows[i].relative_rmse) << a.rows[i].label;
+    EXPECT_EQ(b.rows[i].coverage, a.rows[i].coverage) << a.rows[i].label;
   }
 }
 

@@ -1,6 +1,7 @@
 #include "probebake/dynamic/tree_update.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -15,6 +16,7 @@ struct TreeUpdate::Frame {
   const TraceLeaf* trace = nullptr;
   const InitialIrradiance* initial = nullptr;
   TreeFrameStats stats;
+  std::unordered_map<int, Verdict> collapsing; // parents freed this frame -> what they become
 };
 
 namespace {
@@ -58,7 +60,7 @@ TreeUpdate::TreeUpdate(formats::Octree& tree, const TreeUpdateSettings& settings
 }
 
 TreeFrameStats TreeUpdate::run_frame(std::span<const Box> changed, const TraceLeaf& trace, const InitialIrradiance& initial) {
-  Frame frame{changed, &trace, &initial, {}};
+  Frame frame{changed, &trace, &initial, {}, {}};
   queue_.begin_frame();
   memory_update(frame);
   light_update(frame);
@@ -125,16 +127,17 @@ void TreeUpdate::memory_update(Frame& frame) {
   // changes in the same frame (an allocating child holds its parent in M0), and a freed cluster returns
   // to the pool only after this frame's splits, so no new child can share a node index with the L0
   // entries that retire the old children.
-  std::vector<int> collapsing;
   for (const int node : free_cluster_requests) {
-    if (can_collapse(node)) collapsing.push_back(node);
+    if (const std::optional<Verdict> becomes = collapse_verdict(frame, node)) frame.collapsing.emplace(node, *becomes);
   }
   for (const gpu::LeafEntry& e : leaf_work) {
     if (e.state == gpu::LEAF_M1_ALLOCATE_PROBE) allocate_probe(frame, e.node);
     else if (e.state == gpu::LEAF_M2_FREE_PROBE) free_probe(frame, e.node);
     else split(frame, e.node);
   }
-  for (const int node : collapsing) collapse(frame, node);
+  for (const int node : free_cluster_requests) {
+    if (const auto found = frame.collapsing.find(node); found != frame.collapsing.end()) collapse(frame, node, found->second);
+  }
 }
 
 void TreeUpdate::allocate_probe(Frame& frame, int node) {
@@ -158,7 +161,10 @@ void TreeUpdate::free_probe(Frame& frame, int node) {
   tree_->free_probe(tree_->probe_of(node));
   ++frame.stats.probes_freed;
   push(frame, queue_.other_kind_segment(kMemoryPullOffset), node, gpu::LEAF_L3_CHECK_BOXES);
-  push_parent(frame, queue_.same_kind_segment(kMemoryPullOffset), node, gpu::LEAF_M4_FREE_CLUSTER);
+  // Its parent may free the cluster now, unless it does so this very frame (the leaf is about to be gone).
+  if (node != 0 && !frame.collapsing.contains(parent_of(tree_->volume(), node))) {
+    push_parent(frame, queue_.same_kind_segment(kMemoryPullOffset), node, gpu::LEAF_M4_FREE_CLUSTER);
+  }
 }
 
 void TreeUpdate::split(Frame& frame, int node) {
@@ -189,24 +195,64 @@ void TreeUpdate::split(Frame& frame, int node) {
   ++frame.stats.splits;
 }
 
-bool TreeUpdate::can_collapse(int node) const {
-  if (tree_->is_leaf(node)) return false;
-  const int meta = tree_->volume().octree[std::size_t(node)];
+// M4: a parent whose children are all leaves merges them when its own centre, measured now, would not split
+// it (the rule L1 applies to a leaf). This makes merging the mirror of splitting, so the tree a pose
+// settles to does not depend on the path to it (the thesis merges only when no child has a probe, and a
+// split that a passing object caused stays wherever a child still sees static geometry).
+std::optional<TreeUpdate::Verdict> TreeUpdate::collapse_verdict(Frame& frame, int node) const {
+  const formats::ProbeVolume& v = tree_->volume();
+  const int meta = v.octree[std::size_t(node)];
   for (int octant = 0; octant < 8; ++octant) {
-    const int child = formats::child_node(meta, octant);
-    if (!tree_->is_leaf(child) || tree_->probe_of(child) != kNoIndex) return false;
+    if (!tree_->is_leaf(formats::child_node(meta, octant))) return std::nullopt;
   }
-  return true;
+  const formats::NodeCube cube = formats::node_cube(v, node);
+  const Verdict verdict = judge((*frame.trace)(cube, cube.centre()), cube.depth);
+  if (verdict == Verdict::split) return std::nullopt;
+  return verdict;
 }
 
-void TreeUpdate::collapse(Frame& frame, int node) {
+TreeUpdate::Verdict TreeUpdate::judge(const LeafTrace& t, int depth) const {
+  // The bake's rule (placement.cpp): a centre that sees too little, or sees the inside of a solid, cannot
+  // judge its cube; it refines towards the geometry it does see in the cube, and is freed without any.
+  const formats::ProbeVolume& v = tree_->volume();
+  const bool below_max = depth < v.info.max_depth;
+  const bool blind = t.hit_fraction < v.info.split_low || t.backface_fraction > settings_.dead_backface_fraction;
+  if (blind && !(below_max && t.hit_fraction > 0.0f)) return Verdict::free;
+  if ((t.hit_fraction >= v.info.split_high || blind) && below_max) return Verdict::split;
+  return Verdict::keep;
+}
+
+void TreeUpdate::collapse(Frame& frame, int node, Verdict becomes) {
   const int light_out = queue_.other_kind_segment(kMemoryPullOffset);
-  const int meta = tree_->volume().octree[std::size_t(node)];
-  for (int octant = 0; octant < 8; ++octant) push(frame, light_out, formats::child_node(meta, octant), gpu::LEAF_L0_PARENT_FREED);
+  formats::ProbeVolume& v = tree_->volume();
+  const int meta = v.octree[std::size_t(node)];
+  float mean_sh[27] = {};
+  int children_with_probes = 0;
+  for (int octant = 0; octant < 8; ++octant) {
+    const int child = formats::child_node(meta, octant);
+    push(frame, light_out, child, gpu::LEAF_L0_PARENT_FREED);
+    const int probe = tree_->probe_of(child);
+    if (probe == kNoIndex) continue;
+    for (int k = 0; k < 27; ++k) mean_sh[k] += v.probes[std::size_t(probe)].irradiance_sh[k];
+    ++children_with_probes;
+    tree_->free_probe(probe);
+    ++frame.stats.probes_freed;
+  }
   tree_->collapse(node);
-  push(frame, light_out, node, gpu::LEAF_L3_CHECK_BOXES);
-  push_parent(frame, queue_.same_kind_segment(kMemoryPullOffset), node, gpu::LEAF_M4_FREE_CLUSTER);
   ++frame.stats.collapses;
+  push_parent(frame, queue_.same_kind_segment(kMemoryPullOffset), node, gpu::LEAF_M4_FREE_CLUSTER);
+  if (becomes == Verdict::free) {
+    push(frame, light_out, node, gpu::LEAF_L3_CHECK_BOXES);
+    return;
+  }
+  // The merged leaf keeps a probe, starting from its children's mean (the eight probes freed above are
+  // in the pool again, so this cannot run dry).
+  const int probe = tree_->place_probe(node);
+  for (int k = 0; k < 27; ++k) v.probes[std::size_t(probe)].irradiance_sh[k] = children_with_probes > 0 ? mean_sh[k] / float(children_with_probes) : 0.0f;
+  if (children_with_probes == 0 && *frame.initial) (*frame.initial)(v.probes[std::size_t(probe)].position, v.probes[std::size_t(probe)].irradiance_sh);
+  place_surfels(frame, node);
+  ++frame.stats.probes_placed;
+  push(frame, light_out, node, gpu::LEAF_L1_PLACE_SURFELS);
 }
 
 // Gives the leaf's probe its surfel batches: lattice points [0, surfels_per_probe) in chained batches of
@@ -263,13 +309,17 @@ void TreeUpdate::light_update(Frame& frame) {
     const LeafTrace t = (*frame.trace)(cube, p.position);
     p.hit_fraction = t.hit_fraction;
     p.backface_fraction = t.backface_fraction;
-    if (t.hit_fraction < v.info.split_low || t.backface_fraction > settings_.dead_backface_fraction) {
-      push(frame, memory_out, e.node, gpu::LEAF_M2_FREE_PROBE);
-    } else if (t.hit_fraction >= v.info.split_high && cube.depth < v.info.max_depth) {
+    switch (judge(t, cube.depth)) {
+    case Verdict::free: push(frame, memory_out, e.node, gpu::LEAF_M2_FREE_PROBE); break;
+    case Verdict::split:
       push(frame, memory_out, e.node, gpu::LEAF_M3_SPLIT);
       push_parent(frame, memory_out, e.node, gpu::LEAF_M0_CHILD_ALLOCATING);
-    } else {
+      break;
+    case Verdict::keep:
       push(frame, light_out, e.node, gpu::LEAF_L2_LIGHT);
+      // A leaf that changed and stays may have made its parent's split unnecessary: let it judge.
+      push_parent(frame, memory_out, e.node, gpu::LEAF_M4_FREE_CLUSTER);
+      break;
     }
   }
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -55,15 +56,19 @@ struct World {
     return v;
   }
 
-  // A leaf sees geometry (every lattice ray hits inside its cube) when its cube overlaps an object.
+  // A leaf sees geometry (every lattice ray hits inside its cube) when its cube overlaps an object; a
+  // static floor slab (when set) gives the cubes it overlaps a hit fraction between the thresholds.
   LeafTrace trace(const formats::NodeCube& cube, glm::vec3) const {
-    for (const Box& b : objects) {
+    auto overlaps = [&](const Box& b) {
       bool overlap = true;
       for (int a = 0; a < 3; ++a) overlap &= b.max[a] > cube.min[a] && b.min[a] < cube.min[a] + cube.size;
-      if (overlap) return {1.0f, 0.0f};
-    }
+      return overlap;
+    };
+    if (std::any_of(objects.begin(), objects.end(), overlaps)) return {1.0f, 0.0f};
+    if (floor && overlaps(*floor)) return {0.3f, 0.0f}; // in [split_low, split_high): keep, do not split
     return {0.0f, 0.0f};
   }
+  std::optional<Box> floor;
 
   TreeFrameStats frame(std::span<const Box> changed) {
     const TreeFrameStats stats = update.run_frame(changed, [this](const formats::NodeCube& c, glm::vec3 p) { return trace(c, p); });
@@ -195,6 +200,29 @@ TEST(TreeUpdate, TheValidatorKnowsWhichStatesNameParents) {
   }
   leaf_as_parent.leaf_entries[0].node = 0; // M4 on the root: a parent, fine
   EXPECT_TRUE(formats::validate(leaf_as_parent).valid());
+}
+
+// An object crossing the floor splits the floor's cubes; when it has gone, the children on the floor still
+// hold probes (they see the floor), and the thesis's M4 would keep the split for good. Here the parent
+// judges itself and merges, so the floor's tree is the one it had before the object came.
+TEST(TreeUpdate, MergingMirrorsSplittingWhereChildrenStillSeeStaticGeometry) {
+  World w(3, {});
+  w.floor = Box{{0.0f, 0.0f, 0.0f}, {8.0f, 0.5f, 8.0f}};
+  w.move({Box{{0.0f, 0.0f, 0.0f}, {8.0f, 8.0f, 8.0f}}}); // a frame that touches everything: grow from the root
+  w.objects.clear();
+  ASSERT_GT(w.settle(), 0);
+  const std::set<Leaf> before = shape(w.volume);
+  const int clusters = w.tree.free_clusters(), probes = w.tree.free_probes();
+  EXPECT_EQ(before, (std::set<Leaf>{{0, 0, 0, 0, true}})); // the root sees the floor at 0.3: one probe
+
+  w.move({Box{{1.2f, 0.2f, 1.2f}, {2.3f, 1.4f, 2.6f}}});
+  ASSERT_GT(w.settle(), 0);
+  EXPECT_GT(probes_in(shape(w.volume)), 8);
+  w.move({});
+  ASSERT_GT(w.settle(), 0);
+  EXPECT_EQ(shape(w.volume), before);
+  EXPECT_EQ(w.tree.free_clusters(), clusters);
+  EXPECT_EQ(w.tree.free_probes(), probes);
 }
 
 TEST(TreeUpdate, NewProbesStartFromTheirParentsOrTheSamplersIrradiance) {

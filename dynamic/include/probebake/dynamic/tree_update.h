@@ -10,11 +10,17 @@
 // - M2 pushes the freed leaf back as L3 (the thesis drops it from the queue unless its parent frees the
 //   cluster, after which no object could ever make it allocate again).
 // - M1 pushes the parent with M0 like M3 does: both allocate under a parent that M4 might free.
+// - M4 merges a parent whose children are all leaves when its own centre, measured now, would not split it
+//   (the thesis waits until no child has a probe): merging mirrors splitting, so a pose settles to the same
+//   tree whatever the path to it. A re-measured leaf that stays asks its parent to judge (M4).
 // - M4 judges every parent on the tree as the frame found it and frees clusters after M1-M3, so the result
 //   does not depend on the order of the entries and a freed cluster is not reused in the frame whose L0
 //   entries retire its old children (the GPU: decide, allocate, then free, as three dispatches). An M1 that finds its pool
 //   dry asks its parent to free the cluster again (its M0 may have hidden a sibling's M4).
-// - A probe whose lattice sees mostly back faces (inside a moving solid) is freed like an empty one.
+// - L1 decides like the bake's placement: a centre that sees too little (f < split_low) or mostly back
+//   faces (inside a solid) cannot judge its cube, so the cube splits when its centre sees any geometry
+//   inside it (f > 0) and is below max depth, and its probe is freed otherwise (the thesis frees every
+//   f < split_low, and a probe that lands inside an object would free the very cube the object fills).
 // - New probes start from their parent's irradiance (M3) or from `initial_irradiance` (M1), not black.
 // - Allocation takes from free lists (formats::Octree), never scans; a pool that runs dry leaves the
 //   node as it was (M1 -> L3; M3 -> L1, measured and retried next frame) and is counted.
@@ -24,6 +30,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -83,14 +90,16 @@ public:
   const LeafQueue& queue() const { return queue_; }
 
 private:
+  enum class Verdict { free, split, keep }; // what a measured leaf (or merging parent) becomes
   struct Frame;
   void memory_update(Frame& frame);
   void light_update(Frame& frame);
   void allocate_probe(Frame& frame, int node);
   void free_probe(Frame& frame, int node);
   void split(Frame& frame, int node);
-  bool can_collapse(int node) const;
-  void collapse(Frame& frame, int node);
+  Verdict judge(const LeafTrace& trace, int depth) const;
+  std::optional<Verdict> collapse_verdict(Frame& frame, int node) const;
+  void collapse(Frame& frame, int node, Verdict becomes);
   void place_surfels(Frame& frame, int node);
   void push(Frame& frame, int segment, int node, int state);
   void push_parent(Frame& frame, int segment, int node, int state);

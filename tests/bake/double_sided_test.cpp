@@ -205,6 +205,25 @@ TEST(DoubleSided, PointOnTheEmitterGetsNoneOfItsLight) {
   }
 }
 
+// The margin is about the patch rising above p's horizon, not about p's distance to the emitter's plane:
+// on a wall that meets the emitter's edge at a right angle (the corner of an emitting room), the emitter
+// fills a quarter sphere whatever the distance to its plane, so half a shadow offset off it the point keeps
+// the light it gets two offsets off it.
+TEST(DoubleSided, PointOnAWallMeetingTheEmitterKeepsItsLight) {
+  const Loaded l = load(square_emitter(true), "square_wall");
+  const float offset = 1e-4f * l.scene->bounds.largest_extent();
+  const glm::vec3 facing(-1.0f, 0.0f, 0.0f); // a wall in the plane of the square's edge x = a, facing it
+  const auto at = [&](float y) { return bake::direct_irradiance(*l.scene, *l.rays, {kHalf, y, 0.0f}, facing); };
+  for (const float sign : {1.0f, -1.0f}) {
+    const glm::vec3 near = at(sign * 0.5f * offset), off = at(sign * 2.0f * offset);
+    std::printf("[double-sided] wall at the square's edge, %+.1e / %+.1e m off its plane: %.6f / %.6f L\n",
+                double(sign * 0.5f * offset), double(sign * 2.0f * offset), double(near.x / kRadiance.x),
+                double(off.x / kRadiance.x));
+    EXPECT_GT(near.x, 0.1f * kRadiance.x);
+    EXPECT_NEAR(near.x, off.x, 1e-3f * off.x);
+  }
+}
+
 // ---- (b) A plane lit from below --------------------------------------------------------------------------
 
 constexpr float kPlaneHalf = 2.0f, kBelow = 1.0f; // X = 2

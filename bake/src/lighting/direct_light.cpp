@@ -72,23 +72,27 @@ std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples
 
 bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, float plane_margin, glm::vec3& irradiance,
                       glm::vec3& target) {
-  // Within plane_margin of the emitter's plane: nothing (a point on the emitter itself, whose distance to
-  // the plane is rounding noise of either sign: Lambert's formula is singular there and would give pi L);
-  // behind it: nothing unless it emits from both sides. Lambert's formula below does not depend on the
-  // polygon's winding, so the back of a double-sided patch needs no flip.
+  // In the emitter's plane: nothing; behind it: nothing unless it emits from both sides. Lambert's formula
+  // below does not depend on the polygon's winding, so the back of a double-sided patch needs no flip.
   const float side = glm::dot(p - patch.a, patch.normal);
-  if (!(std::abs(side) > plane_margin) || (side < 0.0f && !patch.double_sided)) return false;
+  if (!(side > 0.0f) && !(patch.double_sided && side < 0.0f)) return false;
   // Sutherland-Hodgman against the plane dot(n, q) = 0 (q relative to p): at most 4 vertices.
   const glm::vec3 in[3] = {patch.a - p, patch.b - p, patch.c - p};
   glm::vec3 q[4];
   int count = 0;
+  float highest = -3.0e38f; // max over the vertices of dot(n, q): how far the patch rises above p's horizon
   for (int i = 0; i < 3; ++i) {
     const glm::vec3 s = in[i], e = in[(i + 1) % 3];
     const float ds = glm::dot(n, s), de = glm::dot(n, e);
+    highest = std::max(highest, ds);
     if (ds >= 0.0f) q[count++] = s;
     if ((ds >= 0.0f) != (de >= 0.0f)) q[count++] = s + (e - s) * (ds / (ds - de));
   }
-  if (count < 3) return false;
+  // A patch that lies within plane_margin of p's tangent plane gives nothing: p is on the emitter itself
+  // (a probe ray's hit on the light, a pixel of it) or on a surface coplanar with it, where `side` is
+  // rounding noise of either sign and Lambert's formula is singular (it would give pi L). A point near the
+  // emitter's plane on a surface that faces it (a wall meeting an emitting floor) keeps its light.
+  if (count < 3 || !(highest > plane_margin)) return false;
   // Lambert's formula: integral over the polygon of cos = 1/2 |sum over edges of angle * dot(n, edge normal)|.
   double sum = 0.0;
   glm::vec3 centre(0.0f);

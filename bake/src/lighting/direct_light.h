@@ -29,10 +29,11 @@ struct EmitterPatch {
 std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples);
 
 // Unoccluded irradiance at `p` with unit normal `n` from a patch, and the point the shadow ray aims at
-// (centroid of the patch clipped to n's hemisphere). Returns false when `p` lies within plane_margin of
-// the patch's plane (on the emitter itself; the bake passes shadow_offset), behind a single-sided patch,
-// or when the patch lies below p's horizon. Behind a double-sided patch the result equals the one in
-// front (the formula integrates |cos| at the emitter).
+// (centroid of the patch clipped to n's hemisphere). Returns false when `p` lies in the patch's plane or
+// behind a single-sided patch, or when no vertex of the patch rises more than plane_margin above p's
+// horizon, dot(n, vertex - p) <= plane_margin (p on the emitter itself; the bake passes shadow_offset).
+// Behind a double-sided patch the result equals the one in front (the formula integrates |cos| at the
+// emitter).
 bool patch_irradiance(const EmitterPatch& patch, glm::vec3 p, glm::vec3 n, float plane_margin, glm::vec3& irradiance,
                       glm::vec3& target);
 

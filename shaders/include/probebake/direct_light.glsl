@@ -61,22 +61,25 @@ bool probebake_patch_irradiance(int index, vec3 p, vec3 n, out vec3 irradiance, 
   irradiance = vec3(0.0);
   target = p;
   const EmitterPatch ep = probebake_emitter_patches[index];
-  // Within shadow_offset of the emitter's plane: nothing (p on the emitter itself, where the distance is
-  // rounding noise of either sign and Lambert's formula is singular); behind it: nothing unless it emits
-  // from both sides (the formula does not depend on the winding: the back needs no flip).
+  // In the emitter's plane: nothing; behind it: nothing unless it emits from both sides (the formula does
+  // not depend on the winding: the back needs no flip).
   const float side = dot(p - ep.a, ep.normal);
   const bool double_sided = (ep.flags & EMITTER_DOUBLE_SIDED) != 0u;
-  if (!(abs(side) > probebake_lighting.shadow_offset) || (side < 0.0 && !double_sided)) return false;
+  if (!(side > 0.0) && !(double_sided && side < 0.0)) return false;
   vec3 v[3] = vec3[3](ep.a - p, ep.b - p, ep.c - p);
   vec3 q[4];
   int count = 0;
+  float highest = -3.0e38; // max over the vertices of dot(n, q): how far the patch rises above p's horizon
   for (int i = 0; i < 3; ++i) {
     const vec3 s = v[i], e = v[(i + 1) % 3];
     const float ds = dot(n, s), de = dot(n, e);
+    highest = max(highest, ds);
     if (ds >= 0.0) q[count++] = s;
     if ((ds >= 0.0) != (de >= 0.0)) q[count++] = s + (e - s) * (ds / (ds - de));
   }
-  if (count < 3) return false;
+  // No vertex more than shadow_offset above p's horizon: p is on the emitter itself (or coplanar with it),
+  // where `side` is rounding noise and Lambert's formula is singular. Near a corner p keeps its light.
+  if (count < 3 || !(highest > probebake_lighting.shadow_offset)) return false;
   float sum = 0.0;
   vec3 centre = vec3(0.0);
   for (int i = 0; i < count; ++i) {

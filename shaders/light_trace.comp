@@ -4,6 +4,8 @@
 //    octree probes only (grid probes keep the bake's value).
 //  - Lighting rays: ray_directions[0, rays) from the probe to the nearest hit at any distance, each kept as
 //    a LightRecord with what does not change from frame to frame (bake/src/lighting/hit_cache.cpp).
+//  Both use the bake's sides rule (glTF doubleSided): only the back of a single-sided triangle is inside
+//  geometry (a back-face hit and record); the back of a double-sided one is shaded with the facing normal.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #define PROBEBAKE_PROBES_WRITABLE

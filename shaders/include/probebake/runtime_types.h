@@ -64,8 +64,8 @@ struct SamplePush {
 // for resolve. docs/RUNTIME.md describes the states and buffers.
 PB_CONSTANT(uint, LIGHT_WORKGROUP_SIZE, 64u);
 PB_CONSTANT(int, LIGHT_RECORD_MISS, 0);     // the ray left the scene: sky radiance
-PB_CONSTANT(int, LIGHT_RECORD_BACKFACE, 1); // the ray hit a back face (inside geometry): no light
-PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // the ray hit a front face: relit every frame
+PB_CONSTANT(int, LIGHT_RECORD_BACKFACE, 1); // the back of a single-sided triangle (inside geometry): no light
+PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // a front face or a double-sided back: relit every frame
 
 // One lighting ray of one probe, written by L1 (light_trace) and relit by L2 (light_gather) every frame:
 //   L = base + reflect * (E_punctual(position, normal) + E_probes(position, normal)).
@@ -73,7 +73,7 @@ PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // the ray hit a front face: relit e
 struct LightRecord {
   vec3 position; // offset  0: the hit point (front hits)
   int kind;      // offset 12: LIGHT_RECORD_*
-  vec3 normal;   // offset 16: unit normal of the hit triangle (front hits)
+  vec3 normal;   // offset 16: unit normal of the side the ray hit (front records)
   float pad0;    // offset 28
   vec3 base;     // offset 32: sky radiance (miss); emitted + albedo / pi * emitter irradiance (front hit)
   float pad1;    // offset 44
@@ -92,7 +92,7 @@ struct LightPush {
 struct LightCounters {
   int traced_probes;   // offset  0: probes traced by L1 this frame
   int front_hits;      // offset  4: lighting rays that hit a front face (L1)
-  int backface_hits;   // offset  8: ... a back face (L1)
+  int backface_hits;   // offset  8: ... the back of a single-sided triangle (L1)
   int misses;          // offset 12: ... nothing (L1)
   int lit_probes;      // offset 16: probes gathered by L2 this frame
   int indirect_misses; // offset 20: front hits whose SVO lookup found no probe (L2)

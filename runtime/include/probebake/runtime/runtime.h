@@ -176,8 +176,8 @@ struct PassTime {
 struct LightStats {
   bool active = false;
   int traced_probes = 0;   // L1 (records and hit fractions): the first frame only
-  int front_hits = 0;      // lighting rays of traced probes that hit a front face / a back face / nothing
-  int backface_hits = 0;
+  int front_hits = 0;      // lighting rays of traced probes that hit a front face (or a double-sided back) /
+  int backface_hits = 0;   // the back of a single-sided triangle (inside geometry) / nothing
   int misses = 0;
   int lit_probes = 0;      // L2: probes relit and gathered this frame
   int indirect_misses = 0; // front hits whose SVO lookup found no probe (no indirect light there)

@@ -257,7 +257,8 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
   formats::Octree tree(volume);
-  detail::PlacementInput input{&rays, &settings, lattice_directions(settings.lattice, settings.surfels_per_probe)};
+  detail::PlacementInput input{&rays, &settings, lattice_directions(settings.lattice, settings.surfels_per_probe),
+                               report.clearance};
 
   timer.stage("place");
   std::vector<detail::PlacedProbe> placed = settings.placement == Placement::octree

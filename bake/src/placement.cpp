@@ -7,7 +7,10 @@
 // tall one) the first children's centres lie outside the rooms, see only the backs of floors and
 // ceilings, and the rule alone would free every probe before the tree reached the rooms. A centre that
 // mostly sees back faces of single-sided surfaces (it is inside geometry) is treated the same way; the
-// back of a double-sided surface is open space and counts as an ordinary hit.
+// back of a double-sided surface is open space and counts as an ordinary hit. So is a centre lying on a
+// double-sided surface (nearer than the clearance): with no back to tell its sides apart, half its rays
+// end at once whatever the node holds; without this, closed rooms of double-sided walls (open space
+// outside them too) stopped refining at depth 2 with their probes on the walls.
 #include "placement.h"
 
 #include <algorithm>
@@ -140,8 +143,11 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
       const formats::NodeCube& node = pending[i];
       const float f = results[i].hit_fraction();
       const bool below_max = node.depth < s.max_depth;
-      // A centre inside geometry (mostly back faces) cannot judge its node either.
-      const bool centre_blind = f < s.split_low || results[i].backface_fraction() > 0.5f;
+      // A centre inside geometry (mostly back faces) cannot judge its node either; nor can one lying on a
+      // double-sided surface (within the clearance), which has no back to tell its sides apart: half its
+      // rays end at once whichever side the node's content is on.
+      const bool on_double_sided = results[i].nearest_double_sided && results[i].nearest < in.clearance;
+      const bool centre_blind = f < s.split_low || results[i].backface_fraction() > 0.5f || on_double_sided;
       const bool refine_towards_geometry = centre_blind && below_max && !pending_triangles[i].empty();
       if (f < s.split_low && !refine_towards_geometry) continue; // M2: the leaf stays without a probe
       if ((f >= s.split_high && below_max) || refine_towards_geometry) {

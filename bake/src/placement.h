@@ -15,6 +15,7 @@ struct PlacementInput {
   const scene::RayScene* rays = nullptr;
   const BakeSettings* settings = nullptr;
   std::vector<glm::vec3> directions; // the lattice
+  float clearance = 0.0f;            // the bake's effective clearance (a centre nearer a surface is moved)
 };
 
 // A placed probe and the cube it must stay in (its octree node, or its grid cell).

@@ -41,6 +41,7 @@ ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cub
         r.nearest_normal = hit->normal;
         r.nearest_backface = hit->inside();
         r.nearest_facing_normal = hit->facing_normal();
+        r.nearest_double_sided = hit->double_sided;
       }
     }
     if (surfels == nullptr) continue;

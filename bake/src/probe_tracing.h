@@ -35,6 +35,7 @@ struct ProbeRays {
   bool nearest_backface = false;  // the nearest hit is inside() (behind a single-sided surface)
   // The nearest hit's side facing the probe (RayHit::facing_normal); meaningful when !nearest_backface.
   glm::vec3 nearest_facing_normal{0.0f};
+  bool nearest_double_sided = false;
 
   float hit_fraction() const { return rays > 0 ? float(hits_in_cube) / float(rays) : 0.0f; }
   float backface_fraction() const { return hits > 0 ? float(backface_hits) / float(hits) : 0.0f; }

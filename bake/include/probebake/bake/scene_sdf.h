@@ -9,6 +9,10 @@
 //    is reachable from outside the scene's bounds the field is the unsigned distance, positive on both
 //    sides. Inside a closed region, the back side of a one-sided surface counts as solid up to the points
 //    nearer to another surface (as the backface test of the DDGI relocation paper, §3.1, does).
+//  - glTF doubleSided triangles (Scene::materials) are thin shells: never inside on either side, the
+//    unsigned distance to them counts (a room of reversed double-sided walls is free space inside; a
+//    double-sided plane inside a single-sided solid leaves the solid negative). Scenes built without
+//    materials are single-sided.
 //
 // Values: distances in world units, exact inside closed regions (solids and rooms are filled to their
 // deepest point, so a probe deep inside a wall still has a gradient), and saturating at +band_width()

@@ -1,5 +1,6 @@
 // Bakes of the real scenes in ../shared/scenes (when present): valid files, probes outside geometry.
 #include <cstdio>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -12,32 +13,38 @@ namespace {
 
 const std::filesystem::path kScenes = PROBEBAKE_SHARED_SCENES;
 
-TEST(SharedBake, EverySharedSceneBakesValidWithProbesOutsideGeometry) {
-  if (!std::filesystem::exists(kScenes)) GTEST_SKIP() << "no ../shared/scenes here";
-  int baked = 0;
+// Calls `visit` with every .glb/.gltf of ../shared/scenes, loaded, inside a trace naming the file.
+void for_each_shared_scene(const std::function<void(const std::filesystem::path&, const scene::Scene&)>& visit) {
   for (const auto& dir : std::filesystem::directory_iterator(kScenes)) {
     if (!dir.is_directory()) continue;
     for (const auto& f : std::filesystem::directory_iterator(dir.path())) {
       if (f.path().extension() != ".glb" && f.path().extension() != ".gltf") continue;
       SCOPED_TRACE(f.path().string());
-      const scene::Scene s = scene::load_scene(f.path(), {.require_triangles = true});
-      bake::BakeResult r;
-      try {
-        r = bake::bake(s, test_settings());
-      } catch (const Error& e) { // the octree frees every probe of some open scenes (issue #13): said, not silent
-        EXPECT_NE(std::string(e.what()).find("no probes placed"), std::string::npos) << e.what();
-        continue;
-      }
-      const auto report = formats::validate(r.volume);
-      EXPECT_TRUE(report.valid()) << (report.violations.empty() ? "" : report.violations[0].message);
-      const scene::RayScene rays(s);
-      for (const gpu::Probe& p : r.volume.probes)
-        if (p.link != 0) {
-          EXPECT_FALSE(inside_geometry(rays, p.position));
-        }
-      ++baked;
+      visit(f.path(), scene::load_scene(f.path(), {.require_triangles = true}));
     }
   }
+}
+
+TEST(SharedBake, EverySharedSceneBakesValidWithProbesOutsideGeometry) {
+  if (!std::filesystem::exists(kScenes)) GTEST_SKIP() << "no ../shared/scenes here";
+  int baked = 0;
+  for_each_shared_scene([&](const std::filesystem::path&, const scene::Scene& s) {
+    bake::BakeResult r;
+    try {
+      r = bake::bake(s, test_settings());
+    } catch (const Error& e) { // the octree frees every probe of some open scenes (issue #13): said, not silent
+      EXPECT_NE(std::string(e.what()).find("no probes placed"), std::string::npos) << e.what();
+      return;
+    }
+    const auto report = formats::validate(r.volume);
+    EXPECT_TRUE(report.valid()) << (report.violations.empty() ? "" : report.violations[0].message);
+    const scene::RayScene rays(s);
+    for (const gpu::Probe& p : r.volume.probes)
+      if (p.link != 0) {
+        EXPECT_FALSE(inside_geometry(rays, p.position));
+      }
+    ++baked;
+  });
   EXPECT_GE(baked, 6); // box_draco: no octree probes until placement earns its adaptivity (issue #13)
 }
 
@@ -50,42 +57,36 @@ TEST(SharedBake, ReversedDoubleSidedSharedScenesBakeValid) {
   settings.lighting.enabled = false;
   settings.runtime_lighting = false;
   int compared = 0;
-  for (const auto& dir : std::filesystem::directory_iterator(kScenes)) {
-    if (!dir.is_directory()) continue;
-    for (const auto& f : std::filesystem::directory_iterator(dir.path())) {
-      if (f.path().extension() != ".glb" && f.path().extension() != ".gltf") continue;
-      SCOPED_TRACE(f.path().string());
-      const scene::Scene s = scene::load_scene(f.path(), {.require_triangles = true});
-      const scene::Scene flipped = reversed_double_sided(s);
-      bool all_double_sided = true;
-      for (std::size_t t = 0; t < s.triangles.size(); ++t) all_double_sided = all_double_sided && scene::is_double_sided(s, t);
-      int counts[2] = {-1, -1}; // -1: the bake refused (no probes placed)
-      std::vector<glm::vec3> positions[2];
-      for (int k = 0; k < 2; ++k) {
-        try {
-          const bake::BakeResult r = bake::bake(k == 0 ? s : flipped, settings);
-          counts[k] = r.report.probes;
-          for (const gpu::Probe& p : r.volume.probes)
-            if (p.link != 0) positions[k].push_back(p.position);
-          if (k == 1) {
-            const auto report = formats::validate(r.volume);
-            EXPECT_TRUE(report.valid()) << (report.violations.empty() ? "" : report.violations[0].message);
-            const scene::RayScene rays(flipped);
-            for (const glm::vec3& p : positions[1]) EXPECT_FALSE(inside_geometry(rays, p));
-          }
-        } catch (const Error& e) {
-          EXPECT_NE(std::string(e.what()).find("no probes placed"), std::string::npos) << e.what();
+  for_each_shared_scene([&](const std::filesystem::path& path, const scene::Scene& s) {
+    const scene::Scene flipped = reversed_double_sided(s);
+    bool all_double_sided = true;
+    for (std::size_t t = 0; t < s.triangles.size(); ++t) all_double_sided = all_double_sided && scene::is_double_sided(s, t);
+    int counts[2] = {-1, -1}; // -1: the bake refused (no probes placed)
+    std::vector<glm::vec3> positions[2];
+    for (int k = 0; k < 2; ++k) {
+      try {
+        const bake::BakeResult r = bake::bake(k == 0 ? s : flipped, settings);
+        counts[k] = r.report.probes;
+        for (const gpu::Probe& p : r.volume.probes)
+          if (p.link != 0) positions[k].push_back(p.position);
+        if (k == 1) {
+          const auto report = formats::validate(r.volume);
+          EXPECT_TRUE(report.valid()) << (report.violations.empty() ? "" : report.violations[0].message);
+          const scene::RayScene rays(flipped);
+          for (const glm::vec3& p : positions[1]) EXPECT_FALSE(inside_geometry(rays, p));
         }
-      }
-      std::printf("%s: probes original %d, reversed double-sided %d%s\n", f.path().filename().string().c_str(),
-                  counts[0], counts[1], all_double_sided ? " (all materials double-sided)" : "");
-      if (all_double_sided) {
-        EXPECT_EQ(counts[1], counts[0]);
-        EXPECT_EQ(positions[1], positions[0]);
-        ++compared;
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no probes placed"), std::string::npos) << e.what();
       }
     }
-  }
+    std::printf("%s: probes original %d, reversed double-sided %d%s\n", path.filename().string().c_str(),
+                counts[0], counts[1], all_double_sided ? " (all materials double-sided)" : "");
+    if (all_double_sided) {
+      EXPECT_EQ(counts[1], counts[0]);
+      EXPECT_EQ(positions[1], positions[0]);
+      ++compared;
+    }
+  });
   std::printf("%d scenes all double-sided\n", compared);
 }
 

@@ -235,6 +235,36 @@ TEST(ReferenceCli, AtRefusesMalformedRowsNamingFileAndLine) {
   EXPECT_EQ(run("reference " + quoted(scene) + " --at " + quoted(dir / "good.csv") + " --csv " + quoted(dir / "good.csv")).exit_code, 3);
 }
 
+// The limits of read_receivers_csv: kMaxReceivers rows are read, one more is refused naming its line, and a
+// file over kMaxReceiverFileBytes is refused by its size before any byte is read (a sparse file: no disk).
+TEST(ReferenceCsv, ReceiverLimitsAreExact) {
+  const auto dir = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "bake" / "receiver-limits";
+  std::filesystem::create_directories(dir);
+  std::string rows;
+  rows.reserve(12 * (bake::kMaxReceivers + 1));
+  for (std::size_t i = 0; i < bake::kMaxReceivers; ++i) rows += "0,0,0,0,1,0\n";
+  write_text(dir / "max.csv", rows);
+  EXPECT_EQ(bake::read_receivers_csv(dir / "max.csv").size(), bake::kMaxReceivers);
+  write_text(dir / "over.csv", rows + "0,0,0,0,1,0\n");
+  try {
+    bake::read_receivers_csv(dir / "over.csv");
+    ADD_FAILURE() << "one receiver over the limit was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("line 1000001: more than 1000000 receivers"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(dir / "max.csv");
+  std::filesystem::remove(dir / "over.csv");
+  { std::ofstream(dir / "huge.csv") << "0,0,0,0,1,0\n"; }
+  std::filesystem::resize_file(dir / "huge.csv", bake::kMaxReceiverFileBytes + 1);
+  try {
+    bake::read_receivers_csv(dir / "huge.csv");
+    ADD_FAILURE() << "a file over the size limit was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("receiver files are limited to 268435456"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(dir / "huge.csv");
+}
+
 // Markdown rows after the header separator.
 std::vector<std::string> table_rows(const std::string& out) {
   std::vector<std::string> rows;

@@ -15,9 +15,8 @@ double rgb_rms(const glm::vec3& a, const glm::vec3& b) {
   return std::sqrt((d.x * d.x + d.y * d.y + d.z * d.z) / 3.0);
 }
 
-// Nearest rank (sorts `values`).
-double percentile(std::vector<double>& values, double q) {
-  std::sort(values.begin(), values.end());
+// Nearest rank of ascending `values`.
+double percentile(const std::vector<double>& values, double q) {
   const auto rank = std::size_t(std::ceil(q * double(values.size())));
   return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
 }
@@ -49,8 +48,10 @@ ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector
   }
   s.rmse = std::sqrt(squares / double(errors.size()));
   s.leak_rmse = s.leak_points > 0 ? std::sqrt(leak_squares / s.leak_points) : 0.0;
+  std::sort(errors.begin(), errors.end());
+  std::sort(relative.begin(), relative.end());
   s.p95 = percentile(errors, 0.95);
-  s.max = *std::max_element(errors.begin(), errors.end());
+  s.max = errors.back();
   s.relative_median = percentile(relative, 0.5);
   s.relative_p95 = percentile(relative, 0.95);
   return s;

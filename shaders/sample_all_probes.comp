@@ -4,21 +4,22 @@
 // --compare-all-probes), O(probes) rays per lookup where the SVO sampler reads one leaf.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "probebake/bindings.h"
 #include "probebake/runtime_types.h"
 #include "probebake/dispatch.glsl"
 
 layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
 
-layout(std430, binding = 0) readonly buffer VolumeInfoBuffer { VolumeInfo probebake_info; };
-layout(std430, binding = 1) readonly buffer ProbeBuffer { Probe probebake_probes[]; };
-layout(std430, binding = 2) readonly buffer SvoNodeBuffer { int probebake_svo_nodes[]; };
-layout(std430, binding = 3) readonly buffer SvoLeafBuffer { SvoLeaf probebake_svo_leaves[]; };
-layout(std430, binding = 4) readonly buffer ProbeIndexBuffer { int probe_index[]; };
-layout(std430, binding = 5) readonly buffer LightingInfoBuffer { LightingInfo probebake_lighting; };
-layout(std430, binding = 6) readonly buffer BvhNodeBuffer { BvhNode probebake_bvh_nodes[]; };
-layout(std430, binding = 7) readonly buffer TriangleBuffer { TraceTriangle probebake_trace_triangles[]; };
-layout(std430, binding = 8) readonly buffer Queries { SampleQuery queries[]; };
-layout(std430, binding = 9) writeonly buffer Results { SampleResult results[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_VOLUME_INFO) readonly buffer VolumeInfoBuffer { VolumeInfo probebake_info; };
+layout(std430, binding = SAMPLE_ALL_BINDING_PROBES) readonly buffer ProbeBuffer { Probe probebake_probes[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_SVO_NODES) readonly buffer SvoNodeBuffer { int probebake_svo_nodes[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_SVO_LEAVES) readonly buffer SvoLeafBuffer { SvoLeaf probebake_svo_leaves[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_PROBE_INDEX) readonly buffer ProbeIndexBuffer { int probe_index[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_LIGHTING_INFO) readonly buffer LightingInfoBuffer { LightingInfo probebake_lighting; };
+layout(std430, binding = SAMPLE_ALL_BINDING_BVH_NODES) readonly buffer BvhNodeBuffer { BvhNode probebake_bvh_nodes[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_TRACE_TRIANGLES) readonly buffer TriangleBuffer { TraceTriangle probebake_trace_triangles[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_QUERIES) readonly buffer Queries { SampleQuery queries[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_RESULTS) writeonly buffer Results { SampleResult results[]; };
 layout(push_constant) uniform Push { SamplePush push; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0

@@ -1,15 +1,17 @@
 // Irradiance sampling pass: one query (position, normal) per invocation, through the same GLSL include a
-// game uses (probebake/sample_irradiance.glsl, bindings 0-3); queries at binding 4, results at binding 5.
+// game uses (probebake/sample_irradiance.glsl at its default bindings); queries and results at the
+// SAMPLE_BINDING_* of probebake/bindings.h.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "probebake/bindings.h"
 #include "probebake/runtime_types.h"
 #include "probebake/dispatch.glsl"
 #include "probebake/sample_irradiance.glsl"
 
 layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
 
-layout(std430, set = 0, binding = 4) readonly buffer Queries { SampleQuery queries[]; };
-layout(std430, set = 0, binding = 5) writeonly buffer Results { SampleResult results[]; };
+layout(std430, set = 0, binding = SAMPLE_BINDING_QUERIES) readonly buffer Queries { SampleQuery queries[]; };
+layout(std430, set = 0, binding = SAMPLE_BINDING_RESULTS) writeonly buffer Results { SampleResult results[]; };
 layout(push_constant) uniform Push { SamplePush push; };
 
 void main() {

@@ -38,16 +38,23 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   counters_ = create_scratch(device, sizeof(gpu::LightCounters), "light counters");
   counters_host_ = device.allocator->create_buffer(sizeof(gpu::LightCounters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                                    MemoryUse::readback, "light counters (host)");
-  pool_ = make_descriptor_pool(device.vk(), 1, kLightBindings);
+  pool_ = make_descriptor_pool(device.vk(), 1, gpu::LIGHT_BINDING_COUNT);
   set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().light.set_layout.get());
-  const std::array<VkBuffer, kLightBindings> buffers{
-      volume.binding(Section::volume_info),     volume.binding(Section::probes),
-      volume.binding(Section::svo_nodes),       volume.binding(Section::svo_leaves),
-      volume.binding(Section::octree),          volume.binding(Section::lighting_info),
-      volume.binding(Section::ray_directions),  volume.binding(Section::bvh_nodes),
-      volume.binding(Section::trace_triangles), volume.binding(Section::punctual_lights),
-      volume.binding(Section::emitter_patches), records_.get(),
-      next_irradiance_.get(),                   counters_.get()};
+  std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
+  buffers[gpu::LIGHT_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
+  buffers[gpu::LIGHT_BINDING_PROBES] = volume.binding(Section::probes);
+  buffers[gpu::LIGHT_BINDING_SVO_NODES] = volume.binding(Section::svo_nodes);
+  buffers[gpu::LIGHT_BINDING_SVO_LEAVES] = volume.binding(Section::svo_leaves);
+  buffers[gpu::LIGHT_BINDING_OCTREE] = volume.binding(Section::octree);
+  buffers[gpu::LIGHT_BINDING_LIGHTING_INFO] = volume.binding(Section::lighting_info);
+  buffers[gpu::LIGHT_BINDING_RAY_DIRECTIONS] = volume.binding(Section::ray_directions);
+  buffers[gpu::LIGHT_BINDING_BVH_NODES] = volume.binding(Section::bvh_nodes);
+  buffers[gpu::LIGHT_BINDING_TRACE_TRIANGLES] = volume.binding(Section::trace_triangles);
+  buffers[gpu::LIGHT_BINDING_PUNCTUAL_LIGHTS] = volume.binding(Section::punctual_lights);
+  buffers[gpu::LIGHT_BINDING_EMITTER_PATCHES] = volume.binding(Section::emitter_patches);
+  buffers[gpu::LIGHT_BINDING_RECORDS] = records_.get();
+  buffers[gpu::LIGHT_BINDING_NEXT_IRRADIANCE] = next_irradiance_.get();
+  buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.get();
   write_storage_buffers(device.vk(), set_, buffers);
 }
 

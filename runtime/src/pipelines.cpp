@@ -63,16 +63,16 @@ DeviceObject<VkPipeline> make_pipeline(VkDevice device, VkPipelineLayout layout,
 
 Pipelines::Pipelines(VkDevice device) {
   static_assert(sizeof(gpu::ProbeIndexPush) == kPushConstantBytes && sizeof(gpu::SamplePush) == kPushConstantBytes);
-  probe_index = make_pass_layout(device, kIndexBindings);
+  probe_index = make_pass_layout(device, gpu::PROBE_INDEX_BINDING_COUNT);
   probe_index_count = make_pipeline(device, probe_index.layout.get(), "probe_index_count");
   probe_index_scan = make_pipeline(device, probe_index.layout.get(), "probe_index_scan");
   probe_index_scatter = make_pipeline(device, probe_index.layout.get(), "probe_index_scatter");
-  sample = make_pass_layout(device, kSampleBindings);
+  sample = make_pass_layout(device, gpu::SAMPLE_BINDING_COUNT);
   sample_irradiance = make_pipeline(device, sample.layout.get(), "sample_irradiance");
-  sample_all = make_pass_layout(device, kAllBindings);
+  sample_all = make_pass_layout(device, gpu::SAMPLE_ALL_BINDING_COUNT);
   sample_all_probes = make_pipeline(device, sample_all.layout.get(), "sample_all_probes");
   static_assert(sizeof(gpu::LightPush) == kPushConstantBytes);
-  light = make_pass_layout(device, kLightBindings);
+  light = make_pass_layout(device, gpu::LIGHT_BINDING_COUNT);
   light_trace = make_pipeline(device, light.layout.get(), "light_trace");
   light_gather = make_pipeline(device, light.layout.get(), "light_gather");
   light_resolve = make_pipeline(device, light.layout.get(), "light_resolve");

@@ -1,6 +1,6 @@
 // Compute pipelines of the runtime, built once per device from the embedded SPIR-V (shader_library.h),
 // and descriptor helpers. Every pass binds only storage buffers (set 0, bindings 0..n-1, compute stage)
-// and one 16-byte push constant block.
+// and one 16-byte push constant block. Binding numbers: shaders/include/probebake/bindings.h.
 #pragma once
 
 #include <cstdint>
@@ -10,55 +10,9 @@
 #include <vulkan/vulkan_core.h>
 
 #include "handles.h"
+#include "probebake/bindings.h"
 
 namespace probebake::runtime::detail {
-
-// Bindings of the probe index build (shaders/include/probebake/probe_index.glsl).
-enum ProbeIndexBinding : std::uint32_t { kIndexProbes, kIndexList, kIndexBlockSums, kIndexCounters, kIndexBindings };
-// Bindings of the sampling pass (shaders/include/probebake/sample_irradiance.glsl + sample_irradiance.comp).
-enum SampleBinding : std::uint32_t {
-  kSampleVolumeInfo,
-  kSampleProbes,
-  kSampleSvoNodes,
-  kSampleSvoLeaves,
-  kSampleQueries,
-  kSampleResults,
-  kSampleBindings
-};
-
-// Bindings of the all-probe baseline sampler (shaders/sample_all_probes.comp).
-enum SampleAllBinding : std::uint32_t {
-  kAllVolumeInfo,
-  kAllProbes,
-  kAllSvoNodes,
-  kAllSvoLeaves,
-  kAllProbeIndex,
-  kAllLightingInfo,
-  kAllBvhNodes,
-  kAllTriangles,
-  kAllQueries,
-  kAllResults,
-  kAllBindings
-};
-
-// Bindings of the light update passes (shaders/include/probebake/light_bindings.glsl).
-enum LightBinding : std::uint32_t {
-  kLightVolumeInfo,
-  kLightProbes,
-  kLightSvoNodes,
-  kLightSvoLeaves,
-  kLightOctree,
-  kLightLightingInfo,
-  kLightRayDirections,
-  kLightBvhNodes,
-  kLightTriangles,
-  kLightPunctualLights,
-  kLightEmitterPatches,
-  kLightRecords,
-  kLightNextIrradiance,
-  kLightCounters,
-  kLightBindings
-};
 
 struct PassLayout {
   DeviceObject<VkDescriptorSetLayout> set_layout;

@@ -37,10 +37,13 @@ ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume) : device
   counters_host_ = device.allocator->create_buffer(sizeof(gpu::RuntimeCounters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                                    MemoryUse::readback, "runtime counters (host)");
   Pipelines& pipelines = device.compute_pipelines();
-  pool_ = make_descriptor_pool(device.vk(), 1, kIndexBindings);
+  pool_ = make_descriptor_pool(device.vk(), 1, gpu::PROBE_INDEX_BINDING_COUNT);
   set_ = allocate_set(device.vk(), pool_.get(), pipelines.probe_index.set_layout.get());
-  const std::array<VkBuffer, kIndexBindings> buffers{volume.binding(Section::probes), volume.binding(Section::probe_index),
-                                                     block_sums_.get(), counters_.get()};
+  std::array<VkBuffer, gpu::PROBE_INDEX_BINDING_COUNT> buffers{};
+  buffers[gpu::PROBE_INDEX_BINDING_PROBES] = volume.binding(Section::probes);
+  buffers[gpu::PROBE_INDEX_BINDING_LIST] = volume.binding(Section::probe_index);
+  buffers[gpu::PROBE_INDEX_BINDING_BLOCK_SUMS] = block_sums_.get();
+  buffers[gpu::PROBE_INDEX_BINDING_COUNTERS] = counters_.get();
   write_storage_buffers(device.vk(), set_, buffers);
 }
 

@@ -50,7 +50,8 @@ std::size_t read_results(const void* mapped, std::span<glm::vec3> out) {
 SamplePass::SamplePass(Device& device, const GpuVolume& volume) : device_(device), volume_(volume) {
   const std::size_t by_range = device.info.max_storage_buffer_range / sizeof(gpu::SampleQuery);
   max_batch_ = std::max<std::size_t>(1, std::min(by_range, kMaxBatch));
-  pool_ = make_descriptor_pool(device.vk(), 2, kAllBindings);
+  static_assert(gpu::SAMPLE_ALL_BINDING_COUNT >= gpu::SAMPLE_BINDING_COUNT); // the pool holds both sets
+  pool_ = make_descriptor_pool(device.vk(), 2, gpu::SAMPLE_ALL_BINDING_COUNT);
   set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().sample.set_layout.get());
   all_set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().sample_all.set_layout.get());
 }
@@ -72,17 +73,26 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
   BatchBuffers buffers(*device_.allocator, batch);
   // The previous run has completed: the sets are idle.
   if (all_probes) {
-    const std::array<VkBuffer, kAllBindings> bindings{
-        volume_.binding(Section::volume_info),   volume_.binding(Section::probes),
-        volume_.binding(Section::svo_nodes),     volume_.binding(Section::svo_leaves),
-        volume_.binding(Section::probe_index),   volume_.binding(Section::lighting_info),
-        volume_.binding(Section::bvh_nodes),     volume_.binding(Section::trace_triangles),
-        buffers.queries.get(),                   buffers.results.get()};
+    std::array<VkBuffer, gpu::SAMPLE_ALL_BINDING_COUNT> bindings{};
+    bindings[gpu::SAMPLE_ALL_BINDING_VOLUME_INFO] = volume_.binding(Section::volume_info);
+    bindings[gpu::SAMPLE_ALL_BINDING_PROBES] = volume_.binding(Section::probes);
+    bindings[gpu::SAMPLE_ALL_BINDING_SVO_NODES] = volume_.binding(Section::svo_nodes);
+    bindings[gpu::SAMPLE_ALL_BINDING_SVO_LEAVES] = volume_.binding(Section::svo_leaves);
+    bindings[gpu::SAMPLE_ALL_BINDING_PROBE_INDEX] = volume_.binding(Section::probe_index);
+    bindings[gpu::SAMPLE_ALL_BINDING_LIGHTING_INFO] = volume_.binding(Section::lighting_info);
+    bindings[gpu::SAMPLE_ALL_BINDING_BVH_NODES] = volume_.binding(Section::bvh_nodes);
+    bindings[gpu::SAMPLE_ALL_BINDING_TRACE_TRIANGLES] = volume_.binding(Section::trace_triangles);
+    bindings[gpu::SAMPLE_ALL_BINDING_QUERIES] = buffers.queries.get();
+    bindings[gpu::SAMPLE_ALL_BINDING_RESULTS] = buffers.results.get();
     write_storage_buffers(device_.vk(), set, bindings);
   } else {
-    const std::array<VkBuffer, kSampleBindings> bindings{
-        volume_.binding(Section::volume_info), volume_.binding(Section::probes), volume_.binding(Section::svo_nodes),
-        volume_.binding(Section::svo_leaves), buffers.queries.get(), buffers.results.get()};
+    std::array<VkBuffer, gpu::SAMPLE_BINDING_COUNT> bindings{};
+    bindings[gpu::SAMPLE_BINDING_VOLUME_INFO] = volume_.binding(Section::volume_info);
+    bindings[gpu::SAMPLE_BINDING_PROBES] = volume_.binding(Section::probes);
+    bindings[gpu::SAMPLE_BINDING_SVO_NODES] = volume_.binding(Section::svo_nodes);
+    bindings[gpu::SAMPLE_BINDING_SVO_LEAVES] = volume_.binding(Section::svo_leaves);
+    bindings[gpu::SAMPLE_BINDING_QUERIES] = buffers.queries.get();
+    bindings[gpu::SAMPLE_BINDING_RESULTS] = buffers.results.get();
     write_storage_buffers(device_.vk(), set, bindings);
   }
   PassTimer timer(device_, 1);

@@ -1,6 +1,7 @@
 // The GPU structs as the shaders see them: member offsets and array strides read from the embedded SPIR-V
 // (OpMemberDecorate Offset, OpDecorate ArrayStride) must equal the C++ offsets of gpu_types.h and
-// runtime_types.h, so that the buffers the runtime uploads mean the same thing on both sides.
+// runtime_types.h, so that the buffers the runtime uploads mean the same thing on both sides; and every
+// buffer's Binding and DescriptorSet decorations must equal bindings.h, which the C++ side binds by.
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -9,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "probebake/bindings.h"
 #include "probebake/runtime_types.h"
 #include "probebake/shader_library.h"
 
@@ -23,6 +25,9 @@ struct SpirvStructs {
   std::map<std::uint32_t, std::map<std::uint32_t, std::uint32_t>> offsets;     // id -> member -> Offset
   std::map<std::uint32_t, std::uint32_t> array_strides;                        // type id -> ArrayStride
   std::map<std::uint32_t, std::vector<std::uint32_t>> struct_members;          // struct id -> member type ids
+  std::map<std::uint32_t, std::uint32_t> bindings, sets;                       // variable id -> Binding, DescriptorSet
+  std::map<std::uint32_t, std::uint32_t> pointees;                             // pointer type id -> pointee type id
+  std::map<std::uint32_t, std::uint32_t> variable_types;                       // variable id -> (pointer) type id
 };
 
 std::string literal_string(std::span<const std::uint32_t> words) {
@@ -37,8 +42,9 @@ std::string literal_string(std::span<const std::uint32_t> words) {
 }
 
 SpirvStructs reflect(std::span<const std::uint32_t> module) {
-  constexpr std::uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeStruct = 30, kOpDecorate = 71, kOpMemberDecorate = 72;
-  constexpr std::uint32_t kArrayStride = 6, kOffset = 35;
+  constexpr std::uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeStruct = 30, kOpTypePointer = 32, kOpVariable = 59,
+                          kOpDecorate = 71, kOpMemberDecorate = 72;
+  constexpr std::uint32_t kArrayStride = 6, kOffset = 35, kBinding = 33, kDescriptorSet = 34;
   SpirvStructs out;
   for (std::size_t i = 5; i < module.size();) {
     const std::uint32_t op = module[i] & 0xffffu, count = module[i] >> 16;
@@ -49,6 +55,10 @@ SpirvStructs reflect(std::span<const std::uint32_t> module) {
     if (op == kOpMemberDecorate && w[3] == kOffset) out.offsets[w[1]][w[2]] = w[4];
     if (op == kOpDecorate && w[2] == kArrayStride) out.array_strides[w[1]] = w[3];
     if (op == kOpTypeStruct) out.struct_members[w[1]] = std::vector<std::uint32_t>(w.begin() + 2, w.end());
+    if (op == kOpDecorate && w[2] == kBinding) out.bindings[w[1]] = w[3];
+    if (op == kOpDecorate && w[2] == kDescriptorSet) out.sets[w[1]] = w[3];
+    if (op == kOpTypePointer) out.pointees[w[1]] = w[3];
+    if (op == kOpVariable) out.variable_types[w[2]] = w[1];
     i += count;
   }
   return out;
@@ -77,6 +87,68 @@ int expect_layout(const char* shader, const char* type, const std::vector<Member
     }
   }
   return found;
+}
+
+// Buffer block name -> binding number of bindings.h.
+using BindingTable = std::map<std::string, std::uint32_t>;
+
+// Every Binding decoration of `shader` must be on a block named in `expected`, with that number, in set 0.
+// (Unused buffers may be left out of the SPIR-V, so not every entry of `expected` must appear.)
+void expect_bindings(const char* shader, const BindingTable& expected) {
+  const SpirvStructs s = reflect(shaders::spirv(shader));
+  EXPECT_FALSE(s.bindings.empty()) << shader;
+  for (const auto& [variable, binding] : s.bindings) {
+    const std::uint32_t block = s.pointees.at(s.variable_types.at(variable));
+    const std::string name = s.names.count(block) ? s.names.at(block) : "";
+    const auto want = expected.find(name);
+    if (want == expected.end()) {
+      ADD_FAILURE() << shader << ": buffer " << name << " at binding " << binding << " is not in bindings.h's table";
+      continue;
+    }
+    EXPECT_EQ(binding, want->second) << shader << ": " << name;
+    EXPECT_EQ(s.sets.count(variable) ? s.sets.at(variable) : 0u, 0u) << shader << ": " << name;
+  }
+}
+
+TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
+  using namespace gpu;
+  const BindingTable probe_index{{"Probes", PROBE_INDEX_BINDING_PROBES},
+                                 {"ProbeIndex", PROBE_INDEX_BINDING_LIST},
+                                 {"BlockSums", PROBE_INDEX_BINDING_BLOCK_SUMS},
+                                 {"Counters", PROBE_INDEX_BINDING_COUNTERS}};
+  for (const char* shader : {"probe_index_count", "probe_index_scan", "probe_index_scatter"})
+    expect_bindings(shader, probe_index);
+  expect_bindings("sample_irradiance", {{"ProbebakeVolumeInfo", SAMPLE_BINDING_VOLUME_INFO},
+                                        {"ProbebakeProbes", SAMPLE_BINDING_PROBES},
+                                        {"ProbebakeSvoNodes", SAMPLE_BINDING_SVO_NODES},
+                                        {"ProbebakeSvoLeaves", SAMPLE_BINDING_SVO_LEAVES},
+                                        {"Queries", SAMPLE_BINDING_QUERIES},
+                                        {"Results", SAMPLE_BINDING_RESULTS}});
+  expect_bindings("sample_all_probes", {{"VolumeInfoBuffer", SAMPLE_ALL_BINDING_VOLUME_INFO},
+                                        {"ProbeBuffer", SAMPLE_ALL_BINDING_PROBES},
+                                        {"SvoNodeBuffer", SAMPLE_ALL_BINDING_SVO_NODES},
+                                        {"SvoLeafBuffer", SAMPLE_ALL_BINDING_SVO_LEAVES},
+                                        {"ProbeIndexBuffer", SAMPLE_ALL_BINDING_PROBE_INDEX},
+                                        {"LightingInfoBuffer", SAMPLE_ALL_BINDING_LIGHTING_INFO},
+                                        {"BvhNodeBuffer", SAMPLE_ALL_BINDING_BVH_NODES},
+                                        {"TriangleBuffer", SAMPLE_ALL_BINDING_TRACE_TRIANGLES},
+                                        {"Queries", SAMPLE_ALL_BINDING_QUERIES},
+                                        {"Results", SAMPLE_ALL_BINDING_RESULTS}});
+  const BindingTable light{{"VolumeInfoBuffer", LIGHT_BINDING_VOLUME_INFO},
+                           {"ProbeBuffer", LIGHT_BINDING_PROBES},
+                           {"SvoNodeBuffer", LIGHT_BINDING_SVO_NODES},
+                           {"SvoLeafBuffer", LIGHT_BINDING_SVO_LEAVES},
+                           {"OctreeBuffer", LIGHT_BINDING_OCTREE},
+                           {"LightingInfoBuffer", LIGHT_BINDING_LIGHTING_INFO},
+                           {"RayDirectionBuffer", LIGHT_BINDING_RAY_DIRECTIONS},
+                           {"BvhNodeBuffer", LIGHT_BINDING_BVH_NODES},
+                           {"TriangleBuffer", LIGHT_BINDING_TRACE_TRIANGLES},
+                           {"LightBuffer", LIGHT_BINDING_PUNCTUAL_LIGHTS},
+                           {"PatchBuffer", LIGHT_BINDING_EMITTER_PATCHES},
+                           {"RecordBuffer", LIGHT_BINDING_RECORDS},
+                           {"NextIrradianceBuffer", LIGHT_BINDING_NEXT_IRRADIANCE},
+                           {"CounterBuffer", LIGHT_BINDING_COUNTERS}};
+  for (const char* shader : {"light_trace", "light_gather", "light_resolve"}) expect_bindings(shader, light);
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {

@@ -5,15 +5,16 @@
 #ifndef PROBEBAKE_PROBE_INDEX_GLSL
 #define PROBEBAKE_PROBE_INDEX_GLSL
 
+#include "probebake/bindings.h"
 #include "probebake/runtime_types.h"
 #include "probebake/dispatch.glsl"
 
 layout(local_size_x = PROBE_INDEX_THREADS) in;
 
-layout(std430, set = 0, binding = 0) readonly buffer Probes { Probe probes[]; };
-layout(std430, set = 0, binding = 1) writeonly buffer ProbeIndex { int probe_index[]; };
-layout(std430, set = 0, binding = 2) buffer BlockSums { uint block_sums[]; };
-layout(std430, set = 0, binding = 3) writeonly buffer Counters { RuntimeCounters counters; };
+layout(std430, set = 0, binding = PROBE_INDEX_BINDING_PROBES) readonly buffer Probes { Probe probes[]; };
+layout(std430, set = 0, binding = PROBE_INDEX_BINDING_LIST) writeonly buffer ProbeIndex { int probe_index[]; };
+layout(std430, set = 0, binding = PROBE_INDEX_BINDING_BLOCK_SUMS) buffer BlockSums { uint block_sums[]; };
+layout(std430, set = 0, binding = PROBE_INDEX_BINDING_COUNTERS) writeonly buffer Counters { RuntimeCounters counters; };
 layout(push_constant) uniform Push { ProbeIndexPush push; };
 
 shared uint scan_values[2][PROBE_INDEX_THREADS];

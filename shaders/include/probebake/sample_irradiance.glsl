@@ -13,7 +13,8 @@
 //   PROBEBAKE_BINDING_PROBES      (default 1): Probe probebake_probes[]         <- .probes
 //   PROBEBAKE_BINDING_SVO_NODES   (default 2): int probebake_svo_nodes[]        <- .svo_nodes
 //   PROBEBAKE_BINDING_SVO_LEAVES  (default 3): SvoLeaf probebake_svo_leaves[]   <- .svo_leaves
-// all in descriptor set PROBEBAKE_SET (default 0). Define the macros before the #include to move them.
+// all in descriptor set PROBEBAKE_SET (default 0). Define the macros before the #include to move them (an
+// integer literal or any GLSL constant expression); the defaults are SAMPLE_BINDING_* of probebake/bindings.h.
 // An empty SVO section has no buffer: bind any buffer of at least 4 bytes there (info.svo_nodes == 0 makes
 // every lookup a miss without reading it).
 //
@@ -22,23 +23,25 @@
 #ifndef PROBEBAKE_SAMPLE_IRRADIANCE_GLSL
 #define PROBEBAKE_SAMPLE_IRRADIANCE_GLSL
 
+#include "probebake/bindings.h"
 #include "probebake/gpu_types.h"
 #include "probebake/sh.glsl"
 
 #ifndef PROBEBAKE_SET
 #define PROBEBAKE_SET 0
 #endif
+// Defaults: the runtime's own sampling pass layout (SAMPLE_BINDING_* in bindings.h, 0-3).
 #ifndef PROBEBAKE_BINDING_VOLUME_INFO
-#define PROBEBAKE_BINDING_VOLUME_INFO 0
+#define PROBEBAKE_BINDING_VOLUME_INFO SAMPLE_BINDING_VOLUME_INFO
 #endif
 #ifndef PROBEBAKE_BINDING_PROBES
-#define PROBEBAKE_BINDING_PROBES 1
+#define PROBEBAKE_BINDING_PROBES SAMPLE_BINDING_PROBES
 #endif
 #ifndef PROBEBAKE_BINDING_SVO_NODES
-#define PROBEBAKE_BINDING_SVO_NODES 2
+#define PROBEBAKE_BINDING_SVO_NODES SAMPLE_BINDING_SVO_NODES
 #endif
 #ifndef PROBEBAKE_BINDING_SVO_LEAVES
-#define PROBEBAKE_BINDING_SVO_LEAVES 3
+#define PROBEBAKE_BINDING_SVO_LEAVES SAMPLE_BINDING_SVO_LEAVES
 #endif
 #ifndef PROBEBAKE_DECLARE_BUFFERS
 #define PROBEBAKE_DECLARE_BUFFERS 1

@@ -1,0 +1,73 @@
+// Descriptor binding numbers of every runtime pass: the one definition, shared by C++ (runtime/src/pipelines.h
+// and the passes that write the descriptor sets) and GLSL (the shaders' layout(binding = ...)), like
+// gpu_types.h. Every pass uses descriptor set 0, storage buffers only, bindings 0 .. *_BINDING_COUNT - 1.
+// tests/runtime/layout_test.cpp checks each shader's Binding decorations against these values.
+#ifndef PROBEBAKE_BINDINGS_H
+#define PROBEBAKE_BINDINGS_H
+
+#ifdef __cplusplus
+#include <cstdint>
+
+namespace probebake::gpu {
+using uint = std::uint32_t;
+#define PB_CONSTANT(type, name, value) inline constexpr type name = value
+#else
+#define PB_CONSTANT(type, name, value) const type name = value
+#endif
+
+// ---- Sampling (sample_irradiance.glsl, sample_irradiance.comp) ------------------------------------------
+// 0-3 are the defaults of sample_irradiance.glsl's PROBEBAKE_BINDING_* (what a game binds unless it moves them).
+PB_CONSTANT(uint, SAMPLE_BINDING_VOLUME_INFO, 0u);
+PB_CONSTANT(uint, SAMPLE_BINDING_PROBES, 1u);
+PB_CONSTANT(uint, SAMPLE_BINDING_SVO_NODES, 2u);
+PB_CONSTANT(uint, SAMPLE_BINDING_SVO_LEAVES, 3u);
+PB_CONSTANT(uint, SAMPLE_BINDING_QUERIES, 4u);
+PB_CONSTANT(uint, SAMPLE_BINDING_RESULTS, 5u);
+PB_CONSTANT(uint, SAMPLE_BINDING_COUNT, 6u);
+
+// ---- All-probe baseline sampler (sample_all_probes.comp) --------------------------------------------------
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_VOLUME_INFO, 0u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_PROBES, 1u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_SVO_NODES, 2u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_SVO_LEAVES, 3u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_PROBE_INDEX, 4u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_LIGHTING_INFO, 5u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_BVH_NODES, 6u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_TRIANGLES, 7u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_QUERIES, 8u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_RESULTS, 9u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_COUNT, 10u);
+
+// ---- Probe index build (probe_index.glsl: probe_index_count, _scan, _scatter) ------------------------------
+PB_CONSTANT(uint, PROBE_INDEX_BINDING_PROBES, 0u);
+PB_CONSTANT(uint, PROBE_INDEX_BINDING_LIST, 1u);
+PB_CONSTANT(uint, PROBE_INDEX_BINDING_BLOCK_SUMS, 2u);
+PB_CONSTANT(uint, PROBE_INDEX_BINDING_COUNTERS, 3u);
+PB_CONSTANT(uint, PROBE_INDEX_BINDING_COUNT, 4u);
+
+// ---- Light update (light_bindings.glsl: light_trace, light_gather, light_resolve) --------------------------
+// 0-3 equal the sampling bindings, so the gather samples the probes through sample_irradiance.glsl's names.
+PB_CONSTANT(uint, LIGHT_BINDING_VOLUME_INFO, 0u);
+PB_CONSTANT(uint, LIGHT_BINDING_PROBES, 1u);
+PB_CONSTANT(uint, LIGHT_BINDING_SVO_NODES, 2u);
+PB_CONSTANT(uint, LIGHT_BINDING_SVO_LEAVES, 3u);
+PB_CONSTANT(uint, LIGHT_BINDING_OCTREE, 4u);
+PB_CONSTANT(uint, LIGHT_BINDING_LIGHTING_INFO, 5u);
+PB_CONSTANT(uint, LIGHT_BINDING_RAY_DIRECTIONS, 6u);
+PB_CONSTANT(uint, LIGHT_BINDING_BVH_NODES, 7u);
+PB_CONSTANT(uint, LIGHT_BINDING_TRACE_TRIANGLES, 8u);
+PB_CONSTANT(uint, LIGHT_BINDING_PUNCTUAL_LIGHTS, 9u);
+PB_CONSTANT(uint, LIGHT_BINDING_EMITTER_PATCHES, 10u);
+PB_CONSTANT(uint, LIGHT_BINDING_RECORDS, 11u);
+PB_CONSTANT(uint, LIGHT_BINDING_NEXT_IRRADIANCE, 12u);
+PB_CONSTANT(uint, LIGHT_BINDING_COUNTERS, 13u);
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 14u);
+
+#ifdef __cplusplus
+static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES &&
+              LIGHT_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES && LIGHT_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
+} // namespace probebake::gpu
+#endif
+
+#undef PB_CONSTANT
+#endif // PROBEBAKE_BINDINGS_H

@@ -3,15 +3,9 @@
 #include <chrono>
 #include <utility>
 
+#include "frame.h"
+
 namespace probebake::runtime::detail {
-namespace {
-
-// Passes of one frame, in order; the index is the timer slot. The memory update (M0-M4) of the thesis will
-// run before the probe index build.
-enum FramePass : std::uint32_t { kPassProbeIndex, kPassLightTrace, kPassLightGather, kPassLightResolve, kFramePasses };
-constexpr const char* kFramePassNames[kFramePasses] = {"probe_index", "light_trace", "light_gather", "light_resolve"};
-
-} // namespace
 
 VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume,
                          const UploadOptions& options)
@@ -31,23 +25,12 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
 FrameStats VolumeState::run_frame() {
   const auto start = std::chrono::steady_clock::now();
   Submission submission(*device);
-  const VkCommandBuffer cmd = submission.cmd();
-  frame_timer->reset(cmd);
-  // Everything earlier on the queue (upload, last frame, sampling) before this frame's passes (thesis §3.2:
-  // a barrier between every two shaders that touch the same buffers).
-  barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess);
-  probe_index->record(cmd, *frame_timer, kPassProbeIndex);
-  bool ran[kFramePasses] = {true, false, false, false};
-  if (light) {
-    ran[kPassLightTrace] = light->record(cmd, *frame_timer, {kPassLightTrace, kPassLightGather, kPassLightResolve});
-    ran[kPassLightGather] = ran[kPassLightResolve] = true;
-  }
+  const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, {*probe_index, light.get()});
   submission.submit_and_wait();
 
   FrameStats stats;
   stats.frame = ++frames;
-  for (std::uint32_t pass = 0; pass < kFramePasses; ++pass)
-    if (ran[pass]) stats.passes.push_back({kFramePassNames[pass], frame_timer->read_pass_ms(pass)});
+  stats.passes = recorded.pass_times(*frame_timer);
   if (light) stats.light = light->stats();
   stats.live_probes = probe_index->live_probes();
   stats.probe_capacity = static_cast<int>(gpu->elements(Section::probes));

@@ -22,7 +22,7 @@ struct VolumeState {
   std::unique_ptr<ProbeIndexPass> probe_index;
   std::unique_ptr<SamplePass> sample;
   std::unique_ptr<LightUpdatePass> light; // only for volumes with the lighting sections
-  std::unique_ptr<PassTimer> frame_timer;
+  std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h)
   std::uint64_t frames = 0;
 
   VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume, const UploadOptions& options);

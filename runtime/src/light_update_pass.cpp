@@ -1,7 +1,6 @@
 #include "light_update_pass.h"
 
 #include <array>
-#include <cstring>
 #include <string>
 
 #include "error.h"
@@ -35,11 +34,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   records_ = create_scratch(device, VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * sizeof(gpu::LightRecord),
                             "light records");
   next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
-  counters_ = create_scratch(device, sizeof(gpu::LightCounters), "light counters");
-  counters_host_ = device.allocator->create_buffer(sizeof(gpu::LightCounters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                                   MemoryUse::readback, "light counters (host)");
-  pool_ = make_descriptor_pool(device.vk(), 1, gpu::LIGHT_BINDING_COUNT);
-  set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().light.set_layout.get());
+  counters_ = PassCounters<gpu::LightCounters>(device, "light counters");
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   buffers[gpu::LIGHT_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
   buffers[gpu::LIGHT_BINDING_PROBES] = volume.binding(Section::probes);
@@ -54,18 +49,17 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_EMITTER_PATCHES] = volume.binding(Section::emitter_patches);
   buffers[gpu::LIGHT_BINDING_RECORDS] = records_.get();
   buffers[gpu::LIGHT_BINDING_NEXT_IRRADIANCE] = next_irradiance_.get();
-  buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.get();
-  write_storage_buffers(device.vk(), set_, buffers);
+  buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.buffer();
+  descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
   const gpu::LightPush push{probe_capacity_, hysteresis_, 0, 0};
-  vkCmdFillBuffer(cmd, counters_.get(), 0, VK_WHOLE_SIZE, 0);
+  vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set_, 0, nullptr);
-  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  bind_set_and_push(cmd, layout, descriptors_.set, push);
   const bool traced = trace_pending_;
   if (trace_pending_) { // L1: records and hit fractions
     timer.begin(cmd, slots.trace);
@@ -85,17 +79,12 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_resolve.get());
   dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
   timer.end(cmd, slots.resolve);
-  barrier(cmd, kComputeWrite, Access{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT});
-  const VkBufferCopy region{0, 0, sizeof(gpu::LightCounters)};
-  vkCmdCopyBuffer(cmd, counters_.get(), counters_host_.get(), 1, &region);
-  barrier(cmd, kTransferWrite, kHostRead);
+  counters_.record_end_of_pass_copy(cmd);
   return traced;
 }
 
 LightStats LightUpdatePass::stats() const {
-  gpu::LightCounters c;
-  std::memcpy(&c, counters_host_.mapped(), sizeof(c));
+  const gpu::LightCounters c = counters_.read();
   LightStats s;
   s.active = true;
   s.traced_probes = c.traced_probes;

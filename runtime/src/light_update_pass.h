@@ -15,6 +15,9 @@
 #include "device.h"
 #include "gpu_volume.h"
 #include "handles.h"
+#include "pass_counters.h"
+#include "pipelines.h"
+#include "probebake/runtime_types.h"
 #include "probebake/runtime/runtime.h"
 
 namespace probebake::runtime::detail {
@@ -45,10 +48,8 @@ private:
   bool trace_pending_ = true;
   Buffer records_;
   Buffer next_irradiance_;
-  Buffer counters_;
-  Buffer counters_host_;
-  DeviceObject<VkDescriptorPool> pool_;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  PassCounters<gpu::LightCounters> counters_;
+  PassDescriptorSet descriptors_;
 };
 
 } // namespace probebake::runtime::detail

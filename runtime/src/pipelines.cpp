@@ -99,6 +99,14 @@ VkDescriptorSet allocate_set(VkDevice device, VkDescriptorPool pool, VkDescripto
   return set;
 }
 
+PassDescriptorSet make_pass_descriptor_set(VkDevice device, VkDescriptorSetLayout layout, std::span<const VkBuffer> buffers) {
+  PassDescriptorSet out;
+  out.pool = make_descriptor_pool(device, 1, static_cast<std::uint32_t>(buffers.size()));
+  out.set = allocate_set(device, out.pool.get(), layout);
+  write_storage_buffers(device, out.set, buffers);
+  return out;
+}
+
 void write_storage_buffers(VkDevice device, VkDescriptorSet set, std::span<const VkBuffer> buffers) {
   std::vector<VkDescriptorBufferInfo> infos(buffers.size());
   std::vector<VkWriteDescriptorSet> writes(buffers.size());

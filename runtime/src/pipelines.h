@@ -33,6 +33,20 @@ public:
   DeviceObject<VkPipeline> light_trace, light_gather, light_resolve;
 };
 
+// A pass's descriptor set in a pool of its own, written once: binding i = the whole of buffers[i].
+struct PassDescriptorSet {
+  DeviceObject<VkDescriptorPool> pool;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+};
+PassDescriptorSet make_pass_descriptor_set(VkDevice device, VkDescriptorSetLayout layout, std::span<const VkBuffer> buffers);
+
+// Binds `set` as set 0 and the pass's push constants (every layout here has one 16-byte range).
+template <class Push>
+void bind_set_and_push(VkCommandBuffer cmd, VkPipelineLayout layout, VkDescriptorSet set, const Push& push) {
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
+  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+}
+
 // A pool for `sets` descriptor sets of up to `buffers_per_set` storage buffers each.
 DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set);
 VkDescriptorSet allocate_set(VkDevice device, VkDescriptorPool pool, VkDescriptorSetLayout layout);

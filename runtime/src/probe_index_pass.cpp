@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <string>
-#include <cstring>
 
 #include "error.h"
 #include "pipelines.h"
@@ -32,19 +31,13 @@ ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume) : device
   block_count_ = (probe_capacity_ + gpu::PROBE_INDEX_BLOCK - 1) / gpu::PROBE_INDEX_BLOCK;
   const VkDeviceSize sums_bytes = VkDeviceSize(std::max<std::uint32_t>(block_count_, 1)) * sizeof(std::uint32_t);
   block_sums_ = device.allocator->create_buffer(sums_bytes, kScratchUsage, MemoryUse::device, "probe index block sums");
-  counters_ = device.allocator->create_buffer(sizeof(gpu::RuntimeCounters), kScratchUsage, MemoryUse::device,
-                                              "runtime counters");
-  counters_host_ = device.allocator->create_buffer(sizeof(gpu::RuntimeCounters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                                   MemoryUse::readback, "runtime counters (host)");
-  Pipelines& pipelines = device.compute_pipelines();
-  pool_ = make_descriptor_pool(device.vk(), 1, gpu::PROBE_INDEX_BINDING_COUNT);
-  set_ = allocate_set(device.vk(), pool_.get(), pipelines.probe_index.set_layout.get());
+  counters_ = PassCounters<gpu::RuntimeCounters>(device, "runtime counters");
   std::array<VkBuffer, gpu::PROBE_INDEX_BINDING_COUNT> buffers{};
   buffers[gpu::PROBE_INDEX_BINDING_PROBES] = volume.binding(Section::probes);
   buffers[gpu::PROBE_INDEX_BINDING_LIST] = volume.binding(Section::probe_index);
   buffers[gpu::PROBE_INDEX_BINDING_BLOCK_SUMS] = block_sums_.get();
-  buffers[gpu::PROBE_INDEX_BINDING_COUNTERS] = counters_.get();
-  write_storage_buffers(device.vk(), set_, buffers);
+  buffers[gpu::PROBE_INDEX_BINDING_COUNTERS] = counters_.buffer();
+  descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().probe_index.set_layout.get(), buffers);
 }
 
 void ProbeIndexPass::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t timer_slot) const {
@@ -54,8 +47,7 @@ void ProbeIndexPass::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t
   timer.begin(cmd, timer_slot);
   // 1. Reset the list to PROBE_INDEX_END (thesis §3.2.3: "resetting all indices ... to an invalid index").
   vkCmdFillBuffer(cmd, volume_.buffer(Section::probe_index).get(), 0, VK_WHOLE_SIZE, kIndexEndBits);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set_, 0, nullptr);
-  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  bind_set_and_push(cmd, layout, descriptors_.set, push);
   // 2. Allocated probes per block.
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.probe_index_count.get());
   dispatch_groups(cmd, device_, block_count_);
@@ -69,17 +61,9 @@ void ProbeIndexPass::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t
   dispatch_groups(cmd, device_, block_count_);
   timer.end(cmd, timer_slot);
   // The list is read by later passes (and the next frame's reset waits on the frame-start barrier).
-  barrier(cmd, kComputeWrite, Access{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT});
-  const VkBufferCopy region{0, 0, sizeof(gpu::RuntimeCounters)};
-  vkCmdCopyBuffer(cmd, counters_.get(), counters_host_.get(), 1, &region);
-  barrier(cmd, kTransferWrite, kHostRead);
+  counters_.record_end_of_pass_copy(cmd);
 }
 
-int ProbeIndexPass::live_probes() const {
-  gpu::RuntimeCounters counters;
-  std::memcpy(&counters, counters_host_.mapped(), sizeof(counters));
-  return counters.live_probes;
-}
+int ProbeIndexPass::live_probes() const { return counters_.read().live_probes; }
 
 } // namespace probebake::runtime::detail

@@ -13,6 +13,9 @@
 #include "device.h"
 #include "gpu_volume.h"
 #include "handles.h"
+#include "pass_counters.h"
+#include "pipelines.h"
+#include "probebake/runtime_types.h"
 
 namespace probebake::runtime::detail {
 
@@ -32,10 +35,8 @@ private:
   std::uint32_t probe_capacity_ = 0;
   std::uint32_t block_count_ = 0;
   Buffer block_sums_;
-  Buffer counters_;
-  Buffer counters_host_;
-  DeviceObject<VkDescriptorPool> pool_;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  PassCounters<gpu::RuntimeCounters> counters_;
+  PassDescriptorSet descriptors_;
 };
 
 } // namespace probebake::runtime::detail

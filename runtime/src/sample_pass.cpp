@@ -109,8 +109,7 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     barrier(cmd, kTransferWrite, kComputeRead);
     const gpu::SamplePush push{static_cast<std::uint32_t>(count), 0, 0, 0};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    bind_set_and_push(cmd, layout, set, push);
     timer.begin(cmd, 0);
     dispatch_groups(cmd, device_, static_cast<std::uint32_t>((count + gpu::RUNTIME_WORKGROUP_SIZE - 1) /
                                                              gpu::RUNTIME_WORKGROUP_SIZE));

@@ -4,6 +4,7 @@
 // allowed folders. nlohmann's SAX parser is iterative, so this pass itself is safe at any depth.
 #include <cstring>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include <fmt/core.h>
@@ -107,6 +108,10 @@ public:
   }
   bool end_array() override { return close(); }
   bool key(string_t& name) override {
+    // A repeated key means two readers (this pass and the tree that tinygltf and the rewrite build) may each
+    // keep a different value; the facts checked here would then not be the ones used.
+    if (!frames_.back().keys.insert(name).second)
+      ctx_.fail("json", fmt::format("key \"{}\" appears twice in one object", name));
     frames_.back().key = name;
     frames_.back().has_uri |= name == "uri";
     frames_.back().has_buffer_view |= name == "bufferView";
@@ -124,6 +129,7 @@ private:
     std::size_t index = 0; // arrays: index of the next element
     std::string key;       // objects: the key of the value being read
     bool has_uri = false, has_buffer_view = false; // objects: keys seen so far
+    std::unordered_set<std::string> keys;           // objects: every key seen so far
   };
 
   static std::string strip_prefix(const char* what) { // "[json.exception.parse_error.101] parse error at ..."
@@ -139,7 +145,7 @@ private:
   bool open(bool array) {
     if (frames_.size() >= kMaxJsonDepth)
       ctx_.fail("json", fmt::format("nesting is deeper than {} levels", kMaxJsonDepth));
-    frames_.push_back({array, 0, {}});
+    frames_.push_back({array, 0, {}, false, false, {}});
     return true;
   }
   bool close() {

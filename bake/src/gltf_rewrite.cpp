@@ -62,9 +62,14 @@ void generic_image_uris(nlohmann::json& gltf, const PreflightFacts& facts) {
   if (!is_object_with_array(gltf, "images")) return;
   for (int i : facts.images_with_other_media) {
     if (std::size_t(i) >= gltf["images"].size() || !gltf["images"][std::size_t(i)].is_object()) continue;
-    nlohmann::json& uri = gltf["images"][std::size_t(i)]["uri"];
-    const std::string text = uri.get<std::string>();
-    uri = "data:application/octet-stream;base64" + text.substr(text.find(','));
+    // The tree may disagree with the preflight's facts (a repeated "images" key: the SAX pass and the tree
+    // keep different ones), so the URI is checked again rather than trusted.
+    const auto uri = gltf["images"][std::size_t(i)].find("uri");
+    if (uri == gltf["images"][std::size_t(i)].end() || !uri->is_string()) continue;
+    const std::string text = uri->get<std::string>();
+    const std::size_t comma = text.find(',');
+    if (!text.starts_with("data:") || comma == std::string::npos) continue;
+    *uri = "data:application/octet-stream;base64" + text.substr(comma);
   }
 }
 

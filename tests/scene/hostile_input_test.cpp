@@ -174,6 +174,20 @@ TEST(Limits, DeepJsonNestingIsRefusedWithoutRecursion) {
   EXPECT_EQ(load_error(nested_scene(dir, 63)), ""); // 64 levels with the root object are fine
 }
 
+// A key twice in one object: the preflight and the tree could keep different values (the fuzzer found a
+// second "images" array whose element had no uri where the first had a data URI: a crash in the rewrite).
+TEST(Limits, ARepeatedKeyIsRefused) {
+  const auto dir = test_dir("repeated-key");
+  const MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
+  std::string text = g.json.dump();
+  const auto top = dir / "top.gltf", nested = dir / "nested.gltf";
+  write_text(top, text.substr(0, text.size() - 1) + ",\"images\":[{\"uri\":\"a.png\"}],\"images\":[{}]}");
+  expect_refused(top, "json", "key \"images\" appears twice in one object");
+  text.insert(text.find("\"asset\":{") + 9, "\"version\":\"1.0\",");
+  write_text(nested, text);
+  expect_refused(nested, "json", "key \"version\" appears twice in one object");
+}
+
 TEST(Limits, DeclaredCountsAreCheckedBeforeAllocation) {
   const auto dir = test_dir("huge-count");
   // POSITION claims 2^31 vertices inside a 36-byte view.

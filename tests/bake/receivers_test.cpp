@@ -131,6 +131,15 @@ TEST(Receivers, CacheKeyIncludesTheReceiverMode) {
   EXPECT_NE(visible, bake::reference_hash(s, 100, 1, 64, bake::ReceiverMode::visible, std::span(&camera, 1)));
 }
 
+// The same geometry with double-sided materials is another scene for the reference (light from the backs)
+// and for the receivers (both sides): a cached reference of the single-sided one must not be reused.
+TEST(Receivers, CacheKeyIncludesDoubleSidedness) {
+  scene::Scene s = load_generated(samples::triangle(), "recv_triangle_sides");
+  const auto single = bake::reference_hash(s, 100, 1, 64);
+  for (scene::Material& m : s.materials) m.double_sided = !m.double_sided;
+  EXPECT_NE(single, bake::reference_hash(s, 100, 1, 64));
+}
+
 // ---- Sealed geometry ---------------------------------------------------------------------------------
 
 TEST(HiddenGeometry, SealedCubesLeaveReceiversAndProbeLayoutUnchanged) {

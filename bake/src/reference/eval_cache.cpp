@@ -40,6 +40,10 @@ std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_
   h.add(scene.triangles);
   h.add(scene.triangle_albedo);
   h.add(scene.triangle_emission);
+  // Which triangles are double-sided (glTF doubleSided): it changes the transport and the receivers.
+  std::vector<std::uint8_t> double_sided(scene.triangles.size());
+  for (std::size_t t = 0; t < double_sided.size(); ++t) double_sided[t] = scene::is_double_sided(scene, t) ? 1 : 0;
+  h.add(double_sided);
   h.add_value(scene.lights.size());
   for (const scene::Light& l : scene.lights) { // field by field: the struct holds a name and padding
     h.add_value(int(l.type));

@@ -29,6 +29,12 @@ private:
   XXH3_state_t* state_;
 };
 
+// Where the player is: the camera's position, when there is one.
+std::vector<glm::vec3> receiver_anchors(const EvalSettings& s) {
+  if (!s.camera) return {};
+  return {s.camera->position};
+}
+
 } // namespace
 
 std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_t seed, int paths, ReceiverMode mode,
@@ -64,11 +70,6 @@ std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_
 }
 
 namespace detail {
-
-std::vector<glm::vec3> receiver_anchors(const EvalSettings& s) {
-  if (!s.camera) return {};
-  return {s.camera->position};
-}
 
 std::filesystem::path reference_cache_path(const std::filesystem::path& scene_path, std::uint64_t hash) {
   return scene_path.parent_path() / fmt::format("{}.reference.{:016x}.csv", scene_path.filename().string(), hash);

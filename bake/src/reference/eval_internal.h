@@ -18,9 +18,6 @@ struct ReferencePoints {
   int viewpoints = 0; // 0 when read from the cache
 };
 
-// Where the player is: the camera's position, when there is one.
-std::vector<glm::vec3> receiver_anchors(const EvalSettings& settings);
-
 // Reads the cache beside the scene or computes (and then writes) it.
 ReferencePoints cached_reference(const std::filesystem::path& scene_path, const scene::Scene& scene,
                                  const scene::RayScene& rays, const EvalSettings& settings);

@@ -118,7 +118,12 @@ TEST(Receivers, SameForAnyThreadCount) {
   const auto one = bake::make_receivers(s, rays, {.count = 200, .seed = 5, .threads = 1});
   const auto two = bake::make_receivers(s, rays, {.count = 200, .seed = 5, .threads = 2});
   ASSERT_EQ(one.points.size(), two.points.size());
-  for (std::size_t i = 0; i < one.points.size(); ++i) EXPECT_EQ(one.points[i].position, two.points[i].position);
+  EXPECT_EQ(one.viewpoints, two.viewpoints);
+  EXPECT_EQ(one.regions, two.regions);
+  for (std::size_t i = 0; i < one.points.size(); ++i) {
+    EXPECT_EQ(one.points[i].position, two.points[i].position);
+    EXPECT_EQ(one.points[i].normal, two.points[i].normal);
+  }
   EXPECT_THROW(bake::make_receivers(s, rays, {.count = 0}), Error);
 }
 

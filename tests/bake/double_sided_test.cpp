@@ -30,19 +30,14 @@ struct Loaded {
   std::unique_ptr<scene::RayScene> rays;
 };
 
-Loaded load(const samples::SceneBuilder& builder, const std::string& name) {
-  Loaded l;
-  l.scene = std::make_unique<scene::Scene>(load_generated(builder, name));
-  l.rays = std::make_unique<scene::RayScene>(*l.scene);
-  return l;
-}
-
 Loaded adopt(scene::Scene s) {
   Loaded l;
   l.scene = std::make_unique<scene::Scene>(std::move(s));
   l.rays = std::make_unique<scene::RayScene>(*l.scene);
   return l;
 }
+
+Loaded load(const samples::SceneBuilder& builder, const std::string& name) { return adopt(load_generated(builder, name)); }
 
 // Irradiance on the axis of a uniformly emitting square (radiance L, half side a) at distance h, the
 // receiver facing it: four corner rectangles of the view factor table (Howell C-11),

@@ -154,7 +154,7 @@ TEST(Reference, BadSettingsAreUsageErrors) {
 
 // ---- CLI: probebake reference / eval ----------------------------------------------------------------------
 
-// The CLI's stdout; stderr is not part of these checks.
+// The CLI's exit code, stdout and stderr (run_cli.h).
 CliResult run(const std::string& args) { return run_cli(args); }
 
 std::vector<std::string> lines_of(const std::string& text) {

@@ -2,7 +2,6 @@
 // against buffer sizes, buffers that need another one, finiteness of every float, and the leaf buffer of
 // the octree thesis §3.1.4.
 #include <cmath>
-#include <initializer_list>
 #include <unordered_set>
 
 #include "probebake/formats/cells.h"
@@ -14,25 +13,12 @@ namespace {
 
 constexpr int kMaxSvoDepth = 30;
 
-bool finite(std::initializer_list<float> values) {
-  for (float value : values) {
-    if (!std::isfinite(value)) return false;
-  }
-  return true;
-}
-
-bool finite(const glm::vec3& v) { return finite({v.x, v.y, v.z}); }
-
 bool probe_finite(const gpu::Probe& probe) {
-  if (!finite(probe.position) || !finite({probe.hit_fraction, probe.backface_fraction, probe.pad0})) return false;
+  if (!finite3(probe.position) || !all_finite({probe.hit_fraction, probe.backface_fraction, probe.pad0})) return false;
   for (float coefficient : probe.irradiance_sh) {
     if (!std::isfinite(coefficient)) return false;
   }
   return true;
-}
-
-bool surfel_finite(const gpu::Surfel& s) {
-  return finite(s.position) && finite(s.normal) && finite(s.albedo) && finite(s.radiance) && finite({s.distance, s.pad0, s.pad1});
 }
 
 long long allocated_probes(const ProbeVolume& volume) {
@@ -90,7 +76,7 @@ void check_volume_info(const ProbeVolume& volume, Reporter& out) {
   if (info.surfels_per_probe < 1 || info.surfels_per_probe > kMaxSurfelsPerProbe) {
     bad(concat("surfels_per_probe ", info.surfels_per_probe, " outside [1, ", kMaxSurfelsPerProbe, "]"));
   }
-  if (finite({info.split_low, info.split_high}) && !(info.split_low >= 0.0f && info.split_low <= info.split_high && info.split_high <= 1.0f)) {
+  if (all_finite({info.split_low, info.split_high}) && !(info.split_low >= 0.0f && info.split_low <= info.split_high && info.split_high <= 1.0f)) {
     bad(concat("split thresholds ", info.split_low, ", ", info.split_high, " not 0 <= low <= high <= 1"));
   }
   if (info.pad0 != 0 || info.pad1 != 0 || info.pad2 != 0) bad("padding is not zero");
@@ -124,7 +110,7 @@ void check_dependencies(const ProbeVolume& volume, Reporter& out) {
 
 void check_finite(const ProbeVolume& volume, Reporter& out) {
   const gpu::VolumeInfo& info = volume.info;
-  if (!finite(info.root_min) || !finite({info.root_size, info.split_low, info.split_high})) {
+  if (!finite3(info.root_min) || !all_finite({info.root_size, info.split_low, info.split_high})) {
     out.add("non_finite", "volume_info", 0, "a float is NaN or infinite");
   }
   for (std::size_t i = 0; i < volume.probes.size(); ++i) {
@@ -140,10 +126,10 @@ void check_finite(const ProbeVolume& volume, Reporter& out) {
   }
   for (std::size_t i = 0; i < volume.svo_leaves.size(); ++i) {
     const glm::vec4& w = volume.svo_leaves[i].weights;
-    if (!finite({w.x, w.y, w.z, w.w})) out.add("non_finite", "svo_leaves", static_cast<long long>(i), "a weight is NaN or infinite");
+    if (!all_finite({w.x, w.y, w.z, w.w})) out.add("non_finite", "svo_leaves", static_cast<long long>(i), "a weight is NaN or infinite");
   }
   for (std::size_t i = 0; i < volume.cells.size(); ++i) {
-    if (!finite(volume.cells[i].bounds_min) || !finite(volume.cells[i].bounds_max)) {
+    if (!finite3(volume.cells[i].bounds_min) || !finite3(volume.cells[i].bounds_max)) {
       out.add("non_finite", "cells", static_cast<long long>(i), "bounds are NaN or infinite");
     }
   }

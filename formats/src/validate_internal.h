@@ -2,8 +2,14 @@
 // phase establishes for the later ones.
 #pragma once
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "probebake/formats/container.h"
 #include "probebake/formats/octree.h"
@@ -33,6 +39,34 @@ private:
   ValidationReport& report_;
   const ValidateOptions& options_;
 };
+
+// Float checks shared by the phases. NaN fails every comparison, so negative() and unit() say nothing
+// about it: non_finite (check_finite) reports it once.
+inline bool all_finite(std::initializer_list<float> values) {
+  for (float value : values) {
+    if (!std::isfinite(value)) return false;
+  }
+  return true;
+}
+
+inline bool finite3(const glm::vec3& v) { return all_finite({v.x, v.y, v.z}); }
+
+// Padding must be +0.0 bit for bit (the writer zero-initialises every struct).
+inline bool zero_bits(std::initializer_list<float> values) {
+  for (float value : values) {
+    if (std::bit_cast<std::uint32_t>(value) != 0u) return false;
+  }
+  return true;
+}
+
+inline constexpr float kUnitTolerance = 1e-4f; // |length - 1| of directions and normals
+inline bool unit(const glm::vec3& v) { return std::abs(glm::length(v) - 1.0f) <= kUnitTolerance; }
+inline bool negative(const glm::vec3& v) { return v.x < 0.0f || v.y < 0.0f || v.z < 0.0f; }
+
+// Every float of a surfel, padding included (non_finite in check_finite; surfel_values skips such surfels).
+inline bool surfel_finite(const gpu::Surfel& s) {
+  return finite3(s.position) && finite3(s.normal) && finite3(s.albedo) && finite3(s.radiance) && all_finite({s.distance, s.pad0, s.pad1});
+}
 
 // What the octree phase learned: the cube of every node reachable from the root (node == -1 when the
 // node is not reachable) and whether the octree was free of violations.

@@ -20,31 +20,10 @@
 namespace probebake::formats::detail {
 namespace {
 
-constexpr float kUnitTolerance = 1e-4f;  // |length - 1| of directions and normals
 constexpr float kBoxTolerance = 1e-5f;   // box containment, relative to the largest root box coordinate
 constexpr float kMaxSpotScale = 1000.0f; // 1 / 0.001, the floor of the spot cone's smooth band
 
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool all_finite(std::initializer_list<float> values) {
-  for (float value : values) {
-    if (!std::isfinite(value)) return false;
-  }
-  return true;
-}
-
-// Padding must be +0.0 bit for bit (the writer zero-initialises every struct).
-bool zero_bits(std::initializer_list<float> values) {
-  for (float value : values) {
-    if (std::bit_cast<std::uint32_t>(value) != 0u) return false;
-  }
-  return true;
-}
-
 bool is_zero(const glm::vec3& v) { return zero_bits({v.x, v.y, v.z}); }
-bool unit(const glm::vec3& v) { return std::abs(glm::length(v) - 1.0f) <= kUnitTolerance; }
-// NaN compares false: non_finite reports it.
-bool negative(const glm::vec3& v) { return v.x < 0.0f || v.y < 0.0f || v.z < 0.0f; }
 
 bool triangle_finite(const gpu::TraceTriangle& t) {
   return finite3(t.v0) && finite3(t.edge1) && finite3(t.edge2) && finite3(t.normal) && finite3(t.albedo) &&

@@ -51,27 +51,7 @@ std::vector<int> leaf_links(const ProbeVolume& volume, const OctreeFacts& octree
   return linked_from;
 }
 
-constexpr float kUnitTolerance = 1e-4f; // |length - 1| of a hit surfel's normal
-
-bool all_finite(std::initializer_list<float> values) {
-  for (float value : values) {
-    if (!std::isfinite(value)) return false;
-  }
-  return true;
-}
-
-bool finite3(const glm::vec3& v) { return all_finite({v.x, v.y, v.z}); }
-
-// Padding must be +0.0 bit for bit (the writer zero-initialises every struct).
-bool zero_bits(std::initializer_list<float> values) {
-  for (float value : values) {
-    if (std::bit_cast<std::uint32_t>(value) != 0u) return false;
-  }
-  return true;
-}
-
 bool fraction(float value) { return value >= 0.0f && value <= 1.0f; }
-bool negative(const glm::vec3& v) { return v.x < 0.0f || v.y < 0.0f || v.z < 0.0f; }
 
 // Fractions are counts over counts, so they lie in [0, 1] for free probes (zero) too. Non-finite values
 // are non_finite's.
@@ -88,16 +68,12 @@ void check_probe_values(const ProbeVolume& volume, Reporter& out) {
   }
 }
 
-bool surfel_finite(const gpu::Surfel& s) {
-  return finite3(s.position) && finite3(s.normal) && finite3(s.albedo) && finite3(s.radiance) && all_finite({s.distance, s.pad0, s.pad1});
-}
-
 std::string surfel_problem(const gpu::Surfel& s) {
   if ((s.flags & ~(gpu::SURFEL_FLAG_HIT | gpu::SURFEL_FLAG_BACKFACE)) != 0) return concat("unknown flag bits ", s.flags);
   const bool hit = (s.flags & gpu::SURFEL_FLAG_HIT) != 0;
   if (!hit && (s.flags & gpu::SURFEL_FLAG_BACKFACE) != 0) return "back-face flag without the hit flag";
   if (s.distance < 0.0f) return concat("distance ", s.distance, " is negative");
-  if (hit && std::abs(glm::length(s.normal) - 1.0f) > kUnitTolerance) return "a hit's normal is not a unit vector";
+  if (hit && !unit(s.normal)) return "a hit's normal is not a unit vector";
   if (negative(s.albedo) || negative(s.radiance)) return "negative albedo or radiance";
   if (!zero_bits({s.pad0, s.pad1})) return "padding is not zero";
   return "";

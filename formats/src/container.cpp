@@ -23,11 +23,7 @@ namespace {
 
 constexpr std::uint64_t kHeaderChecksumOffset = offsetof(FileHeader, header_checksum);
 
-std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment) { return (value + alignment - 1) / alignment * alignment; }
-
 bool is_power_of_two(std::uint32_t value) { return value != 0 && (value & (value - 1)) == 0; }
-
-bool is_known_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
 // Header checksum: header bytes before the checksum field, header bytes after it (fields of later minor
 // versions), then the section table.
@@ -99,7 +95,7 @@ private:
     const std::uint64_t at = view_.header.header_size + std::uint64_t{index} * view_.header.section_entry_size;
     const SectionEntry entry = detail::value_from<SectionEntry>(bytes_.subspan(at, sizeof(SectionEntry)));
     const std::string place = detail::concat("section_table[", index, "] (", section_name(entry.type), ")");
-    if (!is_known_type(entry.type) && (entry.flags & kSectionRequired) != 0) {
+    if (!is_known_section_type(entry.type) && (entry.flags & kSectionRequired) != 0) {
       fail(place, "unknown required section (written by a newer probebake?)");
     }
     if (!is_power_of_two(entry.alignment) || entry.alignment < kSectionAlignment || entry.alignment > kMaxSectionAlignment) {
@@ -173,7 +169,7 @@ std::string section_name(std::uint32_t type) {
                                            "svo_leaves",    "cells",          "lighting_info",   "ray_directions",
                                            "bvh_nodes",     "trace_triangles", "punctual_lights", "emitter_patches"};
   static_assert(std::size(kNames) == kSectionTypeCount);
-  if (is_known_type(type)) return kNames[type - 1];
+  if (is_known_section_type(type)) return kNames[type - 1];
   return "section_" + std::to_string(type);
 }
 
@@ -199,7 +195,7 @@ std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, s
     SectionEntry entry{};
     entry.type = section.type;
     entry.flags = section.flags;
-    entry.offset = align_up(cursor, kSectionAlignment);
+    entry.offset = detail::align_up(cursor, kSectionAlignment);
     entry.size = section.bytes.size();
     entry.alignment = kSectionAlignment;
     entry.element_size = section.element_size;

@@ -49,7 +49,7 @@ void add_lighting_sections(std::vector<SectionPayload>& sections, const ProbeVol
 std::uint16_t minor_version_for(const std::vector<SectionPayload>& sections, const ProbeVolume& volume) {
   std::uint16_t minor = 0;
   for (const SectionPayload& section : sections) {
-    if (section.type >= static_cast<std::uint32_t>(SectionType::lighting_info)) minor = kLightingSectionsMinor;
+    minor = std::max(minor, minor_version_for_section(section.type));
   }
   return std::max(minor, minor_version_for_flags(volume));
 }

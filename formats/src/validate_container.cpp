@@ -8,13 +8,12 @@
 
 #include "probebake/formats/format_version.h"
 #include "probebake/formats/probes_file.h"
+#include "byte_io.h"
 #include "text.h"
 #include "validate_internal.h"
 
 namespace probebake::formats::detail {
 namespace {
-
-bool is_known(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
 std::uint32_t type_id(SectionType type) { return static_cast<std::uint32_t>(type); }
 
@@ -26,7 +25,7 @@ std::uint32_t expected_flags(std::uint32_t type) { return type <= type_id(Sectio
 std::uint16_t minor_needed(const ContainerView& container, const ProbeVolume& volume) {
   std::uint16_t minor = 0;
   for (const SectionEntry& entry : container.sections) {
-    if (is_known(entry.type) && entry.type >= type_id(SectionType::lighting_info)) minor = kLightingSectionsMinor;
+    minor = std::max(minor, minor_version_for_section(entry.type));
   }
   return std::max(minor, minor_version_for_flags(volume));
 }
@@ -37,8 +36,6 @@ bool has_section(const ContainerView& container, SectionType type) {
   }
   return false;
 }
-
-std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment) { return (value + alignment - 1) / alignment * alignment; }
 
 void check_version(const ContainerView& container, const ProbeVolume& volume, Reporter& out) {
   const FileHeader& header = container.header;
@@ -64,7 +61,7 @@ void check_flags(const ContainerView& container, Reporter& out) {
     const std::string name = section_name(entry.type);
     if ((entry.flags & ~kKnownSectionFlags) != 0) {
       out.add("section_flags", "section_table", index, concat(name, ": flags ", entry.flags, " set reserved bits"));
-    } else if (is_known(entry.type) && (entry.flags & kSectionRequired) != expected_flags(entry.type)) {
+    } else if (is_known_section_type(entry.type) && (entry.flags & kSectionRequired) != expected_flags(entry.type)) {
       out.add("section_flags", "section_table", index,
               expected_flags(entry.type) != 0 ? concat(name, " is not marked REQUIRED")
                                               : concat(name, " is marked REQUIRED (readers without it would refuse the file)"));
@@ -80,7 +77,7 @@ void check_layout(const ContainerView& container, Reporter& out) {
   for (std::size_t i = 0; i < container.sections.size(); ++i) {
     const SectionEntry& entry = container.sections[i];
     const long long index = static_cast<long long>(i);
-    if (is_known(entry.type) && entry.element_count == 0) {
+    if (is_known_section_type(entry.type) && entry.element_count == 0) {
       out.add("section_layout", "section_table", index, concat(section_name(entry.type), " has no elements (an empty buffer has no section)"));
     }
     const std::uint64_t packed = align_up(cursor, entry.alignment);

@@ -83,6 +83,15 @@ enum class SectionType : std::uint32_t {
 };
 inline constexpr std::uint32_t kSectionTypeCount = 16;
 
+inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
+
+// The lowest minor version that a section of this type needs (the lighting sections came in 1.1);
+// unknown types need none. The writer and the validator's format_version both use it.
+inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
+  return is_known_section_type(type) && type >= static_cast<std::uint32_t>(SectionType::lighting_info) ? kLightingSectionsMinor
+                                                                                                      : std::uint16_t{0};
+}
+
 // "octree", "probes", ...; "section_<id>" for unknown types.
 std::string section_name(std::uint32_t type);
 

@@ -1,6 +1,7 @@
 #include "mini_gltf.h"
 
-#include <cstring>
+#include "gltf_input.h" // samples/src: make-scene's GLB container and aligned appends
+
 #include <fstream>
 
 #include <glm/common.hpp>
@@ -8,10 +9,7 @@
 namespace probebake::test {
 
 int MiniGltf::add_view(const void* data, std::size_t size) {
-  while (bin.size() % 4 != 0) bin.push_back(0);
-  const std::size_t offset = bin.size();
-  bin.resize(offset + size);
-  std::memcpy(bin.data() + offset, data, size);
+  const std::size_t offset = samples::detail::append_aligned(bin, data, size);
   json["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}});
   json["buffers"][0]["byteLength"] = bin.size();
   return int(json["bufferViews"].size()) - 1;
@@ -55,22 +53,11 @@ MiniGltf MiniGltf::triangles(const std::vector<glm::vec3>& positions, const std:
   return g;
 }
 
+// The GLB container is make-scene's (the same framing its convert writes): JSON padded with spaces, BIN with zeros.
 std::vector<unsigned char> MiniGltf::glb() const {
   nlohmann::json j = json;
   j["buffers"][0].erase("uri");
-  std::string text = j.dump();
-  while (text.size() % 4 != 0) text.push_back(' ');
-  std::vector<unsigned char> padded = bin;
-  while (padded.size() % 4 != 0) padded.push_back(0);
-  std::vector<unsigned char> out;
-  auto u32 = [&](std::uint32_t v) { for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i))); };
-  u32(0x46546C67u); u32(2u);
-  u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + padded.size()));
-  u32(static_cast<std::uint32_t>(text.size())); u32(0x4E4F534Au);
-  out.insert(out.end(), text.begin(), text.end());
-  u32(static_cast<std::uint32_t>(padded.size())); u32(0x004E4942u);
-  out.insert(out.end(), padded.begin(), padded.end());
-  return out;
+  return samples::detail::glb_bytes(j, bin);
 }
 
 namespace {

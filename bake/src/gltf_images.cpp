@@ -28,6 +28,17 @@ bool is_webp(const unsigned char* bytes, int size) {
 
 bool is_ktx2(const unsigned char* bytes, int size) { return starts_with(bytes, size, "\xABKTX 20\xBB"); }
 
+// The side limit and the memory budget, both before any pixel is allocated; false with `why` set when the
+// image is too large to decode.
+bool admit(int width, int height, unsigned bytes_per_pixel, int index, InputPolicy& policy, std::string& why) {
+  if (width > kMaxImageSide || height > kMaxImageSide) {
+    why = fmt::format("{}x{} is larger than the limit of {}x{}", width, height, kMaxImageSide, kMaxImageSide);
+    return false;
+  }
+  policy.ctx.charge(std::uint64_t(width) * std::uint64_t(height), bytes_per_pixel, fmt::format("images[{}]", index));
+  return true;
+}
+
 // Pixels decoded by libwebp (RGBA8); false with `why` set when the stream is not a decodable WebP.
 bool decode_webp(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy,
                  std::string& why) {
@@ -36,11 +47,7 @@ bool decode_webp(tinygltf::Image* image, int index, const unsigned char* bytes, 
     why = "corrupt WebP header";
     return false;
   }
-  if (width > kMaxImageSide || height > kMaxImageSide) {
-    why = fmt::format("{}x{} is larger than the limit of {}x{}", width, height, kMaxImageSide, kMaxImageSide);
-    return false;
-  }
-  policy.ctx.charge(std::uint64_t(width) * std::uint64_t(height), 4, fmt::format("images[{}]", index));
+  if (!admit(width, height, 4, index, policy, why)) return false;
   image->image.resize(std::size_t(width) * std::size_t(height) * 4);
   if (WebPDecodeRGBAInto(bytes, std::size_t(size), image->image.data(), image->image.size(), width * 4) == nullptr) {
     image->image.clear();
@@ -63,12 +70,8 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
                                : "unknown image format";
     return false;
   }
-  if (width > kMaxImageSide || height > kMaxImageSide) {
-    why = fmt::format("{}x{} is larger than the limit of {}x{}", width, height, kMaxImageSide, kMaxImageSide);
-    return false;
-  }
   const bool wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
-  policy.ctx.charge(std::uint64_t(width) * std::uint64_t(height), 4u * (wide ? 2u : 1u), fmt::format("images[{}]", index));
+  if (!admit(width, height, 4u * (wide ? 2u : 1u), index, policy, why)) return false;
   std::string err, warn;
   if (!tinygltf::LoadImageData(image, index, &err, &warn, 0, 0, bytes, size, nullptr)) {
     why = "corrupt image data";

@@ -113,8 +113,6 @@ public:
     if (!frames_.back().keys.insert(name).second)
       ctx_.fail("json", fmt::format("key \"{}\" appears twice in one object", name));
     frames_.back().key = name;
-    frames_.back().has_uri |= name == "uri";
-    frames_.back().has_buffer_view |= name == "bufferView";
     return true;
   }
 
@@ -128,8 +126,7 @@ private:
     bool array = false;
     std::size_t index = 0; // arrays: index of the next element
     std::string key;       // objects: the key of the value being read
-    bool has_uri = false, has_buffer_view = false; // objects: keys seen so far
-    std::unordered_set<std::string> keys;           // objects: every key seen so far
+    std::unordered_set<std::string> keys; // objects: every key seen so far
   };
 
   static std::string strip_prefix(const char* what) { // "[json.exception.parse_error.101] parse error at ..."
@@ -145,7 +142,7 @@ private:
   bool open(bool array) {
     if (frames_.size() >= kMaxJsonDepth)
       ctx_.fail("json", fmt::format("nesting is deeper than {} levels", kMaxJsonDepth));
-    frames_.push_back({array, 0, {}, false, false, {}});
+    frames_.push_back({array, 0, {}, {}});
     return true;
   }
   bool close() {
@@ -156,8 +153,8 @@ private:
   bool is_top_level_element() const { return frames_.size() == 3 && frames_[1].array; }
   void record_element(const Frame& element) {
     const int index = int(frames_[1].index);
-    if (frames_[0].key == "buffers" && !element.has_uri) facts.buffers_without_uri.push_back(index);
-    if (frames_[0].key == "accessors" && !element.has_buffer_view) facts.accessors_without_view.push_back(index);
+    if (frames_[0].key == "buffers" && !element.keys.contains("uri")) facts.buffers_without_uri.push_back(index);
+    if (frames_[0].key == "accessors" && !element.keys.contains("bufferView")) facts.accessors_without_view.push_back(index);
   }
   // Root object -> "buffers"/"images" array -> element object -> "uri".
   bool is_uri_value() const {

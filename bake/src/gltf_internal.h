@@ -176,8 +176,7 @@ scene::Material convert_material(const tinygltf::Model& model, int material, con
 std::vector<int> select_texture_images(const tinygltf::Model& model, const std::map<int, std::string>& problems,
                                        const Context& ctx);
 TriangleColors average_triangle_colors(const tinygltf::Model& model, const std::vector<int>& texture_images,
-                                       int material_index,
-                                       const scene::Material& material, const PrimitiveGeometry& geometry,
-                                       const Context& ctx);
+                                       int material_index, const scene::Material& material,
+                                       const PrimitiveGeometry& geometry);
 
 } // namespace probebake::scene::detail

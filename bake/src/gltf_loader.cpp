@@ -210,7 +210,7 @@ private:
       ctx_.fail(place, fmt::format("material {} does not exist", material));
     const std::size_t material_slot = material >= 0 ? std::size_t(material) : scene_.materials.size() - 1;
     const detail::TriangleColors colors =
-        detail::average_triangle_colors(model_, texture_images_, material, scene_.materials[material_slot], g, ctx_);
+        detail::average_triangle_colors(model_, texture_images_, material, scene_.materials[material_slot], g);
 
     const bool flip = glm::determinant(glm::mat3(world)) < 0.0f; // mirrored instances reverse the winding
     const auto base = static_cast<std::uint32_t>(scene_.positions.size());

@@ -216,8 +216,7 @@ std::vector<int> select_texture_images(const tinygltf::Model& model, const std::
 }
 
 TriangleColors average_triangle_colors(const tinygltf::Model& model, const std::vector<int>& texture_images, int index,
-                                       const scene::Material& material, const PrimitiveGeometry& geometry,
-                                       const Context&) {
+                                       const scene::Material& material, const PrimitiveGeometry& geometry) {
   const std::size_t triangles = geometry.indices.size() / 3;
   TextureLookup base, emissive;
   if (index >= 0) {

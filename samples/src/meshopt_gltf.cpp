@@ -1,9 +1,7 @@
 // See meshopt_gltf.h. Works on the JSON (nlohmann) and raw buffer bytes, so everything the converter does
 // not touch (materials, lights, extras, images' bytes) is carried over exactly.
-#include "probebake/bake/scene.h"
 #include "probebake/samples/meshopt_gltf.h"
 
-#include "probebake/formats/error.h"
 #include "gltf_input.h"
 
 #include <meshoptimizer.h>
@@ -12,34 +10,32 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
-#include <fstream>
-#include <iterator>
-#include <set>
 #include <string>
+#include <utility>
 
 namespace probebake::samples {
 namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& message) { detail::fail("meshopt", message); }
+constexpr const char* kTool = "meshopt";
+
+[[noreturn]] void fail(const std::string& message) { detail::fail(kTool, message); }
 
 using detail::Bytes;
 using detail::component_count;
 using detail::component_size;
 
-Bytes read_file(const std::filesystem::path& path) { return detail::read_file(path, "meshopt"); }
-
 class Writer {
  public:
-  explicit Writer(detail::GltfInput& in) : in_(in) {}
+  Writer(detail::GltfInput& in, std::filesystem::path base_dir) : in_(in), base_dir_(std::move(base_dir)) {}
 
   Bytes run() {
     collect_geometry_accessors();
     json& gltf = in_.gltf;
     json views = json::array();
     remap_old_views(views);
-    embed_images(views);
+    detail::embed_images(gltf, views, bin_, base_dir_, kTool);
     for (const auto& [accessor, role] : geometry_) compress_accessor(accessor, role, views);
     gltf["bufferViews"] = views;
     json fallback = {{"byteLength", std::max<std::size_t>(fallback_size_, 1)},
@@ -49,7 +45,7 @@ class Writer {
     add_extension("extensionsRequired", "EXT_meshopt_compression");
     if (quantized_normals_) add_extension("extensionsUsed", "KHR_mesh_quantization");
     if (quantized_normals_) add_extension("extensionsRequired", "KHR_mesh_quantization");
-    return glb();
+    return detail::glb_bytes(gltf, bin_);
   }
 
  private:
@@ -113,8 +109,6 @@ class Writer {
     if (in_.gltf.contains("images"))
       for (json& image : in_.gltf["images"]) keep(image);
   }
-
-  void embed_images(json& views) { detail::embed_images(in_.gltf, views, bin_, base_dir_, "meshopt"); }
 
   void compress_accessor(int index, Role role, json& views) {
     json& a = in_.gltf["accessors"][std::size_t(index)];
@@ -199,13 +193,8 @@ class Writer {
     if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
   }
 
-  Bytes glb() const { return detail::glb_bytes(in_.gltf, bin_); }
-
- public:
-  std::filesystem::path base_dir_;
-
- private:
   detail::GltfInput& in_;
+  std::filesystem::path base_dir_;
   std::map<int, Role> geometry_;
   Bytes bin_;
   std::size_t fallback_size_ = 0;
@@ -217,19 +206,16 @@ class Writer {
 
 std::vector<std::uint8_t> meshopt_compress_gltf(const std::vector<std::uint8_t>& input,
                                                 const std::filesystem::path& base_dir) {
-  detail::GltfInput parsed;
   try {
-    parsed = detail::parse_gltf_input(input, base_dir, "meshopt");
-    Writer writer(parsed);
-    writer.base_dir_ = base_dir;
-    return writer.run();
+    detail::GltfInput parsed = detail::parse_gltf_input(input, base_dir, kTool);
+    return Writer(parsed, base_dir).run();
   } catch (const json::exception& e) {
     fail(std::string("malformed glTF JSON: ") + e.what());
   }
 }
 
 std::vector<std::uint8_t> meshopt_compress_file(const std::filesystem::path& path) {
-  return meshopt_compress_gltf(read_file(path), path.parent_path());
+  return meshopt_compress_gltf(detail::read_file(path, kTool), path.parent_path());
 }
 
 }  // namespace probebake::samples

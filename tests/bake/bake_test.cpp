@@ -211,6 +211,7 @@ TEST(Bake, OnlyDegenerateTrianglesAreRefused) {
     bake::bake(s, test_settings());
     ADD_FAILURE() << "baked";
   } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
     EXPECT_NE(std::string(e.what()).find("degenerate geometry"), std::string::npos) << e.what();
   }
 }

@@ -170,7 +170,8 @@ void TreeUpdate::free_probe(Frame& frame, int node) {
 void TreeUpdate::split(Frame& frame, int node) {
   const int light_out = queue_.other_kind_segment(kMemoryPullOffset);
   formats::ProbeVolume& v = tree_->volume();
-  const int depth = v.probes[std::size_t(tree_->probe_of(node))].depth;
+  const gpu::Probe& parent = v.probes[std::size_t(tree_->probe_of(node))];
+  const int depth = parent.depth;
   // The eight children's probes and batches must exist before the parent's are given back (as on the
   // GPU, where they are taken from the pools first).
   const bool room = tree_->free_clusters() >= 1 && tree_->free_probes() >= 8 && tree_->free_batches() >= 8 * batches_per_probe();
@@ -183,7 +184,7 @@ void TreeUpdate::split(Frame& frame, int node) {
     return;
   }
   float parent_sh[27];
-  std::copy(std::begin(v.probes[std::size_t(tree_->probe_of(node))].irradiance_sh), std::end(v.probes[std::size_t(tree_->probe_of(node))].irradiance_sh), parent_sh);
+  std::copy(std::begin(parent.irradiance_sh), std::end(parent.irradiance_sh), parent_sh); // split() frees the probe
   const int meta = tree_->split(node); // frees the parent's probe and surfels
   for (int octant = 0; octant < 8; ++octant) {
     const int child = formats::child_node(meta, octant);

@@ -24,6 +24,7 @@
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
+#include "test_bytes.h"
 
 namespace probebake::fuzz {
 namespace {
@@ -87,12 +88,7 @@ std::vector<std::uint8_t> with_checksums_fixed(std::span<const std::uint8_t> byt
     const std::uint64_t sum = checksum64(container.payloads[i]);
     std::memcpy(fixed.data() + table + i * header.section_entry_size + offsetof(SectionEntry, checksum), &sum, sizeof sum);
   }
-  // As container.cpp: header bytes before the checksum field, header bytes after it, then the table.
-  const std::size_t table_end = table + std::size_t{header.section_count} * header.section_entry_size;
-  std::vector<std::uint8_t> covered(fixed.begin(), fixed.begin() + offsetof(FileHeader, header_checksum));
-  covered.insert(covered.end(), fixed.begin() + sizeof(FileHeader), fixed.begin() + static_cast<std::ptrdiff_t>(table_end));
-  const std::uint64_t sum = checksum64(covered);
-  std::memcpy(fixed.data() + offsetof(FileHeader, header_checksum), &sum, sizeof sum);
+  formats::testing::refresh_header_checksum(fixed); // covers the table just written
   return fixed;
 }
 

@@ -100,6 +100,16 @@ INSTANTIATE_TEST_SUITE_P(Golden, Corruption, ::testing::ValuesIn(testing::kAllSa
 
 std::vector<std::uint8_t> golden_bytes(Sample sample) { return read_file_bytes(testing::golden_path(testing::golden_name(sample))); }
 
+// The golden file with its header's minor version (and header checksum) changed.
+std::vector<std::uint8_t> golden_with_minor(Sample sample, std::uint16_t minor) {
+  std::vector<std::uint8_t> bytes = golden_bytes(sample);
+  FileHeader header = testing::header_of(bytes);
+  header.version_minor = minor;
+  testing::put_header(bytes, header);
+  testing::refresh_header_checksum(bytes);
+  return bytes;
+}
+
 std::uint32_t type_id(SectionType type) { return static_cast<std::uint32_t>(type); }
 
 void drop_section(std::vector<SectionPayload>& sections, SectionType type) {
@@ -157,22 +167,8 @@ const std::vector<FileCase>& file_cases() {
       {"section_flags", "a reserved flag bit", [] {
          return testing::rewrite_sections(golden_bytes(Sample::small), [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::cells, 2); });
        }},
-      {"format_version", "lighting sections in a 1.0 file", [] {
-         std::vector<std::uint8_t> bytes = golden_bytes(Sample::lighting);
-         FileHeader header = testing::header_of(bytes);
-         header.version_minor = 0;
-         testing::put_header(bytes, header);
-         testing::refresh_header_checksum(bytes);
-         return bytes;
-       }},
-      {"format_version", "double-sided flags in a 1.1 file", [] {
-         std::vector<std::uint8_t> bytes = golden_bytes(Sample::double_sided);
-         FileHeader header = testing::header_of(bytes);
-         header.version_minor = 1;
-         testing::put_header(bytes, header);
-         testing::refresh_header_checksum(bytes);
-         return bytes;
-       }},
+      {"format_version", "lighting sections in a 1.0 file", [] { return golden_with_minor(Sample::lighting, 0); }},
+      {"format_version", "double-sided flags in a 1.1 file", [] { return golden_with_minor(Sample::double_sided, 1); }},
       {"format_version", "a 1.0 header of 80 bytes", [] {
          std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
          testing::insert_zeros(bytes, sizeof(FileHeader), 16);

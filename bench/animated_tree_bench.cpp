@@ -21,6 +21,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "probe_tracing.h"
+#include "probebake/bake/bake.h"
 #include "probebake/bake/lattice.h"
 #include "probebake/bake/ray_scene.h"
 #include "probebake/dynamic/tree_update.h"
@@ -89,20 +90,6 @@ float scripted_angle(const std::string& motion, int frame) {
   return cycle < 150 ? two_pi * float(cycle) / 150.0f : 0.0f;
 }
 
-gpu::VolumeInfo root_info(const scene::Scene& s, const Options& o) {
-  gpu::VolumeInfo info{};
-  const float size = s.bounds.largest_extent() * 1.002f; // the bake's root cube (bake.cpp volume_info)
-  info.root_min = 0.5f * (s.bounds.min + s.bounds.max) - glm::vec3(0.5f * size);
-  info.root_size = size;
-  info.placement = gpu::PLACEMENT_OCTREE;
-  info.max_depth = o.max_depth;
-  info.svo_depth = o.max_depth;
-  info.surfels_per_probe = o.surfels;
-  info.split_low = 0.25f; // the bake's defaults
-  info.split_high = 0.5f;
-  return info;
-}
-
 struct Counts {
   int live = 0;
   int by_state[gpu::LEAF_STATE_COUNT] = {};
@@ -149,7 +136,10 @@ int main(int argc, char** argv) try {
   std::vector<Group> groups = find_groups(rest, o.move);
   const std::vector<glm::vec3> lattice = bake::lattice_directions(bake::Lattice::fibonacci, o.surfels);
 
-  formats::ProbeVolume volume = formats::make_empty_volume(root_info(rest, o));
+  bake::BakeSettings settings; // the bake's root cube and thresholds
+  settings.max_depth = o.max_depth;
+  settings.surfels_per_probe = o.surfels;
+  formats::ProbeVolume volume = formats::make_empty_volume(bake::volume_info(rest, settings));
   volume.surfel_batches.resize(1);
   {
     formats::Octree grow(volume);

@@ -48,24 +48,6 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw Error(ErrorKind::usage, message);
 }
 
-// The root cube: the scene bounds' bounding cube, padded so that surfaces on the bounds are inside.
-gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
-  gpu::VolumeInfo info{};
-  const float largest = scene.bounds.largest_extent();
-  const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
-  info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
-  info.root_size = size;
-  info.placement = s.placement == Placement::octree ? gpu::PLACEMENT_OCTREE : gpu::PLACEMENT_GRID;
-  info.max_depth = s.placement == Placement::octree ? s.max_depth : 0;
-  info.svo_depth = s.svo_depth;
-  info.lattice = int(s.lattice);
-  info.surfels_per_probe = s.surfels_per_probe;
-  info.split_low = s.split_low;
-  info.split_high = s.split_high;
-  info.grid_resolution = s.placement == Placement::grid ? s.grid_resolution : 0;
-  return info;
-}
-
 float effective_clearance(const scene::Scene& scene, const BakeSettings& s) {
   return s.clearance > 0.0f ? s.clearance : detail::default_clearance(scene);
 }
@@ -187,6 +169,24 @@ void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
 }
 
 } // namespace
+
+// The root cube is the scene bounds' bounding cube, padded so that surfaces on the bounds are inside.
+gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
+  gpu::VolumeInfo info{};
+  const float largest = scene.bounds.largest_extent();
+  const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
+  info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
+  info.root_size = size;
+  info.placement = s.placement == Placement::octree ? gpu::PLACEMENT_OCTREE : gpu::PLACEMENT_GRID;
+  info.max_depth = s.placement == Placement::octree ? s.max_depth : 0;
+  info.svo_depth = s.svo_depth;
+  info.lattice = int(s.lattice);
+  info.surfels_per_probe = s.surfels_per_probe;
+  info.split_low = s.split_low;
+  info.split_high = s.split_high;
+  info.grid_resolution = s.placement == Placement::grid ? s.grid_resolution : 0;
+  return info;
+}
 
 void check_settings(const BakeSettings& s) {
   require(s.max_depth >= 0 && s.max_depth <= gpu::OCTREE_MAX_DEPTH, fmt::format("--max-depth must be in [0, {}]", gpu::OCTREE_MAX_DEPTH));

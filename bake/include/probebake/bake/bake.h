@@ -43,6 +43,10 @@ struct BakeSettings {
 // Throws Error(usage) with a message naming the option when a setting is out of range.
 void check_settings(const BakeSettings& settings);
 
+// The VolumeInfo a bake of `scene` with `settings` starts from: the root cube and the placement settings
+// (counts zero). The runtime's tree update and its benchmark start from the same root.
+gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& settings);
+
 struct StageTime {
   std::string stage;
   double seconds = 0.0;

@@ -13,6 +13,7 @@
 
 #include "parallel.h"
 #include "placement.h"
+#include "refine_root.h"
 #include "relocation.h"
 #include "svo_builder.h"
 #include "probebake/bake/gpu_scene.h"
@@ -195,6 +196,11 @@ void check_settings(const BakeSettings& s) {
   require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
               s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
+  const bool by_error = s.split_rule == SplitRule::error;
+  require(!by_error || s.probe_budget >= 1, "--split-rule error needs a probe budget: --probes N with N >= 1");
+  require(by_error || s.probe_budget == 0, "--probes N needs --split-rule error");
+  require(std::isfinite(s.uniform_share) && s.uniform_share >= 0.0f && s.uniform_share <= 1.0f,
+          "--uniform-share must be in [0, 1]");
   require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,
           fmt::format("--grid must be in [1, {}]", formats::kMaxGridResolution));
   require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
@@ -219,8 +225,9 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
     add(values, sizeof(values));
   }
   const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
-                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0};
-  const float floats[] = {s.split_low, s.split_high, s.clearance};
+                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0,
+                               int(s.split_rule), s.probe_budget};
+  const float floats[] = {s.split_low, s.split_high, s.clearance, s.uniform_share};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
   const auto& l = s.lighting;
@@ -256,9 +263,15 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   report.clearance = effective_clearance(scene, settings);
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
-  formats::Octree tree(volume);
   detail::PlacementInput input{&rays, &settings, lattice_directions(settings.lattice, settings.surfels_per_probe),
                                report.clearance};
+  // A closed object seen from outside has no open space inside its bounds (refine_root.h).
+  if (settings.placement == Placement::octree &&
+      !detail::open_space_inside(rays, volume.info, report.clearance, input.directions, settings.threads)) {
+    detail::surround_root(volume.info);
+    report.surrounded_root = true;
+  }
+  formats::Octree tree(volume);
 
   timer.stage("place");
   std::vector<detail::PlacedProbe> placed = settings.placement == Placement::octree

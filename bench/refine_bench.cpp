@@ -1,0 +1,67 @@
+// Error against probe count for the octree's split rules and the grid (docs/RESULTS.md, "Error-driven
+// refinement"): `probebake eval` on a chosen sweep, with the same receivers, reference cache and table.
+// Usage: probebake-bench-refine SCENE CONFIG... [--threads N]
+//   eN[:S]  octree, error rule, --probes N (uniform share S, default 0.5), max depth 6
+//   hD      octree, hit-fraction rule, --max-depth D
+//   gN      grid N^3
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "probebake/bake/eval.h"
+#include "probebake/formats/error.h"
+
+namespace {
+
+using namespace probebake;
+
+bake::EvalConfig parse_config(const std::string& token) {
+  bake::EvalConfig c;
+  const int n = std::atoi(token.c_str() + 1);
+  if (n <= 0) throw Error(ErrorKind::usage, "bad configuration '" + token + "' (eN[:S], hD or gN)");
+  if (token[0] == 'e') {
+    c.bake.split_rule = bake::SplitRule::error;
+    c.bake.probe_budget = n;
+    c.bake.max_depth = 6;
+    const auto colon = token.find(':');
+    if (colon != std::string::npos) c.bake.uniform_share = std::strtof(token.c_str() + colon + 1, nullptr);
+    c.label = colon == std::string::npos ? fmt::format("error-p{}", n)
+                                         : fmt::format("error-p{}-u{}", n, token.substr(colon + 1));
+  } else if (token[0] == 'h') {
+    c.bake.max_depth = n;
+    c.label = fmt::format("octree-d{}", n);
+  } else if (token[0] == 'g') {
+    c.bake.placement = bake::Placement::grid;
+    c.bake.grid_resolution = n;
+    c.label = fmt::format("grid-{}", n);
+  } else {
+    throw Error(ErrorKind::usage, "bad configuration '" + token + "' (eN[:S], hD or gN)");
+  }
+  return c;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 3) throw Error(ErrorKind::usage, "usage: probebake-bench-refine SCENE CONFIG... [--threads N]");
+    bake::EvalSettings settings;
+    for (int i = 2; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg == "--threads" && i + 1 < argc) settings.threads = std::atoi(argv[++i]);
+      else settings.configs.push_back(parse_config(arg));
+    }
+    settings.baseline = std::string("-"); // no all-probes row: it is not what this sweep compares
+    bake::check_eval_settings(settings);
+    const bake::EvalResult result = bake::evaluate(argv[1], settings, [](const std::string& m) {
+      fmt::print(stderr, "{}\n", m);
+    });
+    std::puts(bake::eval_markdown_table(result).c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "probebake-bench-refine: error: {}\n", e.what());
+    return 1;
+  }
+}

@@ -1,6 +1,6 @@
 // Error against probe count for the octree's split rules and the grid (docs/RESULTS.md, "Error-driven
 // refinement"): `probebake eval` on a chosen sweep, with the same receivers, reference cache and table.
-// Usage: probebake-bench-refine SCENE CONFIG... [--threads N]
+// Usage: probebake-bench-refine SCENE CONFIG... [--threads N] [--baseline LABEL]
 //   eN[:S]  octree, error rule, --probes N (uniform share S, default 0.5), max depth 6
 //   hD      octree, hit-fraction rule, --max-depth D
 //   gN      grid N^3
@@ -46,14 +46,15 @@ bake::EvalConfig parse_config(const std::string& token) {
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 3) throw Error(ErrorKind::usage, "usage: probebake-bench-refine SCENE CONFIG... [--threads N]");
+    if (argc < 3) throw Error(ErrorKind::usage, "usage: probebake-bench-refine SCENE CONFIG... [--threads N] [--baseline LABEL]");
     bake::EvalSettings settings;
+    settings.baseline = std::string("-"); // no all-probes row unless --baseline names a configuration
     for (int i = 2; i < argc; ++i) {
       const std::string arg = argv[i];
       if (arg == "--threads" && i + 1 < argc) settings.threads = std::atoi(argv[++i]);
+      else if (arg == "--baseline" && i + 1 < argc) settings.baseline = argv[++i];
       else settings.configs.push_back(parse_config(arg));
     }
-    settings.baseline = std::string("-"); // no all-probes row: it is not what this sweep compares
     bake::check_eval_settings(settings);
     const bake::EvalResult result = bake::evaluate(argv[1], settings, [](const std::string& m) {
       fmt::print(stderr, "{}\n", m);

@@ -165,7 +165,9 @@ private:
     for (int c = 0; c < 8; ++c) {
       const Leaf& child = leaves_[std::size_t(leaf.first_child + c)];
       if (!child.has_probe(in_.clearance) || child.sample.inside()) continue;
-      error += double(child.sample.visible_area) * double(sh_distance2(child.sample.sh, leaf.sample.sh));
+      // Unlit scene: nothing to estimate, so refine where probes serve the most surface each.
+      const double difference = sampler_.lit() ? double(sh_distance2(child.sample.sh, leaf.sample.sh)) : 1.0;
+      error += double(child.sample.visible_area) * difference;
     }
     return error / double(std::max(split_cost(i), 1));
   }

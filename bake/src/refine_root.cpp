@@ -9,7 +9,7 @@ namespace probebake::bake::detail {
 namespace {
 
 constexpr int kOpenProbeCells = 8;    // 512 points: any room-scale open space holds several
-constexpr float kSurroundScale = 2.0f; // half the object's size of open space on every side
+constexpr float kSurroundScale = 3.0f;
 
 } // namespace
 

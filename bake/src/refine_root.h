@@ -1,7 +1,8 @@
 // The root cube of a scene that is one closed object seen from outside (box_draco: a unit cube, single-
 // sided, faces out): the bounds' bounding cube lies wholly inside the solid, every candidate probe is
 // dead and none can be moved out within its cube, so the bake placed none. Such a scene gets a root
-// cube twice its size around the same centre, so that probes can surround the object.
+// cube three times its size around the same centre, so that probes can surround the object (with two,
+// the object's faces lie 1 mm inside the cube boundaries of every level: no outer leaf overlaps them).
 #pragma once
 
 #include <vector>

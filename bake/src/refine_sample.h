@@ -29,12 +29,15 @@ class CandidateSampler {
 public:
   explicit CandidateSampler(const PlacementInput& in);
   CandidateSample sample(glm::vec3 position, const Cube& cube) const;
+  // Whether anything emits light (punctual lights, emissive triangles, sky): else every estimate is 0.
+  bool lit() const { return lit_; }
 
 private:
   const PlacementInput& in_;
   lighting_detail::DirectLighting direct_;
   LightingSettings lighting_;
   std::vector<glm::vec3> light_directions_;
+  bool lit_ = false;
 };
 
 // Squared L2 distance between two L1 irradiance SH (sum over channels): the integral over the sphere

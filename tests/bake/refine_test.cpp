@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
+#include "probebake/bake/ray_scene.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
@@ -99,6 +100,37 @@ TEST(Refine, SameBytesForAnyThreadCount) {
   const auto a = formats::write_probes(bake::bake(s, one).volume);
   const auto b = formats::write_probes(bake::bake(s, two).volume);
   EXPECT_EQ(a, b);
+}
+
+// box_draco is one closed box seen from outside: inside its bounds everything is solid, and the bake
+// placed 0 probes (issue #13) until the root cube was tripled around such scenes (refine_root.h).
+TEST(Refine, BoxDracoBakesProbesAroundTheBox) {
+  const std::filesystem::path box = std::filesystem::path(PROBEBAKE_SHARED_SCENES) / "box_draco" / "Box_Draco.glb";
+  if (!std::filesystem::exists(box)) GTEST_SKIP() << "no " << box;
+  const scene::Scene s = scene::load_scene(box, {.require_triangles = true});
+  const scene::RayScene rays(s);
+  for (const bool by_error : {false, true}) {
+    SCOPED_TRACE(by_error ? "error rule" : "hit-fraction rule");
+    bake::BakeSettings settings = by_error ? error_settings(64) : test_settings();
+    settings.clearance = 0.0f;
+    const bake::BakeResult r = bake::bake(s, settings);
+    std::printf("%s: %d probes\n", by_error ? "error" : "hit-fraction", r.report.probes);
+    EXPECT_TRUE(r.report.surrounded_root);
+    EXPECT_GT(r.report.probes, 0);
+    EXPECT_TRUE(formats::validate(r.volume).valid());
+    for (const gpu::Probe& p : r.volume.probes)
+      if (p.link != 0) {
+        EXPECT_FALSE(inside_geometry(rays, p.position));
+      }
+  }
+}
+
+// A room has open space inside its bounds: its root cube stays the bounds' cube.
+TEST(Refine, RoomsKeepTheirRootCube) {
+  const scene::Scene s = load_generated(cluttered_corner_room(), "cluttered_corner");
+  const bake::BakeResult r = bake::bake(s, error_settings(8));
+  EXPECT_FALSE(r.report.surrounded_root);
+  EXPECT_EQ(r.volume.info.root_size, bake::volume_info(s, error_settings(8)).root_size);
 }
 
 TEST(Refine, SettingsAreChecked) {

@@ -86,7 +86,7 @@ struct BakeReport {
   int svo_solid_voxels = 0;           // leaf-depth voxels left out: inside geometry
   int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
-  bool surrounded_root = false;       // no open space inside the scene bounds: root cube doubled around them
+  bool surrounded_root = false;       // no open space inside the scene bounds: root cube tripled around them
   LightingReport lighting;            // when settings.lighting.enabled
   RuntimeLightingReport runtime_lighting;
   std::vector<StageTime> stages;

@@ -2,6 +2,7 @@
 // refinement"): `probebake eval` on a chosen sweep, with the same receivers, reference cache and table.
 // Usage: probebake-bench-refine SCENE CONFIG... [--threads N] [--baseline LABEL]
 //   eN[:S]  octree, error rule, --probes N (uniform share S, default 0.5), max depth 6
+//   sN[:S]  the same with the surface rule
 //   hD      octree, hit-fraction rule, --max-depth D
 //   gN      grid N^3
 #include <cstdio>
@@ -20,15 +21,16 @@ using namespace probebake;
 bake::EvalConfig parse_config(const std::string& token) {
   bake::EvalConfig c;
   const int n = std::atoi(token.c_str() + 1);
-  if (n <= 0) throw Error(ErrorKind::usage, "bad configuration '" + token + "' (eN[:S], hD or gN)");
-  if (token[0] == 'e') {
-    c.bake.split_rule = bake::SplitRule::error;
+  if (n <= 0) throw Error(ErrorKind::usage, "bad configuration '" + token + "' (eN[:S], sN[:S], hD or gN)");
+  if (token[0] == 'e' || token[0] == 's') {
+    c.bake.split_rule = token[0] == 'e' ? bake::SplitRule::error : bake::SplitRule::surface;
     c.bake.probe_budget = n;
     c.bake.max_depth = 6;
     const auto colon = token.find(':');
     if (colon != std::string::npos) c.bake.uniform_share = std::strtof(token.c_str() + colon + 1, nullptr);
-    c.label = colon == std::string::npos ? fmt::format("error-p{}", n)
-                                         : fmt::format("error-p{}-u{}", n, token.substr(colon + 1));
+    const char* rule = token[0] == 'e' ? "error" : "surface";
+    c.label = colon == std::string::npos ? fmt::format("{}-p{}", rule, n)
+                                         : fmt::format("{}-p{}-u{}", rule, n, token.substr(colon + 1));
   } else if (token[0] == 'h') {
     c.bake.max_depth = n;
     c.label = fmt::format("octree-d{}", n);
@@ -37,7 +39,7 @@ bake::EvalConfig parse_config(const std::string& token) {
     c.bake.grid_resolution = n;
     c.label = fmt::format("grid-{}", n);
   } else {
-    throw Error(ErrorKind::usage, "bad configuration '" + token + "' (eN[:S], hD or gN)");
+    throw Error(ErrorKind::usage, "bad configuration '" + token + "' (eN[:S], sN[:S], hD or gN)");
   }
   return c;
 }

@@ -127,8 +127,9 @@ int run_bake(BakeCommandSettings& s) {
   s.bake.placement = s.placement == "grid" ? bake::Placement::grid : bake::Placement::octree;
   s.bake.lattice = *bake::parse_lattice(s.lattice);
   const bool budget = s.bake.probe_budget != 0;
-  s.bake.split_rule = s.split_rule == "error" || (s.split_rule.empty() && budget) ? bake::SplitRule::error
-                                                                                  : bake::SplitRule::hit_fraction;
+  s.bake.split_rule = s.split_rule == "surface"                           ? bake::SplitRule::surface
+                      : s.split_rule == "error" || (s.split_rule.empty() && budget) ? bake::SplitRule::error
+                                                                                    : bake::SplitRule::hit_fraction;
   if (!s.split_range.empty()) {
     s.bake.split_low = s.split_range[0];
     s.bake.split_high = s.split_range[1];
@@ -169,10 +170,11 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--lattice", s->lattice, "Spherical lattice")->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));
   app->add_option("--split-range", s->split_range, "LOW,HIGH hit fractions: free below LOW, split at HIGH")
       ->delimiter(',')->expected(2);
-  app->add_option("--split-rule", s->split_rule, "Octree: split by hit fraction or by estimated error (default: "
-                 "error with --probes, else hit-fraction)")->check(CLI::IsMember({"hit-fraction", "error"}));
-  app->add_option("--probes", s->bake.probe_budget, "Octree, error rule: probe budget (refine where the error is largest)");
-  app->add_option("--uniform-share", s->bake.uniform_share, "Error rule: share of --probes a uniform start may take");
+  app->add_option("--split-rule", s->split_rule, "Octree: split by hit fraction, estimated error or visible surface "
+                 "(default: error with --probes, else hit-fraction)")
+      ->check(CLI::IsMember({"hit-fraction", "error", "surface"}));
+  app->add_option("--probes", s->bake.probe_budget, "Octree, error/surface rule: probe budget");
+  app->add_option("--uniform-share", s->bake.uniform_share, "Error/surface rule: share of --probes a uniform start may take");
   app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
   app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");

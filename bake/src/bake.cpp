@@ -196,9 +196,9 @@ void check_settings(const BakeSettings& s) {
   require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
               s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
-  const bool by_error = s.split_rule == SplitRule::error;
-  require(!by_error || s.probe_budget >= 1, "--split-rule error needs a probe budget: --probes N with N >= 1");
-  require(by_error || s.probe_budget == 0, "--probes N needs --split-rule error");
+  const bool budgeted = s.split_rule != SplitRule::hit_fraction;
+  require(!budgeted || s.probe_budget >= 1, "--split-rule error|surface needs a probe budget: --probes N with N >= 1");
+  require(budgeted || s.probe_budget == 0, "--probes N needs --split-rule error or surface");
   require(std::isfinite(s.uniform_share) && s.uniform_share >= 0.0f && s.uniform_share <= 1.0f,
           "--uniform-share must be in [0, 1]");
   require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,

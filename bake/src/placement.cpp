@@ -124,7 +124,7 @@ std::optional<scene::Scene> without_sealed(const scene::Scene& scene, const std:
 
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress) {
   const BakeSettings& s = *in.settings;
-  if (s.split_rule == SplitRule::error) return place_octree_by_error(in, tree, progress);
+  if (s.split_rule != SplitRule::hit_fraction) return place_octree_by_error(in, tree, progress);
   const scene::Scene& scene = in.rays->scene();
   std::vector<formats::NodeCube> pending = {formats::root_cube(tree.volume().info)};
   std::vector<TriangleList> pending_triangles(1, TriangleList(scene.triangles.size()));

@@ -58,7 +58,8 @@ struct Ranked {
 class Refiner {
 public:
   Refiner(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress)
-      : in_(in), tree_(tree), progress_(progress), sampler_(in), budget_(in.settings->probe_budget),
+      : in_(in), tree_(tree), progress_(progress), by_error_(in.settings->split_rule == SplitRule::error),
+        sampler_(in, by_error_), budget_(in.settings->probe_budget),
         max_depth_(in.settings->max_depth) {}
 
   std::vector<PlacedProbe> run() {
@@ -165,8 +166,8 @@ private:
     for (int c = 0; c < 8; ++c) {
       const Leaf& child = leaves_[std::size_t(leaf.first_child + c)];
       if (!child.has_probe(in_.clearance) || child.sample.inside()) continue;
-      // Unlit scene: nothing to estimate, so refine where probes serve the most surface each.
-      const double difference = sampler_.lit() ? double(sh_distance2(child.sample.sh, leaf.sample.sh)) : 1.0;
+      // Surface rule, or an unlit scene (nothing to estimate): where a probe serves the most surface.
+      const double difference = by_error_ && sampler_.lit() ? double(sh_distance2(child.sample.sh, leaf.sample.sh)) : 1.0;
       error += double(child.sample.visible_area) * difference;
     }
     return error / double(std::max(split_cost(i), 1));
@@ -230,6 +231,7 @@ private:
   const PlacementInput& in_;
   formats::Octree& tree_;
   const ProgressCallback& progress_;
+  bool by_error_;            // SplitRule::error: rank by estimated error, else (surface) by visible surface
   CandidateSampler sampler_;
   int budget_;
   int max_depth_;

@@ -26,12 +26,13 @@ LightingSettings estimate_settings(const BakeSettings& s) {
 
 } // namespace
 
-CandidateSampler::CandidateSampler(const PlacementInput& in)
+CandidateSampler::CandidateSampler(const PlacementInput& in, bool estimate)
     : in_(in), direct_(in.rays->scene(), *in.rays, estimate_settings(*in.settings)),
       lighting_(estimate_settings(*in.settings)),
       light_directions_(lattice_directions(Lattice::fibonacci, kEstimateRays)) {
   const scene::Scene& scene = in.rays->scene();
   const auto positive = [](glm::vec3 v) { return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f; };
+  estimate_ = estimate;
   lit_ = !scene.lights.empty() || positive(lighting_.sky_radiance) ||
          std::any_of(scene.triangle_emission.begin(), scene.triangle_emission.end(), positive);
 }
@@ -47,6 +48,7 @@ CandidateSample CandidateSampler::sample(glm::vec3 position, const Cube& cube) c
     const float cosine = std::max(std::abs(glm::dot(s.normal, in_.directions[i])), kMinCosine);
     out.visible_area += s.distance * s.distance * solid_angle / cosine;
   }
+  if (!estimate_ || !lit_) return out;
   const scene::Scene& scene = in_.rays->scene();
   const float weight = 4.0f * kPi / float(light_directions_.size());
   for (const glm::vec3& d : light_directions_) {

@@ -27,7 +27,8 @@ struct CandidateSample {
 // enough to rank leaves, not to light probes.
 class CandidateSampler {
 public:
-  explicit CandidateSampler(const PlacementInput& in);
+  // `estimate`: compute the irradiance estimate (sh); else only rays and visible_area.
+  CandidateSampler(const PlacementInput& in, bool estimate);
   CandidateSample sample(glm::vec3 position, const Cube& cube) const;
   // Whether anything emits light (punctual lights, emissive triangles, sky): else every estimate is 0.
   bool lit() const { return lit_; }
@@ -38,6 +39,7 @@ private:
   LightingSettings lighting_;
   std::vector<glm::vec3> light_directions_;
   bool lit_ = false;
+  bool estimate_ = true;
 };
 
 // Squared L2 distance between two L1 irradiance SH (sum over channels): the integral over the sphere

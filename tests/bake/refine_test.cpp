@@ -81,11 +81,14 @@ TEST(Refine, DepthGoesToTheDetailedCorner) {
 
 TEST(Refine, BudgetIsHonouredAndNearlySpent) {
   const scene::Scene s = load_generated(cluttered_corner_room(), "cluttered_corner");
+  for (const bake::SplitRule rule : {bake::SplitRule::error, bake::SplitRule::surface})
   for (int budget : {1, 40, 150}) {
     SCOPED_TRACE(budget);
-    const bake::BakeResult r = bake::bake(s, error_settings(budget));
-    std::printf("budget %d: placed %d, live %d (freed %d)\n", budget, r.report.placed_probes, r.report.probes,
-                r.report.freed_probes);
+    bake::BakeSettings settings = error_settings(budget);
+    settings.split_rule = rule;
+    const bake::BakeResult r = bake::bake(s, settings);
+    std::printf("%s, budget %d: placed %d, live %d (freed %d)\n", rule == bake::SplitRule::error ? "error" : "surface",
+                budget, r.report.placed_probes, r.report.probes, r.report.freed_probes);
     EXPECT_LE(r.report.placed_probes, budget);
     EXPECT_LE(r.report.probes, budget);
     EXPECT_GE(r.report.placed_probes, budget == 1 ? 1 : int(0.9 * budget));
@@ -94,12 +97,15 @@ TEST(Refine, BudgetIsHonouredAndNearlySpent) {
 
 TEST(Refine, SameBytesForAnyThreadCount) {
   const scene::Scene s = load_generated(cluttered_corner_room(), "cluttered_corner");
-  bake::BakeSettings one = error_settings(120), two = one;
-  one.threads = 1;
-  two.threads = 2;
-  const auto a = formats::write_probes(bake::bake(s, one).volume);
-  const auto b = formats::write_probes(bake::bake(s, two).volume);
-  EXPECT_EQ(a, b);
+  for (const bake::SplitRule rule : {bake::SplitRule::error, bake::SplitRule::surface}) {
+    bake::BakeSettings one = error_settings(120), two = one;
+    one.split_rule = two.split_rule = rule;
+    one.threads = 1;
+    two.threads = 2;
+    const auto a = formats::write_probes(bake::bake(s, one).volume);
+    const auto b = formats::write_probes(bake::bake(s, two).volume);
+    EXPECT_EQ(a, b);
+  }
 }
 
 // box_draco is one closed box seen from outside: inside its bounds everything is solid, and the bake
@@ -141,6 +147,8 @@ TEST(Refine, SettingsAreChecked) {
   s.uniform_share = 1.5f;
   EXPECT_THROW(bake::check_settings(s), Error);
   s.uniform_share = 0.5f;
+  EXPECT_NO_THROW(bake::check_settings(s));
+  s.split_rule = bake::SplitRule::surface;
   EXPECT_NO_THROW(bake::check_settings(s));
   s.split_rule = bake::SplitRule::hit_fraction; // a budget the rule would ignore
   EXPECT_THROW(bake::check_settings(s), Error);

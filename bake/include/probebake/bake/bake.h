@@ -20,9 +20,10 @@ namespace probebake::bake {
 
 enum class Placement { octree, grid };
 
-// When an octree leaf splits: the thesis's hit fraction of its centre probe (split_low/split_high), or
-// the interpolation error its split would remove, under a probe budget (refine_octree.h).
-enum class SplitRule { hit_fraction, error };
+// When an octree leaf splits: the thesis's hit fraction of its centre probe (split_low/split_high); or,
+// under a probe budget (refine_octree.h), where a split removes the most estimated interpolation error
+// (error) or gives each new probe the most visible surface (surface).
+enum class SplitRule { hit_fraction, error, surface };
 
 struct BakeSettings {
   Placement placement = Placement::octree;
@@ -32,8 +33,8 @@ struct BakeSettings {
   float split_low = 0.25f;        // hit fraction below which a probe is freed
   float split_high = 0.5f;        // hit fraction at or above which a node splits
   SplitRule split_rule = SplitRule::hit_fraction;
-  int probe_budget = 0;           // error rule: probes at most (placed, before dead ones are freed), >= 1
-  float uniform_share = 0.5f;     // error rule: share of the budget a uniform start may take, in [0, 1]
+  int probe_budget = 0;           // error/surface rule: probes at most (placed, before dead ones are freed), >= 1
+  float uniform_share = 0.5f;     // error/surface rule: share of the budget a uniform start may take, in [0, 1]
   int grid_resolution = 16;       // grid: N for N^3 probes
   int svo_depth = 5;              // SVO leaf depth (voxels of root_size / 2^svo_depth)
   float clearance = 0.0f;         // minimum probe-to-surface distance; 0 = 2% of the scene's largest extent

@@ -7,7 +7,7 @@
 //    directions in the layered-depth-maps GI paper §3.2 (shared/papers/layered-depth-maps-gi.txt).
 //    The steps mirror Leopardi's EQSP toolbox (polar_colat, num_collars, ideal_region_list,
 //    round_to_naturals, cap_colats, circle_offset) restricted to the 2-sphere.
-#include "probebake/bake/lattice.h"
+#include "probebake/common/lattice.h"
 
 #include <glm/geometric.hpp>
 
@@ -16,7 +16,7 @@
 #include <cmath>
 #include <numeric>
 
-namespace probebake::bake {
+namespace probebake {
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
@@ -245,4 +245,4 @@ glm::vec3 lattice_direction(Lattice lattice, int i, int n) {
   return fibonacci_direction(i, n);
 }
 
-}  // namespace probebake::bake
+}  // namespace probebake

@@ -1,4 +1,4 @@
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 
 #include <algorithm>
 
@@ -8,7 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-namespace probebake::bake::detail {
+namespace probebake {
 
 namespace {
 
@@ -40,4 +40,4 @@ void run_on_one_thread(const std::function<void()>& work) {
   arena.execute(work);
 }
 
-} // namespace probebake::bake::detail
+} // namespace probebake

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "probebake/bake/eval.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/eval.h"
+#include "probebake/eval/reference.h"
 
 namespace probebake::bake::detail {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "probebake/bake/eval.h"
+#include "probebake/eval/eval.h"
 
 namespace probebake::bake::detail {
 

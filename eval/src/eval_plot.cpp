@@ -5,7 +5,7 @@
 
 #include <fmt/core.h>
 
-#include "probebake/bake/eval.h"
+#include "probebake/eval/eval.h"
 
 namespace probebake::bake {
 namespace {

@@ -4,14 +4,13 @@
 
 #include <fmt/core.h>
 
-#include "probebake/bake/eval.h"
+#include "probebake/eval/eval.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/placement_kind.h"
 
 namespace probebake::bake {
 namespace {
-
-std::string placement_name(const BakeSettings& b) { return b.placement == Placement::grid ? "grid" : "octree"; }
 
 std::string leak_cell(const EvalRow& r) {
   return r.leak_points > 0 ? fmt::format("{:.4g} ({})", r.leak_rmse, r.leak_points) : "-";
@@ -53,7 +52,7 @@ void write_eval_csv(const std::filesystem::path& path, const EvalResult& result)
   for (const EvalRow& r : result.rows)
     out += fmt::format("{},{},{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},"
                        "{:.6g},{:.6g},{:.6g}\n",
-                       r.label, r.sampler, placement_name(r.bake), r.bake.max_depth, r.bake.grid_resolution,
+                       r.label, r.sampler, formats::placement_name(r.bake.placement), r.bake.max_depth, r.bake.grid_resolution,
                        r.bake.surfels_per_probe, lattice_name(r.bake.lattice), r.bake.svo_depth, r.probes, r.file_bytes,
                        r.bake_seconds, r.sample_ns, r.rmse, r.relative_rmse, r.bias, r.p95, r.max_error, r.leak_rmse,
                        r.leak_points, r.misses, r.coverage, r.relative_median, r.relative_p95, r.image_relative_rmse,

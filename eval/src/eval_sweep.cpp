@@ -1,7 +1,7 @@
 // The sweeps of `probebake eval` and the validation of its settings.
 #include <fmt/core.h>
 
-#include "probebake/bake/eval.h"
+#include "probebake/eval/eval.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake {

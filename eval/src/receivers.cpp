@@ -11,10 +11,10 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
-#include "parallel.h"
-#include "probe_tracing.h"
-#include "probebake/bake/eval.h"
-#include "probebake/bake/lattice.h"
+#include "probebake/common/parallel.h"
+#include "probebake/placement/probe_tracing.h"
+#include "probebake/eval/eval.h"
+#include "probebake/common/lattice.h"
 #include "probebake/formats/error.h"
 #include "rng.h"
 #include "sampling.h"
@@ -74,7 +74,7 @@ struct OpenSpace {
 // Open cells joined to their +x/+y/+z neighbours when the segment between the centres is clear.
 std::vector<std::size_t> open_regions(const scene::RayScene& rays, const Grid& g, const std::vector<char>& open, int threads) {
   std::vector<std::array<char, 3>> link(g.size(), {0, 0, 0});
-  detail::parallel_for(g.size(), threads, [&](std::size_t i) {
+  parallel_for(g.size(), threads, [&](std::size_t i) {
     if (open[i] == 0) return;
     const glm::ivec3 c = g.cell(i);
     for (int a = 0; a < 3; ++a) {
@@ -121,7 +121,7 @@ OpenSpace open_space(const scene::Scene& scene, const scene::RayScene& rays, con
   const Grid g = make_grid(scene.bounds, s.cells);
   const std::vector<glm::vec3> dirs = lattice_directions(Lattice::fibonacci, kOpenRays);
   std::vector<char> open(g.size(), 0);
-  detail::parallel_for(g.size(), s.threads, [&](std::size_t i) { open[i] = detail::is_open(rays, g.centre(i), clearance, dirs) ? 1 : 0; });
+  parallel_for(g.size(), s.threads, [&](std::size_t i) { open[i] = placement::is_open(rays, g.centre(i), clearance, dirs) ? 1 : 0; });
   const std::vector<std::size_t> root = open_regions(rays, g, open, s.threads);
   const std::vector<char> keep = player_regions(g, open, root, s.anchors);
   OpenSpace space;
@@ -152,7 +152,7 @@ std::vector<SamplePoint> collect(const OpenSpace& space, const ReceiverSettings&
   std::vector<SamplePoint> points;
   for (int round = 0; round < kMaxRounds && int(points.size()) < s.count && !space.viewpoints.empty(); ++round) {
     std::vector<std::optional<SamplePoint>> found(std::size_t(s.count));
-    detail::parallel_for(found.size(), s.threads, [&](std::size_t i) {
+    parallel_for(found.size(), s.threads, [&](std::size_t i) {
       detail::Pcg32 rng(s.seed, key + std::uint64_t(round) * std::uint64_t(s.count) + i);
       const auto v = std::min(std::size_t(rng.uniform() * float(space.viewpoints.size())), space.viewpoints.size() - 1);
       found[i] = make(rng, space.viewpoints[v]);
@@ -185,7 +185,7 @@ std::vector<SamplePoint> volume_points(const scene::RayScene& rays, const OpenSp
   return collect(space, s, 0x766f6c7500000000ull, [&](detail::Pcg32& rng, const glm::vec3& viewpoint) -> std::optional<SamplePoint> {
     const glm::vec3 jitter(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
     const glm::vec3 p = viewpoint + jitter * space.step;
-    if (!detail::is_open(rays, p, clearance, dirs)) return std::nullopt;
+    if (!placement::is_open(rays, p, clearance, dirs)) return std::nullopt;
     return SamplePoint{p, uniform_sphere(rng)};
   });
 }
@@ -215,7 +215,7 @@ Receivers make_receivers(const scene::Scene& scene, const scene::RayScene& rays,
     r.points = surface_sample_points(scene, rays, s.count, s.seed);
     return r;
   }
-  const float clearance = s.clearance > 0.0f ? s.clearance : detail::default_clearance(scene);
+  const float clearance = s.clearance > 0.0f ? s.clearance : placement::default_clearance(scene);
   const OpenSpace space = open_space(scene, rays, s, clearance);
   r.viewpoints = int(space.viewpoints.size());
   r.regions = space.regions;

@@ -1,9 +1,9 @@
-#include "probe_tracing.h"
+#include "probebake/placement/probe_tracing.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace probebake::bake::detail {
+namespace probebake::placement {
 
 bool Cube::contains(glm::vec3 p) const {
   for (int a = 0; a < 3; ++a)
@@ -70,4 +70,4 @@ bool is_open(const scene::RayScene& rays, glm::vec3 p, float clearance, std::spa
   return !is_dead(trace_probe(rays, p, Cube{p, 0.0f}, directions), clearance);
 }
 
-} // namespace probebake::bake::detail
+} // namespace probebake::placement

@@ -2,14 +2,14 @@
 // moving probes out of geometry). Where the paper nudges probes over many frames, the bake searches
 // directly: the SDF gradient and the nearest surface's normal give geometry-aware candidates, and the
 // paper's spiral search is the fallback. Every candidate is verified by tracing the full lattice.
-#include "relocation.h"
+#include "probebake/placement/relocation.h"
 
 #include <cmath>
 
-#include "probebake/bake/lattice.h"
-#include "probebake/bake/scene_sdf.h"
+#include "probebake/common/lattice.h"
+#include "probebake/placement/scene_sdf.h"
 
-namespace probebake::bake::detail {
+namespace probebake::placement {
 namespace {
 
 constexpr int kSpiralShells = 8;
@@ -48,4 +48,4 @@ std::optional<glm::vec3> relocate_probe(const RelocationContext& ctx, glm::vec3 
   return std::nullopt;
 }
 
-} // namespace probebake::bake::detail
+} // namespace probebake::placement

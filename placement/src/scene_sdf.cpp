@@ -26,7 +26,7 @@
 // get a second, unsigned narrow-band field (meshToVolume with UNSIGNED_DISTANCE_FIELD). distance() is
 // the minimum of the two: the distance to the union of both surface sets, negative only inside a solid
 // of single-sided geometry (a double-sided decal inside a wall stays inside the wall).
-#include "probebake/bake/scene_sdf.h"
+#include "probebake/placement/scene_sdf.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
@@ -48,7 +48,7 @@
 #include <utility>
 #include <vector>
 
-namespace probebake::bake {
+namespace probebake::placement {
 namespace {
 
 using FloatGrid = openvdb::FloatGrid;
@@ -399,4 +399,4 @@ std::optional<glm::vec3> SceneSdf::push_out(glm::vec3 p, float clearance, int ma
   }
 }
 
-} // namespace probebake::bake
+} // namespace probebake::placement

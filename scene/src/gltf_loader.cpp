@@ -14,7 +14,7 @@
 #include <tiny_gltf.h>
 
 #include "gltf_internal.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::scene {
 namespace {

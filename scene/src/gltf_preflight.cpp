@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gltf_internal.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::scene::detail {
 namespace {

@@ -6,9 +6,9 @@
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/ray_scene.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/formats/error.h"
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 
 namespace probebake::scene {
 namespace {
@@ -54,7 +54,7 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     rtcAttachGeometry(impl_->handle, geometry);
     rtcReleaseGeometry(geometry);
   }
-  bake::detail::run_on_one_thread([&] { rtcCommitScene(impl_->handle); });
+  run_on_one_thread([&] { rtcCommitScene(impl_->handle); });
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE) throw_embree_error(impl_->device, "scene build");
 }
 

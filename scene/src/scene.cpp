@@ -4,7 +4,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::scene {
 

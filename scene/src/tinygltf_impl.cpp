@@ -5,5 +5,5 @@
 // probebake_tinygltf) already provides their definitions, and defining them again would clash at link time.
 #define TINYGLTF_IMPLEMENTATION
 // TINYGLTF_ENABLE_DRACO stays off: tinygltf's Draco path indexes bufferViews unchecked and ignores decode
-// failures; the loader decodes KHR_draco_mesh_compression itself (bake/src/gltf_draco.cpp).
+// failures; the loader decodes KHR_draco_mesh_compression itself (scene/src/gltf_draco.cpp).
 #include <tiny_gltf.h>

@@ -2,7 +2,7 @@
 // units taken as radiometric: candela = W/sr (point, spot), lux = W/m^2 (directional). Emissive
 // triangles as area lights: fixed sub-triangles, each with its exact unoccluded irradiance (Lambert's
 // polygon formula after clipping to the point's hemisphere) times one shadow ray.
-#include "direct_light.h"
+#include "probebake/bake/direct_light.h"
 
 #include <algorithm>
 #include <cmath>

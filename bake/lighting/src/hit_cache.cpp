@@ -5,9 +5,9 @@
 
 #include <fmt/core.h>
 
-#include "direct_light.h"
-#include "parallel.h"
-#include "probebake/bake/lattice.h"
+#include "probebake/bake/direct_light.h"
+#include "probebake/common/parallel.h"
+#include "probebake/common/lattice.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake::lighting_detail {
@@ -67,7 +67,7 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
   cache.records.resize(cache.probes.size() * r);
   std::vector<ProbeCounts> counts(cache.probes.size());
   const DirectLighting direct(scene, rays, settings);
-  detail::parallel_for(cache.probes.size(), settings.threads, [&](std::size_t i) {
+  parallel_for(cache.probes.size(), settings.threads, [&](std::size_t i) {
     const glm::vec3 origin = volume.probes[std::size_t(cache.probes[i])].position;
     for (std::size_t j = 0; j < r; ++j) {
       HitRecord& h = cache.records[i * r + j];

@@ -7,7 +7,7 @@
 
 #include <fmt/core.h>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 #include "stencil.h"
 #include "probebake/formats/error.h"
 
@@ -43,7 +43,7 @@ float recent_rate(const std::deque<double>& changes) {
 } // namespace
 
 void sweep(const HitCache& cache, const ShBuffer& prev, ShBuffer& next, int threads) {
-  detail::parallel_for(cache.probes.size(), threads, [&](std::size_t i) {
+  parallel_for(cache.probes.size(), threads, [&](std::size_t i) {
     shade_probe(cache, i, prev, next.data() + 27 * std::size_t(cache.probes[i]));
   });
 }

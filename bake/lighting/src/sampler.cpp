@@ -10,7 +10,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 #include "stencil.h"
 #include "probebake/formats/error.h"
 
@@ -37,7 +37,7 @@ void batch(std::span<const glm::vec3> positions, std::span<const glm::vec3> norm
   if (positions.size() != normals.size() || positions.size() != out.size())
     throw Error(ErrorKind::internal, "sample_irradiance: positions, normals and out differ in size");
   std::vector<unsigned char> missed(positions.size(), 0);
-  detail::parallel_for(positions.size(), threads, [&](std::size_t i) {
+  parallel_for(positions.size(), threads, [&](std::size_t i) {
     bool miss = false;
     out[i] = one(i, miss);
     missed[i] = miss ? 1 : 0;

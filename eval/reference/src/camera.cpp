@@ -5,8 +5,8 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "parallel.h"
-#include "probebake/bake/reference.h"
+#include "probebake/common/parallel.h"
+#include "probebake/eval/reference.h"
 #include "probebake/formats/error.h"
 #include "sampling.h"
 
@@ -48,7 +48,7 @@ std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RaySc
   const View v = make_view(camera);
   const scene::Scene& scene = rays.scene();
   std::vector<std::optional<SamplePoint>> points(std::size_t(camera.width) * std::size_t(camera.height));
-  detail::parallel_for(points.size(), 0, [&](std::size_t i) {
+  parallel_for(points.size(), 0, [&](std::size_t i) {
     const float px = (float(i % std::size_t(camera.width)) + 0.5f) / float(camera.width);
     const float py = (float(i / std::size_t(camera.width)) + 0.5f) / float(camera.height);
     const glm::vec3 dir = glm::normalize(v.forward + v.right * ((2.0f * px - 1.0f) * v.tan_half_y * v.aspect) +

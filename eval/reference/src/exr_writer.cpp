@@ -11,7 +11,7 @@
 #include <OpenEXR/ImfStdIO.h>
 #include <fmt/core.h>
 
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 

@@ -8,8 +8,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/scene/scene.h"
 #include "rng.h"
 
 namespace probebake::bake::detail {

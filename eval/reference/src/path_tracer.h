@@ -3,7 +3,7 @@
 #pragma once
 
 #include "lights.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 #include "rng.h"
 
 namespace probebake::bake::detail {

@@ -7,9 +7,9 @@
 #include <fmt/core.h>
 #include <glm/vec3.hpp>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 #include "path_tracer.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 #include "probebake/formats/error.h"
 #include "sampling.h"
 
@@ -53,7 +53,7 @@ ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::Ray
                                     settings.max_bounces};
   const std::size_t chunks = (std::size_t(settings.paths) + kChunk - 1) / kChunk;
   std::vector<Moments> moments(points.size() * chunks);
-  detail::parallel_for(moments.size(), settings.threads, [&](std::size_t task) {
+  parallel_for(moments.size(), settings.threads, [&](std::size_t task) {
     const std::size_t p = task / chunks, c = task % chunks;
     const int paths = std::min(kChunk, settings.paths - int(c) * kChunk);
     // Keyed by (point, chunk): more paths extend a point's streams, fewer points keep the others' streams.

@@ -14,7 +14,7 @@
 
 #include <fmt/core.h>
 
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 

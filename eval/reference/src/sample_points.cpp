@@ -6,8 +6,8 @@
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
 
-#include "parallel.h"
-#include "probebake/bake/reference.h"
+#include "probebake/common/parallel.h"
+#include "probebake/eval/reference.h"
 #include "probebake/formats/error.h"
 #include "rng.h"
 #include "sampling.h"
@@ -118,7 +118,7 @@ std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, const 
   for (int round = 0; round < kMaxRounds && int(visible.size()) < count; ++round) {
     const std::vector<Candidate> c = candidates(scene, table, count, seed, round);
     std::vector<char> keep(c.size(), 0);
-    detail::parallel_for(c.size(), 0, [&](std::size_t i) { keep[i] = hidden(rays, c[i].point, epsilon) ? 0 : 1; });
+    parallel_for(c.size(), 0, [&](std::size_t i) { keep[i] = hidden(rays, c[i].point, epsilon) ? 0 : 1; });
     for (std::size_t i = 0; i < c.size(); ++i)
       if (keep[i] != 0) visible.push_back(c[i]);
   }

@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::bake::detail {
 

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace probebake::bake {
+namespace probebake {
 
 enum class Lattice {
   fibonacci,   // golden-angle spiral, thesis eq. 2.3-2.4 (the default)
@@ -56,4 +56,4 @@ struct EqualAreaPartition {
 // The partition for n >= 1 regions (an empty partition for n <= 0).
 EqualAreaPartition equal_area_partition(int n);
 
-}  // namespace probebake::bake
+}  // namespace probebake

@@ -1,4 +1,4 @@
-// Deterministic parallel loops for every bake library (bake, lighting, reference): each index writes only
+// Deterministic parallel loops for every library that runs per-probe or per-sample work (scene, placement, bake, lighting, reference): each index writes only
 // its own result slot, so the output does not depend on the thread count or scheduling.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <functional>
 #include <memory>
 
-namespace probebake::bake::detail {
+namespace probebake {
 
 // Runs body(i) for i in [0, count) on up to `threads` threads (0 = all cores).
 void parallel_for(std::size_t count, int threads, const std::function<void(std::size_t)>& body);
@@ -30,4 +30,4 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-} // namespace probebake::bake::detail
+} // namespace probebake

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 
 namespace probebake::bake {
 

@@ -1,21 +1,33 @@
-// Probe placement: the adaptive octree of the octree thesis (§3.2.2 L1, run to convergence on the CPU)
-// and the uniform grid baseline. Both fill a ProbeVolume through formats::Octree.
+// Probe placement methods. A method is a function (PlacementInput, tree, bounds) -> placed probes, in its
+// own file under placement/src (octree.cpp, grid.cpp); it fills the ProbeVolume behind `tree` through
+// formats::Octree. The bake picks the method from formats::PlacementKind with placement_method().
 #pragma once
 
-#include <optional>
+#include <functional>
 #include <vector>
 
-#include "probe_tracing.h"
-#include "probebake/bake/bake.h"
 #include "probebake/formats/octree.h"
+#include "probebake/formats/placement_kind.h"
+#include "probebake/placement/probe_tracing.h"
+#include "probebake/scene/ray_scene.h"
 
-namespace probebake::bake::detail {
+namespace probebake::placement {
+
+// The bake settings that placement reads (the bake copies them from BakeSettings).
+struct PlacementSettings {
+  int max_depth = 4;        // octree: deepest level a node may split to (root = 0)
+  float split_low = 0.25f;  // octree: hit fraction below which a probe is freed
+  float split_high = 0.5f;  // octree: hit fraction at or above which a node splits
+  int grid_resolution = 16; // grid: N for N^3 probes
+  int threads = 0;          // 0 = all cores
+};
 
 struct PlacementInput {
   const scene::RayScene* rays = nullptr;
-  const BakeSettings* settings = nullptr;
-  std::vector<glm::vec3> directions; // the lattice
-  float clearance = 0.0f;            // the bake's effective clearance (a centre nearer a surface is moved)
+  PlacementSettings settings;
+  std::vector<glm::vec3> directions;          // the lattice
+  float clearance = 0.0f;                     // the bake's effective clearance (a centre nearer a surface is moved)
+  std::function<void(double fraction)> progress; // may be empty; called from the calling thread
 };
 
 // A placed probe and the cube it must stay in (its octree node, or its grid cell).
@@ -25,23 +37,21 @@ struct PlacedProbe {
   ProbeRays rays;
 };
 
-// Octree: starts from the root leaf; each leaf gets a probe at its centre whose hit fraction f decides:
-// f < split_low frees the probe, f >= split_high below max_depth splits the node, otherwise it stays.
-// Newly created children are evaluated in the next round until nothing changes.
-std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const ProgressCallback& progress);
+// `bounds`: the scene's bounds (the octree starts from the root cube in tree.volume().info instead).
+using PlacementMethod = std::vector<PlacedProbe> (*)(const PlacementInput& in, formats::Octree& tree,
+                                                     const scene::Bounds& bounds);
 
-// Sealed triangles, which placement and lighting never see: every sample point just in front of the
-// triangle (its centroid and three points near its corners) sees mostly back faces over its front
-// hemisphere (is_dead's back-face rule), so it lies inside a solid and no point of open space can see
-// it, e.g. a cube hidden inside a block. Without this, such triangles split octree nodes inside solids
-// and move probes although nothing visible changed. A double-sided triangle is seen from both sides, so
-// it is sealed only when the sample points in front of both sides are.
-std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads);
-// `scene` without the sealed triangles (same vertices, materials, lights and bounds), or nothing when
-// none is sealed.
-std::optional<scene::Scene> without_sealed(const scene::Scene& scene, const std::vector<char>& sealed);
+// Octree (octree.cpp): starts from the root leaf; each leaf gets a probe at its centre whose hit fraction
+// f decides: f < split_low frees the probe, f >= split_high below max_depth splits the node, otherwise it
+// stays. Newly created children are evaluated in the next round until nothing changes.
+std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
 
-// Grid: N^3 probes at the cell centres of the scene bounds (node -1, depth 0).
+// Grid (grid.cpp): N^3 probes at the cell centres of `bounds` (node -1, depth 0).
 std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
 
-} // namespace probebake::bake::detail
+// The method of `kind` (methods.cpp), and a call of it.
+PlacementMethod placement_method(formats::PlacementKind kind);
+std::vector<PlacedProbe> place(formats::PlacementKind kind, const PlacementInput& in, formats::Octree& tree,
+                               const scene::Bounds& bounds);
+
+} // namespace probebake::placement

@@ -10,10 +10,10 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/ray_scene.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/gpu_types.h"
 
-namespace probebake::bake::detail {
+namespace probebake::placement {
 
 struct Cube {
   glm::vec3 min{0.0f};
@@ -59,4 +59,4 @@ float default_clearance(const scene::Scene& scene);
 // viewpoints use the bake's own test, so "where a player can be" and "where a probe can live" agree.
 bool is_open(const scene::RayScene& rays, glm::vec3 p, float clearance, std::span<const glm::vec3> directions);
 
-} // namespace probebake::bake::detail
+} // namespace probebake::placement

@@ -6,13 +6,12 @@
 #include <optional>
 #include <span>
 
-#include "probe_tracing.h"
+#include "probebake/placement/probe_tracing.h"
 
-namespace probebake::bake {
+namespace probebake::placement {
+
 class SceneSdf;
-}
 
-namespace probebake::bake::detail {
 
 struct RelocationContext {
   const scene::RayScene* rays = nullptr;
@@ -29,4 +28,4 @@ std::optional<glm::vec3> relocate_probe(const RelocationContext& ctx, glm::vec3 
 // True when `p` is a valid probe position: inside the cube and alive (not dead) at the clearance.
 bool is_valid_position(const RelocationContext& ctx, glm::vec3 p, const Cube& cube);
 
-} // namespace probebake::bake::detail
+} // namespace probebake::placement

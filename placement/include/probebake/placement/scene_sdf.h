@@ -22,14 +22,14 @@
 // the same scene and settings give the same values bit for bit, whatever the thread count.
 #pragma once
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 #include <glm/vec3.hpp>
 
 #include <memory>
 #include <optional>
 
-namespace probebake::bake {
+namespace probebake::placement {
 
 struct SdfSettings {
   // World units; 0 = automatic: the scene's bounding-box diagonal / 256, made coarser if the grid's
@@ -74,4 +74,4 @@ class SceneSdf {
   std::unique_ptr<Impl> impl_;
 };
 
-} // namespace probebake::bake
+} // namespace probebake::placement

@@ -8,7 +8,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::scene {
 

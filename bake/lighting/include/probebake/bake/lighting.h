@@ -24,8 +24,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::bake {

@@ -47,7 +47,7 @@
 #include <glm/vec4.hpp>
 #include <glm/ext/vector_int4.hpp>
 
-#include "probebake/bake/ray_scene.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::bake {

@@ -1,6 +1,8 @@
 // Direct irradiance at a surface point: KHR_lights_punctual lights with Embree shadow rays and, with
 // LightingSettings::emissive_as_lights, the scene's emissive triangles as area lights (lighting.h
 // describes both models). Built once per scene; irradiance() is thread-safe.
+// Public to probebake_lighting's users because the runtime lighting sections (bake/src/gpu_scene.cpp) write
+// the same lights, spot cones and emitter patches for the GPU.
 #pragma once
 
 #include <vector>
@@ -8,8 +10,8 @@
 #include <glm/vec3.hpp>
 
 #include "probebake/bake/lighting.h"
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::bake::lighting_detail {
 

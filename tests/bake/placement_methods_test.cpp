@@ -45,7 +45,9 @@ TEST(PlacementMethods, EveryKindBakesAsItsRowSays) {
         EXPECT_EQ(p.node, -1);
       }
     }
-    if (!k.has_octree) EXPECT_EQ(r.volume.octree.front(), 0); // a bare root
+    if (!k.has_octree) {
+      EXPECT_EQ(r.volume.octree.front(), 0); // a bare root
+    }
 
     // The placement interface on its own places what the bake placed before relocation.
     const scene::RayScene rays(s);

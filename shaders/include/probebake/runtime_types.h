@@ -97,8 +97,8 @@ struct LightCounters {
   int lit_probes;      // offset 16: probes gathered by L2 this frame
   int indirect_misses; // offset 20: front hits whose SVO lookup found no probe (L2)
   int non_finite;      // offset 24: probes whose gathered irradiance was not finite: kept their old value
-  int want_split;      // offset 28: L3: hit fraction >= split_high below max depth
-  int want_free;       // offset 32: L3: hit fraction < split_low
+  int want_split;      // offset 28: L3: the leaf rule (leaf_rule.h) says split
+  int want_free;       // offset 32: L3: the leaf rule says free the probe
   int pad0;            // offset 36
   int pad1;            // offset 40
   int pad2;            // offset 44

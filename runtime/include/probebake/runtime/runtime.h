@@ -182,7 +182,7 @@ struct LightStats {
   int lit_probes = 0;      // L2: probes relit and gathered this frame
   int indirect_misses = 0; // front hits whose SVO lookup found no probe (no indirect light there)
   int non_finite = 0;      // probes whose new irradiance was not finite: kept their old value
-  int want_split = 0;      // L3: leaves whose hit fraction asks for a split / for freeing their probe
+  int want_split = 0;      // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
   int want_free = 0;       //     (counted; the memory update that acts on them is not built yet)
 };
 

@@ -34,6 +34,13 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   records_ = create_scratch(device, VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * sizeof(gpu::LightRecord),
                             "light records");
   next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
+  trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
+  {
+    Submission clear(device);
+    vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
+    barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
+    clear.submit_and_wait();
+  }
   counters_ = PassCounters<gpu::LightCounters>(device, "light counters");
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   buffers[gpu::LIGHT_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
@@ -50,18 +57,19 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_RECORDS] = records_.get();
   buffers[gpu::LIGHT_BINDING_NEXT_IRRADIANCE] = next_irradiance_.get();
   buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.buffer();
+  buffers[gpu::LIGHT_BINDING_TRACE_FLAGS] = trace_flags_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
-  const gpu::LightPush push{probe_capacity_, hysteresis_, 0, 0};
+  const gpu::LightPush push{probe_capacity_, hysteresis_, trace_pending_ ? 1u : 0u, 0};
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   bind_set_and_push(cmd, layout, descriptors_.set, push);
-  const bool traced = trace_pending_;
-  if (trace_pending_) { // L1: records and hit fractions
+  const bool traced = trace_pending_ || trace_flagged_;
+  if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_trace.get());
     dispatch_groups(cmd, device_, probe_capacity_);

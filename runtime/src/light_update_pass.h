@@ -2,7 +2,7 @@
 // and placement lattice once (light_trace.comp), L2 relights the kept records every frame and gathers
 // them into the probes with hysteresis (light_gather.comp, then light_resolve.comp copies the result
 // into the probes, so that the whole frame reads last frame's values), L3 compares hit fractions with the
-// split thresholds (counted only: the memory update M0-M4 that would act on them is not built yet).
+// split thresholds by the leaf rule (counted; the memory update acts on its own L1 measures).
 // Exists only for volumes that carry the runtime lighting sections (bake default).
 #pragma once
 
@@ -34,20 +34,26 @@ public:
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
 
-  // Records L1 (first frame only, or after retrace()), L2 and L3 between the timer slots' timestamps.
-  // Returns whether L1 was recorded.
+  // Records L1 (first frame every probe, or after retrace(); with trace_flagged(), the flagged probes in
+  // every later frame), L2 and L3 between the timer slots' timestamps. Returns whether L1 was recorded.
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots);
   // After the submission: this frame's statistics.
   LightStats stats() const;
   void retrace() { trace_pending_ = true; }
+  // Records light_trace every frame for the probes whose trace flag the memory update set.
+  void trace_flagged() { trace_flagged_ = true; }
+  // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
+  VkBuffer trace_flags() const { return trace_flags_.get(); }
 
 private:
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
+  bool trace_flagged_ = false;
   Buffer records_;
   Buffer next_irradiance_;
+  Buffer trace_flags_;
   PassCounters<gpu::LightCounters> counters_;
   PassDescriptorSet descriptors_;
 };

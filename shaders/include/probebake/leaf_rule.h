@@ -49,6 +49,18 @@ PB_FUNCTION int leaf_verdict(float hit_fraction, float backface_fraction, int de
   return leaf_verdict_with(hit_fraction, blind, hit_fraction > 0.0f, depth, info);
 }
 
+// Which of two states for the same node in one leaf-queue segment wins (a segment is a set keyed by node):
+// M0 (a child is allocating) over M4 (free the children) over the leaf's own M3 > M2 > M1; L0 (parent
+// freed) over L1 (measure again) > L2 > L3. 0 for a value that is no LEAF_* state.
+PB_FUNCTION int leaf_state_priority(int state) {
+  if (state == LEAF_M0_CHILD_ALLOCATING) return 5;
+  if (state == LEAF_M4_FREE_CLUSTER || state == LEAF_L0_PARENT_FREED) return 4;
+  if (state == LEAF_M3_SPLIT || state == LEAF_L1_PLACE_SURFELS) return 3;
+  if (state == LEAF_M2_FREE_PROBE || state == LEAF_L2_LIGHT) return 2;
+  if (state == LEAF_M1_ALLOCATE_PROBE || state == LEAF_L3_CHECK_BOXES) return 1;
+  return 0;
+}
+
 #ifdef __cplusplus
 } // namespace probebake::gpu
 #endif

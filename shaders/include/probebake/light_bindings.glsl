@@ -28,6 +28,7 @@ layout(std430, binding = LIGHT_BINDING_EMITTER_PATCHES) readonly buffer PatchBuf
 layout(std430, binding = LIGHT_BINDING_RECORDS) buffer RecordBuffer { LightRecord light_records[]; };
 layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuffer { float next_irradiance[]; }; // 27 per probe slot
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
+layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
 layout(push_constant) uniform Push { LightPush push; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0

@@ -84,7 +84,7 @@ struct LightRecord {
 struct LightPush {
   uint probe_capacity; // offset  0
   float hysteresis;    // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
-  uint pad0;           // offset  8
+  uint trace_all;      // offset  8: light_trace: 1 = every live probe, 0 = flagged probes only
   uint pad1;           // offset 12
 };                     // size 16
 

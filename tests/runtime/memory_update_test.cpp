@@ -305,5 +305,152 @@ TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
   EXPECT_EQ(end.clusters, settled.clusters);
 }
 
+// No NaN or Inf in what the memory update writes or the light update reads back into the probes.
+void expect_finite_probes(const formats::ProbeVolume& v, int frame) {
+  for (std::size_t i = 0; i < v.probes.size(); ++i) {
+    const gpu::Probe& p = v.probes[i];
+    bool finite = std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.position.z) &&
+                  std::isfinite(p.hit_fraction) && std::isfinite(p.backface_fraction);
+    for (float c : p.irradiance_sh) finite = finite && std::isfinite(c);
+    ASSERT_TRUE(finite) << "frame " << frame << ": probe " << i;
+  }
+}
+
+// Runs idle frames with every leaf re-measured until no memory work is left; returns the frames it took.
+int settle(runtime::Volume& gpu, const runtime::Box& all, std::optional<int> max_depth) {
+  for (int f = 1; f <= 60; ++f) {
+    runtime::FrameInputs in;
+    if (f <= 2) in.changed_boxes = {all};
+    if (f == 1) in.max_depth = max_depth;
+    auto stats = gpu.run_frame(in);
+    EXPECT_TRUE(stats.ok()) << stats.status().message;
+    if (!stats.ok()) return -1;
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    const bool busy = m.splits + m.collapses + m.probes_placed + m.probes_freed + m.deferred > 0 ||
+                      m.processed[std::size_t(gpu::LEAF_L1_PLACE_SURFELS)] > 0;
+    if (f > 3 && !busy) return f;
+  }
+  return -1;
+}
+
+// Hundreds of frames of random boxes, max depths 1-3 and per-frame limits: the live volume is read back and
+// checked every K frames; back at the start (depth 1, re-measured), the tree and every pool are as they were.
+TEST_F(MemoryUpdateTest, SoakOfRandomBoxesAndDepthsStaysValidAndLeaksNothing) {
+  constexpr int kFrames = 300, kCheckEvery = 10;
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), dynamic_options());
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  const formats::ProbeVolume start = gpu.value().read_back().value();
+  const runtime::Box all = root_box(start);
+  ASSERT_GT(settle(gpu.value(), all, std::nullopt), 0);
+  const Canonical settled = canonical(gpu.value().read_back().value());
+
+  std::mt19937 random(12);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int most_probes = 0, deferred = 0, splits = 0, collapses = 0, checks = 0;
+  for (int frame = 1; frame <= kFrames; ++frame) {
+    runtime::FrameInputs in;
+    for (int b = 0; b < 3; ++b) {
+      if (unit(random) < 0.5f) continue;
+      const glm::vec3 centre = all.min + (all.max - all.min) * glm::vec3(unit(random), unit(random), unit(random));
+      const glm::vec3 half = (all.max - all.min) * (0.02f + 0.2f * unit(random));
+      in.changed_boxes.push_back({centre - half, centre + half});
+    }
+    if (unit(random) < 0.05f) in.max_depth = 1 + int(unit(random) * 2.999f);
+    if (frame > kFrames / 2) in.limits = {4, 40}; // the second half defers work
+    auto stats = gpu.value().run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    ASSERT_EQ(m.lost_entries, 0) << "frame " << frame;
+    deferred += m.deferred;
+    splits += m.splits;
+    collapses += m.collapses;
+    if (frame % kCheckEvery != 0) continue;
+    const formats::ProbeVolume live = gpu.value().read_back().value();
+    expect_valid(live, 3, frame);
+    expect_finite_probes(live, frame);
+    const std::vector<std::string> problems = dynamic::check_queue_covers_tree(live);
+    ASSERT_TRUE(problems.empty()) << "frame " << frame << ": " << problems.front();
+    const int probes = live_probe_count(live);
+    ASSERT_LE(probes, 1 + 8 + 64 + 512) << "frame " << frame; // the leaves of a depth-3 tree, at most
+    ASSERT_EQ(probes + m.free_probes, m.probe_capacity) << "frame " << frame;
+    most_probes = std::max(most_probes, probes);
+    ++checks;
+  }
+  const int settle_frames = settle(gpu.value(), all, 1);
+  ASSERT_GT(settle_frames, 0);
+  const formats::ProbeVolume end = gpu.value().read_back().value();
+  ASSERT_TRUE(gpu.value().validate_live().ok());
+  const Canonical back = canonical(end);
+  std::printf("[memory] soak: %d frames, %d checks, at most %d probes, %d splits, %d merges, %d deferred; back at depth 1 "
+              "after %d frames: %d probes (settled start %d), pools %d/%d/%d (start %d/%d/%d)\n",
+              kFrames, checks, most_probes, splits, collapses, deferred, settle_frames, back.probes, settled.probes, back.probes,
+              back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
+  EXPECT_GT(splits, 10);
+  EXPECT_GT(collapses, 10);
+  EXPECT_GT(deferred, 0);
+  EXPECT_EQ(back.leaves, settled.leaves);
+  EXPECT_EQ(back.probes, settled.probes);
+  EXPECT_EQ(back.batches, settled.batches);
+  EXPECT_EQ(back.clusters, settled.clusters);
+}
+
+// Pools smaller than the refinement asks for: allocations fail and are counted, the nodes keep their states,
+// nothing is corrupted, and lowering the depth again returns every element.
+TEST_F(MemoryUpdateTest, DryPoolsCountTheShortfallAndCorruptNothing) {
+  runtime::UploadOptions options = dynamic_options();
+  options.pools = {3, 30, 90};
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), options);
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  const runtime::Box all = root_box(shallow_cornell());
+  ASSERT_GT(settle(gpu.value(), all, std::nullopt), 0);
+  const Canonical settled = canonical(gpu.value().read_back().value());
+  int failed = 0;
+  for (int frame = 1; frame <= 12; ++frame) {
+    runtime::FrameInputs in;
+    in.changed_boxes = {all};
+    if (frame == 1) in.max_depth = 3;
+    auto stats = gpu.value().run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    failed += stats.value().memory.failed_allocations;
+    const formats::ProbeVolume live = gpu.value().read_back().value();
+    expect_valid(live, 3, frame);
+    const std::vector<std::string> problems = dynamic::check_queue_covers_tree(live);
+    ASSERT_TRUE(problems.empty()) << "frame " << frame << ": " << problems.front();
+    EXPECT_GE(stats.value().memory.free_probes, 0);
+    EXPECT_GE(stats.value().memory.free_clusters, 0);
+  }
+  EXPECT_GT(failed, 0);
+  ASSERT_GT(settle(gpu.value(), all, 1), 0);
+  const Canonical back = canonical(gpu.value().read_back().value());
+  std::printf("[memory] dry pools (3 clusters, 30 probes, 90 batches free): %d failed allocations; back at depth 1: %d/%d/%d vs %d/%d/%d\n",
+              failed, back.probes, back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
+  EXPECT_EQ(back.leaves, settled.leaves);
+  EXPECT_EQ(back.batches, settled.batches);
+  EXPECT_EQ(back.clusters, settled.clusters);
+}
+
+TEST_F(MemoryUpdateTest, FrameInputsOutOfRangeAreInvalidArguments) {
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), dynamic_options());
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<runtime::FrameInputs> bad(7);
+  bad[0].changed_boxes = {{glm::vec3(0.0f), glm::vec3(nan)}};
+  bad[1].changed_boxes = {{glm::vec3(1.0f), glm::vec3(0.0f)}}; // min > max
+  bad[2].max_depth = 13;
+  bad[3].split_low = -0.1f;
+  bad[4].split_low = 0.6f, bad[4].split_high = 0.5f;
+  bad[5].dead_backface_fraction = nan;
+  bad[6].limits.max_light_entries = -1;
+  for (std::size_t i = 0; i < bad.size(); ++i) {
+    auto stats = gpu.value().run_frame(bad[i]);
+    ASSERT_FALSE(stats.ok()) << "input " << i;
+    EXPECT_EQ(stats.status().code, runtime::StatusCode::invalid_argument) << "input " << i;
+    EXPECT_NE(stats.status().message.find("run_frame"), std::string::npos) << stats.status().message;
+  }
+  auto fine = gpu.value().run_frame({});
+  ASSERT_TRUE(fine.ok()) << fine.status().message;
+  EXPECT_TRUE(gpu.value().validate_live().ok());
+}
+
 } // namespace
 } // namespace probebake::test

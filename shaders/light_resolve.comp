@@ -1,4 +1,4 @@
-// Light update, end of L2 and L3 (octree thesis §3.2.2): one thread per probe slot. Copies the gathered
+// Light update, end of L2 and L3 (octree thesis §3.2.2): one thread per probe slot (or listed probe). Copies the gathered
 // irradiance into the probe, and judges the node by the leaf rule (probebake/leaf_rule.h). The tree is
 // static in this version: L3 only counts the leaves the memory update (M0-M4) would split or free.
 #version 450
@@ -11,8 +11,9 @@
 layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
 
 void main() {
-  const uint slot = probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex;
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return;
+  const int listed = light_slot(probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex);
+  if (listed < 0 || probebake_probes[listed].link == 0) return;
+  const uint slot = uint(listed);
   for (int v = 0; v < 27; ++v) probebake_probes[slot].irradiance_sh[v] = next_irradiance[27u * slot + uint(v)];
   if (probebake_probes[slot].node < 0) return; // grid probes belong to no node
   const int verdict = leaf_verdict(probebake_probes[slot].hit_fraction, probebake_probes[slot].backface_fraction,

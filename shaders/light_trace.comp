@@ -62,8 +62,9 @@ LightRecord trace_record(vec3 origin, vec3 dir) {
 }
 
 void main() {
-  const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  const int listed = light_slot(probebake_flat_workgroup());
+  if (listed < 0 || probebake_probes[listed].link == 0) return; // uniform per workgroup
+  const uint slot = uint(listed);
   if (push.trace_all == 0u && trace_flags[slot] == 0u) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {

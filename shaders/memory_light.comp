@@ -3,7 +3,8 @@
 // touches is re-measured: without a probe it asks for one (M1, parent M0); with one it goes to L1, which
 // casts the placement lattice from its centre and acts on the leaf rule (leaf_rule.h): M2, M3 (parent M0),
 // or L2 (parent M4: the change may have made the parent's split unnecessary). L1/L2 leaves over the
-// per-frame limit wait, a touched one as L1. Kept L1 probes are flagged for light_trace's records.
+// per-frame limit wait, a touched one as L1. Kept L1 probes are flagged for light_trace's records; every
+// processed L1/L2 probe goes on the light list that trace, gather and resolve walk.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/memory_bindings.glsl"
@@ -40,10 +41,11 @@ void main() {
     }
     return;
   }
+  const int probe = ~v;
+  light_list[atomicAdd(light_list_header.count, 1u)] = probe; // L1 and L2 light the probe this frame
   if (e.state == LEAF_L2_LIGHT && !moved) { queue_push(light_out, e.node, LEAF_L2_LIGHT); return; }
 
   // L1: measure the leaf in the current pose and choose its next state.
-  const int probe = ~v;
   const vec2 m = octree_measure(cube_min, size);
   probebake_probes[probe].hit_fraction = m.x;
   probebake_probes[probe].backface_fraction = m.y;

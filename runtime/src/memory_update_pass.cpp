@@ -171,7 +171,8 @@ Status check_frame_inputs(const FrameInputs& in) {
   return {};
 }
 
-MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags)
+MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
+                                   VkBuffer light_list)
     : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
       segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)) {
   const std::size_t capacity = segment_capacity_;
@@ -231,6 +232,7 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   buffers[gpu::MEMORY_BINDING_PROBE_GENERATIONS] = probe_generations_.get();
   buffers[gpu::MEMORY_BINDING_SVO_GENERATIONS] = svo_generations_.get();
   buffers[gpu::MEMORY_BINDING_SVO_CENTRES] = svo_centres_.get();
+  buffers[gpu::MEMORY_BINDING_LIGHT_LIST] = light_list;
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().memory.set_layout.get(), buffers);
 }
 
@@ -269,19 +271,26 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
 
 void MemoryUpdatePass::record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
   Pipelines& p = device_.compute_pipelines();
-  barrier(cmd, kAnyDeviceAccess, kComputeReadWrite);
+  // Last frame's indirect dispatches read the light list that memory_begin empties (write after read).
+  barrier(cmd, Access{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                      kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT},
+          kComputeReadWrite);
   timer.begin(cmd, slot);
   bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{1, 0, 0, 0});
   dispatch(cmd, p.memory_begin.get(), 1, 1);
   dispatch(cmd, p.memory_light.get(), segment_capacity_, gpu::MEMORY_WORKGROUP_SIZE);
+  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{2, 0, 0, 0});
+  dispatch(cmd, p.memory_begin.get(), 1, 1);
   timer.end(cmd, slot);
-  barrier(cmd, kComputeReadWrite, kAnyDeviceAccess);
+  // The light update reads the probes, flags and list in its shaders and the list's sizes as dispatch sizes.
+  barrier(cmd, kComputeReadWrite, Access{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                                         kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT});
 }
 
 void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd) {
   Pipelines& p = device_.compute_pipelines();
   barrier(cmd, kAnyDeviceAccess, kComputeReadWrite);
-  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{2, 0, 0, 0});
+  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{});
   dispatch(cmd, p.memory_sync.get(), 3 * segment_capacity_, gpu::MEMORY_WORKGROUP_SIZE);
   counters_.record_end_of_pass_copy(cmd);
 }

@@ -34,14 +34,16 @@ Status check_frame_inputs(const FrameInputs& inputs);
 
 class MemoryUpdatePass {
 public:
-  // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` is the light
-  // update's per-probe flag buffer.
-  MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags);
+  // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` and
+  // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list).
+  MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags,
+                   VkBuffer light_list);
 
   // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
   // with the SVO refresh, ending with its writes visible to later compute and transfer work.
   void record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs);
-  // Records the light transitions (after the probe index build), ending with their writes visible.
+  // Records the light transitions (after the probe index build) and the light list's dispatch sizes, ending
+  // with their writes visible to compute work and indirect dispatches.
   void record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
   // Records the end of the frame: entry states from keys, pool use, counters copied for the host.
   void record_end_of_frame(VkCommandBuffer cmd);

@@ -26,8 +26,8 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   if (options.light_update && LightUpdatePass::applies(*gpu))
     light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis);
   if (dynamic_tree && light) {
-    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags());
-    light->trace_flagged();
+    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list());
+    light->walk_light_list();
   }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses);
 }

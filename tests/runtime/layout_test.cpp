@@ -153,7 +153,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"RecordBuffer", LIGHT_BINDING_RECORDS},
                            {"NextIrradianceBuffer", LIGHT_BINDING_NEXT_IRRADIANCE},
                            {"CounterBuffer", LIGHT_BINDING_COUNTERS},
-                           {"TraceFlagBuffer", LIGHT_BINDING_TRACE_FLAGS}};
+                           {"TraceFlagBuffer", LIGHT_BINDING_TRACE_FLAGS},
+                           {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST}};
   for (const char* shader : {"light_trace", "light_gather", "light_resolve"}) expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
@@ -180,7 +181,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                             {"TraceFlagBuffer", MEMORY_BINDING_TRACE_FLAGS},
                             {"ProbeGenerationBuffer", MEMORY_BINDING_PROBE_GENERATIONS},
                             {"SvoGenerationBuffer", MEMORY_BINDING_SVO_GENERATIONS},
-                            {"SvoCentreBuffer", MEMORY_BINDING_SVO_CENTRES}};
+                            {"SvoCentreBuffer", MEMORY_BINDING_SVO_CENTRES},
+                            {"LightListBuffer", MEMORY_BINDING_LIGHT_LIST}};
   for (const char* shader : kMemoryShaders) expect_bindings(shader, memory);
 }
 
@@ -354,7 +356,13 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
                            {"count", offsetof(LeafQueueHeader, count)}}),
             1);
   EXPECT_GE(expect_layout("memory_begin", "MemoryPush", {{"phase", offsetof(MemoryPush, phase)}}), 1);
-  EXPECT_GE(expect_layout("light_trace", "LightPush", {{"trace_all", offsetof(LightPush, trace_all)}}), 1);
+  EXPECT_GE(expect_layout("light_trace", "LightPush",
+                          {{"trace_all", offsetof(LightPush, trace_all)}, {"listed", offsetof(LightPush, listed)}}),
+            1);
+  const std::vector<Member> list{{"groups_x", offsetof(LightListHeader, groups_x)}, {"count", offsetof(LightListHeader, count)},
+                                 {"resolve_x", offsetof(LightListHeader, resolve_x)}, {"resolve_z", offsetof(LightListHeader, resolve_z)}};
+  EXPECT_GE(expect_layout("memory_begin", "LightListHeader", list), 1);
+  EXPECT_GE(expect_layout("light_resolve", "LightListHeader", list), 1);
 }
 
 } // namespace

@@ -274,6 +274,9 @@ TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
     ASSERT_TRUE(stats.ok()) << stats.status().message;
     const dynamic::TreeFrameStats cpu_stats = cpu.frame(step);
     expect_same_stats(stats.value().memory, cpu_stats, frame);
+    // The light update lights exactly the leaves its transitions took (L1, L2), not every slot.
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    EXPECT_EQ(stats.value().light.lit_probes, m.processed[gpu::LEAF_L1_PLACE_SURFELS] + m.processed[gpu::LEAF_L2_LIGHT]) << "frame " << frame;
     auto live = gpu.value().read_back();
     ASSERT_TRUE(live.ok()) << live.status().message;
     const Canonical g = canonical(live.value()), c = canonical(cpu.volume);

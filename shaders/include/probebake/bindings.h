@@ -62,7 +62,8 @@ PB_CONSTANT(uint, LIGHT_BINDING_RECORDS, 11u);
 PB_CONSTANT(uint, LIGHT_BINDING_NEXT_IRRADIANCE, 12u);
 PB_CONSTANT(uint, LIGHT_BINDING_COUNTERS, 13u);
 PB_CONSTANT(uint, LIGHT_BINDING_TRACE_FLAGS, 14u); // uint per probe slot: 1 = trace its records (new or re-measured)
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 15u);
+PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);  // LightListHeader + int per listed probe (runtime_types.h)
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 16u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------
 // 0-3 equal the sampling bindings (sample_irradiance.glsl's SVO lookup gives new probes their start).
@@ -92,7 +93,8 @@ PB_CONSTANT(uint, MEMORY_BINDING_TRACE_FLAGS, 22u);       // = LIGHT_BINDING_TRA
 PB_CONSTANT(uint, MEMORY_BINDING_PROBE_GENERATIONS, 23u); // uint per probe slot: +1 each time it is freed
 PB_CONSTANT(uint, MEMORY_BINDING_SVO_GENERATIONS, 24u);   // ivec4 per SVO leaf: generation of each stencil probe
 PB_CONSTANT(uint, MEMORY_BINDING_SVO_CENTRES, 25u);       // vec4 per SVO leaf: centre of its voxel, w = its SVO node (static)
-PB_CONSTANT(uint, MEMORY_BINDING_COUNT, 26u);
+PB_CONSTANT(uint, MEMORY_BINDING_LIGHT_LIST, 26u);        // = LIGHT_BINDING_LIGHT_LIST's buffer
+PB_CONSTANT(uint, MEMORY_BINDING_COUNT, 27u);
 
 #ifdef __cplusplus
 static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES &&

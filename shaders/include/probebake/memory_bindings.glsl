@@ -5,6 +5,7 @@
 
 #include "probebake/bindings.h"
 #include "probebake/memory_types.h"
+#include "probebake/runtime_types.h"
 
 layout(std430, binding = MEMORY_BINDING_VOLUME_INFO) readonly buffer VolumeInfoBuffer { VolumeInfo probebake_info; };
 layout(std430, binding = MEMORY_BINDING_PROBES) buffer ProbeBuffer { Probe probebake_probes[]; };
@@ -32,6 +33,7 @@ layout(std430, binding = MEMORY_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { ui
 layout(std430, binding = MEMORY_BINDING_PROBE_GENERATIONS) buffer ProbeGenerationBuffer { uint probe_generations[]; };
 layout(std430, binding = MEMORY_BINDING_SVO_GENERATIONS) buffer SvoGenerationBuffer { uvec4 svo_generations[]; };
 layout(std430, binding = MEMORY_BINDING_SVO_CENTRES) readonly buffer SvoCentreBuffer { vec4 svo_centres[]; };
+layout(std430, binding = MEMORY_BINDING_LIGHT_LIST) buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0
 

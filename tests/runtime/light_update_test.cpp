@@ -16,7 +16,7 @@
 #include "probebake/bake/bake.h"
 #include "probebake/bake/lighting.h"
 #include "probebake/bake/sampler.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 #include "probebake/samples/scenes.h"

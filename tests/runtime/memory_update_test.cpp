@@ -24,7 +24,7 @@
 #include <glm/geometric.hpp>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/dynamic/tree_update.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/validate.h"

@@ -11,7 +11,7 @@
 
 #include <fmt/core.h>
 
-#include "probebake/bake/eval.h"
+#include "probebake/eval/eval.h"
 #include "probebake/formats/error.h"
 
 namespace {
@@ -35,7 +35,7 @@ bake::EvalConfig parse_config(const std::string& token) {
     c.bake.max_depth = n;
     c.label = fmt::format("octree-d{}", n);
   } else if (token[0] == 'g') {
-    c.bake.placement = bake::Placement::grid;
+    c.bake.placement = formats::PlacementKind::grid;
     c.bake.grid_resolution = n;
     c.label = fmt::format("grid-{}", n);
   } else {

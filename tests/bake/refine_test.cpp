@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/ray_scene.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"

@@ -105,15 +105,11 @@ placement::PlacementInput placement_input(const scene::RayScene& rays, const Bak
                                           const ProgressCallback& progress) {
   placement::PlacementInput in;
   in.rays = &rays;
-  in.settings = {.max_depth = s.max_depth,
-                 .split_low = s.split_low,
-                 .split_high = s.split_high,
-                 .grid_resolution = s.grid_resolution,
-                 .threads = s.threads,
-                 .probe_budget = s.split_rule == SplitRule::hit_fraction ? 0 : s.probe_budget,
-                 .rank_by_error = s.split_rule == SplitRule::error,
-                 .uniform_share = s.uniform_share,
-                 .lighting = s.lighting};
+  in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads};
+  in.refine = {.probe_budget = s.split_rule == SplitRule::hit_fraction ? 0 : s.probe_budget,
+               .rank_by_error = s.split_rule == SplitRule::error,
+               .uniform_share = s.uniform_share,
+               .lighting = s.lighting};
   in.directions = lattice_directions(s.lattice, s.surfels_per_probe);
   in.clearance = clearance;
   if (progress) in.progress = [&progress](double fraction) { progress("place", fraction); };

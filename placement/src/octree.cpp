@@ -45,7 +45,7 @@ Cube to_cube(const formats::NodeCube& c) { return {c.min, c.size}; }
 
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const scene::Bounds&) {
   const PlacementSettings& s = in.settings;
-  if (s.probe_budget > 0) return place_octree_by_error(in, tree);
+  if (in.refine.probe_budget > 0) return place_octree_by_error(in, tree);
   const scene::Scene& scene = in.rays->scene();
   std::vector<formats::NodeCube> pending = {formats::root_cube(tree.volume().info)};
   std::vector<TriangleList> pending_triangles(1, TriangleList(scene.triangles.size()));

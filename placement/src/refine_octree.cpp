@@ -58,8 +58,8 @@ struct Ranked {
 class Refiner {
 public:
   Refiner(const PlacementInput& in, formats::Octree& tree)
-      : in_(in), tree_(tree), by_error_(in.settings.rank_by_error), sampler_(in, by_error_),
-        budget_(in.settings.probe_budget), max_depth_(in.settings.max_depth) {}
+      : in_(in), tree_(tree), by_error_(in.refine.rank_by_error), sampler_(in, by_error_),
+        budget_(in.refine.probe_budget), max_depth_(in.settings.max_depth) {}
 
   std::vector<PlacedProbe> run() {
     add_root();
@@ -136,7 +136,7 @@ private:
   // Splits every leaf holding geometry, level by level, while the next level's probes stay within the
   // uniform share of the budget. Returns the leaves of the last level reached.
   std::vector<int> uniform_start() {
-    const long long limit = (long long)(double(in_.settings.uniform_share) * double(budget_));
+    const long long limit = (long long)(double(in_.refine.uniform_share) * double(budget_));
     std::vector<int> level = {0};
     for (;;) {
       std::vector<int> parents;

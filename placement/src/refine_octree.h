@@ -1,4 +1,4 @@
-// Octree refinement under a probe budget (PlacementSettings::probe_budget > 0; the bake's --split-rule
+// Octree refinement under a probe budget (RefineSettings::probe_budget > 0; the bake's --split-rule
 // error or surface).
 //
 // The hit-fraction rule (octree.cpp, octree thesis §3.2.2) splits where a centre sees much surface

@@ -18,7 +18,7 @@ constexpr int kEstimateRays = 64;
 constexpr float kPi = 3.14159265f;
 constexpr float kMinCosine = 0.2f; // grazing hits: area per ray capped at 5x the facing one
 
-bake::LightingSettings estimate_settings(const PlacementSettings& s) {
+bake::LightingSettings estimate_settings(const RefineSettings& s) {
   bake::LightingSettings l = s.lighting;
   l.emitter_samples = std::min(l.emitter_samples, kEstimateEmitterSamples);
   return l;
@@ -27,8 +27,8 @@ bake::LightingSettings estimate_settings(const PlacementSettings& s) {
 } // namespace
 
 CandidateSampler::CandidateSampler(const PlacementInput& in, bool estimate)
-    : in_(in), direct_(in.rays->scene(), *in.rays, estimate_settings(in.settings)),
-      lighting_(estimate_settings(in.settings)),
+    : in_(in), direct_(in.rays->scene(), *in.rays, estimate_settings(in.refine)),
+      lighting_(estimate_settings(in.refine)),
       light_directions_(lattice_directions(Lattice::fibonacci, kEstimateRays)) {
   const scene::Scene& scene = in.rays->scene();
   const auto positive = [](glm::vec3 v) { return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f; };

@@ -21,18 +21,22 @@ struct PlacementSettings {
   float split_high = 0.5f;  // octree: hit fraction at or above which a node splits
   int grid_resolution = 16; // grid: N for N^3 probes
   int threads = 0;          // 0 = all cores
-  // Octree under a probe budget (refine_octree.h) when probe_budget > 0, instead of the hit-fraction rule:
-  // ranked by estimated interpolation error (rank_by_error, BakeSettings' SplitRule::error) or by
-  // visible surface per probe (SplitRule::surface).
+};
+
+// The octree under a probe budget (refine_octree.h) instead of the hit-fraction rule, when probe_budget > 0:
+// ranked by estimated interpolation error (rank_by_error: the bake's SplitRule::error) or by visible
+// surface per probe (SplitRule::surface).
+struct RefineSettings {
   int probe_budget = 0;
   bool rank_by_error = true;
-  float uniform_share = 0.5f; // share of the budget a uniform start may take
+  float uniform_share = 0.5f;      // share of the budget a uniform start may take
   bake::LightingSettings lighting; // the estimate's light model (sky, emitters as lights)
 };
 
 struct PlacementInput {
   const scene::RayScene* rays = nullptr;
   PlacementSettings settings;
+  RefineSettings refine;
   std::vector<glm::vec3> directions;          // the lattice
   float clearance = 0.0f;                     // the bake's effective clearance (a centre nearer a surface is moved)
   std::function<void(double fraction)> progress; // may be empty; called from the calling thread

@@ -466,6 +466,16 @@ TEST_F(MemoryUpdateTest, FrameInputsOutOfRangeAreInvalidArguments) {
   auto fine = gpu.value().run_frame({});
   ASSERT_TRUE(fine.ok()) << fine.status().message;
   EXPECT_TRUE(gpu.value().validate_live().ok());
+  // A volume without the memory update refuses what only the memory update could act on.
+  auto fixed = runtime::Volume::upload(context(), shallow_cornell());
+  ASSERT_TRUE(fixed.ok()) << fixed.status().message;
+  runtime::FrameInputs boxes;
+  boxes.changed_boxes = {root_box(shallow_cornell())};
+  auto refused = fixed.value().run_frame(boxes);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code, runtime::StatusCode::invalid_argument);
+  EXPECT_NE(refused.status().message.find("memory update"), std::string::npos) << refused.status().message;
+  EXPECT_TRUE(fixed.value().run_frame({.limits = {2, 2}}).ok()); // limits alone are harmless
 }
 
 } // namespace

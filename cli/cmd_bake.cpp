@@ -30,6 +30,7 @@ struct BakeCommandSettings {
   std::string output;
   std::string placement = "octree";
   std::string lattice = "fibonacci";
+  std::string split_rule; // empty: error with --probes, else hit-fraction
   std::vector<float> split_range;
   bool json = false;
   bake::BakeSettings bake;
@@ -133,6 +134,10 @@ bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings
 int run_bake(BakeCommandSettings& s) {
   s.bake.placement = *formats::parse_placement(s.placement); // the option checks the name
   s.bake.lattice = *parse_lattice(s.lattice);
+  const bool budget = s.bake.probe_budget != 0;
+  s.bake.split_rule = s.split_rule == "surface"                           ? bake::SplitRule::surface
+                      : s.split_rule == "error" || (s.split_rule.empty() && budget) ? bake::SplitRule::error
+                                                                                    : bake::SplitRule::hit_fraction;
   if (!s.split_range.empty()) {
     s.bake.split_low = s.split_range[0];
     s.bake.split_high = s.split_range[1];
@@ -174,6 +179,11 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--lattice", s->lattice, "Spherical lattice")->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));
   app->add_option("--split-range", s->split_range, "LOW,HIGH hit fractions: free below LOW, split at HIGH")
       ->delimiter(',')->expected(2);
+  app->add_option("--split-rule", s->split_rule, "Octree: split by hit fraction, estimated error or visible surface "
+                 "(default: error with --probes, else hit-fraction)")
+      ->check(CLI::IsMember({"hit-fraction", "error", "surface"}));
+  app->add_option("--probes", s->bake.probe_budget, "Octree, error/surface rule: probe budget");
+  app->add_option("--uniform-share", s->bake.uniform_share, "Error/surface rule: share of --probes a uniform start may take");
   app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
   app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");

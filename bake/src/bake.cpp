@@ -13,6 +13,7 @@
 
 #include "probebake/common/parallel.h"
 #include "probebake/placement/placement.h"
+#include "probebake/placement/refine_root.h"
 #include "probebake/placement/sealed.h"
 #include "probebake/placement/relocation.h"
 #include "svo_builder.h"
@@ -105,6 +106,10 @@ placement::PlacementInput placement_input(const scene::RayScene& rays, const Bak
   placement::PlacementInput in;
   in.rays = &rays;
   in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads};
+  in.refine = {.probe_budget = s.split_rule == SplitRule::hit_fraction ? 0 : s.probe_budget,
+               .rank_by_error = s.split_rule == SplitRule::error,
+               .uniform_share = s.uniform_share,
+               .lighting = s.lighting};
   in.directions = lattice_directions(s.lattice, s.surfels_per_probe);
   in.clearance = clearance;
   if (progress) in.progress = [&progress](double fraction) { progress("place", fraction); };
@@ -209,6 +214,11 @@ void check_settings(const BakeSettings& s) {
   require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
               s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
+  const bool budgeted = s.split_rule != SplitRule::hit_fraction;
+  require(!budgeted || s.probe_budget >= 1, "--split-rule error|surface needs a probe budget: --probes N with N >= 1");
+  require(budgeted || s.probe_budget == 0, "--probes N needs --split-rule error or surface");
+  require(std::isfinite(s.uniform_share) && s.uniform_share >= 0.0f && s.uniform_share <= 1.0f,
+          "--uniform-share must be in [0, 1]");
   require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,
           fmt::format("--grid must be in [1, {}]", formats::kMaxGridResolution));
   require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
@@ -233,8 +243,9 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
     add(values, sizeof(values));
   }
   const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
-                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0};
-  const float floats[] = {s.split_low, s.split_high, s.clearance};
+                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0,
+                               int(s.split_rule), s.probe_budget};
+  const float floats[] = {s.split_low, s.split_high, s.clearance, s.uniform_share};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
   const auto& l = s.lighting;
@@ -270,8 +281,14 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   report.clearance = effective_clearance(scene, settings);
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
-  formats::Octree tree(volume);
   const placement::PlacementInput input = placement_input(rays, settings, report.clearance, progress);
+  // A closed object seen from outside has no open space inside its bounds (placement/refine_root.h).
+  if (formats::placement_kind_info(settings.placement).has_octree &&
+      !placement::open_space_inside(rays, volume.info, report.clearance, input.directions, settings.threads)) {
+    placement::surround_root(volume.info);
+    report.surrounded_root = true;
+  }
+  formats::Octree tree(volume);
 
   timer.stage("place");
   std::vector<placement::PlacedProbe> placed = placement::place(settings.placement, input, tree, scene.bounds);

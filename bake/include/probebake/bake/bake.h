@@ -22,6 +22,11 @@ namespace probebake::bake {
 // The placement methods and their properties: formats/placement_kind.h (one table for bake, CLI, info).
 using Placement = formats::PlacementKind;
 
+// When an octree leaf splits: the thesis's hit fraction of its centre probe (split_low/split_high); or,
+// under a probe budget (refine_octree.h), where a split removes the most estimated interpolation error
+// (error) or gives each new probe the most visible surface (surface).
+enum class SplitRule { hit_fraction, error, surface };
+
 struct BakeSettings {
   Placement placement = Placement::octree;
   int max_depth = 4;              // octree: deepest level a node may split to (root = 0), at most 12
@@ -29,6 +34,9 @@ struct BakeSettings {
   Lattice lattice = Lattice::fibonacci;
   float split_low = 0.25f;        // hit fraction below which a probe is freed
   float split_high = 0.5f;        // hit fraction at or above which a node splits
+  SplitRule split_rule = SplitRule::hit_fraction;
+  int probe_budget = 0;           // error/surface rule: probes at most (placed, before dead ones are freed), >= 1
+  float uniform_share = 0.5f;     // error/surface rule: share of the budget a uniform start may take, in [0, 1]
   int grid_resolution = 16;       // grid: N for N^3 probes
   int svo_depth = 5;              // SVO leaf depth (voxels of root_size / 2^svo_depth)
   float clearance = 0.0f;         // minimum probe-to-surface distance; 0 = 2% of the scene's largest extent
@@ -81,6 +89,7 @@ struct BakeReport {
   int svo_solid_voxels = 0;           // leaf-depth voxels left out: inside geometry
   int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
+  bool surrounded_root = false;       // no open space inside the scene bounds: root cube tripled around them
   LightingReport lighting;            // when settings.lighting.enabled
   RuntimeLightingReport runtime_lighting;
   std::vector<StageTime> stages;

@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "probebake/bake/lighting.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/placement/probe_tracing.h"
@@ -22,9 +23,20 @@ struct PlacementSettings {
   int threads = 0;          // 0 = all cores
 };
 
+// The octree under a probe budget (refine_octree.h) instead of the hit-fraction rule, when probe_budget > 0:
+// ranked by estimated interpolation error (rank_by_error: the bake's SplitRule::error) or by visible
+// surface per probe (SplitRule::surface).
+struct RefineSettings {
+  int probe_budget = 0;
+  bool rank_by_error = true;
+  float uniform_share = 0.5f;      // share of the budget a uniform start may take
+  bake::LightingSettings lighting; // the estimate's light model (sky, emitters as lights)
+};
+
 struct PlacementInput {
   const scene::RayScene* rays = nullptr;
   PlacementSettings settings;
+  RefineSettings refine;
   std::vector<glm::vec3> directions;          // the lattice
   float clearance = 0.0f;                     // the bake's effective clearance (a centre nearer a surface is moved)
   std::function<void(double fraction)> progress; // may be empty; called from the calling thread

@@ -34,6 +34,7 @@ void check_options(const SkeletonOptions& o) {
   require(o.max_candidates >= 1 && o.max_candidates <= kMaxCandidates, fmt::format("candidates must be in [1, {}]", kMaxCandidates));
   require(o.iterations >= 0 && o.iterations <= kMaxIterations, fmt::format("iterations must be in [0, {}]", kMaxIterations));
   require(o.threads >= 0, "--threads must be >= 0");
+  require(std::isfinite(o.falloff_scale) && o.falloff_scale > 0.0f, "the falloff scale must be finite and > 0");
 }
 
 float grid_voxel(const SkeletonOptions& o, const scene::Bounds& domain) {
@@ -91,7 +92,7 @@ SkeletonResult place_skeleton(const scene::RayScene& rays, const bake::SceneSdf&
   const std::vector<SurfaceSample> samples = sample_surface(scene, options.surface_samples, options.seed);
   ObjectiveContext ctx{&rays, &sdf, &samples, domain.largest_extent(), options.clearance, domain, options.threads};
   // The budget's probe spacing over the surface: a sample is served well from about that far.
-  if (options.probes > 0) ctx.falloff = float(std::sqrt(seen_area(scene) / double(options.probes)));
+  if (options.probes > 0) ctx.falloff = options.falloff_scale * float(std::sqrt(seen_area(scene) / double(options.probes)));
   const QualityMatrix all = quality_matrix(ctx, candidates);
   const std::vector<std::size_t> chosen = select_greedy(all, options.probes, options.threads);
   if (chosen.empty()) { // no candidate sees any sample (e.g. no surface faces the free space): keep the deepest

@@ -72,7 +72,7 @@ bake::SdfSettings skeleton_sdf_settings(const scene::Bounds& domain) {
   return s;
 }
 
-SkeletonResult place_skeleton(const scene::RayScene& rays, const bake::SceneSdf& sdf, const SkeletonOptions& options) {
+SkeletonResult skeleton_probes(const scene::RayScene& rays, const bake::SceneSdf& sdf, const SkeletonOptions& options) {
   check_options(options);
   const scene::Scene& scene = rays.scene();
   SkeletonResult result;

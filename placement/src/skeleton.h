@@ -77,7 +77,7 @@ bake::SdfSettings skeleton_sdf_settings(const scene::Bounds& domain);
 
 // Places the probes. `rays` and `sdf` are of the same scene. Throws probebake::Error (usage) for bad
 // options. Returns no probe when the domain holds no free voxel.
-SkeletonResult place_skeleton(const scene::RayScene& rays, const bake::SceneSdf& sdf, const SkeletonOptions& options);
+SkeletonResult skeleton_probes(const scene::RayScene& rays, const bake::SceneSdf& sdf, const SkeletonOptions& options);
 
 // ---- Building blocks (tests measure each) ------------------------------------------------------------
 

@@ -122,7 +122,7 @@ TEST(Skeleton, GreedySelectionCoversTheCornellBoxSurface) {
   Cornell& c = cornell();
   SkeletonOptions o;
   o.clearance = c.clearance;
-  const SkeletonResult r = place_skeleton(c.rays, c.sdf, o);
+  const SkeletonResult r = skeleton_probes(c.rays, c.sdf, o);
   ASSERT_FALSE(r.probes.empty());
   // Measured independently of the placement's own samples: other samples, other reference points.
   const std::vector<SurfaceSample> samples = sample_surface(c.scene, 4096, 777);
@@ -144,7 +144,7 @@ TEST(Skeleton, BudgetGivesThatManyProbesAndOptimisationRaisesTheObjective) {
   SkeletonOptions o;
   o.clearance = c.clearance;
   o.probes = 24;
-  const SkeletonResult r = place_skeleton(c.rays, c.sdf, o);
+  const SkeletonResult r = skeleton_probes(c.rays, c.sdf, o);
   EXPECT_EQ(r.probes.size(), 24u);
   std::printf("cornell, 24 probes: R %.2f -> %.2f in %d moves, coverage %.4f\n", r.report.objective_selected,
               r.report.objective_final, r.report.moves, double(r.report.coverage));
@@ -158,9 +158,9 @@ TEST(Skeleton, SameProbesWhateverTheThreadCount) {
   o.clearance = c.clearance;
   o.probes = 16;
   o.threads = 1;
-  const SkeletonResult one = place_skeleton(c.rays, c.sdf, o);
+  const SkeletonResult one = skeleton_probes(c.rays, c.sdf, o);
   o.threads = 2;
-  const SkeletonResult two = place_skeleton(c.rays, c.sdf, o);
+  const SkeletonResult two = skeleton_probes(c.rays, c.sdf, o);
   ASSERT_EQ(one.probes.size(), two.probes.size());
   EXPECT_EQ(std::memcmp(one.probes.data(), two.probes.data(), one.probes.size() * sizeof(glm::vec3)), 0);
   EXPECT_EQ(one.report.objective_final, two.report.objective_final);
@@ -182,7 +182,7 @@ TEST(Skeleton, EveryGeneratedAndSharedSceneGetsProbes) {
     SkeletonOptions o;
     o.clearance = default_clearance(s);
     const bake::SceneSdf sdf(s, skeleton_sdf_settings(default_domain(s, o.clearance)));
-    const SkeletonResult r = place_skeleton(rays, sdf, o);
+    const SkeletonResult r = skeleton_probes(rays, sdf, o);
     std::printf("%s: %zu probes, coverage %.4f\n", name.c_str(), r.probes.size(), double(r.report.coverage));
     EXPECT_GE(r.probes.size(), 1u) << name;
     for (const glm::vec3& p : r.probes) EXPECT_GE(sdf.distance(p), o.clearance) << name;
@@ -193,13 +193,13 @@ TEST(Skeleton, RefusesBadOptions) {
   Cornell& c = cornell();
   SkeletonOptions o;
   o.clearance = 0.0f;
-  EXPECT_THROW(place_skeleton(c.rays, c.sdf, o), Error);
+  EXPECT_THROW(skeleton_probes(c.rays, c.sdf, o), Error);
   o.clearance = c.clearance;
   o.probes = -1;
-  EXPECT_THROW(place_skeleton(c.rays, c.sdf, o), Error);
+  EXPECT_THROW(skeleton_probes(c.rays, c.sdf, o), Error);
   o.probes = 0;
   o.voxel_size = 1e-6f;
-  EXPECT_THROW(place_skeleton(c.rays, c.sdf, o), Error);
+  EXPECT_THROW(skeleton_probes(c.rays, c.sdf, o), Error);
 }
 
 } // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -178,12 +179,15 @@ TEST(Skeleton, EveryGeneratedAndSharedSceneGetsProbes) {
     }
   std::sort(scenes.begin(), scenes.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& [name, s] : scenes) {
+    const auto start = std::chrono::steady_clock::now();
     const scene::RayScene rays(s);
     SkeletonOptions o;
     o.clearance = default_clearance(s);
     const bake::SceneSdf sdf(s, skeleton_sdf_settings(default_domain(s, o.clearance)));
     const SkeletonResult r = skeleton_probes(rays, sdf, o);
-    std::printf("%s: %zu probes, coverage %.4f\n", name.c_str(), r.probes.size(), double(r.report.coverage));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s: %zu probes, coverage %.4f, %.2f s (SDF, skeleton, selection)\n", name.c_str(), r.probes.size(),
+                double(r.report.coverage), seconds);
     EXPECT_GE(r.probes.size(), 1u) << name;
     for (const glm::vec3& p : r.probes) EXPECT_GE(sdf.distance(p), o.clearance) << name;
   }

@@ -20,10 +20,10 @@
 #include <fmt/core.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "probe_tracing.h"
+#include "probebake/placement/probe_tracing.h"
 #include "probebake/bake/bake.h"
-#include "probebake/bake/lattice.h"
-#include "probebake/bake/ray_scene.h"
+#include "probebake/common/lattice.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/dynamic/tree_update.h"
 #include "probebake/formats/validate.h"
 
@@ -134,7 +134,7 @@ int main(int argc, char** argv) try {
   const scene::Scene rest = scene::load_scene(o.scene, {.require_triangles = true});
   scene::Scene moving = rest;
   std::vector<Group> groups = find_groups(rest, o.move);
-  const std::vector<glm::vec3> lattice = bake::lattice_directions(bake::Lattice::fibonacci, o.surfels);
+  const std::vector<glm::vec3> lattice = lattice_directions(Lattice::fibonacci, o.surfels);
 
   bake::BakeSettings settings; // the bake's root cube and thresholds
   settings.max_depth = o.max_depth;
@@ -181,7 +181,7 @@ int main(int argc, char** argv) try {
     const scene::RayScene rays(moving);
     const auto t1 = std::chrono::steady_clock::now();
     const dynamic::TreeFrameStats st = update.run_frame(changed, [&](const formats::NodeCube& c, glm::vec3 p) {
-      const bake::detail::ProbeRays r = bake::detail::trace_probe(rays, p, {c.min, c.size}, lattice);
+      const placement::ProbeRays r = placement::trace_probe(rays, p, {c.min, c.size}, lattice);
       return dynamic::LeafTrace{r.hit_fraction(), r.backface_fraction()};
     });
     const auto t2 = std::chrono::steady_clock::now();

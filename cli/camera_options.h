@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 
 namespace probebake::cli {
 

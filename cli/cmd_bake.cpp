@@ -12,10 +12,18 @@
 #include "probebake/bake/bake.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
 
 namespace probebake::cli {
 namespace {
+
+// Every method of formats/placement_kind.h, by name.
+std::vector<std::string> placement_choices() {
+  std::vector<std::string> names;
+  for (const formats::PlacementKindInfo& k : formats::placement_kinds()) names.emplace_back(k.name);
+  return names;
+}
 
 struct BakeCommandSettings {
   std::string scene;
@@ -123,8 +131,8 @@ bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings
 }
 
 int run_bake(BakeCommandSettings& s) {
-  s.bake.placement = s.placement == "grid" ? bake::Placement::grid : bake::Placement::octree;
-  s.bake.lattice = *bake::parse_lattice(s.lattice);
+  s.bake.placement = *formats::parse_placement(s.placement); // the option checks the name
+  s.bake.lattice = *parse_lattice(s.lattice);
   if (!s.split_range.empty()) {
     s.bake.split_low = s.split_range[0];
     s.bake.split_high = s.split_range[1];
@@ -159,7 +167,8 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
-  app->add_option("--placement", s->placement, "Probe placement")->check(CLI::IsMember({"octree", "grid"}));
+  app->add_option("--placement", s->placement, "Probe placement: octree (--max-depth, --split-range) or grid (--grid)")
+      ->check(CLI::IsMember(placement_choices()));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
   app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
   app->add_option("--lattice", s->lattice, "Spherical lattice")->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));

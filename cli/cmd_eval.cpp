@@ -13,9 +13,10 @@
 #include "camera_options.h"
 #include "commands.h"
 #include "scene_input.h"
-#include "probebake/bake/eval.h"
+#include "probebake/eval/eval.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/placement_kind.h"
 
 namespace probebake::cli {
 namespace {
@@ -37,9 +38,9 @@ struct EvalCommandSettings {
 
 nlohmann::json row_json(const bake::EvalRow& r) {
   return {{"label", r.label}, {"sampler", r.sampler},
-          {"placement", r.bake.placement == bake::Placement::grid ? "grid" : "octree"},
+          {"placement", std::string(formats::placement_name(r.bake.placement))},
           {"max_depth", r.bake.max_depth}, {"grid", r.bake.grid_resolution}, {"surfels", r.bake.surfels_per_probe},
-          {"lattice", std::string(bake::lattice_name(r.bake.lattice))}, {"svo_depth", r.bake.svo_depth},
+          {"lattice", std::string(lattice_name(r.bake.lattice))}, {"svo_depth", r.bake.svo_depth},
           {"probes", r.probes}, {"file_bytes", r.file_bytes}, {"bake_seconds", r.bake_seconds},
           {"sample_ns", r.sample_ns}, {"rmse", r.rmse}, {"relative_rmse", r.relative_rmse}, {"bias", r.bias}, {"p95", r.p95},
           {"max_error", r.max_error}, {"leak_rmse", r.leak_rmse}, {"leak_points", r.leak_points},

@@ -11,7 +11,7 @@
 #include "scene_input.h"
 #include "info_probes.h"
 #include "probebake/formats/container.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::cli {
 namespace {

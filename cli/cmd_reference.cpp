@@ -14,7 +14,7 @@
 #include "camera_options.h"
 #include "commands.h"
 #include "scene_input.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "probebake/formats/container.h"
+#include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/volume_stats.h"
 
@@ -22,7 +23,10 @@ struct ProbesInfo {
   formats::VolumeStats stats;
 };
 
-const char* placement_name(int placement) { return placement == gpu::PLACEMENT_GRID ? "grid" : "octree"; }
+std::string placement_name(int code) {
+  const formats::PlacementKindInfo* kind = formats::placement_kind_for_code(code);
+  return kind != nullptr ? std::string(kind->name) : fmt::format("unknown ({})", code);
+}
 
 const char* lattice_name(int lattice) {
   switch (lattice) {

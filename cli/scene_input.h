@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::cli {
 

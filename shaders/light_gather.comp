@@ -1,4 +1,4 @@
-// Light update L2 (octree thesis §3.2.2, "light surfels and probe"): one workgroup per probe slot. Every
+// Light update L2 (octree thesis §3.2.2, "light surfels and probe"): one workgroup per probe slot (or listed probe). Every
 // record is relit, L = base + reflect * (E_punctual + E_probes), E_probes from the previous frame's probes
 // through the SVO sampler (sample_irradiance.glsl); the radiance is projected onto L2 SH irradiance with
 // Monte Carlo weight 4 pi / rays (bake/src/lighting/iteration.cpp) and blended with the probe's old value
@@ -28,8 +28,9 @@ vec3 relight(LightRecord rec) {
 }
 
 void main() {
-  const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  const int listed = light_slot(probebake_flat_workgroup());
+  if (listed < 0 || probebake_probes[listed].link == 0) return; // uniform per workgroup
+  const uint slot = uint(listed);
   const uint t = gl_LocalInvocationIndex;
   if (t == 0) indirect_misses = 0u;
   float acc[27];

@@ -1,21 +1,23 @@
-// Light update, end of L2 and L3 (octree thesis §3.2.2): one thread per probe slot. Copies the gathered
-// irradiance into the probe, and checks the node's hit fraction against the split thresholds. The tree is
+// Light update, end of L2 and L3 (octree thesis §3.2.2): one thread per probe slot (or listed probe). Copies the gathered
+// irradiance into the probe, and judges the node by the leaf rule (probebake/leaf_rule.h). The tree is
 // static in this version: L3 only counts the leaves the memory update (M0-M4) would split or free.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #define PROBEBAKE_PROBES_WRITABLE
 #include "probebake/light_bindings.glsl"
 #include "probebake/dispatch.glsl"
+#include "probebake/leaf_rule.h"
 
 layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
 
 void main() {
-  const uint slot = probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex;
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return;
+  const int listed = light_slot(probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex);
+  if (listed < 0 || probebake_probes[listed].link == 0) return;
+  const uint slot = uint(listed);
   for (int v = 0; v < 27; ++v) probebake_probes[slot].irradiance_sh[v] = next_irradiance[27u * slot + uint(v)];
   if (probebake_probes[slot].node < 0) return; // grid probes belong to no node
-  const float f = probebake_probes[slot].hit_fraction;
-  if (f < probebake_info.split_low) atomicAdd(light_counters.want_free, 1);
-  else if (f >= probebake_info.split_high && probebake_probes[slot].depth < probebake_info.max_depth)
-    atomicAdd(light_counters.want_split, 1);
+  const int verdict = leaf_verdict(probebake_probes[slot].hit_fraction, probebake_probes[slot].backface_fraction,
+                                   probebake_probes[slot].depth, probebake_info, LEAF_DEAD_BACKFACE_FRACTION);
+  if (verdict == LEAF_VERDICT_FREE) atomicAdd(light_counters.want_free, 1);
+  else if (verdict == LEAF_VERDICT_SPLIT) atomicAdd(light_counters.want_split, 1);
 }

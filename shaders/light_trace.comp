@@ -1,4 +1,5 @@
-// Light update L1 (octree thesis §3.2.2, "place surfels"): one workgroup per probe slot.
+// Light update L1 (octree thesis §3.2.2, "place surfels"): one workgroup per probe slot, every live probe
+// on the first frame, then the probes whose trace flag is set (new probes, re-measured leaves).
 //  - Hit fraction: the placement lattice (ray_directions[rays, rays + placement_rays)) traced from the
 //    centre of the probe's octree node, hits counted inside the node cube (bake/src/probe_tracing.cpp);
 //    octree probes only (grid probes keep the bake's value).
@@ -12,58 +13,25 @@
 #include "probebake/light_bindings.glsl"
 #include "probebake/dispatch.glsl"
 #include "probebake/direct_light.glsl"
+#include "probebake/octree.glsl"
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
 shared uint hits_in_cube, hits, backface_hits;
 shared uint front_count, back_count, miss_count;
 
-// The cube of octree node `node`, computed top-down exactly as formats::node_cube (precise: no FMA).
-void node_cube(int node, out vec3 cube_min, out float cube_size) {
-  int octants[OCTREE_MAX_DEPTH];
-  int depth = 0;
-  while (node > 0 && depth < OCTREE_MAX_DEPTH) {
-    const int meta = node - (node - 1) % OCTREE_CLUSTER_SIZE;
-    octants[depth++] = node - meta - 1;
-    node = ~probebake_octree[meta];
-  }
-  precise vec3 m = probebake_info.root_min;
-  precise float size = probebake_info.root_size;
-  for (int level = depth - 1; level >= 0; --level) {
-    const int o = octants[level];
-    const float half_size = 0.5 * size;
-    m = m + vec3(float(o & 1), float((o >> 1) & 1), float((o >> 2) & 1)) * half_size;
-    size = half_size;
-  }
-  cube_min = m;
-  cube_size = size;
-}
-
-// bake::detail::Cube::exit_distance.
-float exit_distance(vec3 cube_min, float size, vec3 inside, vec3 dir) {
-  float t = 3.4e38;
-  for (int a = 0; a < 3; ++a) {
-    if (dir[a] > 0.0) t = min(t, (cube_min[a] + size - inside[a]) / dir[a]);
-    else if (dir[a] < 0.0) t = min(t, (cube_min[a] - inside[a]) / dir[a]);
-  }
-  return max(t, 0.0);
-}
-
 void measure_hit_fraction(int probe) {
   vec3 cube_min;
   float size;
-  node_cube(probebake_probes[probe].node, cube_min, size);
+  int depth;
+  octree_node_cube(probebake_probes[probe].node, cube_min, size, depth);
   precise const vec3 centre = cube_min + vec3(0.5 * size);
-  const int first = probebake_lighting.rays;
-  for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays; r += int(LIGHT_WORKGROUP_SIZE)) {
-    const vec3 dir = probebake_ray_directions[first + r].xyz;
-    float t = 3.4e38;
-    const int tri = probebake_trace(centre, dir, 0.0, t, false);
-    if (tri < 0) continue;
-    atomicAdd(hits, 1u);
-    if (probebake_inside(tri, dir)) atomicAdd(backface_hits, 1u);
-    if (t <= exit_distance(cube_min, size, centre, dir)) atomicAdd(hits_in_cube, 1u);
-  }
+  uint in_cube = 0u, all_hits = 0u, backface = 0u;
+  for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays; r += int(LIGHT_WORKGROUP_SIZE))
+    octree_lattice_ray(cube_min, size, centre, r, in_cube, all_hits, backface);
+  atomicAdd(hits_in_cube, in_cube);
+  atomicAdd(hits, all_hits);
+  atomicAdd(backface_hits, backface);
 }
 
 LightRecord trace_record(vec3 origin, vec3 dir) {
@@ -94,8 +62,10 @@ LightRecord trace_record(vec3 origin, vec3 dir) {
 }
 
 void main() {
-  const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  const int listed = light_slot(probebake_flat_workgroup());
+  if (listed < 0 || probebake_probes[listed].link == 0) return; // uniform per workgroup
+  const uint slot = uint(listed);
+  if (push.trace_all == 0u && trace_flags[slot] == 0u) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {
     hits_in_cube = 0u; hits = 0u; backface_hits = 0u;
@@ -110,6 +80,7 @@ void main() {
     light_records[slot * uint(rays) + uint(r)] = trace_record(origin, probebake_ray_directions[r].xyz);
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
+  trace_flags[slot] = 0u;
   if (octree_probe) {
     probebake_probes[probe].hit_fraction = float(hits_in_cube) / float(probebake_lighting.placement_rays);
     probebake_probes[probe].backface_fraction = hits > 0u ? float(backface_hits) / float(hits) : 0.0;

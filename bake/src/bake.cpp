@@ -11,13 +11,14 @@
 #include <glm/geometric.hpp>
 #include <xxhash.h>
 
-#include "parallel.h"
-#include "placement.h"
-#include "relocation.h"
+#include "probebake/common/parallel.h"
+#include "probebake/placement/placement.h"
+#include "probebake/placement/sealed.h"
+#include "probebake/placement/relocation.h"
 #include "svo_builder.h"
 #include "probebake/bake/gpu_scene.h"
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene_sdf.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/placement/scene_sdf.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/octree.h"
@@ -49,19 +50,19 @@ void require(bool ok, const std::string& message) {
 }
 
 float effective_clearance(const scene::Scene& scene, const BakeSettings& s) {
-  return s.clearance > 0.0f ? s.clearance : detail::default_clearance(scene);
+  return s.clearance > 0.0f ? s.clearance : placement::default_clearance(scene);
 }
 
 // Moves or frees every dead probe; grid probes without a valid position are freed too.
-void relocate_dead_probes(const detail::RelocationContext& ctx, std::vector<detail::PlacedProbe>& placed,
+void relocate_dead_probes(const placement::RelocationContext& ctx, std::vector<placement::PlacedProbe>& placed,
                           formats::Octree& tree, int threads, BakeReport& report) {
   std::vector<std::size_t> dead;
   for (std::size_t i = 0; i < placed.size(); ++i)
-    if (detail::is_dead(placed[i].rays, ctx.clearance)) dead.push_back(i);
+    if (placement::is_dead(placed[i].rays, ctx.clearance)) dead.push_back(i);
   std::vector<std::optional<glm::vec3>> moved(dead.size());
-  detail::parallel_for(dead.size(), threads, [&](std::size_t k) {
+  parallel_for(dead.size(), threads, [&](std::size_t k) {
     const auto& p = placed[dead[k]];
-    moved[k] = detail::relocate_probe(ctx, tree.volume().probes[std::size_t(p.probe)].position, p.rays, p.cube);
+    moved[k] = placement::relocate_probe(ctx, tree.volume().probes[std::size_t(p.probe)].position, p.rays, p.cube);
   });
   report.dead_probes = int(dead.size());
   for (std::size_t k = 0; k < dead.size(); ++k) {
@@ -79,11 +80,11 @@ void relocate_dead_probes(const detail::RelocationContext& ctx, std::vector<deta
 // Traces the final probe positions once more and stores their surfels in batch chains (for runtimes that
 // update lighting or placement of dynamic scenes).
 void store_surfels(const scene::RayScene& rays, const std::vector<glm::vec3>& directions,
-                   const std::vector<detail::PlacedProbe>& placed, formats::Octree& tree, int threads) {
+                   const std::vector<placement::PlacedProbe>& placed, formats::Octree& tree, int threads) {
   std::vector<std::vector<gpu::Surfel>> surfels(placed.size());
-  detail::parallel_for(placed.size(), threads, [&](std::size_t i) {
+  parallel_for(placed.size(), threads, [&](std::size_t i) {
     const gpu::Probe& p = tree.volume().probes[std::size_t(placed[i].probe)];
-    if (p.link != 0) detail::trace_probe(rays, p.position, placed[i].cube, directions, &surfels[i]);
+    if (p.link != 0) placement::trace_probe(rays, p.position, placed[i].cube, directions, &surfels[i]);
   });
   for (std::size_t i = 0; i < placed.size(); ++i) {
     const int probe = placed[i].probe;
@@ -98,11 +99,23 @@ void store_surfels(const scene::RayScene& rays, const std::vector<glm::vec3>& di
   }
 }
 
+// What the placement methods read of the settings (placement/placement.h), with the bake's progress as "place".
+placement::PlacementInput placement_input(const scene::RayScene& rays, const BakeSettings& s, float clearance,
+                                          const ProgressCallback& progress) {
+  placement::PlacementInput in;
+  in.rays = &rays;
+  in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads};
+  in.directions = lattice_directions(s.lattice, s.surfels_per_probe);
+  in.clearance = clearance;
+  if (progress) in.progress = [&progress](double fraction) { progress("place", fraction); };
+  return in;
+}
+
 // The narrow band must reach past the clearance the relocation asks for (1.5x), or push_out cannot
 // confirm it.
-SdfSettings sdf_settings(const scene::Scene& scene, float clearance) {
+placement::SdfSettings sdf_settings(const scene::Scene& scene, float clearance) {
   const float voxel = glm::length(scene.bounds.max - scene.bounds.min) / 256.0f;
-  SdfSettings settings;
+  placement::SdfSettings settings;
   if (voxel > 0.0f) settings.band_voxels = std::max(3.0f, std::ceil(1.5f * clearance / voxel) + 1.0f);
   return settings;
 }
@@ -177,14 +190,15 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
   const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
   info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
   info.root_size = size;
-  info.placement = s.placement == Placement::octree ? gpu::PLACEMENT_OCTREE : gpu::PLACEMENT_GRID;
-  info.max_depth = s.placement == Placement::octree ? s.max_depth : 0;
+  const formats::PlacementKindInfo& kind = formats::placement_kind_info(s.placement);
+  info.placement = kind.file_code;
+  info.max_depth = kind.uses_max_depth ? s.max_depth : 0;
   info.svo_depth = s.svo_depth;
   info.lattice = int(s.lattice);
   info.surfels_per_probe = s.surfels_per_probe;
   info.split_low = s.split_low;
   info.split_high = s.split_high;
-  info.grid_resolution = s.placement == Placement::grid ? s.grid_resolution : 0;
+  info.grid_resolution = kind.uses_grid_resolution ? s.grid_resolution : 0;
   return info;
 }
 
@@ -238,16 +252,16 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   check_settings(settings);
   check_scene(scene);
   check_clearance(scene, settings);
-  const detail::ThreadLimit thread_limit(settings.threads);
+  const ThreadLimit thread_limit(settings.threads);
   BakeResult result;
   BakeReport& report = result.report;
   StageTimer timer(report);
 
   timer.stage("bvh");
   const scene::RayScene full_rays(scene);
-  // Placement, relocation, the SVO and lighting see only what open space can see (placement.h); the
+  // Placement, relocation, the SVO and lighting see only what open space can see (placement/sealed.h); the
   // runtime lighting sections keep every triangle.
-  const std::optional<scene::Scene> culled = detail::without_sealed(scene, detail::sealed_triangles(full_rays, settings.threads));
+  const std::optional<scene::Scene> culled = placement::without_sealed(scene, placement::sealed_triangles(full_rays, settings.threads));
   const scene::Scene& visible = culled ? *culled : scene;
   std::optional<scene::RayScene> culled_rays;
   if (culled) culled_rays.emplace(*culled);
@@ -257,24 +271,21 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
   formats::Octree tree(volume);
-  detail::PlacementInput input{&rays, &settings, lattice_directions(settings.lattice, settings.surfels_per_probe),
-                               report.clearance};
+  const placement::PlacementInput input = placement_input(rays, settings, report.clearance, progress);
 
   timer.stage("place");
-  std::vector<detail::PlacedProbe> placed = settings.placement == Placement::octree
-                                                ? detail::place_octree(input, tree, progress)
-                                                : detail::place_grid(input, tree, scene.bounds);
+  std::vector<placement::PlacedProbe> placed = placement::place(settings.placement, input, tree, scene.bounds);
 
   report.placed_probes = int(placed.size());
   // The SDF is built only when some probe needs relocating: most clean scenes never pay for it.
   const bool any_dead = std::any_of(placed.begin(), placed.end(),
-                                    [&](const detail::PlacedProbe& p) { return detail::is_dead(p.rays, report.clearance); });
+                                    [&](const placement::PlacedProbe& p) { return placement::is_dead(p.rays, report.clearance); });
   if (any_dead) {
     timer.stage("sdf");
-    const SceneSdf sdf(visible, sdf_settings(scene, report.clearance));
+    const placement::SceneSdf sdf(visible, sdf_settings(scene, report.clearance));
     timer.stage("relocate");
     if (progress) progress("relocate", 0.0);
-    const detail::RelocationContext ctx{&rays, &sdf, input.directions, report.clearance};
+    const placement::RelocationContext ctx{&rays, &sdf, input.directions, report.clearance};
     relocate_dead_probes(ctx, placed, tree, settings.threads, report);
   }
   if (settings.store_surfels) {

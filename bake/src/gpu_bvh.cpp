@@ -14,7 +14,7 @@
 #include <fmt/core.h>
 #include <glm/common.hpp>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake::detail {

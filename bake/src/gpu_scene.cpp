@@ -10,8 +10,8 @@
 #include <fmt/core.h>
 
 #include "gpu_bvh.h"
-#include "lighting/direct_light.h"
-#include "probebake/bake/lattice.h"
+#include "probebake/bake/direct_light.h"
+#include "probebake/common/lattice.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake {

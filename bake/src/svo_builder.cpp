@@ -13,7 +13,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 
 namespace probebake::bake::detail {
 namespace {

@@ -3,7 +3,7 @@
 // no payload; voxels inside solid geometry are left out (empty).
 #pragma once
 
-#include "probe_tracing.h"
+#include "probebake/placement/probe_tracing.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::bake::detail {

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "probebake/formats/error.h"
+#include "probebake/leaf_rule.h"
 
 namespace probebake::dynamic {
 namespace {
@@ -15,20 +16,7 @@ namespace {
 
 bool is_memory_state(int state) { return state >= gpu::LEAF_M0_CHILD_ALLOCATING && state <= gpu::LEAF_M4_FREE_CLUSTER; }
 
-int state_priority(int state) {
-  switch (state) {
-  case gpu::LEAF_M0_CHILD_ALLOCATING: return 5;
-  case gpu::LEAF_M4_FREE_CLUSTER: return 4;
-  case gpu::LEAF_M3_SPLIT: return 3;
-  case gpu::LEAF_M2_FREE_PROBE: return 2;
-  case gpu::LEAF_M1_ALLOCATE_PROBE: return 1;
-  case gpu::LEAF_L0_PARENT_FREED: return 4;
-  case gpu::LEAF_L1_PLACE_SURFELS: return 3;
-  case gpu::LEAF_L2_LIGHT: return 2;
-  case gpu::LEAF_L3_CHECK_BOXES: return 1;
-  default: return 0;
-  }
-}
+int state_priority(int state) { return gpu::leaf_state_priority(state); }
 
 LeafQueue::LeafQueue(formats::ProbeVolume& volume, int segment_capacity) : volume_(&volume) {
   if (volume.leaf_entries.empty()) formats::init_leaf_queue(volume, segment_capacity);

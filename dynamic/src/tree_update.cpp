@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "probebake/formats/error.h"
+#include "probebake/leaf_rule.h"
 
 namespace probebake::dynamic {
 
@@ -213,14 +214,12 @@ std::optional<TreeUpdate::Verdict> TreeUpdate::collapse_verdict(Frame& frame, in
 }
 
 TreeUpdate::Verdict TreeUpdate::judge(const LeafTrace& t, int depth) const {
-  // The bake's rule (placement.cpp): a centre that sees too little, or sees the inside of a solid, cannot
-  // judge its cube; it refines towards the geometry it does see in the cube, and is freed without any.
-  const formats::ProbeVolume& v = tree_->volume();
-  const bool below_max = depth < v.info.max_depth;
-  const bool blind = t.hit_fraction < v.info.split_low || t.backface_fraction > settings_.dead_backface_fraction;
-  if (blind && !(below_max && t.hit_fraction > 0.0f)) return Verdict::free;
-  if ((t.hit_fraction >= v.info.split_high || blind) && below_max) return Verdict::split;
-  return Verdict::keep;
+  // The one leaf rule of C++ and GLSL (probebake/leaf_rule.h): the bake's placement rule.
+  switch (gpu::leaf_verdict(t.hit_fraction, t.backface_fraction, depth, tree_->volume().info, settings_.dead_backface_fraction)) {
+  case gpu::LEAF_VERDICT_FREE: return Verdict::free;
+  case gpu::LEAF_VERDICT_SPLIT: return Verdict::split;
+  default: return Verdict::keep;
+  }
 }
 
 void TreeUpdate::collapse(Frame& frame, int node, Verdict becomes) {

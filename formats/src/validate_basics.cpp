@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "probebake/formats/cells.h"
+#include "probebake/formats/placement_kind.h"
 #include "text.h"
 #include "validate_internal.h"
 
@@ -31,8 +32,10 @@ long long allocated_probes(const ProbeVolume& volume) {
 void check_grid_resolution(const ProbeVolume& volume, Reporter& out) {
   const gpu::VolumeInfo& info = volume.info;
   auto bad = [&](const std::string& message) { out.add("grid_resolution", "volume_info", 0, message); };
-  if (info.placement != gpu::PLACEMENT_GRID) {
-    if (info.grid_resolution != 0) bad(concat("grid_resolution ", info.grid_resolution, " with octree placement (must be 0)"));
+  const PlacementKindInfo* kind = placement_kind_for_code(info.placement);
+  if (kind == nullptr || !kind->uses_grid_resolution) {
+    const std::string_view name = kind != nullptr ? kind->name : "unknown";
+    if (info.grid_resolution != 0) bad(concat("grid_resolution ", info.grid_resolution, " with ", name, " placement (must be 0)"));
     return;
   }
   if (info.grid_resolution < 1 || info.grid_resolution > kMaxGridResolution) {
@@ -69,7 +72,7 @@ void check_volume_info(const ProbeVolume& volume, Reporter& out) {
   const gpu::VolumeInfo& info = volume.info;
   auto bad = [&](const std::string& message) { out.add("volume_info", "volume_info", 0, message); };
   if (std::isfinite(info.root_size) && !(info.root_size > 0.0f)) bad(concat("root_size ", info.root_size, " is not positive"));
-  if (info.placement != gpu::PLACEMENT_OCTREE && info.placement != gpu::PLACEMENT_GRID) bad(concat("unknown placement ", info.placement));
+  if (placement_kind_for_code(info.placement) == nullptr) bad(concat("unknown placement ", info.placement));
   if (info.max_depth < 0 || info.max_depth > gpu::OCTREE_MAX_DEPTH) bad(concat("max_depth ", info.max_depth, " outside [0, OCTREE_MAX_DEPTH]"));
   if (info.svo_depth < 0 || info.svo_depth > kMaxSvoDepth) bad(concat("svo_depth ", info.svo_depth, " outside [0, ", kMaxSvoDepth, "]"));
   if (info.lattice < gpu::LATTICE_FIBONACCI || info.lattice > gpu::LATTICE_EQUAL_AREA) bad(concat("unknown lattice ", info.lattice));

@@ -4,6 +4,7 @@
 // within info.max_depth. Runs in passes from cheap to deep; each cluster is reported at most once.
 #include <unordered_map>
 
+#include "probebake/formats/placement_kind.h"
 #include "text.h"
 #include "validate_internal.h"
 
@@ -55,7 +56,8 @@ private:
   }
 
   void check_grid_has_no_octree() {
-    if (volume_.info.placement != gpu::PLACEMENT_GRID) return;
+    const PlacementKindInfo* kind = placement_kind_for_code(volume_.info.placement);
+    if (kind == nullptr || kind->has_octree) return;
     if (octree_[0] != 0) out_.add("grid_octree", "octree", 0, "grid placement: the root must be a leaf without probe");
     for (std::size_t cluster = 0; cluster < clusters_; ++cluster) {
       if (allocated(cluster)) {

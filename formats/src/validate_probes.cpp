@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "probebake/formats/placement_kind.h"
 #include "text.h"
 #include "validate_internal.h"
 
@@ -115,7 +116,9 @@ void check_grid_probe(const gpu::Probe& probe, long long index, const ProbeVolum
 
 void check_probes(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out) {
   check_probe_values(volume, out);
-  const bool grid = volume.info.placement == gpu::PLACEMENT_GRID;
+  // Unknown codes (reported by check_volume_info) are checked as octree placement, the stricter case.
+  const PlacementKindInfo* kind = placement_kind_for_code(volume.info.placement);
+  const bool grid = kind != nullptr && !kind->has_octree; // probes without leaves (node -1)
   std::vector<bool> reported(volume.probes.size(), false);
   const std::vector<int> linked_from = grid ? std::vector<int>(volume.probes.size(), -1) : leaf_links(volume, octree, reported, out);
   for (std::size_t i = 0; i < volume.probes.size(); ++i) {

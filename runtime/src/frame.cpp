@@ -3,32 +3,42 @@
 namespace probebake::runtime::detail {
 namespace {
 
-constexpr const char* kFramePassNames[kFramePasses] = {"probe_index", "light_trace", "light_gather", "light_resolve"};
+constexpr const char* kFramePassNames[kFramePasses] = {"memory_update", "probe_index",  "light_transitions",
+                                                       "light_trace",   "light_gather", "light_resolve"};
 
 } // namespace
 
-RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes) {
+RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes, const FrameInputs& inputs) {
   RecordedFrame frame;
   timer.reset(cmd);
   // Everything earlier on the queue (upload, last frame, sampling) before this frame's passes (thesis §3.2:
   // a barrier between every two shaders that touch the same buffers).
   barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess);
 
-  // 1. Memory update (§3.2.1, M0-M4): NOT BUILT YET. It goes here, before the probe index build, which must
-  //    list the probes it allocates and frees; it ends with a barrier making its writes (octree, probes, surfel
-  //    batches, leaf queue) visible to the compute reads and transfer writes of the build. Give it a timer slot
-  //    before kPassProbeIndex in FramePass and kFramePassNames.
+  // 1. Memory update (§3.2.1, M0-M4) and SVO refresh: allocates and frees before the probe index lists them.
+  if (passes.memory) {
+    passes.memory->record_memory_update(cmd, timer, kPassMemoryUpdate, inputs);
+    frame.ran[kPassMemoryUpdate] = true;
+  }
 
   // 2. Probe index build (§3.2.3).
   passes.probe_index.record(cmd, timer, kPassProbeIndex);
   frame.ran[kPassProbeIndex] = true;
 
-  // 3. Light update (§3.2.2): L1 on the first frame only, then L2 and L3.
+  // 3. Light update (§3.2.2): the transitions (L1 measures, L3 acts), then L1 records (first frame, then the
+  //    flagged probes), L2 lighting and the L3 counts.
   if (passes.light) {
+    if (passes.memory) {
+      passes.memory->record_light_transitions(cmd, timer, kPassLightTransitions);
+      frame.ran[kPassLightTransitions] = true;
+    }
     frame.ran[kPassLightTrace] =
         passes.light->record(cmd, timer, {kPassLightTrace, kPassLightGather, kPassLightResolve});
     frame.ran[kPassLightGather] = frame.ran[kPassLightResolve] = true;
   }
+
+  // 4. The leaf queue's entries take their states from the keys; statistics to the host.
+  if (passes.memory) passes.memory->record_end_of_frame(cmd);
   return frame;
 }
 

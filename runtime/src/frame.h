@@ -1,6 +1,7 @@
 // One frame of the runtime: the per-frame passes of the octree thesis (§3.2, figure 3.4) in their order, in
-// one command buffer: memory update (M0-M4, not built yet), probe index build (§3.2.3), light update
-// (§3.2.2: L1-L3). The passes record their own steps and barriers; this file only orders them.
+// one command buffer: memory update (§3.2.1: M0-M4, then the SVO refresh), probe index build (§3.2.3), light
+// update (§3.2.2: transitions L0-L3, L1 records, L2 lighting), end of the frame's queue work. The passes
+// record their own steps and barriers; this file only orders them.
 #pragma once
 
 #include <cstdint>
@@ -10,18 +11,29 @@
 
 #include "commands.h"
 #include "light_update_pass.h"
+#include "memory_update_pass.h"
 #include "probe_index_pass.h"
 #include "probebake/runtime/runtime.h"
 
 namespace probebake::runtime::detail {
 
 // Timer slots of a frame's passes, in execution order (FrameStats lists them in this order).
-enum FramePass : std::uint32_t { kPassProbeIndex, kPassLightTrace, kPassLightGather, kPassLightResolve, kFramePasses };
+enum FramePass : std::uint32_t {
+  kPassMemoryUpdate,
+  kPassProbeIndex,
+  kPassLightTransitions,
+  kPassLightTrace,
+  kPassLightGather,
+  kPassLightResolve,
+  kFramePasses
+};
 
-// The passes of one volume; `light` is null when the volume runs no light update.
+// The passes of one volume; `light` is null when the volume runs no light update, `memory` when it runs no
+// memory update (it runs only with a light update).
 struct FramePasses {
   ProbeIndexPass& probe_index;
   LightUpdatePass* light = nullptr;
+  MemoryUpdatePass* memory = nullptr;
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.
@@ -33,6 +45,6 @@ struct RecordedFrame {
 };
 
 // Records one frame into `cmd`, timing each pass in `timer` (kFramePasses slots).
-RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes);
+RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes, const FrameInputs& inputs);
 
 } // namespace probebake::runtime::detail

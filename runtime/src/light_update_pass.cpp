@@ -1,6 +1,7 @@
 #include "light_update_pass.h"
 
 #include <array>
+#include <cstddef>
 #include <string>
 
 #include "error.h"
@@ -34,6 +35,19 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   records_ = create_scratch(device, VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * sizeof(gpu::LightRecord),
                             "light records");
   next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
+  trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
+  const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
+  if (list_bytes > device.info.max_storage_buffer_range)
+    fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");
+  light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                                MemoryUse::device, "light list");
+  {
+    Submission clear(device);
+    vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(clear.cmd(), light_list_.get(), 0, VK_WHOLE_SIZE, 0);
+    barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
+    clear.submit_and_wait();
+  }
   counters_ = PassCounters<gpu::LightCounters>(device, "light counters");
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   buffers[gpu::LIGHT_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
@@ -50,34 +64,40 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_RECORDS] = records_.get();
   buffers[gpu::LIGHT_BINDING_NEXT_IRRADIANCE] = next_irradiance_.get();
   buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.buffer();
+  buffers[gpu::LIGHT_BINDING_TRACE_FLAGS] = trace_flags_.get();
+  buffers[gpu::LIGHT_BINDING_LIGHT_LIST] = light_list_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
-  const gpu::LightPush push{probe_capacity_, hysteresis_, 0, 0};
+  const gpu::LightPush push{probe_capacity_, hysteresis_, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u};
+  // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
+  const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
+    else dispatch_groups(cmd, device_, slot_groups);
+  };
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   bind_set_and_push(cmd, layout, descriptors_.set, push);
-  const bool traced = trace_pending_;
-  if (trace_pending_) { // L1: records and hit fractions
+  const bool traced = trace_pending_ || queue_driven_;
+  if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_trace.get());
-    dispatch_groups(cmd, device_, probe_capacity_);
+    dispatch(pipelines.light_trace.get(), probe_capacity_, 0);
     timer.end(cmd, slots.trace);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
     trace_pending_ = false;
   }
   timer.begin(cmd, slots.gather); // L2: relight the records, gather into next_irradiance
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_gather.get());
-  dispatch_groups(cmd, device_, probe_capacity_);
+  dispatch(pipelines.light_gather.get(), probe_capacity_, 0);
   timer.end(cmd, slots.gather);
   // The resolve overwrites probes the gather read (write after read) and reads what it wrote.
   barrier(cmd, kComputeReadWrite, kComputeReadWrite);
   timer.begin(cmd, slots.resolve); // end of L2 and L3
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_resolve.get());
-  dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+  dispatch(pipelines.light_resolve.get(), (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE,
+           offsetof(gpu::LightListHeader, resolve_x));
   timer.end(cmd, slots.resolve);
   counters_.record_end_of_pass_copy(cmd);
   return traced;

@@ -2,7 +2,7 @@
 // and placement lattice once (light_trace.comp), L2 relights the kept records every frame and gathers
 // them into the probes with hysteresis (light_gather.comp, then light_resolve.comp copies the result
 // into the probes, so that the whole frame reads last frame's values), L3 compares hit fractions with the
-// split thresholds (counted only: the memory update M0-M4 that would act on them is not built yet).
+// split thresholds by the leaf rule (counted; the memory update acts on its own L1 measures).
 // Exists only for volumes that carry the runtime lighting sections (bake default).
 #pragma once
 
@@ -34,20 +34,30 @@ public:
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
 
-  // Records L1 (first frame only, or after retrace()), L2 and L3 between the timer slots' timestamps.
-  // Returns whether L1 was recorded.
+  // Records L1 (first frame every probe, or after retrace(); with walk_light_list(), the flagged probes in
+  // every later frame), L2 and L3 between the timer slots' timestamps. Returns whether L1 was recorded.
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots);
   // After the submission: this frame's statistics.
   LightStats stats() const;
   void retrace() { trace_pending_ = true; }
+  // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
+  // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
+  void walk_light_list() { queue_driven_ = true; }
+  // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
+  VkBuffer trace_flags() const { return trace_flags_.get(); }
+  // LightListHeader + int per probe slot (runtime_types.h), written by the light transitions.
+  VkBuffer light_list() const { return light_list_.get(); }
 
 private:
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
+  bool queue_driven_ = false;
   Buffer records_;
   Buffer next_irradiance_;
+  Buffer trace_flags_;
+  Buffer light_list_;
   PassCounters<gpu::LightCounters> counters_;
   PassDescriptorSet descriptors_;
 };

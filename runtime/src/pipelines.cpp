@@ -5,13 +5,14 @@
 
 #include "error.h"
 #include "handles.h"
+#include "probebake/memory_types.h"
 #include "probebake/runtime_types.h"
 #include "probebake/shader_library.h"
 
 namespace probebake::runtime::detail {
 namespace {
 
-constexpr std::uint32_t kPushConstantBytes = 16; // ProbeIndexPush, SamplePush, LightPush
+constexpr std::uint32_t kPushConstantBytes = 16; // ProbeIndexPush, SamplePush, LightPush, MemoryPush
 
 PassLayout make_pass_layout(VkDevice device, std::uint32_t bindings) {
   std::vector<VkDescriptorSetLayoutBinding> entries(bindings);
@@ -76,6 +77,17 @@ Pipelines::Pipelines(VkDevice device) {
   light_trace = make_pipeline(device, light.layout.get(), "light_trace");
   light_gather = make_pipeline(device, light.layout.get(), "light_gather");
   light_resolve = make_pipeline(device, light.layout.get(), "light_resolve");
+  static_assert(sizeof(gpu::MemoryPush) == kPushConstantBytes);
+  memory = make_pass_layout(device, gpu::MEMORY_BINDING_COUNT);
+  memory_begin = make_pipeline(device, memory.layout.get(), "memory_begin");
+  memory_decide = make_pipeline(device, memory.layout.get(), "memory_decide");
+  memory_release = make_pipeline(device, memory.layout.get(), "memory_release");
+  memory_grant = make_pipeline(device, memory.layout.get(), "memory_grant");
+  memory_allocate = make_pipeline(device, memory.layout.get(), "memory_allocate");
+  memory_collapse = make_pipeline(device, memory.layout.get(), "memory_collapse");
+  memory_svo = make_pipeline(device, memory.layout.get(), "memory_svo");
+  memory_light = make_pipeline(device, memory.layout.get(), "memory_light");
+  memory_sync = make_pipeline(device, memory.layout.get(), "memory_sync");
 }
 
 DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set) {

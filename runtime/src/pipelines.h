@@ -31,6 +31,9 @@ public:
   DeviceObject<VkPipeline> sample_all_probes;
   PassLayout light;
   DeviceObject<VkPipeline> light_trace, light_gather, light_resolve;
+  PassLayout memory;
+  DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse,
+      memory_svo, memory_light, memory_sync;
 };
 
 // A pass's descriptor set in a pool of its own, written once: binding i = the whole of buffers[i].

@@ -88,8 +88,11 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
   });
 }
 
-Result<FrameStats> Volume::run_frame() {
-  return guarded([&]() -> Result<FrameStats> { return state_->run_frame(); });
+Result<FrameStats> Volume::run_frame(const FrameInputs& inputs) {
+  return guarded([&]() -> Result<FrameStats> {
+    if (const Status checked = detail::check_frame_inputs(inputs); !checked.ok()) return checked;
+    return state_->run_frame(inputs);
+  });
 }
 
 Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::vec3> positions,

@@ -10,28 +10,42 @@ namespace probebake::runtime::detail {
 VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume,
                          const UploadOptions& options)
     : device(std::move(shared_device)) {
-  cpu_parts.info = volume.info;
-  cpu_parts.cell_depth = volume.cell_depth;
-  cpu_parts.cells = volume.cells;
+  const bool dynamic_tree = options.light_update && options.memory_update && memory_update_applies(volume);
+  const formats::ProbeVolume prepared = dynamic_tree ? prepare_for_memory_update(volume, options.pools) : formats::ProbeVolume{};
+  const formats::ProbeVolume& uploaded = dynamic_tree ? prepared : volume;
+  cpu_parts.info = uploaded.info;
+  // Streaming cells list element ranges of a fixed tree: a tree that reshapes itself has none.
+  if (!dynamic_tree) {
+    cpu_parts.cell_depth = volume.cell_depth;
+    cpu_parts.cells = volume.cells;
+  }
   cpu_parts.input_hash = volume.input_hash;
-  gpu = std::make_unique<GpuVolume>(*device, volume);
+  gpu = std::make_unique<GpuVolume>(*device, uploaded);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu);
   sample = std::make_unique<SamplePass>(*device, *gpu);
   if (options.light_update && LightUpdatePass::applies(*gpu))
     light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis);
+  if (dynamic_tree && light) {
+    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list());
+    light->walk_light_list();
+  }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses);
 }
 
-FrameStats VolumeState::run_frame() {
+FrameStats VolumeState::run_frame(const FrameInputs& inputs) {
   const auto start = std::chrono::steady_clock::now();
   Submission submission(*device);
-  const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, {*probe_index, light.get()});
+  const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, {*probe_index, light.get(), memory.get()}, inputs);
   submission.submit_and_wait();
 
   FrameStats stats;
   stats.frame = ++frames;
   stats.passes = recorded.pass_times(*frame_timer);
   if (light) stats.light = light->stats();
+  if (memory) {
+    stats.memory = memory->stats();
+    cpu_parts.info = memory->info();
+  }
   stats.live_probes = probe_index->live_probes();
   stats.probe_capacity = static_cast<int>(gpu->elements(Section::probes));
   stats.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

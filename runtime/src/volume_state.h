@@ -9,6 +9,7 @@
 #include "device.h"
 #include "gpu_volume.h"
 #include "light_update_pass.h"
+#include "memory_update_pass.h"
 #include "probe_index_pass.h"
 #include "probebake/formats/probe_volume.h"
 #include "sample_pass.h"
@@ -22,11 +23,12 @@ struct VolumeState {
   std::unique_ptr<ProbeIndexPass> probe_index;
   std::unique_ptr<SamplePass> sample;
   std::unique_ptr<LightUpdatePass> light; // only for volumes with the lighting sections
+  std::unique_ptr<MemoryUpdatePass> memory; // only with a light update, on octree volumes (memory_update_applies)
   std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h)
   std::uint64_t frames = 0;
 
   VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume, const UploadOptions& options);
-  FrameStats run_frame();
+  FrameStats run_frame(const FrameInputs& inputs);
 };
 
 } // namespace probebake::runtime::detail

@@ -1,7 +1,7 @@
 // See gltf_input.h.
 #include "gltf_input.h"
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/error.h"
 
 #include <tiny_gltf.h>

@@ -3,7 +3,7 @@
 // (Draco, malformed input, unsupported required extensions).
 #include "model_import.h"
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 #include <glm/geometric.hpp>
 

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/ray_scene.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/probes_file.h"
@@ -245,7 +245,7 @@ TEST(Bake, EveryGeneratedSceneBakesValid) {
 
 TEST(Bake, LatticesAndSurfelStorage) {
   const scene::Scene s = load_generated(samples::cornell(), "cornell_lattice");
-  for (bake::Lattice lattice : {bake::Lattice::fibonacci, bake::Lattice::latlong, bake::Lattice::equal_area}) {
+  for (Lattice lattice : {Lattice::fibonacci, Lattice::latlong, Lattice::equal_area}) {
     bake::BakeSettings settings = test_settings();
     settings.lattice = lattice;
     settings.store_surfels = true;
@@ -321,7 +321,7 @@ TEST(BakeDoubleSided, ReversedDoubleSidedCornellIsDeterministicAcrossThreadCount
 
 // Closed rooms: by winding, the space around single-sided rooms is solid (backs of their walls); the
 // reversed double-sided rooms are seen from both sides, so the space outside them is open space too.
-// Octree centres lying on their walls cannot judge their nodes (placement.cpp) and refine, as centres
+// Octree centres lying on their walls cannot judge their nodes (placement/src/octree.cpp) and refine, as centres
 // behind single-sided walls do: the same probes, all inside the rooms (51 and 51 here; 16 against 111
 // at the default depth without that rule).
 TEST(BakeDoubleSided, ReversedDoubleSidedRoomsPlaceTheSameProbesInsideTheRooms) {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/ray_scene.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/samples/scene_builder.h"
 
 namespace probebake::test {

@@ -14,7 +14,7 @@
 
 #include "bake_test_util.h"
 #include "probebake/bake/lighting.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/reference.h"
 #include "probebake/bake/sampler.h"
 #include "probebake/samples/geometry.h"
 #include "probebake/samples/scenes.h"

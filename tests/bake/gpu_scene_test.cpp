@@ -15,7 +15,7 @@
 
 #include "bake_test_util.h"
 #include "probebake/bake/gpu_scene.h"
-#include "probebake/bake/lattice.h"
+#include "probebake/common/lattice.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
@@ -307,7 +307,7 @@ TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
   bake::BakeSettings settings = test_settings();
   settings.lighting.rays = 100;
   settings.lighting.sky_radiance = glm::vec3(0.5f, 0.25f, 2.0f);
-  settings.lattice = bake::Lattice::equal_area;
+  settings.lattice = Lattice::equal_area;
   settings.surfels_per_probe = 40;
   const formats::ProbeVolume v = lighting_volume(s, settings);
   ASSERT_TRUE(v.lighting.has_value());
@@ -321,8 +321,8 @@ TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
   EXPECT_EQ(info.triangles, 32);
   EXPECT_EQ(info.bvh_nodes, int(v.bvh_nodes.size()));
   ASSERT_EQ(v.ray_directions.size(), 140u);
-  const auto lighting = bake::lattice_directions(bake::Lattice::fibonacci, 100);
-  const auto placement = bake::lattice_directions(bake::Lattice::equal_area, 40);
+  const auto lighting = lattice_directions(Lattice::fibonacci, 100);
+  const auto placement = lattice_directions(Lattice::equal_area, 40);
   for (std::size_t i = 0; i < 100; ++i) EXPECT_EQ(v.ray_directions[i], glm::vec4(lighting[i], 0.0f)) << i;
   for (std::size_t i = 0; i < 40; ++i) EXPECT_EQ(v.ray_directions[100 + i], glm::vec4(placement[i], 0.0f)) << i;
   EXPECT_TRUE(formats::validate(v).valid()) << violations(formats::validate(v));

@@ -1,5 +1,5 @@
 // Spherical lattices: Fibonacci against the thesis's eq. 2.3-2.4, exact counts, equal areas of EQ(2, N).
-#include "probebake/bake/lattice.h"
+#include "probebake/common/lattice.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numeric>
 
-namespace pb = probebake::bake;
+namespace pb = probebake;
 using pb::Lattice;
 
 namespace {

@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/lattice.h"
+#include "probebake/common/lattice.h"
 #include "probebake/bake/lighting.h"
 #include "probebake/bake/sampler.h"
 #include "probebake/samples/geometry.h"

@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/eval.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/eval.h"
+#include "probebake/eval/reference.h"
 #include "probebake/samples/flip_gltf.h"
 #include "probebake/samples/geometry.h"
 #include "probebake/samples/scenes.h"

@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bake_test_util.h"
-#include "probebake/bake/eval.h"
-#include "probebake/bake/reference.h"
+#include "probebake/eval/eval.h"
+#include "probebake/eval/reference.h"
 #include "probebake/samples/scenes.h"
 #include "run_cli.h"
 

@@ -1,6 +1,6 @@
 // SceneSdf: signs of closed solids and rooms, open meshes, distances, gradients, push_out, determinism
 // across builds and thread counts, and that nothing returns NaN.
-#include "probebake/bake/scene_sdf.h"
+#include "probebake/placement/scene_sdf.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace pb = probebake::bake;
+namespace pb = probebake::placement;
 using probebake::scene::Scene;
 
 namespace {

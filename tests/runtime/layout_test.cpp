@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "probebake/bindings.h"
+#include "probebake/memory_types.h"
 #include "probebake/runtime_types.h"
 #include "probebake/shader_library.h"
 
@@ -89,6 +90,10 @@ int expect_layout(const char* shader, const char* type, const std::vector<Member
   return found;
 }
 
+constexpr const char* kMemoryShaders[] = {"memory_begin",    "memory_decide",   "memory_release",
+                                          "memory_grant",    "memory_allocate", "memory_collapse",
+                                          "memory_svo",      "memory_light",    "memory_sync"};
+
 // Buffer block name -> binding number of bindings.h.
 using BindingTable = std::map<std::string, std::uint32_t>;
 
@@ -147,13 +152,45 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"PatchBuffer", LIGHT_BINDING_EMITTER_PATCHES},
                            {"RecordBuffer", LIGHT_BINDING_RECORDS},
                            {"NextIrradianceBuffer", LIGHT_BINDING_NEXT_IRRADIANCE},
-                           {"CounterBuffer", LIGHT_BINDING_COUNTERS}};
+                           {"CounterBuffer", LIGHT_BINDING_COUNTERS},
+                           {"TraceFlagBuffer", LIGHT_BINDING_TRACE_FLAGS},
+                           {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST}};
   for (const char* shader : {"light_trace", "light_gather", "light_resolve"}) expect_bindings(shader, light);
+  const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
+                            {"ProbeBuffer", MEMORY_BINDING_PROBES},
+                            {"SvoNodeBuffer", MEMORY_BINDING_SVO_NODES},
+                            {"SvoLeafBuffer", MEMORY_BINDING_SVO_LEAVES},
+                            {"OctreeBuffer", MEMORY_BINDING_OCTREE},
+                            {"LightingInfoBuffer", MEMORY_BINDING_LIGHTING_INFO},
+                            {"RayDirectionBuffer", MEMORY_BINDING_RAY_DIRECTIONS},
+                            {"BvhNodeBuffer", MEMORY_BINDING_BVH_NODES},
+                            {"TriangleBuffer", MEMORY_BINDING_TRACE_TRIANGLES},
+                            {"SurfelBatchBuffer", MEMORY_BINDING_SURFEL_BATCHES},
+                            {"LeafHeaderBuffer", MEMORY_BINDING_LEAF_HEADER},
+                            {"LeafEntryBuffer", MEMORY_BINDING_LEAF_ENTRIES},
+                            {"KeyBuffer", MEMORY_BINDING_KEYS},
+                            {"StateBuffer", MEMORY_BINDING_STATE},
+                            {"ClusterStackBuffer", MEMORY_BINDING_CLUSTER_STACK},
+                            {"ProbeStackBuffer", MEMORY_BINDING_PROBE_STACK},
+                            {"BatchStackBuffer", MEMORY_BINDING_BATCH_STACK},
+                            {"WorkBuffer", MEMORY_BINDING_WORK},
+                            {"MergeShBuffer", MEMORY_BINDING_MERGE_SH},
+                            {"MarkBuffer", MEMORY_BINDING_MARKS},
+                            {"FrameBuffer", MEMORY_BINDING_FRAME},
+                            {"CounterBuffer", MEMORY_BINDING_COUNTERS},
+                            {"TraceFlagBuffer", MEMORY_BINDING_TRACE_FLAGS},
+                            {"ProbeGenerationBuffer", MEMORY_BINDING_PROBE_GENERATIONS},
+                            {"SvoGenerationBuffer", MEMORY_BINDING_SVO_GENERATIONS},
+                            {"SvoCentreBuffer", MEMORY_BINDING_SVO_CENTRES},
+                            {"LightListBuffer", MEMORY_BINDING_LIGHT_LIST}};
+  for (const char* shader : kMemoryShaders) expect_bindings(shader, memory);
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
-  for (const char* name : {"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance",
-                           "light_trace", "light_gather", "light_resolve", "sample_all_probes"}) {
+  std::vector<const char*> names{"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance",
+                                 "light_trace",       "light_gather",     "light_resolve",       "sample_all_probes"};
+  names.insert(names.end(), std::begin(kMemoryShaders), std::end(kMemoryShaders));
+  for (const char* name : names) {
     const auto words = shaders::spirv(name);
     ASSERT_GT(words.size(), 5u) << name;
     EXPECT_EQ(words[0], 0x07230203u) << name; // SPIR-V magic
@@ -266,6 +303,66 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
                            {"want_split", offsetof(LightCounters, want_split)},
                            {"want_free", offsetof(LightCounters, want_free)}}),
             1);
+}
+
+TEST(GpuLayout, MemoryUpdateTypesMatch) {
+  using namespace gpu;
+  EXPECT_GE(expect_layout("memory_grant", "MemoryWork",
+                          {{"node", offsetof(MemoryWork, node)}, {"state", offsetof(MemoryWork, state)},
+                           {"action", offsetof(MemoryWork, action)}, {"verdict", offsetof(MemoryWork, verdict)},
+                           {"reuse_probe", offsetof(MemoryWork, reuse_probe)}, {"cluster_first", offsetof(MemoryWork, cluster_first)},
+                           {"probe_first", offsetof(MemoryWork, probe_first)}, {"batch_first", offsetof(MemoryWork, batch_first)},
+                           {"merged", offsetof(MemoryWork, merged)}}),
+            1);
+  EXPECT_GE(expect_layout("memory_grant", "MemoryState",
+                          {{"cluster_top", offsetof(MemoryState, cluster_top)}, {"probe_top", offsetof(MemoryState, probe_top)},
+                           {"batch_top", offsetof(MemoryState, batch_top)}, {"traced", offsetof(MemoryState, traced)},
+                           {"memory_pulled", offsetof(MemoryState, memory_pulled)},
+                           {"memory_segment", offsetof(MemoryState, memory_segment)},
+                           {"light_pulled", offsetof(MemoryState, light_pulled)},
+                           {"light_segment", offsetof(MemoryState, light_segment)}}),
+            1);
+  EXPECT_GE(expect_layout("memory_light", "MemoryFrame",
+                          {{"box_count", offsetof(MemoryFrame, box_count)},
+                           {"max_memory_entries", offsetof(MemoryFrame, max_memory_entries)},
+                           {"max_light_entries", offsetof(MemoryFrame, max_light_entries)},
+                           {"dead_backface_fraction", offsetof(MemoryFrame, dead_backface_fraction)},
+                           {"batches_per_probe", offsetof(MemoryFrame, batches_per_probe)},
+                           {"boxes", offsetof(MemoryFrame, boxes)}}),
+            1);
+  EXPECT_GE(expect_layout("memory_light", "MemoryBox", {{"lower", offsetof(MemoryBox, lower)}, {"upper", offsetof(MemoryBox, upper)}}), 1);
+  EXPECT_GE(expect_layout("memory_sync", "MemoryCounters",
+                          {{"processed", offsetof(MemoryCounters, processed)}, {"deferred", offsetof(MemoryCounters, deferred)},
+                           {"probes_placed", offsetof(MemoryCounters, probes_placed)},
+                           {"probes_freed", offsetof(MemoryCounters, probes_freed)}, {"splits", offsetof(MemoryCounters, splits)},
+                           {"collapses", offsetof(MemoryCounters, collapses)},
+                           {"failed_allocations", offsetof(MemoryCounters, failed_allocations)},
+                           {"lost_entries", offsetof(MemoryCounters, lost_entries)},
+                           {"stale_entries", offsetof(MemoryCounters, stale_entries)},
+                           {"svo_slots_dropped", offsetof(MemoryCounters, svo_slots_dropped)},
+                           {"svo_leaves_refilled", offsetof(MemoryCounters, svo_leaves_refilled)},
+                           {"free_clusters", offsetof(MemoryCounters, free_clusters)},
+                           {"free_probes", offsetof(MemoryCounters, free_probes)},
+                           {"free_batches", offsetof(MemoryCounters, free_batches)}}),
+            1);
+  EXPECT_GE(expect_layout("memory_allocate", "SurfelBatch",
+                          {{"link", offsetof(SurfelBatch, link)}, {"probe", offsetof(SurfelBatch, probe)},
+                           {"count", offsetof(SurfelBatch, count)}, {"first", offsetof(SurfelBatch, first)},
+                           {"surfels", offsetof(SurfelBatch, surfels)}}),
+            1);
+  EXPECT_GE(expect_layout("memory_allocate", "LeafQueueHeader",
+                          {{"pull_origin", offsetof(LeafQueueHeader, pull_origin)},
+                           {"segment_capacity", offsetof(LeafQueueHeader, segment_capacity)},
+                           {"count", offsetof(LeafQueueHeader, count)}}),
+            1);
+  EXPECT_GE(expect_layout("memory_begin", "MemoryPush", {{"phase", offsetof(MemoryPush, phase)}}), 1);
+  EXPECT_GE(expect_layout("light_trace", "LightPush",
+                          {{"trace_all", offsetof(LightPush, trace_all)}, {"listed", offsetof(LightPush, listed)}}),
+            1);
+  const std::vector<Member> list{{"groups_x", offsetof(LightListHeader, groups_x)}, {"count", offsetof(LightListHeader, count)},
+                                 {"resolve_x", offsetof(LightListHeader, resolve_x)}, {"resolve_z", offsetof(LightListHeader, resolve_z)}};
+  EXPECT_GE(expect_layout("memory_begin", "LightListHeader", list), 1);
+  EXPECT_GE(expect_layout("light_resolve", "LightListHeader", list), 1);
 }
 
 } // namespace

@@ -7,7 +7,7 @@
 #include <mutex>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/octree.h"
 #include "probebake/samples/scenes.h"
 

@@ -5,7 +5,7 @@
 #include "probebake/samples/meshopt_gltf.h"
 #include "probebake/samples/scenes.h"
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/error.h"
 
 #include "gltf_readback.h"

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "fuzz_check.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::fuzz {

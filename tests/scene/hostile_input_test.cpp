@@ -11,7 +11,7 @@
 
 #include "mini_gltf.h"
 #include "run_cli.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::test {

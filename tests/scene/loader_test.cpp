@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "mini_gltf.h"
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::test {
 namespace {

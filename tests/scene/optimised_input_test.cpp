@@ -13,7 +13,7 @@
 
 #include "gltf_internal.h"
 #include "mini_gltf.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::test {

@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::test {
 namespace {

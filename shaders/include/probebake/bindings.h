@@ -61,11 +61,46 @@ PB_CONSTANT(uint, LIGHT_BINDING_EMITTER_PATCHES, 10u);
 PB_CONSTANT(uint, LIGHT_BINDING_RECORDS, 11u);
 PB_CONSTANT(uint, LIGHT_BINDING_NEXT_IRRADIANCE, 12u);
 PB_CONSTANT(uint, LIGHT_BINDING_COUNTERS, 13u);
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 14u);
+PB_CONSTANT(uint, LIGHT_BINDING_TRACE_FLAGS, 14u); // uint per probe slot: 1 = trace its records (new or re-measured)
+PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);  // LightListHeader + int per listed probe (runtime_types.h)
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 16u);
+
+// ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------
+// 0-3 equal the sampling bindings (sample_irradiance.glsl's SVO lookup gives new probes their start).
+PB_CONSTANT(uint, MEMORY_BINDING_VOLUME_INFO, 0u);
+PB_CONSTANT(uint, MEMORY_BINDING_PROBES, 1u);
+PB_CONSTANT(uint, MEMORY_BINDING_SVO_NODES, 2u);
+PB_CONSTANT(uint, MEMORY_BINDING_SVO_LEAVES, 3u);
+PB_CONSTANT(uint, MEMORY_BINDING_OCTREE, 4u);
+PB_CONSTANT(uint, MEMORY_BINDING_LIGHTING_INFO, 5u);
+PB_CONSTANT(uint, MEMORY_BINDING_RAY_DIRECTIONS, 6u);
+PB_CONSTANT(uint, MEMORY_BINDING_BVH_NODES, 7u);
+PB_CONSTANT(uint, MEMORY_BINDING_TRACE_TRIANGLES, 8u);
+PB_CONSTANT(uint, MEMORY_BINDING_SURFEL_BATCHES, 9u);
+PB_CONSTANT(uint, MEMORY_BINDING_LEAF_HEADER, 10u);
+PB_CONSTANT(uint, MEMORY_BINDING_LEAF_ENTRIES, 11u);
+PB_CONSTANT(uint, MEMORY_BINDING_KEYS, 12u);              // int[3 * segment_capacity]: key of node n in segment s at s * capacity + n
+PB_CONSTANT(uint, MEMORY_BINDING_STATE, 13u);             // MemoryState
+PB_CONSTANT(uint, MEMORY_BINDING_CLUSTER_STACK, 14u);     // int: free cluster meta indices
+PB_CONSTANT(uint, MEMORY_BINDING_PROBE_STACK, 15u);       // int: free probe slots
+PB_CONSTANT(uint, MEMORY_BINDING_BATCH_STACK, 16u);       // int: free surfel batches
+PB_CONSTANT(uint, MEMORY_BINDING_WORK, 17u);              // MemoryWork per pulled memory entry
+PB_CONSTANT(uint, MEMORY_BINDING_MERGE_SH, 18u);          // float[27] per pulled memory entry
+PB_CONSTANT(uint, MEMORY_BINDING_MARKS, 19u);             // int per octree element: MEMORY_MARK_*
+PB_CONSTANT(uint, MEMORY_BINDING_FRAME, 20u);             // MemoryFrame
+PB_CONSTANT(uint, MEMORY_BINDING_COUNTERS, 21u);          // MemoryCounters
+PB_CONSTANT(uint, MEMORY_BINDING_TRACE_FLAGS, 22u);       // = LIGHT_BINDING_TRACE_FLAGS' buffer
+PB_CONSTANT(uint, MEMORY_BINDING_PROBE_GENERATIONS, 23u); // uint per probe slot: +1 each time it is freed
+PB_CONSTANT(uint, MEMORY_BINDING_SVO_GENERATIONS, 24u);   // ivec4 per SVO leaf: generation of each stencil probe
+PB_CONSTANT(uint, MEMORY_BINDING_SVO_CENTRES, 25u);       // vec4 per SVO leaf: centre of its voxel, w = its SVO node (static)
+PB_CONSTANT(uint, MEMORY_BINDING_LIGHT_LIST, 26u);        // = LIGHT_BINDING_LIGHT_LIST's buffer
+PB_CONSTANT(uint, MEMORY_BINDING_COUNT, 27u);
 
 #ifdef __cplusplus
 static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES &&
               LIGHT_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES && LIGHT_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
+static_assert(MEMORY_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && MEMORY_BINDING_PROBES == SAMPLE_BINDING_PROBES &&
+              MEMORY_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES && MEMORY_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
 } // namespace probebake::gpu
 #endif
 

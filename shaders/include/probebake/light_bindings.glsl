@@ -28,8 +28,19 @@ layout(std430, binding = LIGHT_BINDING_EMITTER_PATCHES) readonly buffer PatchBuf
 layout(std430, binding = LIGHT_BINDING_RECORDS) buffer RecordBuffer { LightRecord light_records[]; };
 layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuffer { float next_irradiance[]; }; // 27 per probe slot
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
+layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
+layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) readonly buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
 layout(push_constant) uniform Push { LightPush push; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0
+
+// The probe slot of workgroup (or thread) `index`: the index itself, or the light list's entry when the
+// light update walks the list (push.listed); -1 past the end.
+int light_slot(uint index) {
+  if (push.listed == 0u) return index < push.probe_capacity ? int(index) : -1;
+  if (index >= light_list_header.count) return -1;
+  const int slot = light_list[index];
+  return slot >= 0 && uint(slot) < push.probe_capacity ? slot : -1;
+}
 
 #endif // PROBEBAKE_LIGHT_BINDINGS_GLSL

@@ -84,9 +84,24 @@ struct LightRecord {
 struct LightPush {
   uint probe_capacity; // offset  0
   float hysteresis;    // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
-  uint pad0;           // offset  8
-  uint pad1;           // offset 12
+  uint trace_all;      // offset  8: light_trace: 1 = every live probe, 0 = flagged probes only
+  uint listed;         // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = every slot
 };                     // size 16
+
+// The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
+// that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
+// (memory_begin phase 2). Followed in the buffer by int probes[probe_capacity].
+struct LightListHeader {
+  uint groups_x;  // offset  0: VkDispatchIndirectCommand of trace and gather: one workgroup per listed probe,
+  uint groups_y;  // offset  4:   folded into y past LIGHT_LIST_MAX_GROUPS_X
+  uint groups_z;  // offset  8
+  uint count;     // offset 12: listed probes
+  uint resolve_x; // offset 16: VkDispatchIndirectCommand of resolve: one thread per listed probe
+  uint resolve_y; // offset 20
+  uint resolve_z; // offset 24
+  uint pad0;      // offset 28
+};                // size 32
+PB_CONSTANT(uint, LIGHT_LIST_MAX_GROUPS_X, 65535u); // the least maxComputeWorkGroupCount[0] Vulkan allows
 
 // Statistics of the light update, reset every frame; trace counts are written only in frames that trace.
 struct LightCounters {
@@ -97,8 +112,8 @@ struct LightCounters {
   int lit_probes;      // offset 16: probes gathered by L2 this frame
   int indirect_misses; // offset 20: front hits whose SVO lookup found no probe (L2)
   int non_finite;      // offset 24: probes whose gathered irradiance was not finite: kept their old value
-  int want_split;      // offset 28: L3: hit fraction >= split_high below max depth
-  int want_free;       // offset 32: L3: hit fraction < split_low
+  int want_split;      // offset 28: L3: the leaf rule (leaf_rule.h) says split
+  int want_free;       // offset 32: L3: the leaf rule says free the probe
   int pad0;            // offset 36
   int pad1;            // offset 40
   int pad2;            // offset 44
@@ -110,6 +125,7 @@ static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && s
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);
 static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) == 12);
 static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48);
+static_assert(sizeof(LightListHeader) == 32 && offsetof(LightListHeader, resolve_x) == 16);
 static_assert(sizeof(LightPush) == 16 && sizeof(LightCounters) == 48 && offsetof(LightCounters, want_free) == 32);
 } // namespace probebake::gpu
 #endif

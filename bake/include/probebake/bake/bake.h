@@ -11,14 +11,16 @@
 #include <string>
 #include <vector>
 
-#include "probebake/bake/lattice.h"
+#include "probebake/common/lattice.h"
 #include "probebake/bake/lighting.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
+#include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::bake {
 
-enum class Placement { octree, grid };
+// The placement methods and their properties: formats/placement_kind.h (one table for bake, CLI, info).
+using Placement = formats::PlacementKind;
 
 struct BakeSettings {
   Placement placement = Placement::octree;

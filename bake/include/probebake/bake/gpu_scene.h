@@ -5,7 +5,7 @@
 #pragma once
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/scene.h"
+#include "probebake/scene/scene.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::bake {

@@ -39,6 +39,7 @@
 
 #include "probebake/dynamic/leaf_queue.h"
 #include "probebake/formats/octree.h"
+#include "probebake/leaf_rule.h"
 
 namespace probebake::dynamic {
 
@@ -57,7 +58,7 @@ struct LeafTrace {
 struct TreeUpdateSettings {
   int max_memory_entries = 0;             // M1/M3 allocations per frame, 0 = all (M0, M2, M4 always run)
   int max_light_entries = 0;              // L1/L2 leaves traced or lit per frame, 0 = all (L0, L3 always run)
-  float dead_backface_fraction = 0.5f;    // a probe whose back-face fraction exceeds this is freed
+  float dead_backface_fraction = gpu::LEAF_DEAD_BACKFACE_FRACTION; // back-face fraction above which a centre is blind
 };
 
 struct TreeFrameStats {

@@ -14,6 +14,7 @@
 //         use that VkQueue during a call (Vulkan requires external synchronisation of queues).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -153,6 +154,15 @@ private:
 };
 
 // ---- Volume: one probe volume in GPU storage buffers ---------------------------------------------------
+// Free elements the memory update can allocate from (octree thesis §3.2.1): at upload the octree, probe and
+// surfel-batch buffers grow so that at least this many are free; -1 = the default. The pools never grow
+// while running: an allocation that does not fit leaves its node as it was and counts as failed.
+struct MemoryPools {
+  int free_clusters = -1; // node clusters; default max(64, clusters in use)
+  int free_probes = -1;   // probes; default max(512, probes in use)
+  int free_batches = -1;  // surfel batches (volumes that store surfels); default free probes x batches per probe
+};
+
 struct UploadOptions {
   // Run formats::validate() before uploading and refuse an invalid volume (invalid_volume). Turn off only
   // to test the runtime on deliberately broken data.
@@ -165,10 +175,44 @@ struct UploadOptions {
   // full sweep of the bake's iteration (one more bounce); larger values spread a change over about
   // 1 / (1 - hysteresis) frames (smoother, slower). The converged irradiance does not depend on it.
   float hysteresis = 0.9f;
+  // Run the memory update (M0-M4) and the light update's transitions (L0-L3) so that the octree reshapes
+  // itself to the FrameInputs (docs/RUNTIME.md). Needs octree placement and the lighting sections (L1
+  // measures leaves by tracing the static BVH) and light_update; ignored otherwise. The uploaded volume then
+  // differs from the file: pools grown to `pools`, and a volume without a leaf queue, or with one smaller
+  // than its octree, gets a fresh queue seeded with every leaf (L2 / L3); streaming cells are dropped (they
+  // list element ranges of a fixed tree; read_back() has none). Off by default until moving
+  // geometry exists (issue #12): a static tree without FrameInputs never changes.
+  bool memory_update = false;
+  MemoryPools pools{};
+};
+
+// An axis-aligned box in world space (metres), min <= max.
+struct Box {
+  glm::vec3 min{0.0f};
+  glm::vec3 max{0.0f};
+};
+
+// Per-frame limits of the costly work (0 = no limit); a leaf over a limit waits for a later frame.
+struct FrameLimits {
+  int max_memory_entries = 0; // M1/M3 allocations per frame
+  int max_light_entries = 0;  // L1/L2 leaves with a probe measured or carried per frame
+};
+
+// What the host tells one frame. Boxes mark where geometry changed (for a moving object: the union of its
+// old and new bounds): the leaves they touch are measured again (L1) or, without a probe, ask for one
+// (M1). Thresholds change the leaf rule from this frame on (a volume baked at max depth 1 may refine to 3
+// and back); leave them empty to keep the current ones.
+struct FrameInputs {
+  std::vector<Box> changed_boxes; // more than 64 are merged by the host into fewer, larger boxes
+  std::optional<int> max_depth;   // [0, 12]
+  std::optional<float> split_low; // [0, 1], <= split_high
+  std::optional<float> split_high;
+  float dead_backface_fraction = 0.5f; // a centre seeing more back faces than this is inside a solid (leaf_rule.h)
+  FrameLimits limits;
 };
 
 struct PassTime {
-  std::string name;    // "probe_index", "light_trace", "light_gather", "light_resolve"
+  std::string name;    // "memory_update", "probe_index", "light_transitions", "light_trace", "light_gather", "light_resolve"
   double gpu_ms = -1;  // GPU timestamp difference; -1 when the queue has no timestamps
 };
 
@@ -182,8 +226,27 @@ struct LightStats {
   int lit_probes = 0;      // L2: probes relit and gathered this frame
   int indirect_misses = 0; // front hits whose SVO lookup found no probe (no indirect light there)
   int non_finite = 0;      // probes whose new irradiance was not finite: kept their old value
-  int want_split = 0;      // L3: leaves whose hit fraction asks for a split / for freeing their probe
-  int want_free = 0;       //     (counted; the memory update that acts on them is not built yet)
+  int want_split = 0;      // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
+  int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
+};
+
+// Statistics of one frame's memory update and light transitions (all 0 and active = false without one).
+struct MemoryUpdateStats {
+  bool active = false;
+  std::array<int, 9> processed{}; // leaf-queue entries processed, by state: M0..M4 (0-4), L0..L3 (5-8)
+  int deferred = 0;               // entries left for a later frame by FrameLimits
+  int probes_placed = 0;          // M1 and merged parents
+  int probes_freed = 0;           // M2 and merged children
+  int splits = 0;                 // M3
+  int collapses = 0;              // M4 merges
+  int failed_allocations = 0;     // a pool ran dry: the node kept its state (retried later)
+  int lost_entries = 0;           // pushes into a full leaf-queue segment (0: segments hold every node)
+  int stale_entries = 0;          // entries whose node no longer fits their state (e.g. M3 above a lowered max depth)
+  int svo_slots_dropped = 0;      // SVO stencil slots whose probe was freed or moved
+  int svo_leaves_refilled = 0;    // SVO leaves left empty and given the probe of the octree leaf at their centre
+  int free_clusters = 0, cluster_capacity = 0; // pool use after the frame
+  int free_probes = 0, probe_capacity = 0;
+  int free_batches = 0, batch_capacity = 0;
 };
 
 struct FrameStats {
@@ -193,6 +256,7 @@ struct FrameStats {
   int live_probes = 0;          // allocated probes found by this frame's probe index build
   int probe_capacity = 0;
   LightStats light;
+  MemoryUpdateStats memory;
 };
 
 struct SampleStats {
@@ -236,9 +300,11 @@ public:
   Volume& operator=(Volume&&) noexcept;
   ~Volume();
 
-  // One frame of the runtime's passes on the queue, waited for: the probe index build (thesis §3.2.3),
-  // then the light update (§3.2.2) when the volume has one. The memory update (M0-M4) is not built yet.
-  Result<FrameStats> run_frame();
+  // One frame of the runtime's passes on the queue, waited for (thesis figure 3.4): the memory update
+  // (§3.2.1, M0-M4) and SVO refresh, the probe index build (§3.2.3), then the light update (§3.2.2: its
+  // transitions L0-L3, L1 records, L2 lighting) when the volume has one. invalid_argument when `inputs`
+  // break their ranges (non-finite or inverted boxes, thresholds outside [0, 1], max depth outside [0, 12]).
+  Result<FrameStats> run_frame(const FrameInputs& inputs = {});
 
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
   // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the

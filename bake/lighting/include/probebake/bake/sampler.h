@@ -1,0 +1,112 @@
+// Irradiance lookup from a baked probe volume: the CPU reference that the Vulkan runtime reproduces
+// step for step. Probes store L2 spherical harmonics of irradiance (gpu_types.h, Probe::irradiance_sh):
+// light reflected by surfaces (and sky), without punctual lights and - with the default
+// LightingSettings::emissive_as_lights - without the emitters' own radiance; a renderer adds both per
+// pixel with direct_irradiance() (lighting.h, algorithm in docs/LIGHTING.md). The lookup itself does not
+// depend on that setting.
+//
+// References: DDGI smooth back-face weight (Majercik et al. 2019, as discussed in the DDGI relocation
+// paper, /work/shared/papers/ddgi-probe-relocation.txt §2.1); SVO probe index (non-uniform placement paper
+// §4.1); the all-probes baseline is the octree thesis's closest-hit shading (§3.2.4).
+//
+// ---- SH convention (shared with the GPU) -------------------------------------------------------------
+// Real SH, coefficient k = l^2 + l + m, with (x, y, z) a unit direction:
+//   k=0 Y00  = 0.282095
+//   k=1 Y1-1 = 0.488603 y     k=2 Y10 = 0.488603 z     k=3 Y11 = 0.488603 x
+//   k=4 Y2-2 = 1.092548 xy    k=5 Y2-1 = 1.092548 yz   k=6 Y20 = 0.315392 (3z^2 - 1)
+//   k=7 Y21  = 1.092548 xz    k=8 Y22 = 0.546274 (x^2 - y^2)
+// irradiance_sh[3k + c] (c = R, G, B) holds the coefficients of irradiance E(n) = sum_k sh_k Y_k(n): the
+// radiance's coefficients already multiplied by the clamped-cosine factors A_0 = pi, A_1 = 2pi/3,
+// A_2 = pi/4 (Ramamoorthi & Hanrahan 2001). Evaluation is a 9-term dot product per channel.
+//
+// ---- SVO mode (sample_irradiance) --------------------------------------------------------------------
+//  1. p' = position + normal * bias, bias = 0.5 * root_size / 2^svo_depth (half an SVO voxel), so that
+//     points on a surface look up the open voxel in front of it, not one marked solid.
+//  2. Descend the SVO from node 0 over the root cube: v = svo_nodes[node]; v > 0: node = v + octant,
+//     octant bit 0 = (p'.x >= centre.x), bit 1 = y, bit 2 = z; v < 0: leaf ~v; v == 0: miss.
+//     p' outside the root cube (max faces included) or an empty node is a miss: the result is (0,0,0).
+//  3. For each used slot k of the leaf (probes[k] >= 0): d = probe.position - position,
+//     dir = d * inversesqrt(max(dot(d, d), 1e-30)) (a zero vector when the probe sits on the point),
+//     w_k = weights[k] * (((dot(normal, dir) + 1) / 2)^2 + 0.05)   (smooth back-face weight).
+//     The stencil holds w_k / sum w (0 when sum w == 0).
+//  4. E = sum_k (w_k / sum w) * max(0, E_k(normal)), E_k = SH evaluation of probe k, clamped per channel.
+//
+// ---- All-probes mode (sample_irradiance_all_probes, the thesis's §3.2.4 baseline) -----------------------
+// Same p' and clamped SH evaluation; every live probe (link != 0) whose segment from p' is not occluded
+// (Embree ray p' -> probe) gets w = (((dot(normal, dir) + 1) / 2)^2 + 0.05) / max(dot(d, d), bias^2),
+// then E = sum w E_k / sum w. O(probes) rays per lookup: a baseline for comparisons, not for runtimes.
+//
+// Thread-safety: all functions are pure (the stats pointer is written only by the calling thread).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <span>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <glm/ext/vector_int4.hpp>
+
+#include "probebake/scene/ray_scene.h"
+#include "probebake/formats/probe_volume.h"
+
+namespace probebake::bake {
+
+// ---- Spherical harmonics ----------------------------------------------------------------------------------
+inline constexpr float kShY0 = 0.282094792f;  // 1 / (2 sqrt(pi))
+inline constexpr float kShY1 = 0.488602512f;  // sqrt(3 / (4 pi))
+inline constexpr float kShY2 = 1.092548431f;  // sqrt(15 / (4 pi))
+inline constexpr float kShY20 = 0.315391565f; // sqrt(5 / (16 pi))
+inline constexpr float kShY22 = 0.546274215f; // sqrt(15 / (16 pi))
+// Clamped-cosine convolution factors A_l per band: irradiance coefficient = A_l * radiance coefficient.
+inline constexpr float kShBand0 = 3.14159265f;  // pi
+inline constexpr float kShBand1 = 2.09439510f;  // 2 pi / 3
+inline constexpr float kShBand2 = 0.785398163f; // pi / 4
+
+// The nine basis values at unit direction `d`, in the order above.
+std::array<float, 9> sh_basis(glm::vec3 d);
+// Irradiance of one probe's coefficients at unit normal `n`, per channel, not clamped.
+glm::vec3 evaluate_sh(const float* sh27, glm::vec3 n);
+
+// ---- SVO lookup ------------------------------------------------------------------------------------------
+// Up to four probes and their final, normalised weights (unused slots: probe -1, weight 0). A lookup
+// that missed has no used slot.
+struct ProbeStencil {
+  glm::ivec4 probes{-1};
+  glm::vec4 weights{0.0f};
+  bool empty() const { return probes.x < 0; }
+};
+
+struct SamplerStats {
+  std::size_t samples = 0;
+  std::size_t misses = 0; // lookups that found no probe (empty voxel, outside the root cube, none visible)
+};
+
+// Half an SVO voxel: the normal bias of step 1.
+float normal_bias(const gpu::VolumeInfo& info);
+// Step 2: index into volume.svo_leaves of the leaf containing `p`, or -1 (empty node, outside the root
+// cube, no SVO, non-finite point).
+int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p);
+// Steps 1-3.
+ProbeStencil svo_stencil(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal);
+// Step 4 with the volume's probes.
+glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& stencil, glm::vec3 normal);
+
+// ---- Lookups ---------------------------------------------------------------------------------------------
+// Irradiance (W/m^2) arriving at a surface point with unit `normal` from the surfaces the probes saw
+// (emitted and reflected light; punctual lights are not in the probes, see docs/LIGHTING.md).
+glm::vec3 sample_irradiance(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal,
+                            SamplerStats* stats = nullptr);
+glm::vec3 sample_irradiance_all_probes(const formats::ProbeVolume& volume, const scene::RayScene& rays,
+                                       glm::vec3 position, glm::vec3 normal, SamplerStats* stats = nullptr);
+
+// Batch forms: out[i] for (positions[i], normals[i]), in parallel (0 threads = all cores); the results
+// do not depend on the thread count. The spans must have equal sizes (Error(internal) otherwise).
+void sample_irradiance(const formats::ProbeVolume& volume, std::span<const glm::vec3> positions,
+                       std::span<const glm::vec3> normals, std::span<glm::vec3> out, SamplerStats* stats = nullptr,
+                       int threads = 0);
+void sample_irradiance_all_probes(const formats::ProbeVolume& volume, const scene::RayScene& rays,
+                                  std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                                  std::span<glm::vec3> out, SamplerStats* stats = nullptr, int threads = 0);
+
+} // namespace probebake::bake

@@ -1,0 +1,146 @@
+// Error against run time: bakes a scene with a sweep of settings and compares each volume's irradiance
+// (punctual direct light + the probe lookup, sampler.h) with the path-traced reference (reference.h) at
+// fixed, seeded surface points.
+//
+// The reference is computed once and cached beside the scene as `<scene>.reference.<hash>.csv` (the same
+// columns as `probebake reference --csv`), keyed by a hash of the scene's geometry, materials and lights,
+// the point count, seed and paths per point; a cache that cannot be written only costs the next run time.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "probebake/bake/bake.h"
+#include "probebake/eval/reference.h"
+
+namespace probebake::bake {
+
+// ---- Receivers: where eval measures -------------------------------------------------------------------
+// visible (default): first hits of uniformly random rays from viewpoints in the open space of the scene
+//   bounds (cell centres where a probe would not be dead at the bake's clearance), restricted to the
+//   player's open regions (README "Receivers"); front faces only, with open space in front of them.
+// volume: points in that open space with random normals (where dynamic objects sample probes).
+// area: the old points spread over every front face by area, minus points inside geometry.
+enum class ReceiverMode { visible, volume, area };
+std::string_view receiver_mode_name(ReceiverMode mode);
+std::optional<ReceiverMode> parse_receiver_mode(std::string_view name);
+
+struct ReceiverSettings {
+  ReceiverMode mode = ReceiverMode::visible;
+  int count = 1000;
+  std::uint64_t seed = 1;
+  float clearance = 0.0f;          // viewpoints' distance from surfaces; 0 = the bake's default (2% of the size)
+  int cells = 32;                  // viewpoint cells along the largest axis of the scene bounds
+  std::vector<glm::vec3> anchors = {}; // camera positions: the open regions holding them are the player's
+  int threads = 0;
+};
+
+struct Receivers {
+  std::vector<SamplePoint> points; // fewer than asked only when the open space sees almost nothing
+  int viewpoints = 0;              // open cells in the kept regions (0 for area receivers)
+  int regions = 0;                 // open regions kept, of open_regions
+  int open_regions = 0;
+};
+
+// Same (scene, settings) -> same receivers, for any thread count.
+Receivers make_receivers(const scene::Scene& scene, const scene::RayScene& rays, const ReceiverSettings& settings);
+
+struct EvalConfig {
+  std::string label; // unique, file-name safe (error maps are named after it)
+  BakeSettings bake;
+};
+
+// Octree max depth 2..5; grid 5, 8, 12, 16, 21; 64 and 256 surfels at depth 4; latlong and equal-area
+// lattices at depth 4 (the depth-4 / 128 / fibonacci configuration appears once).
+std::vector<EvalConfig> default_sweep();
+// Three small configurations, for tests.
+std::vector<EvalConfig> quick_sweep();
+
+struct EvalSettings {
+  int points = 1000;
+  int paths = 4096;            // reference paths per point (about 1.5% noise per point on the Cornell box)
+  std::uint64_t seed = 1;      // sample points and reference
+  int threads = 0;             // bakes and reference; 0 = all cores (sampling is timed on one thread)
+  std::vector<EvalConfig> configs;  // empty: default_sweep()
+  std::string baseline;        // label of the configuration also sampled with all probes; empty: "octree-d4"
+                               // when swept, else the first octree configuration
+  ReceiverMode receivers = ReceiverMode::visible;
+  bool use_cache = true;
+  std::optional<Camera> camera;       // adds image receivers (its visible pixels) and anchors the player's region;
+                                      // with error_map_dir also per-configuration error images
+  std::filesystem::path error_map_dir;
+  int image_paths = 64;               // reference paths per pixel of the error maps
+  scene::LoadOptions scene_input = {}; // confinement and memory budget of the scene load
+  std::vector<std::filesystem::path> outputs = {}; // checked against every file the load read
+};
+
+// Throws Error(usage) naming the option when a setting is out of range.
+void check_eval_settings(const EvalSettings& settings);
+
+struct EvalRow {
+  std::string label;
+  std::string sampler;          // "svo" (sample_irradiance) or "all-probes" (the baseline)
+  BakeSettings bake;
+  int probes = 0;
+  std::uint64_t file_bytes = 0; // the .probes file as written by write_probes
+  double bake_seconds = 0.0;
+  double sample_ns = 0.0;       // per point, one thread, lookup only (direct light is the same for all rows)
+  double rmse = 0.0;            // over points of the RGB RMS error, W/m^2
+  double relative_rmse = 0.0;   // rmse / mean reference irradiance
+  double bias = 0.0;            // (mean estimate - mean reference) / mean reference
+  double p95 = 0.0;             // 95th percentile of the per-point RGB RMS error
+  double max_error = 0.0;
+  double leak_rmse = 0.0;       // rmse over points darker than 1% of the mean reference (0 when none)
+  int leak_points = 0;
+  std::size_t misses = 0;       // lookups that found no probe: scored as what a runtime shows (direct light only)
+  double coverage = 0.0;        // fraction of receivers whose lookup found probes
+  double relative_median = 0.0; // median and 95th percentile of the per-receiver relative error
+  double relative_p95 = 0.0;    //   |error| / max(|reference|, 1% of the mean reference)
+  double image_mean_error = 0.0;    // camera receivers: mean over pixels and channels of |error| (the error map's mean)
+  double image_relative_rmse = 0.0; // camera receivers: RMSE / their mean reference
+};
+
+struct EvalResult {
+  std::filesystem::path scene;
+  std::string receivers;               // receiver_mode_name
+  int viewpoints = 0;                  // 0 when the receivers came from the cache or by area
+  int points = 0;                      // may be below the requested count when most surfaces are hidden
+  int image_pixels = 0;                // camera receivers (0 without --camera)
+  double image_mean_reference = 0.0;
+  int paths = 0;
+  std::uint64_t seed = 0;
+  double mean_reference = 0.0;         // W/m^2, mean over points and channels
+  double reference_noise = 0.0;        // RMS standard error of the reference / mean_reference
+  double reference_seconds = 0.0;      // 0 when read from the cache
+  bool reference_from_cache = false;
+  std::filesystem::path cache_file;
+  bool cache_written = false;
+  std::vector<EvalRow> rows;           // one per configuration; the all-probes baseline follows its own
+  std::vector<std::filesystem::path> error_maps;
+};
+
+// Progress messages ("reference", "bake octree-d3", ...), called from the calling thread.
+using EvalProgress = std::function<void(const std::string& message)>;
+
+// Throws Error(input) for an unreadable scene, Error(output) when an error map cannot be written.
+EvalResult evaluate(const std::filesystem::path& scene, const EvalSettings& settings, const EvalProgress& progress = {});
+
+// Reports.
+std::string eval_markdown_table(const EvalResult& result);
+void write_eval_csv(const std::filesystem::path& path, const EvalResult& result);
+// Relative RMSE against bake time (log axis), the Pareto front of the probe configurations marked.
+std::string eval_svg_plot(const EvalResult& result);
+void write_text_file(const std::filesystem::path& path, const std::string& text); // Error(output) on failure
+
+// The cache key: scene geometry, materials and lights, point count, seed, paths per point, receiver mode
+// and the anchors that chose the player's region.
+std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_t seed, int paths,
+                             ReceiverMode mode = ReceiverMode::visible, std::span<const glm::vec3> anchors = {});
+
+} // namespace probebake::bake

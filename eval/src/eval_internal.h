@@ -1,0 +1,36 @@
+// Internals of `probebake eval` shared by its translation units.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "probebake/eval/eval.h"
+#include "probebake/eval/reference.h"
+
+namespace probebake::bake::detail {
+
+struct ReferencePoints {
+  std::vector<SamplePoint> points;
+  ReferenceResult values;
+  std::filesystem::path cache_file;
+  bool from_cache = false;
+  bool cache_written = false;
+  int viewpoints = 0; // 0 when read from the cache
+};
+
+// Reads the cache beside the scene or computes (and then writes) it.
+ReferencePoints cached_reference(const std::filesystem::path& scene_path, const scene::Scene& scene,
+                                 const scene::RayScene& rays, const EvalSettings& settings);
+
+// Per-point RGB RMS errors of `estimate` against `reference`, summarised.
+struct ErrorStats {
+  double rmse = 0.0, p95 = 0.0, max = 0.0, leak_rmse = 0.0;
+  double relative_median = 0.0, relative_p95 = 0.0; // of |error| / max(|reference|, 1% of the mean)
+  int leak_points = 0;
+};
+ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector<glm::vec3>& reference,
+                       double mean_reference);
+
+double mean_irradiance(const std::vector<glm::vec3>& values); // over points and channels
+
+} // namespace probebake::bake::detail

@@ -1,0 +1,63 @@
+// Text reports of `probebake eval`: Markdown table and CSV.
+#include <fstream>
+#include <system_error>
+
+#include <fmt/core.h>
+
+#include "probebake/eval/eval.h"
+#include "probebake/formats/atomic_file.h"
+#include "probebake/formats/error.h"
+#include "probebake/formats/placement_kind.h"
+
+namespace probebake::bake {
+namespace {
+
+std::string leak_cell(const EvalRow& r) {
+  return r.leak_points > 0 ? fmt::format("{:.4g} ({})", r.leak_rmse, r.leak_points) : "-";
+}
+
+} // namespace
+
+std::string eval_markdown_table(const EvalResult& result) {
+  const bool image = result.image_pixels > 0;
+  std::string out = fmt::format(
+      "{}: {} {} receivers{}, {} paths/point, mean reference irradiance {:.4g} W/m^2, reference noise {:.2f}% ({})\n",
+      result.scene.filename().string(), result.points, result.receivers,
+      result.viewpoints > 0 ? fmt::format(" from {} viewpoints", result.viewpoints) : "", result.paths,
+      result.mean_reference, 100.0 * result.reference_noise,
+      result.reference_from_cache ? "cached" : fmt::format("traced in {:.1f} s", result.reference_seconds));
+  if (image) out += fmt::format("camera: {} image receivers, mean reference {:.4g} W/m^2\n", result.image_pixels, result.image_mean_reference);
+  out += "\n| config | sampler | probes | bytes | bake s | ns/point | RMSE | rel. RMSE | rel. median | rel. p95 | bias | p95 | max | "
+         "leak RMSE (points) | coverage |";
+  out += image ? " image rel. RMSE | image mean err |\n" : "\n";
+  out += "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|";
+  out += image ? "--:|--:|\n" : "\n";
+  for (const EvalRow& r : result.rows) {
+    out += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.0f} | {:.4g} | {:.4f} | {:.4f} | {:.4f} | {:+.3f} | {:.4g} | {:.4g} | {} | {:.3f} |",
+                       r.label, r.sampler, r.probes, r.file_bytes, r.bake_seconds, r.sample_ns, r.rmse, r.relative_rmse,
+                       r.relative_median, r.relative_p95, r.bias, r.p95, r.max_error, leak_cell(r), r.coverage);
+    out += image ? fmt::format(" {:.4f} | {:.4g} |\n", r.image_relative_rmse, r.image_mean_error) : "\n";
+  }
+  return out;
+}
+
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  write_file_atomically(path, std::string_view(text));
+}
+
+void write_eval_csv(const std::filesystem::path& path, const EvalResult& result) {
+  std::string out = "label,sampler,placement,max_depth,grid,surfels,lattice,svo_depth,probes,file_bytes,bake_seconds,"
+                    "sample_ns,rmse,relative_rmse,bias,p95,max_error,leak_rmse,leak_points,misses,coverage,"
+                    "relative_median,relative_p95,image_relative_rmse,image_mean_error\n";
+  for (const EvalRow& r : result.rows)
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},"
+                       "{:.6g},{:.6g},{:.6g}\n",
+                       r.label, r.sampler, formats::placement_name(r.bake.placement), r.bake.max_depth, r.bake.grid_resolution,
+                       r.bake.surfels_per_probe, lattice_name(r.bake.lattice), r.bake.svo_depth, r.probes, r.file_bytes,
+                       r.bake_seconds, r.sample_ns, r.rmse, r.relative_rmse, r.bias, r.p95, r.max_error, r.leak_rmse,
+                       r.leak_points, r.misses, r.coverage, r.relative_median, r.relative_p95, r.image_relative_rmse,
+                       r.image_mean_error);
+  write_text_file(path, out);
+}
+
+} // namespace probebake::bake

@@ -1,0 +1,62 @@
+// The sweeps of `probebake eval` and the validation of its settings.
+#include <fmt/core.h>
+
+#include "probebake/eval/eval.h"
+#include "probebake/formats/error.h"
+
+namespace probebake::bake {
+namespace {
+
+EvalConfig octree(int depth, int surfels = 128, Lattice lattice = Lattice::fibonacci) {
+  EvalConfig c;
+  c.bake.placement = Placement::octree;
+  c.bake.max_depth = depth;
+  c.bake.surfels_per_probe = surfels;
+  c.bake.lattice = lattice;
+  c.label = fmt::format("octree-d{}", depth);
+  if (surfels != 128) c.label += fmt::format("-s{}", surfels);
+  if (lattice != Lattice::fibonacci) c.label += fmt::format("-{}", lattice_name(lattice));
+  return c;
+}
+
+EvalConfig grid(int n) {
+  EvalConfig c;
+  c.bake.placement = Placement::grid;
+  c.bake.grid_resolution = n;
+  c.label = fmt::format("grid-{}", n);
+  return c;
+}
+
+} // namespace
+
+std::vector<EvalConfig> default_sweep() {
+  return {octree(2), octree(3), octree(4), octree(5),
+          grid(5), grid(8), grid(12), grid(16), grid(21),
+          octree(4, 64), octree(4, 256),
+          octree(4, 128, Lattice::latlong), octree(4, 128, Lattice::equal_area)};
+}
+
+std::vector<EvalConfig> quick_sweep() {
+  std::vector<EvalConfig> sweep = {octree(2, 64), octree(3, 64), grid(4)};
+  for (EvalConfig& c : sweep) {
+    c.bake.svo_depth = 4;
+    c.bake.lighting.rays = 64;
+  }
+  return sweep;
+}
+
+void check_eval_settings(const EvalSettings& s) {
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw Error(ErrorKind::usage, message);
+  };
+  require(s.points >= 1 && s.points <= 10'000'000, fmt::format("--points must be in 1..10000000 (got {})", s.points));
+  require(s.paths >= 2, fmt::format("--samples must be at least 2 (got {})", s.paths));
+  require(s.threads >= 0, "--threads must be >= 0");
+  require(s.image_paths >= 2, "--image-samples must be at least 2");
+  require(s.error_map_dir.empty() || s.camera.has_value(), "--error-map needs --camera and --look-at");
+  require(parse_receiver_mode(receiver_mode_name(s.receivers)) == s.receivers, "--receivers must be visible, volume or area");
+  if (s.camera) check_camera(*s.camera);
+  for (const EvalConfig& c : s.configs) check_settings(c.bake);
+}
+
+} // namespace probebake::bake

@@ -1,0 +1,57 @@
+// Probe placement methods. A method is a function (PlacementInput, tree, bounds) -> placed probes, in its
+// own file under placement/src (octree.cpp, grid.cpp); it fills the ProbeVolume behind `tree` through
+// formats::Octree. The bake picks the method from formats::PlacementKind with placement_method().
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "probebake/formats/octree.h"
+#include "probebake/formats/placement_kind.h"
+#include "probebake/placement/probe_tracing.h"
+#include "probebake/scene/ray_scene.h"
+
+namespace probebake::placement {
+
+// The bake settings that placement reads (the bake copies them from BakeSettings).
+struct PlacementSettings {
+  int max_depth = 4;        // octree: deepest level a node may split to (root = 0)
+  float split_low = 0.25f;  // octree: hit fraction below which a probe is freed
+  float split_high = 0.5f;  // octree: hit fraction at or above which a node splits
+  int grid_resolution = 16; // grid: N for N^3 probes
+  int threads = 0;          // 0 = all cores
+};
+
+struct PlacementInput {
+  const scene::RayScene* rays = nullptr;
+  PlacementSettings settings;
+  std::vector<glm::vec3> directions;          // the lattice
+  float clearance = 0.0f;                     // the bake's effective clearance (a centre nearer a surface is moved)
+  std::function<void(double fraction)> progress; // may be empty; called from the calling thread
+};
+
+// A placed probe and the cube it must stay in (its octree node, or its grid cell).
+struct PlacedProbe {
+  int probe = 0;
+  Cube cube;
+  ProbeRays rays;
+};
+
+// `bounds`: the scene's bounds (the octree starts from the root cube in tree.volume().info instead).
+using PlacementMethod = std::vector<PlacedProbe> (*)(const PlacementInput& in, formats::Octree& tree,
+                                                     const scene::Bounds& bounds);
+
+// Octree (octree.cpp): starts from the root leaf; each leaf gets a probe at its centre whose hit fraction
+// f decides: f < split_low frees the probe, f >= split_high below max_depth splits the node, otherwise it
+// stays. Newly created children are evaluated in the next round until nothing changes.
+std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+
+// Grid (grid.cpp): N^3 probes at the cell centres of `bounds` (node -1, depth 0).
+std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+
+// The method of `kind` (methods.cpp), and a call of it.
+PlacementMethod placement_method(formats::PlacementKind kind);
+std::vector<PlacedProbe> place(formats::PlacementKind kind, const PlacementInput& in, formats::Octree& tree,
+                               const scene::Bounds& bounds);
+
+} // namespace probebake::placement

@@ -1,0 +1,322 @@
+#include "memory_update_pass.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/common.hpp>
+
+#include "error.h"
+#include "probebake/dynamic/tree_update.h"
+#include "probebake/formats/octree.h"
+#include "probebake/leaf_rule.h"
+
+namespace probebake::runtime::detail {
+namespace {
+
+constexpr VkBufferUsageFlags kUsage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+int batches_per_probe(const formats::ProbeVolume& v) {
+  if (v.surfel_batches.empty()) return 0;
+  return (v.info.surfels_per_probe + gpu::SURFELS_PER_BATCH - 1) / gpu::SURFELS_PER_BATCH;
+}
+
+// A device buffer holding `bytes` of `data` (at least 16 bytes, zero-padded), uploaded and waited for.
+Buffer upload(Device& device, const void* data, std::size_t bytes, const std::string& name) {
+  const std::size_t size = std::max<std::size_t>(bytes, 16);
+  if (size > device.info.max_storage_buffer_range)
+    fail(StatusCode::unsupported, name + ": " + std::to_string(size) + " bytes exceed maxStorageBufferRange (" +
+                                      std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name);
+  Buffer buffer = device.allocator->create_buffer(size, kUsage, MemoryUse::device, name);
+  Buffer staging = device.allocator->create_buffer(size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload, name + " staging");
+  std::memset(staging.mapped(), 0, size);
+  if (data && bytes > 0) std::memcpy(staging.mapped(), data, bytes);
+  Submission submission(device);
+  const VkBufferCopy region{0, 0, size};
+  vkCmdCopyBuffer(submission.cmd(), staging.get(), buffer.get(), 1, &region);
+  barrier(submission.cmd(), kTransferWrite, kAnyDeviceAccess);
+  submission.submit_and_wait();
+  return buffer;
+}
+
+template <class T>
+Buffer upload(Device& device, const std::vector<T>& values, const std::string& name) {
+  return upload(device, values.data(), values.size() * sizeof(T), name);
+}
+
+// Free-list stacks as formats::Octree keeps them: filled from the highest index down, so the top (the next
+// element allocated) is the lowest free index.
+std::vector<int> free_stack(std::size_t count, int first, int stride, const std::function<bool(int)>& is_free) {
+  std::vector<int> stack;
+  for (std::size_t k = count; k-- > 0;) {
+    const int index = first + int(k) * stride;
+    if (is_free(index)) stack.push_back(index);
+  }
+  return stack;
+}
+
+std::vector<int> sized(std::vector<int> stack, std::size_t capacity) {
+  stack.resize(std::max(stack.size(), capacity), 0);
+  return stack;
+}
+
+// Centre of every SVO leaf's voxel and the SVO node that holds it (the SVO's shape never changes), for the
+// refresh's refill and detach.
+std::vector<glm::vec4> svo_leaf_centres(const formats::ProbeVolume& v) {
+  std::vector<glm::vec4> centres(v.svo_leaves.size(), glm::vec4(0.0f));
+  struct Item {
+    int node;
+    glm::vec3 min;
+    float size;
+    int depth;
+  };
+  std::vector<Item> stack;
+  if (v.svo_nodes.size() >= (1u << 24)) fail(StatusCode::unsupported, "memory update: more than 2^24 SVO nodes");
+  if (!v.svo_nodes.empty()) stack.push_back({0, v.info.root_min, v.info.root_size, 0});
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    const int value = v.svo_nodes[std::size_t(item.node)];
+    if (value < 0 && std::size_t(~value) < centres.size())
+      centres[std::size_t(~value)] = glm::vec4(item.min + glm::vec3(0.5f * item.size), float(item.node)); // exact below 2^24
+    if (value <= 0 || item.depth >= 30) continue;
+    for (int o = 0; o < 8; ++o) {
+      if (std::size_t(value + o) >= v.svo_nodes.size()) break;
+      const float half = 0.5f * item.size;
+      stack.push_back({value + o, item.min + glm::vec3(float(o & 1), float((o >> 1) & 1), float((o >> 2) & 1)) * half, half, item.depth + 1});
+    }
+  }
+  return centres;
+}
+
+bool finite_box(const Box& b) {
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(b.min[a]) || !std::isfinite(b.max[a]) || b.min[a] > b.max[a]) return false;
+  return true;
+}
+
+bool unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
+
+// The frame's boxes as the shaders take them: beyond MEMORY_MAX_BOXES, the rest are merged into the last.
+gpu::MemoryFrame to_frame(const FrameInputs& in, int batches) {
+  gpu::MemoryFrame f{};
+  f.max_memory_entries = in.limits.max_memory_entries;
+  f.max_light_entries = in.limits.max_light_entries;
+  f.dead_backface_fraction = in.dead_backface_fraction;
+  f.batches_per_probe = batches;
+  for (std::size_t b = 0; b < in.changed_boxes.size(); ++b) {
+    const Box& box = in.changed_boxes[b];
+    const int slot = std::min<int>(int(b), gpu::MEMORY_MAX_BOXES - 1);
+    gpu::MemoryBox& out = f.boxes[slot];
+    if (slot < int(b)) {
+      out.lower = glm::min(out.lower, box.min);
+      out.upper = glm::max(out.upper, box.max);
+    } else {
+      out.lower = box.min;
+      out.upper = box.max;
+    }
+    f.box_count = slot + 1;
+  }
+  return f;
+}
+
+} // namespace
+
+bool memory_update_applies(const formats::ProbeVolume& v) {
+  return v.info.placement == gpu::PLACEMENT_OCTREE && !v.octree.empty() && !v.probes.empty() && v.lighting &&
+         v.lighting->placement_rays > 0;
+}
+
+formats::ProbeVolume prepare_for_memory_update(const formats::ProbeVolume& volume, const MemoryPools& pools) {
+  formats::ProbeVolume v = volume;
+  {
+    formats::Octree grow(v, formats::Octree::Growth::automatic);
+    const int used_clusters = int(formats::complete_clusters(v.octree.size())) - grow.free_clusters();
+    const int used_probes = int(v.probes.size()) - grow.free_probes();
+    const int free_probes = pools.free_probes >= 0 ? pools.free_probes : std::max(512, used_probes);
+    grow.reserve_clusters(pools.free_clusters >= 0 ? pools.free_clusters : std::max(64, used_clusters));
+    grow.reserve_probes(free_probes);
+    if (!v.surfel_batches.empty())
+      grow.reserve_batches(pools.free_batches >= 0 ? pools.free_batches : free_probes * batches_per_probe(v));
+  }
+  if (v.leaf_entries.empty() || v.leaf_header.segment_capacity < int(v.octree.size())) {
+    v.leaf_entries.clear();
+    v.leaf_header = gpu::LeafQueueHeader{};
+  }
+  {
+    formats::Octree fixed(v, formats::Octree::Growth::fixed);
+    const dynamic::TreeUpdate seed(fixed); // seeds an empty queue with every leaf
+  }
+  formats::sync_info_counts(v);
+  formats::rebuild_probe_index(v);
+  return v;
+}
+
+Status check_frame_inputs(const FrameInputs& in) {
+  auto bad = [](const std::string& what) { return Status{StatusCode::invalid_argument, "run_frame: " + what}; };
+  for (std::size_t b = 0; b < in.changed_boxes.size(); ++b)
+    if (!finite_box(in.changed_boxes[b])) return bad("changed box " + std::to_string(b) + " is not finite with min <= max");
+  if (in.max_depth && (*in.max_depth < 0 || *in.max_depth > gpu::OCTREE_MAX_DEPTH))
+    return bad("max_depth " + std::to_string(*in.max_depth) + " outside [0, " + std::to_string(gpu::OCTREE_MAX_DEPTH) + "]");
+  if (in.split_low && !unit_interval(*in.split_low)) return bad("split_low outside [0, 1]");
+  if (in.split_high && !unit_interval(*in.split_high)) return bad("split_high outside [0, 1]");
+  if (in.split_low && in.split_high && *in.split_low > *in.split_high) return bad("split_low above split_high");
+  if (!unit_interval(in.dead_backface_fraction)) return bad("dead_backface_fraction outside [0, 1]");
+  if (in.limits.max_memory_entries < 0 || in.limits.max_light_entries < 0) return bad("negative per-frame limit");
+  return {};
+}
+
+MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
+                                   VkBuffer light_list)
+    : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
+      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)) {
+  const std::size_t capacity = segment_capacity_;
+  std::vector<int> keys(3 * capacity, 0);
+  for (int s = 0; s < 3; ++s)
+    for (int e = 0; e < v.leaf_header.count[s]; ++e) {
+      const gpu::LeafEntry& entry = v.leaf_entries[std::size_t(s) * capacity + std::size_t(e)];
+      if (entry.node < 0 || std::size_t(entry.node) >= capacity) continue; // the validator refuses such entries
+      keys[std::size_t(s) * capacity + std::size_t(entry.node)] = (gpu::leaf_state_priority(entry.state) << 4) | entry.state;
+    }
+  const std::vector<int> clusters = free_stack(formats::complete_clusters(v.octree.size()), 1, gpu::OCTREE_CLUSTER_SIZE,
+                                               [&](int meta) { return v.octree[std::size_t(meta)] == 0; });
+  const std::vector<int> probes = free_stack(v.probes.size(), 0, 1, [&](int p) { return v.probes[std::size_t(p)].link == 0; });
+  const std::vector<int> batches =
+      free_stack(v.surfel_batches.size(), 0, 1, [&](int b) { return v.surfel_batches[std::size_t(b)].link == 0; });
+  const gpu::MemoryState state{int(clusters.size()), int(probes.size()), int(batches.size()), 0, 0, 0, 0, 0};
+
+  keys_ = upload(device, keys, "memory: queue keys");
+  state_ = upload(device, &state, sizeof(state), "memory: state");
+  // Each stack holds its whole pool: every element may be free at once.
+  cluster_stack_ = upload(device, sized(clusters, formats::complete_clusters(v.octree.size())), "memory: cluster stack");
+  probe_stack_ = upload(device, sized(probes, v.probes.size()), "memory: probe stack");
+  batch_stack_ = upload(device, sized(batches, v.surfel_batches.size()), "memory: batch stack");
+  work_ = upload(device, nullptr, capacity * sizeof(gpu::MemoryWork), "memory: work");
+  merge_sh_ = upload(device, nullptr, capacity * 27 * sizeof(float), "memory: merge irradiance");
+  marks_ = upload(device, nullptr, v.octree.size() * sizeof(int), "memory: node marks");
+  frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame), "memory: frame inputs");
+  probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");
+  svo_generations_ = upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
+  svo_centres_ = upload(device, svo_leaf_centres(v), "memory: SVO leaf centres");
+  counters_ = PassCounters<gpu::MemoryCounters>(device, "memory counters");
+
+  std::array<VkBuffer, gpu::MEMORY_BINDING_COUNT> buffers{};
+  buffers[gpu::MEMORY_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
+  buffers[gpu::MEMORY_BINDING_PROBES] = volume.binding(Section::probes);
+  buffers[gpu::MEMORY_BINDING_SVO_NODES] = volume.binding(Section::svo_nodes);
+  buffers[gpu::MEMORY_BINDING_SVO_LEAVES] = volume.binding(Section::svo_leaves);
+  buffers[gpu::MEMORY_BINDING_OCTREE] = volume.binding(Section::octree);
+  buffers[gpu::MEMORY_BINDING_LIGHTING_INFO] = volume.binding(Section::lighting_info);
+  buffers[gpu::MEMORY_BINDING_RAY_DIRECTIONS] = volume.binding(Section::ray_directions);
+  buffers[gpu::MEMORY_BINDING_BVH_NODES] = volume.binding(Section::bvh_nodes);
+  buffers[gpu::MEMORY_BINDING_TRACE_TRIANGLES] = volume.binding(Section::trace_triangles);
+  buffers[gpu::MEMORY_BINDING_SURFEL_BATCHES] = volume.binding(Section::surfel_batches);
+  buffers[gpu::MEMORY_BINDING_LEAF_HEADER] = volume.binding(Section::leaf_queue_header);
+  buffers[gpu::MEMORY_BINDING_LEAF_ENTRIES] = volume.binding(Section::leaf_entries);
+  buffers[gpu::MEMORY_BINDING_KEYS] = keys_.get();
+  buffers[gpu::MEMORY_BINDING_STATE] = state_.get();
+  buffers[gpu::MEMORY_BINDING_CLUSTER_STACK] = cluster_stack_.get();
+  buffers[gpu::MEMORY_BINDING_PROBE_STACK] = probe_stack_.get();
+  buffers[gpu::MEMORY_BINDING_BATCH_STACK] = batch_stack_.get();
+  buffers[gpu::MEMORY_BINDING_WORK] = work_.get();
+  buffers[gpu::MEMORY_BINDING_MERGE_SH] = merge_sh_.get();
+  buffers[gpu::MEMORY_BINDING_MARKS] = marks_.get();
+  buffers[gpu::MEMORY_BINDING_FRAME] = frame_.get();
+  buffers[gpu::MEMORY_BINDING_COUNTERS] = counters_.buffer();
+  buffers[gpu::MEMORY_BINDING_TRACE_FLAGS] = trace_flags;
+  buffers[gpu::MEMORY_BINDING_PROBE_GENERATIONS] = probe_generations_.get();
+  buffers[gpu::MEMORY_BINDING_SVO_GENERATIONS] = svo_generations_.get();
+  buffers[gpu::MEMORY_BINDING_SVO_CENTRES] = svo_centres_.get();
+  buffers[gpu::MEMORY_BINDING_LIGHT_LIST] = light_list;
+  descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().memory.set_layout.get(), buffers);
+}
+
+void MemoryUpdatePass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  dispatch_groups(cmd, device_, std::max<std::uint32_t>(1, (threads + group_size - 1) / group_size));
+  // Every step reads what the one before wrote, and may overwrite what it read.
+  barrier(cmd, kComputeReadWrite, kComputeReadWrite);
+}
+
+void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs) {
+  Pipelines& p = device_.compute_pipelines();
+  const gpu::MemoryFrame frame = to_frame(inputs, batches_per_probe_);
+  const bool thresholds = inputs.max_depth || inputs.split_low || inputs.split_high;
+  if (inputs.max_depth) info_.max_depth = *inputs.max_depth;
+  if (inputs.split_low) info_.split_low = *inputs.split_low;
+  if (inputs.split_high) info_.split_high = *inputs.split_high;
+  timer.begin(cmd, slot);
+  vkCmdUpdateBuffer(cmd, frame_.get(), 0, sizeof(frame), &frame);
+  if (thresholds) vkCmdUpdateBuffer(cmd, volume_.buffer(Section::volume_info).get(), 0, sizeof(info_), &info_);
+  vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
+  barrier(cmd, kTransferWrite, kComputeReadWrite);
+  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{0, 0, 0, 0});
+  const std::uint32_t group = gpu::MEMORY_WORKGROUP_SIZE;
+  dispatch(cmd, p.memory_begin.get(), 1, 1);
+  dispatch(cmd, p.memory_decide.get(), segment_capacity_, group);
+  dispatch(cmd, p.memory_release.get(), segment_capacity_, group);
+  dispatch(cmd, p.memory_grant.get(), 1, 1);
+  dispatch(cmd, p.memory_allocate.get(), segment_capacity_, group);
+  dispatch(cmd, p.memory_collapse.get(), segment_capacity_, group);
+  dispatch(cmd, p.memory_svo.get(), std::uint32_t(info_.svo_leaves), group);
+  timer.end(cmd, slot);
+  // The probe index build and the light update read the tree, probes and SVO (compute, transfer).
+  barrier(cmd, kComputeReadWrite, kAnyDeviceAccess);
+}
+
+void MemoryUpdatePass::record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
+  Pipelines& p = device_.compute_pipelines();
+  // Last frame's indirect dispatches read the light list that memory_begin empties (write after read).
+  barrier(cmd, Access{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                      kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT},
+          kComputeReadWrite);
+  timer.begin(cmd, slot);
+  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{1, 0, 0, 0});
+  dispatch(cmd, p.memory_begin.get(), 1, 1);
+  dispatch(cmd, p.memory_light.get(), segment_capacity_, gpu::MEMORY_WORKGROUP_SIZE);
+  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{2, 0, 0, 0});
+  dispatch(cmd, p.memory_begin.get(), 1, 1);
+  timer.end(cmd, slot);
+  // The light update reads the probes, flags and list in its shaders and the list's sizes as dispatch sizes.
+  barrier(cmd, kComputeReadWrite, Access{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                                         kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT});
+}
+
+void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd) {
+  Pipelines& p = device_.compute_pipelines();
+  barrier(cmd, kAnyDeviceAccess, kComputeReadWrite);
+  bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{});
+  dispatch(cmd, p.memory_sync.get(), 3 * segment_capacity_, gpu::MEMORY_WORKGROUP_SIZE);
+  counters_.record_end_of_pass_copy(cmd);
+}
+
+MemoryUpdateStats MemoryUpdatePass::stats() const {
+  const gpu::MemoryCounters c = counters_.read();
+  MemoryUpdateStats s;
+  s.active = true;
+  std::copy(std::begin(c.processed), std::end(c.processed), s.processed.begin());
+  s.deferred = c.deferred;
+  s.probes_placed = c.probes_placed;
+  s.probes_freed = c.probes_freed;
+  s.splits = c.splits;
+  s.collapses = c.collapses;
+  s.failed_allocations = c.failed_allocations;
+  s.lost_entries = c.lost_entries;
+  s.stale_entries = c.stale_entries;
+  s.svo_slots_dropped = c.svo_slots_dropped;
+  s.svo_leaves_refilled = c.svo_leaves_refilled;
+  s.free_clusters = c.free_clusters;
+  s.free_probes = c.free_probes;
+  s.free_batches = c.free_batches;
+  s.cluster_capacity = int(formats::complete_clusters(std::size_t(info_.octree_elements)));
+  s.probe_capacity = info_.probe_capacity;
+  s.batch_capacity = info_.batch_capacity;
+  return s;
+}
+
+} // namespace probebake::runtime::detail

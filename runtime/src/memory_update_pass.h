@@ -1,0 +1,68 @@
+// The memory update (octree thesis §3.2.1: M0-M4) and the light update's state transitions (§3.2.2: L0-L3)
+// on the GPU, following dynamic::TreeUpdate (the CPU reference) rule for rule: shaders/memory_*.comp.
+// The leaf queue's three segments are key -> state sets (a key per node and segment); node clusters,
+// probes and surfel batches come from free-list stacks (pushed with atomics, popped in ranges granted by
+// one thread in queue order), never from scans. docs/RUNTIME.md lists the dispatches and barriers.
+#pragma once
+
+#include <cstdint>
+
+#include <vulkan/vulkan_core.h>
+
+#include "allocator.h"
+#include "commands.h"
+#include "device.h"
+#include "gpu_volume.h"
+#include "handles.h"
+#include "pass_counters.h"
+#include "pipelines.h"
+#include "probebake/formats/probe_volume.h"
+#include "probebake/memory_types.h"
+#include "probebake/runtime/runtime.h"
+
+namespace probebake::runtime::detail {
+
+// Whether `volume` can run the memory update: octree placement with probes, the lighting sections.
+bool memory_update_applies(const formats::ProbeVolume& volume);
+
+// The volume the GPU starts from: pools grown to `pools`' free counts, and a leaf queue holding every node
+// (seeded with every leaf, L2 / L3, when it has none or one too small). Counts and probe index synced.
+formats::ProbeVolume prepare_for_memory_update(const formats::ProbeVolume& volume, const MemoryPools& pools);
+
+// invalid_argument naming the first input out of range; ok otherwise.
+Status check_frame_inputs(const FrameInputs& inputs);
+
+class MemoryUpdatePass {
+public:
+  // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` and
+  // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list).
+  MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags,
+                   VkBuffer light_list);
+
+  // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
+  // with the SVO refresh, ending with its writes visible to later compute and transfer work.
+  void record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs);
+  // Records the light transitions (after the probe index build) and the light list's dispatch sizes, ending
+  // with their writes visible to compute work and indirect dispatches.
+  void record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
+  // Records the end of the frame: entry states from keys, pool use, counters copied for the host.
+  void record_end_of_frame(VkCommandBuffer cmd);
+  // After the submission: this frame's statistics.
+  MemoryUpdateStats stats() const;
+  const gpu::VolumeInfo& info() const { return info_; }
+
+private:
+  void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const;
+
+  Device& device_;
+  const GpuVolume& volume_;
+  gpu::VolumeInfo info_{}; // as on the GPU (thresholds changed by FrameInputs)
+  int batches_per_probe_ = 0;
+  std::uint32_t segment_capacity_ = 0;
+  Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,
+      svo_generations_, svo_centres_;
+  PassCounters<gpu::MemoryCounters> counters_;
+  PassDescriptorSet descriptors_;
+};
+
+} // namespace probebake::runtime::detail

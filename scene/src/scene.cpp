@@ -1,0 +1,78 @@
+#include <cmath>
+#include <algorithm>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "probebake/scene/scene.h"
+
+namespace probebake::scene {
+
+void Bounds::extend(const glm::vec3& p) {
+  min = glm::min(min, p);
+  max = glm::max(max, p);
+}
+
+float Bounds::largest_extent() const {
+  if (empty()) return 0.0f;
+  const glm::vec3 extent = max - min;
+  return std::max({extent.x, extent.y, extent.z});
+}
+
+float ray_epsilon(const Scene& scene) {
+  if (scene.bounds.empty()) return 1e-5f;
+  const glm::vec3 far = glm::max(glm::abs(scene.bounds.min), glm::abs(scene.bounds.max));
+  return std::max(1e-5f * scene.bounds.largest_extent() + 1e-6f * std::max({far.x, far.y, far.z}), 1e-7f);
+}
+
+void Bounds::extend(const Bounds& b) {
+  if (b.empty()) return;
+  extend(b.min);
+  extend(b.max);
+}
+
+const std::vector<std::string>& supported_extensions() {
+  static const std::vector<std::string> names = {
+      "KHR_draco_mesh_compression", "KHR_materials_emissive_strength", "KHR_lights_punctual",
+      "KHR_texture_transform",      "KHR_mesh_quantization",           "EXT_meshopt_compression",
+      "EXT_texture_webp",           "KHR_texture_basisu", // through its fallback image, else the factor (warning)
+  };
+  return names;
+}
+
+double triangle_area(const Scene& scene, std::size_t t) {
+  const glm::uvec3 tri = scene.triangles[t];
+  const glm::dvec3 a(scene.positions[tri.x]), b(scene.positions[tri.y]), c(scene.positions[tri.z]);
+  return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+bool is_double_sided(const Scene& scene, std::size_t t) {
+  return scene.materials[scene.triangle_material[t]].double_sided;
+}
+
+glm::vec3 triangle_normal(const Scene& scene, std::size_t t) {
+  // In double: the squared length of a float cross product overflows for edges above ~1e9 m and
+  // underflows below ~1e-10 m, which left non-unit normals in the file at extreme scales.
+  const glm::uvec3 tri = scene.triangles[t];
+  const glm::dvec3 a(scene.positions[tri.x]), b(scene.positions[tri.y]), c(scene.positions[tri.z]);
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double len = glm::length(n);
+  return len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : glm::vec3(0.0f);
+}
+
+SceneSummary summarize(const Scene& scene) {
+  SceneSummary s;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const double area = triangle_area(scene, t);
+    if (area <= 0.0) ++s.degenerate_triangles;
+    const glm::vec3 e = scene.triangle_emission[t];
+    if (e.x > 0.0f || e.y > 0.0f || e.z > 0.0f) {
+      ++s.emissive_triangles;
+      s.emissive_area += area;
+    }
+  }
+  for (const Instance& i : scene.instances) s.dynamic_instances += i.dynamic ? 1 : 0;
+  return s;
+}
+
+} // namespace probebake::scene

@@ -1,0 +1,128 @@
+// Structs and constants of the runtime's memory update (octree thesis §3.2.1, M0-M4) and of the light
+// update's state transitions (§3.2.2, L0-L3) on the GPU, shared by C++ and GLSL like gpu_types.h: std430,
+// explicit padding, static_assert on sizes and offsets (C++ side). docs/RUNTIME.md describes the buffers.
+#ifndef PROBEBAKE_MEMORY_TYPES_H
+#define PROBEBAKE_MEMORY_TYPES_H
+
+#include "probebake/gpu_types.h"
+
+#ifdef __cplusplus
+namespace probebake::gpu {
+#define PB_CONSTANT(type, name, value) inline constexpr type name = value
+#else
+#define PB_CONSTANT(type, name, value) const type name = value
+#endif
+
+// Threads per workgroup of the per-entry dispatches (one leaf-queue entry or one SVO leaf per thread).
+PB_CONSTANT(uint, MEMORY_WORKGROUP_SIZE, 64u);
+// Changed boxes per frame (FrameInputs::changed_boxes beyond this are merged by the host into their union).
+PB_CONSTANT(int, MEMORY_MAX_BOXES, 64);
+
+// A queue key: (state_priority << 4) | state, 0 = the node is not in the segment (leaf_rule.h's priority).
+PB_CONSTANT(int, MEMORY_KEY_STATE_MASK, 15);
+
+// What the memory update does with a pulled entry (MemoryWork::action).
+PB_CONSTANT(int, MEMORY_ACTION_NONE, 0);           // M0, or a stale entry: nothing
+PB_CONSTANT(int, MEMORY_ACTION_ALLOCATE_PROBE, 1); // M1
+PB_CONSTANT(int, MEMORY_ACTION_FREE_PROBE, 2);     // M2
+PB_CONSTANT(int, MEMORY_ACTION_SPLIT, 3);          // M3
+PB_CONSTANT(int, MEMORY_ACTION_COLLAPSE, 4);       // M4 whose verdict merges the children
+PB_CONSTANT(int, MEMORY_ACTION_DEFER, 5);          // M1/M3 over the per-frame limit: pushed back unchanged
+PB_CONSTANT(int, MEMORY_ACTION_DRY, 6);            // M1/M3 whose pool ran dry: the node keeps its state
+PB_CONSTANT(int, MEMORY_ACTION_SPLIT_AT_MAX, 7);   // M3 at max depth (a lowered max depth): measured again
+PB_CONSTANT(int, MEMORY_ACTION_STALE, 8);          // the node no longer fits the entry's state
+
+// Per-node marks of the frame (MemoryState-sized int per octree element), cleared by memory_collapse.
+PB_CONSTANT(int, MEMORY_MARK_FREEING, -1); // an M2 leaf freeing its probe this frame; > 0: 1 + LEAF_VERDICT_* of a merging parent
+
+struct MemoryPush {
+  int phase; // offset 0: memory_begin: 0 = memory update, 1 = light transitions
+  int pad0;  // offset 4
+  int pad1;  // offset 8
+  int pad2;  // offset 12
+};           // size 16
+
+// Host-written inputs of one frame (vkCmdUpdateBuffer before the memory update).
+struct MemoryBox {
+  vec3 lower; // offset  0: minimum corner, world space
+  float pad0; // offset 12
+  vec3 upper; // offset 16: maximum corner
+  float pad1; // offset 28
+};            // size 32
+
+struct MemoryFrame {
+  int box_count;                 // offset  0: changed boxes in use
+  int max_memory_entries;        // offset  4: M1/M3 per frame, 0 = all
+  int max_light_entries;         // offset  8: L1/L2 leaves with a probe per frame, 0 = all
+  float dead_backface_fraction;  // offset 12: leaf_rule.h
+  int batches_per_probe;         // offset 16: surfel batches of a new probe (0 without a batch pool)
+  int pad0;                      // offset 20
+  int pad1;                      // offset 24
+  int pad2;                      // offset 28
+  MemoryBox boxes[MEMORY_MAX_BOXES]; // offset 32
+};                               // size 32 + 32 * MEMORY_MAX_BOXES
+
+// Device-only state: free-list stack sizes and the frame's pulled counts.
+struct MemoryState {
+  int cluster_top;    // offset  0: free node clusters (meta indices) on the cluster stack
+  int probe_top;      // offset  4: free probe slots on the probe stack
+  int batch_top;      // offset  8: free surfel batches on the batch stack
+  int traced;         // offset 12: L1/L2 leaves with a probe taken so far this frame (light limit)
+  int memory_pulled;  // offset 16: entries the memory update pulled this frame
+  int memory_segment; // offset 20: the segment it pulled
+  int light_pulled;   // offset 24: entries the light update pulled this frame
+  int light_segment;  // offset 28: the segment it pulled
+};                    // size 32
+
+// One pulled memory entry as the dispatches pass it on: decide fills node/state/action, release the
+// merge probe, grant the stack positions (index into the stacks of the first element granted).
+struct MemoryWork {
+  int node;          // offset  0
+  int state;         // offset  4: LEAF_M*
+  int action;        // offset  8: MEMORY_ACTION_*
+  int verdict;       // offset 12: LEAF_VERDICT_* of a merge (MEMORY_ACTION_COLLAPSE)
+  int reuse_probe;   // offset 16: a merging child's probe kept for the merged node, -1 = none
+  int cluster_first; // offset 20: granted: cluster stack position
+  int probe_first;   // offset 24: granted: probe stack position
+  int batch_first;   // offset 28: granted: batch stack position
+  int merged;        // offset 32: children whose probes the merge averaged (MEMORY_ACTION_COLLAPSE)
+  int pad0;          // offset 36
+  int pad1;          // offset 40
+  int pad2;          // offset 44
+};                   // size 48
+
+// Statistics of one frame's memory update and light transitions, reset every frame.
+struct MemoryCounters {
+  int processed[LEAF_STATE_COUNT]; // offset  0: entries processed, by state
+  int deferred;                    // offset 36: entries left for a later frame by the per-frame limits
+  int probes_placed;               // offset 40: M1 and merged parents
+  int probes_freed;                // offset 44: M2 and merged children
+  int splits;                      // offset 48: M3
+  int collapses;                   // offset 52: M4 merges
+  int failed_allocations;          // offset 56: a pool ran dry: the node kept its state
+  int lost_entries;                // offset 60: pushes into a full segment (0 while capacity >= nodes)
+  int stale_entries;               // offset 64: entries whose node no longer fits their state
+  int svo_slots_dropped;           // offset 68: SVO stencil slots whose probe was freed or reused
+  int svo_leaves_refilled;         // offset 72: SVO leaves left empty and refilled from the octree
+  int free_clusters;               // offset 76: pool use at the end of the frame (memory_sync)
+  int free_probes;                 // offset 80
+  int free_batches;                // offset 84
+  int pad0;                        // offset 88
+  int pad1;                        // offset 92
+};                                 // size 96
+
+#ifdef __cplusplus
+static_assert(sizeof(MemoryPush) == 16);
+static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
+static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, boxes) == 32);
+static_assert(offsetof(MemoryFrame, batches_per_probe) == 16);
+static_assert(sizeof(MemoryState) == 32 && offsetof(MemoryState, light_segment) == 28);
+static_assert(sizeof(MemoryWork) == 48 && offsetof(MemoryWork, merged) == 32);
+static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred) == 36);
+static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);
+static_assert(offsetof(MemoryCounters, free_clusters) == 76 && offsetof(MemoryCounters, free_batches) == 84);
+} // namespace probebake::gpu
+#endif
+
+#undef PB_CONSTANT
+#endif // PROBEBAKE_MEMORY_TYPES_H

@@ -1,0 +1,77 @@
+// Octree buffer arithmetic and the placement-lattice measure in GLSL, the twins of formats/octree.h's
+// node_cube and the bake's probe tracing (bake/src/probe_tracing.cpp). The including shader declares
+// VolumeInfo probebake_info, int probebake_octree[], and what bvh_trace.glsl needs plus vec4
+// probebake_ray_directions[] (the lattice is ray_directions[rays, rays + placement_rays)).
+#ifndef PROBEBAKE_OCTREE_GLSL
+#define PROBEBAKE_OCTREE_GLSL
+
+#include "probebake/bvh_trace.glsl"
+
+int octree_meta_of(int node) { return node - (node - 1) % OCTREE_CLUSTER_SIZE; }
+bool octree_is_node_index(int index) { return index == 0 || (index >= 1 && (index - 1) % OCTREE_CLUSTER_SIZE != 0); }
+int octree_usable_elements() {
+  return probebake_info.octree_elements < 1 ? 0 : 1 + ((probebake_info.octree_elements - 1) / OCTREE_CLUSTER_SIZE) * OCTREE_CLUSTER_SIZE;
+}
+int octree_parent_of(int node) { return node == 0 ? -1 : ~probebake_octree[octree_meta_of(node)]; }
+
+// The root, or a node of an allocated cluster (formats: is_live_node).
+bool octree_is_live_node(int node) {
+  if (node == 0) return probebake_info.octree_elements > 0;
+  if (node < 0 || node >= octree_usable_elements() || !octree_is_node_index(node)) return false;
+  return probebake_octree[octree_meta_of(node)] < 0;
+}
+
+// The cube of octree node `node`, computed top-down exactly as formats::node_cube (precise: no FMA).
+void octree_node_cube(int node, out vec3 cube_min, out float cube_size, out int cube_depth) {
+  int octants[OCTREE_MAX_DEPTH];
+  int depth = 0;
+  while (node > 0 && depth < OCTREE_MAX_DEPTH) {
+    const int meta = octree_meta_of(node);
+    octants[depth++] = node - meta - 1;
+    node = ~probebake_octree[meta];
+  }
+  precise vec3 m = probebake_info.root_min;
+  precise float size = probebake_info.root_size;
+  for (int level = depth - 1; level >= 0; --level) {
+    const int o = octants[level];
+    const float half_size = 0.5 * size;
+    m = m + vec3(float(o & 1), float((o >> 1) & 1), float((o >> 2) & 1)) * half_size;
+    size = half_size;
+  }
+  cube_min = m;
+  cube_size = size;
+  cube_depth = depth;
+}
+
+// bake::detail::Cube::exit_distance.
+float octree_exit_distance(vec3 cube_min, float size, vec3 inside, vec3 dir) {
+  float t = 3.4e38;
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] > 0.0) t = min(t, (cube_min[a] + size - inside[a]) / dir[a]);
+    else if (dir[a] < 0.0) t = min(t, (cube_min[a] - inside[a]) / dir[a]);
+  }
+  return max(t, 0.0);
+}
+
+// One lattice ray r (0 .. placement_rays) from `centre`: adds to the three counts.
+void octree_lattice_ray(vec3 cube_min, float size, vec3 centre, int r, inout uint in_cube, inout uint hits, inout uint backface) {
+  const vec3 dir = probebake_ray_directions[probebake_lighting.rays + r].xyz;
+  float t = 3.4e38;
+  const int tri = probebake_trace(centre, dir, 0.0, t, false);
+  if (tri < 0) return;
+  hits += 1u;
+  if (probebake_inside(tri, dir)) backface += 1u;
+  if (t <= octree_exit_distance(cube_min, size, centre, dir)) in_cube += 1u;
+}
+
+// The leaf measure of a node cube, by one thread: hit fraction (hits inside the cube / lattice rays) and
+// back-face fraction (back-face hits / hits), as light_trace measures it with a workgroup.
+vec2 octree_measure(vec3 cube_min, float size) {
+  precise const vec3 centre = cube_min + vec3(0.5 * size);
+  uint in_cube = 0u, hits = 0u, backface = 0u;
+  for (int r = 0; r < probebake_lighting.placement_rays; ++r) octree_lattice_ray(cube_min, size, centre, r, in_cube, hits, backface);
+  const float f = probebake_lighting.placement_rays > 0 ? float(in_cube) / float(probebake_lighting.placement_rays) : 0.0;
+  return vec2(f, hits > 0u ? float(backface) / float(hits) : 0.0);
+}
+
+#endif // PROBEBAKE_OCTREE_GLSL

@@ -1,0 +1,459 @@
+// The GPU memory update and light transitions (runtime/src/memory_update_pass.h, shaders/memory_*.comp)
+// against the CPU reference dynamic::TreeUpdate: the same scripted frames (changed boxes, max depth raised
+// from 1 to 3 and lowered back) must give the same tree, the same probes and the same queue states; and a
+// soak of random inputs must keep the live volume valid, leak nothing and stay bounded.
+//
+// Comparison is canonical, by node path (octants from the root) and probe position: the GPU pops its free
+// lists in an order that depends on its threads (pushes are atomics), so slot indices may differ from the
+// CPU's while the tree they describe is the same. The CPU's trace callback casts the volume's own placement
+// lattice through the volume's own triangles (the arrays the GPU traces), by brute force in the shaders'
+// arithmetic, so both sides measure the same geometry.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <optional>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "probebake/bake/bake.h"
+#include "probebake/scene/scene.h"
+#include "probebake/dynamic/tree_update.h"
+#include "probebake/formats/octree.h"
+#include "probebake/formats/validate.h"
+#include "probebake/samples/scenes.h"
+#include "runtime_test_util.h"
+
+namespace probebake::test {
+namespace {
+
+using MemoryUpdateTest = RuntimeTest;
+
+// Cornell box at max depth 1 with surfel batches (so the batch pool is exercised) and the lighting sections.
+formats::ProbeVolume bake_shallow_cornell() {
+  const std::vector<std::uint8_t> glb = samples::cornell().to_glb();
+  const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), "cornell-d1", ".",
+                                                           {.require_triangles = true});
+  bake::BakeSettings s;
+  s.max_depth = 1;
+  s.surfels_per_probe = 48;
+  s.svo_depth = 4;
+  s.lighting.rays = 32;
+  s.store_surfels = true;
+  return bake::bake(scene, s).volume;
+}
+
+const formats::ProbeVolume& shallow_cornell() {
+  static const formats::ProbeVolume v = bake_shallow_cornell();
+  return v;
+}
+
+// ---- The CPU measure in the shaders' arithmetic (bvh_trace.glsl, octree.glsl), every triangle tested ----
+
+float ray_triangle(const gpu::TraceTriangle& tri, glm::vec3 origin, glm::vec3 dir) {
+  const glm::vec3 p = glm::cross(dir, tri.edge2);
+  const float det = glm::dot(tri.edge1, p);
+  if (det == 0.0f) return -1.0f;
+  const float inv = 1.0f / det;
+  const glm::vec3 s = origin - tri.v0;
+  const float u = glm::dot(s, p) * inv;
+  if (u < 0.0f || u > 1.0f) return -1.0f;
+  const glm::vec3 q = glm::cross(s, tri.edge1);
+  const float v = glm::dot(dir, q) * inv;
+  if (v < 0.0f || u + v > 1.0f) return -1.0f;
+  return glm::dot(tri.edge2, q) * inv;
+}
+
+float exit_distance(const formats::NodeCube& cube, glm::vec3 inside, glm::vec3 dir) {
+  float t = 3.4e38f;
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] > 0.0f) t = std::min(t, (cube.min[a] + cube.size - inside[a]) / dir[a]);
+    else if (dir[a] < 0.0f) t = std::min(t, (cube.min[a] - inside[a]) / dir[a]);
+  }
+  return std::max(t, 0.0f);
+}
+
+dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCube& cube) {
+  const glm::vec3 centre = cube.centre();
+  const int first = v.lighting->rays, rays = v.lighting->placement_rays;
+  int in_cube = 0, hits = 0, backface = 0;
+  for (int r = 0; r < rays; ++r) {
+    const glm::vec3 dir = glm::vec3(v.ray_directions[std::size_t(first + r)]);
+    float best = 3.4e38f;
+    int hit = -1;
+    for (std::size_t t = 0; t < v.trace_triangles.size(); ++t) {
+      const float d = ray_triangle(v.trace_triangles[t], centre, dir);
+      if (d >= 0.0f && d <= best && (hit < 0 || d < best)) best = d, hit = int(t);
+    }
+    if (hit < 0) continue;
+    ++hits;
+    const gpu::TraceTriangle& tri = v.trace_triangles[std::size_t(hit)];
+    if (glm::dot(tri.normal, dir) > 0.0f && (tri.flags & gpu::TRIANGLE_DOUBLE_SIDED) == 0u) ++backface;
+    if (best <= exit_distance(cube, centre, dir)) ++in_cube;
+  }
+  return {rays > 0 ? float(in_cube) / float(rays) : 0.0f, hits > 0 ? float(backface) / float(hits) : 0.0f};
+}
+
+// ---- Canonical form of a tree and its queue ------------------------------------------------------------
+
+// Octants from the root ("" = root, "37" = child 7 of child 3), or nullopt for a node that is not live.
+std::optional<std::string> path_of(const formats::ProbeVolume& v, int node) {
+  std::string path;
+  for (int steps = 0; node != 0; ++steps) {
+    if (node < 0 || std::size_t(node) >= v.octree.size() || !formats::is_node_index(node) || steps > gpu::OCTREE_MAX_DEPTH) return std::nullopt;
+    const int meta = formats::cluster_meta_of(node);
+    if (v.octree[std::size_t(meta)] >= 0) return std::nullopt;
+    path.insert(path.begin(), char('0' + formats::octant_of(node)));
+    node = ~v.octree[std::size_t(meta)];
+  }
+  return path;
+}
+
+struct Canonical {
+  std::map<std::string, std::tuple<bool, float, float, float, int>> leaves; // path -> probe?, position, depth
+  std::array<std::map<std::string, int>, 3> segments;                       // path -> state, by segment
+  int pull_origin = 0;
+  int probes = 0, batches = 0, clusters = 0;
+};
+
+Canonical canonical(const formats::ProbeVolume& v) {
+  Canonical c;
+  formats::for_each_leaf(v, [&](const formats::NodeCube& leaf) {
+    const int value = v.octree[std::size_t(leaf.node)];
+    std::tuple<bool, float, float, float, int> entry{value < 0, 0.0f, 0.0f, 0.0f, leaf.depth};
+    if (value < 0) {
+      const gpu::Probe& p = v.probes[std::size_t(~value)];
+      entry = {true, p.position.x, p.position.y, p.position.z, p.depth};
+    }
+    c.leaves.emplace(*path_of(v, leaf.node), entry);
+  });
+  const int capacity = v.leaf_header.segment_capacity;
+  for (int s = 0; s < 3; ++s)
+    for (int e = 0; e < v.leaf_header.count[s]; ++e) {
+      const gpu::LeafEntry& entry = v.leaf_entries[std::size_t(s * capacity + e)];
+      c.segments[std::size_t(s)].emplace(path_of(v, entry.node).value_or("dead " + std::to_string(entry.node)), entry.state);
+    }
+  c.pull_origin = v.leaf_header.pull_origin;
+  for (const gpu::Probe& p : v.probes) c.probes += p.link != 0 ? 1 : 0;
+  for (const gpu::SurfelBatch& b : v.surfel_batches) c.batches += b.link != 0 ? 1 : 0;
+  for (std::size_t m = 1; m + 8 < v.octree.size(); m += 9) c.clusters += v.octree[m] < 0 ? 1 : 0;
+  return c;
+}
+
+// Names the first difference between two canonical trees, or "" when they are equal.
+std::string first_difference(const Canonical& gpu, const Canonical& cpu) {
+  if (gpu.pull_origin != cpu.pull_origin) return "pull origin " + std::to_string(gpu.pull_origin) + " vs " + std::to_string(cpu.pull_origin);
+  for (const auto& [path, leaf] : cpu.leaves) {
+    const auto found = gpu.leaves.find(path);
+    if (found == gpu.leaves.end()) return "leaf '" + path + "' only on the CPU";
+    if (found->second != leaf) {
+      auto text = [](const std::tuple<bool, float, float, float, int>& l) {
+        char buffer[160];
+        std::snprintf(buffer, sizeof(buffer), "(probe %d at %.9g %.9g %.9g depth %d)", int(std::get<0>(l)), double(std::get<1>(l)),
+                      double(std::get<2>(l)), double(std::get<3>(l)), std::get<4>(l));
+        return std::string(buffer);
+      };
+      return "leaf '" + path + "' differs: " + text(found->second) + " vs " + text(leaf);
+    }
+  }
+  for (const auto& [path, leaf] : gpu.leaves)
+    if (!cpu.leaves.count(path)) return "leaf '" + path + "' only on the GPU";
+  for (int s = 0; s < 3; ++s)
+    if (gpu.segments[std::size_t(s)] != cpu.segments[std::size_t(s)]) {
+      for (const auto& [path, state] : cpu.segments[std::size_t(s)]) {
+        const auto found = gpu.segments[std::size_t(s)].find(path);
+        if (found == gpu.segments[std::size_t(s)].end()) return "segment " + std::to_string(s) + ": '" + path + "' (state " + std::to_string(state) + ") only on the CPU";
+        if (found->second != state) return "segment " + std::to_string(s) + ": '" + path + "' state " + std::to_string(found->second) + " vs " + std::to_string(state);
+      }
+      return "segment " + std::to_string(s) + ": entries only on the GPU";
+    }
+  if (gpu.probes != cpu.probes || gpu.batches != cpu.batches || gpu.clusters != cpu.clusters)
+    return "pool use (probes, batches, clusters) " + std::to_string(gpu.probes) + "/" + std::to_string(gpu.batches) + "/" +
+           std::to_string(gpu.clusters) + " vs " + std::to_string(cpu.probes) + "/" + std::to_string(cpu.batches) + "/" + std::to_string(cpu.clusters);
+  return "";
+}
+
+// ---- The two sides, driven by the same frames --------------------------------------------------------------
+
+struct Step {
+  std::vector<runtime::Box> boxes;
+  std::optional<int> max_depth;
+};
+
+runtime::Box root_box(const formats::ProbeVolume& v) {
+  return {v.info.root_min, v.info.root_min + glm::vec3(v.info.root_size)};
+}
+
+struct Cpu {
+  formats::ProbeVolume volume;
+  formats::Octree tree;
+  dynamic::TreeUpdate update;
+  explicit Cpu(const formats::ProbeVolume& start)
+      : volume(start), tree(volume, formats::Octree::Growth::fixed), update(tree) {}
+
+  dynamic::TreeFrameStats frame(const Step& step) {
+    if (step.max_depth) volume.info.max_depth = *step.max_depth;
+    std::vector<dynamic::Box> boxes;
+    for (const runtime::Box& b : step.boxes) boxes.push_back({b.min, b.max});
+    return update.run_frame(boxes, [this](const formats::NodeCube& cube, glm::vec3) { return measure(volume, cube); });
+  }
+};
+
+runtime::UploadOptions dynamic_options() {
+  runtime::UploadOptions o;
+  o.memory_update = true;
+  o.pools.free_clusters = 80;
+  o.pools.free_probes = 700;
+  return o;
+}
+
+void expect_same_stats(const runtime::MemoryUpdateStats& gpu, const dynamic::TreeFrameStats& cpu, int frame) {
+  for (int s = 0; s < gpu::LEAF_STATE_COUNT; ++s) EXPECT_EQ(gpu.processed[std::size_t(s)], cpu.processed[std::size_t(s)]) << "frame " << frame << " state " << s;
+  EXPECT_EQ(gpu.splits, cpu.splits) << "frame " << frame;
+  EXPECT_EQ(gpu.collapses, cpu.collapses) << "frame " << frame;
+  EXPECT_EQ(gpu.probes_placed, cpu.probes_placed) << "frame " << frame;
+  EXPECT_EQ(gpu.probes_freed, cpu.probes_freed) << "frame " << frame;
+  EXPECT_EQ(gpu.failed_allocations, cpu.failed_allocations) << "frame " << frame;
+  EXPECT_EQ(gpu.stale_entries, cpu.stale_entries) << "frame " << frame;
+  EXPECT_EQ(gpu.deferred, cpu.deferred) << "frame " << frame;
+  EXPECT_EQ(gpu.lost_entries, 0) << "frame " << frame;
+}
+
+// Frame after which the bake's depth-1 tree has settled under the runtime's rule (the bake's placement also
+// refines towards triangles its centre cannot see, so the runtime frees a few probes in frame 2).
+constexpr int kSettledAtDepth1 = 4;
+
+// The live volume obeys every invariant, judged at the deepest max depth of the script (a lowered max
+// depth leaves deeper leaves until they merge, which the validator would call too deep).
+void expect_valid(formats::ProbeVolume live, int deepest, int frame) {
+  live.info.max_depth = std::max(live.info.max_depth, deepest);
+  const formats::ValidationReport report = formats::validate(live);
+  ASSERT_TRUE(report.valid()) << "frame " << frame << ": " << report.violations.front().invariant << ": " << report.violations.front().message;
+}
+
+// Refine to max depth 3, move boxes through the room, then back to max depth 1.
+std::vector<Step> scripted_steps(const formats::ProbeVolume& v) {
+  const runtime::Box all = root_box(v);
+  const glm::vec3 lo = v.info.root_min, size(v.info.root_size);
+  std::vector<Step> steps;
+  steps.push_back({{all}, std::nullopt}); // re-measure at the bake's depth 1
+  for (int f = 0; f < 3; ++f) steps.push_back({});
+  steps.push_back({{all}, 3});
+  for (int f = 0; f < 8; ++f) steps.push_back({});
+  steps.push_back({{{lo + 0.2f * size, lo + 0.45f * size}}, std::nullopt});
+  steps.push_back({{{lo + 0.5f * size, lo + 0.9f * size}}, std::nullopt});
+  for (int f = 0; f < 3; ++f) steps.push_back({});
+  steps.push_back({{all}, 1});
+  for (int f = 0; f < 10; ++f) steps.push_back({});
+  return steps;
+}
+
+TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), dynamic_options());
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  auto start = gpu.value().read_back();
+  ASSERT_TRUE(start.ok()) << start.status().message;
+  Cpu cpu(start.value());
+  const Canonical at_start = canonical(start.value());
+
+  int frame = 0, most_probes = 0, splits = 0, collapses = 0;
+  Canonical settled;
+  for (const Step& step : scripted_steps(start.value())) {
+    ++frame;
+    runtime::FrameInputs in;
+    in.changed_boxes = step.boxes;
+    in.max_depth = step.max_depth;
+    auto stats = gpu.value().run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    const dynamic::TreeFrameStats cpu_stats = cpu.frame(step);
+    expect_same_stats(stats.value().memory, cpu_stats, frame);
+    // The light update lights exactly the leaves its transitions took (L1, L2), not every slot.
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    EXPECT_EQ(stats.value().light.lit_probes, m.processed[gpu::LEAF_L1_PLACE_SURFELS] + m.processed[gpu::LEAF_L2_LIGHT]) << "frame " << frame;
+    auto live = gpu.value().read_back();
+    ASSERT_TRUE(live.ok()) << live.status().message;
+    const Canonical g = canonical(live.value()), c = canonical(cpu.volume);
+    const std::string difference = first_difference(g, c);
+    ASSERT_EQ(difference, "") << "frame " << frame;
+    EXPECT_EQ(stats.value().memory.free_probes, cpu.tree.free_probes()) << "frame " << frame;
+    EXPECT_EQ(stats.value().memory.free_batches, cpu.tree.free_batches()) << "frame " << frame;
+    EXPECT_EQ(stats.value().memory.free_clusters, cpu.tree.free_clusters()) << "frame " << frame;
+    const std::vector<std::string> problems = dynamic::check_queue_covers_tree(live.value());
+    ASSERT_TRUE(problems.empty()) << "frame " << frame << ": " << problems.front();
+    expect_valid(live.value(), 3, frame);
+    if (frame == kSettledAtDepth1) settled = g;
+    most_probes = std::max(most_probes, g.probes);
+    splits += stats.value().memory.splits;
+    collapses += stats.value().memory.collapses;
+  }
+  const Canonical end = canonical(cpu.volume);
+  std::printf("[memory] %d frames: probes %d baked at depth 1, %d settled, %d at most (depth 3), %d back at depth 1; "
+              "%d splits, %d merges; pool use settled %d/%d/%d (probes/batches/clusters), at the end %d/%d/%d\n",
+              frame, at_start.probes, settled.probes, most_probes, end.probes, splits, collapses, settled.probes,
+              settled.batches, settled.clusters, end.probes, end.batches, end.clusters);
+  EXPECT_GT(most_probes, 2 * settled.probes); // depth 3 refined the tree
+  EXPECT_GT(splits, 0);
+  EXPECT_GT(collapses, 0);
+  // Back at depth 1 everything merged back: the settled tree and its pool use, element for element.
+  EXPECT_EQ(end.leaves, settled.leaves);
+  EXPECT_EQ(end.probes, settled.probes);
+  EXPECT_EQ(end.batches, settled.batches);
+  EXPECT_EQ(end.clusters, settled.clusters);
+}
+
+// No NaN or Inf in what the memory update writes or the light update reads back into the probes.
+void expect_finite_probes(const formats::ProbeVolume& v, int frame) {
+  for (std::size_t i = 0; i < v.probes.size(); ++i) {
+    const gpu::Probe& p = v.probes[i];
+    bool finite = std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.position.z) &&
+                  std::isfinite(p.hit_fraction) && std::isfinite(p.backface_fraction);
+    for (float c : p.irradiance_sh) finite = finite && std::isfinite(c);
+    ASSERT_TRUE(finite) << "frame " << frame << ": probe " << i;
+  }
+}
+
+// Runs idle frames with every leaf re-measured until no memory work is left; returns the frames it took.
+int settle(runtime::Volume& gpu, const runtime::Box& all, std::optional<int> max_depth) {
+  for (int f = 1; f <= 60; ++f) {
+    runtime::FrameInputs in;
+    if (f <= 2) in.changed_boxes = {all};
+    if (f == 1) in.max_depth = max_depth;
+    auto stats = gpu.run_frame(in);
+    EXPECT_TRUE(stats.ok()) << stats.status().message;
+    if (!stats.ok()) return -1;
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    const bool busy = m.splits + m.collapses + m.probes_placed + m.probes_freed + m.deferred > 0 ||
+                      m.processed[std::size_t(gpu::LEAF_L1_PLACE_SURFELS)] > 0;
+    if (f > 3 && !busy) return f;
+  }
+  return -1;
+}
+
+// Hundreds of frames of random boxes, max depths 1-3 and per-frame limits: the live volume is read back and
+// checked every K frames; back at the start (depth 1, re-measured), the tree and every pool are as they were.
+TEST_F(MemoryUpdateTest, SoakOfRandomBoxesAndDepthsStaysValidAndLeaksNothing) {
+  constexpr int kFrames = 300, kCheckEvery = 10;
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), dynamic_options());
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  const formats::ProbeVolume start = gpu.value().read_back().value();
+  const runtime::Box all = root_box(start);
+  ASSERT_GT(settle(gpu.value(), all, std::nullopt), 0);
+  const Canonical settled = canonical(gpu.value().read_back().value());
+
+  std::mt19937 random(12);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int most_probes = 0, deferred = 0, splits = 0, collapses = 0, checks = 0;
+  for (int frame = 1; frame <= kFrames; ++frame) {
+    runtime::FrameInputs in;
+    for (int b = 0; b < 3; ++b) {
+      if (unit(random) < 0.5f) continue;
+      const glm::vec3 centre = all.min + (all.max - all.min) * glm::vec3(unit(random), unit(random), unit(random));
+      const glm::vec3 half = (all.max - all.min) * (0.02f + 0.2f * unit(random));
+      in.changed_boxes.push_back({centre - half, centre + half});
+    }
+    if (unit(random) < 0.05f) in.max_depth = 1 + int(unit(random) * 2.999f);
+    if (frame > kFrames / 2) in.limits = {4, 40}; // the second half defers work
+    auto stats = gpu.value().run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    ASSERT_EQ(m.lost_entries, 0) << "frame " << frame;
+    deferred += m.deferred;
+    splits += m.splits;
+    collapses += m.collapses;
+    if (frame % kCheckEvery != 0) continue;
+    const formats::ProbeVolume live = gpu.value().read_back().value();
+    expect_valid(live, 3, frame);
+    expect_finite_probes(live, frame);
+    const std::vector<std::string> problems = dynamic::check_queue_covers_tree(live);
+    ASSERT_TRUE(problems.empty()) << "frame " << frame << ": " << problems.front();
+    const int probes = live_probe_count(live);
+    ASSERT_LE(probes, 1 + 8 + 64 + 512) << "frame " << frame; // the leaves of a depth-3 tree, at most
+    ASSERT_EQ(probes + m.free_probes, m.probe_capacity) << "frame " << frame;
+    most_probes = std::max(most_probes, probes);
+    ++checks;
+  }
+  const int settle_frames = settle(gpu.value(), all, 1);
+  ASSERT_GT(settle_frames, 0);
+  const formats::ProbeVolume end = gpu.value().read_back().value();
+  ASSERT_TRUE(gpu.value().validate_live().ok());
+  const Canonical back = canonical(end);
+  std::printf("[memory] soak: %d frames, %d checks, at most %d probes, %d splits, %d merges, %d deferred; back at depth 1 "
+              "after %d frames: %d probes (settled start %d), pools %d/%d/%d (start %d/%d/%d)\n",
+              kFrames, checks, most_probes, splits, collapses, deferred, settle_frames, back.probes, settled.probes, back.probes,
+              back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
+  EXPECT_GT(splits, 10);
+  EXPECT_GT(collapses, 10);
+  EXPECT_GT(deferred, 0);
+  EXPECT_EQ(back.leaves, settled.leaves);
+  EXPECT_EQ(back.probes, settled.probes);
+  EXPECT_EQ(back.batches, settled.batches);
+  EXPECT_EQ(back.clusters, settled.clusters);
+}
+
+// Pools smaller than the refinement asks for: allocations fail and are counted, the nodes keep their states,
+// nothing is corrupted, and lowering the depth again returns every element.
+TEST_F(MemoryUpdateTest, DryPoolsCountTheShortfallAndCorruptNothing) {
+  runtime::UploadOptions options = dynamic_options();
+  options.pools = {3, 30, 90};
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), options);
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  const runtime::Box all = root_box(shallow_cornell());
+  ASSERT_GT(settle(gpu.value(), all, std::nullopt), 0);
+  const Canonical settled = canonical(gpu.value().read_back().value());
+  int failed = 0;
+  for (int frame = 1; frame <= 12; ++frame) {
+    runtime::FrameInputs in;
+    in.changed_boxes = {all};
+    if (frame == 1) in.max_depth = 3;
+    auto stats = gpu.value().run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    failed += stats.value().memory.failed_allocations;
+    const formats::ProbeVolume live = gpu.value().read_back().value();
+    expect_valid(live, 3, frame);
+    const std::vector<std::string> problems = dynamic::check_queue_covers_tree(live);
+    ASSERT_TRUE(problems.empty()) << "frame " << frame << ": " << problems.front();
+    EXPECT_GE(stats.value().memory.free_probes, 0);
+    EXPECT_GE(stats.value().memory.free_clusters, 0);
+  }
+  EXPECT_GT(failed, 0);
+  ASSERT_GT(settle(gpu.value(), all, 1), 0);
+  const Canonical back = canonical(gpu.value().read_back().value());
+  std::printf("[memory] dry pools (3 clusters, 30 probes, 90 batches free): %d failed allocations; back at depth 1: %d/%d/%d vs %d/%d/%d\n",
+              failed, back.probes, back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
+  EXPECT_EQ(back.leaves, settled.leaves);
+  EXPECT_EQ(back.batches, settled.batches);
+  EXPECT_EQ(back.clusters, settled.clusters);
+}
+
+TEST_F(MemoryUpdateTest, FrameInputsOutOfRangeAreInvalidArguments) {
+  auto gpu = runtime::Volume::upload(context(), shallow_cornell(), dynamic_options());
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<runtime::FrameInputs> bad(7);
+  bad[0].changed_boxes = {{glm::vec3(0.0f), glm::vec3(nan)}};
+  bad[1].changed_boxes = {{glm::vec3(1.0f), glm::vec3(0.0f)}}; // min > max
+  bad[2].max_depth = 13;
+  bad[3].split_low = -0.1f;
+  bad[4].split_low = 0.6f, bad[4].split_high = 0.5f;
+  bad[5].dead_backface_fraction = nan;
+  bad[6].limits.max_light_entries = -1;
+  for (std::size_t i = 0; i < bad.size(); ++i) {
+    auto stats = gpu.value().run_frame(bad[i]);
+    ASSERT_FALSE(stats.ok()) << "input " << i;
+    EXPECT_EQ(stats.status().code, runtime::StatusCode::invalid_argument) << "input " << i;
+    EXPECT_NE(stats.status().message.find("run_frame"), std::string::npos) << stats.status().message;
+  }
+  auto fine = gpu.value().run_frame({});
+  ASSERT_TRUE(fine.ok()) << fine.status().message;
+  EXPECT_TRUE(gpu.value().validate_live().ok());
+}
+
+} // namespace
+} // namespace probebake::test

@@ -167,7 +167,8 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
-  app->add_option("--placement", s->placement, "Probe placement: octree (--max-depth, --split-range) or grid (--grid)")
+  app->add_option("--placement", s->placement,
+                  "Probe placement: octree (--max-depth, --split-range), grid (--grid) or skeleton (--probes)")
       ->check(CLI::IsMember(placement_choices()));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
   app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
@@ -175,6 +176,7 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--split-range", s->split_range, "LOW,HIGH hit fractions: free below LOW, split at HIGH")
       ->delimiter(',')->expected(2);
   app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
+  app->add_option("--probes", s->bake.probes, "Skeleton: probe budget (0 = the fewest that see every surface sample)");
   app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");
   app->add_option("--threads", s->bake.threads, "Worker threads (0 = all cores); output does not depend on it");

@@ -63,8 +63,8 @@ scene::Bounds default_domain(const scene::Scene& scene, float clearance) {
   return b;
 }
 
-bake::SdfSettings skeleton_sdf_settings(const scene::Bounds& domain) {
-  bake::SdfSettings s;
+SdfSettings skeleton_sdf_settings(const scene::Bounds& domain) {
+  SdfSettings s;
   const float largest = domain.largest_extent();
   if (!(largest > 0.0f)) return s;
   // Diagonal / 160: at / 110 the field is off by up to 0.04 m at 0.09 m under the ceiling of a 4 m room
@@ -74,7 +74,7 @@ bake::SdfSettings skeleton_sdf_settings(const scene::Bounds& domain) {
   return s;
 }
 
-SkeletonResult skeleton_probes(const scene::RayScene& rays, const bake::SceneSdf& sdf, const SkeletonOptions& options) {
+SkeletonResult skeleton_probes(const scene::RayScene& rays, const SceneSdf& sdf, const SkeletonOptions& options) {
   check_options(options);
   const scene::Scene& scene = rays.scene();
   SkeletonResult result;

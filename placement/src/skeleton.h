@@ -30,8 +30,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene_sdf.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/placement/scene_sdf.h"
 
 namespace probebake::placement {
 
@@ -73,11 +73,11 @@ scene::Bounds default_domain(const scene::Scene& scene, float clearance);
 
 // The SceneSdf settings the skeleton needs: a band wide enough that free space is not saturated (the
 // ridges are where the distance peaks), at half the domain's largest extent.
-bake::SdfSettings skeleton_sdf_settings(const scene::Bounds& domain);
+SdfSettings skeleton_sdf_settings(const scene::Bounds& domain);
 
 // Places the probes. `rays` and `sdf` are of the same scene. Throws probebake::Error (usage) for bad
 // options. Returns no probe when the domain holds no free voxel.
-SkeletonResult skeleton_probes(const scene::RayScene& rays, const bake::SceneSdf& sdf, const SkeletonOptions& options);
+SkeletonResult skeleton_probes(const scene::RayScene& rays, const SceneSdf& sdf, const SkeletonOptions& options);
 
 // ---- Building blocks (tests measure each) ------------------------------------------------------------
 
@@ -91,7 +91,7 @@ struct DistanceGrid {
   glm::ivec3 voxel_of(std::size_t i) const;
 };
 
-DistanceGrid sample_distance(const bake::SceneSdf& sdf, const scene::Bounds& domain, float voxel, int threads);
+DistanceGrid sample_distance(const SceneSdf& sdf, const scene::Bounds& domain, float voxel, int threads);
 
 // Indices (DistanceGrid::index) of the ridge voxels at least `clearance` from every surface, ascending.
 std::vector<std::size_t> skeleton_voxels(const DistanceGrid& grid, float clearance);

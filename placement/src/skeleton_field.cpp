@@ -11,7 +11,7 @@
 
 #include <glm/common.hpp>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 
 namespace probebake::placement {
 
@@ -20,7 +20,7 @@ glm::ivec3 DistanceGrid::voxel_of(std::size_t i) const {
   return {int(i % nx), int((i / nx) % ny), int(i / (nx * ny))};
 }
 
-DistanceGrid sample_distance(const bake::SceneSdf& sdf, const scene::Bounds& domain, float voxel, int threads) {
+DistanceGrid sample_distance(const SceneSdf& sdf, const scene::Bounds& domain, float voxel, int threads) {
   DistanceGrid grid;
   grid.voxel = voxel;
   const glm::vec3 extent = domain.max - domain.min;
@@ -29,7 +29,7 @@ DistanceGrid sample_distance(const bake::SceneSdf& sdf, const scene::Bounds& dom
   const glm::vec3 span = glm::vec3(grid.dims - 1) * voxel;
   grid.origin = domain.min + 0.5f * (extent - span);
   grid.distance.resize(std::size_t(grid.dims.x) * std::size_t(grid.dims.y) * std::size_t(grid.dims.z));
-  bake::detail::parallel_for(grid.distance.size(), threads,
+  parallel_for(grid.distance.size(), threads,
                              [&](std::size_t i) { grid.distance[i] = sdf.distance(grid.centre(grid.voxel_of(i))); });
   return grid;
 }

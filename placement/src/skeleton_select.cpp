@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 
 namespace probebake::placement {
 
@@ -44,7 +44,7 @@ std::vector<std::size_t> select_greedy(const QualityMatrix& m, int budget, int t
   std::vector<Gain> gains(m.rows);
   const std::size_t limit = budget > 0 ? std::min(std::size_t(budget), m.rows) : m.rows;
   while (chosen.size() < limit) {
-    bake::detail::parallel_for(m.rows, threads, [&](std::size_t r) { gains[r] = taken[r] ? Gain{} : gain_of(m, r, best); });
+    parallel_for(m.rows, threads, [&](std::size_t r) { gains[r] = taken[r] ? Gain{} : gain_of(m, r, best); });
     // Lowest index on ties, so the choice does not depend on the thread count.
     std::size_t pick = m.rows;
     for (std::size_t r = 0; r < m.rows; ++r) {

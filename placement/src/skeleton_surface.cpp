@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "parallel.h"
+#include "probebake/common/parallel.h"
 
 namespace probebake::placement {
 namespace {
@@ -79,7 +79,7 @@ float sample_quality(const scene::RayScene& rays, glm::vec3 probe, const Surface
 
 void quality_row(const ObjectiveContext& ctx, glm::vec3 position, float* out) {
   const std::vector<SurfaceSample>& samples = *ctx.samples;
-  bake::detail::parallel_for(samples.size(), ctx.threads,
+  parallel_for(samples.size(), ctx.threads,
                              [&](std::size_t s) { out[s] = sample_quality(*ctx.rays, position, samples[s], ctx.falloff); });
 }
 
@@ -89,7 +89,7 @@ QualityMatrix quality_matrix(const ObjectiveContext& ctx, const std::vector<glm:
   m.cols = ctx.samples->size();
   m.q.resize(m.rows * m.cols);
   // One task per (row, sample) pair: rows alone would leave a core idle on a small budget.
-  bake::detail::parallel_for(m.q.size(), ctx.threads, [&](std::size_t i) {
+  parallel_for(m.q.size(), ctx.threads, [&](std::size_t i) {
     m.q[i] = sample_quality(*ctx.rays, positions[i / m.cols], (*ctx.samples)[i % m.cols], ctx.falloff);
   });
   return m;
@@ -98,7 +98,7 @@ QualityMatrix quality_matrix(const ObjectiveContext& ctx, const std::vector<glm:
 float coverage(const scene::RayScene& rays, const std::vector<glm::vec3>& probes, const std::vector<glm::vec3>& reference,
                const std::vector<SurfaceSample>& samples, int threads) {
   std::vector<char> seen(samples.size(), 0), reachable(samples.size(), 0);
-  bake::detail::parallel_for(samples.size(), threads, [&](std::size_t s) {
+  parallel_for(samples.size(), threads, [&](std::size_t s) {
     const auto sees = [&](glm::vec3 p) { return sample_quality(rays, p, samples[s], 1.0f) > 0.0f; };
     reachable[s] = std::any_of(reference.begin(), reference.end(), sees) ? 1 : 0;
     seen[s] = reachable[s] != 0 && std::any_of(probes.begin(), probes.end(), sees) ? 1 : 0;

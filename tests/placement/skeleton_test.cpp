@@ -13,8 +13,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/ray_scene.h"
-#include "probebake/bake/scene_sdf.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/placement/scene_sdf.h"
 #include "probebake/formats/error.h"
 #include "probebake/samples/scenes.h"
 #include "skeleton.h"
@@ -66,7 +66,7 @@ TEST(Skeleton, BoxRoomSkeletonLiesOnItsMedialPlanes) {
   const scene::Scene room = box_room(size);
   const float clearance = 0.08f;
   const scene::Bounds domain = default_domain(room, clearance);
-  const bake::SceneSdf sdf(room, skeleton_sdf_settings(domain));
+  const SceneSdf sdf(room, skeleton_sdf_settings(domain));
   const DistanceGrid grid = sample_distance(sdf, room.bounds, 4.0f / 64.0f, 0);
   const std::vector<std::size_t> skeleton = skeleton_voxels(grid, clearance);
   ASSERT_FALSE(skeleton.empty());
@@ -98,7 +98,7 @@ struct Cornell {
   scene::Scene scene = load_generated(samples::cornell(), "cornell");
   scene::RayScene rays{scene};
   float clearance = default_clearance(scene);
-  bake::SceneSdf sdf{scene, skeleton_sdf_settings(default_domain(scene, clearance))};
+  SceneSdf sdf{scene, skeleton_sdf_settings(default_domain(scene, clearance))};
 };
 
 Cornell& cornell() {
@@ -183,7 +183,7 @@ TEST(Skeleton, EveryGeneratedAndSharedSceneGetsProbes) {
     const scene::RayScene rays(s);
     SkeletonOptions o;
     o.clearance = default_clearance(s);
-    const bake::SceneSdf sdf(s, skeleton_sdf_settings(default_domain(s, o.clearance)));
+    const SceneSdf sdf(s, skeleton_sdf_settings(default_domain(s, o.clearance)));
     const SkeletonResult r = skeleton_probes(rays, sdf, o);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s: %zu probes, coverage %.4f, %.2f s (SDF, skeleton, selection)\n", name.c_str(), r.probes.size(),

@@ -30,6 +30,7 @@ struct BakeSettings {
   float split_low = 0.25f;        // hit fraction below which a probe is freed
   float split_high = 0.5f;        // hit fraction at or above which a node splits
   int grid_resolution = 16;       // grid: N for N^3 probes
+  int probes = 0;                 // skeleton: probe budget (0 = the fewest that see every surface sample)
   int svo_depth = 5;              // SVO leaf depth (voxels of root_size / 2^svo_depth)
   float clearance = 0.0f;         // minimum probe-to-surface distance; 0 = 2% of the scene's largest extent
   int threads = 0;                // 0 = all cores

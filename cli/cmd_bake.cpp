@@ -134,7 +134,7 @@ bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings
 int run_bake(BakeCommandSettings& s) {
   s.bake.placement = *formats::parse_placement(s.placement); // the option checks the name
   s.bake.lattice = *parse_lattice(s.lattice);
-  const bool budget = s.bake.probe_budget != 0;
+  const bool budget = s.bake.probe_budget != 0 && s.bake.placement == bake::Placement::octree;
   s.bake.split_rule = s.split_rule == "surface"                           ? bake::SplitRule::surface
                       : s.split_rule == "error" || (s.split_rule.empty() && budget) ? bake::SplitRule::error
                                                                                     : bake::SplitRule::hit_fraction;
@@ -172,7 +172,8 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
-  app->add_option("--placement", s->placement, "Probe placement: octree (--max-depth, --split-range) or grid (--grid)")
+  app->add_option("--placement", s->placement,
+                  "Probe placement: octree (--max-depth, --split-range), grid (--grid) or skeleton (--probes)")
       ->check(CLI::IsMember(placement_choices()));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
   app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
@@ -182,7 +183,7 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--split-rule", s->split_rule, "Octree: split by hit fraction, estimated error or visible surface "
                  "(default: error with --probes, else hit-fraction)")
       ->check(CLI::IsMember({"hit-fraction", "error", "surface"}));
-  app->add_option("--probes", s->bake.probe_budget, "Octree, error/surface rule: probe budget");
+  app->add_option("--probes", s->bake.probe_budget, "Probe budget: octree (error/surface rule) or skeleton (0: the fewest that see every surface)");
   app->add_option("--uniform-share", s->bake.uniform_share, "Error/surface rule: share of --probes a uniform start may take");
   app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
   app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");

@@ -105,7 +105,7 @@ placement::PlacementInput placement_input(const scene::RayScene& rays, const Bak
                                           const ProgressCallback& progress) {
   placement::PlacementInput in;
   in.rays = &rays;
-  in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads};
+  in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads, s.probe_budget};
   in.refine = {.probe_budget = s.split_rule == SplitRule::hit_fraction ? 0 : s.probe_budget,
                .rank_by_error = s.split_rule == SplitRule::error,
                .uniform_share = s.uniform_share,
@@ -154,6 +154,7 @@ void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
 // Measured (docs/RESULTS.md, "Scale range"): the generated Cornell box bakes the same probes from 1e-5 to
 // 1e10 times its size and 1e4 of its size from the origin; beyond that 32-bit positions, Embree's ray
 // epsilons and the SDF lose it. The limits keep a factor of ten from where it breaks.
+constexpr int kMaxProbeBudget = 1 << 20;     // --probes: far above what the optimisation can afford (docs/RESULTS.md)
 constexpr float kMinSceneSize = 1e-4f;        // metres across (0.1 mm)
 constexpr float kMaxSceneSize = 1e8f;         // metres across (100,000 km)
 constexpr float kMaxOffsetPerSize = 1e4f;     // distance of the bounds from the origin / size across
@@ -188,14 +189,16 @@ void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
 
 } // namespace
 
-// The root cube is the scene bounds' bounding cube, padded so that surfaces on the bounds are inside.
+// The root cube is the scene bounds' bounding cube, padded so that surfaces on the bounds are inside, and
+// by the method's root_pad_clearances.
 gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
   gpu::VolumeInfo info{};
+  const formats::PlacementKindInfo& kind = formats::placement_kind_info(s.placement);
   const float largest = scene.bounds.largest_extent();
-  const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
+  const float pad = kind.root_pad_clearances > 0.0f && largest > 0.0f ? 2.0f * kind.root_pad_clearances * effective_clearance(scene, s) : 0.0f;
+  const float size = largest > 0.0f ? largest * 1.002f + pad : 1.0f;
   info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
   info.root_size = size;
-  const formats::PlacementKindInfo& kind = formats::placement_kind_info(s.placement);
   info.placement = kind.file_code;
   info.max_depth = kind.uses_max_depth ? s.max_depth : 0;
   info.svo_depth = s.svo_depth;
@@ -214,9 +217,13 @@ void check_settings(const BakeSettings& s) {
   require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
               s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
-  const bool budgeted = s.split_rule != SplitRule::hit_fraction;
+  // The octree meets a budget only with the error and surface rules; the skeleton takes one or picks the fewest
+  // probes that see every surface sample; the grid's count is its resolution.
+  const bool octree = s.placement == Placement::octree;
+  const bool budgeted = octree && s.split_rule != SplitRule::hit_fraction;
   require(!budgeted || s.probe_budget >= 1, "--split-rule error|surface needs a probe budget: --probes N with N >= 1");
-  require(budgeted || s.probe_budget == 0, "--probes N needs --split-rule error or surface");
+  require(budgeted || s.placement == Placement::skeleton || s.probe_budget == 0,
+          "--probes N needs --placement skeleton, or the octree with --split-rule error or surface");
   require(std::isfinite(s.uniform_share) && s.uniform_share >= 0.0f && s.uniform_share <= 1.0f,
           "--uniform-share must be in [0, 1]");
   require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,
@@ -224,6 +231,7 @@ void check_settings(const BakeSettings& s) {
   require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
   require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
   require(s.threads >= 0, "--threads must be >= 0");
+  require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget, fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
   require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
   check_lighting_settings(s.lighting);
 }

@@ -35,7 +35,8 @@ struct BakeSettings {
   float split_low = 0.25f;        // hit fraction below which a probe is freed
   float split_high = 0.5f;        // hit fraction at or above which a node splits
   SplitRule split_rule = SplitRule::hit_fraction;
-  int probe_budget = 0;           // error/surface rule: probes at most (placed, before dead ones are freed), >= 1
+  int probe_budget = 0;           // probes at most (placed, before dead ones are freed): the octree's error/surface
+                                  // rule (>= 1), the skeleton (0 = the fewest that see every surface sample)
   float uniform_share = 0.5f;     // error/surface rule: share of the budget a uniform start may take, in [0, 1]
   int grid_resolution = 16;       // grid: N for N^3 probes
   int svo_depth = 5;              // SVO leaf depth (voxels of root_size / 2^svo_depth)

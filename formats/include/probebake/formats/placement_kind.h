@@ -11,7 +11,7 @@
 
 namespace probebake::formats {
 
-enum class PlacementKind { octree, grid };
+enum class PlacementKind { octree, grid, skeleton };
 
 struct PlacementKindInfo {
   PlacementKind kind;
@@ -20,6 +20,9 @@ struct PlacementKindInfo {
   bool has_octree;           // probes live in octree leaves (else node -1, the octree stays a bare root)
   bool uses_max_depth;       // VolumeInfo.max_depth is the method's depth limit (else 0)
   bool uses_grid_resolution; // VolumeInfo.grid_resolution is N of an N^3 grid, at most N^3 probes (else 0)
+  // The root cube reaches this many clearances past the scene's bounds on every side (else 0.2 %), so
+  // that probes fit around a solid that fills its own bounds (box_draco).
+  float root_pad_clearances;
 };
 
 // Every row, in enum order.

@@ -21,6 +21,7 @@ struct PlacementSettings {
   float split_high = 0.5f;  // octree: hit fraction at or above which a node splits
   int grid_resolution = 16; // grid: N for N^3 probes
   int threads = 0;          // 0 = all cores
+  int probes = 0;           // skeleton: probe budget (0 = the fewest that see every surface sample)
 };
 
 // The octree under a probe budget (refine_octree.h) instead of the hit-fraction rule, when probe_budget > 0:
@@ -60,6 +61,11 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
 
 // Grid (grid.cpp): N^3 probes at the cell centres of `bounds` (node -1, depth 0).
 std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+
+// Skeleton (skeleton*.cpp, nonuniform-probe-placement-svo.txt §3.1-3.3): probes on the medial axis of
+// the scene's free space inside the root cube, selected by the surface they see and optimised (node -1,
+// depth 0); settings.probes of them, or the fewest that see every surface sample.
+std::vector<PlacedProbe> place_skeleton(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
 
 // The method of `kind` (methods.cpp), and a call of it.
 PlacementMethod placement_method(formats::PlacementKind kind);

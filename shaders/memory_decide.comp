@@ -2,31 +2,43 @@
 // drops stale entries, and judges M4 parents on the tree as the frame found it: a parent whose children are
 // all leaves merges them when its own centre, measured now, would not split it (TreeUpdate::collapse_verdict).
 // M2 leaves are marked so that a merging parent leaves their probes to them. Nothing is allocated or freed.
+// One workgroup per entry: the lattice of a merging parent is cast by the whole group.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#define PROBEBAKE_OCTREE_GROUP_MEASURE MEMORY_WORKGROUP_SIZE
 #include "probebake/memory_bindings.glsl"
 #include "probebake/memory_update.glsl"
 
 layout(local_size_x = MEMORY_WORKGROUP_SIZE) in;
 
-// LEAF_VERDICT_* of merging parent `node`, or -1 when it stays a parent.
-int merge_verdict(int node) {
-  const int meta = probebake_octree[node];
+shared LeafEntry entry;
+
+// Whether M4 parent `node` has only leaves as children (it may merge; its centre is measured).
+bool may_merge(LeafEntry e) {
+  if (e.state != LEAF_M4_FREE_CLUSTER || !node_fits_state(e.node, e.state)) return false;
+  const int meta = probebake_octree[e.node];
   for (int o = 0; o < 8; ++o)
-    if (probebake_octree[meta + 1 + o] > 0) return -1;
-  vec3 cube_min;
-  float size;
-  int depth;
-  octree_node_cube(node, cube_min, size, depth);
-  const vec2 m = octree_measure(cube_min, size);
-  const int verdict = leaf_verdict(m.x, m.y, depth, probebake_info, memory_frame.dead_backface_fraction);
-  return verdict == LEAF_VERDICT_SPLIT ? -1 : verdict;
+    if (probebake_octree[meta + 1 + o] > 0) return false;
+  return true;
 }
 
 void main() {
-  const int i = memory_item(memory_state.memory_pulled);
-  if (i < 0) return;
-  const LeafEntry e = queue_take(memory_state.memory_segment, i);
+  const int i = int(probebake_flat_workgroup());
+  if (i >= memory_state.memory_pulled) return; // uniform per workgroup
+  if (gl_LocalInvocationIndex == 0) entry = queue_take(memory_state.memory_segment, i);
+  barrier();
+  const LeafEntry e = entry;
+  // M4: merge unless the parent's own centre, measured now, would split it (TreeUpdate::collapse_verdict).
+  int verdict = -1;
+  if (may_merge(e)) {
+    vec3 cube_min;
+    float size;
+    int depth;
+    octree_node_cube(e.node, cube_min, size, depth);
+    const vec2 m = octree_measure_group(cube_min, size);
+    verdict = leaf_verdict(m.x, m.y, depth, probebake_info, memory_frame.dead_backface_fraction);
+  }
+  if (gl_LocalInvocationIndex != 0) return;
   MemoryWork w = MemoryWork(e.node, e.state, MEMORY_ACTION_NONE, 0, -1, 0, 0, 0, 0, 0, 0, 0);
   if (e.state < 0 || !node_fits_state(e.node, e.state)) {
     w.action = MEMORY_ACTION_STALE;
@@ -38,8 +50,7 @@ void main() {
   } else if (e.state == LEAF_M3_SPLIT) {
     w.action = MEMORY_ACTION_SPLIT;
   } else if (e.state == LEAF_M4_FREE_CLUSTER) {
-    const int verdict = merge_verdict(e.node);
-    if (verdict >= 0) {
+    if (verdict >= 0 && verdict != LEAF_VERDICT_SPLIT) {
       w.action = MEMORY_ACTION_COLLAPSE;
       w.verdict = verdict;
       node_marks[e.node] = 1 + verdict;

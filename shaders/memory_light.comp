@@ -4,20 +4,25 @@
 // casts the placement lattice from its centre and acts on the leaf rule (leaf_rule.h): M2, M3 (parent M0),
 // or L2 (parent M4: the change may have made the parent's split unnecessary). L1/L2 leaves over the
 // per-frame limit wait, a touched one as L1. Kept L1 probes are flagged for light_trace's records; every
-// processed L1/L2 probe goes on the light list that trace, gather and resolve walk.
+// processed L1/L2 probe goes on the light list that trace, gather and resolve walk. One workgroup per
+// entry: invocation 0 decides, the whole group casts an L1 lattice.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#define PROBEBAKE_OCTREE_GROUP_MEASURE MEMORY_WORKGROUP_SIZE
 #include "probebake/memory_bindings.glsl"
 #include "probebake/memory_update.glsl"
 
 layout(local_size_x = MEMORY_WORKGROUP_SIZE) in;
 
-void main() {
-  const int i = memory_item(memory_state.light_pulled);
-  if (i < 0) return;
+shared int measure_node; // the L1 leaf the group measures, -1 = none
+shared vec4 measure_cube; // its cube: min, size
+shared int measure_depth;
+
+// Invocation 0: the entry's transition up to L1's measure; returns whether the leaf is to be measured.
+bool transition(int i) {
   const LeafEntry e = queue_take(memory_state.light_segment, i);
-  if (e.state == LEAF_L0_PARENT_FREED) { atomicAdd(memory_counters.processed[e.state], 1); return; }
-  if (e.state < 0 || !node_fits_state(e.node, e.state)) { atomicAdd(memory_counters.stale_entries, 1); return; }
+  if (e.state == LEAF_L0_PARENT_FREED) { atomicAdd(memory_counters.processed[e.state], 1); return false; }
+  if (e.state < 0 || !node_fits_state(e.node, e.state)) { atomicAdd(memory_counters.stale_entries, 1); return false; }
   vec3 cube_min;
   float size;
   int depth;
@@ -29,7 +34,7 @@ void main() {
   if (v < 0 && atomicAdd(memory_state.traced, 1) >= budget) {
     queue_push(light_out, e.node, moved ? LEAF_L1_PLACE_SURFELS : e.state);
     atomicAdd(memory_counters.deferred, 1);
-    return;
+    return false;
   }
   atomicAdd(memory_counters.processed[e.state], 1);
   if (v == 0) { // L3: only the boxes
@@ -39,25 +44,44 @@ void main() {
     } else {
       queue_push(light_out, e.node, LEAF_L3_CHECK_BOXES);
     }
-    return;
+    return false;
   }
-  const int probe = ~v;
-  light_list[atomicAdd(light_list_header.count, 1u)] = probe; // L1 and L2 light the probe this frame
-  if (e.state == LEAF_L2_LIGHT && !moved) { queue_push(light_out, e.node, LEAF_L2_LIGHT); return; }
+  light_list[atomicAdd(light_list_header.count, 1u)] = ~v; // L1 and L2 light the probe this frame
+  if (e.state == LEAF_L2_LIGHT && !moved) { queue_push(light_out, e.node, LEAF_L2_LIGHT); return false; }
+  measure_node = e.node;
+  measure_cube = vec4(cube_min, size);
+  measure_depth = depth;
+  return true;
+}
 
-  // L1: measure the leaf in the current pose and choose its next state.
-  const vec2 m = octree_measure(cube_min, size);
+// Invocation 0: L1 acts on the measure of the leaf in the current pose.
+void act(int node, vec2 m, int depth) {
+  const int probe = ~probebake_octree[node];
   probebake_probes[probe].hit_fraction = m.x;
   probebake_probes[probe].backface_fraction = m.y;
   const int verdict = leaf_verdict(m.x, m.y, depth, probebake_info, memory_frame.dead_backface_fraction);
   if (verdict == LEAF_VERDICT_FREE) {
-    queue_push(memory_out, e.node, LEAF_M2_FREE_PROBE);
+    queue_push(light_memory_out(), node, LEAF_M2_FREE_PROBE);
   } else if (verdict == LEAF_VERDICT_SPLIT) {
-    queue_push(memory_out, e.node, LEAF_M3_SPLIT);
-    queue_push_parent(memory_out, e.node, LEAF_M0_CHILD_ALLOCATING);
+    queue_push(light_memory_out(), node, LEAF_M3_SPLIT);
+    queue_push_parent(light_memory_out(), node, LEAF_M0_CHILD_ALLOCATING);
   } else {
-    queue_push(light_out, e.node, LEAF_L2_LIGHT);
-    queue_push_parent(memory_out, e.node, LEAF_M4_FREE_CLUSTER);
+    queue_push(light_light_out(), node, LEAF_L2_LIGHT);
+    queue_push_parent(light_memory_out(), node, LEAF_M4_FREE_CLUSTER);
     trace_flags[probe] = 1u;
   }
+}
+
+void main() {
+  const int i = int(probebake_flat_workgroup());
+  if (i >= memory_state.light_pulled) return; // uniform per workgroup
+  if (gl_LocalInvocationIndex == 0) {
+    measure_node = -1;
+    transition(i);
+  }
+  barrier();
+  const int node = measure_node;
+  if (node < 0) return; // uniform
+  const vec2 m = octree_measure_group(measure_cube.xyz, measure_cube.w);
+  if (gl_LocalInvocationIndex == 0) act(node, m, measure_depth);
 }

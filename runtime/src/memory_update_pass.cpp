@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -18,6 +19,12 @@
 namespace probebake::runtime::detail {
 namespace {
 
+// Compute work and the indirect dispatch sizes it wrote (the state buffer's, the light list's).
+constexpr Access kComputeAndIndirect{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT};
+constexpr Access kAnyDeviceAndIndirect{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                                       kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT};
+
 constexpr VkBufferUsageFlags kUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
@@ -27,12 +34,12 @@ int batches_per_probe(const formats::ProbeVolume& v) {
 }
 
 // A device buffer holding `bytes` of `data` (at least 16 bytes, zero-padded), uploaded and waited for.
-Buffer upload(Device& device, const void* data, std::size_t bytes, const std::string& name) {
+Buffer upload(Device& device, const void* data, std::size_t bytes, const std::string& name, VkBufferUsageFlags extra = 0) {
   const std::size_t size = std::max<std::size_t>(bytes, 16);
   if (size > device.info.max_storage_buffer_range)
     fail(StatusCode::unsupported, name + ": " + std::to_string(size) + " bytes exceed maxStorageBufferRange (" +
                                       std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name);
-  Buffer buffer = device.allocator->create_buffer(size, kUsage, MemoryUse::device, name);
+  Buffer buffer = device.allocator->create_buffer(size, kUsage | extra, MemoryUse::device, name);
   Buffer staging = device.allocator->create_buffer(size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload, name + " staging");
   std::memset(staging.mapped(), 0, size);
   if (data && bytes > 0) std::memcpy(staging.mapped(), data, bytes);
@@ -188,10 +195,13 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   const std::vector<int> probes = free_stack(v.probes.size(), 0, 1, [&](int p) { return v.probes[std::size_t(p)].link == 0; });
   const std::vector<int> batches =
       free_stack(v.surfel_batches.size(), 0, 1, [&](int b) { return v.surfel_batches[std::size_t(b)].link == 0; });
-  const gpu::MemoryState state{int(clusters.size()), int(probes.size()), int(batches.size()), 0, 0, 0, 0, 0};
+  gpu::MemoryState state{};
+  state.cluster_top = int(clusters.size());
+  state.probe_top = int(probes.size());
+  state.batch_top = int(batches.size());
 
   keys_ = upload(device, keys, "memory: queue keys");
-  state_ = upload(device, &state, sizeof(state), "memory: state");
+  state_ = upload(device, &state, sizeof(state), "memory: state", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
   // Each stack holds its whole pool: every element may be free at once.
   cluster_stack_ = upload(device, sized(clusters, formats::complete_clusters(v.octree.size())), "memory: cluster stack");
   probe_stack_ = upload(device, sized(probes, v.probes.size()), "memory: probe stack");
@@ -239,8 +249,21 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
 void MemoryUpdatePass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   dispatch_groups(cmd, device_, std::max<std::uint32_t>(1, (threads + group_size - 1) / group_size));
-  // Every step reads what the one before wrote, and may overwrite what it read.
-  barrier(cmd, kComputeReadWrite, kComputeReadWrite);
+  // Every step reads what the one before wrote, and may overwrite what it read; the state buffer (written
+  // through its descriptor, as a whole for the validator) is also where the dispatch sizes are read.
+  barrier(cmd, kComputeReadWrite, kComputeAndIndirect);
+}
+
+void MemoryUpdatePass::dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize offset) const {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  vkCmdDispatchIndirect(cmd, state_.get(), offset);
+  barrier(cmd, kComputeReadWrite, kComputeAndIndirect);
+}
+
+void MemoryUpdatePass::begin(VkCommandBuffer cmd, VkPipeline pipeline) const {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  vkCmdDispatch(cmd, 1, 1, 1);
+  barrier(cmd, kComputeReadWrite, kComputeAndIndirect);
 }
 
 void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs) {
@@ -257,12 +280,14 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{0, 0, 0, 0});
   const std::uint32_t group = gpu::MEMORY_WORKGROUP_SIZE;
-  dispatch(cmd, p.memory_begin.get(), 1, 1);
-  dispatch(cmd, p.memory_decide.get(), segment_capacity_, group);
-  dispatch(cmd, p.memory_release.get(), segment_capacity_, group);
+  constexpr VkDeviceSize kPerEntryGroups = offsetof(gpu::MemoryState, entry_groups);
+  constexpr VkDeviceSize kPerEntryThreads = offsetof(gpu::MemoryState, entry_thread_groups);
+  begin(cmd, p.memory_begin.get());
+  dispatch_indirect(cmd, p.memory_decide.get(), kPerEntryGroups);
+  dispatch_indirect(cmd, p.memory_release.get(), kPerEntryThreads);
   dispatch(cmd, p.memory_grant.get(), 1, 1);
-  dispatch(cmd, p.memory_allocate.get(), segment_capacity_, group);
-  dispatch(cmd, p.memory_collapse.get(), segment_capacity_, group);
+  dispatch_indirect(cmd, p.memory_allocate.get(), kPerEntryThreads);
+  dispatch_indirect(cmd, p.memory_collapse.get(), kPerEntryThreads);
   dispatch(cmd, p.memory_svo.get(), std::uint32_t(info_.svo_leaves), group);
   timer.end(cmd, slot);
   // The probe index build and the light update read the tree, probes and SVO (compute, transfer).
@@ -272,19 +297,16 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
 void MemoryUpdatePass::record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
   Pipelines& p = device_.compute_pipelines();
   // Last frame's indirect dispatches read the light list that memory_begin empties (write after read).
-  barrier(cmd, Access{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                      kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT},
-          kComputeReadWrite);
+  barrier(cmd, kAnyDeviceAndIndirect, kComputeReadWrite);
   timer.begin(cmd, slot);
   bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{1, 0, 0, 0});
-  dispatch(cmd, p.memory_begin.get(), 1, 1);
-  dispatch(cmd, p.memory_light.get(), segment_capacity_, gpu::MEMORY_WORKGROUP_SIZE);
+  begin(cmd, p.memory_begin.get());
+  dispatch_indirect(cmd, p.memory_light.get(), offsetof(gpu::MemoryState, light_groups));
   bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{2, 0, 0, 0});
-  dispatch(cmd, p.memory_begin.get(), 1, 1);
+  begin(cmd, p.memory_begin.get());
   timer.end(cmd, slot);
   // The light update reads the probes, flags and list in its shaders and the list's sizes as dispatch sizes.
-  barrier(cmd, kComputeReadWrite, Access{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                                         kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT});
+  barrier(cmd, kComputeReadWrite, kAnyDeviceAndIndirect);
 }
 
 void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd) {

@@ -53,6 +53,10 @@ public:
 
 private:
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const;
+  // Dispatches the sizes memory_begin wrote at `offset` of the state buffer (as many as there are entries).
+  void dispatch_indirect(VkCommandBuffer cmd, VkPipeline pipeline, VkDeviceSize offset) const;
+  // memory_begin: the one-thread step whose writes include dispatch sizes.
+  void begin(VkCommandBuffer cmd, VkPipeline pipeline) const;
 
   Device& device_;
   const GpuVolume& volume_;

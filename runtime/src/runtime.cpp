@@ -91,6 +91,10 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
 Result<FrameStats> Volume::run_frame(const FrameInputs& inputs) {
   return guarded([&]() -> Result<FrameStats> {
     if (const Status checked = detail::check_frame_inputs(inputs); !checked.ok()) return checked;
+    const bool reshapes = !inputs.changed_boxes.empty() || inputs.max_depth || inputs.split_low || inputs.split_high;
+    if (reshapes && !state_->memory)
+      return Status{StatusCode::invalid_argument, "run_frame: changed boxes and thresholds need the memory update "
+                                                  "(UploadOptions::memory_update, an octree volume with lighting sections)"};
     return state_->run_frame(inputs);
   });
 }

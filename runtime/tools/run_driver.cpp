@@ -59,6 +59,17 @@ void print_device(const runtime::DeviceInfo& d) {
               d.timestamps ? "yes" : "no", d.validation ? ", validation layer on" : "");
 }
 
+// The --depth-cycle schedule: at frames 0, P, 2P, ... the max depth becomes HIGH, LOW, HIGH, ... and the
+// whole root cube is marked changed.
+runtime::FrameInputs frame_inputs(const RunOptions& options, const gpu::VolumeInfo& info, int frame) {
+  runtime::FrameInputs in;
+  if (!options.depth_cycle || frame % options.depth_cycle->period != 0) return in;
+  const bool high = (frame / options.depth_cycle->period) % 2 == 0;
+  in.max_depth = high ? options.depth_cycle->high : options.depth_cycle->low;
+  in.changed_boxes = {{info.root_min, info.root_min + glm::vec3(info.root_size)}};
+  return in;
+}
+
 void print_frame(const runtime::FrameStats& f) {
   std::printf("frame %llu:", static_cast<unsigned long long>(f.frame));
   for (const runtime::PassTime& p : f.passes) std::printf(" %s %.3f ms", p.name.c_str(), p.gpu_ms);
@@ -71,6 +82,11 @@ void print_frame(const runtime::FrameStats& f) {
     std::printf(", indirect misses %d, non-finite %d, L3 split %d free %d", l.indirect_misses, l.non_finite,
                 l.want_split, l.want_free);
   }
+  const runtime::MemoryUpdateStats& m = f.memory;
+  if (m.active)
+    std::printf(" | memory: %d splits, %d merges, %d placed, %d freed, %d failed, %d deferred, free %d/%d probes",
+                m.splits, m.collapses, m.probes_placed, m.probes_freed, m.failed_allocations, m.deferred, m.free_probes,
+                m.probe_capacity);
   std::printf("\n");
 }
 
@@ -148,6 +164,7 @@ int run_volume(const RunOptions& options) {
   runtime::UploadOptions upload;
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis;
+  upload.memory_update = options.depth_cycle.has_value();
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
   const gpu::VolumeInfo& info = volume->info();
@@ -162,12 +179,13 @@ int run_volume(const RunOptions& options) {
       std::fprintf(stderr, "%s: %s: cannot be written\n", options.program.c_str(), options.csv->c_str());
       return 3;
     }
-    csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite\n";
+    csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
+           "failed_allocations,free_probes\n";
   }
   std::map<std::string, PassSummary> summary;
   PassSummary cpu;
   for (int frame = 0; frame < options.frames; ++frame) {
-    auto stats = volume->run_frame();
+    auto stats = volume->run_frame(frame_inputs(options, volume->info(), frame));
     if (!stats.ok()) return report(options, stats.status());
     print_frame(stats.value());
     cpu.add(stats->cpu_ms);
@@ -176,7 +194,8 @@ int run_volume(const RunOptions& options) {
       if (csv.is_open())
         csv << stats->frame << ',' << p.name << ',' << p.gpu_ms << ',' << stats->cpu_ms << ',' << stats->live_probes
             << ',' << stats->probe_capacity << ',' << stats->light.lit_probes << ',' << stats->light.indirect_misses
-            << ',' << stats->light.non_finite << '\n';
+            << ',' << stats->light.non_finite << ',' << stats->memory.splits << ',' << stats->memory.collapses << ','
+            << stats->memory.failed_allocations << ',' << stats->memory.free_probes << '\n';
     }
     if (options.validate) {
       const runtime::Status valid = volume->validate_live();

@@ -9,7 +9,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
-    "                     [--no-light-update]\n"
+    "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD]\n"
     "  --frames N        frames to run (default 1): probe index build, then the light update\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite per pass\n"
@@ -20,6 +20,9 @@ constexpr const char* kUsage =
     "  --compare-all-probes  also time the all-probe loop (thesis 3.2.4) on the same points\n"
     "  --hysteresis H    weight of the old irradiance per frame, in [0, 1) (default 0.9)\n"
     "  --no-light-update keep the baked irradiance (no light passes, no light buffers)\n"
+    "  --depth-cycle LOW:HIGH:PERIOD  run the memory update (octree volumes with lighting sections);\n"
+    "                    every PERIOD frames the max depth alternates HIGH, LOW, ... and every leaf is\n"
+    "                    measured again\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
 
 bool parse_int(std::string_view text, int minimum, int& out) {
@@ -30,6 +33,14 @@ bool parse_int(std::string_view text, int minimum, int& out) {
 bool parse_fraction(std::string_view text, float& out) {
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
   return error == std::errc() && end == text.data() + text.size() && out >= 0.0f && out < 1.0f;
+}
+
+// LOW:HIGH:PERIOD, depths in [0, 12], period >= 1.
+bool parse_depth_cycle(std::string_view text, DepthCycle& out) {
+  const std::size_t a = text.find(':'), b = a == std::string_view::npos ? a : text.find(':', a + 1);
+  if (b == std::string_view::npos) return false;
+  return parse_int(text.substr(0, a), 0, out.low) && parse_int(text.substr(a + 1, b - a - 1), 0, out.high) &&
+         parse_int(text.substr(b + 1), 1, out.period) && out.low <= 12 && out.high <= 12;
 }
 
 } // namespace
@@ -56,6 +67,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       options.light_update = false;
     } else if (arg == "--hysteresis") {
       if (!has_value || !parse_fraction(argv[++i], options.hysteresis)) return usage_error("--hysteresis needs a number in [0, 1)");
+    } else if (arg == "--depth-cycle") {
+      DepthCycle cycle;
+      if (!has_value || !parse_depth_cycle(argv[++i], cycle)) return usage_error("--depth-cycle needs LOW:HIGH:PERIOD (depths 0-12, period >= 1)");
+      options.depth_cycle = cycle;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
     } else if (arg == "--frames" || arg == "--samples") {

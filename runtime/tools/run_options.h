@@ -6,6 +6,12 @@
 
 namespace probebake::run {
 
+// --depth-cycle LOW:HIGH:PERIOD: the memory update on; every PERIOD frames the max depth alternates between
+// HIGH (first) and LOW, with every leaf marked changed in that frame.
+struct DepthCycle {
+  int low = 1, high = 3, period = 50;
+};
+
 struct RunOptions {
   std::string input;                 // .probes file
   int frames = 1;                    // >= 1
@@ -17,6 +23,7 @@ struct RunOptions {
   bool compare_all_probes = false;   // also time the thesis's all-probe loop on the same points
   bool light_update = true;          // run the light update when the file has the lighting sections
   float hysteresis = 0.9f;           // runtime::UploadOptions::hysteresis, [0, 1)
+  std::optional<DepthCycle> depth_cycle; // run the memory update with this max-depth schedule
   std::string program = "probebake-run"; // prefix of error messages
 };
 

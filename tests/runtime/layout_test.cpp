@@ -320,7 +320,10 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
                            {"memory_pulled", offsetof(MemoryState, memory_pulled)},
                            {"memory_segment", offsetof(MemoryState, memory_segment)},
                            {"light_pulled", offsetof(MemoryState, light_pulled)},
-                           {"light_segment", offsetof(MemoryState, light_segment)}}),
+                           {"light_segment", offsetof(MemoryState, light_segment)},
+                           {"entry_groups", offsetof(MemoryState, entry_groups)},
+                           {"entry_thread_groups", offsetof(MemoryState, entry_thread_groups)},
+                           {"light_groups", offsetof(MemoryState, light_groups)}}),
             1);
   EXPECT_GE(expect_layout("memory_light", "MemoryFrame",
                           {{"box_count", offsetof(MemoryFrame, box_count)},

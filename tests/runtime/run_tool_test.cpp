@@ -1,4 +1,5 @@
 // probebake-run end to end: frames with live validation and the validation layer, CSV output, exit codes.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -48,6 +49,30 @@ TEST_F(RunToolTest, RunsFramesValidatesAndWritesCsv) {
   EXPECT_NE(r.out.find("traced "), std::string::npos) << r.out; // L1 statistics of frame 1
   // header + per frame the probe index build, gather and resolve, + the trace of frame 1
   EXPECT_EQ(count_lines(csv), 1 + 5 * 3 + 1);
+}
+
+// --depth-cycle turns the memory update on: max depth 3, 2, 3 every two frames, every leaf re-measured then.
+TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
+  const std::string probes = temp_path("tool-cycle.probes"), csv = temp_path("tool-cycle.csv");
+  formats::write_probes_file(probes, baked_cornell_full());
+  const CliResult r = run_cli(shell_path(probes) + " --frames 6 --depth-cycle 2:3:2 --vk-validation --csv " + shell_path(csv));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
+  int merges = 0, splits = 0;
+  for (std::size_t at = r.out.find("memory: "); at != std::string::npos; at = r.out.find("memory: ", at + 1)) {
+    int s = 0, m = 0;
+    if (std::sscanf(r.out.c_str() + at, "memory: %d splits, %d merges", &s, &m) == 2) splits += s, merges += m;
+  }
+  EXPECT_GT(merges, 0) << r.out; // depth 2 merges the bake's depth-3 leaves
+  EXPECT_GT(splits, 0) << r.out; // and depth 3 splits them again
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_NE(header.find(",splits,merges,failed_allocations,free_probes"), std::string::npos) << header;
+  // header + per frame: memory_update, probe_index, light_transitions, light_trace, light_gather, light_resolve
+  EXPECT_EQ(count_lines(csv), 1 + 6 * 6);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --depth-cycle 2:3").exit_code, 1);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --depth-cycle 2:13:4").exit_code, 1);
 }
 
 TEST_F(RunToolTest, BadInputExitsWithTwo) {

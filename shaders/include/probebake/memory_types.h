@@ -62,17 +62,24 @@ struct MemoryFrame {
   MemoryBox boxes[MEMORY_MAX_BOXES]; // offset 32
 };                               // size 32 + 32 * MEMORY_MAX_BOXES
 
-// Device-only state: free-list stack sizes and the frame's pulled counts.
+// Device-only state: free-list stack sizes, the frame's pulled counts, and the indirect dispatch sizes that
+// memory_begin derives from them (VkDispatchIndirectCommand, folded into y past LIGHT_LIST_MAX_GROUPS_X).
 struct MemoryState {
-  int cluster_top;    // offset  0: free node clusters (meta indices) on the cluster stack
-  int probe_top;      // offset  4: free probe slots on the probe stack
-  int batch_top;      // offset  8: free surfel batches on the batch stack
-  int traced;         // offset 12: L1/L2 leaves with a probe taken so far this frame (light limit)
-  int memory_pulled;  // offset 16: entries the memory update pulled this frame
-  int memory_segment; // offset 20: the segment it pulled
-  int light_pulled;   // offset 24: entries the light update pulled this frame
-  int light_segment;  // offset 28: the segment it pulled
-};                    // size 32
+  int cluster_top;           // offset  0: free node clusters (meta indices) on the cluster stack
+  int probe_top;             // offset  4: free probe slots on the probe stack
+  int batch_top;             // offset  8: free surfel batches on the batch stack
+  int traced;                // offset 12: L1/L2 leaves with a probe taken so far this frame (light limit)
+  int memory_pulled;         // offset 16: entries the memory update pulled this frame
+  int memory_segment;        // offset 20: the segment it pulled
+  int light_pulled;          // offset 24: entries the light update pulled this frame
+  int light_segment;         // offset 28: the segment it pulled
+  uint entry_groups[3];      // offset 32: one workgroup per pulled memory entry (memory_decide)
+  uint entry_thread_groups[3]; // offset 44: one thread per pulled memory entry (release, allocate, collapse)
+  uint light_groups[3];      // offset 56: one workgroup per pulled light entry (memory_light)
+  int pad0;                  // offset 68
+  int pad1;                  // offset 72
+  int pad2;                  // offset 76
+};                           // size 80
 
 // One pulled memory entry as the dispatches pass it on: decide fills node/state/action, release the
 // merge probe, grant the stack positions (index into the stacks of the first element granted).
@@ -116,7 +123,8 @@ static_assert(sizeof(MemoryPush) == 16);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
 static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, boxes) == 32);
 static_assert(offsetof(MemoryFrame, batches_per_probe) == 16);
-static_assert(sizeof(MemoryState) == 32 && offsetof(MemoryState, light_segment) == 28);
+static_assert(sizeof(MemoryState) == 80 && offsetof(MemoryState, light_segment) == 28);
+static_assert(offsetof(MemoryState, entry_groups) == 32 && offsetof(MemoryState, entry_thread_groups) == 44 && offsetof(MemoryState, light_groups) == 56);
 static_assert(sizeof(MemoryWork) == 48 && offsetof(MemoryWork, merged) == 32);
 static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred) == 36);
 static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);

@@ -74,4 +74,30 @@ vec2 octree_measure(vec3 cube_min, float size) {
   return vec2(f, hits > 0u ? float(backface) / float(hits) : 0.0);
 }
 
+#ifdef PROBEBAKE_OCTREE_GROUP_MEASURE
+// The same measure by a whole workgroup (one lattice ray per invocation and step): call from uniform
+// control flow; every invocation gets the result. Counts are integers, so the result equals octree_measure.
+// Define PROBEBAKE_OCTREE_GROUP_MEASURE as the workgroup size (gl_WorkGroupSize is not known before the
+// shader's layout declaration, which follows the includes).
+shared uint octree_group_counts[3];
+
+vec2 octree_measure_group(vec3 cube_min, float size) {
+  if (gl_LocalInvocationIndex == 0) octree_group_counts[0] = octree_group_counts[1] = octree_group_counts[2] = 0u;
+  barrier();
+  precise const vec3 centre = cube_min + vec3(0.5 * size);
+  uint in_cube = 0u, hits = 0u, backface = 0u;
+  for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays; r += int(PROBEBAKE_OCTREE_GROUP_MEASURE))
+    octree_lattice_ray(cube_min, size, centre, r, in_cube, hits, backface);
+  atomicAdd(octree_group_counts[0], in_cube);
+  atomicAdd(octree_group_counts[1], hits);
+  atomicAdd(octree_group_counts[2], backface);
+  barrier();
+  const uint rays = uint(max(probebake_lighting.placement_rays, 0));
+  const vec2 m = vec2(rays > 0u ? float(octree_group_counts[0]) / float(rays) : 0.0,
+                      octree_group_counts[1] > 0u ? float(octree_group_counts[2]) / float(octree_group_counts[1]) : 0.0);
+  barrier(); // the counts are reused by the next call
+  return m;
+}
+#endif
+
 #endif // PROBEBAKE_OCTREE_GLSL

@@ -303,7 +303,8 @@ public:
   // One frame of the runtime's passes on the queue, waited for (thesis figure 3.4): the memory update
   // (§3.2.1, M0-M4) and SVO refresh, the probe index build (§3.2.3), then the light update (§3.2.2: its
   // transitions L0-L3, L1 records, L2 lighting) when the volume has one. invalid_argument when `inputs`
-  // break their ranges (non-finite or inverted boxes, thresholds outside [0, 1], max depth outside [0, 12]).
+  // break their ranges (non-finite or inverted boxes, thresholds outside [0, 1], max depth outside [0, 12]),
+  // or carry boxes or thresholds for a volume that runs no memory update.
   Result<FrameStats> run_frame(const FrameInputs& inputs = {});
 
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as

@@ -75,12 +75,16 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
                            {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},
                            {"emitter_patches", g.emitter_patches}, {"bytes", g.bytes}, {"bvh_seconds", g.bvh_seconds}};
   j["stages"] = nlohmann::ordered_json::object();
-  double total = 0.0;
+  j["stages_cpu"] = nlohmann::ordered_json::object(); // CPU seconds, all threads: comparable on a loaded machine
+  double total = 0.0, total_cpu = 0.0;
   for (const auto& s : r.stages) {
     j["stages"][s.stage] = s.seconds;
+    j["stages_cpu"][s.stage] = s.cpu_seconds;
     total += s.seconds;
+    total_cpu += s.cpu_seconds;
   }
   j["seconds"] = total;
+  j["cpu_seconds"] = total_cpu;
   return j;
 }
 
@@ -143,7 +147,9 @@ int run_bake(BakeCommandSettings& s) {
     s.bake.split_high = s.split_range[1];
   }
   bake::check_settings(s.bake); // usage errors before any work
+  const bake::StageClock load_clock;
   const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
+  const bake::StageTime load_time = load_clock.stop("load");
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
   const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
   check_output_path(output, scene.input_files); // before the bake, not after it
@@ -154,9 +160,12 @@ int run_bake(BakeCommandSettings& s) {
       fmt::print(stderr, "\r{:<10} {:3.0f}%", stage, 100.0 * fraction);
       std::fflush(stderr);
     };
-  const bake::BakeResult result = bake_scene(scene, s, progress);
+  bake::BakeResult result = bake_scene(scene, s, progress);
   if (tty) fmt::print(stderr, "\r{:<20}\r", "");
+  const bake::StageClock write_clock;
   formats::write_probes_file(output, result.volume);
+  result.report.stages.insert(result.report.stages.begin(), load_time);
+  result.report.stages.push_back(write_clock.stop("write"));
   const auto bytes = std::filesystem::file_size(output);
   const nlohmann::ordered_json report = report_json(result.report, output, bytes, result.volume);
   if (s.json) std::puts(report.dump(2).c_str());

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
@@ -28,22 +29,19 @@
 namespace probebake::bake {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 class StageTimer {
 public:
   explicit StageTimer(BakeReport& report) : report_(report) {}
   void stage(const std::string& name) {
-    const auto now = Clock::now();
-    if (!current_.empty()) report_.stages.push_back({current_, std::chrono::duration<double>(now - start_).count()});
+    if (!current_.empty()) report_.stages.push_back(clock_.stop(current_));
     current_ = name;
-    start_ = now;
+    clock_ = StageClock();
   }
 
 private:
   BakeReport& report_;
   std::string current_;
-  Clock::time_point start_;
+  StageClock clock_;
 };
 
 void require(bool ok, const std::string& message) {
@@ -189,6 +187,14 @@ void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
 
 } // namespace
 
+StageClock::StageClock() : wall_(std::chrono::steady_clock::now()), cpu_(std::clock()) {}
+
+StageTime StageClock::stop(std::string stage) const {
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_).count();
+  const double cpu = double(std::clock() - cpu_) / CLOCKS_PER_SEC;
+  return {std::move(stage), wall, cpu};
+}
+
 // The root cube is the scene bounds' bounding cube, padded so that surfaces on the bounds are inside, and
 // by the method's root_pad_clearances.
 gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
@@ -278,6 +284,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
 
   timer.stage("bvh");
   const scene::RayScene full_rays(scene);
+  timer.stage("sealed");
   // Placement, relocation, the SVO and lighting see only what open space can see (placement/sealed.h); the
   // runtime lighting sections keep every triangle.
   const std::optional<scene::Scene> culled = placement::without_sealed(scene, placement::sealed_triangles(full_rays, settings.threads));

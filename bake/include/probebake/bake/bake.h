@@ -5,7 +5,9 @@
 // count (work is split per probe / per voxel and results are combined in index order).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <ctime>
 #include <functional>
 #include <map>
 #include <string>
@@ -60,7 +62,19 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& setti
 
 struct StageTime {
   std::string stage;
-  double seconds = 0.0;
+  double seconds = 0.0;     // wall clock
+  double cpu_seconds = 0.0; // process CPU time, all threads: what the stage costs whatever else runs on the machine
+};
+
+// Wall and process CPU time from construction to stop(): the bake's stages, and the CLI's load and write.
+class StageClock {
+public:
+  StageClock();
+  StageTime stop(std::string stage) const;
+
+private:
+  std::chrono::steady_clock::time_point wall_;
+  std::clock_t cpu_;
 };
 
 // The runtime lighting sections of a bake (stage "gpu_scene"), when settings.runtime_lighting.

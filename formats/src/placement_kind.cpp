@@ -9,8 +9,8 @@ namespace {
 
 // Row i is PlacementKind(i) (placement_kinds_test checks it).
 constexpr std::array kKinds = {
-    PlacementKindInfo{PlacementKind::octree, "octree", gpu::PLACEMENT_OCTREE, true, true, false},
-    PlacementKindInfo{PlacementKind::grid, "grid", gpu::PLACEMENT_GRID, false, false, true},
+    PlacementKindInfo{PlacementKind::octree, "octree", gpu::PLACEMENT_OCTREE, true, true, false, true},
+    PlacementKindInfo{PlacementKind::grid, "grid", gpu::PLACEMENT_GRID, false, false, true, true},
 };
 
 } // namespace

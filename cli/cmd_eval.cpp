@@ -46,7 +46,8 @@ nlohmann::json row_json(const bake::EvalRow& r) {
           {"max_error", r.max_error}, {"leak_rmse", r.leak_rmse}, {"leak_points", r.leak_points},
           {"misses", r.misses}, {"coverage", r.coverage}, {"relative_median", r.relative_median},
           {"relative_p95", r.relative_p95}, {"image_relative_rmse", r.image_relative_rmse},
-          {"image_mean_error", r.image_mean_error}};
+          {"image_mean_error", r.image_mean_error}, {"asked_probes", r.asked_probes}, {"budget_by", r.budget_by},
+          {"indirect_rmse", r.indirect_rmse}, {"indirect_relative_rmse", r.indirect_relative_rmse}};
 }
 
 nlohmann::json result_json(const bake::EvalResult& r) {
@@ -54,6 +55,8 @@ nlohmann::json result_json(const bake::EvalResult& r) {
                       {"points", r.points}, {"image_pixels", r.image_pixels},
                       {"image_mean_reference", r.image_mean_reference}, {"paths", r.paths}, {"seed", r.seed},
                       {"mean_reference", r.mean_reference}, {"reference_noise", r.reference_noise},
+                      {"mean_indirect_reference", r.mean_indirect_reference}, {"indirect_noise", r.indirect_noise},
+                      {"direct_relative_rmse", r.direct_relative_rmse}, {"direct_bias", r.direct_bias},
                       {"reference_seconds", r.reference_seconds}, {"reference_cached", r.reference_from_cache},
                       {"cache_file", r.cache_file.string()}, {"cache_written", r.cache_written}};
   j["rows"] = nlohmann::json::array();
@@ -64,8 +67,9 @@ nlohmann::json result_json(const bake::EvalResult& r) {
 }
 
 int run_eval(EvalCommandSettings& s) {
-  if (s.quick) {
-    s.eval.configs = bake::quick_sweep();
+  if (s.quick) { // with --probes: the ladder with quick bakes
+    if (s.eval.probe_ladder.empty()) s.eval.configs = bake::quick_sweep();
+    s.eval.ladder_base = bake::quick_bake_settings();
     if (s.points_option->count() == 0) s.eval.points = 64;
     if (s.samples_option->count() == 0) s.eval.paths = 64;
   }
@@ -119,7 +123,11 @@ Command add_eval_command(CLI::App& root) {
           {"visible", bake::ReceiverMode::visible}, {"volume", bake::ReceiverMode::volume}, {"area", bake::ReceiverMode::area}}));
   app->add_option("--seed", s->eval.seed, "Seed of the points and the reference");
   app->add_option("--threads", s->eval.threads, "Worker threads for bakes and the reference (0 = all cores)");
-  app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests");
+  app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests; with --probes, small bakes");
+  app->add_option("--probes", s->eval.probe_ladder,
+                  "Probe ladder N1,N2,...: every placement method that meets a probe budget, baked to about each "
+                  "count (instead of the sweep)")
+      ->delimiter(',');
   app->add_option("--baseline", s->eval.baseline, "Configuration also sampled with all probes (default octree-d4)");
   app->add_flag("--no-cache", s->no_cache, "Neither read nor write the reference cache beside the scene");
   app->add_option("--csv", s->csv, "Write the table as CSV");

@@ -27,23 +27,29 @@ struct Truth {
   const scene::RayScene* rays = nullptr;
   std::vector<SamplePoint> points;
   std::vector<glm::vec3> reference;
-  std::vector<glm::vec3> direct;  // punctual lights: the runtime adds them per pixel, probes hold none
+  std::vector<glm::vec3> direct;    // direct_irradiance: the runtime adds it per pixel, probes hold none
+  std::vector<glm::vec3> indirect;  // the reference minus the path tracer's own direct part
   double mean = 0.0;
+  double indirect_mean = 0.0;
 };
 
-// Looks up every point on this thread (timed), adds the direct light and scores the result.
+double relative(double value, double mean) { return mean > 0.0 ? value / mean : 0.0; }
+
+// Looks up every point on this thread (timed), adds the direct light and scores the result; the lookup
+// alone is scored against the indirect reference.
 template <class Lookup>
 void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
-  std::vector<glm::vec3> total(truth.points.size());
+  std::vector<glm::vec3> probes(truth.points.size());
   SamplerStats stats;
   const auto start = Clock::now();
-  for (std::size_t i = 0; i < truth.points.size(); ++i) total[i] = lookup(truth.points[i], stats);
+  for (std::size_t i = 0; i < truth.points.size(); ++i) probes[i] = lookup(truth.points[i], stats);
   row.sample_ns = seconds_since(start) * 1e9 / double(std::max<std::size_t>(truth.points.size(), 1));
-  for (std::size_t i = 0; i < total.size(); ++i) total[i] += truth.direct[i];
+  std::vector<glm::vec3> total(probes.size());
+  for (std::size_t i = 0; i < total.size(); ++i) total[i] = probes[i] + truth.direct[i];
   const detail::ErrorStats e = detail::error_stats(total, truth.reference, truth.mean);
   row.rmse = e.rmse;
-  row.relative_rmse = truth.mean > 0.0 ? e.rmse / truth.mean : 0.0;
-  row.bias = truth.mean > 0.0 ? (detail::mean_irradiance(total) - truth.mean) / truth.mean : 0.0;
+  row.relative_rmse = relative(e.rmse, truth.mean);
+  row.bias = relative(detail::mean_irradiance(total) - truth.mean, truth.mean);
   row.p95 = e.p95;
   row.max_error = e.max;
   row.leak_rmse = e.leak_rmse;
@@ -52,6 +58,8 @@ void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
   row.coverage = truth.points.empty() ? 0.0 : 1.0 - double(stats.misses) / double(truth.points.size());
   row.relative_median = e.relative_median;
   row.relative_p95 = e.relative_p95;
+  row.indirect_rmse = detail::error_stats(probes, truth.indirect, truth.indirect_mean).rmse;
+  row.indirect_relative_rmse = relative(row.indirect_rmse, truth.indirect_mean);
 }
 
 EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake_seconds) {
@@ -59,6 +67,8 @@ EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake
   row.label = config.label;
   row.sampler = "svo";
   row.bake = config.bake;
+  row.asked_probes = config.asked_probes;
+  row.budget_by = config.budget_by;
   row.probes = baked.report.probes;
   row.file_bytes = formats::write_probes(baked.volume).size();
   row.bake_seconds = bake_seconds;
@@ -75,16 +85,26 @@ std::string baseline_label(const EvalSettings& s, const std::vector<EvalConfig>&
 }
 
 Truth make_truth(const scene::Scene& scene, const scene::RayScene& rays, const detail::ReferencePoints& r) {
-  Truth t{&scene, &rays, r.points, r.values.irradiance, {}, detail::mean_irradiance(r.values.irradiance)};
+  Truth t{&scene, &rays, r.points, r.values.irradiance, {}, indirect_irradiance(r.values), 0.0, 0.0};
+  t.mean = detail::mean_irradiance(t.reference);
+  t.indirect_mean = detail::mean_irradiance(t.indirect);
   t.direct.reserve(t.points.size());
   for (const SamplePoint& p : t.points) t.direct.push_back(direct_irradiance(scene, rays, p.position, p.normal));
   return t;
 }
 
-double reference_noise(const ReferenceResult& r, double mean) {
+// RMS over points and channels of the standard errors, relative to `mean`.
+double noise(const std::vector<glm::vec3>& standard_error, double mean) {
   double sum = 0.0;
-  for (const glm::vec3& se : r.standard_error) sum += double(glm::dot(se, se)) / 3.0;
-  return mean > 0.0 && !r.standard_error.empty() ? std::sqrt(sum / double(r.standard_error.size())) / mean : 0.0;
+  for (const glm::vec3& se : standard_error) sum += double(glm::dot(se, se)) / 3.0;
+  return standard_error.empty() ? 0.0 : relative(std::sqrt(sum / double(standard_error.size())), mean);
+}
+
+// How far direct_irradiance (what a renderer adds per pixel) is from the path tracer's direct part.
+void score_direct(EvalResult& result, const Truth& truth, const ReferenceResult& values) {
+  const double mean = detail::mean_irradiance(values.direct);
+  result.direct_relative_rmse = relative(detail::error_stats(truth.direct, values.direct, mean).rmse, mean);
+  result.direct_bias = relative(detail::mean_irradiance(truth.direct) - mean, mean);
 }
 
 constexpr int kSceneCameraPixels = 128; // image receivers of a glTF camera: 128 x 128 (--camera sets its own size)
@@ -102,17 +122,26 @@ EvalSettings with_scene_camera(const EvalSettings& settings, const scene::Scene&
   return out;
 }
 
+std::vector<EvalConfig> sweep_of(const EvalSettings& s, const scene::Scene& scene) {
+  if (!s.configs.empty()) return s.configs;
+  if (s.probe_ladder.empty()) return default_sweep();
+  BakeSettings base = s.ladder_base;
+  base.threads = s.threads;
+  return ladder_sweep(scene, s.probe_ladder, base);
+}
+
 } // namespace
 
 EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings& settings, const EvalProgress& progress) {
   check_eval_settings(settings);
-  const std::vector<EvalConfig> configs = settings.configs.empty() ? default_sweep() : settings.configs;
-  const std::string baseline = baseline_label(settings, configs);
   auto say = [&](const std::string& m) { if (progress) progress(m); };
   scene::LoadOptions load = settings.scene_input;
   load.require_triangles = true;
   const scene::Scene scene = scene::load_scene(scene_path, load);
   for (const auto& output : settings.outputs) check_output_path(output, scene.input_files);
+  if (settings.configs.empty() && !settings.probe_ladder.empty()) say("probe ladder");
+  const std::vector<EvalConfig> configs = sweep_of(settings, scene);
+  const std::string baseline = baseline_label(settings, configs);
   // Without --camera, the scene's first glTF camera anchors the player's region and adds image receivers.
   const EvalSettings effective = with_scene_camera(settings, scene);
   const scene::RayScene rays(scene);
@@ -128,7 +157,10 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
   result.paths = effective.paths;
   result.seed = effective.seed;
   result.mean_reference = truth.mean;
-  result.reference_noise = reference_noise(ref.values, truth.mean);
+  result.reference_noise = noise(ref.values.standard_error, truth.mean);
+  result.mean_indirect_reference = truth.indirect_mean;
+  result.indirect_noise = noise(ref.values.indirect_standard_error, truth.indirect_mean);
+  score_direct(result, truth, ref.values);
   result.reference_seconds = ref.from_cache ? 0.0 : ref.values.seconds;
   result.reference_from_cache = ref.from_cache;
   result.cache_file = ref.cache_file;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "probebake/eval/eval.h"
@@ -32,5 +33,11 @@ ErrorStats error_stats(const std::vector<glm::vec3>& estimate, const std::vector
                        double mean_reference);
 
 double mean_irradiance(const std::vector<glm::vec3>& values); // over points and channels
+
+// SVG helpers of the plots.
+std::string escape_xml(const std::string& s);
+double nice_step(double max); // a round step (1, 2 or 5 times a power of ten), about five intervals up to max
+// The ladder's plot: relative RMSE against live probe count (log axis), a curve per placement method.
+std::string ladder_svg_plot(const EvalResult& result);
 
 } // namespace probebake::bake::detail

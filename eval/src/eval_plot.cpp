@@ -5,14 +5,12 @@
 
 #include <fmt/core.h>
 
+#include "eval_internal.h"
 #include "probebake/eval/eval.h"
 
 namespace probebake::bake {
-namespace {
 
-constexpr double kWidth = 760, kHeight = 480, kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;
-
-std::string escape_xml(const std::string& s) {
+std::string detail::escape_xml(const std::string& s) {
   std::string out;
   for (char c : s) {
     if (c == '&') out += "&amp;";
@@ -24,6 +22,20 @@ std::string escape_xml(const std::string& s) {
   return out;
 }
 
+double detail::nice_step(double max) {
+  const double raw = max / 5.0, power = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * power >= raw) return m * power;
+  return 10.0 * power;
+}
+
+namespace {
+
+using detail::escape_xml;
+using detail::nice_step;
+
+constexpr double kWidth = 760, kHeight = 480, kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;
+
 struct Axes {
   double log_lo = -1, log_hi = 1, y_max = 1;
   double x(double seconds) const {
@@ -32,14 +44,6 @@ struct Axes {
   }
   double y(double error) const { return kHeight - kBottom - error / y_max * (kHeight - kTop - kBottom); }
 };
-
-// A round step (1, 2 or 5 times a power of ten) giving about five intervals up to `max`.
-double nice_step(double max) {
-  const double raw = max / 5.0, power = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0})
-    if (m * power >= raw) return m * power;
-  return 10.0 * power;
-}
 
 Axes make_axes(const std::vector<EvalRow>& rows) {
   Axes a;
@@ -140,6 +144,8 @@ std::string legend_svg() {
 } // namespace
 
 std::string eval_svg_plot(const EvalResult& result) {
+  if (std::any_of(result.rows.begin(), result.rows.end(), [](const EvalRow& r) { return r.asked_probes > 0; }))
+    return detail::ladder_svg_plot(result);
   const Axes axes = make_axes(result.rows);
   const std::vector<std::size_t> front = pareto_front(result.rows);
   std::string svg = fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' viewBox='0 0 {0} {1}' "

@@ -16,6 +16,11 @@ std::string leak_cell(const EvalRow& r) {
   return r.leak_points > 0 ? fmt::format("{:.4g} ({})", r.leak_rmse, r.leak_points) : "-";
 }
 
+// The ladder rung and how the configuration meets it, e.g. "128 (max depth)"; "-" outside a ladder.
+std::string asked_cell(const EvalRow& r) {
+  return r.asked_probes > 0 ? fmt::format("{} ({})", r.asked_probes, r.budget_by) : "-";
+}
+
 } // namespace
 
 std::string eval_markdown_table(const EvalResult& result) {
@@ -26,16 +31,22 @@ std::string eval_markdown_table(const EvalResult& result) {
       result.viewpoints > 0 ? fmt::format(" from {} viewpoints", result.viewpoints) : "", result.paths,
       result.mean_reference, 100.0 * result.reference_noise,
       result.reference_from_cache ? "cached" : fmt::format("traced in {:.1f} s", result.reference_seconds));
+  out += fmt::format("indirect (reference minus its direct part): mean {:.4g} W/m^2, noise {:.2f}%; direct_irradiance "
+                     "against the traced direct part: relative RMSE {:.4f}, bias {:+.4f}\n",
+                     result.mean_indirect_reference, 100.0 * result.indirect_noise, result.direct_relative_rmse,
+                     result.direct_bias);
   if (image) out += fmt::format("camera: {} image receivers, mean reference {:.4g} W/m^2\n", result.image_pixels, result.image_mean_reference);
-  out += "\n| config | sampler | probes | bytes | bake s | ns/point | RMSE | rel. RMSE | rel. median | rel. p95 | bias | p95 | max | "
-         "leak RMSE (points) | coverage |";
+  out += "\n| config | sampler | asked | probes | bytes | bake s | ns/point | RMSE | rel. RMSE | indirect rel. RMSE | "
+         "rel. median | rel. p95 | bias | p95 | max | leak RMSE (points) | coverage |";
   out += image ? " image rel. RMSE | image mean err |\n" : "\n";
-  out += "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|";
+  out += "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|";
   out += image ? "--:|--:|\n" : "\n";
   for (const EvalRow& r : result.rows) {
-    out += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.0f} | {:.4g} | {:.4f} | {:.4f} | {:.4f} | {:+.3f} | {:.4g} | {:.4g} | {} | {:.3f} |",
-                       r.label, r.sampler, r.probes, r.file_bytes, r.bake_seconds, r.sample_ns, r.rmse, r.relative_rmse,
-                       r.relative_median, r.relative_p95, r.bias, r.p95, r.max_error, leak_cell(r), r.coverage);
+    out += fmt::format("| {} | {} | {} | {} | {} | {:.3f} | {:.0f} | {:.4g} | {:.4f} | {:.4f} | {:.4f} | {:.4f} | {:+.3f} | "
+                       "{:.4g} | {:.4g} | {} | {:.3f} |",
+                       r.label, r.sampler, asked_cell(r), r.probes, r.file_bytes, r.bake_seconds, r.sample_ns, r.rmse,
+                       r.relative_rmse, r.indirect_relative_rmse, r.relative_median, r.relative_p95, r.bias, r.p95,
+                       r.max_error, leak_cell(r), r.coverage);
     out += image ? fmt::format(" {:.4f} | {:.4g} |\n", r.image_relative_rmse, r.image_mean_error) : "\n";
   }
   return out;
@@ -48,15 +59,16 @@ void write_text_file(const std::filesystem::path& path, const std::string& text)
 void write_eval_csv(const std::filesystem::path& path, const EvalResult& result) {
   std::string out = "label,sampler,placement,max_depth,grid,surfels,lattice,svo_depth,probes,file_bytes,bake_seconds,"
                     "sample_ns,rmse,relative_rmse,bias,p95,max_error,leak_rmse,leak_points,misses,coverage,"
-                    "relative_median,relative_p95,image_relative_rmse,image_mean_error\n";
+                    "relative_median,relative_p95,image_relative_rmse,image_mean_error,asked_probes,budget_by,"
+                    "indirect_rmse,indirect_relative_rmse\n";
   for (const EvalRow& r : result.rows)
     out += fmt::format("{},{},{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},"
-                       "{:.6g},{:.6g},{:.6g}\n",
+                       "{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g}\n",
                        r.label, r.sampler, formats::placement_name(r.bake.placement), r.bake.max_depth, r.bake.grid_resolution,
                        r.bake.surfels_per_probe, lattice_name(r.bake.lattice), r.bake.svo_depth, r.probes, r.file_bytes,
                        r.bake_seconds, r.sample_ns, r.rmse, r.relative_rmse, r.bias, r.p95, r.max_error, r.leak_rmse,
                        r.leak_points, r.misses, r.coverage, r.relative_median, r.relative_p95, r.image_relative_rmse,
-                       r.image_mean_error);
+                       r.image_mean_error, r.asked_probes, r.budget_by, r.indirect_rmse, r.indirect_relative_rmse);
   write_text_file(path, out);
 }
 

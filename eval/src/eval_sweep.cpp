@@ -37,6 +37,21 @@ EvalConfig skeleton(int n) {
   return c;
 }
 
+void check_ladder(const EvalSettings& s) {
+  if (s.probe_ladder.empty()) return;
+  if (!s.configs.empty()) throw Error(ErrorKind::usage, "--probes replaces the sweep: it cannot be combined with one");
+  if (s.probe_ladder.size() > kMaxLadderRungs)
+    throw Error(ErrorKind::usage, fmt::format("--probes takes at most {} rungs (got {})", kMaxLadderRungs, s.probe_ladder.size()));
+  for (std::size_t i = 0; i < s.probe_ladder.size(); ++i) {
+    const int n = s.probe_ladder[i];
+    if (n < 1 || n > kMaxLadderProbes)
+      throw Error(ErrorKind::usage, fmt::format("--probes: {} is not in 1..{}", n, kMaxLadderProbes));
+    if (i > 0 && n <= s.probe_ladder[i - 1])
+      throw Error(ErrorKind::usage, fmt::format("--probes must increase ({} after {})", n, s.probe_ladder[i - 1]));
+  }
+  check_settings(s.ladder_base);
+}
+
 } // namespace
 
 std::vector<EvalConfig> default_sweep() {
@@ -47,11 +62,19 @@ std::vector<EvalConfig> default_sweep() {
           octree(4, 128, Lattice::latlong), octree(4, 128, Lattice::equal_area)};
 }
 
+BakeSettings quick_bake_settings() {
+  BakeSettings s;
+  s.surfels_per_probe = 64;
+  s.svo_depth = 4;
+  s.lighting.rays = 64;
+  return s;
+}
+
 std::vector<EvalConfig> quick_sweep() {
   std::vector<EvalConfig> sweep = {octree(2, 64), octree(3, 64), grid(4)};
   for (EvalConfig& c : sweep) {
-    c.bake.svo_depth = 4;
-    c.bake.lighting.rays = 64;
+    c.bake.svo_depth = quick_bake_settings().svo_depth;
+    c.bake.lighting.rays = quick_bake_settings().lighting.rays;
   }
   return sweep;
 }
@@ -68,6 +91,7 @@ void check_eval_settings(const EvalSettings& s) {
   require(parse_receiver_mode(receiver_mode_name(s.receivers)) == s.receivers, "--receivers must be visible, volume or area");
   if (s.camera) check_camera(*s.camera);
   for (const EvalConfig& c : s.configs) check_settings(c.bake);
+  check_ladder(s);
 }
 
 } // namespace probebake::bake

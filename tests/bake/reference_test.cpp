@@ -178,7 +178,7 @@ TEST(ReferenceCli, WritesCsvAndImage) {
   EXPECT_EQ(nlohmann::json::parse(r.out)["points"]["count"].get<int>(), 16);
   const auto csv = lines_of(read_text(dir / "ref_cli.csv"));
   ASSERT_EQ(csv.size(), 17u);
-  EXPECT_EQ(csv[0], "x,y,z,nx,ny,nz,r,g,b,stderr");
+  EXPECT_EQ(csv[0], "x,y,z,nx,ny,nz,r,g,b,stderr,direct_r,direct_g,direct_b,indirect_stderr");
   EXPECT_EQ(bake::read_exr(dir / "ref_cli.exr").pixels.size(), 48u);
   EXPECT_EQ(run("reference " + quoted(scene) + " --image x.exr").exit_code, 1); // no camera
   EXPECT_EQ(run("reference " + quoted(scene) + " --samples 1").exit_code, 1);

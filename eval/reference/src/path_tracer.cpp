@@ -22,14 +22,15 @@ float survival_probability(const glm::vec3& throughput) { return std::min(0.999f
 // before it (cosine sampling cancels cos / pi against the pdf), divided by the roulette survival
 // probabilities. Emission found by a BSDF ray counts pi * Le times its MIS weight; next-event samples of
 // the same emitters carry the complementary weight (lights.cpp), so nothing is counted twice.
-glm::vec3 irradiance_path(const PathContext& c, const SamplePoint& point, Pcg32& rng) {
+PathEstimate irradiance_path(const PathContext& c, const SamplePoint& point, Pcg32& rng) {
   const scene::Scene& scene = *c.scene;
-  glm::vec3 result(0.0f), beta(1.0f);
+  glm::vec3 result(0.0f), beta(1.0f), direct(0.0f);
   glm::vec3 x = point.position, n = point.normal;
   for (int bounce = 0; bounce < c.max_bounces; ++bounce) {
     result += beta * (punctual_irradiance(scene, *c.rays, x, n, c.epsilon) +
                       emitter_irradiance_sample(scene, *c.rays, *c.emitters, x, n, c.epsilon, rng));
     const float u1 = rng.uniform(), u2 = rng.uniform();
+    if (bounce == 0) direct = result; // next-event light at the receiver itself
     const glm::vec3 w = cosine_hemisphere(n, u1, u2);
     const float cos_x = glm::dot(n, w);
     if (cos_x <= 0.0f) break;
@@ -41,7 +42,9 @@ glm::vec3 irradiance_path(const PathContext& c, const SamplePoint& point, Pcg32&
     const glm::vec3 emission = scene.triangle_emission[hit->triangle];
     if (emission_weight(emission) > 0.0f) { // distance from x, as next-event estimation measures it
       const float cos_y = -glm::dot(facing, w);
-      result += beta * emission * (kPi * bsdf_hit_weight(*c.emitters, hit->triangle, cos_x, glm::length(y - x), cos_y));
+      const glm::vec3 seen = beta * emission * (kPi * bsdf_hit_weight(*c.emitters, hit->triangle, cos_x, glm::length(y - x), cos_y));
+      result += seen;
+      if (bounce == 0) direct += seen; // an emitter the receiver's own ray sees
     }
     beta *= glm::clamp(scene.triangle_albedo[hit->triangle], 0.0f, 1.0f);
     if (bounce + 1 >= c.roulette_after) {
@@ -54,7 +57,7 @@ glm::vec3 irradiance_path(const PathContext& c, const SamplePoint& point, Pcg32&
     x = y;
     n = facing;
   }
-  return result;
+  return {result, direct};
 }
 
 } // namespace probebake::bake::detail

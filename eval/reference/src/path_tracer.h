@@ -17,7 +17,15 @@ struct PathContext {
   int max_bounces = 100000;
 };
 
+// One path's estimate of the irradiance at the receiver, and the part of it that is direct light: the
+// next-event samples at the receiver itself and the emission its first ray hits (what direct_irradiance
+// computes in the bake; the rest is what probes hold).
+struct PathEstimate {
+  glm::vec3 total{0.0f};
+  glm::vec3 direct{0.0f};
+};
+
 // An unbiased estimate of the irradiance at `point` (one path, with next-event estimation at each vertex).
-glm::vec3 irradiance_path(const PathContext& context, const SamplePoint& point, Pcg32& rng);
+PathEstimate irradiance_path(const PathContext& context, const SamplePoint& point, Pcg32& rng);
 
 } // namespace probebake::bake::detail

@@ -21,16 +21,35 @@ constexpr int kChunk = 64; // paths per task: small enough to spread one point's
 struct Moments {
   glm::dvec3 sum{0.0};
   glm::dvec3 sum_squares{0.0};
+  glm::dvec3 direct{0.0};                   // sum of the direct parts
+  glm::dvec3 indirect_squares{0.0};         // sum of the squared indirect parts (total - direct)
+
+  void add(const Moments& m) {
+    sum += m.sum;
+    sum_squares += m.sum_squares;
+    direct += m.direct;
+    indirect_squares += m.indirect_squares;
+  }
 };
+
+// Standard error of the mean of n samples with this sum and sum of squares.
+glm::dvec3 standard_error(const glm::dvec3& sum, const glm::dvec3& sum_squares, double n) {
+  const glm::dvec3 mean = sum / n;
+  const glm::dvec3 variance = glm::max((sum_squares - n * mean * mean) / (n - 1.0), glm::dvec3(0.0));
+  return glm::sqrt(variance / n);
+}
 
 Moments trace_chunk(const detail::PathContext& context, const SamplePoint& point, std::uint64_t seed,
                     std::uint64_t key, int paths) {
   detail::Pcg32 rng(seed, key);
   Moments m;
   for (int i = 0; i < paths; ++i) {
-    const glm::dvec3 e(detail::irradiance_path(context, point, rng));
+    const detail::PathEstimate path = detail::irradiance_path(context, point, rng);
+    const glm::dvec3 e(path.total), direct(path.direct), indirect = e - direct;
     m.sum += e;
     m.sum_squares += e * e;
+    m.direct += direct;
+    m.indirect_squares += indirect * indirect;
   }
   return m;
 }
@@ -64,17 +83,20 @@ ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::Ray
   const double n = settings.paths;
   for (std::size_t p = 0; p < points.size(); ++p) {
     Moments m;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      m.sum += moments[p * chunks + c].sum;
-      m.sum_squares += moments[p * chunks + c].sum_squares;
-    }
-    const glm::dvec3 mean = m.sum / n;
-    const glm::dvec3 variance = glm::max((m.sum_squares - n * mean * mean) / (n - 1.0), glm::dvec3(0.0));
-    result.irradiance.emplace_back(mean);
-    result.standard_error.emplace_back(glm::sqrt(variance / n));
+    for (std::size_t c = 0; c < chunks; ++c) m.add(moments[p * chunks + c]);
+    result.irradiance.emplace_back(m.sum / n);
+    result.standard_error.emplace_back(standard_error(m.sum, m.sum_squares, n));
+    result.direct.emplace_back(m.direct / n);
+    result.indirect_standard_error.emplace_back(standard_error(m.sum - m.direct, m.indirect_squares, n));
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+std::vector<glm::vec3> indirect_irradiance(const ReferenceResult& reference) {
+  std::vector<glm::vec3> out(reference.irradiance.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = reference.irradiance[i] - reference.direct.at(i);
+  return out;
 }
 
 } // namespace probebake::bake

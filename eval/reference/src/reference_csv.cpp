@@ -21,7 +21,9 @@
 namespace probebake::bake {
 namespace {
 
-constexpr const char* kHeader = "x,y,z,nx,ny,nz,r,g,b,stderr";
+constexpr const char* kHeader = "x,y,z,nx,ny,nz,r,g,b,stderr,direct_r,direct_g,direct_b,indirect_stderr";
+constexpr std::string_view kHeaderWithoutDirect = "x,y,z,nx,ny,nz,r,g,b,stderr"; // before the direct part
+constexpr int kColumns = 14;
 
 constexpr std::string_view kReceiverHeader = "x,y,z,nx,ny,nz";
 
@@ -45,17 +47,18 @@ std::optional<std::string> parse_numbers(std::string_view row, std::vector<float
       return fmt::format("column {}: '{}' is not a number", out.size() + 1, field.substr(0, 32));
     if (!std::isfinite(v)) return fmt::format("column {}: {} is not finite", out.size() + 1, field.substr(0, 32));
     out.push_back(v);
-    if (out.size() > 10) return std::string("more than 10 columns");
+    if (out.size() > std::size_t(kColumns)) return fmt::format("more than {} columns", kColumns);
     if (comma == std::string_view::npos) return std::nullopt;
     row.remove_prefix(comma + 1);
   }
 }
 
-// Checks and reads one receiver row (6 numbers, or the 10 of a reference CSV whose values are ignored).
+// Checks and reads one receiver row (6 numbers, or the 14 or older 10 of a reference CSV whose values are
+// ignored).
 SamplePoint receiver_row(std::string_view row, const std::string& where) {
   std::vector<float> v;
   if (const auto problem = parse_numbers(row, v)) throw Error(ErrorKind::input, where + ": " + *problem);
-  if (v.size() != 6 && v.size() != 10)
+  if (v.size() != 6 && v.size() != 10 && v.size() != std::size_t(kColumns))
     throw Error(ErrorKind::input, fmt::format("{}: {} columns; a row is x,y,z,nx,ny,nz", where, v.size()));
   const glm::vec3 normal(v[3], v[4], v[5]);
   const float length = glm::length(normal);
@@ -72,9 +75,11 @@ void write_reference_csv(const std::filesystem::path& path, std::span<const Samp
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SamplePoint& p = points[i];
     const glm::vec3& e = reference.irradiance[i];
-    out += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", p.position.x,
-                       p.position.y, p.position.z, p.normal.x, p.normal.y, p.normal.z, e.x, e.y, e.z,
-                       max_channel(reference.standard_error[i]));
+    const glm::vec3& d = reference.direct.at(i);
+    out += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+                       p.position.x, p.position.y, p.position.z, p.normal.x, p.normal.y, p.normal.z, e.x, e.y, e.z,
+                       max_channel(reference.standard_error[i]), d.x, d.y, d.z,
+                       max_channel(reference.indirect_standard_error.at(i)));
   }
   write_file_atomically(path, std::string_view(out));
 }
@@ -86,14 +91,13 @@ bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoi
   points.clear();
   reference = {};
   while (std::getline(in, line)) {
-    float v[10];
-    char end = 0;
-    if (std::sscanf(line.c_str(), "%g,%g,%g,%g,%g,%g,%g,%g,%g,%g%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6],
-                    &v[7], &v[8], &v[9], &end) != 10)
-      return false;
+    std::vector<float> v;
+    if (parse_numbers(line, v) || v.size() != std::size_t(kColumns)) return false;
     points.push_back({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
     reference.irradiance.emplace_back(v[6], v[7], v[8]);
     reference.standard_error.emplace_back(v[9]);
+    reference.direct.emplace_back(v[10], v[11], v[12]);
+    reference.indirect_standard_error.emplace_back(v[13]);
   }
   return true;
 }
@@ -116,7 +120,7 @@ std::vector<SamplePoint> read_receivers_csv(const std::filesystem::path& path) {
     const std::string_view row = trim(rest.substr(0, newline));
     rest.remove_prefix(newline == std::string_view::npos ? rest.size() : newline + 1);
     if (row.empty()) continue;
-    if (line == 1 && (row == kReceiverHeader || row == kHeader)) continue;
+    if (line == 1 && (row == kReceiverHeader || row == kHeader || row == kHeaderWithoutDirect)) continue;
     if (points.size() == kMaxReceivers)
       throw_input_error(name, fmt::format("line {}: more than {} receivers", line, kMaxReceivers));
     points.push_back(receiver_row(row, fmt::format("{}: line {}", name, line)));

@@ -54,6 +54,8 @@ Receivers make_receivers(const scene::Scene& scene, const scene::RayScene& rays,
 struct EvalConfig {
   std::string label; // unique, file-name safe (error maps are named after it)
   BakeSettings bake;
+  int asked_probes = 0;  // the ladder rung this configuration was chosen for (0: not from a ladder)
+  std::string budget_by; // how it meets the rung: "grid resolution" or "probe budget" (empty: not from a ladder)
 };
 
 // Octree max depth 2..5; grid 5, 8, 12, 16, 21; 64 and 256 surfels at depth 4; latlong and equal-area
@@ -61,13 +63,26 @@ struct EvalConfig {
 std::vector<EvalConfig> default_sweep();
 // Three small configurations, for tests.
 std::vector<EvalConfig> quick_sweep();
+// The settings of quick_sweep's bakes (small SVO and lighting), for ladders in tests.
+BakeSettings quick_bake_settings();
+
+// The probe ladder (`--probes 64,128,...`): for each rung and each placement method whose kinds-table row
+// says meets_probe_budget, one configuration of `base` baked to about that many live probes (after dead
+// probes are freed). Methods with a grid resolution take the resolution whose live count is nearest the
+// rung (counted by placement-only bakes, no lighting, no SVO, walking the resolution one step at a time from
+// a guess until the count crosses the rung; ties go to fewer probes); the others (the octree with the error
+// rule at max depth >= 6, the skeleton) take the rung as BakeSettings::probe_budget. A rung whose configuration equals a lower rung's of the same
+// method is left out (it would be the same bake). Deterministic, as the bakes are.
+std::vector<EvalConfig> ladder_sweep(const scene::Scene& scene, std::span<const int> probes, const BakeSettings& base);
 
 struct EvalSettings {
   int points = 1000;
   int paths = 4096;            // reference paths per point (about 1.5% noise per point on the Cornell box)
   std::uint64_t seed = 1;      // sample points and reference
   int threads = 0;             // bakes and reference; 0 = all cores (sampling is timed on one thread)
-  std::vector<EvalConfig> configs;  // empty: default_sweep()
+  std::vector<EvalConfig> configs;  // empty: default_sweep(), or the ladder when probe_ladder is set
+  std::vector<int> probe_ladder;    // --probes: rungs in 1..kMaxLadderProbes, increasing; needs empty configs
+  BakeSettings ladder_base;         // what every ladder configuration starts from
   std::string baseline;        // label of the configuration also sampled with all probes; empty: "octree-d4"
                                // when swept, else the first octree configuration
   ReceiverMode receivers = ReceiverMode::visible;
@@ -80,6 +95,9 @@ struct EvalSettings {
   std::vector<std::filesystem::path> outputs = {}; // checked against every file the load read
 };
 
+constexpr int kMaxLadderProbes = 1'000'000;
+constexpr std::size_t kMaxLadderRungs = 16;
+
 // Throws Error(usage) naming the option when a setting is out of range.
 void check_eval_settings(const EvalSettings& settings);
 
@@ -87,6 +105,8 @@ struct EvalRow {
   std::string label;
   std::string sampler;          // "svo" (sample_irradiance) or "all-probes" (the baseline)
   BakeSettings bake;
+  int asked_probes = 0;         // EvalConfig::asked_probes and budget_by
+  std::string budget_by;
   int probes = 0;
   std::uint64_t file_bytes = 0; // the .probes file as written by write_probes
   double bake_seconds = 0.0;
@@ -102,6 +122,10 @@ struct EvalRow {
   double coverage = 0.0;        // fraction of receivers whose lookup found probes
   double relative_median = 0.0; // median and 95th percentile of the per-receiver relative error
   double relative_p95 = 0.0;    //   |error| / max(|reference|, 1% of the mean reference)
+  // What a game takes from probes: the lookup alone (sample_irradiance) against the reference's indirect
+  // part (reference - its direct part, reference.h), relative to the mean indirect reference.
+  double indirect_rmse = 0.0;
+  double indirect_relative_rmse = 0.0;
   double image_mean_error = 0.0;    // camera receivers: mean over pixels and channels of |error| (the error map's mean)
   double image_relative_rmse = 0.0; // camera receivers: RMSE / their mean reference
 };
@@ -117,6 +141,12 @@ struct EvalResult {
   std::uint64_t seed = 0;
   double mean_reference = 0.0;         // W/m^2, mean over points and channels
   double reference_noise = 0.0;        // RMS standard error of the reference / mean_reference
+  double mean_indirect_reference = 0.0; // W/m^2: the reference minus its direct part, mean over points and channels
+  double indirect_noise = 0.0;          // RMS standard error of the indirect part / mean_indirect_reference
+  // direct_irradiance (what a renderer adds per pixel) against the path tracer's direct part, relative to
+  // the mean traced direct light: RMSE (holds the traced direct part's noise too) and bias.
+  double direct_relative_rmse = 0.0;
+  double direct_bias = 0.0;
   double reference_seconds = 0.0;      // 0 when read from the cache
   bool reference_from_cache = false;
   std::filesystem::path cache_file;
@@ -134,7 +164,9 @@ EvalResult evaluate(const std::filesystem::path& scene, const EvalSettings& sett
 // Reports.
 std::string eval_markdown_table(const EvalResult& result);
 void write_eval_csv(const std::filesystem::path& path, const EvalResult& result);
-// Relative RMSE against bake time (log axis), the Pareto front of the probe configurations marked.
+// Relative RMSE against bake time (log axis), the Pareto front of the probe configurations marked; for a
+// ladder (rows with asked_probes), relative RMSE against probe count instead: one curve per method, total
+// solid and indirect dashed.
 std::string eval_svg_plot(const EvalResult& result);
 void write_text_file(const std::filesystem::path& path, const std::string& text); // Error(output) on failure
 

@@ -47,8 +47,16 @@ void check_reference_settings(const ReferenceSettings& settings);
 struct ReferenceResult {
   std::vector<glm::vec3> irradiance;      // mean estimate per point, W/m^2 per RGB channel
   std::vector<glm::vec3> standard_error;  // standard error of that mean, per channel
+  // The direct part of `irradiance`: punctual lights and emitters seen from the point itself (next-event
+  // samples at the receiver and the emission its first ray hits). irradiance - direct is the indirect
+  // light, what probes hold (docs/LIGHTING.md "What a probe stores").
+  std::vector<glm::vec3> direct;
+  std::vector<glm::vec3> indirect_standard_error; // standard error of the indirect part's mean, per channel
   double seconds = 0.0;
 };
+
+// irradiance - direct, per point.
+std::vector<glm::vec3> indirect_irradiance(const ReferenceResult& reference);
 
 ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::RayScene& rays,
                                      std::span<const SamplePoint> points, const ReferenceSettings& settings);
@@ -62,18 +70,21 @@ std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, const 
                                                std::uint64_t seed);
 std::vector<SamplePoint> surface_sample_points(const scene::Scene& scene, int count, std::uint64_t seed);
 
-// Reference points and values as CSV with a header line: x,y,z,nx,ny,nz,r,g,b,stderr (stderr: the
-// largest channel's standard error), floats with 9 significant digits (exact round trip). Written to a
-// temporary file and renamed; throws Error(output) when it cannot be written.
+// Reference points and values as CSV with a header line:
+// x,y,z,nx,ny,nz,r,g,b,stderr,direct_r,direct_g,direct_b,indirect_stderr (the stderr columns: the largest
+// channel's standard error), floats with 9 significant digits (exact round trip). Written to a temporary
+// file and renamed; throws Error(output) when it cannot be written.
 void write_reference_csv(const std::filesystem::path& path, std::span<const SamplePoint> points,
                          const ReferenceResult& reference);
-// Returns false when the file is missing or not such a CSV (stderr comes back in every channel).
+// Returns false when the file is missing or not such a CSV (the standard errors come back in every
+// channel). A CSV of the 10 columns before the direct part was added is "not such a CSV": eval's cache
+// computes it again rather than read it without a direct part.
 bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points, ReferenceResult& reference);
 
 // Receivers for `probebake reference --at`: one per line, x,y,z,nx,ny,nz (scene units; the normal picks
 // the side of a double-sided surface and is normalised). A first line "x,y,z,nx,ny,nz" or the header of
-// write_reference_csv is skipped, blank lines are skipped, and rows of a reference CSV (10 columns) are
-// read for their first six. Hostile input: the file size is checked before it is read, at most
+// write_reference_csv (either version) is skipped, blank lines are skipped, and rows of a reference CSV
+// (14 columns, or 10 of the version before the direct part) are read for their first six. Hostile input: the file size is checked before it is read, at most
 // kMaxReceivers rows, every number finite. Throws Error(input) "<file>: line N: <reason>".
 constexpr std::uintmax_t kMaxReceiverFileBytes = 256ull << 20;
 constexpr std::size_t kMaxReceivers = 1'000'000;

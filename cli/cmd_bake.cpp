@@ -30,6 +30,7 @@ struct BakeCommandSettings {
   std::string output;
   std::string placement = "octree";
   std::string lattice = "fibonacci";
+  std::string split_rule; // empty: error with --probes, else hit-fraction
   std::vector<float> split_range;
   bool json = false;
   bake::BakeSettings bake;
@@ -74,12 +75,16 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
                            {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},
                            {"emitter_patches", g.emitter_patches}, {"bytes", g.bytes}, {"bvh_seconds", g.bvh_seconds}};
   j["stages"] = nlohmann::ordered_json::object();
-  double total = 0.0;
+  j["stages_cpu"] = nlohmann::ordered_json::object(); // CPU seconds, all threads: comparable on a loaded machine
+  double total = 0.0, total_cpu = 0.0;
   for (const auto& s : r.stages) {
     j["stages"][s.stage] = s.seconds;
+    j["stages_cpu"][s.stage] = s.cpu_seconds;
     total += s.seconds;
+    total_cpu += s.cpu_seconds;
   }
   j["seconds"] = total;
+  j["cpu_seconds"] = total_cpu;
   return j;
 }
 
@@ -133,12 +138,18 @@ bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings
 int run_bake(BakeCommandSettings& s) {
   s.bake.placement = *formats::parse_placement(s.placement); // the option checks the name
   s.bake.lattice = *parse_lattice(s.lattice);
+  const bool budget = s.bake.probe_budget != 0 && s.bake.placement == bake::Placement::octree;
+  s.bake.split_rule = s.split_rule == "surface"                           ? bake::SplitRule::surface
+                      : s.split_rule == "error" || (s.split_rule.empty() && budget) ? bake::SplitRule::error
+                                                                                    : bake::SplitRule::hit_fraction;
   if (!s.split_range.empty()) {
     s.bake.split_low = s.split_range[0];
     s.bake.split_high = s.split_range[1];
   }
   bake::check_settings(s.bake); // usage errors before any work
+  const bake::StageClock load_clock;
   const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
+  const bake::StageTime load_time = load_clock.stop("load");
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
   const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
   check_output_path(output, scene.input_files); // before the bake, not after it
@@ -149,9 +160,12 @@ int run_bake(BakeCommandSettings& s) {
       fmt::print(stderr, "\r{:<10} {:3.0f}%", stage, 100.0 * fraction);
       std::fflush(stderr);
     };
-  const bake::BakeResult result = bake_scene(scene, s, progress);
+  bake::BakeResult result = bake_scene(scene, s, progress);
   if (tty) fmt::print(stderr, "\r{:<20}\r", "");
+  const bake::StageClock write_clock;
   formats::write_probes_file(output, result.volume);
+  result.report.stages.insert(result.report.stages.begin(), load_time);
+  result.report.stages.push_back(write_clock.stop("write"));
   const auto bytes = std::filesystem::file_size(output);
   const nlohmann::ordered_json report = report_json(result.report, output, bytes, result.volume);
   if (s.json) std::puts(report.dump(2).c_str());
@@ -167,13 +181,19 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
-  app->add_option("--placement", s->placement, "Probe placement: octree (--max-depth, --split-range) or grid (--grid)")
+  app->add_option("--placement", s->placement,
+                  "Probe placement: octree (--max-depth, --split-range), grid (--grid) or skeleton (--probes)")
       ->check(CLI::IsMember(placement_choices()));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
   app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
   app->add_option("--lattice", s->lattice, "Spherical lattice")->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));
   app->add_option("--split-range", s->split_range, "LOW,HIGH hit fractions: free below LOW, split at HIGH")
       ->delimiter(',')->expected(2);
+  app->add_option("--split-rule", s->split_rule, "Octree: split by hit fraction, estimated error or visible surface "
+                 "(default: error with --probes, else hit-fraction)")
+      ->check(CLI::IsMember({"hit-fraction", "error", "surface"}));
+  app->add_option("--probes", s->bake.probe_budget, "Probe budget: octree (error/surface rule) or skeleton (0: the fewest that see every surface)");
+  app->add_option("--uniform-share", s->bake.uniform_share, "Error/surface rule: share of --probes a uniform start may take");
   app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
   app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
@@ -13,6 +14,7 @@
 
 #include "probebake/common/parallel.h"
 #include "probebake/placement/placement.h"
+#include "probebake/placement/refine_root.h"
 #include "probebake/placement/sealed.h"
 #include "probebake/placement/relocation.h"
 #include "svo_builder.h"
@@ -27,22 +29,19 @@
 namespace probebake::bake {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 class StageTimer {
 public:
   explicit StageTimer(BakeReport& report) : report_(report) {}
   void stage(const std::string& name) {
-    const auto now = Clock::now();
-    if (!current_.empty()) report_.stages.push_back({current_, std::chrono::duration<double>(now - start_).count()});
+    if (!current_.empty()) report_.stages.push_back(clock_.stop(current_));
     current_ = name;
-    start_ = now;
+    clock_ = StageClock();
   }
 
 private:
   BakeReport& report_;
   std::string current_;
-  Clock::time_point start_;
+  StageClock clock_;
 };
 
 void require(bool ok, const std::string& message) {
@@ -104,7 +103,11 @@ placement::PlacementInput placement_input(const scene::RayScene& rays, const Bak
                                           const ProgressCallback& progress) {
   placement::PlacementInput in;
   in.rays = &rays;
-  in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads};
+  in.settings = {s.max_depth, s.split_low, s.split_high, s.grid_resolution, s.threads, s.probe_budget};
+  in.refine = {.probe_budget = s.split_rule == SplitRule::hit_fraction ? 0 : s.probe_budget,
+               .rank_by_error = s.split_rule == SplitRule::error,
+               .uniform_share = s.uniform_share,
+               .lighting = s.lighting};
   in.directions = lattice_directions(s.lattice, s.surfels_per_probe);
   in.clearance = clearance;
   if (progress) in.progress = [&progress](double fraction) { progress("place", fraction); };
@@ -149,6 +152,7 @@ void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
 // Measured (docs/RESULTS.md, "Scale range"): the generated Cornell box bakes the same probes from 1e-5 to
 // 1e10 times its size and 1e4 of its size from the origin; beyond that 32-bit positions, Embree's ray
 // epsilons and the SDF lose it. The limits keep a factor of ten from where it breaks.
+constexpr int kMaxProbeBudget = 1 << 20;     // --probes: far above what the optimisation can afford (docs/RESULTS.md)
 constexpr float kMinSceneSize = 1e-4f;        // metres across (0.1 mm)
 constexpr float kMaxSceneSize = 1e8f;         // metres across (100,000 km)
 constexpr float kMaxOffsetPerSize = 1e4f;     // distance of the bounds from the origin / size across
@@ -183,14 +187,24 @@ void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
 
 } // namespace
 
-// The root cube is the scene bounds' bounding cube, padded so that surfaces on the bounds are inside.
+StageClock::StageClock() : wall_(std::chrono::steady_clock::now()), cpu_(std::clock()) {}
+
+StageTime StageClock::stop(std::string stage) const {
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_).count();
+  const double cpu = double(std::clock() - cpu_) / CLOCKS_PER_SEC;
+  return {std::move(stage), wall, cpu};
+}
+
+// The root cube is the scene bounds' bounding cube, padded so that surfaces on the bounds are inside, and
+// by the method's root_pad_clearances.
 gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
   gpu::VolumeInfo info{};
+  const formats::PlacementKindInfo& kind = formats::placement_kind_info(s.placement);
   const float largest = scene.bounds.largest_extent();
-  const float size = largest > 0.0f ? largest * 1.002f : 1.0f;
+  const float pad = kind.root_pad_clearances > 0.0f && largest > 0.0f ? 2.0f * kind.root_pad_clearances * effective_clearance(scene, s) : 0.0f;
+  const float size = largest > 0.0f ? largest * 1.002f + pad : 1.0f;
   info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
   info.root_size = size;
-  const formats::PlacementKindInfo& kind = formats::placement_kind_info(s.placement);
   info.placement = kind.file_code;
   info.max_depth = kind.uses_max_depth ? s.max_depth : 0;
   info.svo_depth = s.svo_depth;
@@ -209,11 +223,21 @@ void check_settings(const BakeSettings& s) {
   require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
               s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
+  // The octree meets a budget only with the error and surface rules; the skeleton takes one or picks the fewest
+  // probes that see every surface sample; the grid's count is its resolution.
+  const bool octree = s.placement == Placement::octree;
+  const bool budgeted = octree && s.split_rule != SplitRule::hit_fraction;
+  require(!budgeted || s.probe_budget >= 1, "--split-rule error|surface needs a probe budget: --probes N with N >= 1");
+  require(budgeted || s.placement == Placement::skeleton || s.probe_budget == 0,
+          "--probes N needs --placement skeleton, or the octree with --split-rule error or surface");
+  require(std::isfinite(s.uniform_share) && s.uniform_share >= 0.0f && s.uniform_share <= 1.0f,
+          "--uniform-share must be in [0, 1]");
   require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,
           fmt::format("--grid must be in [1, {}]", formats::kMaxGridResolution));
   require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
   require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
   require(s.threads >= 0, "--threads must be >= 0");
+  require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget, fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
   require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
   check_lighting_settings(s.lighting);
 }
@@ -233,8 +257,9 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
     add(values, sizeof(values));
   }
   const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
-                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0};
-  const float floats[] = {s.split_low, s.split_high, s.clearance};
+                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0,
+                               int(s.split_rule), s.probe_budget};
+  const float floats[] = {s.split_low, s.split_high, s.clearance, s.uniform_share};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
   const auto& l = s.lighting;
@@ -259,6 +284,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
 
   timer.stage("bvh");
   const scene::RayScene full_rays(scene);
+  timer.stage("sealed");
   // Placement, relocation, the SVO and lighting see only what open space can see (placement/sealed.h); the
   // runtime lighting sections keep every triangle.
   const std::optional<scene::Scene> culled = placement::without_sealed(scene, placement::sealed_triangles(full_rays, settings.threads));
@@ -270,8 +296,14 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   report.clearance = effective_clearance(scene, settings);
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
-  formats::Octree tree(volume);
   const placement::PlacementInput input = placement_input(rays, settings, report.clearance, progress);
+  // A closed object seen from outside has no open space inside its bounds (placement/refine_root.h).
+  if (formats::placement_kind_info(settings.placement).has_octree &&
+      !placement::open_space_inside(rays, volume.info, report.clearance, input.directions, settings.threads)) {
+    placement::surround_root(volume.info);
+    report.surrounded_root = true;
+  }
+  formats::Octree tree(volume);
 
   timer.stage("place");
   std::vector<placement::PlacedProbe> placed = placement::place(settings.placement, input, tree, scene.bounds);

@@ -55,6 +55,8 @@ int nearest_parameter(int start, int lo, int hi, int budget, const std::function
   return best;
 }
 
+constexpr int kBudgetedMaxDepth = 6;
+
 // One placement method's configurations, with its counts remembered across rungs.
 class MethodLadder {
 public:
@@ -73,15 +75,16 @@ public:
       c.bake.grid_resolution = nearest_parameter(guess, 1, kMaxGridResolution, budget, counter(&BakeSettings::grid_resolution));
       c.budget_by = "grid resolution";
       c.label = fmt::format("{}-{}-p{}", kind_.name, c.bake.grid_resolution, budget);
-    } else if (kind_.uses_max_depth) {
-      // Until BakeSettings has a probe budget (the refine branch's probe_budget), the octree meets a rung
-      // by its max depth.
-      c.bake.max_depth = nearest_parameter(2, 1, kMaxLadderDepth, budget, counter(&BakeSettings::max_depth));
-      c.budget_by = "max depth";
-      c.label = fmt::format("{}-d{}-p{}", kind_.name, c.bake.max_depth, budget);
     } else {
-      throw Error(ErrorKind::internal, fmt::format("eval: placement '{}' meets a probe budget, but eval knows no setting "
-                                                   "for it (eval_ladder.cpp)", kind_.name));
+      // The octree (error rule, as `--probes` picks in the CLI) and the skeleton take the budget itself; the
+      // octree's budgeted refinement needs room below the default depth (docs/RESULTS.md ran it at 6).
+      c.bake.probe_budget = budget;
+      if (kind_.uses_max_depth) {
+        c.bake.split_rule = SplitRule::error;
+        c.bake.max_depth = std::max(c.bake.max_depth, kBudgetedMaxDepth);
+      }
+      c.budget_by = "probe budget";
+      c.label = fmt::format("{}-p{}", kind_.name, budget);
     }
     return c;
   }
@@ -105,7 +108,7 @@ private:
 
 bool same_bake(const EvalConfig& a, const EvalConfig& b) {
   return a.bake.placement == b.bake.placement && a.bake.grid_resolution == b.bake.grid_resolution &&
-         a.bake.max_depth == b.bake.max_depth;
+         a.bake.max_depth == b.bake.max_depth && a.bake.probe_budget == b.bake.probe_budget;
 }
 
 } // namespace

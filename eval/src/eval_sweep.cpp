@@ -27,6 +27,16 @@ EvalConfig grid(int n) {
   return c;
 }
 
+// Skeleton placement with a budget of n probes; the budgets match the octree and grid rows' counts
+// (octree-d2 29, d3 69, d4 139; grid-5 124, grid-8 498) and the 92 (1 % of grid-21).
+EvalConfig skeleton(int n) {
+  EvalConfig c;
+  c.bake.placement = Placement::skeleton;
+  c.bake.probe_budget = n;
+  c.label = fmt::format("skeleton-p{}", n);
+  return c;
+}
+
 void check_ladder(const EvalSettings& s) {
   if (s.probe_ladder.empty()) return;
   if (!s.configs.empty()) throw Error(ErrorKind::usage, "--probes replaces the sweep: it cannot be combined with one");
@@ -47,6 +57,7 @@ void check_ladder(const EvalSettings& s) {
 std::vector<EvalConfig> default_sweep() {
   return {octree(2), octree(3), octree(4), octree(5),
           grid(5), grid(8), grid(12), grid(16), grid(21),
+          skeleton(29), skeleton(64), skeleton(92), skeleton(124), skeleton(498),
           octree(4, 64), octree(4, 256),
           octree(4, 128, Lattice::latlong), octree(4, 128, Lattice::equal_area)};
 }

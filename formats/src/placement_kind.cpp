@@ -9,8 +9,9 @@ namespace {
 
 // Row i is PlacementKind(i) (placement_kinds_test checks it).
 constexpr std::array kKinds = {
-    PlacementKindInfo{PlacementKind::octree, "octree", gpu::PLACEMENT_OCTREE, true, true, false, true},
-    PlacementKindInfo{PlacementKind::grid, "grid", gpu::PLACEMENT_GRID, false, false, true, true},
+    PlacementKindInfo{PlacementKind::octree, "octree", gpu::PLACEMENT_OCTREE, true, true, false, true, 0.0f},
+    PlacementKindInfo{PlacementKind::grid, "grid", gpu::PLACEMENT_GRID, false, false, true, true, 0.0f},
+    PlacementKindInfo{PlacementKind::skeleton, "skeleton", gpu::PLACEMENT_SKELETON, false, false, false, true, 3.0f},
 };
 
 } // namespace

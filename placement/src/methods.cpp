@@ -13,6 +13,7 @@ PlacementMethod placement_method(formats::PlacementKind kind) {
   switch (kind) {
   case formats::PlacementKind::octree: return place_octree;
   case formats::PlacementKind::grid: return place_grid;
+  case formats::PlacementKind::skeleton: return place_skeleton;
   }
   throw Error(ErrorKind::internal, fmt::format("placement: no method for kind {}", int(kind)));
 }

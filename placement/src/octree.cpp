@@ -16,6 +16,7 @@
 
 #include "method_util.h"
 #include "probebake/placement/placement.h"
+#include "refine_octree.h"
 
 namespace probebake::placement {
 namespace {
@@ -44,6 +45,7 @@ Cube to_cube(const formats::NodeCube& c) { return {c.min, c.size}; }
 
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const scene::Bounds&) {
   const PlacementSettings& s = in.settings;
+  if (in.refine.probe_budget > 0) return place_octree_by_error(in, tree);
   const scene::Scene& scene = in.rays->scene();
   std::vector<formats::NodeCube> pending = {formats::root_cube(tree.volume().info)};
   std::vector<TriangleList> pending_triangles(1, TriangleList(scene.triangles.size()));

@@ -62,6 +62,19 @@ bool is_dead(const ProbeRays& r, float clearance) {
   return r.backface_fraction() > 0.5f || r.nearest < clearance;
 }
 
+bool mostly_back_faces(const scene::RayScene& rays, glm::vec3 p, std::span<const glm::vec3> directions) {
+  // 2 * back - hits decides (> 0: dead); each ray left moves it by at most one either way.
+  int margin = 0;
+  int left = int(directions.size());
+  for (const glm::vec3& d : directions) {
+    --left;
+    if (const auto hit = rays.intersect(p, d)) margin += hit->inside() ? 1 : -1;
+    if (margin - left > 0) return true;
+    if (margin + left <= 0) return false;
+  }
+  return margin > 0;
+}
+
 float default_clearance(const scene::Scene& scene) {
   return 0.02f * std::max(scene.bounds.largest_extent(), 1e-6f);
 }

@@ -35,6 +35,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -44,7 +45,6 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -188,32 +188,35 @@ class Pseudonormals {
     return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
   }
 
-  // glTF splits vertices at UV and normal seams; pseudonormals need shared edges, so weld by position.
+  // glTF splits vertices at UV and normal seams; pseudonormals need shared edges, so weld by position
+  // (bit pattern). Sorted, not hashed: (key, index) orders are total, so the ids are the same on every run.
   void weld(const TriangleSet& set) {
-    struct Hash {
-      std::size_t operator()(const std::array<std::uint32_t, 3>& k) const {
-        return (std::size_t(k[0]) * 73856093u) ^ (std::size_t(k[1]) * 19349663u) ^ (std::size_t(k[2]) * 83492791u);
-      }
-    };
-    std::unordered_map<std::array<std::uint32_t, 3>, std::uint32_t, Hash> ids;
+    using Key = std::array<std::uint32_t, 3>;
     const std::vector<glm::vec3>& positions = *set.positions;
+    std::vector<std::pair<Key, std::uint32_t>> keyed(positions.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size()), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const glm::vec3 p = positions[i] + glm::vec3(0.0f); // -0 -> +0
+        std::memcpy(keyed[i].first.data(), &p, sizeof(Key));
+        keyed[i].second = std::uint32_t(i);
+      }
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end());
     std::vector<std::uint32_t> remap(positions.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-      const glm::vec3 p = positions[i] + glm::vec3(0.0f); // -0 -> +0
-      std::array<std::uint32_t, 3> key{};
-      std::memcpy(key.data(), &p, sizeof key);
-      const auto [it, added] = ids.try_emplace(key, std::uint32_t(pos_.size()));
-      if (added) pos_.push_back(glm::dvec3(p));
-      remap[i] = it->second;
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+      if (i == 0 || keyed[i].first != keyed[i - 1].first) pos_.push_back(glm::dvec3(positions[keyed[i].second] + glm::vec3(0.0f)));
+      remap[keyed[i].second] = std::uint32_t(pos_.size() - 1);
     }
     tris_.reserve(set.triangles.size());
     for (const glm::uvec3& t : set.triangles) tris_.push_back({remap[t.x], remap[t.y], remap[t.z]});
   }
 
-  // Sequential, in triangle order, so the sums (and the field) are the same on every run.
+  // Sums in triangle order (edges: sorted by key, then by triangle), so the field is the same on every run.
   void accumulate() {
     vertex_normal_.assign(pos_.size(), glm::dvec3(0.0));
     face_normal_.reserve(tris_.size());
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges; // (edge key, 3 * triangle + k)
+    edges.reserve(3 * tris_.size());
     for (const std::array<std::uint32_t, 3>& t : tris_) {
       const glm::dvec3 cross = glm::cross(pos_[t[1]] - pos_[t[0]], pos_[t[2]] - pos_[t[0]]);
       const double area2 = glm::length(cross);
@@ -224,8 +227,15 @@ class Pseudonormals {
         const glm::dvec3 e1 = glm::normalize(pos_[t[(k + 1) % 3]] - pos_[t[k]]);
         const glm::dvec3 e2 = glm::normalize(pos_[t[(k + 2) % 3]] - pos_[t[k]]);
         vertex_normal_[t[k]] += std::acos(std::clamp(glm::dot(e1, e2), -1.0, 1.0)) * n;
-        edge_normal_[edge_key(t[k], t[(k + 1) % 3])] += n;
+        edges.emplace_back(edge_key(t[k], t[(k + 1) % 3]), std::uint32_t(3 * (face_normal_.size() - 1) + std::size_t(k)));
       }
+    }
+    tbb::parallel_sort(edges.begin(), edges.end());
+    edge_of_.assign(3 * tris_.size(), 0);
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      if (i == 0 || edges[i].first != edges[i - 1].first) edge_normal_.push_back(glm::dvec3(0.0));
+      edge_normal_.back() += face_normal_[edges[i].second / 3];
+      edge_of_[edges[i].second] = std::uint32_t(edge_normal_.size() - 1);
     }
   }
 
@@ -235,9 +245,9 @@ class Pseudonormals {
       case Feature::vertex0: return vertex_normal_[t[0]];
       case Feature::vertex1: return vertex_normal_[t[1]];
       case Feature::vertex2: return vertex_normal_[t[2]];
-      case Feature::edge01: return edge_normal_.at(edge_key(t[0], t[1]));
-      case Feature::edge12: return edge_normal_.at(edge_key(t[1], t[2]));
-      case Feature::edge20: return edge_normal_.at(edge_key(t[2], t[0]));
+      case Feature::edge01: return edge_normal_[edge_of_[3 * triangle]];
+      case Feature::edge12: return edge_normal_[edge_of_[3 * triangle + 1]];
+      case Feature::edge20: return edge_normal_[edge_of_[3 * triangle + 2]];
       case Feature::face: break;
     }
     return face_normal_[triangle];
@@ -247,7 +257,8 @@ class Pseudonormals {
   std::vector<std::array<std::uint32_t, 3>> tris_;
   std::vector<glm::dvec3> face_normal_;
   std::vector<glm::dvec3> vertex_normal_;
-  std::unordered_map<std::uint64_t, glm::dvec3> edge_normal_;
+  std::vector<glm::dvec3> edge_normal_;  // one per welded edge
+  std::vector<std::uint32_t> edge_of_;    // 3 * triangle + k: the edge from vertex k to k + 1 (mod 3)
 };
 
 // ---- building ----

@@ -38,7 +38,7 @@ bool side_sealed(const scene::RayScene& rays, std::uint32_t t, glm::vec3 n, cons
   std::vector<glm::vec3> dirs(sphere.size());
   std::transform(sphere.begin(), sphere.end(), dirs.begin(), [&](glm::vec3 d) { return into_front(d, n); });
   for (const glm::vec3& p : samples)
-    if (is_open(rays, p + lift * n, 0.0f, dirs)) return false;
+    if (!mostly_back_faces(rays, p + lift * n, dirs)) return false; // is_open at clearance 0
   return true;
 }
 

@@ -1,9 +1,12 @@
 // `probebake SCENE` end to end: default output name, report JSON, validate, byte-identical rebakes,
 // usage errors.
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -91,6 +94,29 @@ TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
   const auto plain = nlohmann::json::parse(run({"info --json", without}).out);
   EXPECT_EQ(plain["format_version"].get<std::string>(), "1.0");
   for (const auto& section : plain["sections"]) EXPECT_LE(section["type"].get<int>(), 10) << section["name"];
+}
+
+// --json times every stage, in pipeline order, in wall and CPU seconds that add up to the totals. The
+// Cornell box has dead probes, so the sdf and relocate stages run.
+TEST(BakeCli, JsonReportTimesEveryStage) {
+  const auto scene = write_generated(samples::cornell(), "cli_stages");
+  const CliRun bake = run({scene, "--max-depth 3 --light-rays 64 --json -o", scene.parent_path() / "stages.probes"});
+  ASSERT_EQ(bake.exit_code, 0) << bake.err;
+  const auto report = nlohmann::ordered_json::parse(bake.out);
+  ASSERT_GT(report["moved_probes"].get<int>(), 0);
+  const std::vector<std::string> expected = {"load", "bvh", "sealed", "place", "sdf", "relocate", "svo", "lighting",
+                                             "gpu_scene", "cells", "write"};
+  for (const char* key : {"stages", "stages_cpu"}) {
+    std::vector<std::string> names;
+    double sum = 0.0;
+    for (const auto& [name, seconds] : report[key].items()) {
+      names.push_back(name);
+      EXPECT_TRUE(std::isfinite(seconds.get<double>()) && seconds.get<double>() >= 0.0) << key << " " << name;
+      sum += seconds.get<double>();
+    }
+    EXPECT_EQ(names, expected) << key;
+    EXPECT_NEAR(sum, report[key == std::string("stages") ? "seconds" : "cpu_seconds"].get<double>(), 1e-9) << key;
+  }
 }
 
 TEST(BakeCli, GridOf21CubedPlaces9261Probes) {

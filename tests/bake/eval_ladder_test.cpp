@@ -98,38 +98,43 @@ int live_probes(const scene::Scene& scene, bake::BakeSettings s) {
   }
 }
 
-// The ladder on the Cornell box: each row's setting gives a count no farther from the rung than the
-// settings either side of it, and the grid lands within the documented 35% (the worst gap between cubes).
-TEST(EvalLadder, EveryRowIsTheNearestSettingOfItsMethod) {
+// The ladder on the Cornell box: a grid row's resolution gives a count no farther from the rung than the
+// resolutions either side of it, within the documented 35% (the worst gap between cubes); the octree and the
+// skeleton take the rung as their probe budget and keep at most that many live probes.
+TEST(EvalLadder, EveryRowMeetsItsRung) {
   const scene::Scene s = load_generated(samples::cornell(), "ladder_cornell");
-  const std::vector<int> ladder = {64, 128, 256};
+  const std::vector<int> ladder = {64, 128};
   const bake::BakeSettings base = bake::quick_bake_settings();
   const auto configs = bake::ladder_sweep(s, ladder, base);
-  int grids = 0, octrees = 0;
+  int grids = 0, budgeted = 0;
   for (const bake::EvalConfig& c : configs) {
     ASSERT_GT(c.asked_probes, 0) << c.label;
-    const bool grid = c.bake.placement == formats::PlacementKind::grid;
-    int bake::BakeSettings::*parameter = grid ? &bake::BakeSettings::grid_resolution : &bake::BakeSettings::max_depth;
-    EXPECT_EQ(c.budget_by, grid ? "grid resolution" : "max depth") << c.label;
+    const int asked = c.asked_probes;
+    if (c.bake.placement != formats::PlacementKind::grid) {
+      EXPECT_EQ(c.budget_by, "probe budget") << c.label;
+      EXPECT_EQ(c.bake.probe_budget, asked) << c.label;
+      const int n = live_probes(s, c.bake);
+      EXPECT_GT(n, asked / 2) << c.label;
+      EXPECT_LE(n, asked) << c.label;
+      std::printf("[ ladder ] %s: %d live probes for a budget of %d\n", c.label.c_str(), n, asked);
+      ++budgeted;
+      continue;
+    }
+    EXPECT_EQ(c.budget_by, "grid resolution") << c.label;
     auto count = [&](int value) {
       bake::BakeSettings b = c.bake;
-      b.*parameter = value;
+      b.grid_resolution = value;
       return value < 1 ? 0 : live_probes(s, b);
     };
-    const int value = c.bake.*parameter, n = count(value), below = count(value - 1), above = count(value + 1);
-    const int asked = c.asked_probes;
+    const int value = c.bake.grid_resolution, n = count(value), below = count(value - 1), above = count(value + 1);
     EXPECT_LE(std::abs(n - asked), std::abs(below - asked)) << c.label << ": " << n << " vs " << below;
     EXPECT_LE(std::abs(n - asked), std::abs(above - asked)) << c.label << ": " << n << " vs " << above;
-    if (grid) {
-      EXPECT_LE(std::abs(n - asked), 0.35 * asked) << c.label << ": " << n;
-      ++grids;
-    } else {
-      ++octrees;
-    }
+    EXPECT_LE(std::abs(n - asked), 0.35 * asked) << c.label << ": " << n;
+    ++grids;
     std::printf("[ ladder ] %s: %d probes for %d (either side: %d, %d)\n", c.label.c_str(), n, asked, below, above);
   }
-  EXPECT_EQ(grids, 3); // 64 -> 4^3, 128 -> 5^3, 256 -> 6^3: three different resolutions
-  EXPECT_GE(octrees, 1);
+  EXPECT_EQ(grids, 2);    // 64 -> 4^3, 128 -> 5^3
+  EXPECT_EQ(budgeted, 4); // octree and skeleton, both rungs
   // Deterministic: the same ladder again gives the same configurations.
   const auto again = bake::ladder_sweep(s, ladder, base);
   ASSERT_EQ(again.size(), configs.size());

@@ -44,7 +44,7 @@ TEST(PlacementKinds, RejectsUnknownNamesAndCodes) {
   for (const char* name : {"", "Grid", "OCTREE", "octree ", " grid", "octree|grid", "uniform"}) {
     EXPECT_FALSE(parse_placement(name).has_value()) << '"' << name << '"';
   }
-  for (int code : {-1, 2, 99, 1 << 30}) EXPECT_EQ(placement_kind_for_code(code), nullptr) << code;
+  for (int code : {-1, 3, 99, 1 << 30}) EXPECT_EQ(placement_kind_for_code(code), nullptr) << code;
 }
 
 TEST(PlacementKinds, OctreeAndGridProperties) {
@@ -60,8 +60,17 @@ TEST(PlacementKinds, OctreeAndGridProperties) {
   EXPECT_FALSE(grid.has_octree);
   EXPECT_FALSE(grid.uses_max_depth);
   EXPECT_TRUE(grid.uses_grid_resolution);
-  EXPECT_EQ(placement_names(), "octree|grid");
-  EXPECT_EQ(placement_names(", "), "octree, grid");
+  EXPECT_EQ(octree.root_pad_clearances, 0.0f);
+  EXPECT_EQ(grid.root_pad_clearances, 0.0f);
+  const PlacementKindInfo& skeleton = placement_kind_info(PlacementKind::skeleton);
+  EXPECT_EQ(skeleton.name, "skeleton");
+  EXPECT_EQ(skeleton.file_code, gpu::PLACEMENT_SKELETON);
+  EXPECT_FALSE(skeleton.has_octree);
+  EXPECT_FALSE(skeleton.uses_max_depth);
+  EXPECT_FALSE(skeleton.uses_grid_resolution);
+  EXPECT_EQ(skeleton.root_pad_clearances, 3.0f);
+  EXPECT_EQ(placement_names(), "octree|grid|skeleton");
+  EXPECT_EQ(placement_names(", "), "octree, grid, skeleton");
 }
 
 bool has_rule(const ValidationReport& r, const std::string& rule) {

@@ -129,6 +129,7 @@ struct SvoLeaf {
 // ---- Volume description (one per file / runtime instance) -------------------------------------------------
 PB_CONSTANT(int, PLACEMENT_OCTREE, 0);
 PB_CONSTANT(int, PLACEMENT_GRID, 1);
+PB_CONSTANT(int, PLACEMENT_SKELETON, 2); // probes on the SDF skeleton: node -1 like grid probes, no grid resolution
 PB_CONSTANT(int, LATTICE_FIBONACCI, 0);
 PB_CONSTANT(int, LATTICE_LATLONG, 1);
 PB_CONSTANT(int, LATTICE_EQUAL_AREA, 2);

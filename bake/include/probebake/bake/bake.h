@@ -5,7 +5,9 @@
 // count (work is split per probe / per voxel and results are combined in index order).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <ctime>
 #include <functional>
 #include <map>
 #include <string>
@@ -22,6 +24,11 @@ namespace probebake::bake {
 // The placement methods and their properties: formats/placement_kind.h (one table for bake, CLI, info).
 using Placement = formats::PlacementKind;
 
+// When an octree leaf splits: the thesis's hit fraction of its centre probe (split_low/split_high); or,
+// under a probe budget (refine_octree.h), where a split removes the most estimated interpolation error
+// (error) or gives each new probe the most visible surface (surface).
+enum class SplitRule { hit_fraction, error, surface };
+
 struct BakeSettings {
   Placement placement = Placement::octree;
   int max_depth = 4;              // octree: deepest level a node may split to (root = 0), at most 12
@@ -29,6 +36,10 @@ struct BakeSettings {
   Lattice lattice = Lattice::fibonacci;
   float split_low = 0.25f;        // hit fraction below which a probe is freed
   float split_high = 0.5f;        // hit fraction at or above which a node splits
+  SplitRule split_rule = SplitRule::hit_fraction;
+  int probe_budget = 0;           // probes at most (placed, before dead ones are freed): the octree's error/surface
+                                  // rule (>= 1), the skeleton (0 = the fewest that see every surface sample)
+  float uniform_share = 0.5f;     // error/surface rule: share of the budget a uniform start may take, in [0, 1]
   int grid_resolution = 16;       // grid: N for N^3 probes
   int svo_depth = 5;              // SVO leaf depth (voxels of root_size / 2^svo_depth)
   float clearance = 0.0f;         // minimum probe-to-surface distance; 0 = 2% of the scene's largest extent
@@ -51,7 +62,19 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& setti
 
 struct StageTime {
   std::string stage;
-  double seconds = 0.0;
+  double seconds = 0.0;     // wall clock
+  double cpu_seconds = 0.0; // process CPU time, all threads: what the stage costs whatever else runs on the machine
+};
+
+// Wall and process CPU time from construction to stop(): the bake's stages, and the CLI's load and write.
+class StageClock {
+public:
+  StageClock();
+  StageTime stop(std::string stage) const;
+
+private:
+  std::chrono::steady_clock::time_point wall_;
+  std::clock_t cpu_;
 };
 
 // The runtime lighting sections of a bake (stage "gpu_scene"), when settings.runtime_lighting.
@@ -81,6 +104,7 @@ struct BakeReport {
   int svo_solid_voxels = 0;           // leaf-depth voxels left out: inside geometry
   int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
+  bool surrounded_root = false;       // no open space inside the scene bounds: root cube tripled around them
   LightingReport lighting;            // when settings.lighting.enabled
   RuntimeLightingReport runtime_lighting;
   std::vector<StageTime> stages;

@@ -55,7 +55,7 @@ struct EvalConfig {
   std::string label; // unique, file-name safe (error maps are named after it)
   BakeSettings bake;
   int asked_probes = 0;  // the ladder rung this configuration was chosen for (0: not from a ladder)
-  std::string budget_by; // how it meets the rung: "grid resolution" or "max depth" (empty: not from a ladder)
+  std::string budget_by; // how it meets the rung: "grid resolution" or "probe budget" (empty: not from a ladder)
 };
 
 // Octree max depth 2..5; grid 5, 8, 12, 16, 21; 64 and 256 surfels at depth 4; latlong and equal-area
@@ -69,10 +69,9 @@ BakeSettings quick_bake_settings();
 // The probe ladder (`--probes 64,128,...`): for each rung and each placement method whose kinds-table row
 // says meets_probe_budget, one configuration of `base` baked to about that many live probes (after dead
 // probes are freed). Methods with a grid resolution take the resolution whose live count is nearest the
-// rung; methods with a max depth take the depth whose live count is nearest (until BakeSettings has the
-// refine branch's probe_budget, which then replaces it). Nearest: counted by placement-only bakes (no
-// lighting, no SVO), walking the resolution or depth one step at a time from a guess until the count
-// crosses the rung; ties go to fewer probes. A rung whose configuration equals a lower rung's of the same
+// rung (counted by placement-only bakes, no lighting, no SVO, walking the resolution one step at a time from
+// a guess until the count crosses the rung; ties go to fewer probes); the others (the octree with the error
+// rule at max depth >= 6, the skeleton) take the rung as BakeSettings::probe_budget. A rung whose configuration equals a lower rung's of the same
 // method is left out (it would be the same bake). Deterministic, as the bakes are.
 std::vector<EvalConfig> ladder_sweep(const scene::Scene& scene, std::span<const int> probes, const BakeSettings& base);
 

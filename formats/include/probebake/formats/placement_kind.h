@@ -11,7 +11,7 @@
 
 namespace probebake::formats {
 
-enum class PlacementKind { octree, grid };
+enum class PlacementKind { octree, grid, skeleton };
 
 struct PlacementKindInfo {
   PlacementKind kind;
@@ -21,6 +21,9 @@ struct PlacementKindInfo {
   bool uses_max_depth;       // VolumeInfo.max_depth is the method's depth limit (else 0)
   bool uses_grid_resolution; // VolumeInfo.grid_resolution is N of an N^3 grid, at most N^3 probes (else 0)
   bool meets_probe_budget;   // can be baked to about N probes (eval's --probes ladder sweeps these rows)
+  // The root cube reaches this many clearances past the scene's bounds on every side (else 0.2 %), so
+  // that probes fit around a solid that fills its own bounds (box_draco).
+  float root_pad_clearances;
 };
 
 // Every row, in enum order.

@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "probebake/bake/lighting.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/placement/probe_tracing.h"
@@ -20,11 +21,23 @@ struct PlacementSettings {
   float split_high = 0.5f;  // octree: hit fraction at or above which a node splits
   int grid_resolution = 16; // grid: N for N^3 probes
   int threads = 0;          // 0 = all cores
+  int probes = 0;           // skeleton: probe budget (0 = the fewest that see every surface sample)
+};
+
+// The octree under a probe budget (refine_octree.h) instead of the hit-fraction rule, when probe_budget > 0:
+// ranked by estimated interpolation error (rank_by_error: the bake's SplitRule::error) or by visible
+// surface per probe (SplitRule::surface).
+struct RefineSettings {
+  int probe_budget = 0;
+  bool rank_by_error = true;
+  float uniform_share = 0.5f;      // share of the budget a uniform start may take
+  bake::LightingSettings lighting; // the estimate's light model (sky, emitters as lights)
 };
 
 struct PlacementInput {
   const scene::RayScene* rays = nullptr;
   PlacementSettings settings;
+  RefineSettings refine;
   std::vector<glm::vec3> directions;          // the lattice
   float clearance = 0.0f;                     // the bake's effective clearance (a centre nearer a surface is moved)
   std::function<void(double fraction)> progress; // may be empty; called from the calling thread
@@ -48,6 +61,11 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
 
 // Grid (grid.cpp): N^3 probes at the cell centres of `bounds` (node -1, depth 0).
 std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+
+// Skeleton (skeleton*.cpp, nonuniform-probe-placement-svo.txt §3.1-3.3): probes on the medial axis of
+// the scene's free space inside the root cube, selected by the surface they see and optimised (node -1,
+// depth 0); settings.probes of them, or the fewest that see every surface sample.
+std::vector<PlacedProbe> place_skeleton(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
 
 // The method of `kind` (methods.cpp), and a call of it.
 PlacementMethod placement_method(formats::PlacementKind kind);

@@ -52,6 +52,10 @@ ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cub
 // or a surface (of either kind, seen from either side) is closer than the clearance.
 bool is_dead(const ProbeRays& r, float clearance);
 
+// is_dead's back-face rule alone (more than half of the hits are inside() hits) over `directions` from
+// `p`, with the verdict of the full trace but stopping as soon as the remaining rays cannot change it.
+bool mostly_back_faces(const scene::RayScene& rays, glm::vec3 p, std::span<const glm::vec3> directions);
+
 // The clearance a bake uses when BakeSettings::clearance is 0: 2% of the scene's largest extent.
 float default_clearance(const scene::Scene& scene);
 

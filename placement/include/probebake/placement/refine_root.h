@@ -1,0 +1,25 @@
+// The root cube of a scene that is one closed object seen from outside (box_draco: a unit cube, single-
+// sided, faces out): the bounds' bounding cube lies wholly inside the solid, every candidate probe is
+// dead and none can be moved out within its cube, so the bake placed none. Such a scene gets a root
+// cube three times its size around the same centre, so that probes can surround the object (with two,
+// the object's faces lie 1 mm inside the cube boundaries of every level: no outer leaf overlaps them).
+#pragma once
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "probebake/scene/ray_scene.h"
+#include "probebake/gpu_types.h"
+
+namespace probebake::placement {
+
+// Whether any centre of a kOpenProbeCells^3 grid over the root cube is open space (is_open at
+// `clearance` over `directions`), the test the eval's viewpoints use.
+bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, float clearance,
+                       const std::vector<glm::vec3>& directions, int threads);
+
+// The root cube scaled by kSurroundScale about its centre.
+void surround_root(gpu::VolumeInfo& info);
+
+} // namespace probebake::placement

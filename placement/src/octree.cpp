@@ -15,6 +15,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "method_util.h"
+#include "probebake/leaf_rule.h"
 #include "probebake/placement/placement.h"
 #include "refine_octree.h"
 
@@ -65,15 +66,16 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
     for (std::size_t i = 0; i < pending.size(); ++i) {
       const formats::NodeCube& node = pending[i];
       const float f = results[i].hit_fraction();
-      const bool below_max = node.depth < s.max_depth;
       // A centre inside geometry (mostly back faces) cannot judge its node either; nor can one lying on a
       // double-sided surface (within the clearance), which has no back to tell its sides apart: half its
-      // rays end at once whichever side the node's content is on.
+      // rays end at once whichever side the node's content is on. The rule is the runtime's
+      // (leaf_rule.h), with the bake's knowledge of the cube's triangles and its relocation step.
       const bool on_double_sided = results[i].nearest_double_sided && results[i].nearest < in.clearance;
-      const bool centre_blind = f < s.split_low || results[i].backface_fraction() > 0.5f || on_double_sided;
-      const bool refine_towards_geometry = centre_blind && below_max && !pending_triangles[i].empty();
-      if (f < s.split_low && !refine_towards_geometry) continue; // M2: the leaf stays without a probe
-      if ((f >= s.split_high && below_max) || refine_towards_geometry) {
+      const bool blind = gpu::leaf_centre_blind(f, results[i].backface_fraction(), s.split_low, gpu::LEAF_DEAD_BACKFACE_FRACTION) ||
+                         on_double_sided;
+      const int verdict = gpu::leaf_verdict_with(f, blind, !pending_triangles[i].empty(), true, node.depth, tree.volume().info);
+      if (verdict == gpu::LEAF_VERDICT_FREE) continue; // M2: the leaf stays without a probe
+      if (verdict == gpu::LEAF_VERDICT_SPLIT) {
         const int meta = tree.split(node.node); // M3
         for (int octant = 0; octant < 8; ++octant) {
           formats::NodeCube child = formats::child_cube(node, octant);

@@ -49,9 +49,9 @@ TEST(LeafRule, MostlyBackFacesMakeTheCentreBlindAboveTheFractionOnly) {
 
 TEST(LeafRule, TheBakesFormTakesGeometryInTheCubeFromItsCaller) {
   // A blind centre with no hit in its cube but triangles in it (the bake knows them) still refines.
-  EXPECT_EQ(leaf_verdict_with(0.0f, true, true, 1, thresholds()), LEAF_VERDICT_SPLIT);
-  EXPECT_EQ(leaf_verdict_with(0.0f, true, false, 1, thresholds()), LEAF_VERDICT_FREE);
-  EXPECT_EQ(leaf_verdict_with(0.7f, false, false, 1, thresholds()), LEAF_VERDICT_SPLIT);
+  EXPECT_EQ(leaf_verdict_with(0.0f, true, true, false, 1, thresholds()), LEAF_VERDICT_SPLIT);
+  EXPECT_EQ(leaf_verdict_with(0.0f, true, false, false, 1, thresholds()), LEAF_VERDICT_FREE);
+  EXPECT_EQ(leaf_verdict_with(0.7f, false, false, false, 1, thresholds()), LEAF_VERDICT_SPLIT);
 }
 
 } // namespace

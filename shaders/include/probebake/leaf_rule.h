@@ -33,20 +33,25 @@ PB_FUNCTION bool leaf_centre_blind(float hit_fraction, float backface_fraction, 
   return hit_fraction < split_low || backface_fraction > dead_backface_fraction;
 }
 
-// LEAF_VERDICT_* of a node at `depth` (root 0) measured (hit_fraction, backface_fraction), with the
-// thresholds split_low, split_high and max_depth of `info`. `sees_geometry_in_cube`: the centre saw any
-// geometry inside its cube (the runtime passes f > 0; the bake may pass what it knows of the cube).
-PB_FUNCTION int leaf_verdict_with(float hit_fraction, bool blind, bool sees_geometry_in_cube, int depth, VolumeInfo info) {
+// LEAF_VERDICT_* of a node at `depth` (root 0) measured (hit_fraction, blind), with the thresholds split_low,
+// split_high and max_depth of `info`. `sees_geometry_in_cube`: the centre saw any geometry inside its cube
+// (the runtime passes f > 0; the bake passes whether triangles overlap the cube). `relocates_dead`: a centre
+// blind only because it is dead (inside a solid, on a double-sided surface) keeps its probe when it cannot
+// refine, because a relocation step moves it out (the bake); without one (the runtime) it is freed.
+PB_FUNCTION int leaf_verdict_with(float hit_fraction, bool blind, bool sees_geometry_in_cube, bool relocates_dead, int depth,
+                                  VolumeInfo info) {
   const bool below_max = depth < info.max_depth;
-  if (blind && !(below_max && sees_geometry_in_cube)) return LEAF_VERDICT_FREE;
-  if ((hit_fraction >= info.split_high || blind) && below_max) return LEAF_VERDICT_SPLIT;
+  const bool refine_towards_geometry = blind && below_max && sees_geometry_in_cube;
+  const bool unrecoverable = hit_fraction < info.split_low || (blind && !relocates_dead);
+  if (unrecoverable && !refine_towards_geometry) return LEAF_VERDICT_FREE;
+  if ((hit_fraction >= info.split_high && below_max) || refine_towards_geometry) return LEAF_VERDICT_SPLIT;
   return LEAF_VERDICT_KEEP;
 }
 
 // The runtime's rule (dynamic::TreeUpdate::judge, the GPU's L1 and M4): geometry in the cube = f > 0.
 PB_FUNCTION int leaf_verdict(float hit_fraction, float backface_fraction, int depth, VolumeInfo info, float dead_backface_fraction) {
   const bool blind = leaf_centre_blind(hit_fraction, backface_fraction, info.split_low, dead_backface_fraction);
-  return leaf_verdict_with(hit_fraction, blind, hit_fraction > 0.0f, depth, info);
+  return leaf_verdict_with(hit_fraction, blind, hit_fraction > 0.0f, false, depth, info);
 }
 
 // Which of two states for the same node in one leaf-queue segment wins (a segment is a set keyed by node):

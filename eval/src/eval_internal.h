@@ -37,6 +37,17 @@ double mean_irradiance(const std::vector<glm::vec3>& values); // over points and
 // SVG helpers of the plots.
 std::string escape_xml(const std::string& s);
 double nice_step(double max); // a round step (1, 2 or 5 times a power of ten), about five intervals up to max
+
+// The plots' frame (eval_plot.cpp: error against bake time; eval_plot_ladder.cpp: against probe count): a
+// log x axis over whole decades and a linear error axis from 0, in a fixed SVG canvas.
+inline constexpr double kPlotWidth = 760, kPlotHeight = 480, kPlotLeft = 70, kPlotRight = 20, kPlotTop = 40, kPlotBottom = 60;
+struct PlotAxes {
+  double log_lo = -1, log_hi = 1, y_max = 1; // decades of x; the largest error shown
+  double x(double value) const;              // values below 1e-6 are drawn at 1e-6
+  double y(double error) const;              // errors above y_max are drawn at y_max
+};
+// The frame, grid lines and tick labels of both axes, and their titles.
+std::string plot_axes_svg(const PlotAxes& axes, const char* x_title);
 // The ladder's plot: relative RMSE against live probe count (log axis), a curve per placement method.
 std::string ladder_svg_plot(const EvalResult& result);
 

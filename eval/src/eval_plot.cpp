@@ -29,21 +29,46 @@ double detail::nice_step(double max) {
   return 10.0 * power;
 }
 
+double detail::PlotAxes::x(double value) const {
+  const double l = std::log10(std::max(value, 1e-6));
+  return kPlotLeft + (l - log_lo) / (log_hi - log_lo) * (kPlotWidth - kPlotLeft - kPlotRight);
+}
+
+double detail::PlotAxes::y(double error) const {
+  return kPlotHeight - kPlotBottom - std::min(error, y_max) / y_max * (kPlotHeight - kPlotTop - kPlotBottom);
+}
+
+std::string detail::plot_axes_svg(const PlotAxes& a, const char* x_title) {
+  std::string s;
+  const double x0 = kPlotLeft, x1 = kPlotWidth - kPlotRight, y0 = kPlotHeight - kPlotBottom, y1 = kPlotTop;
+  s += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='#444'/>\n", x0, y1, x1 - x0, y0 - y1);
+  for (int d = int(a.log_lo); d <= int(a.log_hi); ++d)
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double v = m * std::pow(10.0, d);
+      if (std::log10(v) > a.log_hi + 1e-9) continue;
+      const double x = a.x(v);
+      s += fmt::format("<line x1='{:.1f}' y1='{}' x2='{:.1f}' y2='{}' stroke='#ddd'/>\n", x, y0, x, y1);
+      s += fmt::format("<text x='{:.1f}' y='{}' font-size='11' text-anchor='middle'>{:g}</text>\n", x, y0 + 16, v);
+    }
+  const double step = nice_step(a.y_max);
+  for (double v = 0; v <= a.y_max + step * 1e-6; v += step) {
+    s += fmt::format("<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='#ddd'/>\n", x0, a.y(v), x1, a.y(v));
+    s += fmt::format("<text x='{}' y='{:.1f}' font-size='11' text-anchor='end'>{:g}</text>\n", x0 - 6, a.y(v) + 4, v);
+  }
+  s += fmt::format("<text x='{}' y='{}' font-size='13' text-anchor='middle'>{}</text>\n", (x0 + x1) / 2, kPlotHeight - 18, x_title);
+  s += fmt::format("<text x='16' y='{}' font-size='13' text-anchor='middle' transform='rotate(-90 16 {})'>"
+                   "relative RMSE of irradiance</text>\n", (y0 + y1) / 2, (y0 + y1) / 2);
+  return s;
+}
+
 namespace {
 
 using detail::escape_xml;
 using detail::nice_step;
 
-constexpr double kWidth = 760, kHeight = 480, kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;
-
-struct Axes {
-  double log_lo = -1, log_hi = 1, y_max = 1;
-  double x(double seconds) const {
-    const double l = std::log10(std::max(seconds, 1e-6));
-    return kLeft + (l - log_lo) / (log_hi - log_lo) * (kWidth - kLeft - kRight);
-  }
-  double y(double error) const { return kHeight - kBottom - error / y_max * (kHeight - kTop - kBottom); }
-};
+using detail::plot_axes_svg;
+using Axes = detail::PlotAxes;
+constexpr double kWidth = detail::kPlotWidth, kHeight = detail::kPlotHeight, kRight = detail::kPlotRight, kTop = detail::kPlotTop;
 
 Axes make_axes(const std::vector<EvalRow>& rows) {
   Axes a;
@@ -60,30 +85,6 @@ Axes make_axes(const std::vector<EvalRow>& rows) {
   a.y_max = std::ceil(err * 1.05 / step) * step;
   if (!(a.y_max > 0)) a.y_max = 1;
   return a;
-}
-
-std::string axis_svg(const Axes& a) {
-  std::string s;
-  const double x0 = kLeft, x1 = kWidth - kRight, y0 = kHeight - kBottom, y1 = kTop;
-  s += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='#444'/>\n", x0, y1, x1 - x0, y0 - y1);
-  for (int d = int(a.log_lo); d <= int(a.log_hi); ++d)
-    for (double m : {1.0, 2.0, 5.0}) {
-      const double v = m * std::pow(10.0, d);
-      const double x = a.x(v);
-      if (std::log10(v) > a.log_hi + 1e-9) continue;
-      s += fmt::format("<line x1='{:.1f}' y1='{}' x2='{:.1f}' y2='{}' stroke='#ddd'/>\n", x, y0, x, y1);
-      s += fmt::format("<text x='{:.1f}' y='{}' font-size='11' text-anchor='middle'>{:g}</text>\n", x, y0 + 16, v);
-    }
-  const double step = nice_step(a.y_max);
-  for (double v = 0; v <= a.y_max + step * 1e-6; v += step) {
-    s += fmt::format("<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='#ddd'/>\n", x0, a.y(v), x1, a.y(v));
-    s += fmt::format("<text x='{}' y='{:.1f}' font-size='11' text-anchor='end'>{:g}</text>\n", x0 - 6, a.y(v) + 4, v);
-  }
-  s += fmt::format("<text x='{}' y='{}' font-size='13' text-anchor='middle'>bake time (s, log scale)</text>\n",
-                   (x0 + x1) / 2, kHeight - 18);
-  s += fmt::format("<text x='16' y='{}' font-size='13' text-anchor='middle' transform='rotate(-90 16 {})'>"
-                   "relative RMSE of irradiance</text>\n", (y0 + y1) / 2, (y0 + y1) / 2);
-  return s;
 }
 
 // Indices of the "svo" rows on the Pareto front, by increasing bake time.
@@ -154,7 +155,7 @@ std::string eval_svg_plot(const EvalResult& result) {
   svg += fmt::format("<text x='{}' y='22' font-size='14' text-anchor='middle'>{}: error against bake time ({} points, "
                      "{} paths/point)</text>\n",
                      kWidth / 2, escape_xml(result.scene.filename().string()), result.points, result.paths);
-  svg += axis_svg(axes) + front_svg(axes, result.rows, front) + points_svg(axes, result.rows, front) + legend_svg();
+  svg += plot_axes_svg(axes, "bake time (s, log scale)") + front_svg(axes, result.rows, front) + points_svg(axes, result.rows, front) + legend_svg();
   return svg + "</svg>\n";
 }
 

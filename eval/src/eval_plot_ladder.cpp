@@ -12,17 +12,9 @@
 namespace probebake::bake::detail {
 namespace {
 
-constexpr double kWidth = 760, kHeight = 480, kLeft = 70, kRight = 20, kTop = 40, kBottom = 60;
+constexpr double kWidth = kPlotWidth, kHeight = kPlotHeight, kRight = kPlotRight, kTop = kPlotTop;
 constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
-
-struct Axes {
-  double log_lo = 0, log_hi = 1, y_max = 1;
-  double x(int probes) const {
-    const double l = std::log10(std::max(probes, 1));
-    return kLeft + (l - log_lo) / (log_hi - log_lo) * (kWidth - kLeft - kRight);
-  }
-  double y(double error) const { return kHeight - kBottom - std::min(error, y_max) / y_max * (kHeight - kTop - kBottom); }
-};
+using Axes = PlotAxes;
 
 // The ladder's rows of each method ("svo" sampler), in probe order.
 std::map<std::string, std::vector<const EvalRow*>> curves(const EvalResult& result) {
@@ -52,30 +44,6 @@ Axes make_axes(const std::map<std::string, std::vector<const EvalRow*>>& lines) 
     a.y_max = std::ceil(err * 1.05 / step) * step;
   }
   return a;
-}
-
-std::string axes_svg(const Axes& a) {
-  std::string s;
-  const double x0 = kLeft, x1 = kWidth - kRight, y0 = kHeight - kBottom, y1 = kTop;
-  s += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='#444'/>\n", x0, y1, x1 - x0, y0 - y1);
-  for (int d = int(a.log_lo); d <= int(a.log_hi); ++d)
-    for (double m : {1.0, 2.0, 5.0}) {
-      const double v = m * std::pow(10.0, d);
-      if (std::log10(v) > a.log_hi + 1e-9) continue;
-      const double x = a.x(int(v));
-      s += fmt::format("<line x1='{:.1f}' y1='{}' x2='{:.1f}' y2='{}' stroke='#ddd'/>\n", x, y0, x, y1);
-      s += fmt::format("<text x='{:.1f}' y='{}' font-size='11' text-anchor='middle'>{:g}</text>\n", x, y0 + 16, v);
-    }
-  const double step = nice_step(a.y_max);
-  for (double v = 0; v <= a.y_max + step * 1e-6; v += step) {
-    s += fmt::format("<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='#ddd'/>\n", x0, a.y(v), x1, a.y(v));
-    s += fmt::format("<text x='{}' y='{:.1f}' font-size='11' text-anchor='end'>{:g}</text>\n", x0 - 6, a.y(v) + 4, v);
-  }
-  s += fmt::format("<text x='{}' y='{}' font-size='13' text-anchor='middle'>live probes (log scale)</text>\n",
-                   (x0 + x1) / 2, kHeight - 18);
-  s += fmt::format("<text x='16' y='{}' font-size='13' text-anchor='middle' transform='rotate(-90 16 {})'>"
-                   "relative RMSE of irradiance</text>\n", (y0 + y1) / 2, (y0 + y1) / 2);
-  return s;
 }
 
 // One polyline with its points: the total error (solid) or the indirect error (dashed, hollow points).
@@ -119,7 +87,7 @@ std::string ladder_svg_plot(const EvalResult& result) {
   svg += fmt::format("<text x='{}' y='22' font-size='14' text-anchor='middle'>{}: error against probe count ({} points, "
                      "{} paths/point)</text>\n",
                      kWidth / 2, escape_xml(result.scene.filename().string()), result.points, result.paths);
-  svg += axes_svg(axes);
+  svg += plot_axes_svg(axes, "live probes (log scale)");
   std::size_t i = 0;
   for (const auto& [name, rows] : lines) {
     const char* colour = kColours[i++ % std::size(kColours)];

@@ -32,8 +32,8 @@ TEST(SharedBake, EverySharedSceneBakesValidWithProbesOutsideGeometry) {
     bake::BakeResult r;
     try {
       r = bake::bake(s, test_settings());
-    } catch (const Error& e) { // the octree frees every probe of some open scenes (issue #13): said, not silent
-      EXPECT_NE(std::string(e.what()).find("no probes placed"), std::string::npos) << e.what();
+    } catch (const Error& e) { // no shipped scene may bake to zero probes (issue #13)
+      ADD_FAILURE() << e.what();
       return;
     }
     const auto report = formats::validate(r.volume);
@@ -45,7 +45,7 @@ TEST(SharedBake, EverySharedSceneBakesValidWithProbesOutsideGeometry) {
       }
     ++baked;
   });
-  EXPECT_GE(baked, 6); // box_draco: no octree probes until placement earns its adaptivity (issue #13)
+  EXPECT_GE(baked, 7); // every scene of ../shared/scenes, box_draco included (a larger root cube: ARCHITECTURE.md)
 }
 
 // glTF doubleSided (#19): each shared scene wound the other way with every material double-sided is the

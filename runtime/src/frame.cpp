@@ -15,6 +15,10 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   // a barrier between every two shaders that touch the same buffers).
   barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess);
 
+  // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.
+  if (inputs.lights && passes.light_inputs && passes.volume)
+    frame.uploaded_lights = passes.light_inputs->record(cmd, *passes.volume, *inputs.lights);
+
   // 1. Memory update (§3.2.1, M0-M4) and SVO refresh: allocates and frees before the probe index lists them.
   if (passes.memory) {
     passes.memory->record_memory_update(cmd, timer, kPassMemoryUpdate, inputs);

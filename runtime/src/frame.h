@@ -1,5 +1,5 @@
 // One frame of the runtime: the per-frame passes of the octree thesis (§3.2, figure 3.4) in their order, in
-// one command buffer: memory update (§3.2.1: M0-M4, then the SVO refresh), probe index build (§3.2.3), light
+// one command buffer: the host's light records, memory update (§3.2.1: M0-M4, then the SVO refresh), probe index build (§3.2.3), light
 // update (§3.2.2: transitions L0-L3, L1 records, L2 lighting), end of the frame's queue work. The passes
 // record their own steps and barriers; this file only orders them.
 #pragma once
@@ -10,6 +10,8 @@
 #include <vulkan/vulkan_core.h>
 
 #include "commands.h"
+#include "gpu_volume.h"
+#include "light_inputs.h"
 #include "light_update_pass.h"
 #include "memory_update_pass.h"
 #include "probe_index_pass.h"
@@ -34,11 +36,14 @@ struct FramePasses {
   ProbeIndexPass& probe_index;
   LightUpdatePass* light = nullptr;
   MemoryUpdatePass* memory = nullptr;
+  LightInputs* light_inputs = nullptr; // with `light`: the host's punctual lights, uploaded into `volume`
+  GpuVolume* volume = nullptr;
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.
 struct RecordedFrame {
   bool ran[kFramePasses] = {};
+  int uploaded_lights = 0; // punctual light records the host changed this frame
 
   // After the submission completed: the GPU time of each pass that ran, in execution order.
   std::vector<PassTime> pass_times(const PassTimer& timer) const;

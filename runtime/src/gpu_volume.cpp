@@ -1,5 +1,6 @@
 #include "gpu_volume.h"
 
+#include <algorithm>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -64,27 +65,33 @@ const char* section_name(Section section) {
   return kNames[static_cast<std::size_t>(section)];
 }
 
-GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume) : device_(device) {
+GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom) : device_(device) {
   const auto sections = sections_of(volume);
   std::size_t total = 0;
   for (std::size_t i = 0; i < kSectionCount; ++i) {
-    const std::size_t bytes = sections[i].bytes();
+    elements_[i] = capacity_[i] = sections[i].elements;
+    if (Section(i) == Section::punctual_lights) capacity_[i] += light_headroom;
+    const std::size_t bytes = capacity_[i] * sections[i].element_size;
     if (bytes > device.info.max_storage_buffer_range)
       fail(StatusCode::unsupported, std::string(section_name(Section(i))) + ": " + std::to_string(bytes) +
                                         " bytes exceed maxStorageBufferRange (" +
                                         std::to_string(device.info.max_storage_buffer_range) + ") of " +
                                         device.info.name + "; bake with a coarser setting or stream cells");
-    elements_[i] = sections[i].elements;
-    total += bytes;
+    total += sections[i].bytes();
   }
   placeholder_ = device.allocator->create_buffer(16, kSectionUsage, MemoryUse::device, "placeholder");
-  Buffer staging = device.allocator->create_buffer(total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload, "upload staging");
+  Buffer staging = device.allocator->create_buffer(std::max<std::size_t>(total, 4), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                   MemoryUse::upload, "upload staging");
   Submission submission(device);
   std::size_t offset = 0;
   for (std::size_t i = 0; i < kSectionCount; ++i) {
+    const std::size_t capacity_bytes = capacity_[i] * sections[i].element_size;
+    if (capacity_bytes == 0) continue;
+    buffers_[i] = device.allocator->create_buffer(capacity_bytes, kSectionUsage, MemoryUse::device, section_name(Section(i)));
     const std::size_t bytes = sections[i].bytes();
+    // Headroom records stay zero (a zero intensity lights nothing) until the host fills them.
+    if (capacity_bytes > bytes) vkCmdFillBuffer(submission.cmd(), buffers_[i].get(), bytes, capacity_bytes - bytes, 0);
     if (bytes == 0) continue;
-    buffers_[i] = device.allocator->create_buffer(bytes, kSectionUsage, MemoryUse::device, section_name(Section(i)));
     std::memcpy(static_cast<std::byte*>(staging.mapped()) + offset, sections[i].data, bytes);
     const VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(submission.cmd(), staging.get(), buffers_[i].get(), 1, &region);
@@ -92,6 +99,14 @@ GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume) : devic
   }
   barrier(submission.cmd(), kTransferWrite, kAnyDeviceAccess);
   submission.submit_and_wait();
+}
+
+void GpuVolume::set_live_elements(Section section, std::size_t count) {
+  const auto i = static_cast<std::size_t>(section);
+  if (count > capacity_[i])
+    fail(StatusCode::internal, std::string(section_name(section)) + ": " + std::to_string(count) +
+                                   " live elements exceed the capacity " + std::to_string(capacity_[i]));
+  elements_[i] = count;
 }
 
 VkBuffer GpuVolume::binding(Section section) const {

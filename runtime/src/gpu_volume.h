@@ -37,9 +37,10 @@ const char* section_name(Section section);
 
 class GpuVolume {
 public:
-  // Creates the buffers and uploads `volume`. Throws RuntimeError(unsupported) when a section is larger
-  // than maxStorageBufferRange, naming the section and both sizes.
-  GpuVolume(Device& device, const formats::ProbeVolume& volume);
+  // Creates the buffers and uploads `volume`; the punctual_lights buffer gets room for `light_headroom`
+  // more records (zeroed). Throws RuntimeError(unsupported) when a section is larger than
+  // maxStorageBufferRange, naming the section and both sizes.
+  GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom = 0);
 
   // A copy of every buffer; the CPU-only members (cells, cell_depth, input_hash) come from `cpu_parts`.
   formats::ProbeVolume read_back(const formats::ProbeVolume& cpu_parts) const;
@@ -49,13 +50,19 @@ public:
   // The section's buffer for descriptor sets: a 16-byte placeholder when the section is empty (shaders
   // check the counts in VolumeInfo and never read it).
   VkBuffer binding(Section section) const;
-  // Elements of the section's vector at upload.
+  // Live elements of the section: its vector's size at upload, or what set_live_elements() last said.
   std::size_t elements(Section section) const { return elements_[static_cast<std::size_t>(section)]; }
+  // Elements the section's buffer holds (elements() at upload, plus the light headroom).
+  std::size_t capacity(Section section) const { return capacity_[static_cast<std::size_t>(section)]; }
+  // A pass changed the live count (host light updates); read_back() copies that many. Precondition:
+  // count <= capacity(section).
+  void set_live_elements(Section section, std::size_t count);
 
 private:
   Device& device_;
   std::array<Buffer, kSectionCount> buffers_;
   std::array<std::size_t, kSectionCount> elements_{};
+  std::array<std::size_t, kSectionCount> capacity_{};
   Buffer placeholder_;
 };
 

@@ -28,6 +28,8 @@ Status status_of(const formats::ValidationReport& report) {
 Status check_options(const UploadOptions& options) {
   if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
     return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
+  if (options.light_headroom < 0)
+    return {StatusCode::invalid_argument, "light_headroom must be >= 0, got " + std::to_string(options.light_headroom)};
   return {};
 }
 
@@ -95,6 +97,12 @@ Result<FrameStats> Volume::run_frame(const FrameInputs& inputs) {
     if (reshapes && !state_->memory)
       return Status{StatusCode::invalid_argument, "run_frame: changed boxes and thresholds need the memory update "
                                                   "(UploadOptions::memory_update, an octree volume with lighting sections)"};
+    if (inputs.lights) {
+      if (!state_->light_inputs)
+        return Status{StatusCode::invalid_argument, "run_frame: punctual lights need the light update (UploadOptions::light_update, "
+                                                    "a volume with the runtime lighting sections)"};
+      if (const Status lights = detail::check_lights(*inputs.lights, state_->light_inputs->capacity()); !lights.ok()) return lights;
+    }
     return state_->run_frame(inputs);
   });
 }
@@ -140,5 +148,13 @@ VolumeBuffers Volume::buffers() const {
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }
+
+std::span<const gpu::PunctualLight> Volume::lights() const {
+  return state_->light_inputs ? state_->light_inputs->current() : std::span<const gpu::PunctualLight>{};
+}
+
+int Volume::light_capacity() const {
+  return state_->light_inputs ? static_cast<int>(state_->light_inputs->capacity()) : 0;
+}
 
 } // namespace probebake::runtime

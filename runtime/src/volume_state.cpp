@@ -20,11 +20,14 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     cpu_parts.cells = volume.cells;
   }
   cpu_parts.input_hash = volume.input_hash;
-  gpu = std::make_unique<GpuVolume>(*device, uploaded);
+  const bool lit = options.light_update && uploaded.lighting.has_value();
+  gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu);
   sample = std::make_unique<SamplePass>(*device, *gpu);
-  if (options.light_update && LightUpdatePass::applies(*gpu))
+  if (options.light_update && LightUpdatePass::applies(*gpu)) {
     light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis);
+    light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
+  }
   if (dynamic_tree && light) {
     memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list());
     light->walk_light_list();
@@ -35,13 +38,18 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
 FrameStats VolumeState::run_frame(const FrameInputs& inputs) {
   const auto start = std::chrono::steady_clock::now();
   Submission submission(*device);
-  const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, {*probe_index, light.get(), memory.get()}, inputs);
+  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get()};
+  const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, passes, inputs);
   submission.submit_and_wait();
 
   FrameStats stats;
   stats.frame = ++frames;
   stats.passes = recorded.pass_times(*frame_timer);
-  if (light) stats.light = light->stats();
+  if (light) {
+    stats.light = light->stats();
+    stats.light.lights = static_cast<int>(light_inputs->current().size());
+    stats.light.uploaded_lights = recorded.uploaded_lights;
+  }
   if (memory) {
     stats.memory = memory->stats();
     cpu_parts.info = memory->info();

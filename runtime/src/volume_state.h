@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "device.h"
 #include "gpu_volume.h"
+#include "light_inputs.h"
 #include "light_update_pass.h"
 #include "memory_update_pass.h"
 #include "probe_index_pass.h"
@@ -23,6 +24,7 @@ struct VolumeState {
   std::unique_ptr<ProbeIndexPass> probe_index;
   std::unique_ptr<SamplePass> sample;
   std::unique_ptr<LightUpdatePass> light; // only for volumes with the lighting sections
+  std::unique_ptr<LightInputs> light_inputs; // with `light`: the host's punctual lights
   std::unique_ptr<MemoryUpdatePass> memory; // only with a light update, on octree volumes (memory_update_applies)
   std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h)
   std::uint64_t frames = 0;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,15 +60,45 @@ void print_device(const runtime::DeviceInfo& d) {
               d.timestamps ? "yes" : "no", d.validation ? ", validation layer on" : "");
 }
 
-// The --depth-cycle schedule: at frames 0, P, 2P, ... the max depth becomes HIGH, LOW, HIGH, ... and the
-// whole root cube is marked changed.
-runtime::FrameInputs frame_inputs(const RunOptions& options, const gpu::VolumeInfo& info, int frame) {
+// The --orbit-light pose of light `orbit.light` in frame `frame` (0: the baked pose): turned by
+// 2 pi frame / period about the vertical axis through the circle's centre, RADIUS along -X from the light.
+gpu::PunctualLight orbit_pose(const gpu::PunctualLight& baked, const LightOrbit& orbit, int frame) {
+  constexpr float kTwoPi = 6.28318531f;
+  const float angle = kTwoPi * float(frame % orbit.period) / float(orbit.period);
+  const float c = std::cos(angle), s = std::sin(angle);
+  gpu::PunctualLight light = baked;
+  if (light.type == gpu::LIGHT_DIRECTIONAL) {
+    light.direction = glm::normalize(glm::vec3(c * baked.direction.x + s * baked.direction.z, baked.direction.y,
+                                               -s * baked.direction.x + c * baked.direction.z));
+    return light;
+  }
+  const glm::vec3 centre = baked.position - glm::vec3(orbit.radius, 0.0f, 0.0f);
+  light.position = centre + orbit.radius * glm::vec3(c, 0.0f, -s);
+  return light;
+}
+
+// The frame's inputs: the --orbit-light pose, and the --depth-cycle schedule (at frames 0, P, 2P, ... the
+// max depth becomes HIGH, LOW, HIGH, ... and the whole root cube is marked changed).
+runtime::FrameInputs frame_inputs(const RunOptions& options, const gpu::VolumeInfo& info, std::span<const gpu::PunctualLight> baked_lights,
+                                  int frame) {
   runtime::FrameInputs in;
+  if (options.orbit_light) {
+    in.lights.emplace(baked_lights.begin(), baked_lights.end());
+    (*in.lights)[std::size_t(options.orbit_light->light)] = orbit_pose(baked_lights[std::size_t(options.orbit_light->light)], *options.orbit_light, frame);
+  }
   if (!options.depth_cycle || frame % options.depth_cycle->period != 0) return in;
   const bool high = (frame / options.depth_cycle->period) % 2 == 0;
   in.max_depth = high ? options.depth_cycle->high : options.depth_cycle->low;
   in.changed_boxes = {{info.root_min, info.root_min + glm::vec3(info.root_size)}};
   return in;
+}
+
+// "x,y,z" of the orbiting light (or of light 0) after the frame; empty fields without lights.
+std::string light_position(const runtime::Volume& volume, const RunOptions& options) {
+  const std::size_t index = options.orbit_light ? std::size_t(options.orbit_light->light) : 0;
+  if (index >= volume.lights().size()) return ",,";
+  const glm::vec3 p = volume.lights()[index].position;
+  return std::to_string(p.x) + ',' + std::to_string(p.y) + ',' + std::to_string(p.z);
 }
 
 void print_frame(const runtime::FrameStats& f) {
@@ -76,7 +107,7 @@ void print_frame(const runtime::FrameStats& f) {
   std::printf(" | cpu %.3f ms | live probes %d / %d", f.cpu_ms, f.live_probes, f.probe_capacity);
   const runtime::LightStats& l = f.light;
   if (l.active) {
-    std::printf(" | lit %d", l.lit_probes);
+    std::printf(" | lit %d, lights %d (%d uploaded)", l.lit_probes, l.lights, l.uploaded_lights);
     if (l.traced_probes > 0)
       std::printf(", traced %d (rays: %d front, %d back, %d miss)", l.traced_probes, l.front_hits, l.backface_hits, l.misses);
     std::printf(", indirect misses %d, non-finite %d, L3 split %d free %d", l.indirect_misses, l.non_finite,
@@ -168,9 +199,16 @@ int run_volume(const RunOptions& options) {
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
   const gpu::VolumeInfo& info = volume->info();
-  std::printf("volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %llu bytes on the GPU\n",
+  std::printf("volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %d punctual lights, %llu bytes "
+              "on the GPU\n",
               options.input.c_str(), info.probe_capacity, info.octree_elements, info.svo_nodes, info.svo_leaves,
-              static_cast<unsigned long long>(context->memory_stats().live_bytes));
+              int(volume->lights().size()), static_cast<unsigned long long>(context->memory_stats().live_bytes));
+  const std::vector<gpu::PunctualLight> baked_lights(volume->lights().begin(), volume->lights().end());
+  if (options.orbit_light && options.orbit_light->light >= int(baked_lights.size()))
+    return report(options, {runtime::StatusCode::invalid_argument,
+                            "--orbit-light " + std::to_string(options.orbit_light->light) + ": the volume has " +
+                                std::to_string(baked_lights.size()) + " punctual light(s)" +
+                                (volume->light_capacity() == 0 && options.light_update ? " (no runtime lighting sections)" : "")});
 
   std::ofstream csv;
   if (options.csv) {
@@ -180,12 +218,12 @@ int run_volume(const RunOptions& options) {
       return 3;
     }
     csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
-           "failed_allocations,free_probes\n";
+           "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z\n";
   }
   std::map<std::string, PassSummary> summary;
   PassSummary cpu;
   for (int frame = 0; frame < options.frames; ++frame) {
-    auto stats = volume->run_frame(frame_inputs(options, volume->info(), frame));
+    auto stats = volume->run_frame(frame_inputs(options, volume->info(), baked_lights, frame));
     if (!stats.ok()) return report(options, stats.status());
     print_frame(stats.value());
     cpu.add(stats->cpu_ms);
@@ -195,7 +233,8 @@ int run_volume(const RunOptions& options) {
         csv << stats->frame << ',' << p.name << ',' << p.gpu_ms << ',' << stats->cpu_ms << ',' << stats->live_probes
             << ',' << stats->probe_capacity << ',' << stats->light.lit_probes << ',' << stats->light.indirect_misses
             << ',' << stats->light.non_finite << ',' << stats->memory.splits << ',' << stats->memory.collapses << ','
-            << stats->memory.failed_allocations << ',' << stats->memory.free_probes << '\n';
+            << stats->memory.failed_allocations << ',' << stats->memory.free_probes << ',' << stats->light.lights << ','
+            << stats->light.uploaded_lights << ',' << light_position(volume.value(), options) << '\n';
     }
     if (options.validate) {
       const runtime::Status valid = volume->validate_live();

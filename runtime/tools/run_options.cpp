@@ -1,6 +1,7 @@
 #include "run_options.h"
 
 #include <charconv>
+#include <cmath>
 #include <string_view>
 
 namespace probebake::run {
@@ -9,10 +10,11 @@ namespace {
 constexpr const char* kUsage =
     "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
-    "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD]\n"
+    "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "  --frames N        frames to run (default 1): probe index build, then the light update\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
-    "                    indirect_misses,non_finite per pass\n"
+    "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
+    "                    lights,uploaded_lights,light_x,light_y,light_z per pass\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
     "  --vk-validation   enable VK_LAYER_KHRONOS_validation (synchronization validation on)\n"
     "  --device NAME     use the first Vulkan device whose name contains NAME\n"
@@ -23,6 +25,9 @@ constexpr const char* kUsage =
     "  --depth-cycle LOW:HIGH:PERIOD  run the memory update (octree volumes with lighting sections);\n"
     "                    every PERIOD frames the max depth alternates HIGH, LOW, ... and every leaf is\n"
     "                    measured again\n"
+    "  --orbit-light I:RADIUS:PERIOD  move the file's punctual light I (from 0) on a horizontal circle of\n"
+    "                    RADIUS metres through its baked position, one turn every PERIOD frames (a\n"
+    "                    directional light turns its direction about Y); light_x/y/z in the CSV\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
 
 bool parse_int(std::string_view text, int minimum, int& out) {
@@ -41,6 +46,16 @@ bool parse_depth_cycle(std::string_view text, DepthCycle& out) {
   if (b == std::string_view::npos) return false;
   return parse_int(text.substr(0, a), 0, out.low) && parse_int(text.substr(a + 1, b - a - 1), 0, out.high) &&
          parse_int(text.substr(b + 1), 1, out.period) && out.low <= 12 && out.high <= 12;
+}
+
+// I:RADIUS:PERIOD, light index >= 0, radius finite and >= 0, period >= 1.
+bool parse_light_orbit(std::string_view text, LightOrbit& out) {
+  const std::size_t a = text.find(':'), b = a == std::string_view::npos ? a : text.find(':', a + 1);
+  if (b == std::string_view::npos) return false;
+  const std::string_view radius = text.substr(a + 1, b - a - 1);
+  const auto [end, error] = std::from_chars(radius.data(), radius.data() + radius.size(), out.radius);
+  const bool radius_ok = error == std::errc() && end == radius.data() + radius.size() && std::isfinite(out.radius) && out.radius >= 0.0f;
+  return radius_ok && parse_int(text.substr(0, a), 0, out.light) && parse_int(text.substr(b + 1), 1, out.period);
 }
 
 } // namespace
@@ -71,6 +86,11 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       DepthCycle cycle;
       if (!has_value || !parse_depth_cycle(argv[++i], cycle)) return usage_error("--depth-cycle needs LOW:HIGH:PERIOD (depths 0-12, period >= 1)");
       options.depth_cycle = cycle;
+    } else if (arg == "--orbit-light") {
+      LightOrbit orbit;
+      if (!has_value || !parse_light_orbit(argv[++i], orbit))
+        return usage_error("--orbit-light needs I:RADIUS:PERIOD (light index >= 0, radius >= 0 metres, period >= 1 frames)");
+      options.orbit_light = orbit;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
     } else if (arg == "--frames" || arg == "--samples") {

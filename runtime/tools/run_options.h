@@ -12,6 +12,15 @@ struct DepthCycle {
   int low = 1, high = 3, period = 50;
 };
 
+// --orbit-light I:RADIUS:PERIOD: the file's punctual light I circles about the vertical (Y) axis, one turn
+// every PERIOD frames, on a horizontal circle of RADIUS metres that passes through its baked position (frame
+// 0; the centre is RADIUS along -X from it). A directional light's direction turns instead.
+struct LightOrbit {
+  int light = 0;
+  float radius = 0.0f;
+  int period = 1;
+};
+
 struct RunOptions {
   std::string input;                 // .probes file
   int frames = 1;                    // >= 1
@@ -24,6 +33,7 @@ struct RunOptions {
   bool light_update = true;          // run the light update when the file has the lighting sections
   float hysteresis = 0.9f;           // runtime::UploadOptions::hysteresis, [0, 1)
   std::optional<DepthCycle> depth_cycle; // run the memory update with this max-depth schedule
+  std::optional<LightOrbit> orbit_light; // move one punctual light every frame (FrameInputs::lights)
   std::string program = "probebake-run"; // prefix of error messages
 };
 

@@ -184,6 +184,9 @@ struct UploadOptions {
   // geometry exists (issue #12): a static tree without FrameInputs never changes.
   bool memory_update = false;
   MemoryPools pools{};
+  // Punctual lights the host may add beyond the file's (FrameInputs::lights): the light buffer holds the
+  // file's count plus this many records, allocated once at upload. >= 0; needs the lighting sections.
+  int light_headroom = 0;
 };
 
 // An axis-aligned box in world space (metres), min <= max.
@@ -208,7 +211,14 @@ struct FrameInputs {
   std::optional<float> split_low; // [0, 1], <= split_high
   std::optional<float> split_high;
   float dead_backface_fraction = 0.5f; // a centre seeing more back faces than this is inside a solid (leaf_rule.h)
-  FrameLimits limits;
+  // The punctual lights from this frame on, all of them (empty = none; unset = keep the current ones):
+  // moved, added, removed or recoloured, in the file's record (gpu_types.h PunctualLight: position,
+  // direction, colour x intensity, range, cone). At most Volume::light_capacity(); every value finite,
+  // intensity and range >= 0, type LIGHT_*, a unit direction for spot and directional lights, spot cone
+  // cos_outer in [-1, 1] and spot_scale > 0. Only the records that differ from the current ones are
+  // uploaded, inside the frame's command buffer. Needs the light update.
+  std::optional<std::vector<gpu::PunctualLight>> lights;
+  FrameLimits limits; // last: `{.limits = ...}` initializes every member (-Wmissing-field-initializers)
 };
 
 struct PassTime {
@@ -228,6 +238,8 @@ struct LightStats {
   int non_finite = 0;      // probes whose new irradiance was not finite: kept their old value
   int want_split = 0;      // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
   int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
+  int lights = 0;          // punctual lights lit this frame
+  int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
 };
 
 // Statistics of one frame's memory update and light transitions (all 0 and active = false without one).
@@ -321,8 +333,13 @@ public:
   // an invariant. `report` (optional) receives the full report.
   Status validate_live(formats::ValidationReport* report = nullptr);
 
+  // The buffers; punctual_lights holds light_capacity() records, the first lighting_info.lights live.
   VolumeBuffers buffers() const;
   const gpu::VolumeInfo& info() const;
+  // The punctual lights the next frame lights (the file's until FrameInputs::lights changes them), and how
+  // many the volume can hold (the file's count + UploadOptions::light_headroom; 0 without a light update).
+  std::span<const gpu::PunctualLight> lights() const;
+  int light_capacity() const;
 
 private:
   explicit Volume(std::unique_ptr<detail::VolumeState> state);

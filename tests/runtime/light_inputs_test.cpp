@@ -1,0 +1,384 @@
+// Punctual lights from the host (FrameInputs::lights, issue #12): moved, added, removed and recoloured per
+// frame, uploaded inside the frame. The GPU relights with them and must agree with a CPU bake of the scene
+// with the lights in that state: N frames at hysteresis 0 == N CPU sweeps from the same start (bound 1e-4 of
+// the brightest DC, as light_update_test), and many frames == the converged CPU bake (bound 2e-3, the
+// bake's own stopping error, as StartingFromTheBakeStaysAtTheBake).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "probebake/bake/bake.h"
+#include "probebake/bake/lighting.h"
+#include "probebake/formats/probe_volume.h"
+#include "probebake/formats/probes_file.h"
+#include "probebake/samples/scenes.h"
+#include "probebake/scene/scene.h"
+#include "run_cli.h"
+#include "runtime_test_util.h"
+
+namespace probebake::test {
+namespace {
+
+using LightInputsTest = RuntimeTest;
+
+struct Baked {
+  std::unique_ptr<scene::Scene> scene; // mutable lights: the CPU reference of each light state
+  std::unique_ptr<scene::RayScene> rays;
+  bake::BakeSettings settings;
+  formats::ProbeVolume volume;
+};
+
+Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name) {
+  Baked b;
+  const std::vector<std::uint8_t> glb = builder.to_glb();
+  b.scene = std::make_unique<scene::Scene>(scene::load_scene_from_memory(
+      std::vector<unsigned char>(glb.begin(), glb.end()), name, ".", {.require_triangles = true}));
+  b.rays = std::make_unique<scene::RayScene>(*b.scene);
+  b.settings.max_depth = 3;
+  b.settings.surfels_per_probe = 64;
+  b.settings.svo_depth = 4;
+  b.settings.lighting.rays = 96;
+  b.volume = bake::bake(*b.scene, b.settings).volume;
+  return b;
+}
+
+// The Cornell box (its ceiling emitter) with a white 0.3 cd point light above the blocks.
+const glm::vec3 kCornellLight{-0.1f, 0.42f, 0.05f};
+const glm::vec3 kCornellLightMoved{0.14f, 0.36f, -0.12f};
+samples::SceneBuilder cornell_with_point_light() {
+  samples::SceneBuilder scene = samples::cornell();
+  scene.add_light_node("bulb", scene.add_light({.name = "bulb", .intensity = 0.3f}), kCornellLight);
+  return scene;
+}
+
+// The CPU lighting of b's scene with its current lights from `start`: `sweeps` plain Jacobi sweeps, or the
+// bake's converged answer (sweeps = 0).
+formats::ProbeVolume cpu_lighting(const Baked& b, const formats::ProbeVolume& start, int sweeps) {
+  formats::ProbeVolume cpu = start;
+  bake::LightingSettings lighting = b.settings.lighting;
+  if (sweeps > 0) {
+    lighting.max_iterations = sweeps;
+    lighting.accelerate = false;
+    lighting.tolerance = 1e-30f;
+  }
+  bake::bake_lighting(*b.scene, *b.rays, cpu, lighting);
+  return cpu;
+}
+
+float brightest_dc(const formats::ProbeVolume& volume) {
+  float brightest = 0.0f;
+  for (const gpu::Probe& p : volume.probes)
+    if (p.link != 0) brightest = std::max({brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
+  return brightest;
+}
+
+// Largest |a - b| over every coefficient of every live probe, relative to b's brightest DC term.
+float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolume& b) {
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < b.probes.size(); ++i) {
+    if (b.probes[i].link == 0) continue;
+    for (int v = 0; v < 27; ++v) worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
+  }
+  return worst / std::max(brightest_dc(b), 1e-30f);
+}
+
+formats::ProbeVolume with_zero_irradiance(formats::ProbeVolume volume) {
+  for (gpu::Probe& p : volume.probes) std::fill(std::begin(p.irradiance_sh), std::end(p.irradiance_sh), 0.0f);
+  return volume;
+}
+
+runtime::Volume upload(runtime::Context& context, const formats::ProbeVolume& volume, int headroom = 0) {
+  auto gpu = runtime::Volume::upload(context, volume, {.hysteresis = 0.0f, .light_headroom = headroom});
+  if (!gpu.ok()) { // every test needs its volume: stop here rather than use a missing one
+    std::fprintf(stderr, "upload failed: %s\n", gpu.status().message.c_str());
+    std::abort();
+  }
+  return std::move(gpu).value();
+}
+
+// Runs `frames` frames, the first with `lights` (if any); returns the last frame's statistics.
+runtime::FrameStats run(runtime::Volume& volume, int frames, const std::vector<gpu::PunctualLight>* lights = nullptr) {
+  runtime::FrameStats last;
+  for (int f = 0; f < frames; ++f) {
+    runtime::FrameInputs in;
+    if (lights && f == 0) in.lights = *lights;
+    auto stats = volume.run_frame(in);
+    EXPECT_TRUE(stats.ok()) << stats.status().message;
+    if (!stats.ok()) break;
+    last = stats.value();
+  }
+  return last;
+}
+
+formats::ProbeVolume read_back(runtime::Volume& volume) {
+  auto back = volume.read_back();
+  EXPECT_TRUE(back.ok()) << back.status().message;
+  return back.ok() ? std::move(back).value() : formats::ProbeVolume{};
+}
+
+TEST_F(LightInputsTest, MovedLightMatchesTheCpuBakeAtTheNewPose) {
+  Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  ASSERT_EQ(b.volume.punctual_lights.size(), 1u);
+  ASSERT_EQ(b.volume.punctual_lights[0].position, kCornellLight);
+  std::vector<gpu::PunctualLight> moved = b.volume.punctual_lights;
+  moved[0].position = kCornellLightMoved;
+  b.scene->lights[0].position = kCornellLightMoved;
+  const formats::ProbeVolume cpu_converged = cpu_lighting(b, b.volume, 0);
+
+  runtime::Volume gpu = upload(context(), b.volume);
+  runtime::FrameInputs in;
+  in.lights = moved;
+  auto first = gpu.run_frame(in);
+  ASSERT_TRUE(first.ok()) << first.status().message;
+  EXPECT_EQ(first.value().light.lights, 1);
+  EXPECT_EQ(first.value().light.uploaded_lights, 1);
+  auto same = gpu.run_frame(in); // the same lights again: nothing to upload
+  ASSERT_TRUE(same.ok());
+  EXPECT_EQ(same.value().light.uploaded_lights, 0);
+  run(gpu, 58);
+  const formats::ProbeVolume converged = read_back(gpu);
+  const float after60 = max_sh_difference(converged, cpu_converged);
+  const float moved_by = max_sh_difference(b.volume, cpu_converged);
+  std::printf("[lights] cornell bulb moved (%.2f %.2f %.2f) -> (%.2f %.2f %.2f): the two bakes differ by %.3g of the "
+              "brightest DC; GPU vs CPU after 60 frames %.2e (converged bake)\n",
+              double(kCornellLight.x), double(kCornellLight.y), double(kCornellLight.z), double(kCornellLightMoved.x),
+              double(kCornellLightMoved.y), double(kCornellLightMoved.z), double(moved_by), double(after60));
+  EXPECT_GT(moved_by, 0.05f); // the move matters: the old probes are far from the new answer
+  EXPECT_LT(after60, 2e-3f);
+  ASSERT_EQ(converged.punctual_lights.size(), 1u);
+  EXPECT_EQ(converged.punctual_lights[0].position, kCornellLightMoved);
+  EXPECT_TRUE(gpu.validate_live().ok());
+}
+
+TEST_F(LightInputsTest, RecolouredLightScalesTheProbesExactly) {
+  // The leak scene's only light is its point light: the probes are linear in its intensity, channel by
+  // channel, and powers of two scale every float operation exactly.
+  const Baked b = bake_generated(samples::leak(), "leak");
+  ASSERT_EQ(b.volume.punctual_lights.size(), 1u);
+  ASSERT_TRUE(b.volume.emitter_patches.empty());
+  const glm::vec3 scale{2.0f, 0.5f, 4.0f};
+  std::vector<gpu::PunctualLight> recoloured = b.volume.punctual_lights;
+  recoloured[0].intensity *= scale;
+  const formats::ProbeVolume start = with_zero_irradiance(b.volume);
+  runtime::Volume plain = upload(context(), start), coloured = upload(context(), start);
+  run(plain, 4);
+  run(coloured, 4, &recoloured);
+  const formats::ProbeVolume x = read_back(plain), y = read_back(coloured);
+  ASSERT_EQ(x.probes.size(), y.probes.size());
+  int compared = 0, unequal = 0;
+  for (std::size_t i = 0; i < x.probes.size(); ++i) {
+    if (x.probes[i].link == 0) continue;
+    for (int v = 0; v < 27; ++v) {
+      ++compared;
+      unequal += y.probes[i].irradiance_sh[v] == scale[v % 3] * x.probes[i].irradiance_sh[v] ? 0 : 1;
+    }
+  }
+  std::printf("[lights] leak light recoloured x (2, 0.5, 4): %d SH coefficients, %d not exactly scaled (brightest DC %.3g)\n",
+              compared, unequal, double(brightest_dc(x)));
+  EXPECT_GT(brightest_dc(x), 0.1f);
+  EXPECT_EQ(unequal, 0);
+}
+
+TEST_F(LightInputsTest, RemovingAllLightsLeavesTheEmitterAndAddingBackRestores) {
+  Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  const std::vector<gpu::PunctualLight> file_lights = b.volume.punctual_lights;
+  const std::vector<scene::Light> scene_lights = b.scene->lights;
+  b.scene->lights.clear();
+  const formats::ProbeVolume emitter_only = cpu_lighting(b, b.volume, 0);
+  b.scene->lights = scene_lights;
+
+  runtime::Volume gpu = upload(context(), b.volume);
+  const std::vector<gpu::PunctualLight> none;
+  const runtime::FrameStats dark = run(gpu, 60, &none);
+  EXPECT_EQ(dark.light.lights, 0);
+  EXPECT_TRUE(gpu.lights().empty());
+  const formats::ProbeVolume removed = read_back(gpu);
+  EXPECT_TRUE(removed.punctual_lights.empty());
+  ASSERT_TRUE(removed.lighting.has_value());
+  EXPECT_EQ(removed.lighting->lights, 0);
+  EXPECT_TRUE(gpu.validate_live().ok());
+  const float removed_error = max_sh_difference(removed, emitter_only);
+
+  run(gpu, 60, &file_lights);
+  const formats::ProbeVolume restored = read_back(gpu);
+  const float restored_error = max_sh_difference(restored, b.volume);
+  const float bulb_share = max_sh_difference(b.volume, emitter_only);
+  std::printf("[lights] cornell bulb removed: GPU vs CPU emitter-only bake %.2e after 60 frames; added back: vs the first "
+              "bake %.2e after 60 more (the bulb changes the probes by %.3g of the brightest DC)\n",
+              double(removed_error), double(restored_error), double(bulb_share));
+  EXPECT_GT(bulb_share, 0.05f);
+  EXPECT_LT(removed_error, 2e-3f);
+  EXPECT_LT(restored_error, 2e-3f);
+  ASSERT_EQ(restored.punctual_lights.size(), 1u);
+  EXPECT_EQ(restored.lighting->lights, 1);
+}
+
+TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
+  // A second light in the leak scene's dark (+X) room, which the file's light never reaches.
+  Baked b = bake_generated(samples::leak(), "leak");
+  std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
+  ASSERT_EQ(lights.size(), 1u);
+  gpu::PunctualLight added = lights[0];
+  added.position.x = -added.position.x;
+  added.intensity = glm::vec3(30.0f, 60.0f, 90.0f);
+  lights.push_back(added);
+  scene::Light cpu_added = b.scene->lights[0];
+  cpu_added.position = added.position;
+  cpu_added.color = glm::vec3(1.0f, 2.0f, 3.0f);
+  cpu_added.intensity = 30.0f;
+  b.scene->lights.push_back(cpu_added);
+  const formats::ProbeVolume start = with_zero_irradiance(b.volume);
+  const formats::ProbeVolume cpu = cpu_lighting(b, start, 3);
+
+  runtime::Volume no_room = upload(context(), start);
+  EXPECT_EQ(no_room.light_capacity(), 1);
+  runtime::FrameInputs in;
+  in.lights = lights;
+  auto refused = no_room.run_frame(in);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code, runtime::StatusCode::invalid_argument);
+  EXPECT_NE(refused.status().message.find("2 punctual lights exceed the capacity 1"), std::string::npos) << refused.status().message;
+
+  runtime::Volume gpu = upload(context(), start, 1);
+  EXPECT_EQ(gpu.light_capacity(), 2);
+  const runtime::FrameStats last = run(gpu, 3, &lights);
+  EXPECT_EQ(last.light.lights, 2);
+  const formats::ProbeVolume live = read_back(gpu);
+  float dark_room = 0.0f;
+  for (const gpu::Probe& p : live.probes)
+    if (p.link != 0 && p.position.x > 0.05f) dark_room = std::max(dark_room, p.irradiance_sh[2]);
+  const float difference = max_sh_difference(live, cpu);
+  std::printf("[lights] leak + a light in the dark room (headroom 1): GPU vs CPU after 3 frames %.2e; brightest blue DC "
+              "in the +X room %.3g\n",
+              double(difference), double(dark_room));
+  EXPECT_GT(dark_room, 1.0f);
+  EXPECT_LT(difference, 1e-4f);
+  ASSERT_EQ(live.punctual_lights.size(), 2u);
+  EXPECT_EQ(live.punctual_lights[1].position, added.position);
+  EXPECT_TRUE(gpu.validate_live().ok());
+}
+
+TEST_F(LightInputsTest, LightChangesAllocateNothing) {
+  const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  runtime::Volume gpu = upload(context(), b.volume, 2);
+  run(gpu, 1);
+  const runtime::MemoryStats before = context().memory_stats();
+  std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
+  for (int f = 0; f < 12; ++f) {
+    lights[0].position.x = -0.2f + 0.03f * float(f);
+    if (f == 4) lights.push_back(lights[0]);
+    if (f == 8) lights.clear();
+    runtime::FrameInputs in;
+    in.lights = lights;
+    ASSERT_TRUE(gpu.run_frame(in).ok());
+  }
+  const runtime::MemoryStats after = context().memory_stats();
+  EXPECT_EQ(after.allocations, before.allocations);
+  EXPECT_EQ(after.live_buffers, before.live_buffers);
+}
+
+TEST_F(LightInputsTest, BadLightsAreInvalidArgument) {
+  const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  runtime::Volume gpu = upload(context(), b.volume, 1);
+  const gpu::PunctualLight good = b.volume.punctual_lights[0];
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN(), kInf = std::numeric_limits<float>::infinity();
+  std::vector<gpu::PunctualLight> bad;
+  const auto with = [&](auto change) {
+    gpu::PunctualLight l = good;
+    change(l);
+    bad.push_back(l);
+  };
+  with([&](gpu::PunctualLight& l) { l.position.y = kNaN; });
+  with([&](gpu::PunctualLight& l) { l.intensity.x = kInf; });
+  with([&](gpu::PunctualLight& l) { l.intensity.z = -1.0f; });
+  with([&](gpu::PunctualLight& l) { l.range = -0.5f; });
+  with([&](gpu::PunctualLight& l) { l.type = 7; });
+  const auto spot = [](gpu::PunctualLight& l, glm::vec3 direction, float spot_scale) {
+    l.type = gpu::LIGHT_SPOT;
+    l.direction = direction;
+    l.cos_outer = 0.7f;
+    l.spot_scale = spot_scale;
+  };
+  with([&](gpu::PunctualLight& l) { spot(l, {0, -2, 0}, 5.0f); });   // not a unit direction
+  with([&](gpu::PunctualLight& l) { spot(l, {0, -1, 0}, kNaN); });
+  with([&](gpu::PunctualLight& l) { spot(l, {0, -1, 0}, 2000.0f); }); // above the bake's 1000
+  with([&](gpu::PunctualLight& l) {
+    l.type = gpu::LIGHT_DIRECTIONAL;
+    l.direction = {kInf, 0, 0};
+  });
+  for (std::size_t i = 0; i < bad.size(); ++i) {
+    runtime::FrameInputs in;
+    in.lights = std::vector<gpu::PunctualLight>{good, bad[i]};
+    auto refused = gpu.run_frame(in);
+    ASSERT_FALSE(refused.ok()) << "case " << i;
+    EXPECT_EQ(refused.status().code, runtime::StatusCode::invalid_argument) << "case " << i;
+    EXPECT_NE(refused.status().message.find("punctual light 1"), std::string::npos) << refused.status().message;
+  }
+  runtime::FrameInputs too_many;
+  too_many.lights = std::vector<gpu::PunctualLight>(3, good);
+  EXPECT_EQ(gpu.run_frame(too_many).status().code, runtime::StatusCode::invalid_argument);
+  // Refused frames changed nothing; a good one still runs.
+  ASSERT_EQ(gpu.lights().size(), 1u);
+  EXPECT_EQ(gpu.lights()[0].position, good.position);
+  EXPECT_TRUE(gpu.run_frame().ok());
+
+  auto negative = runtime::Volume::upload(context(), b.volume, {.light_headroom = -1});
+  EXPECT_EQ(negative.status().code, runtime::StatusCode::invalid_argument);
+  auto unlit = runtime::Volume::upload(context(), b.volume, {.light_update = false});
+  ASSERT_TRUE(unlit.ok());
+  runtime::FrameInputs lights;
+  lights.lights = b.volume.punctual_lights;
+  EXPECT_EQ(unlit.value().run_frame(lights).status().code, runtime::StatusCode::invalid_argument);
+  EXPECT_EQ(unlit.value().light_capacity(), 0);
+}
+
+// probebake-run --orbit-light: the light's position per frame in the CSV follows the circle through the
+// baked position (centre RADIUS along -X), one record uploaded per frame after the first, 0 validation messages.
+TEST_F(LightInputsTest, RunToolOrbitsALight) {
+  const std::string probes = temp_path("tool-orbit.probes"), csv = temp_path("tool-orbit.csv");
+  formats::write_probes_file(probes, baked_leak_octree());
+  const glm::vec3 baked = baked_leak_octree().punctual_lights.at(0).position;
+  const std::string file = test::quoted(std::filesystem::path(probes));
+  const CliResult r = run_cli(file + " --frames 4 --hysteresis 0.5 --orbit-light 0:0.5:4 --validate --vk-validation --csv " +
+                              test::quoted(std::filesystem::path(csv)));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lights 1 (1 uploaded)"), std::string::npos) << r.out;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_NE(line.find(",free_probes,lights,uploaded_lights,light_x,light_y,light_z"), std::string::npos) << line;
+  const glm::vec3 expected[4] = {baked, baked + glm::vec3(-0.5f, 0.0f, -0.5f), baked + glm::vec3(-1.0f, 0.0f, 0.0f),
+                                 baked + glm::vec3(-0.5f, 0.0f, 0.5f)};
+  int rows = 0;
+  while (std::getline(in, line)) {
+    if (line.find(",light_gather,") == std::string::npos) continue;
+    std::vector<std::string> fields;
+    std::stringstream split(line);
+    for (std::string field; std::getline(split, field, ',');) fields.push_back(field);
+    ASSERT_EQ(fields.size(), 18u) << line;
+    const int frame = std::stoi(fields[0]);
+    ASSERT_TRUE(frame >= 1 && frame <= 4) << line;
+    EXPECT_EQ(std::stoi(fields[13]), 1) << line;
+    EXPECT_EQ(std::stoi(fields[14]), frame == 1 ? 0 : 1) << line;
+    const glm::vec3 at{std::stof(fields[15]), std::stof(fields[16]), std::stof(fields[17])};
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(at[c], expected[frame - 1][c], 1e-4f) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 4);
+  EXPECT_EQ(run_cli(file + " --orbit-light 1:0.5:4").exit_code, 1); // the file has one light
+  EXPECT_EQ(run_cli(file + " --orbit-light 0:-1:4").exit_code, 1);
+  EXPECT_EQ(run_cli(file + " --orbit-light 0:0.5").exit_code, 1);
+  EXPECT_EQ(run_cli(file + " --orbit-light 0:nan:4").exit_code, 1);
+}
+
+} // namespace
+} // namespace probebake::test

@@ -475,7 +475,9 @@ TEST_F(MemoryUpdateTest, FrameInputsOutOfRangeAreInvalidArguments) {
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.status().code, runtime::StatusCode::invalid_argument);
   EXPECT_NE(refused.status().message.find("memory update"), std::string::npos) << refused.status().message;
-  EXPECT_TRUE(fixed.value().run_frame({.limits = {2, 2}}).ok()); // limits alone are harmless
+  runtime::FrameInputs limited;
+  limited.limits = {2, 2};
+  EXPECT_TRUE(fixed.value().run_frame(limited).ok()); // limits alone are harmless
 }
 
 } // namespace

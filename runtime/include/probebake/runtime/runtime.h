@@ -218,7 +218,7 @@ struct FrameInputs {
   // cos_outer in [-1, 1] and spot_scale > 0. Only the records that differ from the current ones are
   // uploaded, inside the frame's command buffer. Needs the light update.
   std::optional<std::vector<gpu::PunctualLight>> lights;
-  FrameLimits limits; // last: `{.limits = ...}` initializes every member (-Wmissing-field-initializers)
+  FrameLimits limits;
 };
 
 struct PassTime {

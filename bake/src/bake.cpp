@@ -297,16 +297,18 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
   formats::ProbeVolume& volume = result.volume;
   volume = formats::make_empty_volume(volume_info(scene, settings));
   const placement::PlacementInput input = placement_input(rays, settings, report.clearance, progress);
-  // A closed object seen from outside has no open space inside its bounds (placement/refine_root.h).
-  if (formats::placement_kind_info(settings.placement).has_octree &&
-      !placement::open_space_inside(rays, volume.info, report.clearance, input.directions, settings.threads)) {
+  // A closed object seen from outside has no open space inside its bounds (placement/refine_root.h): every
+  // method then places its probes in the larger root cube around it (the grid over that cube, not the bounds).
+  scene::Bounds placement_bounds = scene.bounds;
+  if (!placement::open_space_inside(rays, volume.info, report.clearance, input.directions, settings.threads)) {
     placement::surround_root(volume.info);
     report.surrounded_root = true;
+    placement_bounds = {volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size)};
   }
   formats::Octree tree(volume);
 
   timer.stage("place");
-  std::vector<placement::PlacedProbe> placed = placement::place(settings.placement, input, tree, scene.bounds);
+  std::vector<placement::PlacedProbe> placed = placement::place(settings.placement, input, tree, placement_bounds);
 
   report.placed_probes = int(placed.size());
   // The SDF is built only when some probe needs relocating: most clean scenes never pay for it.

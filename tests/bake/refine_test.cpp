@@ -115,12 +115,22 @@ TEST(Refine, BoxDracoBakesProbesAroundTheBox) {
   if (!std::filesystem::exists(box)) GTEST_SKIP() << "no " << box;
   const scene::Scene s = scene::load_scene(box, {.require_triangles = true});
   const scene::RayScene rays(s);
-  for (const bool by_error : {false, true}) {
-    SCOPED_TRACE(by_error ? "error rule" : "hit-fraction rule");
-    bake::BakeSettings settings = by_error ? error_settings(64) : test_settings();
-    settings.clearance = 0.0f;
-    const bake::BakeResult r = bake::bake(s, settings);
-    std::printf("%s: %d probes\n", by_error ? "error" : "hit-fraction", r.report.probes);
+  struct Case {
+    const char* name;
+    bake::BakeSettings settings;
+  };
+  bake::BakeSettings grid = test_settings(), skeleton = test_settings();
+  grid.placement = bake::Placement::grid;
+  grid.grid_resolution = 4;
+  skeleton.placement = bake::Placement::skeleton;
+  skeleton.probe_budget = 16;
+  // Every method: no shipped scene may bake to zero probes (issue #13).
+  for (Case c : {Case{"hit-fraction rule", test_settings()}, Case{"error rule", error_settings(64)}, Case{"grid", grid},
+                 Case{"skeleton", skeleton}}) {
+    SCOPED_TRACE(c.name);
+    c.settings.clearance = 0.0f;
+    const bake::BakeResult r = bake::bake(s, c.settings);
+    std::printf("%s: %d probes\n", c.name, r.report.probes);
     EXPECT_TRUE(r.report.surrounded_root);
     EXPECT_GT(r.report.probes, 0);
     EXPECT_TRUE(formats::validate(r.volume).valid());

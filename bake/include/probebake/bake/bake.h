@@ -105,6 +105,7 @@ struct BakeReport {
   int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
   bool surrounded_root = false;       // no open space inside the scene bounds: root cube tripled around them
+                                      // (the grid covers that cube)
   LightingReport lighting;            // when settings.lighting.enabled
   RuntimeLightingReport runtime_lighting;
   std::vector<StageTime> stages;

@@ -2,6 +2,8 @@
 // count, and no shared scene without probes.
 #include <gtest/gtest.h>
 
+#include "bake_test_util.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -16,13 +18,7 @@
 namespace probebake {
 namespace {
 
-scene::Scene load_generated(const samples::SceneBuilder& builder, const std::string& name) {
-  const auto dir = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "placement";
-  std::filesystem::create_directories(dir);
-  const auto path = dir / (name + ".glb");
-  builder.write_glb(path);
-  return scene::load_scene(path, {.require_triangles = true});
-}
+using test::load_generated; // bake_test_util.h: the generated scene through the real loader
 
 bake::BakeSettings skeleton_settings(int probes) {
   bake::BakeSettings s;

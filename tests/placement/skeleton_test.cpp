@@ -3,6 +3,8 @@
 // shared scene.
 #include <gtest/gtest.h>
 
+#include "bake_test_util.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -51,13 +53,7 @@ scene::Scene box_room(glm::vec3 size) {
   return s;
 }
 
-scene::Scene load_generated(const samples::SceneBuilder& builder, const std::string& name) {
-  const auto dir = std::filesystem::path(PROBEBAKE_BINARY_DIR) / "test-tmp" / "placement";
-  std::filesystem::create_directories(dir);
-  const auto path = dir / (name + ".glb");
-  builder.write_glb(path);
-  return scene::load_scene(path, {.require_triangles = true});
-}
+using test::load_generated; // bake_test_util.h: the generated scene through the real loader
 
 float default_clearance(const scene::Scene& s) { return 0.02f * s.bounds.largest_extent(); }
 
@@ -95,7 +91,7 @@ TEST(Skeleton, BoxRoomSkeletonLiesOnItsMedialPlanes) {
 }
 
 struct Cornell {
-  scene::Scene scene = load_generated(samples::cornell(), "cornell");
+  scene::Scene scene = load_generated(samples::cornell(), "skeleton_cornell");
   scene::RayScene rays{scene};
   float clearance = default_clearance(scene);
   SceneSdf sdf{scene, skeleton_sdf_settings(default_domain(scene, clearance))};
@@ -169,8 +165,8 @@ TEST(Skeleton, SameProbesWhateverTheThreadCount) {
 
 TEST(Skeleton, EveryGeneratedAndSharedSceneGetsProbes) {
   std::vector<std::pair<std::string, scene::Scene>> scenes;
-  scenes.emplace_back("leak", load_generated(samples::leak(), "leak"));
-  scenes.emplace_back("triangle", load_generated(samples::triangle(), "triangle"));
+  scenes.emplace_back("leak", load_generated(samples::leak(), "skeleton_leak"));
+  scenes.emplace_back("triangle", load_generated(samples::triangle(), "skeleton_triangle"));
   const std::filesystem::path shared = PROBEBAKE_SHARED_SCENES;
   if (std::filesystem::exists(shared))
     for (const auto& entry : std::filesystem::recursive_directory_iterator(shared)) {

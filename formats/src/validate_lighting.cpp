@@ -92,7 +92,7 @@ void check_info_values(const gpu::LightingInfo& info, Reporter& out) {
   if (std::isfinite(info.shadow_offset) && !(info.shadow_offset > 0.0f)) bad(concat("shadow_offset ", info.shadow_offset, " is not positive"));
   if (info.emissive_as_lights != 0 && info.emissive_as_lights != 1) bad(concat("emissive_as_lights ", info.emissive_as_lights, " not 0 or 1"));
   if (negative(info.sky_radiance)) bad("sky_radiance is negative");
-  if (info.pad0 != 0) bad("padding is not zero");
+  if (info.dynamic_objects < 0) bad("dynamic_objects is negative");
 }
 
 void check_directions(const std::vector<glm::vec4>& directions, Reporter& out) {

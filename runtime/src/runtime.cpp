@@ -6,6 +6,7 @@
 
 #include "device.h"
 #include "error.h"
+#include "probebake/dynamic/animation.h"
 #include "probebake/formats/probes_file.h"
 #include "volume_state.h"
 
@@ -155,6 +156,12 @@ std::span<const gpu::PunctualLight> Volume::lights() const {
 
 int Volume::light_capacity() const {
   return state_->light_inputs ? static_cast<int>(state_->light_inputs->capacity()) : 0;
+}
+
+std::span<const gpu::DynamicObject> Volume::dynamic_objects() const { return state_->cpu_parts.dynamic_objects; }
+
+glm::mat4 Volume::object_pose(int object) const {
+  return dynamic::rest_pose(state_->cpu_parts.dynamic_objects.at(static_cast<std::size_t>(object)));
 }
 
 } // namespace probebake::runtime

@@ -20,6 +20,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     cpu_parts.cells = volume.cells;
   }
   cpu_parts.input_hash = volume.input_hash;
+  cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
   gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu);

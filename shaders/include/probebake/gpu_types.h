@@ -238,8 +238,28 @@ struct LightingInfo {
   int lights;             // offset 32: PunctualLight elements
   int emitter_patches;    // offset 36: EmitterPatch elements
   int placement_rays;     // offset 40: = surfels_per_probe: ray_directions[rays, rays + placement_rays)
-  int pad0;               // offset 44
+  int dynamic_objects;    // offset 44: DynamicObject elements (format 1.3; 0 = every triangle is static)
 };                        // size 48
+
+// ---- Dynamic objects (format 1.3, optional section) ----------------------------------------------------------
+// A glTF node marked dynamic (node extras {"probebake": {"dynamic": true}}, or `probebake bake --dynamic NAME`)
+// moves at run time with a transform the host gives every frame (runtime.h FrameInputs::object_poses). Its
+// subtree's triangles are stored in its own frame (object space: the node's world transform at rest, which
+// the bake used for placement and lighting), with a BVH of their own, after the static ones: bvh_nodes =
+// static nodes, then each object's nodes; trace_triangles likewise. The static BVH is
+// bvh_nodes[0, static_bvh_nodes) with static_bvh_nodes = dynamic_objects ? objects[0].bvh_root : bvh_nodes.
+// An object's BvhNode::first indices are absolute (into the whole arrays), like the static ones.
+struct DynamicObject {
+  vec3 lower;          // offset  0: object-space bounding box of its triangles
+  int bvh_root;        // offset 12: its root in bvh_nodes; its nodes are [bvh_root, bvh_root + bvh_node_count)
+  vec3 upper;          // offset 16
+  int bvh_node_count;  // offset 28
+  int first_triangle;  // offset 32: its triangles are trace_triangles[first_triangle, + triangle_count)
+  int triangle_count;  // offset 36
+  int gltf_node;       // offset 40: index of the dynamic node in the glTF's nodes (how a host finds it)
+  int pad0;            // offset 44
+  vec4 rest_rows[3];   // offset 48: world_from_object at rest, the rows of an affine 3x4 matrix
+};                     // size 96
 
 #ifdef __cplusplus
 static_assert(sizeof(Probe) == 144 && alignof(Probe) == 4);
@@ -258,6 +278,8 @@ static_assert(offsetof(TraceTriangle, flags) == 28 && offsetof(EmitterPatch, fla
 static_assert(sizeof(PunctualLight) == 64 && offsetof(PunctualLight, intensity) == 32 && offsetof(PunctualLight, spot_scale) == 48);
 static_assert(sizeof(EmitterPatch) == 80 && offsetof(EmitterPatch, normal) == 48 && offsetof(EmitterPatch, radiance) == 64);
 static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset) == 16 && offsetof(LightingInfo, placement_rays) == 40);
+static_assert(offsetof(LightingInfo, dynamic_objects) == 44);
+static_assert(sizeof(DynamicObject) == 96 && offsetof(DynamicObject, first_triangle) == 32 && offsetof(DynamicObject, rest_rows) == 48);
 } // namespace probebake::gpu
 #endif
 

@@ -80,16 +80,20 @@ enum class SectionType : std::uint32_t {
   trace_triangles = 14,  // gpu::TraceTriangle x lighting.triangles
   punctual_lights = 15,  // gpu::PunctualLight x lighting.lights
   emitter_patches = 16,  // gpu::EmitterPatch x lighting.emitter_patches
+  // Dynamic objects (1.3), optional.
+  dynamic_objects = 17,  // gpu::DynamicObject x lighting.dynamic_objects
 };
-inline constexpr std::uint32_t kSectionTypeCount = 16;
+inline constexpr std::uint32_t kSectionTypeCount = 17;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
-// The lowest minor version that a section of this type needs (the lighting sections came in 1.1);
+// The lowest minor version that a section of this type needs (the lighting sections came in 1.1, dynamic
+// objects in 1.3);
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
-  return is_known_section_type(type) && type >= static_cast<std::uint32_t>(SectionType::lighting_info) ? kLightingSectionsMinor
-                                                                                                      : std::uint16_t{0};
+  if (!is_known_section_type(type)) return 0;
+  if (type >= static_cast<std::uint32_t>(SectionType::dynamic_objects)) return kDynamicObjectsMinor;
+  return type >= static_cast<std::uint32_t>(SectionType::lighting_info) ? kLightingSectionsMinor : std::uint16_t{0};
 }
 
 // "octree", "probes", ...; "section_<id>" for unknown types.

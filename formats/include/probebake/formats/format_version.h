@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 2;
+inline constexpr std::uint16_t kFormatVersionMinor = 3;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -14,4 +14,7 @@ inline constexpr std::uint16_t kLightingSectionsMinor = 1;
 // A file stamps 1.2 only when a flag is set; a 1.1 validator (and the runtime, which validates on load)
 // refuses such a file ("padding is not zero") instead of tracing double-sided surfaces as single-sided.
 inline constexpr std::uint16_t kDoubleSidedFlagsMinor = 2;
+// 1.3 added the optional dynamic_objects section (objects the host moves at run time) and gave
+// LightingInfo's last padding word the count of its elements.
+inline constexpr std::uint16_t kDynamicObjectsMinor = 3;
 } // namespace probebake::formats

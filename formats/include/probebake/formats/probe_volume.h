@@ -71,6 +71,7 @@ struct ProbeVolume {
   std::vector<gpu::TraceTriangle> trace_triangles; // in BVH leaf order
   std::vector<gpu::PunctualLight> punctual_lights;
   std::vector<gpu::EmitterPatch> emitter_patches; // empty unless emissive_as_lights
+  std::vector<gpu::DynamicObject> dynamic_objects; // lighting->dynamic_objects (format 1.3); empty = all static
 };
 
 // A volume with a root-only octree (one leaf without probe) and every other buffer empty; `settings`

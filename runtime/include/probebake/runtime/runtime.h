@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan_core.h>
 
@@ -201,6 +202,15 @@ struct FrameLimits {
   int max_light_entries = 0;  // L1/L2 leaves with a probe measured or carried per frame
 };
 
+// Where a dynamic object is this frame (format 1.3, gpu::DynamicObject): world_from_object of
+// Volume::dynamic_objects()[object], affine (last row 0 0 0 1), finite and invertible. The runtime refits
+// the object's world box on the GPU, traces its triangles through it from this frame on, and marks the union
+// of its old and new world boxes as changed (the leaves there are measured again).
+struct ObjectPose {
+  int object = 0;
+  glm::mat4 world_from_object{1.0f};
+};
+
 // What the host tells one frame. Boxes mark where geometry changed (for a moving object: the union of its
 // old and new bounds): the leaves they touch are measured again (L1) or, without a probe, ask for one
 // (M1). Thresholds change the leaf rule from this frame on (a volume baked at max depth 1 may refine to 3
@@ -218,6 +228,9 @@ struct FrameInputs {
   // cos_outer in [-1, 1] and spot_scale > 0. Only the records that differ from the current ones are
   // uploaded, inside the frame's command buffer. Needs the light update.
   std::optional<std::vector<gpu::PunctualLight>> lights;
+  // Dynamic objects that moved (objects not listed keep their pose; at upload every object is at rest).
+  // Each object at most once. Needs the light update.
+  std::vector<ObjectPose> object_poses;
   FrameLimits limits;
 };
 
@@ -340,6 +353,9 @@ public:
   // many the volume can hold (the file's count + UploadOptions::light_headroom; 0 without a light update).
   std::span<const gpu::PunctualLight> lights() const;
   int light_capacity() const;
+  // The file's dynamic objects (empty for a static scene) and each one's current world_from_object.
+  std::span<const gpu::DynamicObject> dynamic_objects() const;
+  glm::mat4 object_pose(int object) const;
 
 private:
   explicit Volume(std::unique_ptr<detail::VolumeState> state);

@@ -1,0 +1,34 @@
+// The animated tests of the octree thesis, as poses of a volume's dynamic objects per frame: one definition
+// shared by the runtime's driver (`probebake run --animate`) and the path-traced reference of a pose
+// (`probebake reference --animate`), so that both see the same scene at the same frame.
+//
+// thesis     (§4.1.3): still until frame 200, then every dynamic object turns 45 degrees about the vertical
+//            axis through its centre, at a constant rate until frame 350, then still; 600 frames.
+// revolution (Appendix B): a full turn over 150 frames, then 50 still, three times; 600 frames.
+#pragma once
+
+#include <optional>
+#include <string_view>
+
+#include <glm/mat4x4.hpp>
+
+#include "probebake/gpu_types.h"
+
+namespace probebake::dynamic {
+
+enum class Animation { thesis, revolution };
+
+std::optional<Animation> parse_animation(std::string_view name); // "thesis", "revolution"
+const char* to_string(Animation animation);
+int default_frames(Animation animation); // 600 for both
+
+// Rotation about the world's vertical (+Y) axis at `frame`, in radians.
+float animation_angle(Animation animation, int frame);
+
+// world_from_object at rest (DynamicObject::rest_rows).
+glm::mat4 rest_pose(const gpu::DynamicObject& object);
+// The pose at `frame`: the rest pose turned by animation_angle about the vertical axis through the centre
+// of the object's box at rest.
+glm::mat4 animated_pose(Animation animation, int frame, const gpu::DynamicObject& object);
+
+} // namespace probebake::dynamic

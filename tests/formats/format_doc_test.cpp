@@ -77,7 +77,7 @@ const std::map<std::string, Layout>& code_layouts() {
       {"LightingInfo", {{FIELD(gpu::LightingInfo, sky_radiance), FIELD(gpu::LightingInfo, rays), FIELD(gpu::LightingInfo, shadow_offset),
                          FIELD(gpu::LightingInfo, emissive_as_lights), FIELD(gpu::LightingInfo, bvh_nodes),
                          FIELD(gpu::LightingInfo, triangles), FIELD(gpu::LightingInfo, lights), FIELD(gpu::LightingInfo, emitter_patches),
-                         FIELD(gpu::LightingInfo, placement_rays), FIELD(gpu::LightingInfo, pad0)},
+                         FIELD(gpu::LightingInfo, placement_rays), FIELD(gpu::LightingInfo, dynamic_objects)},
                         sizeof(gpu::LightingInfo)}},
       {"BvhNode", {{FIELD(gpu::BvhNode, lower), FIELD(gpu::BvhNode, first), FIELD(gpu::BvhNode, upper), FIELD(gpu::BvhNode, count)},
                    sizeof(gpu::BvhNode)}},

@@ -1,6 +1,10 @@
 #include "probebake/dynamic/animation.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <glm/ext/matrix_transform.hpp>
+#include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
 namespace probebake::dynamic {
@@ -8,14 +12,44 @@ namespace probebake::dynamic {
 std::optional<Animation> parse_animation(std::string_view name) {
   if (name == "thesis") return Animation::thesis;
   if (name == "revolution") return Animation::revolution;
+  if (name == "soak") return Animation::soak;
   return std::nullopt;
 }
 
-const char* to_string(Animation animation) { return animation == Animation::thesis ? "thesis" : "revolution"; }
+const char* to_string(Animation animation) {
+  switch (animation) {
+  case Animation::thesis: return "thesis";
+  case Animation::revolution: return "revolution";
+  case Animation::soak: return "soak";
+  }
+  return "?";
+}
 
-int default_frames(Animation) { return 600; }
+int default_frames(Animation animation) { return animation == Animation::soak ? 10000 : 600; }
 
-float animation_angle(Animation animation, int frame) {
+namespace {
+
+constexpr int kSoakBlock = 10000, kSoakStill = 50;
+
+// Sum of three sines of incommensurate periods with phases from `seed`, in [-1, 1]; 0 while still.
+float soak_wave(int frame, int seed, int channel) {
+  const int f = frame < 0 ? 0 : frame % kSoakBlock;
+  if (f < kSoakStill || f >= kSoakBlock - kSoakStill) return 0.0f;
+  const float ramp = std::min(1.0f, float(std::min(f - kSoakStill, kSoakBlock - kSoakStill - f)) / 100.0f);
+  constexpr float kPeriods[3] = {97.0f, 233.0f, 611.0f};
+  float sum = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    const unsigned h = 2654435761u * unsigned(seed * 7 + channel * 3 + k + 1);
+    const float phase = float(h >> 8) * (6.2831853f / 16777216.0f);
+    sum += std::sin(6.2831853f * float(f) / kPeriods[k] + phase);
+  }
+  return ramp * sum / 3.0f;
+}
+
+} // namespace
+
+float animation_angle(Animation animation, int frame, int seed) {
+  if (animation == Animation::soak) return glm::radians(180.0f) * soak_wave(frame, seed, 0);
   if (animation == Animation::thesis) {
     constexpr int kStart = 200, kEnd = 350;
     const int f = frame < kStart ? kStart : (frame > kEnd ? kEnd : frame);
@@ -37,8 +71,13 @@ glm::mat4 rest_pose(const gpu::DynamicObject& object) {
 glm::mat4 animated_pose(Animation animation, int frame, const gpu::DynamicObject& object) {
   const glm::mat4 rest = rest_pose(object);
   const glm::vec3 pivot = glm::vec3(rest * glm::vec4(0.5f * (object.lower + object.upper), 1.0f));
-  const glm::mat4 turn = glm::translate(glm::mat4(1.0f), pivot) *
-                         glm::rotate(glm::mat4(1.0f), animation_angle(animation, frame), glm::vec3(0.0f, 1.0f, 0.0f)) *
+  glm::vec3 shift(0.0f);
+  if (animation == Animation::soak) {
+    const float reach = glm::length(object.upper - object.lower) / 3.0f;
+    shift = reach * glm::vec3(soak_wave(frame, object.gltf_node, 1), 0.0f, soak_wave(frame, object.gltf_node, 2));
+  }
+  const glm::mat4 turn = glm::translate(glm::mat4(1.0f), pivot + shift) *
+                         glm::rotate(glm::mat4(1.0f), animation_angle(animation, frame, object.gltf_node), glm::vec3(0.0f, 1.0f, 0.0f)) *
                          glm::translate(glm::mat4(1.0f), -pivot);
   return turn * rest;
 }

@@ -63,26 +63,29 @@ void dispatch_groups(VkCommandBuffer cmd, const Device& device, std::uint32_t gr
 }
 
 // ---- PassTimer -------------------------------------------------------------------------------------------
-PassTimer::PassTimer(Device& device, std::uint32_t max_passes) : device_(device), max_passes_(max_passes) {
+PassTimer::PassTimer(Device& device, std::uint32_t max_passes, std::uint32_t rings)
+    : device_(device), max_passes_(max_passes), rings_(std::max(1u, rings)) {
   if (!device.info.timestamps) return;
   auto info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
   info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-  info.queryCount = 2 * max_passes;
+  info.queryCount = 2 * max_passes * rings_;
   VkQueryPool pool = VK_NULL_HANDLE;
   check_vk(vkCreateQueryPool(device.vk(), &info, nullptr, &pool), "vkCreateQueryPool");
   pool_ = DeviceObject<VkQueryPool>(device.vk(), pool, vkDestroyQueryPool);
 }
 
-void PassTimer::reset(VkCommandBuffer cmd) {
-  if (pool_) vkCmdResetQueryPool(cmd, pool_.get(), 0, 2 * max_passes_);
+void PassTimer::reset(VkCommandBuffer cmd, std::uint32_t ring) {
+  if (ring >= rings_) fail(StatusCode::internal, "PassTimer::reset: ring out of range");
+  ring_ = ring;
+  if (pool_) vkCmdResetQueryPool(cmd, pool_.get(), query(ring, 0), 2 * max_passes_);
 }
 
 void PassTimer::begin(VkCommandBuffer cmd, std::uint32_t pass) {
-  if (pool_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), 2 * pass);
+  if (pool_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), query(ring_, pass));
 }
 
 void PassTimer::end(VkCommandBuffer cmd, std::uint32_t pass) {
-  if (pool_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), 2 * pass + 1);
+  if (pool_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), query(ring_, pass) + 1);
 }
 
 std::vector<double> PassTimer::read_ms(std::uint32_t passes) const {
@@ -91,10 +94,10 @@ std::vector<double> PassTimer::read_ms(std::uint32_t passes) const {
   return ms;
 }
 
-double PassTimer::read_pass_ms(std::uint32_t pass) const {
+double PassTimer::read_pass_ms(std::uint32_t pass, std::uint32_t ring) const {
   if (!pool_) return -1.0;
   std::uint64_t ticks[2] = {0, 0};
-  check_vk(vkGetQueryPoolResults(device_.vk(), pool_.get(), 2 * pass, 2, sizeof(ticks), ticks, sizeof(std::uint64_t),
+  check_vk(vkGetQueryPoolResults(device_.vk(), pool_.get(), query(ring, pass), 2, sizeof(ticks), ticks, sizeof(std::uint64_t),
                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
            "vkGetQueryPoolResults");
   const std::uint32_t bits = device_.timestamp_valid_bits;

@@ -10,10 +10,10 @@ constexpr const char* kFramePassNames[kFramePasses] = {"memory_update", "probe_i
 
 RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes, const FrameInputs& inputs) {
   RecordedFrame frame;
-  timer.reset(cmd);
-  // Everything earlier on the queue (upload, last frame, sampling) before this frame's passes (thesis §3.2:
-  // a barrier between every two shaders that touch the same buffers).
-  barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess);
+  // Everything earlier on the queue (upload, last frame, sampling, and the host's own commands reading the
+  // volume's buffers in any stage) before this frame's passes (thesis §3.2: a barrier between every two
+  // shaders that touch the same buffers).
+  barrier(cmd, kAnyCommandBefore, kAnyDeviceAccess);
 
   // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.
   if (inputs.lights && passes.light_inputs && passes.volume)
@@ -42,14 +42,16 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   }
 
   // 4. The leaf queue's entries take their states from the keys; statistics to the host.
-  if (passes.memory) passes.memory->record_end_of_frame(cmd);
+  if (passes.memory) passes.memory->record_end_of_frame(cmd, timer.ring());
+  // The frame's writes before any later command of the host reads the buffers (its shaders sample them).
+  barrier(cmd, kAnyDeviceAccess, kAnyCommandReadAfter);
   return frame;
 }
 
-std::vector<PassTime> RecordedFrame::pass_times(const PassTimer& timer) const {
+std::vector<PassTime> RecordedFrame::pass_times(const PassTimer& timer, std::uint32_t ring) const {
   std::vector<PassTime> times;
   for (std::uint32_t pass = 0; pass < kFramePasses; ++pass)
-    if (ran[pass]) times.push_back({kFramePassNames[pass], timer.read_pass_ms(pass)});
+    if (ran[pass]) times.push_back({kFramePassNames[pass], timer.read_pass_ms(pass, ring)});
   return times;
 }
 

@@ -46,10 +46,11 @@ struct RecordedFrame {
   int uploaded_lights = 0; // punctual light records the host changed this frame
 
   // After the submission completed: the GPU time of each pass that ran, in execution order.
-  std::vector<PassTime> pass_times(const PassTimer& timer) const;
+  std::vector<PassTime> pass_times(const PassTimer& timer, std::uint32_t ring) const;
 };
 
-// Records one frame into `cmd`, timing each pass in `timer` (kFramePasses slots).
+// Records one frame into `cmd`, timing each pass in `timer` (kFramePasses slots, reset to the frame's ring
+// by the caller).
 RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes, const FrameInputs& inputs);
 
 } // namespace probebake::runtime::detail

@@ -29,7 +29,7 @@ bool LightUpdatePass::applies(const GpuVolume& volume) {
   return volume.elements(Section::lighting_info) == 1 && volume.elements(Section::probes) > 0;
 }
 
-LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis)
+LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
   records_ = create_scratch(device, VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * sizeof(gpu::LightRecord),
@@ -48,7 +48,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
   }
-  counters_ = PassCounters<gpu::LightCounters>(device, "light counters");
+  counters_ = PassCounters<gpu::LightCounters>(device, "light counters", rings);
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   buffers[gpu::LIGHT_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
   buffers[gpu::LIGHT_BINDING_PROBES] = volume.binding(Section::probes);
@@ -99,12 +99,12 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   dispatch(pipelines.light_resolve.get(), (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE,
            offsetof(gpu::LightListHeader, resolve_x));
   timer.end(cmd, slots.resolve);
-  counters_.record_end_of_pass_copy(cmd);
+  counters_.record_end_of_pass_copy(cmd, timer.ring());
   return traced;
 }
 
-LightStats LightUpdatePass::stats() const {
-  const gpu::LightCounters c = counters_.read();
+LightStats LightUpdatePass::stats(std::uint32_t ring) const {
+  const gpu::LightCounters c = counters_.read(ring);
   LightStats s;
   s.active = true;
   s.traced_probes = c.traced_probes;

@@ -29,7 +29,8 @@ struct LightTimerSlots {
 class LightUpdatePass {
 public:
   // Throws RuntimeError(unsupported) when the per-ray records exceed maxStorageBufferRange.
-  LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis);
+  // `rings`: frames in flight whose statistics are kept apart (PassCounters).
+  LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings);
 
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
@@ -38,7 +39,7 @@ public:
   // every later frame), L2 and L3 between the timer slots' timestamps. Returns whether L1 was recorded.
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots);
   // After the submission: this frame's statistics.
-  LightStats stats() const;
+  LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   void retrace() { trace_pending_ = true; }
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.

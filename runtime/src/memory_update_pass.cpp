@@ -179,7 +179,7 @@ Status check_frame_inputs(const FrameInputs& in) {
 }
 
 MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
-                                   VkBuffer light_list)
+                                   VkBuffer light_list, std::uint32_t rings)
     : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
       segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)) {
   const std::size_t capacity = segment_capacity_;
@@ -213,7 +213,7 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");
   svo_generations_ = upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
   svo_centres_ = upload(device, svo_leaf_centres(v), "memory: SVO leaf centres");
-  counters_ = PassCounters<gpu::MemoryCounters>(device, "memory counters");
+  counters_ = PassCounters<gpu::MemoryCounters>(device, "memory counters", rings);
 
   std::array<VkBuffer, gpu::MEMORY_BINDING_COUNT> buffers{};
   buffers[gpu::MEMORY_BINDING_VOLUME_INFO] = volume.binding(Section::volume_info);
@@ -309,16 +309,16 @@ void MemoryUpdatePass::record_light_transitions(VkCommandBuffer cmd, PassTimer& 
   barrier(cmd, kComputeReadWrite, kAnyDeviceAndIndirect);
 }
 
-void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd) {
+void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd, std::uint32_t ring) {
   Pipelines& p = device_.compute_pipelines();
   barrier(cmd, kAnyDeviceAccess, kComputeReadWrite);
   bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{});
   dispatch(cmd, p.memory_sync.get(), 3 * segment_capacity_, gpu::MEMORY_WORKGROUP_SIZE);
-  counters_.record_end_of_pass_copy(cmd);
+  counters_.record_end_of_pass_copy(cmd, ring);
 }
 
-MemoryUpdateStats MemoryUpdatePass::stats() const {
-  const gpu::MemoryCounters c = counters_.read();
+MemoryUpdateStats MemoryUpdatePass::stats(std::uint32_t ring) const {
+  const gpu::MemoryCounters c = counters_.read(ring);
   MemoryUpdateStats s;
   s.active = true;
   std::copy(std::begin(c.processed), std::end(c.processed), s.processed.begin());

@@ -37,7 +37,7 @@ public:
   // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` and
   // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list).
   MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags,
-                   VkBuffer light_list);
+                   VkBuffer light_list, std::uint32_t rings);
 
   // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
   // with the SVO refresh, ending with its writes visible to later compute and transfer work.
@@ -46,9 +46,9 @@ public:
   // with their writes visible to compute work and indirect dispatches.
   void record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
   // Records the end of the frame: entry states from keys, pool use, counters copied for the host.
-  void record_end_of_frame(VkCommandBuffer cmd);
+  void record_end_of_frame(VkCommandBuffer cmd, std::uint32_t ring);
   // After the submission: this frame's statistics.
-  MemoryUpdateStats stats() const;
+  MemoryUpdateStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   const gpu::VolumeInfo& info() const { return info_; }
 
 private:

@@ -23,7 +23,7 @@ constexpr Access kFillOrComputeWrite{VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELIN
 
 } // namespace
 
-ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume) : device_(device), volume_(volume) {
+ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume, std::uint32_t rings) : device_(device), volume_(volume) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
   if (volume.elements(Section::probe_index) != std::size_t(probe_capacity_) + 1)
     fail(StatusCode::invalid_volume, "probe_index: " + std::to_string(volume.elements(Section::probe_index)) +
@@ -31,7 +31,7 @@ ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume) : device
   block_count_ = (probe_capacity_ + gpu::PROBE_INDEX_BLOCK - 1) / gpu::PROBE_INDEX_BLOCK;
   const VkDeviceSize sums_bytes = VkDeviceSize(std::max<std::uint32_t>(block_count_, 1)) * sizeof(std::uint32_t);
   block_sums_ = device.allocator->create_buffer(sums_bytes, kScratchUsage, MemoryUse::device, "probe index block sums");
-  counters_ = PassCounters<gpu::RuntimeCounters>(device, "runtime counters");
+  counters_ = PassCounters<gpu::RuntimeCounters>(device, "runtime counters", rings);
   std::array<VkBuffer, gpu::PROBE_INDEX_BINDING_COUNT> buffers{};
   buffers[gpu::PROBE_INDEX_BINDING_PROBES] = volume.binding(Section::probes);
   buffers[gpu::PROBE_INDEX_BINDING_LIST] = volume.binding(Section::probe_index);
@@ -61,9 +61,9 @@ void ProbeIndexPass::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t
   dispatch_groups(cmd, device_, block_count_);
   timer.end(cmd, timer_slot);
   // The list is read by later passes (and the next frame's reset waits on the frame-start barrier).
-  counters_.record_end_of_pass_copy(cmd);
+  counters_.record_end_of_pass_copy(cmd, timer.ring());
 }
 
-int ProbeIndexPass::live_probes() const { return counters_.read().live_probes; }
+int ProbeIndexPass::live_probes(std::uint32_t ring) const { return counters_.read(ring).live_probes; }
 
 } // namespace probebake::runtime::detail

@@ -21,13 +21,13 @@ namespace probebake::runtime::detail {
 
 class ProbeIndexPass {
 public:
-  ProbeIndexPass(Device& device, const GpuVolume& volume);
+  ProbeIndexPass(Device& device, const GpuVolume& volume, std::uint32_t rings);
 
   // Records the pass between timer slot `timer_slot`'s timestamps, then copies the counters to the host
   // buffer (visible to the host after the submission completed).
   void record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t timer_slot) const;
   // After the submission: allocated probes found by the last recorded build.
-  int live_probes() const;
+  int live_probes(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
 
 private:
   Device& device_;

@@ -29,6 +29,8 @@ Status status_of(const formats::ValidationReport& report) {
 Status check_options(const UploadOptions& options) {
   if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
     return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
+  if (options.frames_in_flight < 1 || options.frames_in_flight > 16)
+    return {StatusCode::invalid_argument, "frames_in_flight must be in [1, 16], got " + std::to_string(options.frames_in_flight)};
   if (options.light_headroom < 0)
     return {StatusCode::invalid_argument, "light_headroom must be >= 0, got " + std::to_string(options.light_headroom)};
   return {};
@@ -37,6 +39,22 @@ Status check_options(const UploadOptions& options) {
 BufferView view(const detail::GpuVolume& gpu, Section section) {
   const detail::Buffer& b = gpu.buffer(section);
   return {b.get(), b.size()};
+}
+
+// The checks of run_frame and record_frame: ranges, and inputs the volume has no pass for.
+Status check_inputs_for(const detail::VolumeState& state, const FrameInputs& inputs) {
+  if (const Status checked = detail::check_frame_inputs(inputs); !checked.ok()) return checked;
+  const bool reshapes = !inputs.changed_boxes.empty() || inputs.max_depth || inputs.split_low || inputs.split_high;
+  if (reshapes && !state.memory)
+    return Status{StatusCode::invalid_argument, "run_frame: changed boxes and thresholds need the memory update "
+                                                "(UploadOptions::memory_update, an octree volume with lighting sections)"};
+  if (inputs.lights) {
+    if (!state.light_inputs)
+      return Status{StatusCode::invalid_argument, "run_frame: punctual lights need the light update (UploadOptions::light_update, "
+                                                  "a volume with the runtime lighting sections)"};
+    if (const Status lights = detail::check_lights(*inputs.lights, state.light_inputs->capacity()); !lights.ok()) return lights;
+  }
+  return {};
 }
 
 } // namespace
@@ -93,20 +111,24 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
 
 Result<FrameStats> Volume::run_frame(const FrameInputs& inputs) {
   return guarded([&]() -> Result<FrameStats> {
-    if (const Status checked = detail::check_frame_inputs(inputs); !checked.ok()) return checked;
-    const bool reshapes = !inputs.changed_boxes.empty() || inputs.max_depth || inputs.split_low || inputs.split_high;
-    if (reshapes && !state_->memory)
-      return Status{StatusCode::invalid_argument, "run_frame: changed boxes and thresholds need the memory update "
-                                                  "(UploadOptions::memory_update, an octree volume with lighting sections)"};
-    if (inputs.lights) {
-      if (!state_->light_inputs)
-        return Status{StatusCode::invalid_argument, "run_frame: punctual lights need the light update (UploadOptions::light_update, "
-                                                    "a volume with the runtime lighting sections)"};
-      if (const Status lights = detail::check_lights(*inputs.lights, state_->light_inputs->capacity()); !lights.ok()) return lights;
-    }
+    if (const Status checked = check_inputs_for(*state_, inputs); !checked.ok()) return checked;
     return state_->run_frame(inputs);
   });
 }
+
+Result<std::uint64_t> Volume::record_frame(VkCommandBuffer cmd, const FrameInputs& inputs) {
+  return guarded([&]() -> Result<std::uint64_t> {
+    if (cmd == VK_NULL_HANDLE) return Status{StatusCode::invalid_argument, "record_frame: null command buffer"};
+    if (const Status checked = check_inputs_for(*state_, inputs); !checked.ok()) return checked;
+    return state_->record(cmd, inputs);
+  });
+}
+
+std::optional<FrameStats> Volume::poll_frame_stats() {
+  auto polled = guarded([&]() -> Result<std::optional<FrameStats>> { return state_->poll(); });
+  return polled.ok() ? std::move(polled.value()) : std::nullopt;
+}
+
 
 Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::vec3> positions,
                                                          std::span<const glm::vec3> normals, SampleStats* stats,

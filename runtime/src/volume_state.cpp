@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "error.h"
 #include "frame.h"
 
 namespace probebake::runtime::detail {
@@ -23,40 +24,83 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
   gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u);
-  probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu);
+  const auto ring_count = static_cast<std::uint32_t>(options.frames_in_flight);
+  probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu, ring_count);
   sample = std::make_unique<SamplePass>(*device, *gpu);
   if (options.light_update && LightUpdatePass::applies(*gpu)) {
-    light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis);
+    light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis, ring_count);
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {
-    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list());
+    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count);
     light->walk_light_list();
   }
-  frame_timer = std::make_unique<PassTimer>(*device, kFramePasses);
+  frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);
+  rings.resize(ring_count);
+  for (FrameRing& ring : rings) {
+    auto info = vk_struct<VkEventCreateInfo>(VK_STRUCTURE_TYPE_EVENT_CREATE_INFO);
+    VkEvent event = VK_NULL_HANDLE;
+    check_vk(vkCreateEvent(device->vk(), &info, nullptr, &event), "vkCreateEvent");
+    ring.done = DeviceObject<VkEvent>(device->vk(), event, vkDestroyEvent);
+  }
+}
+
+std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto index = static_cast<std::uint32_t>(frames % rings.size());
+  FrameRing& ring = rings[index];
+  if (ring.pending) {
+    if (vkGetEventStatus(device->vk(), ring.done.get()) != VK_EVENT_SET)
+      fail(StatusCode::invalid_argument, "frame " + std::to_string(frames + 1) + ": frame " + std::to_string(ring.frame) +
+                                             " has not finished; at most " + std::to_string(rings.size()) +
+                                             " frames may be in flight (UploadOptions::frames_in_flight)");
+    ring.pending = false; // finished but never polled: its statistics are dropped
+  }
+  check_vk(vkResetEvent(device->vk(), ring.done.get()), "vkResetEvent");
+  frame_timer->reset(cmd, index);
+  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get()};
+  ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
+  vkCmdSetEvent(cmd, ring.done.get(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+  if (memory) cpu_parts.info = memory->info();
+  ring.lights = light_inputs ? static_cast<int>(light_inputs->current().size()) : 0;
+  ring.frame = ++frames;
+  ring.pending = true;
+  ring.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return ring.frame;
+}
+
+std::optional<FrameStats> VolumeState::poll() {
+  FrameRing* oldest = nullptr;
+  for (FrameRing& ring : rings)
+    if (ring.pending && (!oldest || ring.frame < oldest->frame)) oldest = &ring;
+  if (!oldest || vkGetEventStatus(device->vk(), oldest->done.get()) != VK_EVENT_SET) return std::nullopt;
+  return collect(*oldest);
+}
+
+FrameStats VolumeState::collect(FrameRing& ring) {
+  const auto index = static_cast<std::uint32_t>(&ring - rings.data());
+  ring.pending = false;
+  FrameStats stats;
+  stats.frame = ring.frame;
+  stats.passes = ring.recorded.pass_times(*frame_timer, index);
+  if (light) {
+    stats.light = light->stats(index);
+    stats.light.lights = ring.lights;
+    stats.light.uploaded_lights = ring.recorded.uploaded_lights;
+  }
+  if (memory) stats.memory = memory->stats(index);
+  stats.live_probes = probe_index->live_probes(index);
+  stats.probe_capacity = static_cast<int>(gpu->elements(Section::probes));
+  stats.cpu_ms = ring.cpu_ms;
+  return stats;
 }
 
 FrameStats VolumeState::run_frame(const FrameInputs& inputs) {
   const auto start = std::chrono::steady_clock::now();
   Submission submission(*device);
-  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get()};
-  const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, passes, inputs);
+  const std::uint64_t frame = record(submission.cmd(), inputs);
   submission.submit_and_wait();
-
-  FrameStats stats;
-  stats.frame = ++frames;
-  stats.passes = recorded.pass_times(*frame_timer);
-  if (light) {
-    stats.light = light->stats();
-    stats.light.lights = static_cast<int>(light_inputs->current().size());
-    stats.light.uploaded_lights = recorded.uploaded_lights;
-  }
-  if (memory) {
-    stats.memory = memory->stats();
-    cpu_parts.info = memory->info();
-  }
-  stats.live_probes = probe_index->live_probes();
-  stats.probe_capacity = static_cast<int>(gpu->elements(Section::probes));
+  FrameStats stats = collect(rings[(frame - 1) % rings.size()]);
   stats.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

@@ -4,9 +4,13 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "commands.h"
 #include "device.h"
+#include "frame.h"
+#include "handles.h"
 #include "gpu_volume.h"
 #include "light_inputs.h"
 #include "light_update_pass.h"
@@ -17,6 +21,18 @@
 
 namespace probebake::runtime::detail {
 
+// One frame in flight (UploadOptions::frames_in_flight of them, used in turn): the host learns that its
+// GPU work finished from `done`, an event its last command sets, without waiting; its statistics sit in
+// the ring's query and counter copies until returned.
+struct FrameRing {
+  DeviceObject<VkEvent> done;
+  bool pending = false; // recorded, statistics not returned yet
+  std::uint64_t frame = 0;
+  RecordedFrame recorded;
+  int lights = 0;
+  double cpu_ms = 0.0;
+};
+
 struct VolumeState {
   std::shared_ptr<Device> device;
   formats::ProbeVolume cpu_parts; // info, cells, cell_depth, input_hash of the uploaded volume; no buffers
@@ -26,11 +42,21 @@ struct VolumeState {
   std::unique_ptr<LightUpdatePass> light; // only for volumes with the lighting sections
   std::unique_ptr<LightInputs> light_inputs; // with `light`: the host's punctual lights
   std::unique_ptr<MemoryUpdatePass> memory; // only with a light update, on octree volumes (memory_update_applies)
-  std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h)
+  std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h), one ring per frame in flight
+  std::vector<FrameRing> rings;
   std::uint64_t frames = 0;
 
   VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume, const UploadOptions& options);
+  // Records one frame into the host's command buffer; no submit, no wait. Returns its number (1, 2, ...).
+  // Throws RuntimeError(invalid_argument) when its ring still holds a frame that has not finished.
+  std::uint64_t record(VkCommandBuffer cmd, const FrameInputs& inputs);
+  // The statistics of the oldest recorded frame that finished and was not returned yet, or nullopt.
+  std::optional<FrameStats> poll();
+  // record() into a command buffer of its own, submitted and waited for; this frame's statistics.
   FrameStats run_frame(const FrameInputs& inputs);
+
+private:
+  FrameStats collect(FrameRing& ring);
 };
 
 } // namespace probebake::runtime::detail

@@ -55,55 +55,11 @@ TEST_F(ContextTest, VolumeKeepsTheDeviceAliveAfterTheContextIsGone) {
 }
 
 // ---- Borrowed: the host creates instance, device and queue; the runtime must not destroy them. ------------
-struct HostObjects {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  VkQueue queue = VK_NULL_HANDLE;
-  std::uint32_t family = 0;
-  ~HostObjects() {
-    if (device) vkDestroyDevice(device, nullptr);
-    if (instance) vkDestroyInstance(instance, nullptr);
-  }
-};
-
-bool make_host(HostObjects& host) {
-  VkApplicationInfo app{};
-  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-  app.apiVersion = VK_API_VERSION_1_2;
-  VkInstanceCreateInfo info{};
-  info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
-  info.pApplicationInfo = &app;
-  if (vkCreateInstance(&info, nullptr, &host.instance) != VK_SUCCESS) return false;
-  std::uint32_t count = 1;
-  const VkResult listed = vkEnumeratePhysicalDevices(host.instance, &count, &host.physical_device);
-  if ((listed != VK_SUCCESS && listed != VK_INCOMPLETE) || count == 0) return false;
-  std::uint32_t families = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(host.physical_device, &families, nullptr);
-  std::vector<VkQueueFamilyProperties> props(families);
-  vkGetPhysicalDeviceQueueFamilyProperties(host.physical_device, &families, props.data());
-  while (host.family < families && !(props[host.family].queueFlags & VK_QUEUE_COMPUTE_BIT)) ++host.family;
-  if (host.family == families) return false;
-  const float priority = 1.0f;
-  VkDeviceQueueCreateInfo queue{};
-  queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-  queue.queueFamilyIndex = host.family;
-  queue.queueCount = 1;
-  queue.pQueuePriorities = &priority;
-  VkDeviceCreateInfo device{};
-  device.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-  device.queueCreateInfoCount = 1;
-  device.pQueueCreateInfos = &queue;
-  if (vkCreateDevice(host.physical_device, &device, nullptr, &host.device) != VK_SUCCESS) return false;
-  vkGetDeviceQueue(host.device, host.family, 0, &host.queue);
-  return true;
-}
-
 TEST_F(ContextTest, BorrowsTheHostsDeviceAndLeavesItAlive) {
-  HostObjects host;
-  ASSERT_TRUE(make_host(host));
+  HostVulkanObjects host(true);
+  ASSERT_TRUE(host.ok());
   {
-    auto borrowed = runtime::Context::borrow({host.instance, host.physical_device, host.device, host.queue, host.family});
+    auto borrowed = runtime::Context::borrow(host.host());
     ASSERT_TRUE(borrowed.ok()) << borrowed.status().message;
     EXPECT_TRUE(borrowed->device_info().borrowed);
     auto volume = runtime::Volume::upload(borrowed.value(), baked_cornell_octree());

@@ -46,4 +46,24 @@ int live_probe_count(const formats::ProbeVolume& volume);
 // Temporary directory of the runtime tests (created).
 std::string temp_path(const std::string& name);
 
+// A host's own instance, device and compute queue, as a game makes them (for Context::borrow). With
+// `validation` the instance enables VK_LAYER_KHRONOS_validation with synchronization validation, and its
+// messages count in validation_messages_total(). ok() is false when no device could be made.
+class HostVulkanObjects {
+public:
+  explicit HostVulkanObjects(bool validation);
+  ~HostVulkanObjects();
+  HostVulkanObjects(const HostVulkanObjects&) = delete;
+  HostVulkanObjects& operator=(const HostVulkanObjects&) = delete;
+  bool ok() const { return queue != VK_NULL_HANDLE; }
+  runtime::HostVulkan host() const { return {instance, physical_device, device, queue, family}; }
+
+  VkInstance instance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  std::uint32_t family = 0;
+};
+
 } // namespace probebake::test

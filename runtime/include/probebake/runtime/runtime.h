@@ -188,6 +188,9 @@ struct UploadOptions {
   // Punctual lights the host may add beyond the file's (FrameInputs::lights): the light buffer holds the
   // file's count plus this many records, allocated once at upload. >= 0; needs the lighting sections.
   int light_headroom = 0;
+  // Frames that may be recorded (Volume::record_frame) before the first of them finished on the GPU; each
+  // keeps its own timestamps and counters until Volume::poll_frame_stats returns them. In [1, 16].
+  int frames_in_flight = 3;
 };
 
 // An axis-aligned box in world space (metres), min <= max.
@@ -331,6 +334,19 @@ public:
   // break their ranges (non-finite or inverted boxes, thresholds outside [0, 1], max depth outside [0, 12]),
   // or carry boxes or thresholds for a volume that runs no memory update.
   Result<FrameStats> run_frame(const FrameInputs& inputs = {});
+
+  // The same frame recorded into the host's command buffer (docs/RUNTIME.md "Recording into the host's
+  // frame"): `cmd` is in the recording state, outside a render pass, and will be submitted to a queue of
+  // the runtime's queue family after the frames recorded before it. Nothing is submitted or waited for and
+  // nothing is allocated; the frame's first barrier orders it after every earlier command of the queue and
+  // its last one before every later command's shader and transfer reads, so the host samples the updated
+  // probes in any stage after it. Returns the frame's number. invalid_argument as run_frame, or when the
+  // frame UploadOptions::frames_in_flight frames earlier has not finished on the GPU (nothing recorded).
+  Result<std::uint64_t> record_frame(VkCommandBuffer cmd, const FrameInputs& inputs = {});
+  // The statistics of the oldest recorded frame that finished on the GPU and were not returned yet, or
+  // nullopt when none has finished; never waits. Call once per frame: a frame's statistics are dropped when
+  // its ring is recorded again. FrameStats::cpu_ms is the time record_frame took.
+  std::optional<FrameStats> poll_frame_stats();
 
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
   // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the

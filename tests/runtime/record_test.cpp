@@ -3,6 +3,7 @@
 // the frames-in-flight limit refuses without recording, and the steady state allocates nothing; all on a
 // host's own device with the validation layer (synchronization validation) in the host's instance.
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -67,6 +68,31 @@ private:
   VkFence fence_ = VK_NULL_HANDLE;
 };
 
+// The host's device (validated), the runtime borrowing it, and the Cornell volume on it; destroyed in
+// reverse order, the host's device last.
+struct HostRuntime {
+  HostVulkanObjects host{true};
+  std::optional<runtime::Context> context;
+  std::optional<runtime::Volume> volume;
+
+  HostRuntime() {
+    if (!host.ok()) return;
+    auto borrowed = runtime::Context::borrow(host.host());
+    if (!borrowed.ok()) {
+      ADD_FAILURE() << borrowed.status().message;
+      return;
+    }
+    context.emplace(std::move(borrowed).value());
+    auto uploaded = runtime::Volume::upload(*context, baked_cornell_octree());
+    if (!uploaded.ok()) {
+      ADD_FAILURE() << uploaded.status().message;
+      return;
+    }
+    volume.emplace(std::move(uploaded).value());
+  }
+  bool ok() const { return volume.has_value(); }
+};
+
 std::vector<float> irradiance_of(const formats::ProbeVolume& v) {
   std::vector<float> out;
   for (const gpu::Probe& p : v.probes) out.insert(out.end(), std::begin(p.irradiance_sh), std::end(p.irradiance_sh));
@@ -74,8 +100,6 @@ std::vector<float> irradiance_of(const formats::ProbeVolume& v) {
 }
 
 TEST_F(RecordTest, FramesRecordedByTheHostEqualFramesRunOneByOne) {
-  HostVulkanObjects host(true);
-  ASSERT_TRUE(host.ok());
   std::vector<runtime::FrameStats> submitted;
   std::vector<float> expected;
   {
@@ -84,12 +108,11 @@ TEST_F(RecordTest, FramesRecordedByTheHostEqualFramesRunOneByOne) {
     for (int f = 0; f < 4; ++f) submitted.push_back(volume->run_frame().value());
     expected = irradiance_of(volume->read_back().value());
   }
-  auto borrowed = runtime::Context::borrow(host.host());
-  ASSERT_TRUE(borrowed.ok()) << borrowed.status().message;
   {
-    auto volume = runtime::Volume::upload(borrowed.value(), baked_cornell_octree());
-    ASSERT_TRUE(volume.ok()) << volume.status().message;
-    HostCommands commands(host);
+    HostRuntime runtime_on_host;
+    ASSERT_TRUE(runtime_on_host.ok());
+    runtime::Volume* volume = &*runtime_on_host.volume;
+    HostCommands commands(runtime_on_host.host);
     // Three frames (UploadOptions::frames_in_flight) in one command buffer of the host, one submission.
     VkCommandBuffer cmd = commands.begin();
     for (std::uint64_t f = 1; f <= 3; ++f) EXPECT_EQ(volume->record_frame(cmd).value(), f);
@@ -101,7 +124,7 @@ TEST_F(RecordTest, FramesRecordedByTheHostEqualFramesRunOneByOne) {
     commands.submit();
     commands.wait();
     // Statistics of each frame, oldest first, polled before its ring is recorded again.
-    const bool timed = borrowed->device_info().timestamps;
+    const bool timed = runtime_on_host.context->device_info().timestamps;
     auto expect_stats = [&](std::uint64_t f) {
       const std::optional<runtime::FrameStats> stats = volume->poll_frame_stats();
       ASSERT_TRUE(stats.has_value()) << f;
@@ -124,13 +147,10 @@ TEST_F(RecordTest, FramesRecordedByTheHostEqualFramesRunOneByOne) {
 }
 
 TEST_F(RecordTest, StatisticsArriveAfterTheHostsFenceWithoutWaitingInTheRuntime) {
-  HostVulkanObjects host(true);
-  ASSERT_TRUE(host.ok());
-  auto borrowed = runtime::Context::borrow(host.host());
-  ASSERT_TRUE(borrowed.ok()) << borrowed.status().message;
-  auto volume = runtime::Volume::upload(borrowed.value(), baked_cornell_octree());
-  ASSERT_TRUE(volume.ok()) << volume.status().message;
-  HostCommands commands(host);
+  HostRuntime runtime_on_host;
+  ASSERT_TRUE(runtime_on_host.ok());
+  runtime::Volume* volume = &*runtime_on_host.volume;
+  HostCommands commands(runtime_on_host.host);
   EXPECT_FALSE(volume->poll_frame_stats().has_value()); // nothing recorded
   VkCommandBuffer cmd = commands.begin();
   ASSERT_TRUE(volume->record_frame(cmd).ok());
@@ -147,14 +167,11 @@ TEST_F(RecordTest, StatisticsArriveAfterTheHostsFenceWithoutWaitingInTheRuntime)
 }
 
 TEST_F(RecordTest, RecordingFramesAllocatesNothing) {
-  HostVulkanObjects host(true);
-  ASSERT_TRUE(host.ok());
-  auto borrowed = runtime::Context::borrow(host.host());
-  ASSERT_TRUE(borrowed.ok()) << borrowed.status().message;
-  auto volume = runtime::Volume::upload(borrowed.value(), baked_cornell_octree());
-  ASSERT_TRUE(volume.ok()) << volume.status().message;
-  HostCommands commands(host);
-  const runtime::MemoryStats before = borrowed->memory_stats();
+  HostRuntime runtime_on_host;
+  ASSERT_TRUE(runtime_on_host.ok());
+  runtime::Volume* volume = &*runtime_on_host.volume;
+  HostCommands commands(runtime_on_host.host);
+  const runtime::MemoryStats before = runtime_on_host.context->memory_stats();
   for (int round = 0; round < 4; ++round) {
     VkCommandBuffer cmd = commands.begin();
     for (int f = 0; f < 2; ++f) ASSERT_TRUE(volume->record_frame(cmd).ok());
@@ -163,7 +180,7 @@ TEST_F(RecordTest, RecordingFramesAllocatesNothing) {
     while (volume->poll_frame_stats()) {
     }
   }
-  const runtime::MemoryStats after = borrowed->memory_stats();
+  const runtime::MemoryStats after = runtime_on_host.context->memory_stats();
   EXPECT_EQ(after.allocations, before.allocations);
   EXPECT_EQ(after.live_buffers, before.live_buffers);
 }

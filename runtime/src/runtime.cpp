@@ -74,6 +74,10 @@ Result<Context> Context::borrow(const HostVulkan& host, const ContextOptions& op
 }
 
 const DeviceInfo& Context::device_info() const { return device_->info; }
+
+HostVulkan Context::vulkan() const {
+  return {device_->instance.get(), device_->physical_device, device_->vk(), device_->queue, device_->queue_family};
+}
 std::uint64_t Context::validation_message_count() const { return device_->log->count(); }
 std::vector<std::string> Context::validation_messages() const { return device_->log->kept(); }
 MemoryStats Context::memory_stats() const { return device_->allocator->stats(); }

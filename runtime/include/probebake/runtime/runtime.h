@@ -143,6 +143,10 @@ public:
   ~Context();
 
   const DeviceInfo& device_info() const;
+  // The Vulkan objects the runtime works on (created or borrowed): a host that let Context::create make the
+  // device records Volume::record_frame into command buffers of its own from a pool on this queue family.
+  // The Context keeps owning what it created.
+  HostVulkan vulkan() const;
   // Validation warnings and errors so far (0 without validation), and the first 64 of them as text.
   std::uint64_t validation_message_count() const;
   std::vector<std::string> validation_messages() const;

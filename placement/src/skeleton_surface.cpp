@@ -20,11 +20,6 @@ std::uint64_t mix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-struct Side {
-  std::uint32_t triangle = 0;
-  bool back = false;
-};
-
 } // namespace
 
 float hash_uniform(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
@@ -33,19 +28,10 @@ float hash_uniform(std::uint64_t seed, std::uint64_t stream, std::uint64_t index
 }
 
 std::vector<SurfaceSample> sample_surface(const scene::Scene& scene, int count, std::uint64_t seed) {
-  std::vector<Side> sides;
-  std::vector<double> cdf;
-  double total = 0.0;
-  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
-    const double area = scene::triangle_area(scene, t);
-    if (!(area > 0.0)) continue;
-    for (const bool back : {false, true}) {
-      if (back && !scene::is_double_sided(scene, t)) break;
-      total += area;
-      sides.push_back({t, back});
-      cdf.push_back(total);
-    }
-  }
+  const scene::ReceivingSides receiving = scene::receiving_sides(scene);
+  const std::vector<scene::ReceivingSide>& sides = receiving.sides;
+  const std::vector<double>& cdf = receiving.cumulative_area;
+  const double total = receiving.total_area;
   std::vector<SurfaceSample> out;
   if (sides.empty() || count < 1) return out;
   out.reserve(std::size_t(count));

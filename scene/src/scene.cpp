@@ -50,6 +50,21 @@ bool is_double_sided(const Scene& scene, std::size_t t) {
   return scene.materials[scene.triangle_material[t]].double_sided;
 }
 
+ReceivingSides receiving_sides(const Scene& scene) {
+  ReceivingSides out;
+  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+    const double area = triangle_area(scene, t);
+    if (!(area > 0.0)) continue;
+    for (const bool back : {false, true}) {
+      if (back && !is_double_sided(scene, t)) break;
+      out.total_area += area;
+      out.sides.push_back({t, back});
+      out.cumulative_area.push_back(out.total_area);
+    }
+  }
+  return out;
+}
+
 glm::vec3 triangle_normal(const Scene& scene, std::size_t t) {
   // In double: the squared length of a float cross product overflows for edges above ~1e9 m and
   // underflows below ~1e-10 m, which left non-unit normals in the file at extreme scales.

@@ -50,31 +50,16 @@ bool hidden(const scene::RayScene& rays, const SamplePoint& p, float epsilon) {
   return 2 * back > hits;
 }
 
-// One side of a triangle: a double-sided triangle is two surfaces of the same area, each a receiver.
-struct Side {
-  std::uint32_t triangle = 0;
-  bool back = false;
-};
-
+// A double-sided triangle is two surfaces of the same area, each a receiver (scene::receiving_sides).
 struct AreaTable {
-  std::vector<Side> sides;
+  std::vector<scene::ReceivingSide> sides;
   std::vector<double> cdf; // normalised inclusive prefix sums of the areas
 };
 
 AreaTable area_table(const scene::Scene& scene) {
-  AreaTable table;
-  double total = 0.0;
-  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
-    const double area = scene::triangle_area(scene, t);
-    if (!(area > 0.0)) continue;
-    for (const bool back : {false, true}) {
-      if (back && !scene::is_double_sided(scene, t)) break;
-      total += area;
-      table.sides.push_back({t, back});
-      table.cdf.push_back(total);
-    }
-  }
-  for (double& c : table.cdf) c /= total;
+  scene::ReceivingSides receiving = scene::receiving_sides(scene);
+  AreaTable table{std::move(receiving.sides), std::move(receiving.cumulative_area)};
+  for (double& c : table.cdf) c /= receiving.total_area;
   if (!table.cdf.empty()) table.cdf.back() = 1.0;
   return table;
 }
@@ -93,7 +78,7 @@ std::vector<Candidate> candidates(const scene::Scene& scene, const AreaTable& ta
   for (int i = 0; i < count; ++i) {
     const double u = (double(i) + double(rng.uniform())) / double(count);
     const auto it = std::lower_bound(table.cdf.begin(), table.cdf.end(), u);
-    const Side side = table.sides[std::min(std::size_t(it - table.cdf.begin()), table.sides.size() - 1)];
+    const scene::ReceivingSide side = table.sides[std::min(std::size_t(it - table.cdf.begin()), table.sides.size() - 1)];
     const glm::uvec3 tri = scene.triangles[side.triangle];
     const glm::vec3 front = scene::triangle_normal(scene, side.triangle);
     const float u1 = rng.uniform(), u2 = rng.uniform();

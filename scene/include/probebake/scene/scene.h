@@ -128,6 +128,20 @@ glm::vec3 triangle_normal(const Scene& scene, std::size_t triangle); // unit geo
 // reversed) and neither side is the inside of a solid.
 bool is_double_sided(const Scene& scene, std::size_t triangle);
 
+// The surfaces that receive light, for sampling by area (the reference's receivers, the skeleton's surface
+// samples): the front of every triangle of positive area and the back of a double-sided one, in triangle
+// order, with the inclusive prefix sums of their areas.
+struct ReceivingSide {
+  std::uint32_t triangle = 0;
+  bool back = false;
+};
+struct ReceivingSides {
+  std::vector<ReceivingSide> sides;
+  std::vector<double> cumulative_area; // m^2, per side
+  double total_area = 0.0;
+};
+ReceivingSides receiving_sides(const Scene& scene);
+
 // Distance by which ray origins are lifted off their surface: relative to the scene's size and to the
 // magnitude of its coordinates (float spacing grows with them).
 float ray_epsilon(const Scene& scene);

@@ -25,24 +25,24 @@ namespace {
 // Triangles whose bounding boxes overlap a node's cube, handed down from parent to children.
 using TriangleList = std::vector<std::uint32_t>;
 
-bool box_overlaps_cube(const scene::Scene& s, std::uint32_t t, const formats::NodeCube& c) {
-  const glm::uvec3 tri = s.triangles[t];
-  const glm::vec3 lo = glm::min(glm::min(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
-  const glm::vec3 hi = glm::max(glm::max(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
-  const glm::vec3 cmax = c.min + glm::vec3(c.size);
-  return glm::all(glm::lessThanEqual(lo, cmax)) && glm::all(glm::greaterThanEqual(hi, c.min));
-}
-
 TriangleList overlapping(const scene::Scene& s, const TriangleList& parent, const formats::NodeCube& cube) {
   TriangleList out;
   for (std::uint32_t t : parent)
-    if (box_overlaps_cube(s, t, cube)) out.push_back(t);
+    if (detail::box_overlaps_cube(s, t, cube)) out.push_back(t);
   return out;
 }
 
 Cube to_cube(const formats::NodeCube& c) { return {c.min, c.size}; }
 
 } // namespace
+
+bool detail::box_overlaps_cube(const scene::Scene& s, std::uint32_t t, const formats::NodeCube& c) {
+  const glm::uvec3 tri = s.triangles[t];
+  const glm::vec3 lo = glm::min(glm::min(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
+  const glm::vec3 hi = glm::max(glm::max(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
+  const glm::vec3 cmax = c.min + glm::vec3(c.size);
+  return glm::all(glm::lessThanEqual(lo, cmax)) && glm::all(glm::greaterThanEqual(hi, c.min));
+}
 
 std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const scene::Bounds&) {
   const PlacementSettings& s = in.settings;

@@ -8,6 +8,7 @@
 
 #include "probebake/common/parallel.h"
 #include "probebake/formats/error.h"
+#include "method_util.h"
 #include "refine_sample.h"
 
 namespace probebake::placement {
@@ -20,14 +21,6 @@ constexpr std::size_t kRoundSize = 8;
 constexpr float kRelocationRoom = 2.0f;
 
 using TriangleList = std::vector<std::uint32_t>;
-
-// The same loose test as placement.cpp's: the triangle's bounding box overlaps the cube.
-bool box_overlaps_cube(const scene::Scene& s, std::uint32_t t, const formats::NodeCube& c) {
-  const glm::uvec3 tri = s.triangles[t];
-  const glm::vec3 lo = glm::min(glm::min(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
-  const glm::vec3 hi = glm::max(glm::max(s.positions[tri.x], s.positions[tri.y]), s.positions[tri.z]);
-  return glm::all(glm::lessThanEqual(lo, c.min + glm::vec3(c.size))) && glm::all(glm::greaterThanEqual(hi, c.min));
-}
 
 struct Leaf {
   formats::NodeCube cube;  // .node is valid once in_tree
@@ -94,7 +87,7 @@ private:
         Leaf child;
         child.cube = formats::child_cube(leaves_[std::size_t(p)].cube, octant);
         for (std::uint32_t t : leaves_[std::size_t(p)].triangles)
-          if (box_overlaps_cube(scene, t, child.cube)) child.triangles.push_back(t);
+          if (detail::box_overlaps_cube(scene, t, child.cube)) child.triangles.push_back(t);
         leaves_.push_back(std::move(child));
       }
     }

@@ -39,6 +39,7 @@ void sync_info_counts(ProbeVolume& volume) {
   lighting.triangles = checked_count(volume.trace_triangles.size(), "trace_triangles");
   lighting.lights = checked_count(volume.punctual_lights.size(), "punctual_lights");
   lighting.emitter_patches = checked_count(volume.emitter_patches.size(), "emitter_patches");
+  lighting.dynamic_objects = checked_count(volume.dynamic_objects.size(), "dynamic_objects");
 }
 
 void init_leaf_queue(ProbeVolume& volume, int segment_capacity) {

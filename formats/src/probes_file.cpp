@@ -42,6 +42,7 @@ void add_lighting_sections(std::vector<SectionPayload>& sections, const ProbeVol
   add_section(sections, SectionType::trace_triangles, 0, volume.trace_triangles);
   add_section(sections, SectionType::punctual_lights, 0, volume.punctual_lights);
   add_section(sections, SectionType::emitter_patches, 0, volume.emitter_patches);
+  add_section(sections, SectionType::dynamic_objects, 0, volume.dynamic_objects); // 1.3
 }
 
 // The lowest minor version whose section types and flags the file uses: 1.0 files stay byte-identical
@@ -107,6 +108,7 @@ void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uin
   case SectionType::trace_triangles: volume.trace_triangles = section.elements<gpu::TraceTriangle>(); break;
   case SectionType::punctual_lights: volume.punctual_lights = section.elements<gpu::PunctualLight>(); break;
   case SectionType::emitter_patches: volume.emitter_patches = section.elements<gpu::EmitterPatch>(); break;
+  case SectionType::dynamic_objects: volume.dynamic_objects = section.elements<gpu::DynamicObject>(); break;
   default: break; // unknown optional section (parse_container refused unknown required ones)
   }
 }

@@ -99,5 +99,6 @@ void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter&
 // sections, values and BVH, run last.
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);
 void check_lighting(const ProbeVolume& volume, Reporter& out);
+void check_dynamic_objects(const ProbeVolume& volume, Reporter& out); // format 1.3 (validate_dynamic.cpp)
 
 } // namespace probebake::formats::detail

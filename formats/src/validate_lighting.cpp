@@ -290,6 +290,7 @@ void check_lighting(const ProbeVolume& volume, Reporter& out) {
   check_lighting_values(volume, out);
   check_lighting_flags(volume, out);
   BvhChecker(volume, out).run();
+  check_dynamic_objects(volume, out);
 }
 
 } // namespace probebake::formats::detail

@@ -104,6 +104,12 @@ Result<FrameStats> Volume::run_frame(const FrameInputs& inputs) {
                                                     "a volume with the runtime lighting sections)"};
       if (const Status lights = detail::check_lights(*inputs.lights, state_->light_inputs->capacity()); !lights.ok()) return lights;
     }
+    if (!inputs.object_poses.empty()) {
+      if (!state_->light)
+        return Status{StatusCode::invalid_argument, "run_frame: object poses need the light update (UploadOptions::light_update)"};
+      if (const Status poses = detail::check_object_poses(inputs.object_poses, state_->cpu_parts.dynamic_objects.size()); !poses.ok())
+        return poses;
+    }
     return state_->run_frame(inputs);
   });
 }
@@ -161,7 +167,9 @@ int Volume::light_capacity() const {
 std::span<const gpu::DynamicObject> Volume::dynamic_objects() const { return state_->cpu_parts.dynamic_objects; }
 
 glm::mat4 Volume::object_pose(int object) const {
-  return dynamic::rest_pose(state_->cpu_parts.dynamic_objects.at(static_cast<std::size_t>(object)));
+  const std::size_t o = static_cast<std::size_t>(object);
+  if (state_->objects) return state_->objects->pose(o); // throws out_of_range like the rest pose
+  return dynamic::rest_pose(state_->cpu_parts.dynamic_objects.at(o));
 }
 
 } // namespace probebake::runtime

@@ -23,6 +23,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
   gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u);
+  if (!uploaded.dynamic_objects.empty()) objects = std::make_unique<ObjectPoses>(*device, *gpu, uploaded.dynamic_objects);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu);
   sample = std::make_unique<SamplePass>(*device, *gpu);
   if (options.light_update && LightUpdatePass::applies(*gpu)) {
@@ -39,7 +40,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
 FrameStats VolumeState::run_frame(const FrameInputs& inputs) {
   const auto start = std::chrono::steady_clock::now();
   Submission submission(*device);
-  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get()};
+  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get(), objects.get()};
   const RecordedFrame recorded = record_frame(submission.cmd(), *frame_timer, passes, inputs);
   submission.submit_and_wait();
 
@@ -50,6 +51,7 @@ FrameStats VolumeState::run_frame(const FrameInputs& inputs) {
     stats.light = light->stats();
     stats.light.lights = static_cast<int>(light_inputs->current().size());
     stats.light.uploaded_lights = recorded.uploaded_lights;
+    stats.light.moved_objects = recorded.moved_objects;
   }
   if (memory) {
     stats.memory = memory->stats();

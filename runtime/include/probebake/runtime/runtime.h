@@ -253,6 +253,7 @@ struct LightStats {
   int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
   int lights = 0;          // punctual lights lit this frame
   int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
+  int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
 };
 
 // Statistics of one frame's memory update and light transitions (all 0 and active = false without one).

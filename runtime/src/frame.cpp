@@ -27,12 +27,8 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
     std::vector<Box> boxes = inputs.changed_boxes;
     frame.moved_objects = passes.objects->record(cmd, inputs.object_poses, boxes);
     if (frame.moved_objects > 0 && passes.memory) {
+      with_objects = inputs;
       with_objects.changed_boxes = std::move(boxes);
-      with_objects.max_depth = inputs.max_depth;
-      with_objects.split_low = inputs.split_low;
-      with_objects.split_high = inputs.split_high;
-      with_objects.dead_backface_fraction = inputs.dead_backface_fraction;
-      with_objects.limits = inputs.limits;
       in = &with_objects;
     } else if (frame.moved_objects > 0 && passes.light) {
       passes.light->retrace();

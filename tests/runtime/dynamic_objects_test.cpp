@@ -242,6 +242,37 @@ TEST_F(DynamicObjectsTest, LightTraceSeesTheRotatedCubeAsTheCpuDoes) {
   EXPECT_TRUE(gpu.value().validate_live().ok());
 }
 
+// Static volumes pay nothing: the cube's volume has exactly two more buffers (the section and the instances);
+// moving it allocates nothing, and a pose equal to the current one uploads nothing.
+TEST_F(DynamicObjectsTest, PosesAllocateNothingAndStaticVolumesGetNoObjectBuffers) {
+  const formats::ProbeVolume& base = shallow_cornell();
+  const auto buffers_of = [&](const formats::ProbeVolume& v) {
+    const std::size_t before = context().memory_stats().live_buffers;
+    auto gpu = runtime::Volume::upload(context(), v, dynamic_options());
+    EXPECT_TRUE(gpu.ok()) << gpu.status().message;
+    return context().memory_stats().live_buffers - before;
+  };
+  const formats::ProbeVolume with = with_cube(base, in_root(base, glm::vec3(0.3f)), 0.05f * base.info.root_size);
+  const std::size_t static_buffers = buffers_of(base), object_buffers = buffers_of(with);
+  EXPECT_EQ(object_buffers, static_buffers + 2);
+
+  auto gpu = runtime::Volume::upload(context(), with, dynamic_options());
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  ASSERT_TRUE(gpu.value().run_frame({}).ok());
+  const runtime::MemoryStats before = context().memory_stats();
+  for (int f = 0; f < 12; ++f) {
+    runtime::FrameInputs in;
+    in.object_poses = {at(in_root(base, glm::vec3(0.3f + 0.03f * float(f / 2), 0.4f, 0.5f)))}; // every other frame the same
+    auto stats = gpu.value().run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    EXPECT_EQ(stats.value().light.moved_objects, f % 2 == 0 ? 1 : 0) << "frame " << f;
+  }
+  const runtime::MemoryStats after = context().memory_stats();
+  EXPECT_EQ(after.allocations, before.allocations);
+  EXPECT_EQ(after.live_buffers, before.live_buffers);
+  EXPECT_TRUE(gpu.value().validate_live().ok());
+}
+
 TEST_F(DynamicObjectsTest, BadPosesAreRefusedAndChangeNothing) {
   const formats::ProbeVolume v = with_cube(shallow_cornell(), in_root(shallow_cornell(), glm::vec3(0.5f)), 0.05f);
   auto gpu = runtime::Volume::upload(context(), v);

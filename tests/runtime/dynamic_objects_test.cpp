@@ -242,6 +242,41 @@ TEST_F(DynamicObjectsTest, LightTraceSeesTheRotatedCubeAsTheCpuDoes) {
   EXPECT_TRUE(gpu.value().validate_live().ok());
 }
 
+// The all-probe sampler's visibility rays go through the cube: from points inside the closed cube every probe
+// is hidden (a miss); once the cube has moved away, the points see what they see without the cube.
+TEST_F(DynamicObjectsTest, AllProbeSamplerIsOccludedByTheCubeWhereItIs) {
+  const formats::ProbeVolume& base = shallow_cornell();
+  const float half = 0.1f * base.info.root_size;
+  const glm::vec3 centre = in_root(base, glm::vec3(0.5f, 0.55f, 0.5f));
+  auto gpu = runtime::Volume::upload(context(), with_cube(base, centre, half));
+  ASSERT_TRUE(gpu.ok()) << gpu.status().message;
+  std::vector<glm::vec3> positions, normals;
+  for (int i = 0; i < 64; ++i) {
+    const glm::vec3 u(float(i % 4), float((i / 4) % 4), float(i / 16));
+    positions.push_back(centre + (u / 3.0f - 0.5f) * half); // a 4^3 lattice over the middle half of the cube
+    normals.push_back(glm::normalize(glm::vec3(float(i % 3) - 1.0f, 1.0f, float(i % 5) - 2.0f)));
+  }
+  runtime::SampleStats inside, moved;
+  ASSERT_TRUE(gpu.value().sample_irradiance(positions, normals, &inside, runtime::SampleMethod::all_probes).ok());
+  runtime::FrameInputs in;
+  in.object_poses = {at(in_root(base, glm::vec3(2.0f)))};
+  ASSERT_TRUE(gpu.value().run_frame(in).ok());
+  auto without = runtime::Volume::upload(context(), base);
+  ASSERT_TRUE(without.ok()) << without.status().message;
+  ASSERT_TRUE(without.value().run_frame({}).ok()); // the same light update as the moved cube's frame
+  runtime::SampleStats alone;
+  auto reference = without.value().sample_irradiance(positions, normals, &alone, runtime::SampleMethod::all_probes);
+  ASSERT_TRUE(reference.ok());
+  auto after = gpu.value().sample_irradiance(positions, normals, &moved, runtime::SampleMethod::all_probes);
+  ASSERT_TRUE(after.ok());
+  std::printf("[dynamic] all-probe sampler: %zu of %zu points inside the cube miss, %zu after it moved away, %zu without it\n",
+              inside.misses, positions.size(), moved.misses, alone.misses);
+  EXPECT_EQ(inside.misses, positions.size());
+  EXPECT_LT(alone.misses, positions.size() / 2);
+  EXPECT_EQ(moved.misses, alone.misses);
+  EXPECT_EQ(after.value(), reference.value()); // bit for bit: the cube out of the way changes nothing
+}
+
 // Static volumes pay nothing: the cube's volume has exactly two more buffers (the section and the instances);
 // moving it allocates nothing, and a pose equal to the current one uploads nothing.
 TEST_F(DynamicObjectsTest, PosesAllocateNothingAndStaticVolumesGetNoObjectBuffers) {

@@ -134,6 +134,7 @@ ProbebakeHit probebake_trace_scene(vec3 origin, vec3 dir, float t_min, float t_m
     hit.triangle = probebake_traverse(0, origin, dir, t_min, t, any_hit);
     if (hit.triangle >= 0 && any_hit) { hit.t = t; return hit; }
   }
+  if (probebake_lighting.dynamic_objects <= 0) { hit.t = t; return hit; } // static scenes: nothing more
   const vec3 inv_dir = probebake_safe_inverse(dir);
   for (int o = 0; o < probebake_lighting.dynamic_objects; ++o) {
     if (probebake_dynamic_objects[o].bvh_node_count <= 0) continue;

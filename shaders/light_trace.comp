@@ -37,24 +37,24 @@ void measure_hit_fraction(int probe) {
 LightRecord trace_record(vec3 origin, vec3 dir) {
   LightRecord rec = LightRecord(vec3(0.0), LIGHT_RECORD_MISS, vec3(0.0), 0.0, probebake_lighting.sky_radiance, 0.0,
                                 vec3(0.0), 0.0);
-  float t = 3.4e38;
-  const int tri = probebake_trace(origin, dir, 0.0, t, false);
-  if (tri < 0) {
+  const ProbebakeHit hit = probebake_trace_scene(origin, dir, 0.0, 3.4e38, false);
+  if (hit.triangle < 0) {
     atomicAdd(miss_count, 1u);
     return rec;
   }
-  rec.normal = probebake_trace_triangles[tri].normal;
+  const int tri = hit.triangle;
+  rec.normal = probebake_hit_normal(hit);
   rec.base = vec3(0.0);
-  if (probebake_inside(tri, dir)) {
+  if (probebake_hit_inside(hit, dir)) {
     rec.kind = LIGHT_RECORD_BACKFACE;
     atomicAdd(back_count, 1u);
     return rec;
   }
   // The front, or the back of a double-sided triangle: shaded alike with the normal facing the probe.
-  rec.normal = probebake_facing_normal(tri, dir);
+  rec.normal = probebake_hit_facing_normal(hit, dir);
   atomicAdd(front_count, 1u);
   rec.kind = LIGHT_RECORD_FRONT;
-  rec.position = origin + t * dir;
+  rec.position = origin + hit.t * dir;
   rec.reflect = probebake_trace_triangles[tri].albedo * 0.318309886;
   const vec3 emitted = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_trace_triangles[tri].emission;
   rec.base = emitted + rec.reflect * probebake_emitter_irradiance(rec.position, rec.normal);

@@ -18,6 +18,8 @@ layout(std430, binding = SAMPLE_ALL_BINDING_PROBE_INDEX) readonly buffer ProbeIn
 layout(std430, binding = SAMPLE_ALL_BINDING_LIGHTING_INFO) readonly buffer LightingInfoBuffer { LightingInfo probebake_lighting; };
 layout(std430, binding = SAMPLE_ALL_BINDING_BVH_NODES) readonly buffer BvhNodeBuffer { BvhNode probebake_bvh_nodes[]; };
 layout(std430, binding = SAMPLE_ALL_BINDING_TRACE_TRIANGLES) readonly buffer TriangleBuffer { TraceTriangle probebake_trace_triangles[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS) readonly buffer DynamicObjectBuffer { DynamicObject probebake_dynamic_objects[]; };
+layout(std430, binding = SAMPLE_ALL_BINDING_OBJECT_INSTANCES) readonly buffer ObjectInstanceBuffer { ObjectInstance probebake_object_instances[]; };
 layout(std430, binding = SAMPLE_ALL_BINDING_QUERIES) readonly buffer Queries { SampleQuery queries[]; };
 layout(std430, binding = SAMPLE_ALL_BINDING_RESULTS) writeonly buffer Results { SampleResult results[]; };
 layout(push_constant) uniform Push { SamplePush push; };

@@ -185,20 +185,31 @@ void check_lighting_values(const ProbeVolume& v, Reporter& out) {
 class BvhChecker {
 public:
   BvhChecker(const ProbeVolume& v, Reporter& out)
-      : nodes_(v.bvh_nodes), triangles_(v.trace_triangles), out_(out), reached_(nodes_.size(), 0), covered_(triangles_.size(), 0) {}
+      : nodes_(v.bvh_nodes), triangles_(v.trace_triangles), out_(out), reached_(nodes_.size(), 0), covered_(triangles_.size(), 0) {
+    // Format 1.3: the static tree at 0 (unless the first object's nodes start there), then each object's.
+    if (v.dynamic_objects.empty() || v.dynamic_objects[0].bvh_root > 0) roots_.push_back(0);
+    for (const gpu::DynamicObject& o : v.dynamic_objects)
+      if (o.bvh_root >= 0 && std::size_t(o.bvh_root) < nodes_.size()) roots_.push_back(std::size_t(o.bvh_root));
+  }
 
   void run() {
     if (nodes_.empty()) {
       if (!triangles_.empty()) out_.add("bvh_tree", "trace_triangles", -1, "triangles but no BVH nodes");
       return;
     }
-    tolerance_ = box_tolerance(nodes_[0]);
-    reached_[0] = 1;
-    std::vector<std::pair<std::size_t, int>> stack{{0, 0}}; // node, depth
-    while (!stack.empty()) {
-      const auto [index, depth] = stack.back();
-      stack.pop_back();
-      visit(index, depth, stack);
+    for (const std::size_t root : roots_) {
+      if (reached_[root] != 0) {
+        bad("bvh_nodes", root, "a root reached from another tree");
+        continue;
+      }
+      tolerance_ = box_tolerance(nodes_[root]);
+      reached_[root] = 1;
+      std::vector<std::pair<std::size_t, int>> stack{{root, 0}}; // node, depth
+      while (!stack.empty()) {
+        const auto [index, depth] = stack.back();
+        stack.pop_back();
+        visit(index, depth, stack);
+      }
     }
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       if (reached_[i] == 0) bad("bvh_nodes", i, "not reachable from the root");
@@ -209,6 +220,8 @@ public:
   }
 
 private:
+  std::vector<std::size_t> roots_;
+
   static float box_tolerance(const gpu::BvhNode& root) {
     const glm::vec3 magnitude = glm::max(glm::abs(root.lower), glm::abs(root.upper));
     return kBoxTolerance * std::max({magnitude.x, magnitude.y, magnitude.z});

@@ -19,9 +19,25 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   if (inputs.lights && passes.light_inputs && passes.volume)
     frame.uploaded_lights = passes.light_inputs->record(cmd, *passes.volume, *inputs.lights);
 
+  // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the
+  //     leaves under each moved object's old and new world boxes; without it, L1 re-traces every probe.
+  FrameInputs with_objects;
+  const FrameInputs* in = &inputs;
+  if (passes.objects && !inputs.object_poses.empty()) {
+    std::vector<Box> boxes = inputs.changed_boxes;
+    frame.moved_objects = passes.objects->record(cmd, inputs.object_poses, boxes);
+    if (frame.moved_objects > 0 && passes.memory) {
+      with_objects = inputs;
+      with_objects.changed_boxes = std::move(boxes);
+      in = &with_objects;
+    } else if (frame.moved_objects > 0 && passes.light) {
+      passes.light->retrace();
+    }
+  }
+
   // 1. Memory update (§3.2.1, M0-M4) and SVO refresh: allocates and frees before the probe index lists them.
   if (passes.memory) {
-    passes.memory->record_memory_update(cmd, timer, kPassMemoryUpdate, inputs);
+    passes.memory->record_memory_update(cmd, timer, kPassMemoryUpdate, *in);
     frame.ran[kPassMemoryUpdate] = true;
   }
 

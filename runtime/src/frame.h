@@ -14,6 +14,7 @@
 #include "light_inputs.h"
 #include "light_update_pass.h"
 #include "memory_update_pass.h"
+#include "object_poses.h"
 #include "probe_index_pass.h"
 #include "probebake/runtime/runtime.h"
 
@@ -38,12 +39,14 @@ struct FramePasses {
   MemoryUpdatePass* memory = nullptr;
   LightInputs* light_inputs = nullptr; // with `light`: the host's punctual lights, uploaded into `volume`
   GpuVolume* volume = nullptr;
+  ObjectPoses* objects = nullptr; // volumes with dynamic objects: the host's poses
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.
 struct RecordedFrame {
   bool ran[kFramePasses] = {};
   int uploaded_lights = 0; // punctual light records the host changed this frame
+  int moved_objects = 0;   // dynamic objects whose pose the host changed this frame
 
   // After the submission completed: the GPU time of each pass that ran, in execution order.
   std::vector<PassTime> pass_times(const PassTimer& timer, std::uint32_t ring) const;

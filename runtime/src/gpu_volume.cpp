@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "error.h"
+#include "probebake/runtime_types.h"
 
 namespace probebake::runtime::detail {
 namespace {
@@ -52,7 +53,8 @@ auto sections_of(Volume& v) {
       many<Byte>(v.surfel_batches), header,                many<Byte>(v.leaf_entries),
       many<Byte>(v.probe_index), many<Byte>(v.svo_nodes), many<Byte>(v.svo_leaves),
       optional_one<Byte>(v.lighting), many<Byte>(v.ray_directions), many<Byte>(v.bvh_nodes),
-      many<Byte>(v.trace_triangles), many<Byte>(v.punctual_lights), many<Byte>(v.emitter_patches)};
+      many<Byte>(v.trace_triangles), many<Byte>(v.punctual_lights), many<Byte>(v.emitter_patches),
+      many<Byte>(v.dynamic_objects)};
 }
 
 } // namespace
@@ -61,7 +63,8 @@ const char* section_name(Section section) {
   static constexpr const char* kNames[kSectionCount] = {
       "volume_info", "octree", "probes", "surfel_batches", "leaf_queue_header",
       "leaf_entries", "probe_index", "svo_nodes", "svo_leaves", "lighting_info",
-      "ray_directions", "bvh_nodes", "trace_triangles", "punctual_lights", "emitter_patches"};
+      "ray_directions", "bvh_nodes", "trace_triangles", "punctual_lights", "emitter_patches",
+      "dynamic_objects"};
   return kNames[static_cast<std::size_t>(section)];
 }
 
@@ -80,6 +83,9 @@ GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::si
     total += sections[i].bytes();
   }
   placeholder_ = device.allocator->create_buffer(16, kSectionUsage, MemoryUse::device, "placeholder");
+  if (!volume.dynamic_objects.empty()) // written by ObjectPoses before anything traces
+    object_instances_ = device.allocator->create_buffer(volume.dynamic_objects.size() * sizeof(gpu::ObjectInstance), kSectionUsage,
+                                                        MemoryUse::device, "object instances");
   Buffer staging = device.allocator->create_buffer(std::max<std::size_t>(total, 4), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                                    MemoryUse::upload, "upload staging");
   Submission submission(device);
@@ -132,6 +138,7 @@ formats::ProbeVolume GpuVolume::read_back(const formats::ProbeVolume& cpu_parts)
   out.trace_triangles.resize(elements(Section::trace_triangles));
   out.punctual_lights.resize(elements(Section::punctual_lights));
   out.emitter_patches.resize(elements(Section::emitter_patches));
+  out.dynamic_objects.resize(elements(Section::dynamic_objects));
   const auto sections = sections_of(out);
 
   std::size_t total = 0;

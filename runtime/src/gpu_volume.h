@@ -31,8 +31,10 @@ enum class Section : std::size_t {
   trace_triangles,
   punctual_lights,
   emitter_patches,
+  // Dynamic objects (format 1.3, optional): what the host moves (DynamicObject per object).
+  dynamic_objects,
 };
-inline constexpr std::size_t kSectionCount = 15;
+inline constexpr std::size_t kSectionCount = 16;
 const char* section_name(Section section);
 
 class GpuVolume {
@@ -57,6 +59,9 @@ public:
   // A pass changed the live count (host light updates); read_back() copies that many. Precondition:
   // count <= capacity(section).
   void set_live_elements(Section section, std::size_t count);
+  // The runtime's ObjectInstance per dynamic object (runtime_types.h; ObjectPoses writes it), or the
+  // placeholder for a volume without dynamic objects.
+  VkBuffer object_instances() const { return object_instances_ ? object_instances_.get() : placeholder_.get(); }
 
 private:
   Device& device_;
@@ -64,6 +69,7 @@ private:
   std::array<std::size_t, kSectionCount> elements_{};
   std::array<std::size_t, kSectionCount> capacity_{};
   Buffer placeholder_;
+  Buffer object_instances_;
 };
 
 } // namespace probebake::runtime::detail

@@ -66,6 +66,8 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.buffer();
   buffers[gpu::LIGHT_BINDING_TRACE_FLAGS] = trace_flags_.get();
   buffers[gpu::LIGHT_BINDING_LIGHT_LIST] = light_list_.get();
+  buffers[gpu::LIGHT_BINDING_DYNAMIC_OBJECTS] = volume.binding(Section::dynamic_objects);
+  buffers[gpu::LIGHT_BINDING_OBJECT_INSTANCES] = volume.object_instances();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 

@@ -243,6 +243,8 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   buffers[gpu::MEMORY_BINDING_SVO_GENERATIONS] = svo_generations_.get();
   buffers[gpu::MEMORY_BINDING_SVO_CENTRES] = svo_centres_.get();
   buffers[gpu::MEMORY_BINDING_LIGHT_LIST] = light_list;
+  buffers[gpu::MEMORY_BINDING_DYNAMIC_OBJECTS] = volume.binding(Section::dynamic_objects);
+  buffers[gpu::MEMORY_BINDING_OBJECT_INSTANCES] = volume.object_instances();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().memory.set_layout.get(), buffers);
 }
 

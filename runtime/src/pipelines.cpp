@@ -88,6 +88,9 @@ Pipelines::Pipelines(VkDevice device) {
   memory_svo = make_pipeline(device, memory.layout.get(), "memory_svo");
   memory_light = make_pipeline(device, memory.layout.get(), "memory_light");
   memory_sync = make_pipeline(device, memory.layout.get(), "memory_sync");
+  static_assert(sizeof(gpu::ObjectRefitPush) == kPushConstantBytes);
+  object = make_pass_layout(device, gpu::OBJECT_BINDING_COUNT);
+  object_refit = make_pipeline(device, object.layout.get(), "object_refit");
 }
 
 DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set) {

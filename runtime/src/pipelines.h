@@ -34,6 +34,8 @@ public:
   PassLayout memory;
   DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse,
       memory_svo, memory_light, memory_sync;
+  PassLayout object;
+  DeviceObject<VkPipeline> object_refit;
 };
 
 // A pass's descriptor set in a pool of its own, written once: binding i = the whole of buffers[i].

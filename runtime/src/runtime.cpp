@@ -54,6 +54,12 @@ Status check_inputs_for(const detail::VolumeState& state, const FrameInputs& inp
                                                   "a volume with the runtime lighting sections)"};
     if (const Status lights = detail::check_lights(*inputs.lights, state.light_inputs->capacity()); !lights.ok()) return lights;
   }
+  if (!inputs.object_poses.empty()) {
+    if (!state.light)
+      return Status{StatusCode::invalid_argument, "run_frame: object poses need the light update (UploadOptions::light_update)"};
+    if (const Status poses = detail::check_object_poses(inputs.object_poses, state.cpu_parts.dynamic_objects.size()); !poses.ok())
+      return poses;
+  }
   return {};
 }
 
@@ -187,7 +193,9 @@ int Volume::light_capacity() const {
 std::span<const gpu::DynamicObject> Volume::dynamic_objects() const { return state_->cpu_parts.dynamic_objects; }
 
 glm::mat4 Volume::object_pose(int object) const {
-  return dynamic::rest_pose(state_->cpu_parts.dynamic_objects.at(static_cast<std::size_t>(object)));
+  if (object < 0 || std::size_t(object) >= state_->cpu_parts.dynamic_objects.size()) return glm::mat4(1.0f);
+  const std::size_t o = static_cast<std::size_t>(object);
+  return state_->objects ? state_->objects->pose(o) : dynamic::rest_pose(state_->cpu_parts.dynamic_objects[o]);
 }
 
 } // namespace probebake::runtime

@@ -84,6 +84,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     bindings[gpu::SAMPLE_ALL_BINDING_TRACE_TRIANGLES] = volume_.binding(Section::trace_triangles);
     bindings[gpu::SAMPLE_ALL_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_ALL_BINDING_RESULTS] = buffers.results.get();
+    bindings[gpu::SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS] = volume_.binding(Section::dynamic_objects);
+    bindings[gpu::SAMPLE_ALL_BINDING_OBJECT_INSTANCES] = volume_.object_instances();
     write_storage_buffers(device_.vk(), set, bindings);
   } else {
     std::array<VkBuffer, gpu::SAMPLE_BINDING_COUNT> bindings{};

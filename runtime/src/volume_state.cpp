@@ -24,6 +24,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
   gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u);
+  if (!uploaded.dynamic_objects.empty()) objects = std::make_unique<ObjectPoses>(*device, *gpu, uploaded.dynamic_objects);
   const auto ring_count = static_cast<std::uint32_t>(options.frames_in_flight);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu, ring_count);
   sample = std::make_unique<SamplePass>(*device, *gpu);
@@ -58,7 +59,7 @@ std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs
   }
   check_vk(vkResetEvent(device->vk(), ring.done.get()), "vkResetEvent");
   frame_timer->reset(cmd, index);
-  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get()};
+  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get(), objects.get()};
   ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
   vkCmdSetEvent(cmd, ring.done.get(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   if (memory) cpu_parts.info = memory->info();
@@ -87,6 +88,7 @@ FrameStats VolumeState::collect(FrameRing& ring) {
     stats.light = light->stats(index);
     stats.light.lights = ring.lights;
     stats.light.uploaded_lights = ring.recorded.uploaded_lights;
+    stats.light.moved_objects = ring.recorded.moved_objects;
   }
   if (memory) stats.memory = memory->stats(index);
   stats.live_probes = probe_index->live_probes(index);

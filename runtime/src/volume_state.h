@@ -15,6 +15,7 @@
 #include "light_inputs.h"
 #include "light_update_pass.h"
 #include "memory_update_pass.h"
+#include "object_poses.h"
 #include "probe_index_pass.h"
 #include "probebake/formats/probe_volume.h"
 #include "sample_pass.h"
@@ -41,6 +42,7 @@ struct VolumeState {
   std::unique_ptr<SamplePass> sample;
   std::unique_ptr<LightUpdatePass> light; // only for volumes with the lighting sections
   std::unique_ptr<LightInputs> light_inputs; // with `light`: the host's punctual lights
+  std::unique_ptr<ObjectPoses> objects; // only for volumes with dynamic objects
   std::unique_ptr<MemoryUpdatePass> memory; // only with a light update, on octree volumes (memory_update_applies)
   std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h), one ring per frame in flight
   std::vector<FrameRing> rings;

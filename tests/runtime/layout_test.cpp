@@ -138,7 +138,9 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                                         {"BvhNodeBuffer", SAMPLE_ALL_BINDING_BVH_NODES},
                                         {"TriangleBuffer", SAMPLE_ALL_BINDING_TRACE_TRIANGLES},
                                         {"Queries", SAMPLE_ALL_BINDING_QUERIES},
-                                        {"Results", SAMPLE_ALL_BINDING_RESULTS}});
+                                        {"Results", SAMPLE_ALL_BINDING_RESULTS},
+                                        {"DynamicObjectBuffer", SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS},
+                                        {"ObjectInstanceBuffer", SAMPLE_ALL_BINDING_OBJECT_INSTANCES}});
   const BindingTable light{{"VolumeInfoBuffer", LIGHT_BINDING_VOLUME_INFO},
                            {"ProbeBuffer", LIGHT_BINDING_PROBES},
                            {"SvoNodeBuffer", LIGHT_BINDING_SVO_NODES},
@@ -154,7 +156,9 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"NextIrradianceBuffer", LIGHT_BINDING_NEXT_IRRADIANCE},
                            {"CounterBuffer", LIGHT_BINDING_COUNTERS},
                            {"TraceFlagBuffer", LIGHT_BINDING_TRACE_FLAGS},
-                           {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST}};
+                           {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST},
+                           {"DynamicObjectBuffer", LIGHT_BINDING_DYNAMIC_OBJECTS},
+                           {"ObjectInstanceBuffer", LIGHT_BINDING_OBJECT_INSTANCES}};
   for (const char* shader : {"light_trace", "light_gather", "light_resolve"}) expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
@@ -182,13 +186,18 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                             {"ProbeGenerationBuffer", MEMORY_BINDING_PROBE_GENERATIONS},
                             {"SvoGenerationBuffer", MEMORY_BINDING_SVO_GENERATIONS},
                             {"SvoCentreBuffer", MEMORY_BINDING_SVO_CENTRES},
-                            {"LightListBuffer", MEMORY_BINDING_LIGHT_LIST}};
+                            {"LightListBuffer", MEMORY_BINDING_LIGHT_LIST},
+                            {"DynamicObjectBuffer", MEMORY_BINDING_DYNAMIC_OBJECTS},
+                            {"ObjectInstanceBuffer", MEMORY_BINDING_OBJECT_INSTANCES}};
   for (const char* shader : kMemoryShaders) expect_bindings(shader, memory);
+  expect_bindings("object_refit", {{"DynamicObjectBuffer", OBJECT_BINDING_DYNAMIC_OBJECTS},
+                                   {"ObjectInstanceBuffer", OBJECT_BINDING_INSTANCES}});
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
   std::vector<const char*> names{"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance",
-                                 "light_trace",       "light_gather",     "light_resolve",       "sample_all_probes"};
+                                 "light_trace",       "light_gather",     "light_resolve",       "sample_all_probes",
+                                 "object_refit"};
   names.insert(names.end(), std::begin(kMemoryShaders), std::end(kMemoryShaders));
   for (const char* name : names) {
     const auto words = shaders::spirv(name);
@@ -283,6 +292,27 @@ TEST(GpuLayout, LightingSectionsMatchGpuTypes) {
                            {"emitter_patches", offsetof(LightingInfo, emitter_patches)},
                            {"placement_rays", offsetof(LightingInfo, placement_rays)}}),
             1);
+}
+
+TEST(GpuLayout, DynamicObjectTypesMatch) {
+  using namespace gpu;
+  for (const char* shader : {"object_refit", "light_trace", "memory_light", "sample_all_probes"}) {
+    EXPECT_GE(expect_layout(shader, "DynamicObject",
+                            {{"lower", offsetof(DynamicObject, lower)}, {"bvh_root", offsetof(DynamicObject, bvh_root)},
+                             {"upper", offsetof(DynamicObject, upper)}, {"bvh_node_count", offsetof(DynamicObject, bvh_node_count)},
+                             {"first_triangle", offsetof(DynamicObject, first_triangle)},
+                             {"triangle_count", offsetof(DynamicObject, triangle_count)},
+                             {"gltf_node", offsetof(DynamicObject, gltf_node)}, {"rest_rows", offsetof(DynamicObject, rest_rows)}}),
+              1) << shader;
+    EXPECT_GE(expect_layout(shader, "ObjectInstance",
+                            {{"world_from_object", offsetof(ObjectInstance, world_from_object)},
+                             {"object_from_world", offsetof(ObjectInstance, object_from_world)},
+                             {"world_lower", offsetof(ObjectInstance, world_lower)},
+                             {"world_upper", offsetof(ObjectInstance, world_upper)}}),
+              1) << shader;
+  }
+  EXPECT_GE(expect_layout("light_trace", "LightingInfo", {{"dynamic_objects", offsetof(LightingInfo, dynamic_objects)}}), 1);
+  EXPECT_GE(expect_layout("object_refit", "ObjectRefitPush", {{"objects", offsetof(ObjectRefitPush, objects)}}), 1);
 }
 
 TEST(GpuLayout, LightUpdateTypesMatch) {

@@ -36,7 +36,9 @@ PB_CONSTANT(uint, SAMPLE_ALL_BINDING_BVH_NODES, 6u);
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_TRIANGLES, 7u);
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_QUERIES, 8u);
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_RESULTS, 9u);
-PB_CONSTANT(uint, SAMPLE_ALL_BINDING_COUNT, 10u);
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS, 10u);  // the dynamic_objects section (or the placeholder)
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_OBJECT_INSTANCES, 11u); // ObjectInstance per dynamic object (or the placeholder)
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_COUNT, 12u);
 
 // ---- Probe index build (probe_index.glsl: probe_index_count, _scan, _scatter) ------------------------------
 PB_CONSTANT(uint, PROBE_INDEX_BINDING_PROBES, 0u);
@@ -63,7 +65,9 @@ PB_CONSTANT(uint, LIGHT_BINDING_NEXT_IRRADIANCE, 12u);
 PB_CONSTANT(uint, LIGHT_BINDING_COUNTERS, 13u);
 PB_CONSTANT(uint, LIGHT_BINDING_TRACE_FLAGS, 14u); // uint per probe slot: 1 = trace its records (new or re-measured)
 PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);  // LightListHeader + int per listed probe (runtime_types.h)
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 16u);
+PB_CONSTANT(uint, LIGHT_BINDING_DYNAMIC_OBJECTS, 16u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS
+PB_CONSTANT(uint, LIGHT_BINDING_OBJECT_INSTANCES, 17u); // as SAMPLE_ALL_BINDING_OBJECT_INSTANCES
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 18u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------
 // 0-3 equal the sampling bindings (sample_irradiance.glsl's SVO lookup gives new probes their start).
@@ -94,7 +98,14 @@ PB_CONSTANT(uint, MEMORY_BINDING_PROBE_GENERATIONS, 23u); // uint per probe slot
 PB_CONSTANT(uint, MEMORY_BINDING_SVO_GENERATIONS, 24u);   // ivec4 per SVO leaf: generation of each stencil probe
 PB_CONSTANT(uint, MEMORY_BINDING_SVO_CENTRES, 25u);       // vec4 per SVO leaf: centre of its voxel, w = its SVO node (static)
 PB_CONSTANT(uint, MEMORY_BINDING_LIGHT_LIST, 26u);        // = LIGHT_BINDING_LIGHT_LIST's buffer
-PB_CONSTANT(uint, MEMORY_BINDING_COUNT, 27u);
+PB_CONSTANT(uint, MEMORY_BINDING_DYNAMIC_OBJECTS, 27u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS
+PB_CONSTANT(uint, MEMORY_BINDING_OBJECT_INSTANCES, 28u); // as SAMPLE_ALL_BINDING_OBJECT_INSTANCES
+PB_CONSTANT(uint, MEMORY_BINDING_COUNT, 29u);
+
+// ---- Dynamic objects' poses (object_refit.comp) -------------------------------------------------------------
+PB_CONSTANT(uint, OBJECT_BINDING_DYNAMIC_OBJECTS, 0u); // the dynamic_objects section
+PB_CONSTANT(uint, OBJECT_BINDING_INSTANCES, 1u);       // ObjectInstance per object: the host writes world_from_object
+PB_CONSTANT(uint, OBJECT_BINDING_COUNT, 2u);
 
 #ifdef __cplusplus
 static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES &&

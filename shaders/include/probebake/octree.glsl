@@ -56,12 +56,11 @@ float octree_exit_distance(vec3 cube_min, float size, vec3 inside, vec3 dir) {
 // One lattice ray r (0 .. placement_rays) from `centre`: adds to the three counts.
 void octree_lattice_ray(vec3 cube_min, float size, vec3 centre, int r, inout uint in_cube, inout uint hits, inout uint backface) {
   const vec3 dir = probebake_ray_directions[probebake_lighting.rays + r].xyz;
-  float t = 3.4e38;
-  const int tri = probebake_trace(centre, dir, 0.0, t, false);
-  if (tri < 0) return;
+  const ProbebakeHit hit = probebake_trace_scene(centre, dir, 0.0, 3.4e38, false);
+  if (hit.triangle < 0) return;
   hits += 1u;
-  if (probebake_inside(tri, dir)) backface += 1u;
-  if (t <= octree_exit_distance(cube_min, size, centre, dir)) in_cube += 1u;
+  if (probebake_hit_inside(hit, dir)) backface += 1u;
+  if (hit.t <= octree_exit_distance(cube_min, size, centre, dir)) in_cube += 1u;
 }
 
 // The leaf measure of a node cube, by one thread: hit fraction (hits inside the cube / lattice rays) and

@@ -119,7 +119,30 @@ struct LightCounters {
   int pad2;            // offset 44
 };                     // size 48
 
+// ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME.md "Moving objects") -------------------------
+// The runtime's pose of one dynamic object: the host writes world_from_object (vkCmdUpdateBuffer, rows of an
+// affine 3x4 matrix), object_refit.comp derives the rest, which bvh_trace.glsl reads: rays enter the object
+// (object_from_world, the same t in both spaces) only where they cross its world box.
+struct ObjectInstance {
+  vec4 world_from_object[3]; // offset   0: rows; xyz = linear part, w = translation
+  vec4 object_from_world[3]; // offset  48: rows of the inverse (object_refit)
+  vec3 world_lower;          // offset  96: world box of the object box's 8 corners, padded (object_refit)
+  float pad0;                // offset 108
+  vec3 world_upper;          // offset 112
+  float pad1;                // offset 124
+};                           // size 128
+
+struct ObjectRefitPush {
+  uint objects; // offset 0: dynamic objects (one thread each)
+  uint pad0;    // offset 4
+  uint pad1;    // offset 8
+  uint pad2;    // offset 12
+};              // size 16
+
 #ifdef __cplusplus
+static_assert(sizeof(ObjectInstance) == 128 && offsetof(ObjectInstance, object_from_world) == 48 &&
+              offsetof(ObjectInstance, world_lower) == 96 && offsetof(ObjectInstance, world_upper) == 112);
+static_assert(sizeof(ObjectRefitPush) == 16);
 static_assert(PROBE_INDEX_BLOCK == PROBE_INDEX_THREADS * PROBE_INDEX_PER_THREAD);
 static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && sizeof(SamplePush) == 16);
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);

@@ -260,6 +260,7 @@ struct LightStats {
   int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
   int lights = 0;          // punctual lights lit this frame
   int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
+  int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
 };
 
 // Statistics of one frame's memory update and light transitions (all 0 and active = false without one).
@@ -373,7 +374,8 @@ public:
   // many the volume can hold (the file's count + UploadOptions::light_headroom; 0 without a light update).
   std::span<const gpu::PunctualLight> lights() const;
   int light_capacity() const;
-  // The file's dynamic objects (empty for a static scene) and each one's current world_from_object.
+  // The file's dynamic objects (empty for a static scene) and each one's current world_from_object (the
+  // identity for an index out of range).
   std::span<const gpu::DynamicObject> dynamic_objects() const;
   glm::mat4 object_pose(int object) const;
 

@@ -69,11 +69,13 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
                    {"bvh_nodes", v.bvh_nodes.size() * sizeof(gpu::BvhNode)},
                    {"trace_triangles", v.trace_triangles.size() * sizeof(gpu::TraceTriangle)},
                    {"punctual_lights", v.punctual_lights.size() * sizeof(gpu::PunctualLight)},
-                   {"emitter_patches", v.emitter_patches.size() * sizeof(gpu::EmitterPatch)}};
+                   {"emitter_patches", v.emitter_patches.size() * sizeof(gpu::EmitterPatch)},
+                   {"dynamic_objects", v.dynamic_objects.size() * sizeof(gpu::DynamicObject)}};
   const bake::RuntimeLightingReport& g = r.runtime_lighting;
   j["runtime_lighting"] = {{"written", g.written}, {"bvh_nodes", g.bvh_nodes}, {"bvh_depth", g.bvh_depth},
                            {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},
-                           {"emitter_patches", g.emitter_patches}, {"bytes", g.bytes}, {"bvh_seconds", g.bvh_seconds}};
+                           {"emitter_patches", g.emitter_patches}, {"dynamic_objects", g.dynamic_objects}, {"bytes", g.bytes},
+                           {"bvh_seconds", g.bvh_seconds}};
   j["stages"] = nlohmann::ordered_json::object();
   j["stages_cpu"] = nlohmann::ordered_json::object(); // CPU seconds, all threads: comparable on a loaded machine
   double total = 0.0, total_cpu = 0.0;
@@ -108,10 +110,11 @@ void print_report(const nlohmann::ordered_json& j) {
              j["svo"]["solid_voxels"].get<int>(), j["svo"]["uncovered_voxels"].get<int>());
   const auto& gpu_scene = j["runtime_lighting"];
   if (gpu_scene["written"].get<bool>())
-    fmt::print("gpu scene    {} BVH nodes (depth {}), {} triangles, {} lights, {} emitter patches, {} bytes; BVH {:.1f} ms\n",
+    fmt::print("gpu scene    {} BVH nodes (depth {}), {} triangles, {} lights, {} emitter patches, {} dynamic objects, {} bytes; "
+               "BVH {:.1f} ms\n",
                gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(), gpu_scene["triangles"].get<int>(),
-               gpu_scene["lights"].get<int>(), gpu_scene["emitter_patches"].get<int>(), gpu_scene["bytes"].get<std::size_t>(),
-               1e3 * gpu_scene["bvh_seconds"].get<double>());
+               gpu_scene["lights"].get<int>(), gpu_scene["emitter_patches"].get<int>(), gpu_scene["dynamic_objects"].get<int>(),
+               gpu_scene["bytes"].get<std::size_t>(), 1e3 * gpu_scene["bvh_seconds"].get<double>());
   fmt::print("sections    ");
   for (const auto& [name, bytes] : j["sections"].items())
     if (bytes.get<std::size_t>() > 0) fmt::print(" {}:{}", name, bytes.get<std::size_t>());

@@ -64,12 +64,17 @@ void add_scene_input_options(CLI::App* app, SceneInputOptions& options) {
                   "Memory budget, e.g. 8G (default: 3/4 of physical memory; 0: no limit)");
   app->add_flag("--strict", options.strict,
                 "Fail on a texture that cannot be decoded (default: warn and use the material's factor)");
+  app->add_option("--dynamic", options.dynamic_nodes,
+                  "Node NAME moves at run time with its subtree (repeatable or comma-separated; as glTF node extras "
+                  "{\"probebake\": {\"dynamic\": true}})")
+      ->delimiter(',');
 }
 
 scene::LoadOptions load_options(const SceneInputOptions& options, bool require_triangles) {
   scene::LoadOptions load;
   load.require_triangles = require_triangles;
   load.strict = options.strict;
+  load.dynamic_nodes = options.dynamic_nodes;
   for (const std::string& dir : options.allow_paths) load.allowed_paths.emplace_back(dir);
   load.max_memory = options.max_memory.empty() ? default_budget() : parse_byte_size(options.max_memory);
   cap_address_space(load.max_memory);

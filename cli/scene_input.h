@@ -16,6 +16,7 @@ struct SceneInputOptions {
   std::vector<std::string> allow_paths;
   std::string max_memory; // "" = the default (3/4 of physical memory); "0" = no limit
   bool strict = false;    // an undecodable texture is an error, not a warning
+  std::vector<std::string> dynamic_nodes; // nodes that move at run time, besides those the glTF marks
 };
 
 void add_scene_input_options(CLI::App* app, SceneInputOptions& options);

@@ -91,6 +91,8 @@ constexpr InvariantInfo kInvariants[] = {
     {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero"},
     {"lighting_flags", "trace triangle and emitter patch flags set no bit but bit 0 (double-sided)"},
     {"bvh_tree", "BVH: children after their node, each node reached once, leaves of 1..4 triangles covering each once, depth, boxes"},
+    {"dynamic_ranges", "dynamic objects' node and triangle ranges contiguous after the static ones, each tree inside its ranges"},
+    {"dynamic_values", "dynamic objects: finite boxes holding their triangles, rest poses finite with determinant > 0"},
 };
 
 } // namespace

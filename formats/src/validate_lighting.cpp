@@ -302,8 +302,8 @@ void check_lighting(const ProbeVolume& volume, Reporter& out) {
   check_lighting_sections(volume, out);
   check_lighting_values(volume, out);
   check_lighting_flags(volume, out);
+  check_dynamic_objects(volume, out); // first: the BVH walk starts at the objects' roots
   BvhChecker(volume, out).run();
-  check_dynamic_objects(volume, out);
 }
 
 } // namespace probebake::formats::detail

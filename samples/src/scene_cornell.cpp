@@ -60,8 +60,8 @@ MeshData block(const std::array<Corners, 5>& faces_mm) {
   return mesh;
 }
 
-void add_object(SceneBuilder& scene, const char* name, MeshData mesh, MaterialId material) {
-  scene.add_mesh_node(name, scene.add_mesh(name, std::move(mesh), material));
+NodeId add_object(SceneBuilder& scene, const char* name, MeshData mesh, MaterialId material) {
+  return scene.add_mesh_node(name, scene.add_mesh(name, std::move(mesh), material));
 }
 
 // The model's uniform scale and translation so that it fits 60% of the box and stands centred on the floor.
@@ -96,9 +96,9 @@ SceneBuilder cornell(const CornellOptions& options) {
   add_object(scene, "red_wall", measured_quad(red_wall_mm, room_centre_mm, Facing::inward), red);
   add_object(scene, "green_wall", measured_quad(green_wall_mm, room_centre_mm, Facing::inward), green);
   add_object(scene, "light", measured_quad(light_mm, room_centre_mm, Facing::inward), light);
-  add_object(scene, "short_block", block(short_block_mm), white);
+  scene.set_dynamic(add_object(scene, "short_block", block(short_block_mm), white), options.dynamic);
   if (!options.with_model) {
-    add_object(scene, "tall_block", block(tall_block_mm), white);
+    scene.set_dynamic(add_object(scene, "tall_block", block(tall_block_mm), white), options.dynamic);
     return scene;
   }
   const MeshId model = scene.add_model(*options.with_model, "model");
@@ -106,7 +106,7 @@ SceneBuilder cornell(const CornellOptions& options) {
   if (glm::all(glm::equal(bounds.extent(), glm::vec3(0.0f)))) {
     throw Error(ErrorKind::input, "cornell: the model '" + options.with_model->string() + "' has no extent");
   }
-  scene.add_mesh_node("model", model, fit_in_box(bounds));
+  scene.set_dynamic(scene.add_mesh_node("model", model, fit_in_box(bounds)), options.dynamic);
   return scene;
 }
 

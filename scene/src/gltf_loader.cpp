@@ -6,6 +6,7 @@
 #include <iterator>
 #include <limits>
 #include <set>
+#include <string>
 
 #include <fmt/core.h>
 #include <glm/gtc/quaternion.hpp>
@@ -132,7 +133,8 @@ public:
   SceneBuilder(const tinygltf::Model& model, const std::vector<int>& texture_images, Scene& scene, const Context& ctx)
       : model_(model), texture_images_(texture_images), scene_(scene), ctx_(ctx) {}
 
-  void add_node(int index, const glm::mat4& parent, bool parent_dynamic, int depth) {
+  // `parent_object`: the dynamic object of the nearest dynamic ancestor, or -1.
+  void add_node(int index, const glm::mat4& parent, int parent_object, int depth) {
     const std::string place = fmt::format("nodes[{}]", index);
     if (index < 0 || std::size_t(index) >= model_.nodes.size()) ctx_.fail(place, "node does not exist");
     if (depth > kMaxNodeDepth) ctx_.fail(place, "node hierarchy is deeper than 4096 levels");
@@ -142,8 +144,12 @@ public:
     if (!detail::all_finite(world[0]) || !detail::all_finite(world[1]) ||
         !detail::all_finite(world[2]) || !detail::all_finite(world[3]))
       ctx_.fail(place, "transform is not finite");
-    const bool dynamic = parent_dynamic || is_dynamic(node);
-    if (node.mesh >= 0) add_mesh_instance(node, index, world, dynamic, place);
+    int object = parent_object;
+    if (object < 0 && (is_dynamic(node) || named_dynamic(node.name))) {
+      object = int(scene_.dynamic_objects.size());
+      scene_.dynamic_objects.push_back({index, node.name, world});
+    }
+    if (node.mesh >= 0) add_mesh_instance(node, index, world, object, place);
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end() && detail::member(light->second, "light").IsInt()) {
       const int li = detail::member(light->second, "light").Get<int>();
@@ -151,7 +157,16 @@ public:
       scene_.lights.push_back(convert_light(model_.lights[std::size_t(li)], world, ctx_, place));
     }
     if (node.camera >= 0) add_camera(node, world, place);
-    for (int child : node.children) add_node(child, world, dynamic, depth + 1);
+    for (int child : node.children) add_node(child, world, object, depth + 1);
+  }
+
+  // Nodes named dynamic by the caller (LoadOptions::dynamic_nodes); each name must name a node.
+  void set_dynamic_names(const std::vector<std::string>& names) {
+    for (const std::string& name : names) {
+      const bool found = std::any_of(model_.nodes.begin(), model_.nodes.end(), [&](const tinygltf::Node& n) { return n.name == name; });
+      if (!found) ctx_.fail("nodes", fmt::format("no node is named '{}' (--dynamic)", name));
+      dynamic_names_.insert(name);
+    }
   }
 
 private:
@@ -169,14 +184,17 @@ private:
     scene_.cameras.push_back({node.name, glm::vec3(world * glm::vec4(0, 0, 0, 1)), glm::normalize(forward), yfov});
   }
 
-  void add_mesh_instance(const tinygltf::Node& node, int index, const glm::mat4& world, bool dynamic,
+  bool named_dynamic(const std::string& name) const { return !name.empty() && dynamic_names_.count(name) != 0; }
+
+  void add_mesh_instance(const tinygltf::Node& node, int index, const glm::mat4& world, int object,
                          const std::string& place) {
     if (std::size_t(node.mesh) >= model_.meshes.size()) ctx_.fail(place, fmt::format("mesh {} does not exist", node.mesh));
     Instance instance;
     instance.node_name = node.name;
     instance.node = index;
     instance.mesh = node.mesh;
-    instance.dynamic = dynamic;
+    instance.dynamic = object >= 0;
+    instance.dynamic_object = object;
     instance.world_from_local = world;
     instance.first_triangle = static_cast<std::uint32_t>(scene_.triangles.size());
     const tinygltf::Mesh& mesh = model_.meshes[std::size_t(node.mesh)];
@@ -250,6 +268,7 @@ private:
   Scene& scene_;
   const Context& ctx_;
   std::set<int> visited_;
+  std::set<std::string> dynamic_names_;
 };
 
 std::vector<int> root_nodes(const tinygltf::Model& model, const Context& ctx) {
@@ -300,7 +319,8 @@ Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string
   const std::vector<int> texture_images = detail::select_texture_images(model, policy.image_problems, ctx);
 
   SceneBuilder builder(model, texture_images, scene, ctx);
-  for (int root : root_nodes(model, ctx)) builder.add_node(root, glm::mat4(1.0f), false, 0);
+  builder.set_dynamic_names(options.dynamic_nodes);
+  for (int root : root_nodes(model, ctx)) builder.add_node(root, glm::mat4(1.0f), -1, 0);
   for (const glm::vec3& p : scene.positions) scene.bounds.extend(p);
   if (options.require_triangles && scene.triangles.empty())
     ctx.fail("meshes", fmt::format("scene has no triangles to bake ({} meshes, {} lights; `probebake info` describes it)",

@@ -3,8 +3,10 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include "probebake/scene/scene.h"
+#include "probebake/formats/error.h"
 
 namespace probebake::scene {
 
@@ -48,6 +50,30 @@ double triangle_area(const Scene& scene, std::size_t t) {
 
 bool is_double_sided(const Scene& scene, std::size_t t) {
   return scene.materials[scene.triangle_material[t]].double_sided;
+}
+
+Scene posed(const Scene& scene, std::span<const glm::mat4> world_from_object) {
+  if (world_from_object.size() != scene.dynamic_objects.size())
+    throw Error(ErrorKind::internal, "posed: one pose per dynamic object is needed");
+  std::vector<glm::mat4> moves; // rest -> pose, in world space
+  for (std::size_t o = 0; o < world_from_object.size(); ++o)
+    moves.push_back(world_from_object[o] * glm::inverse(scene.dynamic_objects[o].world_from_object));
+  Scene out = scene;
+  std::vector<bool> moved(scene.positions.size(), false); // a vertex is moved once, whatever shares it
+  for (const Instance& instance : scene.instances) {
+    if (instance.dynamic_object < 0) continue;
+    const glm::mat4& move = moves[std::size_t(instance.dynamic_object)];
+    for (std::uint32_t t = instance.first_triangle; t < instance.first_triangle + instance.triangle_count; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = scene.triangles[t][k];
+        if (moved[v]) continue;
+        moved[v] = true;
+        out.positions[v] = glm::vec3(move * glm::vec4(scene.positions[v], 1.0f));
+      }
+  }
+  out.bounds = Bounds{};
+  for (const glm::vec3& p : out.positions) out.bounds.extend(p);
+  return out;
 }
 
 ReceivingSides receiving_sides(const Scene& scene) {

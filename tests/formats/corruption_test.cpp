@@ -169,6 +169,7 @@ const std::vector<FileCase>& file_cases() {
        }},
       {"format_version", "lighting sections in a 1.0 file", [] { return golden_with_minor(Sample::lighting, 0); }},
       {"format_version", "double-sided flags in a 1.1 file", [] { return golden_with_minor(Sample::double_sided, 1); }},
+      {"format_version", "dynamic objects in a 1.2 file", [] { return golden_with_minor(Sample::dynamic, 2); }},
       {"format_version", "a 1.0 header of 80 bytes", [] {
          std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
          testing::insert_zeros(bytes, sizeof(FileHeader), 16);

@@ -86,6 +86,11 @@ const std::map<std::string, Layout>& code_layouts() {
                           FIELD(gpu::TraceTriangle, normal), FIELD(gpu::TraceTriangle, pad2), FIELD(gpu::TraceTriangle, albedo),
                           FIELD(gpu::TraceTriangle, pad3), FIELD(gpu::TraceTriangle, emission), FIELD(gpu::TraceTriangle, pad4)},
                          sizeof(gpu::TraceTriangle)}},
+      {"DynamicObject", {{FIELD(gpu::DynamicObject, lower), FIELD(gpu::DynamicObject, bvh_root), FIELD(gpu::DynamicObject, upper),
+                          FIELD(gpu::DynamicObject, bvh_node_count), FIELD(gpu::DynamicObject, first_triangle),
+                          FIELD(gpu::DynamicObject, triangle_count), FIELD(gpu::DynamicObject, gltf_node), FIELD(gpu::DynamicObject, pad0),
+                          FIELD(gpu::DynamicObject, rest_rows)},
+                         sizeof(gpu::DynamicObject)}},
       {"PunctualLight", {{FIELD(gpu::PunctualLight, position), FIELD(gpu::PunctualLight, type), FIELD(gpu::PunctualLight, direction),
                           FIELD(gpu::PunctualLight, range), FIELD(gpu::PunctualLight, intensity), FIELD(gpu::PunctualLight, cos_outer),
                           FIELD(gpu::PunctualLight, spot_scale), FIELD(gpu::PunctualLight, pad0), FIELD(gpu::PunctualLight, pad1),
@@ -167,12 +172,12 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
       {"svo_leaves", sizeof(gpu::SvoLeaf)},     {"cells", sizeof(Cell)},
       {"lighting_info", sizeof(gpu::LightingInfo)}, {"ray_directions", 16}, {"bvh_nodes", sizeof(gpu::BvhNode)},
       {"trace_triangles", sizeof(gpu::TraceTriangle)}, {"punctual_lights", sizeof(gpu::PunctualLight)},
-      {"emitter_patches", sizeof(gpu::EmitterPatch)}};
+      {"emitter_patches", sizeof(gpu::EmitterPatch)}, {"dynamic_objects", sizeof(gpu::DynamicObject)}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
-  // Between them the two samples hold every section type.
+  // Between them the three samples hold every section type.
   std::vector<SectionEntry> entries;
-  for (testing::Sample sample : {testing::Sample::small, testing::Sample::lighting}) {
+  for (testing::Sample sample : {testing::Sample::small, testing::Sample::lighting, testing::Sample::dynamic}) {
     const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(sample));
     const ContainerView view = parse_container(bytes, testing::sample_name(sample));
     entries.insert(entries.end(), view.sections.begin(), view.sections.end());

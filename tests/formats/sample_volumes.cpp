@@ -258,12 +258,33 @@ void mark_double_sided(ProbeVolume& v) {
   for (gpu::EmitterPatch& patch : v.emitter_patches) patch.flags = gpu::EMITTER_DOUBLE_SIDED;
 }
 
+// Format 1.3: a card of two triangles in its own frame (x, y in [0, 0.5]), one leaf node after the static
+// tree, at rest 1 m above the floor's centre.
+void add_sample_object(ProbeVolume& v) {
+  gpu::DynamicObject o{};
+  o.first_triangle = int(v.trace_triangles.size());
+  o.bvh_root = int(v.bvh_nodes.size());
+  v.trace_triangles.push_back(trace_triangle({0, 0, 0}, {0.5f, 0, 0}, {0, 0.5f, 0}, 6));
+  v.trace_triangles.push_back(trace_triangle({0.5f, 0, 0}, {0.5f, 0.5f, 0}, {0, 0.5f, 0}, 7));
+  v.bvh_nodes.push_back({{0, 0, 0}, o.first_triangle, {0.5f, 0.5f, 0}, 2});
+  o.bvh_node_count = 1;
+  o.triangle_count = 2;
+  o.lower = glm::vec3(0.0f);
+  o.upper = glm::vec3(0.5f, 0.5f, 0.0f);
+  o.gltf_node = 3;
+  o.rest_rows[0] = glm::vec4(1, 0, 0, 1);
+  o.rest_rows[1] = glm::vec4(0, 1, 0, 1);
+  o.rest_rows[2] = glm::vec4(0, 0, 1, 1);
+  v.dynamic_objects = {o};
+}
+
 } // namespace
 
 ProbeVolume make_sample(Sample sample) {
   ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
-  if (sample == Sample::lighting || sample == Sample::double_sided) add_sample_lighting(volume);
+  if (sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic) add_sample_lighting(volume);
   if (sample == Sample::double_sided) mark_double_sided(volume);
+  if (sample == Sample::dynamic) add_sample_object(volume);
   sync_info_counts(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
   volume.input_hash = kSampleInputHash;
@@ -277,6 +298,7 @@ const char* sample_name(Sample sample) {
   case Sample::grid: return "grid";
   case Sample::lighting: return "lighting";
   case Sample::double_sided: return "double_sided";
+  case Sample::dynamic: return "dynamic";
   }
   return "";
 }
@@ -288,6 +310,7 @@ const char* golden_name(Sample sample) {
   case Sample::grid: return "v1_0_grid.probes";
   case Sample::lighting: return "v1_1_lighting.probes";
   case Sample::double_sided: return "v1_2_double_sided.probes";
+  case Sample::dynamic: return "v1_3_dynamic.probes";
   }
   return "";
 }

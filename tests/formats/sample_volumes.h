@@ -15,11 +15,13 @@ enum class Sample {
               // 2 emitter patches, 6 + 32 ray directions)
   double_sided, // lighting with format 1.2's flags: the wall and the emissive ceiling (and its patches)
                 // double-sided
+  dynamic,      // lighting plus format 1.3's dynamic_objects: a two-triangle card with its own one-leaf BVH,
+                // moved by its rest pose (a translation)
 };
 
 // Every sample, for tests that loop over them.
 inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting,
-                                           Sample::double_sided};
+                                           Sample::double_sided, Sample::dynamic};
 
 ProbeVolume make_sample(Sample sample);
 

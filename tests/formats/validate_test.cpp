@@ -217,6 +217,13 @@ const std::vector<Corruption>& corruptions() {
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[3].upper.x -= 0.25f; }}, // misses its triangle
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[0].upper.y = 1.0f; }},   // child box sticks out
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { make_bvh_chain(v, gpu::BVH_MAX_DEPTH); }},
+      // Format 1.3: the card (object 0: node 5, triangles 6-7).
+      {"dynamic_ranges", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].first_triangle = 5, v.dynamic_objects[0].triangle_count = 3; }},
+      {"dynamic_ranges", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].gltf_node = -1; }},
+      {"dynamic_ranges", Sample::dynamic, [](ProbeVolume& v) { v.bvh_nodes[4].first = 6; }}, // a static leaf on the card's triangle
+      {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
+      {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[0].x = -1.0f; }}, // mirrored
+      {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[2] = glm::vec4(0.0f); }}, // singular
   };
   return list;
 }

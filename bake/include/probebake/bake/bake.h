@@ -86,7 +86,8 @@ struct RuntimeLightingReport {
   int left_out_triangles = 0;         // zero-area triangles (never hit) left out of the BVH
   int lights = 0;
   int emitter_patches = 0;
-  std::size_t bytes = 0;              // payload bytes of the six sections
+  int dynamic_objects = 0;            // format 1.3: objects moved by the host, each with its own BVH
+  std::size_t bytes = 0;              // payload bytes of the lighting sections
   double bvh_seconds = 0.0;           // rtcBuildBVH, flattening and refit
 };
 

@@ -22,6 +22,9 @@ struct CornellOptions {
   // centred on the middle of the floor (it may intersect the short block).
   std::optional<std::filesystem::path> with_model;
   float light_scale = 1.0f;  // multiplies the light's radiance cornell_light_radiance, >= 0
+  // Marks the blocks (or the short block and the model) dynamic: objects the runtime moves (the octree
+  // thesis's animated Cornell test, `probebake run --animate`).
+  bool dynamic = false;
 };
 inline constexpr float cornell_light_radiance[3] = {17.0f, 12.0f, 4.0f};
 SceneBuilder cornell(const CornellOptions& options = {});

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -68,9 +69,18 @@ struct Instance {
   int mesh = -1;
   std::uint32_t first_triangle = 0;
   std::uint32_t triangle_count = 0;
-  bool dynamic = false; // node (or an ancestor) has extras {"probebake": {"dynamic": true}}
+  bool dynamic = false; // node (or an ancestor) is dynamic (extras {"probebake": {"dynamic": true}} or by name)
+  int dynamic_object = -1; // index into Scene::dynamic_objects when dynamic
   glm::mat4 world_from_local{1.0f};
   Bounds bounds;
+};
+
+// A node that moves at run time with everything below it (the outermost dynamic node of its subtree): its
+// triangles are one object for the runtime, in this node's frame at rest (docs/FORMAT.md "Dynamic objects").
+struct DynamicObject {
+  int node = -1;
+  std::string name;
+  glm::mat4 world_from_object{1.0f}; // the node's world transform at rest, as loaded
 };
 
 struct Scene {
@@ -83,6 +93,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<SceneCamera> cameras;               // perspective cameras, scene order (orthographic ones skipped)
   std::vector<Instance> instances;
+  std::vector<DynamicObject> dynamic_objects;     // in the order the node walk meets them
   std::vector<std::string> extensions_used;
   std::vector<std::string> extensions_required;
   std::vector<std::string> warnings;              // things skipped, e.g. non-triangle primitives
@@ -104,6 +115,9 @@ struct LoadOptions {
   // A texture that cannot be decoded (unknown format, KTX2 without fallback, missing file, corrupt data) is
   // an error instead of a warning (its materials would otherwise use their factors alone).
   bool strict = false;
+  // Nodes that move at run time besides those whose extras say so (`--dynamic NAME`): every node with one
+  // of these names; a name no node has is an error.
+  std::vector<std::string> dynamic_nodes = {};
 };
 
 // Loads .gltf (external files or data URIs) or .glb. Throws probebake::Error (ErrorKind::input) with a
@@ -141,6 +155,11 @@ struct ReceivingSides {
   double total_area = 0.0;
 };
 ReceivingSides receiving_sides(const Scene& scene);
+
+// The scene with each dynamic object moved from its rest pose to world_from_object[o] (one per
+// Scene::dynamic_objects entry): its triangles' vertices are transformed, everything else is kept. What the
+// path-traced reference and the CPU tests trace for a pose of the runtime's objects.
+Scene posed(const Scene& scene, std::span<const glm::mat4> world_from_object);
 
 // Distance by which ray origins are lifted off their surface: relative to the scene's size and to the
 // magnitude of its coordinates (float spacing grows with them).

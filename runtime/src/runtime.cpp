@@ -192,6 +192,8 @@ int Volume::light_capacity() const {
 
 std::span<const gpu::DynamicObject> Volume::dynamic_objects() const { return state_->cpu_parts.dynamic_objects; }
 
+bool Volume::runs_memory_update() const { return state_->memory != nullptr; }
+
 glm::mat4 Volume::object_pose(int object) const {
   if (object < 0 || std::size_t(object) >= state_->cpu_parts.dynamic_objects.size()) return glm::mat4(1.0f);
   const std::size_t o = static_cast<std::size_t>(object);

@@ -15,7 +15,11 @@
 
 #include <glm/geometric.hpp>
 
+#include <glm/trigonometric.hpp>
+
+#include "probebake/dynamic/animation.h"
 #include "probebake/runtime/runtime.h"
+#include "run_report.h"
 
 namespace probebake::run {
 namespace {
@@ -77,11 +81,29 @@ gpu::PunctualLight orbit_pose(const gpu::PunctualLight& baked, const LightOrbit&
   return light;
 }
 
-// The frame's inputs: the --orbit-light pose, and the --depth-cycle schedule (at frames 0, P, 2P, ... the
-// max depth becomes HIGH, LOW, HIGH, ... and the whole root cube is marked changed).
-runtime::FrameInputs frame_inputs(const RunOptions& options, const gpu::VolumeInfo& info, std::span<const gpu::PunctualLight> baked_lights,
+// The --animate poses of the frame: only the objects whose pose changes (the runtime re-measures where they
+// moved).
+std::vector<runtime::ObjectPose> animated_poses(const RunOptions& options, const runtime::Volume& volume, int frame) {
+  std::vector<runtime::ObjectPose> poses;
+  if (!options.animate) return poses;
+  const std::span<const gpu::DynamicObject> objects = volume.dynamic_objects();
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    const glm::mat4 pose = dynamic::animated_pose(*options.animate, frame, objects[o]);
+    if (pose != volume.object_pose(int(o))) poses.push_back({int(o), pose});
+  }
+  return poses;
+}
+
+// The frame's inputs: the --orbit-light pose, the --animate poses, the limits and --max-depth, and the
+// --depth-cycle schedule (at frames 0, P, 2P, ... the max depth becomes HIGH, LOW, HIGH, ... and the whole
+// root cube is marked changed).
+runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volume& volume, std::span<const gpu::PunctualLight> baked_lights,
                                   int frame) {
+  const gpu::VolumeInfo& info = volume.info();
   runtime::FrameInputs in;
+  in.object_poses = animated_poses(options, volume, frame);
+  if (volume.runs_memory_update()) in.limits = options.limits;
+  if (frame == 0 && options.max_depth) in.max_depth = options.max_depth;
   if (options.orbit_light) {
     in.lights.emplace(baked_lights.begin(), baked_lights.end());
     (*in.lights)[std::size_t(options.orbit_light->light)] = orbit_pose(baked_lights[std::size_t(options.orbit_light->light)], *options.orbit_light, frame);
@@ -195,7 +217,7 @@ int run_volume(const RunOptions& options) {
   runtime::UploadOptions upload;
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis;
-  upload.memory_update = options.depth_cycle.has_value();
+  upload.memory_update = options.depth_cycle.has_value() || options.memory_update || options.animate.has_value();
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
   const gpu::VolumeInfo& info = volume->info();
@@ -210,6 +232,9 @@ int run_volume(const RunOptions& options) {
                                 std::to_string(baked_lights.size()) + " punctual light(s)" +
                                 (volume->light_capacity() == 0 && options.light_update ? " (no runtime lighting sections)" : "")});
 
+  if (options.animate)
+    std::printf("animation: %s over %d frames, %zu dynamic object(s), memory update %s\n", dynamic::to_string(*options.animate),
+                options.frames, volume->dynamic_objects().size(), volume->runs_memory_update() ? "on" : "off (needs octree placement and lighting)");
   std::ofstream csv;
   if (options.csv) {
     csv.open(*options.csv);
@@ -217,19 +242,34 @@ int run_volume(const RunOptions& options) {
       std::fprintf(stderr, "%s: %s: cannot be written\n", options.program.c_str(), options.csv->c_str());
       return 3;
     }
-    csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
-           "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z\n";
+    if (options.animate) write_frame_header(csv);
+    else
+      csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
+             "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z\n";
   }
   std::map<std::string, PassSummary> summary;
   PassSummary cpu;
+  std::vector<FrameRow> rows;
   for (int frame = 0; frame < options.frames; ++frame) {
-    auto stats = volume->run_frame(frame_inputs(options, volume->info(), baked_lights, frame));
+    auto stats = volume->run_frame(frame_inputs(options, volume.value(), baked_lights, frame));
     if (!stats.ok()) return report(options, stats.status());
-    print_frame(stats.value());
+    if (options.animate) {
+      rows.push_back(frame_row(frame, glm::degrees(dynamic::animation_angle(*options.animate, frame)), stats.value()));
+      if (csv.is_open()) write_frame_row(csv, rows.back());
+      if (options.verbose) print_frame(stats.value());
+      else if ((frame + 1) % 100 == 0 || frame + 1 == options.frames)
+        std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, options.frames, stats->live_probes, rows.back().gpu_ms);
+    } else {
+      print_frame(stats.value());
+    }
     cpu.add(stats->cpu_ms);
+    if (options.after_frame) {
+      const runtime::Status done = options.after_frame(frame, volume.value());
+      if (!done.ok()) return report(options, done);
+    }
     for (const runtime::PassTime& p : stats->passes) {
       summary[p.name].add(p.gpu_ms);
-      if (csv.is_open())
+      if (csv.is_open() && !options.animate)
         csv << stats->frame << ',' << p.name << ',' << p.gpu_ms << ',' << stats->cpu_ms << ',' << stats->live_probes
             << ',' << stats->probe_capacity << ',' << stats->light.lit_probes << ',' << stats->light.indirect_misses
             << ',' << stats->light.non_finite << ',' << stats->memory.splits << ',' << stats->memory.collapses << ','
@@ -244,6 +284,17 @@ int run_volume(const RunOptions& options) {
   for (const auto& [name, s] : summary) std::printf("summary: %s gpu ms %s\n", name.c_str(), s.text().c_str());
   std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
               options.validate ? "; live state valid after every frame" : "");
+  if (options.animate) {
+    std::printf("%s", summary_table(rows, options.animate).c_str());
+    if (options.plots) {
+      try {
+        for (const std::string& file : write_plots(*options.plots, rows, *options.animate)) std::printf("wrote %s\n", file.c_str());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s: %s\n", options.program.c_str(), e.what());
+        return 3;
+      }
+    }
+  }
   if (options.samples > 0) {
     const runtime::Status sampled = run_samples(volume.value(), options.samples, options.compare_all_probes);
     if (!sampled.ok()) return report(options, sampled);

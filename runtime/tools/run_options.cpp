@@ -11,10 +11,20 @@ constexpr const char* kUsage =
     "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
-    "  --frames N        frames to run (default 1): probe index build, then the light update\n"
+    "                     [--animate thesis|revolution|soak [--plots DIR]] [--memory-update] [--max-depth N]\n"
+    "                     [--limits M:L] [--verbose]\n"
+    "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
-    "                    lights,uploaded_lights,light_x,light_y,light_z per pass\n"
+    "                    lights,uploaded_lights,light_x,light_y,light_z per pass; with --animate one row\n"
+    "                    per frame (docs/RUNTIME.md \"Animated runs\")\n"
+    "  --animate NAME    turn the file's dynamic objects (thesis: 45 degrees over frames 200-350; revolution:\n"
+    "                    a turn in 150 frames, 50 still, three times; soak: random motion); memory update on\n"
+    "  --plots DIR       with --animate: SVG plots of the per-frame table into DIR\n"
+    "  --memory-update   reshape the octree on the GPU (octree volumes with lighting sections)\n"
+    "  --max-depth N     with the memory update: the leaf rule's max depth from frame 0 (0-12)\n"
+    "  --limits M:L      with the memory update: at most M allocations and L lit leaves per frame (0 = all)\n"
+    "  --verbose         one line per frame (default only without --csv)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
     "  --vk-validation   enable VK_LAYER_KHRONOS_validation (synchronization validation on)\n"
     "  --device NAME     use the first Vulkan device whose name contains NAME\n"
@@ -48,6 +58,13 @@ bool parse_depth_cycle(std::string_view text, DepthCycle& out) {
          parse_int(text.substr(b + 1), 1, out.period) && out.low <= 12 && out.high <= 12;
 }
 
+// M:L, both >= 0.
+bool parse_limits(std::string_view text, runtime::FrameLimits& out) {
+  const std::size_t a = text.find(':');
+  return a != std::string_view::npos && parse_int(text.substr(0, a), 0, out.max_memory_entries) &&
+         parse_int(text.substr(a + 1), 0, out.max_light_entries);
+}
+
 // I:RADIUS:PERIOD, light index >= 0, radius finite and >= 0, period >= 1.
 bool parse_light_orbit(std::string_view text, LightOrbit& out) {
   const std::size_t a = text.find(':'), b = a == std::string_view::npos ? a : text.find(':', a + 1);
@@ -62,6 +79,7 @@ bool parse_light_orbit(std::string_view text, LightOrbit& out) {
 
 std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& message, int& exit_code) {
   RunOptions options;
+  bool frames_given = false;
   exit_code = 1;
   auto usage_error = [&](const std::string& what) {
     message = "probebake-run: " + what + "\n" + kUsage;
@@ -93,11 +111,28 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       options.orbit_light = orbit;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
+    } else if (arg == "--memory-update") {
+      options.memory_update = true;
+    } else if (arg == "--verbose") {
+      options.verbose = true;
+    } else if (arg == "--animate") {
+      if (!has_value || !(options.animate = dynamic::parse_animation(argv[++i])))
+        return usage_error("--animate needs thesis, revolution or soak");
+    } else if (arg == "--max-depth") {
+      int depth = 0;
+      if (!has_value || !parse_int(argv[++i], 0, depth) || depth > 12) return usage_error("--max-depth needs a depth in 0-12");
+      options.max_depth = depth;
+    } else if (arg == "--limits") {
+      if (!has_value || !parse_limits(argv[++i], options.limits)) return usage_error("--limits needs M:L (whole numbers >= 0)");
+    } else if (arg == "--plots") {
+      if (!has_value) return usage_error("--plots needs a folder");
+      options.plots = argv[++i];
     } else if (arg == "--frames" || arg == "--samples") {
       int value = 0;
       if (!has_value || !parse_int(argv[++i], arg == "--frames" ? 1 : 0, value))
         return usage_error(std::string(arg) + " needs a whole number" + (arg == "--frames" ? " >= 1" : " >= 0"));
       (arg == "--frames" ? options.frames : options.samples) = value;
+      frames_given = frames_given || arg == "--frames";
     } else if (arg == "--csv" || arg == "--device") {
       if (!has_value) return usage_error(std::string(arg) + " needs a value");
       (arg == "--csv" ? options.csv.emplace() : options.device) = argv[++i];
@@ -110,6 +145,7 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     }
   }
   if (options.input.empty()) return usage_error("no input file");
+  if (options.animate && !frames_given) options.frames = dynamic::default_frames(*options.animate);
   return options;
 }
 

@@ -1,8 +1,12 @@
 // Command line of probebake-run (a plain argv parser: the tool links only the runtime and formats).
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
+
+#include "probebake/dynamic/animation.h"
+#include "probebake/runtime/runtime.h"
 
 namespace probebake::run {
 
@@ -34,7 +38,16 @@ struct RunOptions {
   float hysteresis = 0.9f;           // runtime::UploadOptions::hysteresis, [0, 1)
   std::optional<DepthCycle> depth_cycle; // run the memory update with this max-depth schedule
   std::optional<LightOrbit> orbit_light; // move one punctual light every frame (FrameInputs::lights)
+  std::optional<dynamic::Animation> animate; // pose the file's dynamic objects per frame (dynamic/animation.h)
+  bool memory_update = false;        // runtime::UploadOptions::memory_update (implied by --depth-cycle, --animate)
+  std::optional<int> max_depth;      // FrameInputs::max_depth in frame 0 (memory update)
+  runtime::FrameLimits limits;       // per-frame limits of the memory and light updates
+  std::optional<std::string> plots;  // folder for SVG plots of the per-frame table (--animate)
+  bool verbose = false;              // one line per frame even without --csv
   std::string program = "probebake-run"; // prefix of error messages
+  // Called after every frame with the frame index (0-based), for the CLI's pictures and error against the
+  // reference; a Status that is not ok ends the run with its exit code.
+  std::function<runtime::Status(int frame, runtime::Volume& volume)> after_frame;
 };
 
 // Parses argv; on error or --help returns nullopt and sets `message` (usage text or the error) and

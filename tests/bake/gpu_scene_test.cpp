@@ -19,6 +19,7 @@
 #include "probebake/formats/container.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
+#include "probebake/dynamic/animation.h"
 #include "probebake/samples/scenes.h"
 
 namespace probebake::test {
@@ -47,7 +48,8 @@ formats::ProbeVolume lighting_volume(const scene::Scene& s, const bake::BakeSett
 
 struct GpuHit {
   float distance = 0.0f;
-  int triangle = -1; // index into trace_triangles
+  int triangle = -1;     // index into trace_triangles
+  glm::vec3 normal{0.0f}; // world space (object triangles are stored in their object's frame)
 };
 
 // Slab test with the far distance scaled by 1 + 2 gamma(3) (Ize 2013), so that rounding never culls a box
@@ -77,13 +79,13 @@ std::optional<float> intersect(const gpu::TraceTriangle& tri, glm::vec3 origin, 
   return glm::dot(tri.edge2, q) * inv;
 }
 
-std::optional<GpuHit> trace(const formats::ProbeVolume& v, glm::vec3 origin, glm::vec3 direction) {
-  if (v.bvh_nodes.empty()) return std::nullopt;
+// One tree from `root`; `best` keeps the nearest hit over the calls (the direction is not normalised in an
+// object's frame, so distances are the same in both).
+void trace_tree(const formats::ProbeVolume& v, int root, glm::vec3 origin, glm::vec3 direction, GpuHit& best) {
   const glm::vec3 inverse = 1.0f / direction;
-  GpuHit best{std::numeric_limits<float>::max(), -1};
   std::array<int, gpu::BVH_MAX_DEPTH> stack{};
   int size = 0;
-  stack[size++] = 0;
+  stack[size++] = root;
   while (size > 0) {
     const gpu::BvhNode& node = v.bvh_nodes[std::size_t(stack[--size])];
     if (!hits_box(node, origin, inverse, best.distance)) continue;
@@ -94,8 +96,21 @@ std::optional<GpuHit> trace(const formats::ProbeVolume& v, glm::vec3 origin, glm
     }
     for (int t = node.first; t < node.first + node.count; ++t) {
       const auto d = intersect(v.trace_triangles[std::size_t(t)], origin, direction);
-      if (d && *d >= 0.0f && *d < best.distance) best = {*d, t};
+      if (d && *d >= 0.0f && *d < best.distance) best = {*d, t, v.trace_triangles[std::size_t(t)].normal};
     }
+  }
+}
+
+// Two levels, as the runtime traces (bvh_trace.glsl): the static tree, then each dynamic object at rest.
+std::optional<GpuHit> trace(const formats::ProbeVolume& v, glm::vec3 origin, glm::vec3 direction) {
+  GpuHit best{std::numeric_limits<float>::max(), -1};
+  const bool has_static = v.dynamic_objects.empty() ? !v.bvh_nodes.empty() : v.dynamic_objects[0].bvh_root > 0;
+  if (has_static) trace_tree(v, 0, origin, direction, best);
+  for (const gpu::DynamicObject& o : v.dynamic_objects) {
+    const glm::mat4 rest = dynamic::rest_pose(o), object_from_world = glm::inverse(rest);
+    const int before = best.triangle;
+    trace_tree(v, o.bvh_root, glm::vec3(object_from_world * glm::vec4(origin, 1.0f)), glm::mat3(object_from_world) * direction, best);
+    if (best.triangle != before) best.normal = glm::normalize(glm::transpose(glm::mat3(object_from_world)) * best.normal);
   }
   if (best.triangle < 0) return std::nullopt;
   return best;
@@ -136,7 +151,7 @@ Comparison compare_with_embree(const scene::Scene& s, const formats::ProbeVolume
     const double difference = std::abs(double(b->distance) - a->distance);
     c.far += difference > 1e-5 * std::max(double(a->distance), scene_size) ? 1 : 0;
     if (a->distance > 0.01 * scene_size) c.max_relative = std::max(c.max_relative, difference / a->distance);
-    const bool backface = glm::dot(tri.normal, direction) > 0.0f;
+    const bool backface = glm::dot(b->normal, direction) > 0.0f;
     c.backfaces += backface ? 1 : 0;
     const bool tie = std::uint32_t(tri.source) != a->triangle;
     if (tie && difference > 1e-5 * std::max(double(a->distance), scene_size)) ++c.other_triangle;

@@ -1,8 +1,10 @@
 // probebake-run end to end: frames with live validation and the validation layer, CSV output, exit codes.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "probebake/formats/probes_file.h"
 #include "run_cli.h"
@@ -73,6 +75,49 @@ TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
   EXPECT_EQ(count_lines(csv), 1 + 6 * 6);
   EXPECT_EQ(run_cli(shell_path(probes) + " --depth-cycle 2:3").exit_code, 1);
   EXPECT_EQ(run_cli(shell_path(probes) + " --depth-cycle 2:13:4").exit_code, 1);
+}
+
+// --animate: the file's two blocks turn (revolution: a turn in 150 frames), the memory update follows; one
+// CSV row per frame, the summary table by phase, three SVG plots, the live state valid, the layer silent.
+TEST_F(RunToolTest, AnimatesDynamicObjectsWithFramesTablePlotsAndSummary) {
+  const std::string probes = temp_path("tool-animate.probes"), csv = temp_path("tool-animate.csv"), plots = temp_path("tool-animate-plots");
+  formats::write_probes_file(probes, baked_cornell_dynamic());
+  const CliResult r = run_cli(shell_path(probes) + " --animate revolution --frames 24 --validate --vk-validation --csv " +
+                              shell_path(csv) + " --plots " + shell_path(plots));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("animation: revolution over 24 frames, 2 dynamic object(s), memory update on"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| memory_update | all | 24 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| gpu total | all | 24 |"), std::string::npos) << r.out; // one phase: no "turning" rows
+  EXPECT_NE(r.out.find("live state valid after every frame"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(csv), 1 + 24);
+  std::ifstream in(csv);
+  std::string header, first, second;
+  std::getline(in, header), std::getline(in, first), std::getline(in, second);
+  EXPECT_NE(header.find(",surfel_hit_fraction,"), std::string::npos) << header;
+  // Column moved_objects: frame 0 is the rest pose (nothing sent), frame 1 has both blocks turned.
+  const auto fields = [](const std::string& line) {
+    std::vector<std::string> out(1);
+    for (char c : line) {
+      if (c == ',') out.emplace_back();
+      else out.back().push_back(c);
+    }
+    return out;
+  };
+  const auto column = [&](const std::string& row, const std::string& name) {
+    const std::vector<std::string> names = fields(header), values = fields(row);
+    const auto at = std::find(names.begin(), names.end(), name);
+    return at == names.end() ? std::string("?") : values.at(std::size_t(at - names.begin()));
+  };
+  EXPECT_EQ(column(first, "moved_objects"), "0") << first;
+  EXPECT_EQ(column(second, "moved_objects"), "2") << second;
+  for (const char* file : {"frame_times.svg", "probes.svg", "leaf_states.svg"}) {
+    std::ifstream svg(std::filesystem::path(plots) / file);
+    std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("<polyline"), std::string::npos) << file;
+  }
+  EXPECT_EQ(run_cli(shell_path(probes) + " --animate spin").exit_code, 1);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --limits 4").exit_code, 1);
 }
 
 TEST_F(RunToolTest, BadInputExitsWithTwo) {

@@ -123,6 +123,15 @@ const formats::ProbeVolume& baked_cornell_full() {
   return v;
 }
 
+const formats::ProbeVolume& baked_cornell_dynamic() {
+  static const formats::ProbeVolume v = [] {
+    samples::CornellOptions options;
+    options.dynamic = true;
+    return bake_scene(samples::cornell(options), "cornell-dynamic", false, false);
+  }();
+  return v;
+}
+
 int live_probe_count(const formats::ProbeVolume& volume) {
   int live = 0;
   for (const gpu::Probe& p : volume.probes) live += p.link != 0 ? 1 : 0;

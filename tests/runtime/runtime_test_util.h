@@ -39,6 +39,8 @@ const formats::ProbeVolume& baked_leak_octree();
 const formats::ProbeVolume& baked_cornell_grid();
 // The same Cornell box bake with surfel batches and a leaf queue (all sections present).
 const formats::ProbeVolume& baked_cornell_full();
+// The Cornell box with both blocks dynamic (format 1.3: two objects), octree, lighting sections.
+const formats::ProbeVolume& baked_cornell_dynamic();
 
 // Probes with link != 0.
 int live_probe_count(const formats::ProbeVolume& volume);

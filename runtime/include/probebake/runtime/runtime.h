@@ -377,6 +377,8 @@ public:
   // The file's dynamic objects (empty for a static scene) and each one's current world_from_object (the
   // identity for an index out of range).
   std::span<const gpu::DynamicObject> dynamic_objects() const;
+  // Whether frames run the memory update (UploadOptions::memory_update on a volume it applies to).
+  bool runs_memory_update() const;
   glm::mat4 object_pose(int object) const;
 
 private:

@@ -1,0 +1,49 @@
+// What an animated run reports (`probebake run --animate`, docs/RUNTIME.md "Animated runs"): one row per
+// frame (CSV), a summary table per pass and phase of the motion (median, p95, worst), and SVG plots of the
+// rows. Written by the driver itself, without libraries, so the runtime-only probebake-run has them too.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "probebake/dynamic/animation.h"
+#include "probebake/runtime/runtime.h"
+
+namespace probebake::run {
+
+inline constexpr std::array<const char*, 6> kFramePassNames = {"memory_update", "probe_index",  "light_transitions",
+                                                               "light_trace",   "light_gather", "light_resolve"};
+
+struct FrameRow {
+  int frame = 0;
+  double angle_deg = 0.0;
+  std::array<double, kFramePassNames.size()> pass_ms{}; // 0 for passes the frame did not run, -1 without timestamps
+  double gpu_ms = 0.0; // sum of the passes
+  double cpu_ms = 0.0;
+  int live_probes = 0;
+  std::array<int, 9> processed{}; // leaf-queue entries by state, M0..M4, L0..L3
+  std::optional<double> hit_fraction; // front hits / rays of the probes traced this frame
+  int placed = 0, freed = 0, splits = 0, collapses = 0, failed = 0, deferred = 0, moved_objects = 0;
+  int clusters_used = 0, cluster_capacity = 0, probes_used = 0, probe_capacity = 0, batches_used = 0, batch_capacity = 0;
+};
+
+FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats);
+void write_frame_header(std::ostream& out);
+void write_frame_row(std::ostream& out, const FrameRow& row);
+
+// "before", "during", "after" (thesis), "turning", "still" (revolution), "moving", "still" (soak).
+const char* motion_phase(dynamic::Animation animation, int frame);
+
+// Per pass (and the frame's GPU total and host CPU): median, p95, worst and its frame, by phase and over
+// all frames; a Markdown table.
+std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynamic::Animation> animation);
+
+// frame_times.svg (GPU ms per pass and total), probes.svg (live probes and pool use), leaf_states.svg
+// (entries processed per state) in `folder`; the frames of motion shaded. Returns the files written, or
+// throws std::runtime_error naming the file that could not be written.
+std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows, dynamic::Animation animation);
+
+} // namespace probebake::run

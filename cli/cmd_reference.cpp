@@ -14,6 +14,8 @@
 #include "camera_options.h"
 #include "commands.h"
 #include "scene_input.h"
+#include "probebake/bake/gpu_scene.h"
+#include "probebake/dynamic/animation.h"
 #include "probebake/eval/reference.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
@@ -32,7 +34,27 @@ struct ReferenceCommandSettings {
   bake::ReferenceSettings reference;
   CameraOptions camera;
   SceneInputOptions input;
+  std::string animate; // pose the dynamic objects as `probebake run --animate` does at `frame`
+  int frame = 0;
 };
+
+// The scene with its dynamic objects where `probebake run --animate NAME` has them after frame `frame`:
+// the poses come from the bake's own object records (gpu_scene), so both see the same pivot.
+scene::Scene animated_scene(const scene::Scene& scene, const std::string& name, int frame) {
+  const std::optional<dynamic::Animation> animation = dynamic::parse_animation(name);
+  if (!animation) throw Error(ErrorKind::usage, "--animate: '" + name + "' is not thesis, revolution or soak");
+  if (frame < 0) throw Error(ErrorKind::usage, "--frame must be >= 0");
+  formats::ProbeVolume records = formats::make_empty_volume(gpu::VolumeInfo{});
+  bake::add_runtime_lighting(scene, bake::BakeSettings{}, records);
+  std::vector<glm::mat4> poses;
+  for (const scene::DynamicObject& object : scene.dynamic_objects) {
+    glm::mat4 pose = object.world_from_object;
+    for (const gpu::DynamicObject& record : records.dynamic_objects)
+      if (record.gltf_node == object.node) pose = dynamic::animated_pose(*animation, frame, record);
+    poses.push_back(pose);
+  }
+  return scene::posed(scene, poses);
+}
 
 nlohmann::json points_json(const bake::ReferenceResult& r) {
   glm::dvec3 mean(0.0);
@@ -72,7 +94,8 @@ int run_reference(ReferenceCommandSettings& s) {
   if (!want_points && s.image.empty()) throw Error(ErrorKind::usage, "nothing to do: --points 0 and no --image");
   // Given receivers are read (and refused when malformed) before the scene is loaded.
   const std::vector<bake::SamplePoint> given = s.at.empty() ? std::vector<bake::SamplePoint>{} : bake::read_receivers_csv(s.at);
-  const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
+  const scene::Scene loaded = scene::load_scene(s.scene, load_options(s.input, true));
+  const scene::Scene scene = s.animate.empty() ? loaded : animated_scene(loaded, s.animate, s.frame);
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
   // Before the path tracing: the scene, every buffer and image it read, and the receivers file.
   std::vector<std::filesystem::path> inputs = scene.input_files;
@@ -123,6 +146,8 @@ Command add_reference_command(CLI::App& root) {
   app->add_option("--image", s->image, "Write an irradiance image (OpenEXR, float RGB) seen from --camera");
   app->add_option("--image-samples", s->image_samples, "Paths per pixel of --image");
   s->camera.add_to(*app);
+  app->add_option("--animate", s->animate, "Pose the dynamic objects as `probebake run --animate NAME` (thesis, revolution, soak) ...");
+  app->add_option("--frame", s->frame, "... after this frame (0-based)");
   app->add_flag("--json", s->json, "Print the report as JSON");
   return {app, [s] { return run_reference(*s); }};
 }

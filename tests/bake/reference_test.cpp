@@ -187,6 +187,24 @@ TEST(ReferenceCli, WritesCsvAndImage) {
 
 void write_text(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
+// `--animate NAME --frame F` traces the scene with its dynamic objects where `probebake run --animate` has
+// them: the rest pose before the motion (the same bytes as without --animate), the turned blocks after it.
+TEST(ReferenceCli, AnimateTracesTheScenesPoseAtAFrame) {
+  samples::CornellOptions options;
+  options.dynamic = true;
+  const auto scene = write_generated(samples::cornell(options), "ref_animate_cornell");
+  const auto dir = scene.parent_path();
+  const auto reference = [&](const std::string& extra, const char* csv) {
+    const CliResult r = run("reference " + quoted(scene) + " --points 32 --samples 16 --csv " + quoted(dir / csv) + extra);
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    return read_text(dir / csv);
+  };
+  const std::string rest = reference("", "ref_rest.csv");
+  EXPECT_EQ(reference(" --animate thesis --frame 150", "ref_150.csv"), rest);
+  EXPECT_NE(reference(" --animate thesis --frame 350", "ref_350.csv"), rest);
+  EXPECT_EQ(run("reference " + quoted(scene) + " --animate spin").exit_code, 1);
+}
+
 TEST(ReferenceCli, AtReadsReceiversAndItsOwnCsvBack) {
   const auto scene = write_generated(samples::plane_light({.size = 4.0f, .height = 1.0f, .intensity = 10.0f}), "ref_at_plane");
   const auto dir = scene.parent_path();

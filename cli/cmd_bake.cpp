@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <type_traits>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -14,9 +15,24 @@
 #include "probebake/formats/error.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/formats/volume_sections.h"
 
 namespace probebake::cli {
 namespace {
+
+// Payload bytes per section of the file, in type order (formats/volume_sections.h).
+nlohmann::ordered_json section_bytes(const formats::ProbeVolume& v) {
+  nlohmann::ordered_json bytes = nlohmann::ordered_json::object();
+  formats::for_each_section(v, [&](formats::SectionType type, const auto& member) {
+    using Member = std::decay_t<decltype(member)>;
+    std::size_t size = sizeof(Member);
+    if constexpr (requires { member.data(); }) size = member.size() * sizeof(typename Member::value_type);
+    else if constexpr (requires { member.has_value(); }) size = member ? sizeof(typename Member::value_type) : 0;
+    if (type == formats::SectionType::leaf_queue_header && v.leaf_entries.empty()) size = 0;
+    bytes[formats::section_name(static_cast<std::uint32_t>(type))] = size;
+  });
+  return bytes;
+}
 
 // Every method of formats/placement_kind.h, by name.
 std::vector<std::string> placement_choices() {
@@ -57,20 +73,7 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
   j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves}, {"solid_voxels", r.svo_solid_voxels},
               {"uncovered_voxels", r.svo_uncovered_voxels},
               {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
-  j["sections"] = {{"octree", v.octree.size() * 4},
-                   {"probes", v.probes.size() * sizeof(gpu::Probe)},
-                   {"surfel_batches", v.surfel_batches.size() * sizeof(gpu::SurfelBatch)},
-                   {"probe_index", v.probe_index.size() * 4},
-                   {"svo_nodes", v.svo_nodes.size() * 4},
-                   {"svo_leaves", v.svo_leaves.size() * sizeof(gpu::SvoLeaf)},
-                   {"cells", v.cells.size() * sizeof(formats::Cell)},
-                   {"lighting_info", v.lighting ? sizeof(gpu::LightingInfo) : 0},
-                   {"ray_directions", v.ray_directions.size() * sizeof(glm::vec4)},
-                   {"bvh_nodes", v.bvh_nodes.size() * sizeof(gpu::BvhNode)},
-                   {"trace_triangles", v.trace_triangles.size() * sizeof(gpu::TraceTriangle)},
-                   {"punctual_lights", v.punctual_lights.size() * sizeof(gpu::PunctualLight)},
-                   {"emitter_patches", v.emitter_patches.size() * sizeof(gpu::EmitterPatch)},
-                   {"dynamic_objects", v.dynamic_objects.size() * sizeof(gpu::DynamicObject)}};
+  j["sections"] = section_bytes(v);
   const bake::RuntimeLightingReport& g = r.runtime_lighting;
   j["runtime_lighting"] = {{"written", g.written}, {"bvh_nodes", g.bvh_nodes}, {"bvh_depth", g.bvh_depth},
                            {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},

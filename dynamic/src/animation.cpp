@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/common.hpp>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -66,6 +67,18 @@ glm::mat4 rest_pose(const gpu::DynamicObject& object) {
   for (int row = 0; row < 3; ++row)
     for (int column = 0; column < 4; ++column) m[column][row] = object.rest_rows[row][column];
   return m;
+}
+
+WorldBox world_box(const gpu::DynamicObject& object, const glm::mat4& pose) {
+  WorldBox box{glm::vec3(3.4e38f), glm::vec3(-3.4e38f)};
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p((c & 1) ? object.upper.x : object.lower.x, (c & 2) ? object.upper.y : object.lower.y,
+                      (c & 4) ? object.upper.z : object.lower.z);
+    const glm::vec3 w = glm::vec3(pose * glm::vec4(p, 1.0f));
+    box.min = glm::min(box.min, w);
+    box.max = glm::max(box.max, w);
+  }
+  return box;
 }
 
 glm::mat4 animated_pose(Animation animation, int frame, const gpu::DynamicObject& object) {

@@ -8,8 +8,11 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <system_error>
+#include <type_traits>
+#include <vector>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -18,6 +21,7 @@
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/format_version.h"
+#include "probebake/formats/volume_sections.h"
 #include "text.h"
 
 namespace probebake::formats {
@@ -34,15 +38,31 @@ void add_single(std::vector<SectionPayload>& sections, SectionType type, const T
   sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), flags, sizeof(T), 1, detail::as_bytes(value)});
 }
 
-// The runtime lighting sections (1.1): optional (flags 0), so that a 1.0 reader skips them.
-void add_lighting_sections(std::vector<SectionPayload>& sections, const ProbeVolume& volume) {
-  if (volume.lighting) add_single(sections, SectionType::lighting_info, *volume.lighting, 0);
-  add_section(sections, SectionType::ray_directions, 0, volume.ray_directions);
-  add_section(sections, SectionType::bvh_nodes, 0, volume.bvh_nodes);
-  add_section(sections, SectionType::trace_triangles, 0, volume.trace_triangles);
-  add_section(sections, SectionType::punctual_lights, 0, volume.punctual_lights);
-  add_section(sections, SectionType::emitter_patches, 0, volume.emitter_patches);
-  add_section(sections, SectionType::dynamic_objects, 0, volume.dynamic_objects); // 1.3
+template <class T> struct is_vector : std::false_type {};
+template <class T> struct is_vector<std::vector<T>> : std::true_type {};
+template <class T> struct is_optional : std::false_type {};
+template <class T> struct is_optional<std::optional<T>> : std::true_type {};
+
+// The sections a 1.0 reader needs are REQUIRED (volume_info to svo_leaves); cells and everything added
+// since are optional (flags 0), so that older readers skip them.
+std::uint32_t section_flags(SectionType type) {
+  return static_cast<std::uint32_t>(type) <= static_cast<std::uint32_t>(SectionType::svo_leaves) ? kSectionRequired : 0u;
+}
+
+// Every section of the volume with data, in type order (volume_sections.h); the leaf header only with
+// leaf entries (docs/FORMAT.md).
+std::vector<SectionPayload> sections_of(const ProbeVolume& volume) {
+  std::vector<SectionPayload> sections;
+  for_each_section(volume, [&](SectionType type, const auto& member) {
+    using Member = std::decay_t<decltype(member)>;
+    if constexpr (is_vector<Member>::value) add_section(sections, type, section_flags(type), member);
+    else if constexpr (is_optional<Member>::value) {
+      if (member) add_single(sections, type, *member, section_flags(type));
+    } else if (type != SectionType::leaf_queue_header || !volume.leaf_entries.empty()) {
+      add_single(sections, type, member, section_flags(type));
+    }
+  });
+  return sections;
 }
 
 // The lowest minor version whose section types and flags the file uses: 1.0 files stay byte-identical
@@ -90,27 +110,15 @@ private:
   std::span<const std::uint8_t> payload_;
 };
 
+// An unknown optional section is skipped (parse_container refused unknown required ones).
 void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uint32_t type) {
-  switch (static_cast<SectionType>(type)) {
-  case SectionType::volume_info: volume.info = section.single<gpu::VolumeInfo>(); break;
-  case SectionType::octree: volume.octree = section.elements<std::int32_t>(); break;
-  case SectionType::probes: volume.probes = section.elements<gpu::Probe>(); break;
-  case SectionType::surfel_batches: volume.surfel_batches = section.elements<gpu::SurfelBatch>(); break;
-  case SectionType::leaf_queue_header: volume.leaf_header = section.single<gpu::LeafQueueHeader>(); break;
-  case SectionType::leaf_entries: volume.leaf_entries = section.elements<gpu::LeafEntry>(); break;
-  case SectionType::probe_index: volume.probe_index = section.elements<std::int32_t>(); break;
-  case SectionType::svo_nodes: volume.svo_nodes = section.elements<std::int32_t>(); break;
-  case SectionType::svo_leaves: volume.svo_leaves = section.elements<gpu::SvoLeaf>(); break;
-  case SectionType::cells: volume.cells = section.elements<Cell>(); break;
-  case SectionType::lighting_info: volume.lighting = section.single<gpu::LightingInfo>(); break;
-  case SectionType::ray_directions: volume.ray_directions = section.elements<glm::vec4>(); break;
-  case SectionType::bvh_nodes: volume.bvh_nodes = section.elements<gpu::BvhNode>(); break;
-  case SectionType::trace_triangles: volume.trace_triangles = section.elements<gpu::TraceTriangle>(); break;
-  case SectionType::punctual_lights: volume.punctual_lights = section.elements<gpu::PunctualLight>(); break;
-  case SectionType::emitter_patches: volume.emitter_patches = section.elements<gpu::EmitterPatch>(); break;
-  case SectionType::dynamic_objects: volume.dynamic_objects = section.elements<gpu::DynamicObject>(); break;
-  default: break; // unknown optional section (parse_container refused unknown required ones)
-  }
+  for_each_section(volume, [&](SectionType member_type, auto& member) {
+    if (static_cast<std::uint32_t>(member_type) != type) return;
+    using Member = std::decay_t<decltype(member)>;
+    if constexpr (is_vector<Member>::value) member = section.elements<typename Member::value_type>();
+    else if constexpr (is_optional<Member>::value) member = section.single<typename Member::value_type>();
+    else member = section.single<Member>();
+  });
 }
 
 std::string errno_text() { return std::strerror(errno); }
@@ -125,18 +133,7 @@ std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
 }
 
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
-  std::vector<SectionPayload> sections;
-  add_single(sections, SectionType::volume_info, volume.info);
-  add_section(sections, SectionType::octree, kSectionRequired, volume.octree);
-  add_section(sections, SectionType::probes, kSectionRequired, volume.probes);
-  add_section(sections, SectionType::surfel_batches, kSectionRequired, volume.surfel_batches);
-  if (!volume.leaf_entries.empty()) add_single(sections, SectionType::leaf_queue_header, volume.leaf_header);
-  add_section(sections, SectionType::leaf_entries, kSectionRequired, volume.leaf_entries);
-  add_section(sections, SectionType::probe_index, kSectionRequired, volume.probe_index);
-  add_section(sections, SectionType::svo_nodes, kSectionRequired, volume.svo_nodes);
-  add_section(sections, SectionType::svo_leaves, kSectionRequired, volume.svo_leaves);
-  add_section(sections, SectionType::cells, 0, volume.cells); // optional: a reader may load everything
-  add_lighting_sections(sections, volume);
+  const std::vector<SectionPayload> sections = sections_of(volume);
   const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections, volume)};
   return write_container(fields, sections);
 }

@@ -10,32 +10,15 @@
 
 #include "allocator.h"
 #include "device.h"
+#include "probebake/formats/container.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::runtime::detail {
 
-enum class Section : std::size_t {
-  volume_info,
-  octree,
-  probes,
-  surfel_batches,
-  leaf_queue_header,
-  leaf_entries,
-  probe_index,
-  svo_nodes,
-  svo_leaves,
-  // Runtime lighting (format 1.1, optional): what the light update traces and relights.
-  lighting_info,
-  ray_directions,
-  bvh_nodes,
-  trace_triangles,
-  punctual_lights,
-  emitter_patches,
-  // Dynamic objects (format 1.3, optional): what the host moves (DynamicObject per object).
-  dynamic_objects,
-};
-inline constexpr std::size_t kSectionCount = 16;
-const char* section_name(Section section);
+// The file's sections (formats/volume_sections.h, the one list), indexed by their type id; cells are
+// CPU-side data and get no buffer.
+using Section = formats::SectionType;
+inline constexpr std::size_t kSectionCount = formats::kSectionTypeCount + 1; // ids start at 1
 
 class GpuVolume {
 public:

@@ -10,6 +10,7 @@
 #include <glm/matrix.hpp>
 
 #include "commands.h"
+#include "probebake/dynamic/animation.h"
 #include "probebake/runtime_types.h"
 
 namespace probebake::runtime::detail {
@@ -60,15 +61,8 @@ Status check_object_poses(std::span<const ObjectPose> poses, std::size_t objects
 }
 
 Box world_box(const gpu::DynamicObject& object, const glm::mat4& m) {
-  Box box{glm::vec3(3.4e38f), glm::vec3(-3.4e38f)};
-  for (int c = 0; c < 8; ++c) {
-    const glm::vec3 p((c & 1) ? object.upper.x : object.lower.x, (c & 2) ? object.upper.y : object.lower.y,
-                      (c & 4) ? object.upper.z : object.lower.z);
-    const glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
-    box.min = glm::min(box.min, w);
-    box.max = glm::max(box.max, w);
-  }
-  return box;
+  const dynamic::WorldBox box = dynamic::world_box(object, m);
+  return {box.min, box.max};
 }
 
 ObjectPoses::ObjectPoses(Device& device, GpuVolume& volume, std::span<const gpu::DynamicObject> objects)

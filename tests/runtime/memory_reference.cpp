@@ -201,15 +201,8 @@ Cpu::Cpu(const formats::ProbeVolume& start) : volume(start), tree(volume, format
 }
 
 runtime::Box world_box(const gpu::DynamicObject& object, const glm::mat4& pose) {
-  runtime::Box box{glm::vec3(3.4e38f), glm::vec3(-3.4e38f)};
-  for (int c = 0; c < 8; ++c) {
-    const glm::vec3 p((c & 1) ? object.upper.x : object.lower.x, (c & 2) ? object.upper.y : object.lower.y,
-                      (c & 4) ? object.upper.z : object.lower.z);
-    const glm::vec3 w = glm::vec3(pose * glm::vec4(p, 1.0f));
-    box.min = glm::min(box.min, w);
-    box.max = glm::max(box.max, w);
-  }
-  return box;
+  const dynamic::WorldBox box = dynamic::world_box(object, pose);
+  return {box.min, box.max};
 }
 
 dynamic::TreeFrameStats Cpu::frame(const Step& step, std::span<const runtime::ObjectPose> moves) {

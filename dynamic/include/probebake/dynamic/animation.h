@@ -30,6 +30,13 @@ float animation_angle(Animation animation, int frame, int seed = 0);
 
 // world_from_object at rest (DynamicObject::rest_rows).
 glm::mat4 rest_pose(const gpu::DynamicObject& object);
+
+// The world-space box around the object's box under `pose` (its eight corners): where the object is. The
+// runtime marks the union of the old and new one as changed; the GPU refit computes the same.
+struct WorldBox {
+  glm::vec3 min{0.0f}, max{0.0f};
+};
+WorldBox world_box(const gpu::DynamicObject& object, const glm::mat4& pose);
 // The pose at `frame`: the rest pose turned by animation_angle about the vertical axis through the centre
 // of the object's box at rest (soak: and moved horizontally).
 glm::mat4 animated_pose(Animation animation, int frame, const gpu::DynamicObject& object);

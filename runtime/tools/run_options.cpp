@@ -81,15 +81,20 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
   RunOptions options;
   bool frames_given = false;
   exit_code = 1;
+  // The usage and errors name the program that parses: probebake-run, or `probebake run` (argv[0]).
+  std::string program = argc > 0 && argv[0] != nullptr ? argv[0] : "probebake-run";
+  program = program.substr(program.find_last_of('/') + 1); // find_last_of gives npos + 1 = 0 without a '/'
+  std::string usage = kUsage;
+  usage.replace(usage.find("probebake-run"), std::string_view("probebake-run").size(), program);
   auto usage_error = [&](const std::string& what) {
-    message = "probebake-run: " + what + "\n" + kUsage;
+    message = program + ": " + what + "\n" + usage;
     return std::nullopt;
   };
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
     const bool has_value = i + 1 < argc;
     if (arg == "--help" || arg == "-h") {
-      message = kUsage;
+      message = usage;
       exit_code = 0;
       return std::nullopt;
     } else if (arg == "--validate") {

@@ -253,15 +253,13 @@ int run_volume(const RunOptions& options) {
   for (int frame = 0; frame < options.frames; ++frame) {
     auto stats = volume->run_frame(frame_inputs(options, volume.value(), baked_lights, frame));
     if (!stats.ok()) return report(options, stats.status());
-    if (options.animate) {
-      rows.push_back(frame_row(frame, glm::degrees(dynamic::animation_angle(*options.animate, frame)), stats.value()));
-      if (csv.is_open()) write_frame_row(csv, rows.back());
-      if (options.verbose) print_frame(stats.value());
-      else if ((frame + 1) % 100 == 0 || frame + 1 == options.frames)
-        std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, options.frames, stats->live_probes, rows.back().gpu_ms);
-    } else {
-      print_frame(stats.value());
-    }
+    const double angle = options.animate ? glm::degrees(dynamic::animation_angle(*options.animate, frame)) : 0.0;
+    rows.push_back(frame_row(frame, angle, stats.value()));
+    if (csv.is_open() && options.animate) write_frame_row(csv, rows.back());
+    // One line per frame with --verbose; otherwise a progress line every 100 frames and the summary.
+    if (options.verbose) print_frame(stats.value());
+    else if ((frame + 1) % 100 == 0 || frame + 1 == options.frames)
+      std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, options.frames, stats->live_probes, rows.back().gpu_ms);
     cpu.add(stats->cpu_ms);
     if (options.after_frame) {
       const runtime::Status done = options.after_frame(frame, volume.value());
@@ -284,8 +282,8 @@ int run_volume(const RunOptions& options) {
   for (const auto& [name, s] : summary) std::printf("summary: %s gpu ms %s\n", name.c_str(), s.text().c_str());
   std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
               options.validate ? "; live state valid after every frame" : "");
+  std::printf("%s", summary_table(rows, options.animate).c_str());
   if (options.animate) {
-    std::printf("%s", summary_table(rows, options.animate).c_str());
     if (options.plots) {
       try {
         for (const std::string& file : write_plots(*options.plots, rows, *options.animate)) std::printf("wrote %s\n", file.c_str());

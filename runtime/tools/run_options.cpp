@@ -24,7 +24,7 @@ constexpr const char* kUsage =
     "  --memory-update   reshape the octree on the GPU (octree volumes with lighting sections)\n"
     "  --max-depth N     with the memory update: the leaf rule's max depth from frame 0 (0-12)\n"
     "  --limits M:L      with the memory update: at most M allocations and L lit leaves per frame (0 = all)\n"
-    "  --verbose         one line per frame (default only without --csv)\n"
+    "  --verbose         one line per frame (default: a progress line every 100 frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
     "  --vk-validation   enable VK_LAYER_KHRONOS_validation (synchronization validation on)\n"
     "  --device NAME     use the first Vulkan device whose name contains NAME\n"

@@ -172,10 +172,12 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
     it->second.push_back(&r);
   }
   std::string table = "| pass | phase | frames | median ms | p95 ms | worst ms (frame) | worst / median |\n|---|---|--:|--:|--:|--:|--:|\n";
-  const auto add = [&](const std::string& name, const std::function<double(const FrameRow&)>& value) {
+  // A pass counts in the frames that ran it (0 ms: not run, e.g. light_trace in most frames).
+  const auto add = [&](const std::string& name, const std::function<double(const FrameRow&)>& value, bool every_frame) {
     for (const auto& [phase, members] : phases) {
       std::vector<std::pair<double, int>> values;
-      for (const FrameRow* r : members) values.push_back({value(*r), r->frame});
+      for (const FrameRow* r : members)
+        if (every_frame || value(*r) != 0.0) values.push_back({value(*r), r->frame});
       if (values.empty() || (phase != "all" && phases.size() == 2)) continue; // one phase: "all" says it
       const Stat s = stat_of(values);
       table += "| " + name + " | " + phase + " | " + std::to_string(values.size()) + " | " + number(s.median) + " | " + number(s.p95) +
@@ -185,10 +187,10 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
   };
   for (std::size_t k = 0; k < kFramePassNames.size(); ++k) {
     const bool ran = std::any_of(rows.begin(), rows.end(), [&](const FrameRow& r) { return r.pass_ms[k] != 0.0; });
-    if (ran) add(kFramePassNames[k], [k](const FrameRow& r) { return r.pass_ms[k]; });
+    if (ran) add(kFramePassNames[k], [k](const FrameRow& r) { return r.pass_ms[k]; }, false);
   }
-  add("gpu total", [](const FrameRow& r) { return r.gpu_ms; });
-  add("host cpu", [](const FrameRow& r) { return r.cpu_ms; });
+  add("gpu total", [](const FrameRow& r) { return r.gpu_ms; }, true);
+  add("host cpu", [](const FrameRow& r) { return r.cpu_ms; }, true);
   return table;
 }
 

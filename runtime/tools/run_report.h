@@ -37,8 +37,8 @@ void write_frame_row(std::ostream& out, const FrameRow& row);
 // "before", "during", "after" (thesis), "turning", "still" (revolution), "moving", "still" (soak).
 const char* motion_phase(dynamic::Animation animation, int frame);
 
-// Per pass (and the frame's GPU total and host CPU): median, p95, worst and its frame, by phase and over
-// all frames; a Markdown table.
+// Per pass (over the frames that ran it) and for the frame's GPU total and host CPU: median, p95, worst and
+// its frame, by phase and over all frames; a Markdown table.
 std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynamic::Animation> animation);
 
 // frame_times.svg (GPU ms per pass and total), probes.svg (live probes and pool use), leaf_states.svg

@@ -347,7 +347,7 @@ TEST_F(LightInputsTest, RunToolOrbitsALight) {
   formats::write_probes_file(probes, baked_leak_octree());
   const glm::vec3 baked = baked_leak_octree().punctual_lights.at(0).position;
   const std::string file = test::quoted(std::filesystem::path(probes));
-  const CliResult r = run_cli(file + " --frames 4 --hysteresis 0.5 --orbit-light 0:0.5:4 --validate --vk-validation --csv " +
+  const CliResult r = run_cli(file + " --frames 4 --verbose --hysteresis 0.5 --orbit-light 0:0.5:4 --validate --vk-validation --csv " +
                               test::quoted(std::filesystem::path(csv)));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;

@@ -38,10 +38,11 @@ TEST_F(RunToolTest, RunsFramesValidatesAndWritesCsv) {
   const std::string probes = temp_path("tool-cornell.probes"), csv = temp_path("tool-cornell.csv");
   formats::write_probes_file(probes, baked_cornell_full());
   const CliResult r =
-      run_cli(shell_path(probes) + " --frames 5 --validate --vk-validation --samples 1000 --compare-all-probes --csv " + shell_path(csv));
+      run_cli(shell_path(probes) + " --frames 5 --verbose --validate --vk-validation --samples 1000 --compare-all-probes --csv " + shell_path(csv));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("device: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("frame 5: probe_index "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| light_gather | all | 5 |"), std::string::npos) << r.out; // the summary table
   EXPECT_NE(r.out.find("live state valid after every frame"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("samples (SVO probe index): 1000 lookups"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("samples (all probes, thesis 3.2.4): 1000 lookups"), std::string::npos) << r.out;
@@ -57,7 +58,7 @@ TEST_F(RunToolTest, RunsFramesValidatesAndWritesCsv) {
 TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
   const std::string probes = temp_path("tool-cycle.probes"), csv = temp_path("tool-cycle.csv");
   formats::write_probes_file(probes, baked_cornell_full());
-  const CliResult r = run_cli(shell_path(probes) + " --frames 6 --depth-cycle 2:3:2 --vk-validation --csv " + shell_path(csv));
+  const CliResult r = run_cli(shell_path(probes) + " --frames 6 --verbose --depth-cycle 2:3:2 --vk-validation --csv " + shell_path(csv));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
   int merges = 0, splits = 0;

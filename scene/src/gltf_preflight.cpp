@@ -182,6 +182,13 @@ std::string_view gltf_json_text(std::span<const unsigned char> bytes, bool is_gl
   const std::uint32_t json_length = read_u32(&bytes[12]);
   if (read_u32(&bytes[16]) != 0x4E4F534Au || json_length > bytes.size() - 20)
     ctx.fail("glb", "first chunk is not a complete JSON chunk");
+  // A BIN chunk must fit with its 8-byte header: tinygltf checks its length without that header and would
+  // read up to 8 bytes past the end of the file.
+  const std::size_t json_end = 20 + std::size_t(json_length);
+  if (bytes.size() > json_end) {
+    if (bytes.size() - json_end < 8) ctx.fail("glb", "second chunk header is truncated");
+    if (read_u32(&bytes[json_end]) > bytes.size() - json_end - 8) ctx.fail("glb", "second chunk is longer than the file");
+  }
   return {reinterpret_cast<const char*>(&bytes[20]), json_length};
 }
 

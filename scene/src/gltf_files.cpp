@@ -103,6 +103,9 @@ bool refuse_write(std::string* err, const std::string&, const std::vector<unsign
 
 bool load_image(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
                 const unsigned char* bytes, int size, void* user) {
+  // tinygltf hands a bufferView image over without checking the view's range against its buffer; those are
+  // decoded by decode_buffer_view_images once the model is parsed and the range can be checked.
+  if (image->bufferView >= 0) return true;
   return decode_image(image, index, bytes, size, *static_cast<InputPolicy*>(user));
 }
 

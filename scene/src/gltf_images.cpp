@@ -4,6 +4,7 @@
 // too large) is not an error here: it is recorded, left empty, and its textures fall back to the
 // material's factors (select_texture_images warns once per texture).
 #include <cstring>
+#include <limits>
 
 #include <fmt/core.h>
 #include <stb_image.h>
@@ -92,6 +93,25 @@ bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes,
     image->width = image->height = image->component = 0; // unusable: select_texture_images skips it
   }
   return true; // a texture never fails the load by itself
+}
+
+void decode_buffer_view_images(tinygltf::Model& model, InputPolicy& policy) {
+  for (std::size_t i = 0; i < model.images.size(); ++i) {
+    tinygltf::Image& image = model.images[i];
+    if (image.bufferView < 0) continue;
+    const int index = int(i);
+    // tinygltf has checked that the view and its buffer exist, not that the bytes do.
+    const tinygltf::BufferView& view = model.bufferViews[std::size_t(image.bufferView)];
+    const std::vector<unsigned char>& data = model.buffers[std::size_t(view.buffer)].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset ||
+        view.byteLength > std::size_t(std::numeric_limits<int>::max())) {
+      policy.image_problems[index] = fmt::format("bufferView {} (bytes {}..+{}) lies outside buffer {} ({} bytes)",
+                                                 image.bufferView, view.byteOffset, view.byteLength, view.buffer,
+                                                 data.size());
+      continue;
+    }
+    decode_image(&image, index, data.data() + view.byteOffset, int(view.byteLength), policy);
+  }
 }
 
 } // namespace probebake::scene::detail

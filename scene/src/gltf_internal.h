@@ -140,6 +140,9 @@ std::vector<unsigned char> decode_meshopt_stream(std::span<const unsigned char> 
 // charged before pixels are allocated. An image that cannot be decoded is recorded in
 // policy.image_problems and left empty: a texture never fails the load by itself.
 bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy);
+// Images stored in a bufferView, decoded after parsing (and after EXT_meshopt_compression is decoded): a view
+// whose range does not lie inside its buffer is recorded as an image problem, never read.
+void decode_buffer_view_images(tinygltf::Model& model, InputPolicy& policy);
 
 // Geometry of one triangle primitive in its mesh's local space.
 struct PrimitiveGeometry {

@@ -308,6 +308,7 @@ Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string
   tinygltf::Model parsed = parse_gltf(std::move(bytes), policy, ctx);
   check_required_extensions(parsed, ctx);
   detail::decode_meshopt_buffer_views(parsed, ctx);
+  detail::decode_buffer_view_images(parsed, policy);
   const tinygltf::Model& model = parsed;
   scene.input_files = std::move(policy.files_read);
   scene.extensions_used = model.extensionsUsed;

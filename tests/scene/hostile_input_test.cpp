@@ -236,5 +236,27 @@ TEST(Limits, OversizedImagesAreNotDecoded) {
   EXPECT_NE(load_error(l.scene_dir / "scene.glb", {.strict = true}).find("larger than the limit"), std::string::npos);
 }
 
+TEST(Limits, ImageBufferViewsOutsideTheirBufferAreNeverRead) {
+  // tinygltf passes a bufferView image to the decoder without checking the view against its buffer (fuzzing
+  // found the read past the end). The PNG header is real, so only the range decides the outcome.
+  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                               0, 0, 0, 1, 0, 0, 0, 1, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+  const auto dir = test_dir("image-view-range");
+  MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
+  const int view = g.add_view(png, sizeof(png));
+  g.json["images"] = nlohmann::json::array({{{"bufferView", view}, {"mimeType", "image/png"}}});
+  g.json["textures"] = {{{"source", 0}}};
+  g.json["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  g.json["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::size_t buffer_size = g.bin.size();
+  g.json["bufferViews"][std::size_t(view)]["byteOffset"] = buffer_size - 8; // the last 8 bytes, then 25 beyond
+  g.write_glb(dir / "past-end.glb");
+  const scene::Scene s = scene::load_scene(dir / "past-end.glb");
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("lies outside buffer 0 (" + std::to_string(buffer_size) + " bytes)"), std::string::npos)
+      << s.warnings[0];
+  EXPECT_NE(load_error(dir / "past-end.glb", {.strict = true}).find("lies outside buffer"), std::string::npos);
+}
+
 } // namespace
 } // namespace probebake::test

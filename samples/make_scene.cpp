@@ -91,6 +91,8 @@ void add_kinds(CLI::App& app, std::map<CLI::App*, MakeScene>& makers, KindOption
   rooms->add_option("--count", o.rooms.count, "number of rooms, 1..4096")->capture_default_str();
   rooms->add_option("--detail", o.rooms.detail, "sphere subdivisions, 1..256")->capture_default_str();
   rooms->add_option("--seed", o.rooms.seed, "layout seed")->capture_default_str();
+  rooms->add_option("--light-range", o.rooms.light_range, "range of each room's light in metres, 0 = unbounded")
+      ->capture_default_str();
 
   add_kind(app, makers, "triangle", "one triangle and a point light", [] { return samples::triangle(); });
   add_kind(app, makers, "empty", "a valid glTF with no triangles", [] { return samples::empty(); });

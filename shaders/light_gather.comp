@@ -1,6 +1,7 @@
-// Light update L2 (octree thesis §3.2.2, "light surfels and probe"): one workgroup per probe slot (or listed probe). Every
-// record is relit, L = base + reflect * (E_punctual + E_probes), E_probes from the previous frame's probes
-// through the SVO sampler (sample_irradiance.glsl); the radiance is projected onto L2 SH irradiance with
+// Light update L2 (octree thesis §3.2.2, "light surfels and probe"): one workgroup per probe slot of the
+// window (or listed probe). Every record is relit, L = base + reflect * (E_punctual + E_probes), E_punctual
+// cached in the record (light_trace, light_relight), E_probes from the previous frame's probes through the
+// SVO sampler (sample_irradiance.glsl); the radiance is projected onto L2 SH irradiance with
 // Monte Carlo weight 4 pi / rays (bake/src/lighting/iteration.cpp) and blended with the probe's old value
 // by the hysteresis into next_irradiance (the probes themselves are written by light_resolve, so that every
 // probe of this frame reads last frame's values: a Jacobi sweep, deterministic).
@@ -8,7 +9,6 @@
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/light_bindings.glsl"
 #include "probebake/dispatch.glsl"
-#include "probebake/direct_light.glsl"
 #include "probebake/sample_irradiance.glsl"
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
@@ -23,7 +23,7 @@ vec3 relight(LightRecord rec) {
   if (rec.kind != LIGHT_RECORD_FRONT) return rec.base;
   const ProbebakeStencil s = probebake_svo_stencil(rec.position, rec.normal);
   if (s.probes.x < 0) atomicAdd(indirect_misses, 1u);
-  const vec3 e = probebake_punctual_irradiance(rec.position, rec.normal) + probebake_apply_stencil(s, rec.normal);
+  const vec3 e = light_record_punctual(rec) + probebake_apply_stencil(s, rec.normal);
   return rec.base + rec.reflect * e;
 }
 

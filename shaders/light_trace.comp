@@ -4,7 +4,8 @@
 //    centre of the probe's octree node, hits counted inside the node cube (bake/src/probe_tracing.cpp);
 //    octree probes only (grid probes keep the bake's value).
 //  - Lighting rays: ray_directions[0, rays) from the probe to the nearest hit at any distance, each kept as
-//    a LightRecord with what does not change from frame to frame (bake/src/lighting/hit_cache.cpp).
+//    a LightRecord with what does not change from frame to frame (bake/src/lighting/hit_cache.cpp) and the
+//    punctual irradiance, cached until a light or an object changes (light_relight.comp).
 //  Both use the bake's sides rule (glTF doubleSided): only the back of a single-sided triangle is inside
 //  geometry (a back-face hit and record); the back of a double-sided one is shaded with the facing normal.
 #version 450
@@ -58,6 +59,7 @@ LightRecord trace_record(vec3 origin, vec3 dir) {
   rec.reflect = probebake_trace_triangles[tri].albedo * 0.318309886;
   const vec3 emitted = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_trace_triangles[tri].emission;
   rec.base = emitted + rec.reflect * probebake_emitter_irradiance(rec.position, rec.normal);
+  light_record_set_punctual(rec, probebake_punctual_irradiance(rec.position, rec.normal));
   return rec;
 }
 

@@ -3,7 +3,7 @@
 namespace probebake::runtime::detail {
 namespace {
 
-constexpr const char* kFramePassNames[kFramePasses] = {"memory_update", "probe_index",  "light_transitions",
+constexpr const char* kFramePassNames[kFramePasses] = {"memory_update", "probe_index",  "light_transitions", "light_relight",
                                                        "light_trace",   "light_gather", "light_resolve"};
 
 } // namespace
@@ -16,8 +16,10 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   barrier(cmd, kAnyCommandBefore, kAnyDeviceAccess);
 
   // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.
-  if (inputs.lights && passes.light_inputs && passes.volume)
+  if (inputs.lights && passes.light_inputs && passes.volume) {
     frame.uploaded_lights = passes.light_inputs->record(cmd, *passes.volume, *inputs.lights);
+    if (passes.light) passes.light->relight(passes.light_inputs->stale_spheres());
+  }
 
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the
   //     leaves under each moved object's old and new world boxes; without it, L1 re-traces every probe.
@@ -26,6 +28,7 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   if (passes.objects && !inputs.object_poses.empty()) {
     std::vector<Box> boxes = inputs.changed_boxes;
     frame.moved_objects = passes.objects->record(cmd, inputs.object_poses, boxes);
+    if (frame.moved_objects > 0 && passes.light) passes.light->relight_everything(); // shadows anywhere
     if (frame.moved_objects > 0 && passes.memory) {
       with_objects = inputs;
       with_objects.changed_boxes = std::move(boxes);
@@ -45,15 +48,16 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   passes.probe_index.record(cmd, timer, kPassProbeIndex);
   frame.ran[kPassProbeIndex] = true;
 
-  // 3. Light update (§3.2.2): the transitions (L1 measures, L3 acts), then L1 records (first frame, then the
-  //    flagged probes), L2 lighting and the L3 counts.
+  // 3. Light update (§3.2.2): the transitions (L1 measures, L3 acts), the cached punctual irradiance where
+  //    it went stale, then L1 records (first frame, then the flagged probes), L2 lighting and the L3 counts.
   if (passes.light) {
     if (passes.memory) {
       passes.memory->record_light_transitions(cmd, timer, kPassLightTransitions);
       frame.ran[kPassLightTransitions] = true;
     }
-    frame.ran[kPassLightTrace] =
-        passes.light->record(cmd, timer, {kPassLightTrace, kPassLightGather, kPassLightResolve});
+    const LightTimerSlots slots{kPassLightRelight, kPassLightTrace, kPassLightGather, kPassLightResolve};
+    frame.ran[kPassLightTrace] = passes.light->record(cmd, timer, slots, std::uint32_t(inputs.limits.max_gathered_probes));
+    frame.ran[kPassLightRelight] = passes.light->relit();
     frame.ran[kPassLightGather] = frame.ran[kPassLightResolve] = true;
   }
 

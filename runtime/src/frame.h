@@ -25,6 +25,7 @@ enum FramePass : std::uint32_t {
   kPassMemoryUpdate,
   kPassProbeIndex,
   kPassLightTransitions,
+  kPassLightRelight,
   kPassLightTrace,
   kPassLightGather,
   kPassLightResolve,

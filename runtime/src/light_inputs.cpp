@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "commands.h"
@@ -46,6 +47,12 @@ gpu::PunctualLight canonical(gpu::PunctualLight l) {
 
 bool same_bytes(const gpu::PunctualLight& a, const gpu::PunctualLight& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Where a light gives anything: its range sphere (the range window is 0 from the range on), or everywhere.
+glm::vec4 reach(const gpu::PunctualLight& l) {
+  const bool bounded = l.type != gpu::LIGHT_DIRECTIONAL && l.range > 0.0f;
+  return {l.position, bounded ? l.range : std::numeric_limits<float>::infinity()};
+}
+
 // vkCmdUpdateBuffer takes at most 65536 bytes per call.
 void update_buffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, const void* data, std::size_t bytes) {
   constexpr std::size_t kPiece = 65536;
@@ -68,6 +75,7 @@ Status check_lights(std::span<const gpu::PunctualLight> lights, std::size_t capa
 LightInputs::LightInputs(std::span<const gpu::PunctualLight> file_lights, std::size_t capacity) : capacity_(capacity) {
   current_.reserve(capacity);
   staged_.reserve(capacity);
+  stale_.reserve(2 * capacity);
   current_.assign(file_lights.begin(), file_lights.end());
 }
 
@@ -81,7 +89,14 @@ int LightInputs::record(VkCommandBuffer cmd, GpuVolume& volume, std::span<const 
   std::size_t last = lights.size();
   while (last > first && last <= current_.size() && same_bytes(lights[last - 1], current_[last - 1])) --last;
   const bool count_changed = lights.size() != current_.size();
+  stale_.clear();
   if (first == last && !count_changed) return 0;
+  // Changed records, and records added or removed past the shorter list: lit before or after.
+  const std::size_t end = count_changed ? std::max(lights.size(), current_.size()) : last;
+  for (std::size_t i = first; i < end; ++i) {
+    if (i < current_.size()) stale_.push_back(reach(current_[i]));
+    if (i < lights.size()) stale_.push_back(reach(lights[i]));
+  }
 
   // Last frame's passes read the records and the count before they are overwritten.
   barrier(cmd, kAnyDeviceAccess, kTransferWrite);

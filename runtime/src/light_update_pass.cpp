@@ -1,6 +1,7 @@
 #include "light_update_pass.h"
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -41,10 +42,12 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                                 MemoryUse::device, "light list");
+  relight_regions_ = create_scratch(device, sizeof(gpu::RelightRegions), "relight regions");
   {
     Submission clear(device);
     vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), light_list_.get(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(clear.cmd(), relight_regions_.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
   }
@@ -68,21 +71,58 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_LIGHT_LIST] = light_list_.get();
   buffers[gpu::LIGHT_BINDING_DYNAMIC_OBJECTS] = volume.binding(Section::dynamic_objects);
   buffers[gpu::LIGHT_BINDING_OBJECT_INSTANCES] = volume.object_instances();
+  buffers[gpu::LIGHT_BINDING_RELIGHT_REGIONS] = relight_regions_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
-bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots) {
+void LightUpdatePass::relight(std::span<const glm::vec4> spheres) {
+  for (const glm::vec4& sphere : spheres) {
+    if (!std::isfinite(sphere.w) || regions_.count == gpu::RELIGHT_MAX_REGIONS) {
+      relight_everything_ = true;
+      return;
+    }
+    regions_.spheres[regions_.count++] = sphere;
+  }
+}
+
+void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
+  relit_ = (relight_everything_ || regions_.count > 0) && !trace_pending_; // a full trace caches afresh
+  if (relit_) {
+    regions_.everything = relight_everything_ ? 1u : 0u;
+    // Last frame's relight read the regions (the frame's opening barrier orders it before this write).
+    vkCmdUpdateBuffer(cmd, relight_regions_.get(), 0, offsetof(gpu::RelightRegions, spheres) + regions_.count * sizeof(glm::vec4),
+                      &regions_);
+    barrier(cmd, kTransferWrite, kComputeReadWrite);
+    // Every live slot, whatever the window or the list: a stale record would otherwise stay stale.
+    const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, 0u, 0u};
+    bind_set_and_push(cmd, device_.compute_pipelines().light.layout.get(), descriptors_.set, push);
+    timer.begin(cmd, slot);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_relight.get());
+    dispatch_groups(cmd, device_, probe_capacity_);
+    timer.end(cmd, slot);
+    barrier(cmd, kComputeWrite, kComputeReadWrite);
+  }
+  regions_.count = 0;
+  relight_everything_ = false;
+}
+
+bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, std::uint32_t max_gathered) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
-  const gpu::LightPush push{probe_capacity_, hysteresis_, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u};
+  vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
+  barrier(cmd, kTransferWrite, kComputeReadWrite);
+  record_relight(cmd, timer, slots.relight);
+  // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
+  const std::uint32_t window = max_gathered == 0 ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
+  const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
+  if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
+  gpu::LightPush push{probe_capacity_, hysteresis_, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u, probe_capacity_, 0u, 0u};
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
   const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
     else dispatch_groups(cmd, device_, slot_groups);
   };
-  vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
-  barrier(cmd, kTransferWrite, kComputeReadWrite);
   bind_set_and_push(cmd, layout, descriptors_.set, push);
   const bool traced = trace_pending_ || queue_driven_;
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
@@ -92,13 +132,16 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     barrier(cmd, kComputeWrite, kComputeReadWrite);
     trace_pending_ = false;
   }
+  push.first_slot = first;
+  push.slot_count = window;
+  bind_set_and_push(cmd, layout, descriptors_.set, push);
   timer.begin(cmd, slots.gather); // L2: relight the records, gather into next_irradiance
-  dispatch(pipelines.light_gather.get(), probe_capacity_, 0);
+  dispatch(pipelines.light_gather.get(), window, 0);
   timer.end(cmd, slots.gather);
   // The resolve overwrites probes the gather read (write after read) and reads what it wrote.
   barrier(cmd, kComputeReadWrite, kComputeReadWrite);
   timer.begin(cmd, slots.resolve); // end of L2 and L3
-  dispatch(pipelines.light_resolve.get(), (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE,
+  dispatch(pipelines.light_resolve.get(), (window + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE,
            offsetof(gpu::LightListHeader, resolve_x));
   timer.end(cmd, slots.resolve);
   counters_.record_end_of_pass_copy(cmd, timer.ring());
@@ -118,6 +161,7 @@ LightStats LightUpdatePass::stats(std::uint32_t ring) const {
   s.non_finite = c.non_finite;
   s.want_split = c.want_split;
   s.want_free = c.want_free;
+  s.relit_records = c.relit_records;
   return s;
 }
 

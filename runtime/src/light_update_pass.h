@@ -1,5 +1,6 @@
 // The light update (octree thesis §3.2.2) on a static octree: L1 traces every live probe's lighting rays
-// and placement lattice once (light_trace.comp), L2 relights the kept records every frame and gathers
+// and placement lattice once (light_trace.comp) and caches each record's punctual irradiance, which
+// light_relight.comp recomputes only where lights or objects changed; L2 relights the kept records every frame and gathers
 // them into the probes with hysteresis (light_gather.comp, then light_resolve.comp copies the result
 // into the probes, so that the whole frame reads last frame's values), L3 compares hit fractions with the
 // split thresholds by the leaf rule (counted; the memory update acts on its own L1 measures).
@@ -7,6 +8,9 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
+
+#include <glm/vec4.hpp>
 
 #include <vulkan/vulkan_core.h>
 
@@ -23,7 +27,7 @@
 namespace probebake::runtime::detail {
 
 struct LightTimerSlots {
-  std::uint32_t trace, gather, resolve;
+  std::uint32_t relight, trace, gather, resolve;
 };
 
 class LightUpdatePass {
@@ -37,10 +41,19 @@ public:
 
   // Records L1 (first frame every probe, or after retrace(); with walk_light_list(), the flagged probes in
   // every later frame), L2 and L3 between the timer slots' timestamps. Returns whether L1 was recorded.
-  bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots);
+  // `max_gathered`: probes gathered and resolved this frame when the pass does not walk the light list, a
+  // window of slots that moves on every frame (0 = every slot). Returns whether L1 was recorded.
+  bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, std::uint32_t max_gathered);
+  // Whether the last record() recomputed cached punctual irradiance (light_relight).
+  bool relit() const { return relit_; }
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   void retrace() { trace_pending_ = true; }
+  // The cached punctual irradiance of the records inside these spheres (xyz centre, w radius) is stale: the
+  // next record() recomputes it (light_relight), more than RELIGHT_MAX_REGIONS spheres in all mean everywhere.
+  void relight(std::span<const glm::vec4> spheres);
+  // ... stale everywhere (a light without range changed, an object moved).
+  void relight_everything() { relight_everything_ = true; }
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
   void walk_light_list() { queue_driven_ = true; }
@@ -50,11 +63,19 @@ public:
   VkBuffer light_list() const { return light_list_.get(); }
 
 private:
+  // Uploads the pending regions and records light_relight between the slot's timestamps, when any.
+  void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
+
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
   bool queue_driven_ = false;
+  bool relight_everything_ = false;
+  bool relit_ = false;
+  std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
+  gpu::RelightRegions regions_{};   // pending spheres (regions_.count), uploaded by record()
+  Buffer relight_regions_;
   Buffer records_;
   Buffer next_irradiance_;
   Buffer trace_flags_;

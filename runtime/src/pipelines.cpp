@@ -12,9 +12,8 @@
 namespace probebake::runtime::detail {
 namespace {
 
-constexpr std::uint32_t kPushConstantBytes = 16; // ProbeIndexPush, SamplePush, LightPush, MemoryPush
-
-PassLayout make_pass_layout(VkDevice device, std::uint32_t bindings) {
+// One push-constant block per pass layout, of the size of its Push struct (runtime_types.h, memory_types.h).
+PassLayout make_pass_layout(VkDevice device, std::uint32_t bindings, std::uint32_t push_bytes) {
   std::vector<VkDescriptorSetLayoutBinding> entries(bindings);
   for (std::uint32_t i = 0; i < bindings; ++i)
     entries[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -26,7 +25,7 @@ PassLayout make_pass_layout(VkDevice device, std::uint32_t bindings) {
   check_vk(vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
   pass.set_layout = DeviceObject<VkDescriptorSetLayout>(device, set_layout, vkDestroyDescriptorSetLayout);
 
-  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushConstantBytes};
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
   auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
   layout_info.setLayoutCount = 1;
   layout_info.pSetLayouts = &set_layout;
@@ -63,22 +62,20 @@ DeviceObject<VkPipeline> make_pipeline(VkDevice device, VkPipelineLayout layout,
 } // namespace
 
 Pipelines::Pipelines(VkDevice device) {
-  static_assert(sizeof(gpu::ProbeIndexPush) == kPushConstantBytes && sizeof(gpu::SamplePush) == kPushConstantBytes);
-  probe_index = make_pass_layout(device, gpu::PROBE_INDEX_BINDING_COUNT);
+  probe_index = make_pass_layout(device, gpu::PROBE_INDEX_BINDING_COUNT, sizeof(gpu::ProbeIndexPush));
   probe_index_count = make_pipeline(device, probe_index.layout.get(), "probe_index_count");
   probe_index_scan = make_pipeline(device, probe_index.layout.get(), "probe_index_scan");
   probe_index_scatter = make_pipeline(device, probe_index.layout.get(), "probe_index_scatter");
-  sample = make_pass_layout(device, gpu::SAMPLE_BINDING_COUNT);
+  sample = make_pass_layout(device, gpu::SAMPLE_BINDING_COUNT, sizeof(gpu::SamplePush));
   sample_irradiance = make_pipeline(device, sample.layout.get(), "sample_irradiance");
-  sample_all = make_pass_layout(device, gpu::SAMPLE_ALL_BINDING_COUNT);
+  sample_all = make_pass_layout(device, gpu::SAMPLE_ALL_BINDING_COUNT, sizeof(gpu::SamplePush));
   sample_all_probes = make_pipeline(device, sample_all.layout.get(), "sample_all_probes");
-  static_assert(sizeof(gpu::LightPush) == kPushConstantBytes);
-  light = make_pass_layout(device, gpu::LIGHT_BINDING_COUNT);
+  light = make_pass_layout(device, gpu::LIGHT_BINDING_COUNT, sizeof(gpu::LightPush));
   light_trace = make_pipeline(device, light.layout.get(), "light_trace");
   light_gather = make_pipeline(device, light.layout.get(), "light_gather");
   light_resolve = make_pipeline(device, light.layout.get(), "light_resolve");
-  static_assert(sizeof(gpu::MemoryPush) == kPushConstantBytes);
-  memory = make_pass_layout(device, gpu::MEMORY_BINDING_COUNT);
+  light_relight = make_pipeline(device, light.layout.get(), "light_relight");
+  memory = make_pass_layout(device, gpu::MEMORY_BINDING_COUNT, sizeof(gpu::MemoryPush));
   memory_begin = make_pipeline(device, memory.layout.get(), "memory_begin");
   memory_decide = make_pipeline(device, memory.layout.get(), "memory_decide");
   memory_release = make_pipeline(device, memory.layout.get(), "memory_release");
@@ -88,8 +85,7 @@ Pipelines::Pipelines(VkDevice device) {
   memory_svo = make_pipeline(device, memory.layout.get(), "memory_svo");
   memory_light = make_pipeline(device, memory.layout.get(), "memory_light");
   memory_sync = make_pipeline(device, memory.layout.get(), "memory_sync");
-  static_assert(sizeof(gpu::ObjectRefitPush) == kPushConstantBytes);
-  object = make_pass_layout(device, gpu::OBJECT_BINDING_COUNT);
+  object = make_pass_layout(device, gpu::OBJECT_BINDING_COUNT, sizeof(gpu::ObjectRefitPush));
   object_refit = make_pipeline(device, object.layout.get(), "object_refit");
 }
 

@@ -102,7 +102,7 @@ runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volu
   const gpu::VolumeInfo& info = volume.info();
   runtime::FrameInputs in;
   in.object_poses = animated_poses(options, volume, frame);
-  if (volume.runs_memory_update()) in.limits = options.limits;
+  in.limits = options.limits; // the memory update's limits are ignored without one
   if (frame == 0 && options.max_depth) in.max_depth = options.max_depth;
   if (options.orbit_light) {
     in.lights.emplace(baked_lights.begin(), baked_lights.end());
@@ -129,7 +129,8 @@ void print_frame(const runtime::FrameStats& f) {
   std::printf(" | cpu %.3f ms | live probes %d / %d", f.cpu_ms, f.live_probes, f.probe_capacity);
   const runtime::LightStats& l = f.light;
   if (l.active) {
-    std::printf(" | lit %d, lights %d (%d uploaded)", l.lit_probes, l.lights, l.uploaded_lights);
+    std::printf(" | lit %d, lights %d (%d uploaded), relit records %d", l.lit_probes, l.lights, l.uploaded_lights,
+                l.relit_records);
     if (l.traced_probes > 0)
       std::printf(", traced %d (rays: %d front, %d back, %d miss)", l.traced_probes, l.front_hits, l.backface_hits, l.misses);
     std::printf(", indirect misses %d, non-finite %d, L3 split %d free %d", l.indirect_misses, l.non_finite,

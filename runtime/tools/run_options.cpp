@@ -12,7 +12,7 @@ constexpr const char* kUsage =
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "                     [--animate thesis|revolution|soak [--plots DIR]] [--memory-update] [--max-depth N]\n"
-    "                     [--limits M:L] [--verbose]\n"
+    "                     [--limits M:L] [--gather-budget N] [--verbose]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -24,6 +24,8 @@ constexpr const char* kUsage =
     "  --memory-update   reshape the octree on the GPU (octree volumes with lighting sections)\n"
     "  --max-depth N     with the memory update: the leaf rule's max depth from frame 0 (0-12)\n"
     "  --limits M:L      with the memory update: at most M allocations and L lit leaves per frame (0 = all)\n"
+    "  --gather-budget N without the memory update: gather N probes per frame, a window of probe slots\n"
+    "                    that moves on every frame (0 = all, the default)\n"
     "  --verbose         one line per frame (default: a progress line every 100 frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
     "  --vk-validation   enable VK_LAYER_KHRONOS_validation (synchronization validation on)\n"
@@ -129,6 +131,9 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       options.max_depth = depth;
     } else if (arg == "--limits") {
       if (!has_value || !parse_limits(argv[++i], options.limits)) return usage_error("--limits needs M:L (whole numbers >= 0)");
+    } else if (arg == "--gather-budget") {
+      if (!has_value || !parse_int(argv[++i], 0, options.limits.max_gathered_probes))
+        return usage_error("--gather-budget needs a whole number of probes >= 0");
     } else if (arg == "--plots") {
       if (!has_value) return usage_error("--plots needs a folder");
       options.plots = argv[++i];

@@ -156,6 +156,7 @@ void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& m
   Light light;
   light.name = prefix + "_light";
   light.intensity = random.uniform(40.0f, 160.0f);
+  light.range = options.light_range;
   light.color = glm::vec3(1.0f, random.uniform(0.8f, 1.0f), random.uniform(0.6f, 1.0f));
   const glm::vec3 light_position(random.uniform(-0.5f, 0.5f), 2.6f, random.uniform(-0.5f, 0.5f));
   scene.add_light_node(prefix + "_light", scene.add_light(light), light_position, {0.0f, -1.0f, 0.0f}, node);
@@ -171,6 +172,8 @@ void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& m
 SceneBuilder rooms(const RoomsOptions& options) {
   if (options.count < 1 || options.count > 4096) throw Error(ErrorKind::usage, "rooms: --count must be in 1..4096");
   if (options.detail < 1 || options.detail > 256) throw Error(ErrorKind::usage, "rooms: --detail must be in 1..256");
+  if (!(options.light_range >= 0.0f && std::isfinite(options.light_range)))
+    throw Error(ErrorKind::usage, "rooms: --light-range must be finite and >= 0");
   SceneBuilder scene("rooms");
   const Palette palette = add_palette(scene);
   const SharedMeshes meshes = add_shared_meshes(scene, palette, options.detail);

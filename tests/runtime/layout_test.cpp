@@ -158,8 +158,9 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"TraceFlagBuffer", LIGHT_BINDING_TRACE_FLAGS},
                            {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST},
                            {"DynamicObjectBuffer", LIGHT_BINDING_DYNAMIC_OBJECTS},
-                           {"ObjectInstanceBuffer", LIGHT_BINDING_OBJECT_INSTANCES}};
-  for (const char* shader : {"light_trace", "light_gather", "light_resolve"}) expect_bindings(shader, light);
+                           {"ObjectInstanceBuffer", LIGHT_BINDING_OBJECT_INSTANCES},
+                           {"RelightRegionBuffer", LIGHT_BINDING_RELIGHT_REGIONS}};
+  for (const char* shader : {"light_trace", "light_gather", "light_resolve", "light_relight"}) expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
                             {"SvoNodeBuffer", MEMORY_BINDING_SVO_NODES},
@@ -197,7 +198,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
   std::vector<const char*> names{"probe_index_count", "probe_index_scan", "probe_index_scatter", "sample_irradiance",
                                  "light_trace",       "light_gather",     "light_resolve",       "sample_all_probes",
-                                 "object_refit"};
+                                 "object_refit",      "light_relight"};
   names.insert(names.end(), std::begin(kMemoryShaders), std::end(kMemoryShaders));
   for (const char* name : names) {
     const auto words = shaders::spirv(name);
@@ -320,11 +321,17 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
   EXPECT_GE(expect_layout("light_gather", "LightRecord",
                           {{"position", offsetof(LightRecord, position)}, {"kind", offsetof(LightRecord, kind)},
                            {"normal", offsetof(LightRecord, normal)}, {"base", offsetof(LightRecord, base)},
-                           {"reflect", offsetof(LightRecord, reflect)}}),
+                           {"reflect", offsetof(LightRecord, reflect)}, {"punctual_r", offsetof(LightRecord, punctual_r)},
+                           {"punctual_g", offsetof(LightRecord, punctual_g)}, {"punctual_b", offsetof(LightRecord, punctual_b)}}),
+            1);
+  EXPECT_GE(expect_layout("light_relight", "RelightRegions",
+                          {{"count", offsetof(RelightRegions, count)}, {"everything", offsetof(RelightRegions, everything)},
+                           {"spheres", offsetof(RelightRegions, spheres)}}),
             1);
   EXPECT_GE(expect_layout("light_gather", "LightPush",
                           {{"probe_capacity", offsetof(LightPush, probe_capacity)},
-                           {"hysteresis", offsetof(LightPush, hysteresis)}}),
+                           {"hysteresis", offsetof(LightPush, hysteresis)}, {"first_slot", offsetof(LightPush, first_slot)},
+                           {"slot_count", offsetof(LightPush, slot_count)}}),
             1);
   EXPECT_GE(expect_layout("light_resolve", "LightCounters",
                           {{"traced_probes", offsetof(LightCounters, traced_probes)},
@@ -333,6 +340,7 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
                            {"want_split", offsetof(LightCounters, want_split)},
                            {"want_free", offsetof(LightCounters, want_free)}}),
             1);
+  EXPECT_GE(expect_layout("light_relight", "LightCounters", {{"relit_records", offsetof(LightCounters, relit_records)}}), 1);
 }
 
 TEST(GpuLayout, MemoryUpdateTypesMatch) {

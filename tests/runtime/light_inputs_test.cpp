@@ -266,6 +266,104 @@ TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
   EXPECT_TRUE(gpu.validate_live().ok());
 }
 
+// The cached punctual irradiance (LightRecord.punctual_*) is recomputed only inside the range of a light
+// that changed: a ranged light added to the leak scene's dark room relights the records within its range and
+// no other (fewer than the dark room's half of the records), yet the probes agree with the CPU bake that has the light, first after 3 sweeps, then converged
+// after the light moved; frames without a change relight nothing.
+TEST_F(LightInputsTest, RangedLightRelightsOnlyRecordsInItsRange) {
+  Baked b = bake_generated(samples::leak(), "leak");
+  std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
+  ASSERT_EQ(lights.size(), 1u);
+  gpu::PunctualLight ranged = lights[0];
+  ranged.position.x = -ranged.position.x;
+  ranged.intensity = glm::vec3(20.0f);
+  ranged.range = 1.6f; // reaches the floor, ceiling and walls of the 3 x 2.5 x 3 m room, not its corners
+  lights.push_back(ranged);
+  scene::Light cpu_ranged = b.scene->lights[0];
+  cpu_ranged.position = ranged.position;
+  cpu_ranged.color = glm::vec3(1.0f);
+  cpu_ranged.intensity = 20.0f;
+  cpu_ranged.range = 1.6f;
+  b.scene->lights.push_back(cpu_ranged);
+  const formats::ProbeVolume start = with_zero_irradiance(b.volume);
+  const formats::ProbeVolume cpu = cpu_lighting(b, start, 3);
+
+  runtime::Volume gpu = upload(context(), start, 1);
+  const runtime::FrameStats first = run(gpu, 1); // traces every record (and caches its punctual irradiance)
+  EXPECT_EQ(first.light.relit_records, 0);
+  const int front_records = first.light.front_hits;
+  runtime::FrameInputs in;
+  in.lights = lights;
+  auto added = gpu.run_frame(in);
+  ASSERT_TRUE(added.ok()) << added.status().message;
+  const int relit_added = added.value().light.relit_records;
+  const runtime::FrameStats still = run(gpu, 1);
+  EXPECT_EQ(still.light.relit_records, 0);
+  // Three frames from zero with the light from the second on: not the CPU's 3 sweeps; start over with it.
+  runtime::Volume fresh = upload(context(), start, 1);
+  run(fresh, 3, &lights);
+  const float after3 = max_sh_difference(read_back(fresh), cpu);
+
+  lights[1].position.z += 0.3f;
+  b.scene->lights[1].position = lights[1].position;
+  runtime::FrameInputs move;
+  move.lights = lights;
+  auto moved_stats = gpu.run_frame(move);
+  ASSERT_TRUE(moved_stats.ok()) << moved_stats.status().message;
+  const int relit_moved = moved_stats.value().light.relit_records;
+  run(gpu, 60);
+  const float converged = max_sh_difference(read_back(gpu), cpu_lighting(b, b.volume, 0));
+  std::printf("[lights] leak + a 1.6 m ranged light: %d of %d front records relit when it was added, %d when it moved "
+              "0.3 m; GPU vs CPU %.2e after 3 frames, %.2e converged after the move\n",
+              relit_added, front_records, relit_moved, double(after3), double(converged));
+  EXPECT_GT(relit_added, 0);
+  EXPECT_LT(relit_added, front_records / 2);
+  EXPECT_GT(relit_moved, 0);
+  EXPECT_LT(relit_moved, front_records);
+  EXPECT_LT(after3, 1e-4f);
+  EXPECT_LT(converged, 2e-3f);
+}
+
+// A light without range (or a directional one) reaches everything: its change relights every front record.
+TEST_F(LightInputsTest, UnboundedLightChangeRelightsEveryFrontRecord) {
+  const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  runtime::Volume gpu = upload(context(), b.volume);
+  const runtime::FrameStats first = run(gpu, 1);
+  std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
+  lights[0].position.x += 0.05f;
+  const runtime::FrameStats moved = run(gpu, 1, &lights);
+  EXPECT_EQ(moved.light.relit_records, first.light.front_hits);
+  EXPECT_EQ(run(gpu, 1).light.relit_records, 0);
+}
+
+// FrameLimits::max_gathered_probes: a window of slots per frame; the fixed point is the same.
+TEST_F(LightInputsTest, GatherBudgetReachesTheSameConvergedIrradiance) {
+  const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  const formats::ProbeVolume start = with_zero_irradiance(b.volume);
+  const formats::ProbeVolume cpu = cpu_lighting(b, start, 0);
+  runtime::Volume gpu = upload(context(), start);
+  const int capacity = int(start.probes.size());
+  const int budget = (capacity + 4) / 5; // every probe once in 5 frames
+  runtime::FrameInputs in;
+  in.limits.max_gathered_probes = budget;
+  int lit_min = capacity, lit_max = 0;
+  for (int f = 0; f < 5 * 60; ++f) {
+    auto stats = gpu.run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    lit_min = std::min(lit_min, stats.value().light.lit_probes);
+    lit_max = std::max(lit_max, stats.value().light.lit_probes);
+  }
+  const float budgeted = max_sh_difference(read_back(gpu), cpu);
+  std::printf("[lights] cornell bulb, %d of %d probe slots gathered per frame: %d-%d lit per frame, GPU vs converged "
+              "CPU bake %.2e after 300 frames\n",
+              budget, capacity, lit_min, lit_max, double(budgeted));
+  EXPECT_LE(lit_max, budget);
+  EXPECT_GT(lit_min, 0);
+  EXPECT_LT(budgeted, 2e-3f);
+  in.limits.max_gathered_probes = -1;
+  EXPECT_EQ(gpu.run_frame(in).status().code, runtime::StatusCode::invalid_argument);
+}
+
 TEST_F(LightInputsTest, LightChangesAllocateNothing) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
   runtime::Volume gpu = upload(context(), b.volume, 2);

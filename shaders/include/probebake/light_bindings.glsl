@@ -32,17 +32,26 @@ layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuf
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
 layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
 layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) readonly buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
+layout(std430, binding = LIGHT_BINDING_RELIGHT_REGIONS) readonly buffer RelightRegionBuffer { RelightRegions relight_regions; };
 layout(push_constant) uniform Push { LightPush push; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0
 
-// The probe slot of workgroup (or thread) `index`: the index itself, or the light list's entry when the
-// light update walks the list (push.listed); -1 past the end.
+// The probe slot of workgroup (or thread) `index`: the index-th slot of the window, or the light list's
+// entry when the light update walks the list (push.listed); -1 past the end.
 int light_slot(uint index) {
-  if (push.listed == 0u) return index < push.probe_capacity ? int(index) : -1;
+  if (push.listed == 0u) return index < push.slot_count ? int((push.first_slot + index) % push.probe_capacity) : -1;
   if (index >= light_list_header.count) return -1;
   const int slot = light_list[index];
   return slot >= 0 && uint(slot) < push.probe_capacity ? slot : -1;
+}
+
+vec3 light_record_punctual(LightRecord rec) { return vec3(rec.punctual_r, rec.punctual_g, rec.punctual_b); }
+
+void light_record_set_punctual(inout LightRecord rec, vec3 e) {
+  rec.punctual_r = e.r;
+  rec.punctual_g = e.g;
+  rec.punctual_b = e.b;
 }
 
 #endif // PROBEBAKE_LIGHT_BINDINGS_GLSL

@@ -69,24 +69,42 @@ PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // a front face or a double-sided ba
 
 // One lighting ray of one probe, written by L1 (light_trace) and relit by L2 (light_gather) every frame:
 //   L = base + reflect * (E_punctual(position, normal) + E_probes(position, normal)).
-// Records of probe p are records[p * rays, (p + 1) * rays).
+// E_punctual (one shadow ray per light) is cached in the record: L1 computes it, light_relight recomputes it
+// only where a light changed or an object moved (RelightRegions), so a frame without changes costs no
+// shadow ray whatever the number of lights. Records of probe p are records[p * rays, (p + 1) * rays).
 struct LightRecord {
-  vec3 position; // offset  0: the hit point (front hits)
-  int kind;      // offset 12: LIGHT_RECORD_*
-  vec3 normal;   // offset 16: unit normal of the side the ray hit (front records)
-  float pad0;    // offset 28
-  vec3 base;     // offset 32: sky radiance (miss); emitted + albedo / pi * emitter irradiance (front hit)
-  float pad1;    // offset 44
-  vec3 reflect;  // offset 48: albedo / pi (front hits), else 0
-  float pad2;    // offset 60
-};               // size 64
+  vec3 position;    // offset  0: the hit point (front hits)
+  int kind;         // offset 12: LIGHT_RECORD_*
+  vec3 normal;      // offset 16: unit normal of the side the ray hit (front records)
+  float punctual_r; // offset 28: E_punctual(position, normal), cached (front hits), else 0
+  vec3 base;        // offset 32: sky radiance (miss); emitted + albedo / pi * emitter irradiance (front hit)
+  float punctual_g; // offset 44
+  vec3 reflect;     // offset 48: albedo / pi (front hits), else 0
+  float punctual_b; // offset 60
+};                  // size 64
+
+// Where the cached E_punctual of the records is stale this frame (light_relight.comp): the range spheres of
+// the lights the host changed (before and after the change), or everything (a light without range or a
+// directional light changed, an object moved, more changes than spheres).
+PB_CONSTANT(uint, RELIGHT_MAX_REGIONS, 64u);
+struct RelightRegions {
+  uint count;      // offset  0: spheres in use
+  uint everything; // offset  4: 1 = every front record
+  uint pad0;       // offset  8
+  uint pad1;       // offset 12
+  vec4 spheres[RELIGHT_MAX_REGIONS]; // offset 16: xyz centre, w radius (a light's range)
+};                 // size 16 + 16 * RELIGHT_MAX_REGIONS
 
 struct LightPush {
   uint probe_capacity; // offset  0
   float hysteresis;    // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
   uint trace_all;      // offset  8: light_trace: 1 = every live probe, 0 = flagged probes only
-  uint listed;         // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = every slot
-};                     // size 16
+  uint listed;         // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = the slot window
+  uint first_slot;     // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
+  uint slot_count;     // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
+  uint pad0;           // offset 24
+  uint pad1;           // offset 28
+};                     // size 32
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -114,7 +132,7 @@ struct LightCounters {
   int non_finite;      // offset 24: probes whose gathered irradiance was not finite: kept their old value
   int want_split;      // offset 28: L3: the leaf rule (leaf_rule.h) says split
   int want_free;       // offset 32: L3: the leaf rule says free the probe
-  int pad0;            // offset 36
+  int relit_records;   // offset 36: records whose cached E_punctual light_relight recomputed
   int pad1;            // offset 40
   int pad2;            // offset 44
 };                     // size 48
@@ -147,9 +165,12 @@ static_assert(PROBE_INDEX_BLOCK == PROBE_INDEX_THREADS * PROBE_INDEX_PER_THREAD)
 static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && sizeof(SamplePush) == 16);
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);
 static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) == 12);
-static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48);
+static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48 &&
+              offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
+              offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 32 && offsetof(LightListHeader, resolve_x) == 16);
-static_assert(sizeof(LightPush) == 16 && sizeof(LightCounters) == 48 && offsetof(LightCounters, want_free) == 32);
+static_assert(sizeof(LightPush) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(RelightRegions) == 16 + 16 * RELIGHT_MAX_REGIONS && offsetof(RelightRegions, spheres) == 16);
 } // namespace probebake::gpu
 #endif
 

@@ -207,6 +207,11 @@ struct Box {
 struct FrameLimits {
   int max_memory_entries = 0; // M1/M3 allocations per frame
   int max_light_entries = 0;  // L1/L2 leaves with a probe measured or carried per frame
+  // Without the memory update: probes gathered (L2) per frame, a window of probe slots that moves on each
+  // frame, so every probe is updated once every ceil(capacity / max_gathered_probes) frames. The converged
+  // irradiance does not depend on it; a change takes that many times more frames to spread. The cached
+  // punctual irradiance of every probe is still made current in the frame its light changes.
+  int max_gathered_probes = 0;
 };
 
 // Where a dynamic object is this frame (format 1.3, gpu::DynamicObject): world_from_object of
@@ -242,7 +247,8 @@ struct FrameInputs {
 };
 
 struct PassTime {
-  std::string name;    // "memory_update", "probe_index", "light_transitions", "light_trace", "light_gather", "light_resolve"
+  std::string name;    // "memory_update", "probe_index", "light_transitions", "light_relight", "light_trace",
+                       // "light_gather", "light_resolve"
   double gpu_ms = -1;  // GPU timestamp difference; -1 when the queue has no timestamps
 };
 
@@ -260,6 +266,8 @@ struct LightStats {
   int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
   int lights = 0;          // punctual lights lit this frame
   int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
+  int relit_records = 0;   // records whose cached punctual irradiance was recomputed (inside the range of
+                           // a changed light, or all after an object moved or a light without range changed)
   int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
 };
 

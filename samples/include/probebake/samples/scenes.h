@@ -69,6 +69,7 @@ struct RoomsOptions {
   int count = 16;           // rooms, 1..4096
   int detail = 20;          // cube sphere subdivisions, 1..256
   std::uint32_t seed = 1;   // layout, colours and light intensities
+  float light_range = 0.0f; // KHR_lights_punctual range of every room's light in metres (0 = unbounded)
 };
 SceneBuilder rooms(const RoomsOptions& options = {});
 

@@ -1,9 +1,10 @@
-// Light update: the cached punctual irradiance of the records (LightRecord.punctual_*) made current again
-// where it went stale this frame, one workgroup per live probe slot (every slot, whatever the gather window
-// or the light list: a stale record would stay stale). A front record is recomputed when it lies inside one
-// of the RelightRegions spheres (outside the range of a light, before and after its change, that light gave
-// nothing and still gives nothing) or when `everything` is set. The same function as light_trace, so a
-// relit record holds what a fresh trace would.
+// Light update: the cached punctual irradiance of the records (LightRecord.punctual_*) brought up to date
+// after the host changed lights, one workgroup per live probe slot (every slot, whatever the gather window
+// or the light list: a stale record would stay stale). Per changed light, a front record in reach of its
+// record before or after the change gets E += E_after - E_before: two shadow rays per changed light instead of
+// one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
+// nothing, exactly, so the record is left alone. With `everything` (an object moved: a shadow may fall
+// anywhere) every front record's sum is recomputed as light_trace computes it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/light_bindings.glsl"
@@ -14,16 +15,26 @@ layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
 shared uint relit;
 
-bool is_stale(vec3 p) {
-  if (relight_regions.everything != 0u) return true;
-  const uint count = min(relight_regions.count, RELIGHT_MAX_REGIONS);
-  for (uint i = 0u; i < count; ++i) {
-    const vec4 sphere = relight_regions.spheres[i];
-    const vec3 d = p - sphere.xyz;
-    // The range window is 0 from distance == range on; a relative margin covers the rounding of both sides.
-    if (dot(d, d) <= sphere.w * sphere.w * 1.0001 + 1e-12) return true;
+// The record's E_punctual after this frame's changes; false when none reaches it.
+bool updated_punctual(LightRecord rec, out vec3 e) {
+  e = vec3(0.0);
+  if (relight_changes.everything != 0u) {
+    e = probebake_punctual_irradiance(rec.position, rec.normal);
+    return true;
   }
-  return false;
+  vec3 delta = vec3(0.0);
+  bool reached = false;
+  const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
+  for (uint c = 0u; c < count; ++c) {
+    const PunctualLight before = relight_changes.changes[c].before, after = relight_changes.changes[c].after;
+    const bool was = probebake_light_reaches(before, rec.position), is = probebake_light_reaches(after, rec.position);
+    if (was) delta -= probebake_light_irradiance_of(before, rec.position, rec.normal);
+    if (is) delta += probebake_light_irradiance_of(after, rec.position, rec.normal);
+    reached = reached || was || is;
+  }
+  // The difference of two sums rounds: clamped at zero (removing a light leaves rounding noise, never less).
+  e = max(light_record_punctual(rec) + delta, vec3(0.0));
+  return reached;
 }
 
 void main() {
@@ -36,8 +47,9 @@ void main() {
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
     const uint index = slot * uint(rays) + uint(r);
     LightRecord rec = light_records[index];
-    if (rec.kind != LIGHT_RECORD_FRONT || !is_stale(rec.position)) continue;
-    light_record_set_punctual(rec, probebake_punctual_irradiance(rec.position, rec.normal));
+    vec3 e;
+    if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(rec, e)) continue;
+    light_record_set_punctual(rec, e);
     light_records[index] = rec;
     ++count;
   }

@@ -1,12 +1,8 @@
 #include "frame.h"
 
 namespace probebake::runtime::detail {
-namespace {
 
-constexpr const char* kFramePassNames[kFramePasses] = {"memory_update", "probe_index",  "light_transitions", "light_relight",
-                                                       "light_trace",   "light_gather", "light_resolve"};
-
-} // namespace
+static_assert(kFramePassNames.size() == kFramePasses); // the public names, in the timer slots' order
 
 RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes, const FrameInputs& inputs) {
   RecordedFrame frame;
@@ -18,7 +14,7 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.
   if (inputs.lights && passes.light_inputs && passes.volume) {
     frame.uploaded_lights = passes.light_inputs->record(cmd, *passes.volume, *inputs.lights);
-    if (passes.light) passes.light->relight(passes.light_inputs->stale_spheres());
+    if (passes.light) passes.light->relight(passes.light_inputs->changes());
   }
 
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the

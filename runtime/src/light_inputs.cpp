@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <limits>
 #include <string>
 
 #include "commands.h"
@@ -47,11 +46,6 @@ gpu::PunctualLight canonical(gpu::PunctualLight l) {
 
 bool same_bytes(const gpu::PunctualLight& a, const gpu::PunctualLight& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// Where a light gives anything: its range sphere (the range window is 0 from the range on), or everywhere.
-glm::vec4 reach(const gpu::PunctualLight& l) {
-  const bool bounded = l.type != gpu::LIGHT_DIRECTIONAL && l.range > 0.0f;
-  return {l.position, bounded ? l.range : std::numeric_limits<float>::infinity()};
-}
 
 // vkCmdUpdateBuffer takes at most 65536 bytes per call.
 void update_buffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, const void* data, std::size_t bytes) {
@@ -75,7 +69,7 @@ Status check_lights(std::span<const gpu::PunctualLight> lights, std::size_t capa
 LightInputs::LightInputs(std::span<const gpu::PunctualLight> file_lights, std::size_t capacity) : capacity_(capacity) {
   current_.reserve(capacity);
   staged_.reserve(capacity);
-  stale_.reserve(2 * capacity);
+  changes_.reserve(capacity);
   current_.assign(file_lights.begin(), file_lights.end());
 }
 
@@ -89,13 +83,16 @@ int LightInputs::record(VkCommandBuffer cmd, GpuVolume& volume, std::span<const 
   std::size_t last = lights.size();
   while (last > first && last <= current_.size() && same_bytes(lights[last - 1], current_[last - 1])) --last;
   const bool count_changed = lights.size() != current_.size();
-  stale_.clear();
+  changes_.clear();
   if (first == last && !count_changed) return 0;
-  // Changed records, and records added or removed past the shorter list: lit before or after.
+  // Changed records, and records added or removed past the shorter list (a zero-intensity record, which
+  // lights nothing, on the side where they are absent).
   const std::size_t end = count_changed ? std::max(lights.size(), current_.size()) : last;
   for (std::size_t i = first; i < end; ++i) {
-    if (i < current_.size()) stale_.push_back(reach(current_[i]));
-    if (i < lights.size()) stale_.push_back(reach(lights[i]));
+    gpu::LightChange change{};
+    if (i < current_.size()) change.before = current_[i];
+    if (i < lights.size()) change.after = lights[i];
+    changes_.push_back(change);
   }
 
   // Last frame's passes read the records and the count before they are overwritten.

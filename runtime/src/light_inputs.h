@@ -8,11 +8,10 @@
 #include <span>
 #include <vector>
 
-#include <glm/vec4.hpp>
 #include <vulkan/vulkan_core.h>
 
 #include "gpu_volume.h"
-#include "probebake/gpu_types.h"
+#include "probebake/runtime_types.h"
 #include "probebake/runtime/runtime.h"
 
 namespace probebake::runtime::detail {
@@ -31,17 +30,16 @@ public:
   // records uploaded. Records nothing when nothing changed.
   int record(VkCommandBuffer cmd, GpuVolume& volume, std::span<const gpu::PunctualLight> lights);
 
-  // Where the last record() changed the lighting: per changed light, its range sphere before and after
-  // (xyz centre, w range; w = infinity for a light without range or a directional one). Empty when
-  // nothing changed.
-  std::span<const glm::vec4> stale_spheres() const { return stale_; }
+  // What the last record() changed: per changed light its record before and after (an added or removed light
+  // is a zero-intensity record on the other side). Empty when nothing changed.
+  std::span<const gpu::LightChange> changes() const { return changes_; }
   std::span<const gpu::PunctualLight> current() const { return current_; }
   std::size_t capacity() const { return capacity_; }
 
 private:
   std::vector<gpu::PunctualLight> current_; // both reserved to the capacity at construction
   std::vector<gpu::PunctualLight> staged_;  // this frame's records with unused fields zeroed
-  std::vector<glm::vec4> stale_;            // reserved to 2 x the capacity
+  std::vector<gpu::LightChange> changes_;   // reserved to the capacity
   std::size_t capacity_ = 0;
 };
 

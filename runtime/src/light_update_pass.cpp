@@ -1,7 +1,6 @@
 #include "light_update_pass.h"
 
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -42,12 +41,12 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                                 MemoryUse::device, "light list");
-  relight_regions_ = create_scratch(device, sizeof(gpu::RelightRegions), "relight regions");
+  relight_changes_ = create_scratch(device, sizeof(gpu::RelightChanges), "relight changes");
   {
     Submission clear(device);
     vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), light_list_.get(), 0, VK_WHOLE_SIZE, 0);
-    vkCmdFillBuffer(clear.cmd(), relight_regions_.get(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(clear.cmd(), relight_changes_.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
   }
@@ -71,27 +70,27 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_LIGHT_LIST] = light_list_.get();
   buffers[gpu::LIGHT_BINDING_DYNAMIC_OBJECTS] = volume.binding(Section::dynamic_objects);
   buffers[gpu::LIGHT_BINDING_OBJECT_INSTANCES] = volume.object_instances();
-  buffers[gpu::LIGHT_BINDING_RELIGHT_REGIONS] = relight_regions_.get();
+  buffers[gpu::LIGHT_BINDING_RELIGHT_CHANGES] = relight_changes_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
-void LightUpdatePass::relight(std::span<const glm::vec4> spheres) {
-  for (const glm::vec4& sphere : spheres) {
-    if (!std::isfinite(sphere.w) || regions_.count == gpu::RELIGHT_MAX_REGIONS) {
+void LightUpdatePass::relight(std::span<const gpu::LightChange> changes) {
+  for (const gpu::LightChange& change : changes) {
+    if (changes_.count == gpu::RELIGHT_MAX_CHANGES) {
       relight_everything_ = true;
       return;
     }
-    regions_.spheres[regions_.count++] = sphere;
+    changes_.changes[changes_.count++] = change;
   }
 }
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
-  relit_ = (relight_everything_ || regions_.count > 0) && !trace_pending_; // a full trace caches afresh
+  relit_ = (relight_everything_ || changes_.count > 0) && !trace_pending_; // a full trace caches afresh
   if (relit_) {
-    regions_.everything = relight_everything_ ? 1u : 0u;
-    // Last frame's relight read the regions (the frame's opening barrier orders it before this write).
-    vkCmdUpdateBuffer(cmd, relight_regions_.get(), 0, offsetof(gpu::RelightRegions, spheres) + regions_.count * sizeof(glm::vec4),
-                      &regions_);
+    changes_.everything = relight_everything_ ? 1u : 0u;
+    // Last frame's relight read the changes (the frame's opening barrier orders it before this write).
+    vkCmdUpdateBuffer(cmd, relight_changes_.get(), 0,
+                      offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
     barrier(cmd, kTransferWrite, kComputeReadWrite);
     // Every live slot, whatever the window or the list: a stale record would otherwise stay stale.
     const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, 0u, 0u};
@@ -102,7 +101,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
   }
-  regions_.count = 0;
+  changes_.count = 0;
   relight_everything_ = false;
 }
 

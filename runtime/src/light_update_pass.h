@@ -1,6 +1,6 @@
 // The light update (octree thesis §3.2.2) on a static octree: L1 traces every live probe's lighting rays
 // and placement lattice once (light_trace.comp) and caches each record's punctual irradiance, which
-// light_relight.comp recomputes only where lights or objects changed; L2 relights the kept records every frame and gathers
+// light_relight.comp updates only where lights or objects changed; L2 relights the kept records every frame and gathers
 // them into the probes with hysteresis (light_gather.comp, then light_resolve.comp copies the result
 // into the probes, so that the whole frame reads last frame's values), L3 compares hit fractions with the
 // split thresholds by the leaf rule (counted; the memory update acts on its own L1 measures).
@@ -9,8 +9,6 @@
 
 #include <cstdint>
 #include <span>
-
-#include <glm/vec4.hpp>
 
 #include <vulkan/vulkan_core.h>
 
@@ -44,15 +42,15 @@ public:
   // `max_gathered`: probes gathered and resolved this frame when the pass does not walk the light list, a
   // window of slots that moves on every frame (0 = every slot). Returns whether L1 was recorded.
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, std::uint32_t max_gathered);
-  // Whether the last record() recomputed cached punctual irradiance (light_relight).
+  // Whether the last record() updated cached punctual irradiance (light_relight).
   bool relit() const { return relit_; }
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   void retrace() { trace_pending_ = true; }
-  // The cached punctual irradiance of the records inside these spheres (xyz centre, w radius) is stale: the
-  // next record() recomputes it (light_relight), more than RELIGHT_MAX_REGIONS spheres in all mean everywhere.
-  void relight(std::span<const glm::vec4> spheres);
-  // ... stale everywhere (a light without range changed, an object moved).
+  // Lights changed: the next record() updates the cached punctual irradiance of the records they reach
+  // (light_relight); more than RELIGHT_MAX_CHANGES changes before a record() mean relight_everything().
+  void relight(std::span<const gpu::LightChange> changes);
+  // The next record() recomputes every record's punctual irradiance (an object moved: shadows anywhere).
   void relight_everything() { relight_everything_ = true; }
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
@@ -63,7 +61,7 @@ public:
   VkBuffer light_list() const { return light_list_.get(); }
 
 private:
-  // Uploads the pending regions and records light_relight between the slot's timestamps, when any.
+  // Uploads the pending changes and records light_relight between the slot's timestamps, when any.
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
 
   Device& device_;
@@ -74,8 +72,8 @@ private:
   bool relight_everything_ = false;
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
-  gpu::RelightRegions regions_{};   // pending spheres (regions_.count), uploaded by record()
-  Buffer relight_regions_;
+  gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
+  Buffer relight_changes_;
   Buffer records_;
   Buffer next_irradiance_;
   Buffer trace_flags_;

@@ -14,8 +14,7 @@
 
 namespace probebake::run {
 
-inline constexpr std::array<const char*, 6> kFramePassNames = {"memory_update", "probe_index",  "light_transitions",
-                                                               "light_trace",   "light_gather", "light_resolve"};
+using runtime::kFramePassNames;
 
 struct FrameRow {
   int frame = 0;

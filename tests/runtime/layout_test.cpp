@@ -159,7 +159,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST},
                            {"DynamicObjectBuffer", LIGHT_BINDING_DYNAMIC_OBJECTS},
                            {"ObjectInstanceBuffer", LIGHT_BINDING_OBJECT_INSTANCES},
-                           {"RelightRegionBuffer", LIGHT_BINDING_RELIGHT_REGIONS}};
+                           {"RelightChangeBuffer", LIGHT_BINDING_RELIGHT_CHANGES}};
   for (const char* shader : {"light_trace", "light_gather", "light_resolve", "light_relight"}) expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
@@ -324,10 +324,11 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
                            {"reflect", offsetof(LightRecord, reflect)}, {"punctual_r", offsetof(LightRecord, punctual_r)},
                            {"punctual_g", offsetof(LightRecord, punctual_g)}, {"punctual_b", offsetof(LightRecord, punctual_b)}}),
             1);
-  EXPECT_GE(expect_layout("light_relight", "RelightRegions",
-                          {{"count", offsetof(RelightRegions, count)}, {"everything", offsetof(RelightRegions, everything)},
-                           {"spheres", offsetof(RelightRegions, spheres)}}),
+  EXPECT_GE(expect_layout("light_relight", "RelightChanges",
+                          {{"count", offsetof(RelightChanges, count)}, {"everything", offsetof(RelightChanges, everything)},
+                           {"changes", offsetof(RelightChanges, changes)}}),
             1);
+  EXPECT_GE(expect_layout("light_relight", "LightChange", {{"before", offsetof(LightChange, before)}, {"after", offsetof(LightChange, after)}}), 1);
   EXPECT_GE(expect_layout("light_gather", "LightPush",
                           {{"probe_capacity", offsetof(LightPush, probe_capacity)},
                            {"hysteresis", offsetof(LightPush, hysteresis)}, {"first_slot", offsetof(LightPush, first_slot)},

@@ -19,6 +19,7 @@
 #include "probebake/bake/lighting.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/runtime_types.h"
 #include "probebake/samples/scenes.h"
 #include "probebake/scene/scene.h"
 #include "run_cli.h"
@@ -324,16 +325,45 @@ TEST_F(LightInputsTest, RangedLightRelightsOnlyRecordsInItsRange) {
   EXPECT_LT(converged, 2e-3f);
 }
 
-// A light without range (or a directional one) reaches everything: its change relights every front record.
+// A light without range (or a directional one) reaches everything: its change relights every front record;
+// so do more changes in one frame than RELIGHT_MAX_CHANGES (the whole sum is recomputed then).
 TEST_F(LightInputsTest, UnboundedLightChangeRelightsEveryFrontRecord) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
-  runtime::Volume gpu = upload(context(), b.volume);
+  const int extra = int(gpu::RELIGHT_MAX_CHANGES) + 4;
+  runtime::Volume gpu = upload(context(), b.volume, extra);
   const runtime::FrameStats first = run(gpu, 1);
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
   lights[0].position.x += 0.05f;
   const runtime::FrameStats moved = run(gpu, 1, &lights);
   EXPECT_EQ(moved.light.relit_records, first.light.front_hits);
   EXPECT_EQ(run(gpu, 1).light.relit_records, 0);
+  gpu::PunctualLight dim = lights[0];
+  dim.intensity = glm::vec3(1e-3f);
+  dim.range = 1e-3f; // reaches almost nothing: only the overflow makes every record relit
+  lights.insert(lights.end(), std::size_t(extra), dim);
+  EXPECT_EQ(run(gpu, 1, &lights).light.relit_records, first.light.front_hits);
+}
+
+// The cache is updated by differences (E += E_after - E_before) while a light moves; after two turns of an
+// orbit back to the baked pose the probes equal those of a volume whose light never moved: rounding does
+// not pile up.
+TEST_F(LightInputsTest, OrbitingLightLeavesNoDriftInTheCache) {
+  const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
+  runtime::Volume orbiting = upload(context(), b.volume), still = upload(context(), b.volume);
+  std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
+  const glm::vec3 centre = lights[0].position;
+  for (int f = 0; f <= 240; ++f) {
+    const float angle = 6.2831853f * float(f) / 120.0f;
+    lights[0].position = f == 240 ? centre : centre + 0.15f * glm::vec3(std::sin(angle), 0.0f, 1.0f - std::cos(angle));
+    run(orbiting, 1, &lights);
+  }
+  run(orbiting, 60);
+  run(still, 301);
+  const float drift = max_sh_difference(read_back(orbiting), read_back(still));
+  std::printf("[lights] cornell bulb orbited twice (240 frames of cache differences) and back: %.2e of the brightest DC "
+              "from a volume whose light never moved\n",
+              double(drift));
+  EXPECT_LT(drift, 1e-4f);
 }
 
 // FrameLimits::max_gathered_probes: a window of slots per frame; the fixed point is the same.
@@ -445,11 +475,15 @@ TEST_F(LightInputsTest, RunToolOrbitsALight) {
   formats::write_probes_file(probes, baked_leak_octree());
   const glm::vec3 baked = baked_leak_octree().punctual_lights.at(0).position;
   const std::string file = test::quoted(std::filesystem::path(probes));
-  const CliResult r = run_cli(file + " --frames 4 --verbose --hysteresis 0.5 --orbit-light 0:0.5:4 --validate --vk-validation --csv " +
-                              test::quoted(std::filesystem::path(csv)));
+  // The light moves every frame: light_relight runs in frames 2-4 under synchronization validation, and the
+  // gather takes a window of 8 probes.
+  const CliResult r = run_cli(file + " --frames 4 --verbose --hysteresis 0.5 --orbit-light 0:0.5:4 --gather-budget 8 --validate "
+                              "--vk-validation --csv " + test::quoted(std::filesystem::path(csv)));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("lights 1 (1 uploaded)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lit 8, lights 1 (1 uploaded)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("light_relight "), std::string::npos) << r.out;
+  EXPECT_EQ(run_cli(file + " --gather-budget -1").exit_code, 1);
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);

@@ -67,7 +67,7 @@ PB_CONSTANT(uint, LIGHT_BINDING_TRACE_FLAGS, 14u); // uint per probe slot: 1 = t
 PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);  // LightListHeader + int per listed probe (runtime_types.h)
 PB_CONSTANT(uint, LIGHT_BINDING_DYNAMIC_OBJECTS, 16u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS
 PB_CONSTANT(uint, LIGHT_BINDING_OBJECT_INSTANCES, 17u); // as SAMPLE_ALL_BINDING_OBJECT_INSTANCES
-PB_CONSTANT(uint, LIGHT_BINDING_RELIGHT_REGIONS, 18u); // RelightRegions (runtime_types.h)
+PB_CONSTANT(uint, LIGHT_BINDING_RELIGHT_CHANGES, 18u); // RelightChanges (runtime_types.h)
 PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 19u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------

@@ -22,8 +22,16 @@ bool probebake_visible(vec3 origin, vec3 target) {
   return !(dist > 0.0) || !probebake_occluded(origin, to / dist, 0.0, dist);
 }
 
-vec3 probebake_light_irradiance(int index, vec3 p, vec3 n) {
-  const PunctualLight light = probebake_lights[index];
+// Whether `light` can light p at all: it has intensity, and p lies inside its range (the range window is 0
+// from the range on) or it has none.
+bool probebake_light_reaches(PunctualLight light, vec3 p) {
+  if (light.intensity == vec3(0.0)) return false;
+  if (light.type == LIGHT_DIRECTIONAL || !(light.range > 0.0)) return true;
+  const vec3 d = p - light.position;
+  return dot(d, d) < light.range * light.range * 1.0001; // a relative margin for rounding; beyond it, exactly 0
+}
+
+vec3 probebake_light_irradiance_of(PunctualLight light, vec3 p, vec3 n) {
   if (light.intensity == vec3(0.0)) return vec3(0.0);
   const vec3 origin = p + n * probebake_lighting.shadow_offset;
   if (light.type == LIGHT_DIRECTIONAL) {
@@ -50,7 +58,7 @@ vec3 probebake_light_irradiance(int index, vec3 p, vec3 n) {
 
 vec3 probebake_punctual_irradiance(vec3 p, vec3 n) {
   vec3 e = vec3(0.0);
-  for (int i = 0; i < probebake_lighting.lights; ++i) e += probebake_light_irradiance(i, p, n);
+  for (int i = 0; i < probebake_lighting.lights; ++i) e += probebake_light_irradiance_of(probebake_lights[i], p, n);
   return e;
 }
 

@@ -69,8 +69,8 @@ PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // a front face or a double-sided ba
 
 // One lighting ray of one probe, written by L1 (light_trace) and relit by L2 (light_gather) every frame:
 //   L = base + reflect * (E_punctual(position, normal) + E_probes(position, normal)).
-// E_punctual (one shadow ray per light) is cached in the record: L1 computes it, light_relight recomputes it
-// only where a light changed or an object moved (RelightRegions), so a frame without changes costs no
+// E_punctual (one shadow ray per light) is cached in the record: L1 computes it, light_relight updates it
+// only where a light changed or an object moved (RelightChanges), so a frame without changes costs no
 // shadow ray whatever the number of lights. Records of probe p are records[p * rays, (p + 1) * rays).
 struct LightRecord {
   vec3 position;    // offset  0: the hit point (front hits)
@@ -83,17 +83,23 @@ struct LightRecord {
   float punctual_b; // offset 60
 };                  // size 64
 
-// Where the cached E_punctual of the records is stale this frame (light_relight.comp): the range spheres of
-// the lights the host changed (before and after the change), or everything (a light without range or a
-// directional light changed, an object moved, more changes than spheres).
-PB_CONSTANT(uint, RELIGHT_MAX_REGIONS, 64u);
-struct RelightRegions {
-  uint count;      // offset  0: spheres in use
-  uint everything; // offset  4: 1 = every front record
+// How the cached E_punctual of the records changes this frame (light_relight.comp): per light the host
+// changed, its record before and after (an added or removed light is a zero-intensity record on the other
+// side); a record in reach of either (inside its range, or anywhere without range) gets
+// E += E_after - E_before, two shadow rays whatever the number of lights. `everything`: recompute every
+// front record's whole sum instead (an object moved, more changes than RELIGHT_MAX_CHANGES).
+PB_CONSTANT(uint, RELIGHT_MAX_CHANGES, 16u);
+struct LightChange {
+  PunctualLight before; // offset   0
+  PunctualLight after;  // offset  64
+};                      // size 128
+struct RelightChanges {
+  uint count;      // offset  0: changes in use
+  uint everything; // offset  4: 1 = recompute every front record's E_punctual
   uint pad0;       // offset  8
   uint pad1;       // offset 12
-  vec4 spheres[RELIGHT_MAX_REGIONS]; // offset 16: xyz centre, w radius (a light's range)
-};                 // size 16 + 16 * RELIGHT_MAX_REGIONS
+  LightChange changes[RELIGHT_MAX_CHANGES]; // offset 16
+};                 // size 16 + 128 * RELIGHT_MAX_CHANGES
 
 struct LightPush {
   uint probe_capacity; // offset  0
@@ -132,7 +138,7 @@ struct LightCounters {
   int non_finite;      // offset 24: probes whose gathered irradiance was not finite: kept their old value
   int want_split;      // offset 28: L3: the leaf rule (leaf_rule.h) says split
   int want_free;       // offset 32: L3: the leaf rule says free the probe
-  int relit_records;   // offset 36: records whose cached E_punctual light_relight recomputed
+  int relit_records;   // offset 36: records whose cached E_punctual light_relight updated
   int pad1;            // offset 40
   int pad2;            // offset 44
 };                     // size 48
@@ -170,7 +176,8 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 32 && offsetof(LightListHeader, resolve_x) == 16);
 static_assert(sizeof(LightPush) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
-static_assert(sizeof(RelightRegions) == 16 + 16 * RELIGHT_MAX_REGIONS && offsetof(RelightRegions, spheres) == 16);
+static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
+static_assert(sizeof(RelightChanges) == 16 + 128 * RELIGHT_MAX_CHANGES && offsetof(RelightChanges, changes) == 16);
 } // namespace probebake::gpu
 #endif
 

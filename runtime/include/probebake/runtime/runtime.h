@@ -246,9 +246,14 @@ struct FrameInputs {
   FrameLimits limits;
 };
 
+// The per-frame passes in execution order: the names FrameStats::passes uses (a pass that did not run in a
+// frame is left out of that frame's list).
+inline constexpr std::array<const char*, 7> kFramePassNames = {"memory_update", "probe_index",  "light_transitions",
+                                                               "light_relight", "light_trace",  "light_gather",
+                                                               "light_resolve"};
+
 struct PassTime {
-  std::string name;    // "memory_update", "probe_index", "light_transitions", "light_relight", "light_trace",
-                       // "light_gather", "light_resolve"
+  std::string name;    // one of kFramePassNames
   double gpu_ms = -1;  // GPU timestamp difference; -1 when the queue has no timestamps
 };
 

@@ -1,6 +1,8 @@
 #include "light_update_pass.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -115,7 +117,12 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const std::uint32_t window = max_gathered == 0 ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
-  gpu::LightPush push{probe_capacity_, hysteresis_, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u, probe_capacity_, 0u, 0u};
+  // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
+  // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
+  // frames), only in coarser steps.
+  const std::uint32_t period = (probe_capacity_ + window - 1) / std::max(window, 1u);
+  const float hysteresis = queue_driven_ ? hysteresis_ : std::pow(hysteresis_, float(period));
+  gpu::LightPush push{probe_capacity_, hysteresis, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u, probe_capacity_, 0u, 0u};
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
   const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);

@@ -208,9 +208,10 @@ struct FrameLimits {
   int max_memory_entries = 0; // M1/M3 allocations per frame
   int max_light_entries = 0;  // L1/L2 leaves with a probe measured or carried per frame
   // Without the memory update: probes gathered (L2) per frame, a window of probe slots that moves on each
-  // frame, so every probe is updated once every ceil(capacity / max_gathered_probes) frames. The converged
-  // irradiance does not depend on it; a change takes that many times more frames to spread. The cached
-  // punctual irradiance of every probe is still made current in the frame its light changes.
+  // frame, so every probe is updated once every k = ceil(capacity / max_gathered_probes) frames, blending
+  // with hysteresis^k: a change spreads in as many frames as without a budget, in coarser steps, and the
+  // converged irradiance does not depend on it. The cached punctual irradiance of every probe is still made
+  // current in the frame its light changes.
   int max_gathered_probes = 0;
 };
 

@@ -39,7 +39,7 @@ void main() {
   const float weight = 4.0 * 3.14159265 / float(rays);
   barrier();
   for (int r = int(t); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
-    const vec3 radiance = relight(light_records[slot * uint(rays) + uint(r)]);
+    const vec3 radiance = relight(light_record(slot, uint(r)));
     float y[9];
     probebake_sh_basis(probebake_ray_directions[r].xyz, y);
     for (int k = 0; k < 9; ++k) {

@@ -45,12 +45,11 @@ void main() {
   const int rays = probebake_lighting.rays;
   uint count = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
-    const uint index = slot * uint(rays) + uint(r);
-    LightRecord rec = light_records[index];
+    LightRecord rec = light_record(slot, uint(r));
     vec3 e;
     if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(rec, e)) continue;
     light_record_set_punctual(rec, e);
-    light_records[index] = rec;
+    set_light_record(slot, uint(r), rec);
     ++count;
   }
   atomicAdd(relit, count);

@@ -79,7 +79,7 @@ void main() {
   const vec3 origin = probebake_probes[probe].position;
   const int rays = probebake_lighting.rays;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE))
-    light_records[slot * uint(rays) + uint(r)] = trace_record(origin, probebake_ray_directions[r].xyz);
+    set_light_record(slot, uint(r), trace_record(origin, probebake_ray_directions[r].xyz));
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
   trace_flags[slot] = 0u;

@@ -82,7 +82,7 @@ Candidate pick_physical_device(VkInstance instance, const std::string& name_filt
   return best;
 }
 
-void describe(Device& d, bool borrowed) {
+void describe(Device& d, bool borrowed, std::uint64_t range_limit) {
   VkPhysicalDeviceProperties properties;
   vkGetPhysicalDeviceProperties(d.physical_device, &properties);
   if (properties.apiVersion < VK_API_VERSION_1_2) fail(StatusCode::no_device, "the device does not support Vulkan 1.2");
@@ -95,6 +95,7 @@ void describe(Device& d, bool borrowed) {
   d.info.type = type_name(properties.deviceType);
   d.info.api_version = properties.apiVersion;
   d.info.max_storage_buffer_range = properties.limits.maxStorageBufferRange;
+  if (range_limit > 0) d.info.max_storage_buffer_range = std::min(d.info.max_storage_buffer_range, range_limit);
   d.info.timestamps = d.timestamp_valid_bits > 0 && properties.limits.timestampPeriod > 0.0f;
   d.info.borrowed = borrowed;
   d.info.validation = d.instance.validation();
@@ -145,12 +146,12 @@ std::shared_ptr<Device> create_device(const ContextOptions& options) {
   check_vk(vkCreateDevice(d->physical_device, &info, nullptr, &raw), "vkCreateDevice");
   d->device = LogicalDevice(raw, true);
   vkGetDeviceQueue(d->vk(), d->queue_family, 0, &d->queue);
-  describe(*d, false);
+  describe(*d, false, options.storage_buffer_range_limit);
   create_pool_and_allocator(*d);
   return d;
 }
 
-std::shared_ptr<Device> borrow_device(const HostVulkan& host, const ContextOptions& /*options*/) {
+std::shared_ptr<Device> borrow_device(const HostVulkan& host, const ContextOptions& options) {
   if (!host.instance || !host.physical_device || !host.device || !host.queue)
     fail(StatusCode::invalid_argument, "Context::borrow: instance, physical device, device and queue must be given");
   auto d = std::make_shared<Device>(std::make_shared<MessageLog>(nullptr), Instance::borrow(host.instance));
@@ -158,7 +159,7 @@ std::shared_ptr<Device> borrow_device(const HostVulkan& host, const ContextOptio
   d->device = LogicalDevice(host.device, false);
   d->queue = host.queue;
   d->queue_family = host.queue_family_index;
-  describe(*d, true);
+  describe(*d, true, options.storage_buffer_range_limit);
   create_pool_and_allocator(*d);
   return d;
 }

@@ -34,8 +34,7 @@ bool LightUpdatePass::applies(const GpuVolume& volume) {
 LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
-  records_ = create_scratch(device, VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * sizeof(gpu::LightRecord),
-                            "light records");
+  create_record_pages(rays);
   next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
   const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
@@ -65,7 +64,10 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_TRACE_TRIANGLES] = volume.binding(Section::trace_triangles);
   buffers[gpu::LIGHT_BINDING_PUNCTUAL_LIGHTS] = volume.binding(Section::punctual_lights);
   buffers[gpu::LIGHT_BINDING_EMITTER_PATCHES] = volume.binding(Section::emitter_patches);
-  buffers[gpu::LIGHT_BINDING_RECORDS] = records_.get();
+  const std::uint32_t record_bindings[gpu::LIGHT_RECORD_PAGES] = {gpu::LIGHT_BINDING_RECORDS, gpu::LIGHT_BINDING_RECORDS_PAGE_1,
+                                                                   gpu::LIGHT_BINDING_RECORDS_PAGE_2, gpu::LIGHT_BINDING_RECORDS_PAGE_3};
+  for (std::uint32_t page = 0; page < gpu::LIGHT_RECORD_PAGES; ++page) // unused pages repeat page 0
+    buffers[record_bindings[page]] = record_pages_[page < record_pages_.size() ? page : 0].get();
   buffers[gpu::LIGHT_BINDING_NEXT_IRRADIANCE] = next_irradiance_.get();
   buffers[gpu::LIGHT_BINDING_COUNTERS] = counters_.buffer();
   buffers[gpu::LIGHT_BINDING_TRACE_FLAGS] = trace_flags_.get();
@@ -74,6 +76,23 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_OBJECT_INSTANCES] = volume.object_instances();
   buffers[gpu::LIGHT_BINDING_RELIGHT_CHANGES] = relight_changes_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
+}
+
+void LightUpdatePass::create_record_pages(int rays) {
+  const VkDeviceSize probe_bytes = VkDeviceSize(rays) * sizeof(gpu::LightRecord);
+  const VkDeviceSize fit = device_.info.max_storage_buffer_range / probe_bytes; // whole probes per page
+  const VkDeviceSize pages = fit == 0 ? gpu::LIGHT_RECORD_PAGES + 1 : (VkDeviceSize(probe_capacity_) + fit - 1) / fit;
+  if (pages > gpu::LIGHT_RECORD_PAGES)
+    fail(StatusCode::unsupported, "light records: " + std::to_string(VkDeviceSize(probe_capacity_) * probe_bytes) + " bytes need " +
+                                      std::to_string(pages) + " pages of at most maxStorageBufferRange (" +
+                                      std::to_string(device_.info.max_storage_buffer_range) + ") of " + device_.info.name +
+                                      ", more than " + std::to_string(gpu::LIGHT_RECORD_PAGES) +
+                                      "; bake with fewer probes or lighting rays, or load with light_update = false");
+  probes_per_page_ = static_cast<std::uint32_t>(std::min<VkDeviceSize>(fit, probe_capacity_)); // applies(): >= 1 probe
+  for (std::uint32_t first = 0; first < probe_capacity_; first += probes_per_page_) {
+    const std::uint32_t probes = std::min(probes_per_page_, probe_capacity_ - first);
+    record_pages_.push_back(create_scratch(device_, VkDeviceSize(probes) * probe_bytes, "light records"));
+  }
 }
 
 void LightUpdatePass::relight(std::span<const gpu::LightChange> changes) {
@@ -95,7 +114,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
                       offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
     barrier(cmd, kTransferWrite, kComputeReadWrite);
     // Every live slot, whatever the window or the list: a stale record would otherwise stay stale.
-    const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, 0u, 0u};
+    const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, probes_per_page_, 0u};
     bind_set_and_push(cmd, device_.compute_pipelines().light.layout.get(), descriptors_.set, push);
     timer.begin(cmd, slot);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_relight.get());
@@ -122,7 +141,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   // frames), only in coarser steps.
   const std::uint32_t period = (probe_capacity_ + window - 1) / std::max(window, 1u);
   const float hysteresis = queue_driven_ ? hysteresis_ : std::pow(hysteresis_, float(period));
-  gpu::LightPush push{probe_capacity_, hysteresis, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u, probe_capacity_, 0u, 0u};
+  gpu::LightPush push{probe_capacity_, hysteresis, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u, probe_capacity_, probes_per_page_, 0u};
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
   const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include <vulkan/vulkan_core.h>
 
@@ -30,7 +31,8 @@ struct LightTimerSlots {
 
 class LightUpdatePass {
 public:
-  // Throws RuntimeError(unsupported) when the per-ray records exceed maxStorageBufferRange.
+  // The per-ray records are split into up to LIGHT_RECORD_PAGES pages of whole probes, each within
+  // maxStorageBufferRange; throws RuntimeError(unsupported) when they need more.
   // `rings`: frames in flight whose statistics are kept apart (PassCounters).
   LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings);
 
@@ -61,6 +63,8 @@ public:
   VkBuffer light_list() const { return light_list_.get(); }
 
 private:
+  // Pages of whole probes' records, each within maxStorageBufferRange (probes_per_page_).
+  void create_record_pages(int rays);
   // Uploads the pending changes and records light_relight between the slot's timestamps, when any.
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
 
@@ -74,7 +78,8 @@ private:
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
   gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
   Buffer relight_changes_;
-  Buffer records_;
+  std::vector<Buffer> record_pages_; // 1 to LIGHT_RECORD_PAGES
+  std::uint32_t probes_per_page_ = 0;
   Buffer next_irradiance_;
   Buffer trace_flags_;
   Buffer light_list_;

@@ -37,7 +37,7 @@ struct Baked {
   formats::ProbeVolume volume;
 };
 
-Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name) {
+Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, int rays = 96) {
   Baked b;
   const std::vector<std::uint8_t> glb = builder.to_glb();
   b.scene = std::make_unique<scene::Scene>(scene::load_scene_from_memory(
@@ -46,7 +46,7 @@ Baked bake_generated(const samples::SceneBuilder& builder, const std::string& na
   b.settings.max_depth = 3;
   b.settings.surfels_per_probe = 64;
   b.settings.svo_depth = 4;
-  b.settings.lighting.rays = 96;
+  b.settings.lighting.rays = rays;
   b.volume = bake::bake(*b.scene, b.settings).volume;
   return b;
 }
@@ -392,6 +392,43 @@ TEST_F(LightInputsTest, GatherBudgetReachesTheSameConvergedIrradiance) {
   EXPECT_LT(budgeted, 2e-3f);
   in.limits.max_gathered_probes = -1;
   EXPECT_EQ(gpu.run_frame(in).status().code, runtime::StatusCode::invalid_argument);
+}
+
+// Light records larger than maxStorageBufferRange are split into pages of whole probes: with the range
+// limited to a third of the records, the pages give the same bits as one buffer (trace, relight after a
+// light moved, gather), the layer stays silent, and a fifth page is refused as unsupported. 256 rays: the
+// records (16 KiB per probe) outgrow the other sections, so only they need pages.
+TEST_F(LightInputsTest, PagedLightRecordsGiveTheSameBits) {
+  const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb", 256);
+  const std::uint64_t probe_bytes = std::uint64_t(b.settings.lighting.rays) * sizeof(gpu::LightRecord);
+  const std::uint64_t probes = b.volume.probes.size();
+  runtime::ContextOptions options = validated_options();
+  options.storage_buffer_range_limit = (probes + 2) / 3 * probe_bytes; // three pages
+  auto small = runtime::Context::create(options);
+  ASSERT_TRUE(small.ok()) << small.status().message;
+  EXPECT_EQ(small.value().device_info().max_storage_buffer_range, options.storage_buffer_range_limit);
+  std::vector<gpu::PunctualLight> moved = b.volume.punctual_lights;
+  moved[0].position = kCornellLightMoved;
+  runtime::Volume paged = upload(small.value(), b.volume), whole = upload(context(), b.volume);
+  for (runtime::Volume* v : {&paged, &whole}) {
+    run(*v, 2);
+    run(*v, 3, &moved);
+  }
+  const formats::ProbeVolume x = read_back(paged), y = read_back(whole);
+  ASSERT_EQ(x.probes.size(), y.probes.size());
+  int unequal = 0;
+  for (std::size_t i = 0; i < x.probes.size(); ++i)
+    for (int v = 0; v < 27; ++v) unequal += x.probes[i].irradiance_sh[v] == y.probes[i].irradiance_sh[v] ? 0 : 1;
+  EXPECT_EQ(unequal, 0);
+  EXPECT_GT(brightest_dc(y), 0.1f);
+
+  options.storage_buffer_range_limit = (probes + 4) / 5 * probe_bytes; // five pages: one more than there are
+  auto tiny = runtime::Context::create(options);
+  ASSERT_TRUE(tiny.ok()) << tiny.status().message;
+  auto refused = runtime::Volume::upload(tiny.value(), b.volume);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code, runtime::StatusCode::unsupported);
+  EXPECT_NE(refused.status().message.find("need 5 pages"), std::string::npos) << refused.status().message;
 }
 
 TEST_F(LightInputsTest, LightChangesAllocateNothing) {

@@ -68,7 +68,13 @@ PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);  // LightListHeader + int per 
 PB_CONSTANT(uint, LIGHT_BINDING_DYNAMIC_OBJECTS, 16u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS
 PB_CONSTANT(uint, LIGHT_BINDING_OBJECT_INSTANCES, 17u); // as SAMPLE_ALL_BINDING_OBJECT_INSTANCES
 PB_CONSTANT(uint, LIGHT_BINDING_RELIGHT_CHANGES, 18u); // RelightChanges (runtime_types.h)
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 19u);
+// The light records are split into pages of whole probes, each within maxStorageBufferRange: page 0 at
+// LIGHT_BINDING_RECORDS, pages 1-3 here (unused pages repeat page 0; LightPush.probes_per_page).
+PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_1, 19u);
+PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_2, 20u);
+PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_3, 21u);
+PB_CONSTANT(uint, LIGHT_RECORD_PAGES, 4u);
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 22u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------
 // 0-3 equal the sampling bindings (sample_irradiance.glsl's SVO lookup gives new probes their start).

@@ -27,7 +27,10 @@ layout(std430, binding = LIGHT_BINDING_DYNAMIC_OBJECTS) readonly buffer DynamicO
 layout(std430, binding = LIGHT_BINDING_OBJECT_INSTANCES) readonly buffer ObjectInstanceBuffer { ObjectInstance probebake_object_instances[]; };
 layout(std430, binding = LIGHT_BINDING_PUNCTUAL_LIGHTS) readonly buffer LightBuffer { PunctualLight probebake_lights[]; };
 layout(std430, binding = LIGHT_BINDING_EMITTER_PATCHES) readonly buffer PatchBuffer { EmitterPatch probebake_emitter_patches[]; };
-layout(std430, binding = LIGHT_BINDING_RECORDS) buffer RecordBuffer { LightRecord light_records[]; };
+layout(std430, binding = LIGHT_BINDING_RECORDS) buffer RecordPage0 { LightRecord light_records_0[]; };
+layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_1) buffer RecordPage1 { LightRecord light_records_1[]; };
+layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_2) buffer RecordPage2 { LightRecord light_records_2[]; };
+layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_3) buffer RecordPage3 { LightRecord light_records_3[]; };
 layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuffer { float next_irradiance[]; }; // 27 per probe slot
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
 layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
@@ -44,6 +47,28 @@ int light_slot(uint index) {
   if (index >= light_list_header.count) return -1;
   const int slot = light_list[index];
   return slot >= 0 && uint(slot) < push.probe_capacity ? slot : -1;
+}
+
+// Record `ray` of probe slot `slot`: page slot / probes_per_page (uniform per workgroup: one slot each).
+uint light_record_page(uint slot) { return slot / push.probes_per_page; }
+uint light_record_index(uint slot, uint ray) {
+  return (slot - light_record_page(slot) * push.probes_per_page) * uint(probebake_lighting.rays) + ray;
+}
+
+LightRecord light_record(uint slot, uint ray) {
+  const uint page = light_record_page(slot), i = light_record_index(slot, ray);
+  if (page == 0u) return light_records_0[i];
+  if (page == 1u) return light_records_1[i];
+  if (page == 2u) return light_records_2[i];
+  return light_records_3[i];
+}
+
+void set_light_record(uint slot, uint ray, LightRecord rec) {
+  const uint page = light_record_page(slot), i = light_record_index(slot, ray);
+  if (page == 0u) light_records_0[i] = rec;
+  else if (page == 1u) light_records_1[i] = rec;
+  else if (page == 2u) light_records_2[i] = rec;
+  else light_records_3[i] = rec;
 }
 
 vec3 light_record_punctual(LightRecord rec) { return vec3(rec.punctual_r, rec.punctual_g, rec.punctual_b); }

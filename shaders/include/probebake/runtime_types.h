@@ -108,9 +108,9 @@ struct LightPush {
   uint listed;         // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = the slot window
   uint first_slot;     // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
   uint slot_count;     // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
-  uint pad0;           // offset 24
-  uint pad1;           // offset 28
-};                     // size 32
+  uint probes_per_page; // offset 24: light records: slot s is in page s / probes_per_page (bindings.h)
+  uint pad0;            // offset 28
+};                      // size 32
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes

@@ -101,6 +101,10 @@ struct ContextOptions {
   // Called for every validation message, on the thread that made the Vulkan call, possibly while the
   // Context is being destroyed (the callback must outlive the Context). Optional.
   std::function<void(const ValidationMessage&)> on_validation_message;
+  // The runtime acts as if the device's maxStorageBufferRange were at most this many bytes (0 = the device's
+  // own): a way to see, on a large GPU, what a smaller one would refuse or page (light records are split
+  // into pages that each fit; a section that does not fit is `unsupported`). Used by Context::borrow too.
+  std::uint64_t storage_buffer_range_limit = 0;
 };
 
 // The host's Vulkan objects, for Context::borrow. The device must support Vulkan 1.2 and `queue` must be

@@ -19,24 +19,17 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
 
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the
   //     leaves under each moved object's old and new world boxes; without it, L1 re-traces every probe.
-  FrameInputs with_objects;
-  const FrameInputs* in = &inputs;
+  std::span<const Box> moved_boxes;
   if (passes.objects && !inputs.object_poses.empty()) {
-    std::vector<Box> boxes = inputs.changed_boxes;
-    frame.moved_objects = passes.objects->record(cmd, inputs.object_poses, boxes);
+    frame.moved_objects = passes.objects->record(cmd, inputs.object_poses);
+    moved_boxes = passes.objects->moved_boxes();
     if (frame.moved_objects > 0 && passes.light) passes.light->relight_everything(); // shadows anywhere
-    if (frame.moved_objects > 0 && passes.memory) {
-      with_objects = inputs;
-      with_objects.changed_boxes = std::move(boxes);
-      in = &with_objects;
-    } else if (frame.moved_objects > 0 && passes.light) {
-      passes.light->retrace();
-    }
+    if (frame.moved_objects > 0 && !passes.memory && passes.light) passes.light->retrace();
   }
 
   // 1. Memory update (§3.2.1, M0-M4) and SVO refresh: allocates and frees before the probe index lists them.
   if (passes.memory) {
-    passes.memory->record_memory_update(cmd, timer, kPassMemoryUpdate, *in);
+    passes.memory->record_memory_update(cmd, timer, kPassMemoryUpdate, inputs, moved_boxes);
     frame.ran[kPassMemoryUpdate] = true;
   }
 

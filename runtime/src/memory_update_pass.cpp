@@ -110,17 +110,17 @@ bool finite_box(const Box& b) {
 bool unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
 
 // The frame's boxes as the shaders take them: beyond MEMORY_MAX_BOXES, the rest are merged into the last.
-gpu::MemoryFrame to_frame(const FrameInputs& in, int batches) {
+gpu::MemoryFrame to_frame(const FrameInputs& in, std::span<const Box> moved_boxes, int batches) {
   gpu::MemoryFrame f{};
   f.max_memory_entries = in.limits.max_memory_entries;
   f.max_light_entries = in.limits.max_light_entries;
   f.dead_backface_fraction = in.dead_backface_fraction;
   f.batches_per_probe = batches;
-  for (std::size_t b = 0; b < in.changed_boxes.size(); ++b) {
-    const Box& box = in.changed_boxes[b];
-    const int slot = std::min<int>(int(b), gpu::MEMORY_MAX_BOXES - 1);
+  int b = 0; // boxes past MEMORY_MAX_BOXES are merged into the last one
+  const auto add = [&](const Box& box) {
+    const int slot = std::min<int>(b, gpu::MEMORY_MAX_BOXES - 1);
     gpu::MemoryBox& out = f.boxes[slot];
-    if (slot < int(b)) {
+    if (slot < b) {
       out.lower = glm::min(out.lower, box.min);
       out.upper = glm::max(out.upper, box.max);
     } else {
@@ -128,7 +128,10 @@ gpu::MemoryFrame to_frame(const FrameInputs& in, int batches) {
       out.upper = box.max;
     }
     f.box_count = slot + 1;
-  }
+    ++b;
+  };
+  for (const Box& box : in.changed_boxes) add(box);
+  for (const Box& box : moved_boxes) add(box);
   return f;
 }
 
@@ -269,9 +272,10 @@ void MemoryUpdatePass::begin(VkCommandBuffer cmd, VkPipeline pipeline) const {
   barrier(cmd, kComputeReadWrite, kComputeAndIndirect);
 }
 
-void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs) {
+void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs,
+                                            std::span<const Box> moved_boxes) {
   Pipelines& p = device_.compute_pipelines();
-  const gpu::MemoryFrame frame = to_frame(inputs, batches_per_probe_);
+  const gpu::MemoryFrame frame = to_frame(inputs, moved_boxes, batches_per_probe_);
   const bool thresholds = inputs.max_depth || inputs.split_low || inputs.split_high;
   if (inputs.max_depth) info_.max_depth = *inputs.max_depth;
   if (inputs.split_low) info_.split_low = *inputs.split_low;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include <vulkan/vulkan_core.h>
 
@@ -41,7 +42,9 @@ public:
 
   // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
   // with the SVO refresh, ending with its writes visible to later compute and transfer work.
-  void record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs);
+  // `moved_boxes` (the moved objects' old and new bounds) count as changed boxes after inputs.changed_boxes.
+  void record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs,
+                            std::span<const Box> moved_boxes);
   // Records the light transitions (after the probe index build) and the light list's dispatch sizes, ending
   // with their writes visible to compute work and indirect dispatches.
   void record_light_transitions(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);

@@ -72,6 +72,7 @@ ObjectPoses::ObjectPoses(Device& device, GpuVolume& volume, std::span<const gpu:
   buffers[gpu::OBJECT_BINDING_INSTANCES] = volume.object_instances();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().object.set_layout.get(), buffers);
   poses_.reserve(objects_.size());
+  moved_boxes_.reserve(objects_.size()); // check_object_poses: each object at most once per frame
   std::vector<gpu::ObjectInstance> rest(objects_.size());
   for (std::size_t o = 0; o < objects_.size(); ++o) {
     poses_.push_back(from_rows(objects_[o].rest_rows));
@@ -97,15 +98,16 @@ void ObjectPoses::record_refit(VkCommandBuffer cmd) {
   barrier(cmd, kComputeWrite, kAnyDeviceAccess);
 }
 
-int ObjectPoses::record(VkCommandBuffer cmd, std::span<const ObjectPose> poses, std::vector<Box>& changed) {
+int ObjectPoses::record(VkCommandBuffer cmd, std::span<const ObjectPose> poses) {
   int moved = 0;
+  moved_boxes_.clear();
   for (const ObjectPose& pose : poses) {
     const auto o = static_cast<std::size_t>(pose.object);
     if (poses_[o] == pose.world_from_object) continue;
     if (moved++ == 0) barrier(cmd, kAnyDeviceAccess, kTransferWrite); // last frame's traces read the rows
     const std::array<glm::vec4, 3> rows = rows_of(pose.world_from_object);
     vkCmdUpdateBuffer(cmd, volume_.object_instances(), o * sizeof(gpu::ObjectInstance), sizeof rows, rows.data());
-    changed.push_back(box_union(world_box(objects_[o], poses_[o]), world_box(objects_[o], pose.world_from_object)));
+    moved_boxes_.push_back(box_union(world_box(objects_[o], poses_[o]), world_box(objects_[o], pose.world_from_object)));
     poses_[o] = pose.world_from_object;
   }
   if (moved == 0) return 0;

@@ -33,9 +33,10 @@ public:
 
   // Records the checked `poses` that differ from the current ones: barrier (earlier device access ->
   // transfer write), the rows, barrier (-> compute), object_refit, barrier (compute write -> every device
-  // access). Appends the union of each moved object's old and new world boxes to `changed`. Returns the
-  // objects moved (0: nothing recorded).
-  int record(VkCommandBuffer cmd, std::span<const ObjectPose> poses, std::vector<Box>& changed);
+  // access). moved_boxes() then holds the union of each moved object's old and new world boxes. Returns
+  // the objects moved (0: nothing recorded).
+  int record(VkCommandBuffer cmd, std::span<const ObjectPose> poses);
+  std::span<const Box> moved_boxes() const { return moved_boxes_; }
 
   const glm::mat4& pose(std::size_t object) const { return poses_.at(object); }
   std::size_t count() const { return poses_.size(); }
@@ -47,6 +48,7 @@ private:
   GpuVolume& volume_;
   std::vector<gpu::DynamicObject> objects_;
   std::vector<glm::mat4> poses_;
+  std::vector<Box> moved_boxes_; // reserved to one per object: no allocation per frame
   PassDescriptorSet descriptors_;
 };
 

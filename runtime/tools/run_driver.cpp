@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <glm/geometric.hpp>
 
 #include <glm/trigonometric.hpp>
@@ -251,16 +253,25 @@ int run_volume(const RunOptions& options) {
   std::map<std::string, PassSummary> summary;
   PassSummary cpu;
   std::vector<FrameRow> rows;
+  const bool terminal = isatty(fileno(stdout)) != 0;
   for (int frame = 0; frame < options.frames; ++frame) {
     auto stats = volume->run_frame(frame_inputs(options, volume.value(), baked_lights, frame));
     if (!stats.ok()) return report(options, stats.status());
     const double angle = options.animate ? glm::degrees(dynamic::animation_angle(*options.animate, frame)) : 0.0;
     rows.push_back(frame_row(frame, angle, stats.value()));
     if (csv.is_open() && options.animate) write_frame_row(csv, rows.back());
-    // One line per frame with --verbose; otherwise a progress line every 100 frames and the summary.
-    if (options.verbose) print_frame(stats.value());
-    else if ((frame + 1) % 100 == 0 || frame + 1 == options.frames)
+    // One line per frame with --verbose; otherwise a progress bar redrawn in place on a terminal, or a
+    // progress line every 100 frames into a file or pipe; then the summary.
+    if (options.verbose) {
+      print_frame(stats.value());
+    } else if (terminal) {
+      std::printf("\r%s  live probes %d, gpu %.3f ms   ", progress_bar(frame + 1, options.frames).c_str(), stats->live_probes,
+                  rows.back().gpu_ms);
+      if (frame + 1 == options.frames) std::printf("\n");
+      std::fflush(stdout);
+    } else if ((frame + 1) % 100 == 0 || frame + 1 == options.frames) {
       std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, options.frames, stats->live_probes, rows.back().gpu_ms);
+    }
     cpu.add(stats->cpu_ms);
     if (options.after_frame) {
       const runtime::Status done = options.after_frame(frame, volume.value());

@@ -194,6 +194,12 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
   return table;
 }
 
+std::string progress_bar(int done, int total, int width) {
+  const int filled = total > 0 ? int(std::int64_t(width) * std::clamp(done, 0, total) / total) : width;
+  return "[" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '-') + "] " + std::to_string(done) +
+         "/" + std::to_string(total) + " frames";
+}
+
 std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows, dynamic::Animation animation) {
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);

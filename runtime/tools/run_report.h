@@ -40,6 +40,9 @@ const char* motion_phase(dynamic::Animation animation, int frame);
 // its frame, by phase and over all frames; a Markdown table.
 std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynamic::Animation> animation);
 
+// "[########------------] 240/600 frames": `done` of `total` frames in a bar `width` characters wide.
+std::string progress_bar(int done, int total, int width = 30);
+
 // frame_times.svg (GPU ms per pass and total), probes.svg (live probes and pool use), leaf_states.svg
 // (entries processed per state) in `folder`; the frames of motion shaded. Returns the files written, or
 // throws std::runtime_error naming the file that could not be written.

@@ -3,8 +3,10 @@
 // or the light list: a stale record would stay stale). Per changed light, a front record in reach of its
 // record before or after the change gets E += E_after - E_before: two shadow rays per changed light instead of
 // one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
-// nothing, exactly, so the record is left alone. With `everything` (an object moved: a shadow may fall
-// anywhere) every front record's sum is recomputed as light_trace computes it.
+// nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
+// frame) reads its E_before from the tracked buffer, where the last frame (or light_trace) left its E_after:
+// one shadow ray. With `everything` (an object moved: a shadow may fall anywhere) every front record's sum
+// is recomputed as light_trace computes it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/light_bindings.glsl"
@@ -13,11 +15,13 @@
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
-shared uint relit;
+shared uint relit, reused;
 
-// The record's E_punctual after this frame's changes; false when none reaches it.
-bool updated_punctual(LightRecord rec, out vec3 e) {
+// The record's E_punctual after this frame's changes; false when none reaches it. `from_tracked`: E_before
+// of the single change came from the tracked buffer.
+bool updated_punctual(uint slot, uint ray, LightRecord rec, out vec3 e, out bool from_tracked) {
   e = vec3(0.0);
+  from_tracked = false;
   if (relight_changes.everything != 0u) {
     e = probebake_punctual_irradiance(rec.position, rec.normal);
     return true;
@@ -28,8 +32,14 @@ bool updated_punctual(LightRecord rec, out vec3 e) {
   for (uint c = 0u; c < count; ++c) {
     const PunctualLight before = relight_changes.changes[c].before, after = relight_changes.changes[c].after;
     const bool was = probebake_light_reaches(before, rec.position), is = probebake_light_reaches(after, rec.position);
-    if (was) delta -= probebake_light_irradiance_of(before, rec.position, rec.normal);
-    if (is) delta += probebake_light_irradiance_of(after, rec.position, rec.normal);
+    const bool tracked = c == 0u && relight_changes.reuse_before != 0u;
+    // The tracked value is 0 where the light did not reach (track_after wrote every front record).
+    const vec3 e_before = tracked ? tracked_punctual_at(slot, ray)
+                                  : (was ? probebake_light_irradiance_of(before, rec.position, rec.normal) : vec3(0.0));
+    const vec3 e_after = is ? probebake_light_irradiance_of(after, rec.position, rec.normal) : vec3(0.0);
+    if (c == 0u && relight_changes.track_after != 0u) set_tracked_punctual(slot, ray, e_after);
+    delta += e_after - e_before;
+    from_tracked = from_tracked || (tracked && (was || is));
     reached = reached || was || is;
   }
   // The difference of two sums rounds: clamped at zero (removing a light leaves rounding noise, never less).
@@ -40,19 +50,27 @@ bool updated_punctual(LightRecord rec, out vec3 e) {
 void main() {
   const uint slot = probebake_flat_workgroup();
   if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
-  if (gl_LocalInvocationIndex == 0) relit = 0u;
+  if (gl_LocalInvocationIndex == 0) {
+    relit = 0u;
+    reused = 0u;
+  }
   barrier();
   const int rays = probebake_lighting.rays;
-  uint count = 0u;
+  uint count = 0u, from_tracked_count = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
     LightRecord rec = light_record(slot, uint(r));
     vec3 e;
-    if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(rec, e)) continue;
+    bool from_tracked;
+    if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(slot, uint(r), rec, e, from_tracked)) continue;
     light_record_set_punctual(rec, e);
     set_light_record(slot, uint(r), rec);
     ++count;
+    if (from_tracked) ++from_tracked_count;
   }
   atomicAdd(relit, count);
+  atomicAdd(reused, from_tracked_count);
   barrier();
-  if (gl_LocalInvocationIndex == 0 && relit > 0u) atomicAdd(light_counters.relit_records, int(relit));
+  if (gl_LocalInvocationIndex != 0) return;
+  if (relit > 0u) atomicAdd(light_counters.relit_records, int(relit));
+  if (reused > 0u) atomicAdd(light_counters.reused_records, int(reused));
 }

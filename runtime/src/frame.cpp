@@ -14,7 +14,7 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.
   if (inputs.lights && passes.light_inputs && passes.volume) {
     frame.uploaded_lights = passes.light_inputs->record(cmd, *passes.volume, *inputs.lights);
-    if (passes.light) passes.light->relight(passes.light_inputs->changes());
+    if (passes.light) passes.light->relight(passes.light_inputs->changes(), passes.light_inputs->first_change());
   }
 
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the

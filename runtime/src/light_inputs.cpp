@@ -88,6 +88,7 @@ int LightInputs::record(VkCommandBuffer cmd, GpuVolume& volume, std::span<const 
   // Changed records, and records added or removed past the shorter list (a zero-intensity record, which
   // lights nothing, on the side where they are absent).
   const std::size_t end = count_changed ? std::max(lights.size(), current_.size()) : last;
+  first_change_ = first;
   for (std::size_t i = first; i < end; ++i) {
     gpu::LightChange change{};
     if (i < current_.size()) change.before = current_[i];

@@ -33,6 +33,8 @@ public:
   // What the last record() changed: per changed light its record before and after (an added or removed light
   // is a zero-intensity record on the other side). Empty when nothing changed.
   std::span<const gpu::LightChange> changes() const { return changes_; }
+  // The light index of changes()[0].
+  std::size_t first_change() const { return first_change_; }
   std::span<const gpu::PunctualLight> current() const { return current_; }
   std::size_t capacity() const { return capacity_; }
 
@@ -40,6 +42,7 @@ private:
   std::vector<gpu::PunctualLight> current_; // both reserved to the capacity at construction
   std::vector<gpu::PunctualLight> staged_;  // this frame's records with unused fields zeroed
   std::vector<gpu::LightChange> changes_;   // reserved to the capacity
+  std::size_t first_change_ = 0;
   std::size_t capacity_ = 0;
 };
 

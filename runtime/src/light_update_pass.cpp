@@ -43,11 +43,18 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                                 MemoryUse::device, "light list");
   relight_changes_ = create_scratch(device, sizeof(gpu::RelightChanges), "relight changes");
+  const VkDeviceSize tracked_bytes = VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * 3 * sizeof(float);
+  tracking_ = tracked_bytes <= device.info.max_storage_buffer_range;
+  tracked_punctual_ = create_scratch(device, tracking_ ? tracked_bytes : 16, "tracked punctual");
   {
     Submission clear(device);
     vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), light_list_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), relight_changes_.get(), 0, VK_WHOLE_SIZE, 0);
+    // Slots that were never traced hold no records (kind 0 = miss) and no tracked share, not stale memory:
+    // the relight walks every live slot, and the same input must give the same output.
+    vkCmdFillBuffer(clear.cmd(), tracked_punctual_.get(), 0, VK_WHOLE_SIZE, 0);
+    for (const Buffer& page : record_pages_) vkCmdFillBuffer(clear.cmd(), page.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
   }
@@ -75,6 +82,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_DYNAMIC_OBJECTS] = volume.binding(Section::dynamic_objects);
   buffers[gpu::LIGHT_BINDING_OBJECT_INSTANCES] = volume.object_instances();
   buffers[gpu::LIGHT_BINDING_RELIGHT_CHANGES] = relight_changes_.get();
+  buffers[gpu::LIGHT_BINDING_TRACKED_PUNCTUAL] = tracked_punctual_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
@@ -95,7 +103,8 @@ void LightUpdatePass::create_record_pages(int rays) {
   }
 }
 
-void LightUpdatePass::relight(std::span<const gpu::LightChange> changes) {
+void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::size_t first) {
+  if (changes_.count == 0) first_change_ = first;
   for (const gpu::LightChange& change : changes) {
     if (changes_.count == gpu::RELIGHT_MAX_CHANGES) {
       relight_everything_ = true;
@@ -106,7 +115,14 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes) {
 }
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
-  relit_ = (relight_everything_ || changes_.count > 0) && !trace_pending_; // a full trace caches afresh
+  const bool changed = relight_everything_ || changes_.count > 0;
+  relit_ = changed && !trace_pending_; // a full trace caches afresh
+  // One light changed: its E_after is tracked, and if it was the tracked light, E_before is read back.
+  const bool single = tracking_ && !relight_everything_ && changes_.count == 1;
+  const int changed_light = single ? int(first_change_) : -1;
+  changes_.reuse_before = single && tracked_light_ == changed_light ? 1u : 0u;
+  changes_.track_after = single ? 1u : 0u;
+  if (changed) tracked_light_ = changed_light; // light_trace writes the shares of this light from now on
   if (relit_) {
     changes_.everything = relight_everything_ ? 1u : 0u;
     // Last frame's relight read the changes (the frame's opening barrier orders it before this write).
@@ -114,7 +130,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
                       offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
     barrier(cmd, kTransferWrite, kComputeReadWrite);
     // Every live slot, whatever the window or the list: a stale record would otherwise stay stale.
-    const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, probes_per_page_, 0u};
+    const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, probes_per_page_, tracked_light_};
     bind_set_and_push(cmd, device_.compute_pipelines().light.layout.get(), descriptors_.set, push);
     timer.begin(cmd, slot);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_relight.get());
@@ -141,7 +157,8 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   // frames), only in coarser steps.
   const std::uint32_t period = (probe_capacity_ + window - 1) / std::max(window, 1u);
   const float hysteresis = queue_driven_ ? hysteresis_ : std::pow(hysteresis_, float(period));
-  gpu::LightPush push{probe_capacity_, hysteresis, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u, probe_capacity_, probes_per_page_, 0u};
+  gpu::LightPush push{probe_capacity_, hysteresis, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u,
+                      probe_capacity_, probes_per_page_, tracked_light_};
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
   const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
@@ -187,6 +204,7 @@ LightStats LightUpdatePass::stats(std::uint32_t ring) const {
   s.want_split = c.want_split;
   s.want_free = c.want_free;
   s.relit_records = c.relit_records;
+  s.reused_records = c.reused_records;
   return s;
 }
 

@@ -51,7 +51,8 @@ public:
   void retrace() { trace_pending_ = true; }
   // Lights changed: the next record() updates the cached punctual irradiance of the records they reach
   // (light_relight); more than RELIGHT_MAX_CHANGES changes before a record() mean relight_everything().
-  void relight(std::span<const gpu::LightChange> changes);
+  // `first`: the light index of changes[0] (the others follow it).
+  void relight(std::span<const gpu::LightChange> changes, std::size_t first);
   // The next record() recomputes every record's punctual irradiance (an object moved: shadows anywhere).
   void relight_everything() { relight_everything_ = true; }
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
@@ -77,7 +78,13 @@ private:
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
   gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
+  std::size_t first_change_ = 0;    // light index of changes_.changes[0]
   Buffer relight_changes_;
+  // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
+  // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.
+  int tracked_light_ = -1;
+  bool tracking_ = false;
+  Buffer tracked_punctual_;
   std::vector<Buffer> record_pages_; // 1 to LIGHT_RECORD_PAGES
   std::uint32_t probes_per_page_ = 0;
   Buffer next_irradiance_;

@@ -131,8 +131,8 @@ void print_frame(const runtime::FrameStats& f) {
   std::printf(" | cpu %.3f ms | live probes %d / %d", f.cpu_ms, f.live_probes, f.probe_capacity);
   const runtime::LightStats& l = f.light;
   if (l.active) {
-    std::printf(" | lit %d, lights %d (%d uploaded), relit records %d", l.lit_probes, l.lights, l.uploaded_lights,
-                l.relit_records);
+    std::printf(" | lit %d, lights %d (%d uploaded), relit records %d (%d with one shadow ray)", l.lit_probes, l.lights,
+                l.uploaded_lights, l.relit_records, l.reused_records);
     if (l.traced_probes > 0)
       std::printf(", traced %d (rays: %d front, %d back, %d miss)", l.traced_probes, l.front_hits, l.backface_hits, l.misses);
     std::printf(", indirect misses %d, non-finite %d, L3 split %d free %d", l.indirect_misses, l.non_finite,

@@ -162,7 +162,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST},
                            {"DynamicObjectBuffer", LIGHT_BINDING_DYNAMIC_OBJECTS},
                            {"ObjectInstanceBuffer", LIGHT_BINDING_OBJECT_INSTANCES},
-                           {"RelightChangeBuffer", LIGHT_BINDING_RELIGHT_CHANGES}};
+                           {"RelightChangeBuffer", LIGHT_BINDING_RELIGHT_CHANGES},
+                           {"TrackedPunctualBuffer", LIGHT_BINDING_TRACKED_PUNCTUAL}};
   for (const char* shader : {"light_trace", "light_gather", "light_resolve", "light_relight"}) expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
@@ -329,7 +330,8 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
             1);
   EXPECT_GE(expect_layout("light_relight", "RelightChanges",
                           {{"count", offsetof(RelightChanges, count)}, {"everything", offsetof(RelightChanges, everything)},
-                           {"changes", offsetof(RelightChanges, changes)}}),
+                           {"reuse_before", offsetof(RelightChanges, reuse_before)},
+                           {"track_after", offsetof(RelightChanges, track_after)}, {"changes", offsetof(RelightChanges, changes)}}),
             1);
   EXPECT_GE(expect_layout("light_relight", "LightChange", {{"before", offsetof(LightChange, before)}, {"after", offsetof(LightChange, after)}}), 1);
   EXPECT_GE(expect_layout("light_gather", "LightPush",
@@ -344,7 +346,13 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
                            {"want_split", offsetof(LightCounters, want_split)},
                            {"want_free", offsetof(LightCounters, want_free)}}),
             1);
-  EXPECT_GE(expect_layout("light_relight", "LightCounters", {{"relit_records", offsetof(LightCounters, relit_records)}}), 1);
+  EXPECT_GE(expect_layout("light_relight", "LightCounters",
+                          {{"relit_records", offsetof(LightCounters, relit_records)},
+                           {"reused_records", offsetof(LightCounters, reused_records)}}),
+            1);
+  EXPECT_GE(expect_layout("light_trace", "LightPush", {{"tracked_light", offsetof(LightPush, tracked_light)},
+                                                       {"probes_per_page", offsetof(LightPush, probes_per_page)}}),
+            1);
 }
 
 TEST(GpuLayout, MemoryUpdateTypesMatch) {

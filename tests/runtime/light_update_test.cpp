@@ -392,9 +392,9 @@ TEST_F(LightUpdateTest, VolumesWithoutLightingSectionsRunNoLightPasses) {
   EXPECT_FALSE(stats.value().light.active);
   ASSERT_EQ(stats.value().passes.size(), 1u);
   EXPECT_EQ(stats.value().passes[0].name, "probe_index");
-  // light_update = false leaves out the passes and their buffers (records, next irradiance, trace flags,
-  // light list, relight regions, counters on the device, and on the host once per frame in flight) for a
-  // volume that has the sections.
+  // light_update = false leaves out the passes and their buffers (records in one page here, next irradiance,
+  // trace flags, light list, relight changes, tracked punctual, counters on the device, and on the host once
+  // per frame in flight) for a volume that has the sections.
   const Baked lit = bake_generated(samples::cornell(), "cornell", small_settings());
   const auto buffers_for = [&](bool light_update) {
     const std::size_t before = context().memory_stats().live_buffers;
@@ -407,7 +407,7 @@ TEST_F(LightUpdateTest, VolumesWithoutLightingSectionsRunNoLightPasses) {
     return context().memory_stats().live_buffers - before;
   };
   const std::size_t off = buffers_for(false), on = buffers_for(true);
-  EXPECT_EQ(on, off + 6 + std::size_t(runtime::UploadOptions{}.frames_in_flight));
+  EXPECT_EQ(on, off + 7 + std::size_t(runtime::UploadOptions{}.frames_in_flight));
 }
 
 TEST_F(LightUpdateTest, BadHysteresisIsInvalidArgument) {

@@ -74,7 +74,8 @@ PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_1, 19u);
 PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_2, 20u);
 PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_3, 21u);
 PB_CONSTANT(uint, LIGHT_RECORD_PAGES, 4u);
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 22u);
+PB_CONSTANT(uint, LIGHT_BINDING_TRACKED_PUNCTUAL, 22u); // float[3] per record (RelightChanges.track_after)
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 23u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------
 // 0-3 equal the sampling bindings (sample_irradiance.glsl's SVO lookup gives new probes their start).

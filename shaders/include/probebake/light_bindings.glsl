@@ -35,6 +35,7 @@ layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuf
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
 layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
 layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) readonly buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
+layout(std430, binding = LIGHT_BINDING_TRACKED_PUNCTUAL) buffer TrackedPunctualBuffer { float tracked_punctual[]; }; // 3 per record
 layout(std430, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer { RelightChanges relight_changes; };
 layout(push_constant) uniform Push { LightPush push; };
 
@@ -69,6 +70,19 @@ void set_light_record(uint slot, uint ray, LightRecord rec) {
   else if (page == 1u) light_records_1[i] = rec;
   else if (page == 2u) light_records_2[i] = rec;
   else light_records_3[i] = rec;
+}
+
+// The tracked light's E at record `ray` of `slot` (RelightChanges), unpaged: 12 bytes per record.
+vec3 tracked_punctual_at(uint slot, uint ray) {
+  const uint i = 3u * (slot * uint(probebake_lighting.rays) + ray);
+  return vec3(tracked_punctual[i], tracked_punctual[i + 1u], tracked_punctual[i + 2u]);
+}
+
+void set_tracked_punctual(uint slot, uint ray, vec3 e) {
+  const uint i = 3u * (slot * uint(probebake_lighting.rays) + ray);
+  tracked_punctual[i] = e.r;
+  tracked_punctual[i + 1u] = e.g;
+  tracked_punctual[i + 2u] = e.b;
 }
 
 vec3 light_record_punctual(LightRecord rec) { return vec3(rec.punctual_r, rec.punctual_g, rec.punctual_b); }

@@ -88,6 +88,9 @@ struct LightRecord {
 // side); a record in reach of either (inside its range, or anywhere without range) gets
 // E += E_after - E_before, two shadow rays whatever the number of lights. `everything`: recompute every
 // front record's whole sum instead (an object moved, more changes than RELIGHT_MAX_CHANGES).
+// A light that moves frame after frame costs one shadow ray: with a single change, each front record's
+// E_after is also kept in the tracked punctual buffer (a vec3 per record, LIGHT_BINDING_TRACKED_PUNCTUAL),
+// and when the same light changes again, that value is its E_before.
 PB_CONSTANT(uint, RELIGHT_MAX_CHANGES, 16u);
 struct LightChange {
   PunctualLight before; // offset   0
@@ -96,8 +99,8 @@ struct LightChange {
 struct RelightChanges {
   uint count;      // offset  0: changes in use
   uint everything; // offset  4: 1 = recompute every front record's E_punctual
-  uint pad0;       // offset  8
-  uint pad1;       // offset 12
+  uint reuse_before; // offset  8: 1 = changes[0].before's E at each record is in the tracked buffer
+  uint track_after;  // offset 12: 1 = write changes[0].after's E at each front record to the tracked buffer
   LightChange changes[RELIGHT_MAX_CHANGES]; // offset 16
 };                 // size 16 + 128 * RELIGHT_MAX_CHANGES
 
@@ -109,7 +112,8 @@ struct LightPush {
   uint first_slot;     // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
   uint slot_count;     // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
   uint probes_per_page; // offset 24: light records: slot s is in page s / probes_per_page (bindings.h)
-  uint pad0;            // offset 28
+  int tracked_light;    // offset 28: light_trace: the light whose share it also writes to the tracked
+                        //   punctual buffer (RelightChanges), -1 = none
 };                      // size 32
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
@@ -139,7 +143,7 @@ struct LightCounters {
   int want_split;      // offset 28: L3: the leaf rule (leaf_rule.h) says split
   int want_free;       // offset 32: L3: the leaf rule says free the probe
   int relit_records;   // offset 36: records whose cached E_punctual light_relight updated
-  int pad1;            // offset 40
+  int reused_records;  // offset 40: of them, updated with E_before read from the tracked buffer
   int pad2;            // offset 44
 };                     // size 48
 

@@ -276,8 +276,9 @@ struct LightStats {
   int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
   int lights = 0;          // punctual lights lit this frame
   int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
-  int relit_records = 0;   // records whose cached punctual irradiance was recomputed (inside the range of
-                           // a changed light, or all after an object moved or a light without range changed)
+  int relit_records = 0;   // records whose cached punctual irradiance was updated (in reach of a changed
+                           // light: inside its range, or all for a light without range or after an object moved)
+  int reused_records = 0;  // of them, updated with one shadow ray (the same light changed last time too)
   int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
 };
 

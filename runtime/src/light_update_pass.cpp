@@ -87,6 +87,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
 }
 
 void LightUpdatePass::create_record_pages(int rays) {
+  if (rays < 1) fail(StatusCode::invalid_volume, "lighting_info: rays " + std::to_string(rays) + " < 1"); // unvalidated upload
   const VkDeviceSize probe_bytes = VkDeviceSize(rays) * sizeof(gpu::LightRecord);
   const VkDeviceSize fit = device_.info.max_storage_buffer_range / probe_bytes; // whole probes per page
   const VkDeviceSize pages = fit == 0 ? gpu::LIGHT_RECORD_PAGES + 1 : (VkDeviceSize(probe_capacity_) + fit - 1) / fit;

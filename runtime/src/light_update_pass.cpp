@@ -54,6 +54,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     // Slots that were never traced hold no records (kind 0 = miss) and no tracked share, not stale memory:
     // the relight walks every live slot, and the same input must give the same output.
     vkCmdFillBuffer(clear.cmd(), tracked_punctual_.get(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(clear.cmd(), next_irradiance_.get(), 0, VK_WHOLE_SIZE, 0);
     for (const Buffer& page : record_pages_) vkCmdFillBuffer(clear.cmd(), page.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();

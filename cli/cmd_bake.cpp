@@ -77,7 +77,9 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
   const bake::RuntimeLightingReport& g = r.runtime_lighting;
   j["runtime_lighting"] = {{"written", g.written}, {"bvh_nodes", g.bvh_nodes}, {"bvh_depth", g.bvh_depth},
                            {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},
-                           {"emitter_patches", g.emitter_patches}, {"dynamic_objects", g.dynamic_objects}, {"bytes", g.bytes},
+                           {"emitter_patches", g.emitter_patches}, {"dynamic_objects", g.dynamic_objects}, {"vertices", g.vertices},
+                           {"materials", g.materials}, {"bytes", g.bytes}, {"tracing_bytes", g.tracing_bytes},
+                           {"tracing_bytes_per_triangle", g.triangles > 0 ? double(g.tracing_bytes) / g.triangles : 0.0},
                            {"bvh_seconds", g.bvh_seconds}};
   j["stages"] = nlohmann::ordered_json::object();
   j["stages_cpu"] = nlohmann::ordered_json::object(); // CPU seconds, all threads: comparable on a loaded machine
@@ -113,9 +115,10 @@ void print_report(const nlohmann::ordered_json& j) {
              j["svo"]["solid_voxels"].get<int>(), j["svo"]["uncovered_voxels"].get<int>());
   const auto& gpu_scene = j["runtime_lighting"];
   if (gpu_scene["written"].get<bool>())
-    fmt::print("gpu scene    {} BVH nodes (depth {}), {} triangles, {} lights, {} emitter patches, {} dynamic objects, {} bytes; "
-               "BVH {:.1f} ms\n",
-               gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(), gpu_scene["triangles"].get<int>(),
+    fmt::print("gpu scene    {} triangles ({} vertices, {} materials) in {} BVH nodes (depth {}): {:.1f} B per triangle; {} lights, "
+               "{} emitter patches, {} dynamic objects, {} bytes; BVH {:.1f} ms\n",
+               gpu_scene["triangles"].get<int>(), gpu_scene["vertices"].get<int>(), gpu_scene["materials"].get<int>(),
+               gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(), gpu_scene["tracing_bytes_per_triangle"].get<double>(),
                gpu_scene["lights"].get<int>(), gpu_scene["emitter_patches"].get<int>(), gpu_scene["dynamic_objects"].get<int>(),
                gpu_scene["bytes"].get<std::size_t>(), 1e3 * gpu_scene["bvh_seconds"].get<double>());
   fmt::print("sections    ");

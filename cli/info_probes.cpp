@@ -10,6 +10,7 @@
 #include "probebake/formats/container.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/formats/trace_mesh.h"
 #include "probebake/formats/volume_stats.h"
 
 namespace probebake::cli {
@@ -50,6 +51,14 @@ nlohmann::json settings_json(const gpu::VolumeInfo& info) {
           {"split_high", info.split_high},               {"grid_resolution", info.grid_resolution}};
 }
 
+// What the runtime traces: triangles, and the bytes of the tracing sections per triangle (issue #14).
+nlohmann::json tracing_json(const formats::ProbeVolume& v) {
+  const std::size_t triangles = v.trace_triangles.size() + v.trace_faces.size();
+  const std::size_t bytes = formats::tracing_bytes(v);
+  return {{"triangles", triangles}, {"bytes", bytes}, {"bytes_per_triangle", triangles > 0 ? double(bytes) / double(triangles) : 0.0},
+          {"layout", v.trace_triangles.empty() ? "compact" : "float (1.1-1.3)"}};
+}
+
 nlohmann::json info_json(const ProbesInfo& in) {
   const formats::ProbeVolume& v = in.volume;
   nlohmann::json sections = nlohmann::json::array();
@@ -87,6 +96,7 @@ nlohmann::json info_json(const ProbesInfo& in) {
                                                                  {"pull_origin", v.leaf_header.pull_origin},
                                                                  {"counts", v.leaf_header.count}}},
           {"sections", sections},
+          {"tracing", tracing_json(v)},
           {"cell_depth", v.cell_depth},
           {"cells", cells}};
 }
@@ -113,6 +123,11 @@ void print_text(const ProbesInfo& in) {
   for (const formats::SectionEntry& e : in.container.sections) {
     fmt::print("             {:<18} {:>10} {:>12} {:>10}{}\n", formats::section_name(e.type), e.offset, e.size, e.element_count,
                (e.flags & formats::kSectionRequired) != 0 ? "" : "  (optional)");
+  }
+  if (v.lighting) {
+    const nlohmann::json tracing = tracing_json(v);
+    fmt::print("tracing      {} triangles, {} bytes, {:.1f} B per triangle ({} layout)\n", tracing["triangles"].get<std::size_t>(),
+               tracing["bytes"].get<std::size_t>(), tracing["bytes_per_triangle"].get<double>(), tracing["layout"].get<std::string>());
   }
   fmt::print("cells        {} (depth {})\n", v.cells.size(), v.cell_depth);
   for (const formats::Cell& c : v.cells) {

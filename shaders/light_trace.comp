@@ -57,8 +57,8 @@ LightRecord trace_record(vec3 origin, vec3 dir, out vec3 tracked) {
   atomicAdd(front_count, 1u);
   rec.kind = LIGHT_RECORD_FRONT;
   rec.position = origin + hit.t * dir;
-  rec.reflect = probebake_trace_triangles[tri].albedo * 0.318309886;
-  const vec3 emitted = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_trace_triangles[tri].emission;
+  rec.reflect = probebake_face_material(tri).albedo * 0.318309886;
+  const vec3 emitted = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_face_material(tri).emission;
   rec.base = emitted + rec.reflect * probebake_emitter_irradiance(rec.position, rec.normal);
   // The sum of probebake_punctual_irradiance, keeping the tracked light's share for light_relight.
   vec3 e = vec3(0.0);

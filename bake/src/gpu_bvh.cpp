@@ -1,7 +1,6 @@
 // rtcBuildBVH into temporary build nodes (allocated by Embree, freed with the RTCBVH), then flattened
-// depth-first into gpu::BvhNode with the two children of every inner node adjacent, and refitted
-// bottom-up from the triangles as stored (v0, v0 + edge1, v0 + edge2), so that the boxes hold exactly
-// what the shaders intersect.
+// depth-first into gpu::BvhNode with the two children of every inner node adjacent. Only the topology is
+// kept: formats::TraceMeshBuilder computes the boxes from the corners and quantises them.
 #include "gpu_bvh.h"
 
 #include <algorithm>
@@ -24,6 +23,12 @@ namespace {
 // last levels into a small tree of leaves instead of going deeper.
 constexpr unsigned kMaxBuildDepth = 40;
 
+// SAH cost of a triangle test relative to a node visit (Embree's default is 1). Lower makes larger leaves,
+// fewer nodes: on the 24-room scene 1 gives 38 B per triangle and 0.35 gives 28 B, at 28 % more light_trace
+// time on an H100 (docs/RESULTS.md "Compact tracing data"); 0.35 keeps every untextured scene under the
+// 32 B target.
+constexpr float kLeafIntersectionCost = 0.35f;
+
 // Build nodes live in Embree's thread-local allocator memory: trivially destructible, never deleted.
 struct BuildNode {
   bool leaf = false;
@@ -35,7 +40,7 @@ struct InnerBuildNode : BuildNode {
 
 struct LeafBuildNode : BuildNode {
   unsigned count = 0;
-  unsigned triangles[gpu::BVH_MAX_LEAF_TRIANGLES] = {};
+  unsigned triangles[gpu::TRACE_MAX_LEAF_FACES] = {};
 };
 
 // Set from the callbacks when Embree hands us something a binary BVH with small leaves cannot hold;
@@ -63,19 +68,17 @@ void* create_leaf(RTCThreadLocalAllocator allocator, const RTCBuildPrimitive* pr
   if (memory == nullptr) return nullptr;
   auto* leaf = new (memory) LeafBuildNode;
   leaf->leaf = true;
-  if (count < 1 || count > std::size_t(gpu::BVH_MAX_LEAF_TRIANGLES)) static_cast<BuildState*>(user)->unexpected = true;
-  leaf->count = unsigned(std::min<std::size_t>(count, gpu::BVH_MAX_LEAF_TRIANGLES));
+  if (count < 1 || count > std::size_t(gpu::TRACE_MAX_LEAF_FACES)) static_cast<BuildState*>(user)->unexpected = true;
+  leaf->count = unsigned(std::min<std::size_t>(count, gpu::TRACE_MAX_LEAF_FACES));
   for (unsigned i = 0; i < leaf->count; ++i) leaf->triangles[i] = primitives[i].primID;
   return leaf;
 }
 
-glm::vec3 corner(const gpu::TraceTriangle& t, int k) { return k == 0 ? t.v0 : t.v0 + (k == 1 ? t.edge1 : t.edge2); }
-
-std::vector<RTCBuildPrimitive> build_primitives(std::span<const gpu::TraceTriangle> triangles) {
+std::vector<RTCBuildPrimitive> build_primitives(std::span<const formats::TraceInputTriangle> triangles) {
   std::vector<RTCBuildPrimitive> primitives(triangles.size());
   for (std::size_t i = 0; i < triangles.size(); ++i) {
-    glm::vec3 lower = corner(triangles[i], 0), upper = lower;
-    for (int k = 1; k < 3; ++k) lower = glm::min(lower, corner(triangles[i], k)), upper = glm::max(upper, corner(triangles[i], k));
+    glm::vec3 lower = triangles[i].corners[0], upper = lower;
+    for (int k = 1; k < 3; ++k) lower = glm::min(lower, triangles[i].corners[k]), upper = glm::max(upper, triangles[i].corners[k]);
     primitives[i] = RTCBuildPrimitive{lower.x, lower.y, lower.z, 0u, upper.x, upper.y, upper.z, unsigned(i)};
   }
   return primitives;
@@ -111,24 +114,6 @@ GpuBvh flatten(const BuildNode* root) {
   return bvh;
 }
 
-// Children have larger indices than their parent: one pass from the back sees children first.
-void refit(GpuBvh& bvh, std::span<const gpu::TraceTriangle> triangles) {
-  for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
-    gpu::BvhNode& node = bvh.nodes[i];
-    glm::vec3 lower(std::numeric_limits<float>::infinity()), upper(-std::numeric_limits<float>::infinity());
-    const auto extend = [&](glm::vec3 low, glm::vec3 high) { lower = glm::min(lower, low), upper = glm::max(upper, high); };
-    if (node.count == 0) {
-      for (int c = node.first; c <= node.first + 1; ++c) extend(bvh.nodes[std::size_t(c)].lower, bvh.nodes[std::size_t(c)].upper);
-    }
-    for (int k = node.first; k < node.first + node.count; ++k) {
-      const gpu::TraceTriangle& t = triangles[bvh.leaf_order[std::size_t(k)]];
-      for (int v = 0; v < 3; ++v) extend(corner(t, v), corner(t, v));
-    }
-    node.lower = lower;
-    node.upper = upper;
-  }
-}
-
 class EmbreeBvh {
 public:
   EmbreeBvh() {
@@ -150,7 +135,8 @@ public:
     args.maxBranchingFactor = 2;
     args.maxDepth = kMaxBuildDepth;
     args.minLeafSize = 1;
-    args.maxLeafSize = unsigned(gpu::BVH_MAX_LEAF_TRIANGLES);
+    args.intersectionCost = kLeafIntersectionCost;
+    args.maxLeafSize = unsigned(gpu::TRACE_MAX_LEAF_FACES);
     args.bvh = bvh_;
     args.primitives = primitives.data();
     args.primitiveCount = primitives.size();
@@ -176,7 +162,7 @@ private:
 
 } // namespace
 
-GpuBvh build_gpu_bvh(std::span<const gpu::TraceTriangle> triangles) {
+GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles) {
   if (triangles.empty()) return {};
   std::vector<RTCBuildPrimitive> primitives = build_primitives(triangles);
   EmbreeBvh embree;
@@ -184,7 +170,6 @@ GpuBvh build_gpu_bvh(std::span<const gpu::TraceTriangle> triangles) {
   if (bvh.depth >= gpu::BVH_MAX_DEPTH) {
     throw Error(ErrorKind::internal, fmt::format("gpu_scene: BVH depth {} reaches BVH_MAX_DEPTH {}", bvh.depth, gpu::BVH_MAX_DEPTH));
   }
-  refit(bvh, triangles);
   return bvh;
 }
 

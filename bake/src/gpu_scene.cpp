@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
 #include <fmt/core.h>
@@ -17,6 +18,7 @@
 #include "probebake/bake/direct_light.h"
 #include "probebake/common/lattice.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/trace_mesh.h"
 
 namespace probebake::bake {
 namespace {
@@ -32,83 +34,71 @@ std::vector<int> triangle_objects(const scene::Scene& scene) {
   return objects;
 }
 
-gpu::TraceTriangle trace_triangle(const scene::Scene& scene, std::size_t t, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 normal) {
-  gpu::TraceTriangle triangle{};
-  triangle.v0 = v0;
-  triangle.edge1 = v1 - v0;
-  triangle.edge2 = v2 - v0;
-  triangle.source = int(t);
-  triangle.normal = normal;
+formats::TraceInputTriangle trace_triangle(const scene::Scene& scene, std::size_t t, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2) {
+  formats::TraceInputTriangle triangle;
+  triangle.corners[0] = v0;
+  triangle.corners[1] = v1;
+  triangle.corners[2] = v2;
   triangle.albedo = scene.triangle_albedo[t];
   triangle.emission = scene.triangle_emission[t];
-  triangle.flags = scene::is_double_sided(scene, t) ? gpu::TRIANGLE_DOUBLE_SIDED : 0u;
+  triangle.double_sided = scene::is_double_sided(scene, t);
   return triangle;
 }
 
 // The triangles of object `object` (-1: the static ones) in scene order; an object's in its own frame
-// (object_from_world). Triangles without a normal (zero area in float) are left out: they are never hit.
-std::vector<gpu::TraceTriangle> scene_triangles(const scene::Scene& scene, const std::vector<int>& objects, int object,
-                                                const glm::mat4& object_from_world) {
-  std::vector<gpu::TraceTriangle> triangles;
+// (object_from_world). Triangles without area in float (the runtime's normal, the validator's rule) are
+// left out: they are never hit.
+std::vector<formats::TraceInputTriangle> scene_triangles(const scene::Scene& scene, const std::vector<int>& objects, int object,
+                                                         const glm::mat4& object_from_world) {
+  std::vector<formats::TraceInputTriangle> triangles;
   for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
     if (objects[t] != object) continue;
     const glm::uvec3 corners = scene.triangles[t];
-    if (object < 0) {
-      const glm::vec3 normal = scene::triangle_normal(scene, t);
-      if (normal == glm::vec3(0.0f)) continue;
-      triangles.push_back(trace_triangle(scene, t, scene.positions[corners.x], scene.positions[corners.y], scene.positions[corners.z], normal));
-      continue;
-    }
     glm::vec3 v[3];
-    for (int k = 0; k < 3; ++k) v[k] = glm::vec3(object_from_world * glm::vec4(scene.positions[corners[k]], 1.0f));
-    // The normal of the stored edges (the validator's rule), in double like scene::triangle_normal.
-    const glm::dvec3 cross = glm::cross(glm::dvec3(v[1] - v[0]), glm::dvec3(v[2] - v[0]));
-    const double length = glm::length(cross);
-    if (!(length > 0.0) || !std::isfinite(length)) continue;
-    triangles.push_back(trace_triangle(scene, t, v[0], v[1], v[2], glm::vec3(cross / length)));
+    for (int k = 0; k < 3; ++k)
+      v[k] = object < 0 ? scene.positions[corners[k]] : glm::vec3(object_from_world * glm::vec4(scene.positions[corners[k]], 1.0f));
+    const float area = glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
+    if (!(area > 0.0f) || !std::isfinite(area)) continue;
+    triangles.push_back(trace_triangle(scene, t, v[0], v[1], v[2]));
   }
   return triangles;
 }
 
-// Appends a BVH over `triangles` and the triangles in its leaf order; indices become absolute. Returns
-// the tree's root node.
-int append_tree(const std::vector<gpu::TraceTriangle>& triangles, formats::ProbeVolume& volume, int& depth) {
+// Appends a BVH over `triangles` to the volume's compact tracing sections (its faces in leaf order).
+int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, formats::TraceMeshBuilder& mesh, int& depth) {
   const detail::GpuBvh bvh = detail::build_gpu_bvh(triangles);
-  const auto node_base = int(volume.bvh_nodes.size()), triangle_base = int(volume.trace_triangles.size());
-  for (gpu::BvhNode node : bvh.nodes) {
-    node.first += node.count == 0 ? node_base : triangle_base;
-    volume.bvh_nodes.push_back(node);
-  }
-  for (std::uint32_t k : bvh.leaf_order) volume.trace_triangles.push_back(triangles[k]);
+  std::vector<formats::TraceInputTriangle> leaf_ordered;
+  leaf_ordered.reserve(triangles.size());
+  for (std::uint32_t k : bvh.leaf_order) leaf_ordered.push_back(triangles[k]);
   depth = std::max(depth, bvh.depth);
-  return node_base;
+  return mesh.add_tree(formats::TraceTreeInput{bvh.nodes, leaf_ordered});
 }
 
 // The dynamic objects (format 1.3) after the static tree: each one's triangles in its rest frame, its own
-// BVH and its record. Objects whose triangles all have zero area are left out (nothing to trace).
+// tree and its record. Objects whose triangles all have zero area are left out (nothing to trace).
 void append_dynamic_objects(const scene::Scene& scene, const std::vector<int>& objects, const LightingSettings& lighting,
-                            formats::ProbeVolume& volume, int& depth) {
+                            formats::ProbeVolume& volume, formats::TraceMeshBuilder& mesh, int& depth) {
   volume.dynamic_objects.clear();
   for (std::size_t o = 0; o < scene.dynamic_objects.size(); ++o) {
     const scene::DynamicObject& node = scene.dynamic_objects[o];
     const glm::mat4& rest = node.world_from_object;
     if (!(glm::determinant(glm::mat3(rest)) > 0.0f))
       throw Error(ErrorKind::input, fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]): its transform is singular or mirrored", node.name, node.node));
-    const std::vector<gpu::TraceTriangle> triangles = scene_triangles(scene, objects, int(o), glm::inverse(rest));
+    const std::vector<formats::TraceInputTriangle> triangles = scene_triangles(scene, objects, int(o), glm::inverse(rest));
     if (triangles.empty()) continue;
-    for (const gpu::TraceTriangle& t : triangles)
+    for (const formats::TraceInputTriangle& t : triangles)
       if (lighting.emissive_as_lights && t.emission != glm::vec3(0.0f))
         throw Error(ErrorKind::input, fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]) is emissive: emitters are static area "
                                                   "lights (docs/LIGHTING.md)", node.name, node.node));
     gpu::DynamicObject record{};
-    record.first_triangle = int(volume.trace_triangles.size());
-    record.bvh_root = append_tree(triangles, volume, depth);
-    record.bvh_node_count = int(volume.bvh_nodes.size()) - record.bvh_root;
+    record.first_triangle = int(volume.trace_faces.size());
+    record.bvh_root = append_tree(triangles, mesh, depth);
+    record.bvh_node_count = volume.trace_trees.back().node_count;
     record.triangle_count = int(triangles.size());
     record.lower = glm::vec3(3.4e38f);
     record.upper = glm::vec3(-3.4e38f);
-    for (const gpu::TraceTriangle& t : triangles)
-      for (const glm::vec3& p : {t.v0, t.v0 + t.edge1, t.v0 + t.edge2}) record.lower = glm::min(record.lower, p), record.upper = glm::max(record.upper, p);
+    for (const formats::TraceInputTriangle& t : triangles)
+      for (const glm::vec3& p : t.corners) record.lower = glm::min(record.lower, p), record.upper = glm::max(record.upper, p);
     record.gltf_node = node.node;
     for (int row = 0; row < 3; ++row) record.rest_rows[row] = glm::vec4(rest[0][row], rest[1][row], rest[2][row], rest[3][row]);
     volume.dynamic_objects.push_back(record);
@@ -172,9 +162,8 @@ gpu::LightingInfo lighting_info(const scene::Scene& scene, const BakeSettings& s
 }
 
 std::size_t section_bytes(const formats::ProbeVolume& v) {
-  return sizeof(gpu::LightingInfo) + v.ray_directions.size() * sizeof(glm::vec4) + v.bvh_nodes.size() * sizeof(gpu::BvhNode) +
-         v.trace_triangles.size() * sizeof(gpu::TraceTriangle) + v.punctual_lights.size() * sizeof(gpu::PunctualLight) +
-         v.emitter_patches.size() * sizeof(gpu::EmitterPatch) + v.dynamic_objects.size() * sizeof(gpu::DynamicObject);
+  return sizeof(gpu::LightingInfo) + v.ray_directions.size() * sizeof(glm::vec4) + v.punctual_lights.size() * sizeof(gpu::PunctualLight) +
+         v.emitter_patches.size() * sizeof(gpu::EmitterPatch) + v.dynamic_objects.size() * sizeof(gpu::DynamicObject) + formats::tracing_bytes(v);
 }
 
 } // namespace
@@ -183,13 +172,13 @@ RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const Bake
   RuntimeLightingReport report;
   const std::vector<int> objects = triangle_objects(scene);
   const auto start = Clock::now();
-  volume.bvh_nodes.clear();
-  volume.trace_triangles.clear();
+  volume.bvh_nodes.clear(), volume.trace_triangles.clear();
+  volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear(), volume.trace_vertices.clear(), volume.trace_materials.clear();
   int depth = 0;
-  const std::vector<gpu::TraceTriangle> static_triangles = scene_triangles(scene, objects, -1, glm::mat4(1.0f));
-  if (!static_triangles.empty()) append_tree(static_triangles, volume, depth);
-  append_dynamic_objects(scene, objects, settings.lighting, volume, depth);
-  report.bvh_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  formats::TraceMeshBuilder mesh(volume);
+  append_tree(scene_triangles(scene, objects, -1, glm::mat4(1.0f)), mesh, depth); // tree 0, empty without static faces
+  append_dynamic_objects(scene, objects, settings.lighting, volume, mesh, depth);
+  report.bvh_seconds = std::chrono::duration<double>(Clock::now() - start).count(); // build and compaction
 
   volume.punctual_lights.clear();
   for (std::size_t i = 0; i < scene.lights.size(); ++i) volume.punctual_lights.push_back(punctual_light(scene.lights[i], i));
@@ -199,11 +188,14 @@ RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const Bake
   formats::sync_info_counts(volume);
 
   report.written = true;
-  report.bvh_nodes = int(volume.bvh_nodes.size());
+  report.bvh_nodes = int(volume.trace_nodes.size());
   report.bvh_depth = depth;
   report.dynamic_objects = int(volume.dynamic_objects.size());
-  report.triangles = int(volume.trace_triangles.size());
-  report.left_out_triangles = int(scene.triangles.size() - volume.trace_triangles.size());
+  report.triangles = int(volume.trace_faces.size());
+  report.left_out_triangles = int(scene.triangles.size() - volume.trace_faces.size());
+  report.vertices = int(volume.trace_vertices.size());
+  report.materials = int(volume.trace_materials.size());
+  report.tracing_bytes = formats::tracing_bytes(volume);
   report.lights = int(volume.punctual_lights.size());
   report.emitter_patches = int(volume.emitter_patches.size());
   report.bytes = section_bytes(volume);

@@ -35,8 +35,9 @@ void sync_info_counts(ProbeVolume& volume) {
   volume.info.svo_leaves = checked_count(volume.svo_leaves.size(), "svo_leaves");
   if (!volume.lighting) return;
   gpu::LightingInfo& lighting = *volume.lighting;
-  lighting.bvh_nodes = checked_count(volume.bvh_nodes.size(), "bvh_nodes");
-  lighting.triangles = checked_count(volume.trace_triangles.size(), "trace_triangles");
+  const bool float_layout = !volume.bvh_nodes.empty() || !volume.trace_triangles.empty(); // a 1.1-1.3 file
+  lighting.bvh_nodes = checked_count(float_layout ? volume.bvh_nodes.size() : volume.trace_nodes.size(), "bvh_nodes");
+  lighting.triangles = checked_count(float_layout ? volume.trace_triangles.size() : volume.trace_faces.size(), "trace_triangles");
   lighting.lights = checked_count(volume.punctual_lights.size(), "punctual_lights");
   lighting.emitter_patches = checked_count(volume.emitter_patches.size(), "emitter_patches");
   lighting.dynamic_objects = checked_count(volume.dynamic_objects.size(), "dynamic_objects");

@@ -43,11 +43,7 @@ template <class T> struct is_vector<std::vector<T>> : std::true_type {};
 template <class T> struct is_optional : std::false_type {};
 template <class T> struct is_optional<std::optional<T>> : std::true_type {};
 
-// The sections a 1.0 reader needs are REQUIRED (volume_info to svo_leaves); cells and everything added
-// since are optional (flags 0), so that older readers skip them.
-std::uint32_t section_flags(SectionType type) {
-  return static_cast<std::uint32_t>(type) <= static_cast<std::uint32_t>(SectionType::svo_leaves) ? kSectionRequired : 0u;
-}
+std::uint32_t section_flags(SectionType type) { return is_required_section_type(static_cast<std::uint32_t>(type)) ? kSectionRequired : 0u; }
 
 // Every section of the volume with data, in type order (volume_sections.h); the leaf header only with
 // leaf entries (docs/FORMAT.md).

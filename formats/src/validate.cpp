@@ -88,9 +88,10 @@ constexpr InvariantInfo kInvariants[] = {
     {"cell_range", "cell ranges lie inside their sections, ascend without overlap, bytes = elements x size"},
     {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
     {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; placement_rays = surfels_per_probe"},
-    {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero"},
+    {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero; 1.4 faces: indices in range, non-zero area"},
     {"lighting_flags", "trace triangle and emitter patch flags set no bit but bit 0 (double-sided)"},
     {"bvh_tree", "BVH: children after their node, each node reached once, leaves of 1..4 triangles covering each once, depth, boxes"},
+    {"trace_tree", "1.4 trees: roots and children in their tree's nodes and after their node, each node reached once, leaves of 1..8 faces covering each once, depth, every face inside every box above it as the GPU decodes it"},
     {"dynamic_ranges", "dynamic objects' node and triangle ranges contiguous after the static ones, each tree inside its ranges"},
     {"dynamic_values", "dynamic objects: finite boxes holding their triangles, rest poses finite with determinant > 0"},
 };

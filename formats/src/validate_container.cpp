@@ -19,7 +19,7 @@ std::uint32_t type_id(SectionType type) { return static_cast<std::uint32_t>(type
 
 // Sections of the 1.0 model (1-9) are REQUIRED; cells and the 1.1 lighting sections are optional, so that
 // a reader without them still reads the file.
-std::uint32_t expected_flags(std::uint32_t type) { return type <= type_id(SectionType::svo_leaves) ? kSectionRequired : 0u; }
+std::uint32_t expected_flags(std::uint32_t type) { return is_required_section_type(type) ? kSectionRequired : 0u; }
 
 // Section types (1.1: lighting sections) and flag bits in their elements (1.2: double-sided).
 std::uint16_t minor_needed(const ContainerView& container, const ProbeVolume& volume) {

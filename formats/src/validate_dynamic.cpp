@@ -98,6 +98,10 @@ void check_dynamic_objects(const ProbeVolume& v, Reporter& out) {
     out.add("lighting_sections", "dynamic_objects", -1,
             concat("dynamic_objects is ", v.lighting->dynamic_objects, " but the section has ", v.dynamic_objects.size(), " elements"));
   }
+  if (uses_compact_tracing(v)) { // format 1.4: ranges and boxes are checked with the trees (validate_tracing.cpp)
+    for (std::size_t i = 0; i < v.dynamic_objects.size(); ++i) check_object_values(v, i, out);
+    return;
+  }
   const std::size_t reported = out.count();
   check_ranges(v, out);
   if (out.count() != reported) return; // the trees and boxes below index with these ranges

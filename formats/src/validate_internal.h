@@ -100,5 +100,8 @@ void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter&
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);
 void check_lighting(const ProbeVolume& volume, Reporter& out);
 void check_dynamic_objects(const ProbeVolume& volume, Reporter& out); // format 1.3 (validate_dynamic.cpp)
+// Format 1.4 (validate_tracing.cpp): the compact tracing sections, and the dynamic objects' ranges in them.
+bool uses_compact_tracing(const ProbeVolume& volume);
+void check_trace_mesh(const ProbeVolume& volume, Reporter& out);
 
 } // namespace probebake::formats::detail

@@ -60,7 +60,8 @@ void check_no_lighting_data(const ProbeVolume& v, Reporter& out) {
                                                    {"bvh_nodes", v.bvh_nodes.empty()},
                                                    {"trace_triangles", v.trace_triangles.empty()},
                                                    {"punctual_lights", v.punctual_lights.empty()},
-                                                   {"emitter_patches", v.emitter_patches.empty()}};
+                                                   {"emitter_patches", v.emitter_patches.empty()},
+                                                   {"trace_trees", !uses_compact_tracing(v)}};
   for (const auto& [section, empty] : sections) {
     if (!empty) out.add("lighting_sections", section, -1, "lighting data without a lighting_info section");
   }
@@ -69,8 +70,9 @@ void check_no_lighting_data(const ProbeVolume& v, Reporter& out) {
 void check_lighting_sections(const ProbeVolume& v, Reporter& out) {
   if (!v.lighting) return check_no_lighting_data(v, out);
   const gpu::LightingInfo& info = *v.lighting;
-  check_count(out, "bvh_nodes", info.bvh_nodes, v.bvh_nodes.size(), "bvh_nodes");
-  check_count(out, "trace_triangles", info.triangles, v.trace_triangles.size(), "triangles");
+  const bool compact = uses_compact_tracing(v); // format 1.4
+  check_count(out, compact ? "trace_nodes" : "bvh_nodes", info.bvh_nodes, compact ? v.trace_nodes.size() : v.bvh_nodes.size(), "bvh_nodes");
+  check_count(out, compact ? "trace_faces" : "trace_triangles", info.triangles, compact ? v.trace_faces.size() : v.trace_triangles.size(), "triangles");
   check_count(out, "punctual_lights", info.lights, v.punctual_lights.size(), "lights");
   check_count(out, "emitter_patches", info.emitter_patches, v.emitter_patches.size(), "emitter_patches");
   check_count(out, "ray_directions", static_cast<long long>(info.rays) + info.placement_rays, v.ray_directions.size(),
@@ -303,6 +305,7 @@ void check_lighting(const ProbeVolume& volume, Reporter& out) {
   check_lighting_values(volume, out);
   check_lighting_flags(volume, out);
   check_dynamic_objects(volume, out); // first: the BVH walk starts at the objects' roots
+  if (uses_compact_tracing(volume)) return check_trace_mesh(volume, out);
   BvhChecker(volume, out).run();
 }
 

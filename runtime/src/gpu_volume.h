@@ -35,6 +35,17 @@ public:
   // The section's buffer for descriptor sets: a 16-byte placeholder when the section is empty (shaders
   // check the counts in VolumeInfo and never read it).
   VkBuffer binding(Section section) const;
+  // The compact tracing sections (trees, nodes, faces, vertices, materials) at a layout's five bindings,
+  // for every pass that traces rays (bvh_trace.glsl).
+  template <std::size_t N>
+  void bind_tracing(std::array<VkBuffer, N>& buffers, std::uint32_t trees, std::uint32_t nodes, std::uint32_t faces,
+                    std::uint32_t vertices, std::uint32_t materials) const {
+    buffers[trees] = binding(Section::trace_trees);
+    buffers[nodes] = binding(Section::trace_nodes);
+    buffers[faces] = binding(Section::trace_faces);
+    buffers[vertices] = binding(Section::trace_vertices);
+    buffers[materials] = binding(Section::trace_materials);
+  }
   // Live elements of the section: its vector's size at upload, or what set_live_elements() last said.
   std::size_t elements(Section section) const { return elements_[static_cast<std::size_t>(section)]; }
   // Elements the section's buffer holds (elements() at upload, plus the light headroom).

@@ -68,8 +68,8 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_OCTREE] = volume.binding(Section::octree);
   buffers[gpu::LIGHT_BINDING_LIGHTING_INFO] = volume.binding(Section::lighting_info);
   buffers[gpu::LIGHT_BINDING_RAY_DIRECTIONS] = volume.binding(Section::ray_directions);
-  buffers[gpu::LIGHT_BINDING_BVH_NODES] = volume.binding(Section::bvh_nodes);
-  buffers[gpu::LIGHT_BINDING_TRACE_TRIANGLES] = volume.binding(Section::trace_triangles);
+  volume.bind_tracing(buffers, gpu::LIGHT_BINDING_TRACE_TREES, gpu::LIGHT_BINDING_TRACE_NODES, gpu::LIGHT_BINDING_TRACE_FACES,
+                      gpu::LIGHT_BINDING_TRACE_VERTICES, gpu::LIGHT_BINDING_TRACE_MATERIALS);
   buffers[gpu::LIGHT_BINDING_PUNCTUAL_LIGHTS] = volume.binding(Section::punctual_lights);
   buffers[gpu::LIGHT_BINDING_EMITTER_PATCHES] = volume.binding(Section::emitter_patches);
   const std::uint32_t record_bindings[gpu::LIGHT_RECORD_PAGES] = {gpu::LIGHT_BINDING_RECORDS, gpu::LIGHT_BINDING_RECORDS_PAGE_1,

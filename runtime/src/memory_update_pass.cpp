@@ -227,8 +227,8 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   buffers[gpu::MEMORY_BINDING_OCTREE] = volume.binding(Section::octree);
   buffers[gpu::MEMORY_BINDING_LIGHTING_INFO] = volume.binding(Section::lighting_info);
   buffers[gpu::MEMORY_BINDING_RAY_DIRECTIONS] = volume.binding(Section::ray_directions);
-  buffers[gpu::MEMORY_BINDING_BVH_NODES] = volume.binding(Section::bvh_nodes);
-  buffers[gpu::MEMORY_BINDING_TRACE_TRIANGLES] = volume.binding(Section::trace_triangles);
+  volume.bind_tracing(buffers, gpu::MEMORY_BINDING_TRACE_TREES, gpu::MEMORY_BINDING_TRACE_NODES, gpu::MEMORY_BINDING_TRACE_FACES,
+                      gpu::MEMORY_BINDING_TRACE_VERTICES, gpu::MEMORY_BINDING_TRACE_MATERIALS);
   buffers[gpu::MEMORY_BINDING_SURFEL_BATCHES] = volume.binding(Section::surfel_batches);
   buffers[gpu::MEMORY_BINDING_LEAF_HEADER] = volume.binding(Section::leaf_queue_header);
   buffers[gpu::MEMORY_BINDING_LEAF_ENTRIES] = volume.binding(Section::leaf_entries);

@@ -8,6 +8,7 @@
 #include "error.h"
 #include "probebake/dynamic/animation.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/formats/trace_mesh.h"
 #include "volume_state.h"
 
 namespace probebake::runtime {
@@ -101,7 +102,10 @@ Result<Volume> Volume::upload(Context& context, const formats::ProbeVolume& volu
       const Status valid = status_of(formats::validate(volume));
       if (!valid.ok()) return valid;
     }
-    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
+    if (volume.bvh_nodes.empty() && volume.trace_triangles.empty()) return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
+    formats::ProbeVolume upgraded = volume; // a 1.1-1.3 volume: the shaders trace the compact layout only
+    formats::upgrade_tracing(upgraded);
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, upgraded, options));
   });
 }
 
@@ -115,6 +119,7 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
       const Status valid = status_of(report);
       if (!valid.ok()) return valid;
     }
+    formats::upgrade_tracing(volume); // 1.1-1.3 files: the shaders trace the compact layout only
     return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
   });
 }
@@ -176,8 +181,9 @@ VolumeBuffers Volume::buffers() const {
   return {view(gpu, Section::volume_info), view(gpu, Section::octree),       view(gpu, Section::probes),
           view(gpu, Section::surfel_batches), view(gpu, Section::leaf_queue_header), view(gpu, Section::leaf_entries),
           view(gpu, Section::probe_index), view(gpu, Section::svo_nodes),    view(gpu, Section::svo_leaves),
-          view(gpu, Section::lighting_info), view(gpu, Section::ray_directions), view(gpu, Section::bvh_nodes),
-          view(gpu, Section::trace_triangles), view(gpu, Section::punctual_lights), view(gpu, Section::emitter_patches)};
+          view(gpu, Section::lighting_info), view(gpu, Section::ray_directions), view(gpu, Section::punctual_lights),
+          view(gpu, Section::emitter_patches), view(gpu, Section::trace_trees), view(gpu, Section::trace_nodes),
+          view(gpu, Section::trace_faces), view(gpu, Section::trace_vertices), view(gpu, Section::trace_materials)};
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }

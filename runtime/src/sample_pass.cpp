@@ -80,8 +80,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     bindings[gpu::SAMPLE_ALL_BINDING_SVO_LEAVES] = volume_.binding(Section::svo_leaves);
     bindings[gpu::SAMPLE_ALL_BINDING_PROBE_INDEX] = volume_.binding(Section::probe_index);
     bindings[gpu::SAMPLE_ALL_BINDING_LIGHTING_INFO] = volume_.binding(Section::lighting_info);
-    bindings[gpu::SAMPLE_ALL_BINDING_BVH_NODES] = volume_.binding(Section::bvh_nodes);
-    bindings[gpu::SAMPLE_ALL_BINDING_TRACE_TRIANGLES] = volume_.binding(Section::trace_triangles);
+    volume_.bind_tracing(bindings, gpu::SAMPLE_ALL_BINDING_TRACE_TREES, gpu::SAMPLE_ALL_BINDING_TRACE_NODES, gpu::SAMPLE_ALL_BINDING_TRACE_FACES,
+                        gpu::SAMPLE_ALL_BINDING_TRACE_VERTICES, gpu::SAMPLE_ALL_BINDING_TRACE_MATERIALS);
     bindings[gpu::SAMPLE_ALL_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_ALL_BINDING_RESULTS] = buffers.results.get();
     bindings[gpu::SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS] = volume_.binding(Section::dynamic_objects);

@@ -78,14 +78,16 @@ TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
   ASSERT_EQ(bake.exit_code, 0) << bake.err;
   const auto report = nlohmann::json::parse(bake.out);
   EXPECT_TRUE(report["runtime_lighting"]["written"].get<bool>());
-  EXPECT_EQ(report["runtime_lighting"]["bvh_nodes"].get<int>(), 1);
+  EXPECT_EQ(report["runtime_lighting"]["bvh_nodes"].get<int>(), 0); // one triangle: the root is a leaf
   EXPECT_EQ(report["runtime_lighting"]["triangles"].get<int>(), 1);
   EXPECT_EQ(report["runtime_lighting"]["lights"].get<int>(), 1);
-  EXPECT_EQ(report["sections"]["trace_triangles"].get<int>(), 96);
+  EXPECT_EQ(report["sections"]["trace_faces"].get<int>(), 16);
+  EXPECT_EQ(report["sections"]["trace_vertices"].get<int>(), 36);
+  EXPECT_EQ(report["runtime_lighting"]["tracing_bytes"].get<int>(), 32 + 16 + 36 + 32); // tree, face, vertices, material
   EXPECT_EQ(report["sections"]["punctual_lights"].get<int>(), 64);
   EXPECT_TRUE(report["stages"].contains("gpu_scene"));
   const auto info = nlohmann::json::parse(run({"info --json", with}).out);
-  EXPECT_EQ(info["format_version"].get<std::string>(), "1.1");
+  EXPECT_EQ(info["format_version"].get<std::string>(), "1.4");
   EXPECT_EQ(run({"validate", with}).exit_code, 0);
 
   const CliRun off = run({scene, "--placement grid --grid 3 --no-runtime-lighting --json -o", without});

@@ -86,6 +86,14 @@ const std::map<std::string, Layout>& code_layouts() {
                           FIELD(gpu::TraceTriangle, normal), FIELD(gpu::TraceTriangle, pad2), FIELD(gpu::TraceTriangle, albedo),
                           FIELD(gpu::TraceTriangle, pad3), FIELD(gpu::TraceTriangle, emission), FIELD(gpu::TraceTriangle, pad4)},
                          sizeof(gpu::TraceTriangle)}},
+      {"TraceTree", {{FIELD(gpu::TraceTree, lower), FIELD(gpu::TraceTree, root), FIELD(gpu::TraceTree, scale), FIELD(gpu::TraceTree, node_count)},
+                     sizeof(gpu::TraceTree)}},
+      {"TraceNode", {{FIELD(gpu::TraceNode, lower), FIELD(gpu::TraceNode, upper), FIELD(gpu::TraceNode, child)}, sizeof(gpu::TraceNode)}},
+      {"TraceFace", {{FIELD(gpu::TraceFace, vertex), FIELD(gpu::TraceFace, material)}, sizeof(gpu::TraceFace)}},
+      {"TraceVertex", {{FIELD(gpu::TraceVertex, x), FIELD(gpu::TraceVertex, y), FIELD(gpu::TraceVertex, z)}, sizeof(gpu::TraceVertex)}},
+      {"TraceMaterial", {{FIELD(gpu::TraceMaterial, albedo), FIELD(gpu::TraceMaterial, pad0), FIELD(gpu::TraceMaterial, emission),
+                          FIELD(gpu::TraceMaterial, pad1)},
+                         sizeof(gpu::TraceMaterial)}},
       {"DynamicObject", {{FIELD(gpu::DynamicObject, lower), FIELD(gpu::DynamicObject, bvh_root), FIELD(gpu::DynamicObject, upper),
                           FIELD(gpu::DynamicObject, bvh_node_count), FIELD(gpu::DynamicObject, first_triangle),
                           FIELD(gpu::DynamicObject, triangle_count), FIELD(gpu::DynamicObject, gltf_node), FIELD(gpu::DynamicObject, pad0),
@@ -172,12 +180,14 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
       {"svo_leaves", sizeof(gpu::SvoLeaf)},     {"cells", sizeof(Cell)},
       {"lighting_info", sizeof(gpu::LightingInfo)}, {"ray_directions", 16}, {"bvh_nodes", sizeof(gpu::BvhNode)},
       {"trace_triangles", sizeof(gpu::TraceTriangle)}, {"punctual_lights", sizeof(gpu::PunctualLight)},
-      {"emitter_patches", sizeof(gpu::EmitterPatch)}, {"dynamic_objects", sizeof(gpu::DynamicObject)}};
+      {"emitter_patches", sizeof(gpu::EmitterPatch)}, {"dynamic_objects", sizeof(gpu::DynamicObject)},
+      {"trace_trees", sizeof(gpu::TraceTree)}, {"trace_nodes", sizeof(gpu::TraceNode)}, {"trace_faces", sizeof(gpu::TraceFace)},
+      {"trace_vertices", sizeof(gpu::TraceVertex)}, {"trace_materials", sizeof(gpu::TraceMaterial)}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
-  // Between them the three samples hold every section type.
+  // Between them the four samples hold every section type.
   std::vector<SectionEntry> entries;
-  for (testing::Sample sample : {testing::Sample::small, testing::Sample::lighting, testing::Sample::dynamic}) {
+  for (testing::Sample sample : {testing::Sample::small, testing::Sample::lighting, testing::Sample::dynamic, testing::Sample::compact}) {
     const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(sample));
     const ContainerView view = parse_container(bytes, testing::sample_name(sample));
     entries.insert(entries.end(), view.sections.begin(), view.sections.end());

@@ -11,6 +11,7 @@
 
 #include "probebake/formats/cells.h"
 #include "probebake/formats/octree.h"
+#include "probebake/formats/trace_mesh.h"
 
 namespace probebake::formats::testing {
 namespace {
@@ -282,10 +283,12 @@ void add_sample_object(ProbeVolume& v) {
 
 ProbeVolume make_sample(Sample sample) {
   ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
-  if (sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic) add_sample_lighting(volume);
-  if (sample == Sample::double_sided) mark_double_sided(volume);
-  if (sample == Sample::dynamic) add_sample_object(volume);
+  const bool lit = sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic || sample == Sample::compact;
+  if (lit) add_sample_lighting(volume);
+  if (sample == Sample::double_sided || sample == Sample::compact) mark_double_sided(volume);
+  if (sample == Sample::dynamic || sample == Sample::compact) add_sample_object(volume);
   sync_info_counts(volume);
+  if (sample == Sample::compact) upgrade_tracing(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
   volume.input_hash = kSampleInputHash;
   return volume;
@@ -299,6 +302,7 @@ const char* sample_name(Sample sample) {
   case Sample::lighting: return "lighting";
   case Sample::double_sided: return "double_sided";
   case Sample::dynamic: return "dynamic";
+  case Sample::compact: return "compact";
   }
   return "";
 }
@@ -311,6 +315,7 @@ const char* golden_name(Sample sample) {
   case Sample::lighting: return "v1_1_lighting.probes";
   case Sample::double_sided: return "v1_2_double_sided.probes";
   case Sample::dynamic: return "v1_3_dynamic.probes";
+  case Sample::compact: return "v1_4_compact.probes";
   }
   return "";
 }

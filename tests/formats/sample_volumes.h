@@ -17,11 +17,13 @@ enum class Sample {
                 // double-sided
   dynamic,      // lighting plus format 1.3's dynamic_objects: a two-triangle card with its own one-leaf BVH,
                 // moved by its rest pose (a translation)
+  compact,      // dynamic with the double-sided flags, its tracing in format 1.4's compact sections
+                // (formats::upgrade_tracing): two trees, shared vertices, a material table
 };
 
 // Every sample, for tests that loop over them.
 inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting,
-                                           Sample::double_sided, Sample::dynamic};
+                                           Sample::double_sided, Sample::dynamic, Sample::compact};
 
 ProbeVolume make_sample(Sample sample);
 

@@ -224,6 +224,24 @@ const std::vector<Corruption>& corruptions() {
       {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
       {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[0].x = -1.0f; }}, // mirrored
       {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[2] = glm::vec4(0.0f); }}, // singular
+      // Compact tracing (1.4). The sample's static tree: node 0 = {leaf of faces 0-3, node 1}, node 1 = {leaf 4,
+      // leaf 5}; the card's tree is one leaf of faces 6-7.
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[0].child[1] = 0u; }},                        // a cycle
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[1].child[1] = v.trace_nodes[1].child[0]; }}, // face 4 twice, 5 in none
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[1].child[1] = gpu::TRACE_CHILD_LEAF | (7u << 27) | 5u; }},
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[1].upper[0] &= 0xFFFF0000u; }}, // child 0's box misses face 4
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_trees[0].scale.y *= 0.5f; }},          // the root box shrinks
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_trees[1].root = gpu::TRACE_CHILD_LEAF | (1u << 27) | 4u; }}, // the card on static faces
+      {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_faces[3].vertex[1] = 1000u; }},
+      {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_faces[3].vertex[1] = v.trace_faces[3].vertex[0]; }}, // no area
+      {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_faces[2].material = 77u; }},
+      {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_materials[0].albedo.x = -0.5f; }},
+      {"non_finite", Sample::compact, [](ProbeVolume& v) { v.trace_vertices[2].z = std::nanf(""); }},
+      {"lighting_sections", Sample::compact, [](ProbeVolume& v) { v.trace_trees.pop_back(); }},
+      {"lighting_sections", Sample::compact, [](ProbeVolume& v) { v.lighting->bvh_nodes = 1; }},
+      {"dynamic_ranges", Sample::compact, [](ProbeVolume& v) { v.dynamic_objects[0].bvh_root = 2; }},
+      {"dynamic_ranges", Sample::compact, [](ProbeVolume& v) { v.dynamic_objects[0].first_triangle = 5; }},
+      {"dynamic_values", Sample::compact, [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
   };
   return list;
 }

@@ -15,6 +15,7 @@
 
 #include "memory_reference.h"
 #include "probebake/dynamic/animation.h"
+#include "probebake/formats/trace_mesh.h"
 #include "probebake/formats/validate.h"
 #include "runtime_test_util.h"
 
@@ -24,10 +25,11 @@ namespace {
 using DynamicObjectsTest = RuntimeTest;
 
 // Appends a single-sided cube [-half, half]^3 (object space, 12 triangles, outward normals) resting at
-// `rest`: BVH root (inner) -> {inner -> {x faces, y faces}, z faces}, 4 triangles per leaf, absolute indices.
+// `rest`: tree root (inner) -> {inner -> {x faces, y faces}, z faces}, 4 faces per leaf.
 formats::ProbeVolume with_cube(const formats::ProbeVolume& base, glm::vec3 rest, float half) {
   formats::ProbeVolume v = base;
-  const int root = int(v.bvh_nodes.size()), first = int(v.trace_triangles.size());
+  const int first = int(v.trace_faces.size());
+  std::vector<formats::TraceInputTriangle> triangles;
   for (int axis = 0; axis < 3; ++axis) {
     glm::vec3 a(0.0f), u(0.0f), w(0.0f);
     a[axis] = 1.0f, u[(axis + 1) % 3] = 1.0f, w[(axis + 2) % 3] = 1.0f; // u x w = a
@@ -36,44 +38,34 @@ formats::ProbeVolume with_cube(const formats::ProbeVolume& base, glm::vec3 rest,
       glm::vec3 q[4] = {c - half * u - half * w, c + half * u - half * w, c + half * u + half * w, c - half * u + half * w};
       if (side < 0.0f) std::swap(q[1], q[3]); // counter-clockwise seen from outside
       for (const auto& [i, j] : {std::pair{1, 2}, std::pair{2, 3}}) {
-        gpu::TraceTriangle t{};
-        t.v0 = q[0];
-        t.edge1 = q[i] - q[0];
-        t.edge2 = q[j] - q[0];
-        t.normal = side * a;
+        formats::TraceInputTriangle t;
+        t.corners[0] = q[0], t.corners[1] = q[i], t.corners[2] = q[j];
         t.albedo = glm::vec3(0.5f);
-        t.source = first;
-        v.trace_triangles.push_back(t);
+        triangles.push_back(t);
       }
     }
   }
-  const auto node = [&](int first_child_or_triangle, int count) {
+  const auto node = [](int first_child_or_triangle, int count) {
     gpu::BvhNode n{};
-    n.lower = glm::vec3(-half);
-    n.upper = glm::vec3(half);
     n.first = first_child_or_triangle;
     n.count = count;
-    v.bvh_nodes.push_back(n);
+    return n;
   };
-  node(root + 1, 0);     // root: children root + 1, root + 2
-  node(root + 3, 0);     // x and y faces
-  node(first + 8, 4);    // z faces
-  node(first, 4);        // x faces
-  node(first + 4, 4);    // y faces
+  // root: children 1, 2; node 1: children 3, 4; leaves: z faces, x faces, y faces.
+  const gpu::BvhNode nodes[] = {node(1, 0), node(3, 0), node(8, 4), node(0, 4), node(4, 4)};
+  const int tree = formats::TraceMeshBuilder(v).add_tree(formats::TraceTreeInput{nodes, triangles});
   gpu::DynamicObject o{};
   o.lower = glm::vec3(-half);
   o.upper = glm::vec3(half);
-  o.bvh_root = root;
-  o.bvh_node_count = 5;
+  o.bvh_root = tree;
+  o.bvh_node_count = v.trace_trees[std::size_t(tree)].node_count;
   o.first_triangle = first;
   o.triangle_count = 12;
   o.rest_rows[0] = glm::vec4(1.0f, 0.0f, 0.0f, rest.x);
   o.rest_rows[1] = glm::vec4(0.0f, 1.0f, 0.0f, rest.y);
   o.rest_rows[2] = glm::vec4(0.0f, 0.0f, 1.0f, rest.z);
   v.dynamic_objects.push_back(o);
-  v.lighting->dynamic_objects = 1;
-  v.lighting->bvh_nodes = int(v.bvh_nodes.size());
-  v.lighting->triangles = int(v.trace_triangles.size());
+  formats::sync_info_counts(v);
   return v;
 }
 
@@ -210,7 +202,7 @@ TEST_F(DynamicObjectsTest, LightTraceSeesTheRotatedCubeAsTheCpuDoes) {
       if (hit.triangle < 0) { ++miss; continue; }
       cube_hits += hit.triangle >= v.dynamic_objects[0].first_triangle ? 1 : 0;
       changed_by_cube += hit.triangle != without.triangle ? 1 : 0;
-      const bool inside = glm::dot(hit.normal, dir) > 0.0f && (v.trace_triangles[std::size_t(hit.triangle)].flags & gpu::TRIANGLE_DOUBLE_SIDED) == 0u;
+      const bool inside = glm::dot(hit.normal, dir) > 0.0f && (v.trace_faces[std::size_t(hit.triangle)].material & gpu::TRACE_FACE_DOUBLE_SIDED) == 0u;
       (inside ? back : front) += 1;
     }
   }

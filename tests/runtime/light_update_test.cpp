@@ -276,7 +276,8 @@ constexpr float kLitDc = 0.1f;
 
 TEST_F(LightUpdateTest, DoubleSidedCornellFramesEqualCpuSweeps) {
   const Baked b = bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_settings());
-  for (const gpu::TraceTriangle& t : b.volume.trace_triangles) ASSERT_EQ(t.flags, gpu::TRIANGLE_DOUBLE_SIDED);
+  ASSERT_FALSE(b.volume.trace_faces.empty());
+  for (const gpu::TraceFace& f : b.volume.trace_faces) ASSERT_NE(f.material & gpu::TRACE_FACE_DOUBLE_SIDED, 0u);
   EXPECT_GT(expect_gpu_equals_cpu(context(), b, "cornell flipped, double-sided", 4), kLitDc);
 }
 

@@ -11,6 +11,7 @@
 
 #include "probebake/bake/bake.h"
 #include "probebake/dynamic/animation.h"
+#include "probebake/formats/trace_mesh.h"
 #include "probebake/formats/validate.h"
 #include "probebake/samples/scenes.h"
 #include "probebake/scene/scene.h"
@@ -44,7 +45,7 @@ const formats::ProbeVolume& shallow_cornell() {
 
 namespace {
 
-float ray_triangle(const gpu::TraceTriangle& tri, glm::vec3 origin, glm::vec3 dir) {
+float ray_triangle(const formats::TraceFaceGeometry& tri, glm::vec3 origin, glm::vec3 dir) {
   const glm::vec3 p = glm::cross(dir, tri.edge2);
   const float det = glm::dot(tri.edge1, p);
   if (det == 0.0f) return -1.0f;
@@ -78,16 +79,17 @@ NearestHit nearest_hit(const formats::ProbeVolume& v, std::span<const glm::mat4>
   NearestHit best;
   const auto test = [&](std::size_t first, std::size_t count, glm::vec3 o, glm::vec3 d, const glm::mat4* pose) {
     for (std::size_t t = first; t < first + count; ++t) {
-      const float hit = ray_triangle(v.trace_triangles[t], o, d);
+      const formats::TraceFaceGeometry face = formats::face_geometry(v, t);
+      const float hit = ray_triangle(face, o, d);
       if (hit >= 0.0f && hit <= best.t && (best.triangle < 0 || hit < best.t)) {
         best.t = hit;
         best.triangle = int(t);
-        const glm::vec3 n = v.trace_triangles[t].normal;
+        const glm::vec3 n = face.normal;
         best.normal = pose ? glm::normalize(glm::transpose(glm::inverse(glm::mat3(*pose))) * n) : n;
       }
     }
   };
-  const std::size_t statics = v.dynamic_objects.empty() ? v.trace_triangles.size() : std::size_t(v.dynamic_objects[0].first_triangle);
+  const std::size_t statics = v.dynamic_objects.empty() ? v.trace_faces.size() : std::size_t(v.dynamic_objects[0].first_triangle);
   test(0, statics, origin, dir, nullptr);
   for (std::size_t o = 0; o < v.dynamic_objects.size(); ++o) {
     const glm::mat4 inverse = glm::inverse(poses[o]);
@@ -107,8 +109,8 @@ dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCub
     const NearestHit hit = nearest_hit(v, poses, centre, dir);
     if (hit.triangle < 0) continue;
     ++hits;
-    const gpu::TraceTriangle& tri = v.trace_triangles[std::size_t(hit.triangle)];
-    if (glm::dot(hit.normal, dir) > 0.0f && (tri.flags & gpu::TRIANGLE_DOUBLE_SIDED) == 0u) ++backface;
+    const bool double_sided = (v.trace_faces[std::size_t(hit.triangle)].material & gpu::TRACE_FACE_DOUBLE_SIDED) != 0u;
+    if (glm::dot(hit.normal, dir) > 0.0f && !double_sided) ++backface;
     if (hit.t <= exit_distance(cube, centre, dir)) ++in_cube;
   }
   return {rays > 0 ? float(in_cube) / float(rays) : 0.0f, hits > 0 ? float(backface) / float(hits) : 0.0f};

@@ -1,30 +1,39 @@
-// Ray queries against the scene's BVHs (gpu_types.h: BvhNode, TraceTriangle, DynamicObject), for devices
-// without ray-tracing extensions. The GPU twin of scene::RayScene (Embree): closest hit and any hit, both
-// sides of every triangle, hits with t in [t_min, t_max].
+// Ray queries against the scene's BVHs (gpu_types.h "Compact tracing": TraceTree, TraceNode, TraceFace,
+// TraceVertex, TraceMaterial; DynamicObject), for devices without ray-tracing extensions. The GPU twin of
+// scene::RayScene (Embree): closest hit and any hit, both sides of every triangle, hits with t in
+// [t_min, t_max].
 //
-// Two levels (format 1.3): the static BVH, bvh_nodes[0, static nodes), then every dynamic object whose
-// world box (ObjectInstance, refitted by object_refit.comp from the host's pose) the ray crosses, traced in
-// object space through the object's own BVH from its bvh_root. The ray is moved into object space without
-// normalising its direction, so t is the same in both spaces and one t_max serves both levels. The "top
-// level" is a flat list of world boxes: a loop over tens of objects costs less than building and
-// refitting a tree over them every frame.
+// Two levels (format 1.3): the static tree (trace_trees[0]), then every dynamic object whose world box
+// (ObjectInstance, refitted by object_refit.comp from the host's pose) the ray crosses, traced in object
+// space through its own tree (trace_trees[1 + o]). The ray is moved into object space without normalising
+// its direction, so t is the same in both spaces and one t_max serves both levels. The "top level" is a
+// flat list of world boxes: a loop over tens of objects costs less than building and refitting a tree
+// over them every frame.
 //
-// The including shader declares (std430): LightingInfo probebake_lighting (node and object counts),
-// BvhNode probebake_bvh_nodes[], TraceTriangle probebake_trace_triangles[], DynamicObject
+// The including shader declares (std430): LightingInfo probebake_lighting (counts), TraceTree
+// probebake_trace_trees[], TraceNode probebake_trace_nodes[], TraceFace probebake_trace_faces[], TraceVertex
+// probebake_trace_vertices[], TraceMaterial probebake_trace_materials[], DynamicObject
 // probebake_dynamic_objects[] and ObjectInstance probebake_object_instances[] (placeholders, never read,
 // when lighting.dynamic_objects is 0).
 //
-// Traversal: a stack of BVH_MAX_DEPTH nodes, nearer child first, far children skipped once the closest hit
-// is nearer than their entry distance. Box exits are widened by a few ulps so that rounding never culls a
-// triangle lying in a box face (axis-aligned walls make flat boxes).
+// Traversal: a stack of BVH_MAX_DEPTH child words, nearer child first, far children skipped once the
+// closest hit is nearer than their entry distance. A node holds both children's boxes, 16-bit in the tree's
+// frame and rounded outwards by the bake (formats/trace_mesh.h), so one node read decides both. Box exits
+// are widened by a few ulps so that rounding never culls a triangle lying in a box face (axis-aligned walls
+// make flat boxes).
 #ifndef PROBEBAKE_BVH_TRACE_GLSL
 #define PROBEBAKE_BVH_TRACE_GLSL
 
-// Moller-Trumbore; t of the hit or -1. Both faces count (Embree's default).
-float probebake_ray_triangle(vec3 origin, vec3 dir, int index) {
-  const vec3 v0 = probebake_trace_triangles[index].v0;
-  const vec3 e1 = probebake_trace_triangles[index].edge1;
-  const vec3 e2 = probebake_trace_triangles[index].edge2;
+vec3 probebake_trace_vertex(uint i) {
+  return vec3(probebake_trace_vertices[i].x, probebake_trace_vertices[i].y, probebake_trace_vertices[i].z);
+}
+
+// Moller-Trumbore on v0 and the edges to v1 and v2 (the same float subtractions as the CPU's
+// formats::face_geometry); t of the hit or -1. Both faces count (Embree's default).
+float probebake_ray_triangle(vec3 origin, vec3 dir, int face) {
+  const vec3 v0 = probebake_trace_vertex(probebake_trace_faces[face].vertex[0]);
+  const vec3 e1 = probebake_trace_vertex(probebake_trace_faces[face].vertex[1]) - v0;
+  const vec3 e2 = probebake_trace_vertex(probebake_trace_faces[face].vertex[2]) - v0;
   const vec3 p = cross(dir, e2);
   const float det = dot(e1, p);
   if (det == 0.0) return -1.0;
@@ -38,6 +47,20 @@ float probebake_ray_triangle(vec3 origin, vec3 dir, int index) {
   return dot(e2, q) * inv;
 }
 
+TraceMaterial probebake_face_material(int face) {
+  return probebake_trace_materials[probebake_trace_faces[face].material & TRACE_MATERIAL_MASK];
+}
+
+// Unit normal of the counter-clockwise front face in the face's own space; (0, 0, 1) for a face without
+// area, which the bake leaves out and the validator refuses, so that no NaN can come of a hostile file.
+vec3 probebake_face_normal(int face) {
+  const vec3 v0 = probebake_trace_vertex(probebake_trace_faces[face].vertex[0]);
+  const vec3 n = cross(probebake_trace_vertex(probebake_trace_faces[face].vertex[1]) - v0,
+                       probebake_trace_vertex(probebake_trace_faces[face].vertex[2]) - v0);
+  const float length_squared = dot(n, n);
+  return length_squared > 0.0 && length_squared < 3.4e38 ? n * inversesqrt(length_squared) : vec3(0.0, 0.0, 1.0);
+}
+
 // Entry distance into the box [lower, upper] within [t_min, t_max], or -1 when the ray misses it.
 float probebake_ray_aabb(vec3 origin, vec3 inv_dir, vec3 lower, vec3 upper, float t_min, float t_max) {
   const vec3 t0 = (lower - origin) * inv_dir;
@@ -48,8 +71,19 @@ float probebake_ray_aabb(vec3 origin, vec3 inv_dir, vec3 lower, vec3 upper, floa
   return enter <= leave ? enter : -1.0;
 }
 
-float probebake_ray_box(vec3 origin, vec3 inv_dir, int node, float t_min, float t_max) {
-  return probebake_ray_aabb(origin, inv_dir, probebake_bvh_nodes[node].lower, probebake_bvh_nodes[node].upper, t_min, t_max);
+// Component `shift` (0: child 0, 16: child 1) of a packed coordinate, decoded in the tree's frame.
+vec3 probebake_decode(uint x, uint y, uint z, uint shift, vec3 frame_lower, vec3 frame_scale) {
+  return frame_lower + vec3(uvec3(x, y, z) >> shift & 0xFFFFu) * frame_scale;
+}
+
+// Entry distances into the two children's boxes of `node` (-1: missed).
+vec2 probebake_child_entries(int node, vec3 origin, vec3 inv_dir, vec3 frame_lower, vec3 frame_scale, float t_min, float t_max) {
+  const uint lx = probebake_trace_nodes[node].lower[0], ly = probebake_trace_nodes[node].lower[1], lz = probebake_trace_nodes[node].lower[2];
+  const uint ux = probebake_trace_nodes[node].upper[0], uy = probebake_trace_nodes[node].upper[1], uz = probebake_trace_nodes[node].upper[2];
+  return vec2(probebake_ray_aabb(origin, inv_dir, probebake_decode(lx, ly, lz, 0u, frame_lower, frame_scale),
+                                 probebake_decode(ux, uy, uz, 0u, frame_lower, frame_scale), t_min, t_max),
+              probebake_ray_aabb(origin, inv_dir, probebake_decode(lx, ly, lz, 16u, frame_lower, frame_scale),
+                                 probebake_decode(ux, uy, uz, 16u, frame_lower, frame_scale), t_min, t_max));
 }
 
 // Components near zero become +-1e-30 so that 1 / dir stays finite and slab tests see no 0 * inf.
@@ -58,27 +92,32 @@ vec3 probebake_safe_inverse(vec3 dir) {
   return 1.0 / mix(dir, mix(-tiny, tiny, greaterThanEqual(dir, vec3(0.0))), lessThan(abs(dir), tiny));
 }
 
-// Closest hit in the BVH rooted at `root`: the triangle index (into probebake_trace_triangles) or -1; t_max
-// becomes the hit distance. any_hit: stop at the first hit found (shadow rays).
-int probebake_traverse(int root, vec3 origin, vec3 dir, float t_min, inout float t_max, bool any_hit) {
+// Closest hit in tree `tree` (0 static, 1 + o object o): the face index or -1; t_max becomes the hit
+// distance. any_hit: stop at the first hit found (shadow rays).
+int probebake_traverse(int tree, vec3 origin, vec3 dir, float t_min, inout float t_max, bool any_hit) {
+  const uint root = probebake_trace_trees[tree].root;
+  if (root == TRACE_NO_ROOT) return -1;
+  const vec3 frame_lower = probebake_trace_trees[tree].lower, frame_scale = probebake_trace_trees[tree].scale;
   const vec3 inv_dir = probebake_safe_inverse(dir);
-  int stack_node[BVH_MAX_DEPTH];
+  if (probebake_ray_aabb(origin, inv_dir, frame_lower, frame_lower + float(TRACE_BOX_STEPS) * frame_scale, t_min, t_max) < 0.0) return -1;
+  uint stack_child[BVH_MAX_DEPTH];
   float stack_enter[BVH_MAX_DEPTH];
   int depth = 0;
-  int node = probebake_ray_box(origin, inv_dir, root, t_min, t_max) >= 0.0 ? root : -1;
+  uint child = root;
+  bool pending = true;
   int hit = -1;
   while (true) {
-    if (node < 0) {
+    if (!pending) {
       // Pop the nearest pending far child that can still hold a closer hit.
-      while (depth > 0 && node < 0) {
+      while (depth > 0 && !pending) {
         --depth;
-        if (stack_enter[depth] <= t_max) node = stack_node[depth];
+        if (stack_enter[depth] <= t_max) child = stack_child[depth], pending = true;
       }
-      if (node < 0) break;
+      if (!pending) break;
     }
-    const int count = probebake_bvh_nodes[node].count;
-    const int first = probebake_bvh_nodes[node].first;
-    if (count > 0) {
+    if ((child & TRACE_CHILD_LEAF) != 0u) {
+      const int first = int(child & TRACE_LEAF_FIRST_MASK);
+      const int count = int(child >> TRACE_LEAF_COUNT_SHIFT & 15u) + 1;
       for (int i = first; i < first + count; ++i) {
         const float t = probebake_ray_triangle(origin, dir, i);
         if (t >= t_min && t <= t_max && (hit < 0 || t < t_max)) {
@@ -87,32 +126,29 @@ int probebake_traverse(int root, vec3 origin, vec3 dir, float t_min, inout float
           if (any_hit) return hit;
         }
       }
-      node = -1;
+      pending = false;
       continue;
     }
-    const float a = probebake_ray_box(origin, inv_dir, first, t_min, t_max);
-    const float b = probebake_ray_box(origin, inv_dir, first + 1, t_min, t_max);
-    if (a >= 0.0 && b >= 0.0) {
-      const bool a_first = a <= b;
-      if (depth < BVH_MAX_DEPTH) { // the bake keeps the tree shallower than the stack (validate: bvh_tree)
-        stack_node[depth] = a_first ? first + 1 : first;
-        stack_enter[depth] = a_first ? b : a;
+    const int node = int(child);
+    const vec2 enter = probebake_child_entries(node, origin, inv_dir, frame_lower, frame_scale, t_min, t_max);
+    const uint child0 = probebake_trace_nodes[node].child[0], child1 = probebake_trace_nodes[node].child[1];
+    if (enter.x >= 0.0 && enter.y >= 0.0) {
+      const bool first_nearer = enter.x <= enter.y;
+      if (depth < BVH_MAX_DEPTH) { // the bake keeps the tree shallower than the stack (validate: trace_tree)
+        stack_child[depth] = first_nearer ? child1 : child0;
+        stack_enter[depth] = first_nearer ? enter.y : enter.x;
         ++depth;
       }
-      node = a_first ? first : first + 1;
+      child = first_nearer ? child0 : child1;
     } else {
-      node = a >= 0.0 ? first : (b >= 0.0 ? first + 1 : -1);
+      pending = enter.x >= 0.0 || enter.y >= 0.0;
+      child = enter.x >= 0.0 ? child0 : child1;
     }
   }
   return hit;
 }
 
-// Nodes of the static BVH: all of them, or those before the first object's.
-int probebake_static_bvh_nodes() {
-  return probebake_lighting.dynamic_objects > 0 ? probebake_dynamic_objects[0].bvh_root : probebake_lighting.bvh_nodes;
-}
-
-// A hit of the scene: triangle -1 = miss; object -1 = static geometry, else the dynamic object hit.
+// A hit of the scene: triangle (a face index) -1 = miss; object -1 = static geometry, else the dynamic object hit.
 struct ProbebakeHit {
   int triangle;
   int object;
@@ -130,20 +166,17 @@ vec3 probebake_to_object(int object, vec4 p) {
 ProbebakeHit probebake_trace_scene(vec3 origin, vec3 dir, float t_min, float t_max, bool any_hit) {
   ProbebakeHit hit = ProbebakeHit(-1, -1, t_max);
   float t = t_max;
-  if (probebake_static_bvh_nodes() > 0) {
-    hit.triangle = probebake_traverse(0, origin, dir, t_min, t, any_hit);
-    if (hit.triangle >= 0 && any_hit) { hit.t = t; return hit; }
-  }
+  hit.triangle = probebake_traverse(0, origin, dir, t_min, t, any_hit);
+  if (hit.triangle >= 0 && any_hit) { hit.t = t; return hit; }
   if (probebake_lighting.dynamic_objects <= 0) { hit.t = t; return hit; } // static scenes: nothing more
   const vec3 inv_dir = probebake_safe_inverse(dir);
   for (int o = 0; o < probebake_lighting.dynamic_objects; ++o) {
-    if (probebake_dynamic_objects[o].bvh_node_count <= 0) continue;
     if (probebake_ray_aabb(origin, inv_dir, probebake_object_instances[o].world_lower, probebake_object_instances[o].world_upper,
                            t_min, t) < 0.0)
       continue;
     const vec3 local_origin = probebake_to_object(o, vec4(origin, 1.0));
     const vec3 local_dir = probebake_to_object(o, vec4(dir, 0.0)); // not normalised: t is the same in both spaces
-    const int tri = probebake_traverse(probebake_dynamic_objects[o].bvh_root, local_origin, local_dir, t_min, t, any_hit);
+    const int tri = probebake_traverse(1 + o, local_origin, local_dir, t_min, t, any_hit);
     if (tri >= 0) {
       hit.triangle = tri;
       hit.object = o;
@@ -157,7 +190,7 @@ ProbebakeHit probebake_trace_scene(vec3 origin, vec3 dir, float t_min, float t_m
 // The hit triangle's unit normal in world space: an object's normal through the inverse transpose of its
 // linear part (the rows of object_from_world, weighted by the normal), normalised.
 vec3 probebake_hit_normal(ProbebakeHit hit) {
-  const vec3 n = probebake_trace_triangles[hit.triangle].normal;
+  const vec3 n = probebake_face_normal(hit.triangle);
   if (hit.object < 0) return n;
   const ObjectInstance inst = probebake_object_instances[hit.object];
   return normalize(n.x * inst.object_from_world[0].xyz + n.y * inst.object_from_world[1].xyz + n.z * inst.object_from_world[2].xyz);
@@ -170,7 +203,7 @@ bool probebake_hit_backface(ProbebakeHit hit, vec3 dir) { return dot(probebake_h
 // The ray arrived at the back of a single-sided triangle: inside a solid (scene::RayHit::inside). The back
 // of a double-sided triangle is open space like its front.
 bool probebake_hit_inside(ProbebakeHit hit, vec3 dir) {
-  return probebake_hit_backface(hit, dir) && (probebake_trace_triangles[hit.triangle].flags & TRIANGLE_DOUBLE_SIDED) == 0u;
+  return probebake_hit_backface(hit, dir) && (probebake_trace_faces[hit.triangle].material & TRACE_FACE_DOUBLE_SIDED) == 0u;
 }
 
 // The unit world-space normal of the side the ray arrived at (scene::RayHit::facing_normal).

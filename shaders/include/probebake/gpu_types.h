@@ -195,6 +195,61 @@ struct TraceTriangle {
   float pad4;    // offset 92
 };               // size 96
 
+// ---- Compact tracing (format 1.4): what the shaders trace -----------------------------------------------
+// 1.1-1.3 files stored BvhNode and TraceTriangle above (96 B per triangle plus 32 B per node); the runtime
+// upgrades them on load (formats/trace_mesh.h). From 1.4 the bake writes the scene as shared vertices,
+// 16 B faces, a material table and a tree whose child boxes are quantised to 16 bits in the tree's frame,
+// rounded outwards so that no box ever culls its contents. Positions stay exact floats: hits are the
+// same as with the float layout.
+PB_CONSTANT(int, TRACE_MAX_LEAF_FACES, 8);
+PB_CONSTANT(uint, TRACE_BOX_STEPS, 65535u);           // quantised coordinate q: frame lower + q * frame scale
+// A child word (TraceNode::child, TraceTree::root): an inner node's index (bit 31 clear), or a leaf of
+// faces [first, first + count) with bit 31 set, count - 1 in bits 27-30 and first in bits 0-26.
+PB_CONSTANT(uint, TRACE_CHILD_LEAF, 0x80000000u);
+PB_CONSTANT(uint, TRACE_LEAF_COUNT_SHIFT, 27u);
+PB_CONSTANT(uint, TRACE_LEAF_FIRST_MASK, 0x07FFFFFFu);
+PB_CONSTANT(uint, TRACE_NO_ROOT, 0xFFFFFFFFu);        // TraceTree::root of a tree without faces
+PB_CONSTANT(uint, TRACE_FACE_DOUBLE_SIDED, 0x80000000u); // TraceFace::material bit 31 (glTF doubleSided)
+PB_CONSTANT(uint, TRACE_MATERIAL_MASK, 0x7FFFFFFFu);
+
+// One BVH: tree 0 is the static geometry (root TRACE_NO_ROOT without static faces), tree 1 + o dynamic
+// object o, in its own frame. Every box of the tree is quantised in this frame; the root's box is
+// [lower, lower + TRACE_BOX_STEPS * scale].
+struct TraceTree {
+  vec3 lower;     // offset  0: frame origin, the minimum corner of the tree's faces
+  uint root;      // offset 12: child word of the root
+  vec3 scale;     // offset 16: frame step per axis (0 on an axis where the tree is flat)
+  int node_count; // offset 28: its nodes are trace_nodes[root, root + node_count) (0 when the root is a leaf)
+};                // size 32
+
+// An inner node: its two children's boxes and child words. lower[axis] holds child 0's quantised minimum
+// in bits 0-15 and child 1's in bits 16-31; upper likewise. Children that are nodes have larger indices.
+struct TraceNode {
+  uint lower[3]; // offset  0
+  uint upper[3]; // offset 12
+  uint child[2]; // offset 24
+};               // size 32
+
+// A triangle: three indices into trace_vertices (counter-clockwise front face) and its material word
+// (index into trace_materials | TRACE_FACE_DOUBLE_SIDED).
+struct TraceFace {
+  uint vertex[3]; // offset  0
+  uint material;  // offset 12
+};                // size 16
+
+// A vertex, shared by the faces of a tree (std430 array stride 12).
+struct TraceVertex {
+  float x, y, z;
+};
+
+// A face's surface: the triangle's diffuse albedo (its texture averaged over it) and emission.
+struct TraceMaterial {
+  vec3 albedo;   // offset  0
+  float pad0;    // offset 12
+  vec3 emission; // offset 16: emitted radiance, W/(m^2 sr)
+  float pad1;    // offset 28
+};               // size 32
+
 PB_CONSTANT(int, LIGHT_POINT, 0);
 PB_CONSTANT(int, LIGHT_SPOT, 1);
 PB_CONSTANT(int, LIGHT_DIRECTIONAL, 2);
@@ -275,6 +330,10 @@ static_assert(offsetof(VolumeInfo, probe_capacity) == 48 && offsetof(VolumeInfo,
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, upper) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(TraceTriangle) == 96 && offsetof(TraceTriangle, normal) == 48 && offsetof(TraceTriangle, emission) == 80);
 static_assert(offsetof(TraceTriangle, flags) == 28 && offsetof(EmitterPatch, flags) == 12);
+static_assert(sizeof(TraceTree) == 32 && offsetof(TraceTree, root) == 12 && offsetof(TraceTree, node_count) == 28);
+static_assert(sizeof(TraceNode) == 32 && offsetof(TraceNode, upper) == 12 && offsetof(TraceNode, child) == 24);
+static_assert(sizeof(TraceFace) == 16 && offsetof(TraceFace, material) == 12 && sizeof(TraceVertex) == 12);
+static_assert(sizeof(TraceMaterial) == 32 && offsetof(TraceMaterial, emission) == 16);
 static_assert(sizeof(PunctualLight) == 64 && offsetof(PunctualLight, intensity) == 32 && offsetof(PunctualLight, spot_scale) == 48);
 static_assert(sizeof(EmitterPatch) == 80 && offsetof(EmitterPatch, normal) == 48 && offsetof(EmitterPatch, radiance) == 64);
 static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset) == 16 && offsetof(LightingInfo, placement_rays) == 40);

@@ -80,15 +80,18 @@ private:
 // The runtime lighting sections of a bake (stage "gpu_scene"), when settings.runtime_lighting.
 struct RuntimeLightingReport {
   bool written = false;
-  int bvh_nodes = 0;
+  int bvh_nodes = 0;                  // inner nodes of the compact trees
   int bvh_depth = 0;                  // deepest BVH node (root = 0), below gpu::BVH_MAX_DEPTH
-  int triangles = 0;                  // trace triangles
+  int triangles = 0;                  // trace faces
   int left_out_triangles = 0;         // zero-area triangles (never hit) left out of the BVH
   int lights = 0;
   int emitter_patches = 0;
   int dynamic_objects = 0;            // format 1.3: objects moved by the host, each with its own BVH
+  int vertices = 0;                   // shared trace vertices (format 1.4)
+  int materials = 0;                  // distinct (albedo, emission) pairs
   std::size_t bytes = 0;              // payload bytes of the lighting sections
-  double bvh_seconds = 0.0;           // rtcBuildBVH, flattening and refit
+  std::size_t tracing_bytes = 0;      // of which the tracing sections (trees, nodes, faces, vertices, materials)
+  double bvh_seconds = 0.0;           // rtcBuildBVH, flattening and compaction
 };
 
 struct BakeReport {

@@ -82,18 +82,34 @@ enum class SectionType : std::uint32_t {
   emitter_patches = 16,  // gpu::EmitterPatch x lighting.emitter_patches
   // Dynamic objects (1.3), optional.
   dynamic_objects = 17,  // gpu::DynamicObject x lighting.dynamic_objects
+  // Compact tracing (1.4), REQUIRED when present: they replace bvh_nodes and trace_triangles, which a
+  // 1.3 reader would need, so it must refuse the file rather than trace nothing.
+  trace_trees = 18,      // gpu::TraceTree x (1 + lighting.dynamic_objects)
+  trace_nodes = 19,      // gpu::TraceNode x lighting.bvh_nodes
+  trace_faces = 20,      // gpu::TraceFace x lighting.triangles
+  trace_vertices = 21,   // gpu::TraceVertex
+  trace_materials = 22,  // gpu::TraceMaterial
 };
-inline constexpr std::uint32_t kSectionTypeCount = 17;
+inline constexpr std::uint32_t kSectionTypeCount = 22;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
 // The lowest minor version that a section of this type needs (the lighting sections came in 1.1, dynamic
-// objects in 1.3);
+// objects in 1.3, compact tracing in 1.4);
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
   if (!is_known_section_type(type)) return 0;
+  if (type >= static_cast<std::uint32_t>(SectionType::trace_trees)) return kCompactTracingMinor;
   if (type >= static_cast<std::uint32_t>(SectionType::dynamic_objects)) return kDynamicObjectsMinor;
   return type >= static_cast<std::uint32_t>(SectionType::lighting_info) ? kLightingSectionsMinor : std::uint16_t{0};
+}
+
+// Sections a reader must understand carry kSectionRequired: those a 1.0 reader needs (volume_info to
+// svo_leaves) and the compact tracing of 1.4 (a 1.3 reader would find no geometry); cells and the sections
+// of 1.1-1.3 are optional, so that older readers skip them. The writer and the validator both use it.
+inline constexpr bool is_required_section_type(std::uint32_t type) {
+  return (type >= 1 && type <= static_cast<std::uint32_t>(SectionType::svo_leaves)) ||
+         (type >= static_cast<std::uint32_t>(SectionType::trace_trees) && is_known_section_type(type));
 }
 
 // "octree", "probes", ...; "section_<id>" for unknown types.

@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 3;
+inline constexpr std::uint16_t kFormatVersionMinor = 4;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -17,4 +17,8 @@ inline constexpr std::uint16_t kDoubleSidedFlagsMinor = 2;
 // 1.3 added the optional dynamic_objects section (objects the host moves at run time) and gave
 // LightingInfo's last padding word the count of its elements.
 inline constexpr std::uint16_t kDynamicObjectsMinor = 3;
+// 1.4 replaced the float tracing sections (bvh_nodes, trace_triangles: 96 B per triangle plus nodes) with
+// the compact ones (trace_trees ... trace_materials), marked REQUIRED so that a 1.3 reader refuses the
+// file. 1.1-1.3 files still read; the runtime upgrades their tracing sections on load.
+inline constexpr std::uint16_t kCompactTracingMinor = 4;
 } // namespace probebake::formats

@@ -67,11 +67,17 @@ struct ProbeVolume {
   std::optional<gpu::LightingInfo> lighting;      // settings and counts of the sections below
   std::vector<glm::vec4> ray_directions;          // lighting->rays Fibonacci lighting rays, then
                                                   // placement_rays lattice directions; unit xyz, w = 0
-  std::vector<gpu::BvhNode> bvh_nodes;            // root at 0; empty for a scene without triangles
-  std::vector<gpu::TraceTriangle> trace_triangles; // in BVH leaf order
+  std::vector<gpu::BvhNode> bvh_nodes;            // 1.1-1.3 float layout, read from older files only
+  std::vector<gpu::TraceTriangle> trace_triangles; // (upgrade_tracing turns them into the five below)
   std::vector<gpu::PunctualLight> punctual_lights;
   std::vector<gpu::EmitterPatch> emitter_patches; // empty unless emissive_as_lights
   std::vector<gpu::DynamicObject> dynamic_objects; // lighting->dynamic_objects (format 1.3); empty = all static
+  // Compact tracing (format 1.4, trace_mesh.h): tree 0 static, tree 1 + o dynamic object o.
+  std::vector<gpu::TraceTree> trace_trees;         // 1 + lighting->dynamic_objects when present
+  std::vector<gpu::TraceNode> trace_nodes;         // lighting->bvh_nodes
+  std::vector<gpu::TraceFace> trace_faces;         // lighting->triangles, in leaf order
+  std::vector<gpu::TraceVertex> trace_vertices;
+  std::vector<gpu::TraceMaterial> trace_materials;
 };
 
 // A volume with a root-only octree (one leaf without probe) and every other buffer empty; `settings`

@@ -31,7 +31,12 @@ void for_each_section(Volume& v, F&& f) {
   f(SectionType::punctual_lights, v.punctual_lights);
   f(SectionType::emitter_patches, v.emitter_patches);
   f(SectionType::dynamic_objects, v.dynamic_objects);
-  static_assert(kSectionTypeCount == 17, "a new section type: add it above");
+  f(SectionType::trace_trees, v.trace_trees);
+  f(SectionType::trace_nodes, v.trace_nodes);
+  f(SectionType::trace_faces, v.trace_faces);
+  f(SectionType::trace_vertices, v.trace_vertices);
+  f(SectionType::trace_materials, v.trace_materials);
+  static_assert(kSectionTypeCount == 22, "a new section type: add it above");
 }
 
 } // namespace probebake::formats

@@ -1,0 +1,276 @@
+// Compact tracing sections (trace_mesh.h). The one subtle part is the box quantisation: a shader decodes
+// q as lower + q * scale, which a compiler may fuse into one fma, so every quantised bound is checked
+// against both roundings and stepped outwards until neither can cut into the exact box, then one more
+// step for devices that flush denormals.
+#include "probebake/formats/trace_mesh.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "probebake/formats/error.h"
+
+namespace probebake::formats {
+namespace {
+
+constexpr float kSteps = float(gpu::TRACE_BOX_STEPS);
+
+float decoded(float lower, float scale, std::uint32_t q) { return lower + float(q) * scale; }
+float decoded_fused(float lower, float scale, std::uint32_t q) { return std::fma(float(q), scale, lower); }
+float lowest_decoding(float lower, float scale, std::uint32_t q) { return std::min(decoded(lower, scale, q), decoded_fused(lower, scale, q)); }
+float highest_decoding(float lower, float scale, std::uint32_t q) { return std::max(decoded(lower, scale, q), decoded_fused(lower, scale, q)); }
+
+// The step of one axis: the smallest float with lower + TRACE_BOX_STEPS * step >= upper in both roundings.
+float frame_step(float lower, float upper) {
+  if (!(upper > lower)) return 0.0f;
+  float step = (upper - lower) / kSteps;
+  while (lowest_decoding(lower, step, gpu::TRACE_BOX_STEPS) < upper) step = std::nextafter(step, std::numeric_limits<float>::infinity());
+  return step;
+}
+
+std::uint32_t quantise_lower(float x, float lower, float scale) {
+  if (scale == 0.0f) return 0;
+  double q = std::floor((double(x) - double(lower)) / double(scale));
+  auto qi = std::uint32_t(std::clamp(q, 0.0, double(gpu::TRACE_BOX_STEPS)));
+  while (qi > 0 && highest_decoding(lower, scale, qi) > x) --qi;
+  return qi > 0 ? qi - 1 : 0;
+}
+
+std::uint32_t quantise_upper(float x, float lower, float scale) {
+  if (scale == 0.0f) return 0;
+  double q = std::ceil((double(x) - double(lower)) / double(scale));
+  auto qi = std::uint32_t(std::clamp(q, 0.0, double(gpu::TRACE_BOX_STEPS)));
+  while (qi < gpu::TRACE_BOX_STEPS && lowest_decoding(lower, scale, qi) < x) ++qi;
+  return qi < gpu::TRACE_BOX_STEPS ? qi + 1 : qi;
+}
+
+struct Box {
+  glm::vec3 lower{std::numeric_limits<float>::max()};
+  glm::vec3 upper{-std::numeric_limits<float>::max()};
+  void grow(const glm::vec3& p) { lower = glm::min(lower, p), upper = glm::max(upper, p); }
+  void grow(const Box& b) { lower = glm::min(lower, b.lower), upper = glm::max(upper, b.upper); }
+};
+
+std::uint64_t hash_bits(const float* values, int n) {
+  std::uint64_t h = 1469598103934665603ull; // FNV-1a over the float bits
+  for (int i = 0; i < n; ++i) {
+    const auto bits = std::bit_cast<std::uint32_t>(values[i]);
+    for (int b = 0; b < 4; ++b) h = (h ^ ((bits >> (8 * b)) & 0xFFu)) * 1099511628211ull;
+  }
+  return h;
+}
+
+bool same_bits(const float* a, const float* b, int n) { return std::memcmp(a, b, sizeof(float) * std::size_t(n)) == 0; }
+
+[[noreturn]] void malformed(const std::string& reason) { throw Error(ErrorKind::internal, "trace mesh: " + reason); }
+
+// Exact boxes of every input node, children before parents (children have larger indices).
+std::vector<Box> node_boxes(const TraceTreeInput& tree) {
+  std::vector<Box> boxes(tree.nodes.size());
+  for (std::size_t n = tree.nodes.size(); n-- > 0;) {
+    const gpu::BvhNode& node = tree.nodes[n];
+    if (node.count > 0) {
+      if (node.count > gpu::TRACE_MAX_LEAF_FACES || node.first < 0 || std::size_t(node.first) + std::size_t(node.count) > tree.triangles.size())
+        malformed("leaf " + std::to_string(n) + " is out of range");
+      for (int k = node.first; k < node.first + node.count; ++k)
+        for (const glm::vec3& p : tree.triangles[std::size_t(k)].corners) boxes[n].grow(p);
+      continue;
+    }
+    if (node.first <= int(n) || std::size_t(node.first) + 1 >= tree.nodes.size()) malformed("inner node " + std::to_string(n) + " has bad children");
+    boxes[n].grow(boxes[std::size_t(node.first)]);
+    boxes[n].grow(boxes[std::size_t(node.first) + 1]);
+  }
+  return boxes;
+}
+
+gpu::TraceTree tree_frame(const Box& root) {
+  gpu::TraceTree tree{};
+  tree.lower = root.lower;
+  for (int a = 0; a < 3; ++a) tree.scale[a] = frame_step(root.lower[a], root.upper[a]);
+  return tree;
+}
+
+void set_child_box(gpu::TraceNode& node, int child, const gpu::TraceTree& frame, const Box& box) {
+  const int shift = child == 0 ? 0 : 16;
+  for (int a = 0; a < 3; ++a) {
+    node.lower[a] |= quantise_lower(box.lower[a], frame.lower[a], frame.scale[a]) << shift;
+    node.upper[a] |= quantise_upper(box.upper[a], frame.lower[a], frame.scale[a]) << shift;
+  }
+}
+
+} // namespace
+
+TraceMeshBuilder::TraceMeshBuilder(ProbeVolume& volume) : volume_(volume) {
+  for (std::size_t i = 0; i < volume.trace_vertices.size(); ++i)
+    vertices_[hash_bits(&volume.trace_vertices[i].x, 3)].push_back(std::uint32_t(i));
+  for (std::size_t i = 0; i < volume.trace_materials.size(); ++i) {
+    const gpu::TraceMaterial& m = volume.trace_materials[i];
+    const float values[6] = {m.albedo.x, m.albedo.y, m.albedo.z, m.emission.x, m.emission.y, m.emission.z};
+    materials_[hash_bits(values, 6)].push_back(std::uint32_t(i));
+  }
+}
+
+std::uint32_t TraceMeshBuilder::vertex(const glm::vec3& p) {
+  const float xyz[3] = {p.x, p.y, p.z};
+  std::vector<std::uint32_t>& same_hash = vertices_[hash_bits(xyz, 3)];
+  for (std::uint32_t i : same_hash)
+    if (same_bits(&volume_.trace_vertices[i].x, xyz, 3)) return i;
+  const auto index = std::uint32_t(volume_.trace_vertices.size());
+  volume_.trace_vertices.push_back(gpu::TraceVertex{p.x, p.y, p.z});
+  same_hash.push_back(index);
+  return index;
+}
+
+std::uint32_t TraceMeshBuilder::material(const TraceInputTriangle& t) {
+  const float values[6] = {t.albedo.x, t.albedo.y, t.albedo.z, t.emission.x, t.emission.y, t.emission.z};
+  std::vector<std::uint32_t>& same_hash = materials_[hash_bits(values, 6)];
+  for (std::uint32_t i : same_hash) {
+    const gpu::TraceMaterial& m = volume_.trace_materials[i];
+    const float stored[6] = {m.albedo.x, m.albedo.y, m.albedo.z, m.emission.x, m.emission.y, m.emission.z};
+    if (same_bits(stored, values, 6)) return i;
+  }
+  const auto index = std::uint32_t(volume_.trace_materials.size());
+  if (index > gpu::TRACE_MATERIAL_MASK) malformed("more materials than a face's material word holds");
+  gpu::TraceMaterial m{};
+  m.albedo = t.albedo;
+  m.emission = t.emission;
+  volume_.trace_materials.push_back(m);
+  same_hash.push_back(index);
+  return index;
+}
+
+int TraceMeshBuilder::add_tree(const TraceTreeInput& tree) {
+  const std::size_t face_base = volume_.trace_faces.size(), node_base = volume_.trace_nodes.size();
+  if (face_base + tree.triangles.size() > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more faces than a child word holds");
+  for (const TraceInputTriangle& t : tree.triangles) {
+    gpu::TraceFace face{};
+    for (int k = 0; k < 3; ++k) face.vertex[k] = vertex(t.corners[k]);
+    face.material = material(t) | (t.double_sided ? gpu::TRACE_FACE_DOUBLE_SIDED : 0u);
+    volume_.trace_faces.push_back(face);
+  }
+  const std::vector<Box> boxes = node_boxes(tree);
+  gpu::TraceTree frame = boxes.empty() ? gpu::TraceTree{} : tree_frame(boxes[0]);
+  // Inner input nodes become compact nodes in index order, so children keep larger indices than parents.
+  std::vector<std::uint32_t> compact(tree.nodes.size(), 0);
+  std::uint32_t inner = 0;
+  for (std::size_t n = 0; n < tree.nodes.size(); ++n)
+    if (tree.nodes[n].count == 0) compact[n] = std::uint32_t(node_base) + inner++;
+  const auto word = [&](std::size_t n) {
+    const gpu::BvhNode& node = tree.nodes[n];
+    if (node.count == 0) return compact[n];
+    return gpu::TRACE_CHILD_LEAF | (std::uint32_t(node.count - 1) << gpu::TRACE_LEAF_COUNT_SHIFT) | std::uint32_t(face_base + std::size_t(node.first));
+  };
+  for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
+    if (tree.nodes[n].count != 0) continue;
+    gpu::TraceNode node{};
+    for (int c = 0; c < 2; ++c) {
+      const std::size_t child = std::size_t(tree.nodes[n].first) + std::size_t(c);
+      set_child_box(node, c, frame, boxes[child]);
+      node.child[c] = word(child);
+    }
+    volume_.trace_nodes.push_back(node);
+  }
+  if (volume_.trace_nodes.size() > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more nodes than a child word holds");
+  frame.root = tree.nodes.empty() ? gpu::TRACE_NO_ROOT : word(0);
+  frame.node_count = int(inner);
+  volume_.trace_trees.push_back(frame);
+  return int(volume_.trace_trees.size()) - 1;
+}
+
+namespace {
+
+TraceInputTriangle input_triangle(const gpu::TraceTriangle& t) {
+  TraceInputTriangle out;
+  out.corners[0] = t.v0;
+  out.corners[1] = t.v0 + t.edge1;
+  out.corners[2] = t.v0 + t.edge2;
+  out.albedo = t.albedo;
+  out.emission = t.emission;
+  out.double_sided = (t.flags & gpu::TRIANGLE_DOUBLE_SIDED) != 0u;
+  return out;
+}
+
+// Nodes [first, first + count) and triangles [first_triangle, first_triangle + triangle_count) of a legacy
+// tree as a tree-local input.
+void add_legacy_tree(const ProbeVolume& v, int first, int count, int first_triangle, int triangle_count, TraceMeshBuilder& builder) {
+  if (first < 0 || count < 0 || std::size_t(first) + std::size_t(count) > v.bvh_nodes.size() || first_triangle < 0 || triangle_count < 0 ||
+      std::size_t(first_triangle) + std::size_t(triangle_count) > v.trace_triangles.size())
+    malformed("a tree's nodes or triangles are out of range");
+  std::vector<gpu::BvhNode> nodes(v.bvh_nodes.begin() + first, v.bvh_nodes.begin() + first + count);
+  for (gpu::BvhNode& node : nodes) node.first -= node.count == 0 ? first : first_triangle;
+  std::vector<TraceInputTriangle> triangles;
+  triangles.reserve(std::size_t(triangle_count));
+  for (int t = first_triangle; t < first_triangle + triangle_count; ++t) triangles.push_back(input_triangle(v.trace_triangles[std::size_t(t)]));
+  builder.add_tree(TraceTreeInput{nodes, triangles});
+}
+
+} // namespace
+
+void upgrade_tracing(ProbeVolume& volume) {
+  if (volume.bvh_nodes.empty() && volume.trace_triangles.empty()) return;
+  volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear();
+  volume.trace_vertices.clear(), volume.trace_materials.clear();
+  TraceMeshBuilder builder(volume);
+  const std::vector<gpu::DynamicObject>& objects = volume.dynamic_objects;
+  const int static_nodes = objects.empty() ? int(volume.bvh_nodes.size()) : objects[0].bvh_root;
+  const int static_triangles = objects.empty() ? int(volume.trace_triangles.size()) : objects[0].first_triangle;
+  add_legacy_tree(volume, 0, static_nodes, 0, static_triangles, builder);
+  for (gpu::DynamicObject& object : volume.dynamic_objects) {
+    const auto first_face = int(volume.trace_faces.size());
+    add_legacy_tree(volume, object.bvh_root, object.bvh_node_count, object.first_triangle, object.triangle_count, builder);
+    object.bvh_root = int(volume.trace_trees.size()) - 1;
+    object.bvh_node_count = volume.trace_trees.back().node_count;
+    object.first_triangle = first_face;
+  }
+  volume.bvh_nodes.clear();
+  volume.trace_triangles.clear();
+  sync_info_counts(volume);
+}
+
+TraceBox decode_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
+  const int shift = child == 0 ? 0 : 16;
+  TraceBox box;
+  for (int a = 0; a < 3; ++a) {
+    box.lower[a] = decoded(tree.lower[a], tree.scale[a], (node.lower[a] >> shift) & 0xFFFFu);
+    box.upper[a] = decoded(tree.lower[a], tree.scale[a], (node.upper[a] >> shift) & 0xFFFFu);
+  }
+  return box;
+}
+
+TraceBox tree_box(const gpu::TraceTree& tree) {
+  TraceBox box;
+  box.lower = tree.lower;
+  for (int a = 0; a < 3; ++a) box.upper[a] = decoded(tree.lower[a], tree.scale[a], gpu::TRACE_BOX_STEPS);
+  return box;
+}
+
+std::size_t tracing_bytes(const ProbeVolume& v) {
+  return v.bvh_nodes.size() * sizeof(gpu::BvhNode) + v.trace_triangles.size() * sizeof(gpu::TraceTriangle) +
+         v.trace_trees.size() * sizeof(gpu::TraceTree) + v.trace_nodes.size() * sizeof(gpu::TraceNode) +
+         v.trace_faces.size() * sizeof(gpu::TraceFace) + v.trace_vertices.size() * sizeof(gpu::TraceVertex) +
+         v.trace_materials.size() * sizeof(gpu::TraceMaterial);
+}
+
+TraceFaceGeometry face_geometry(const ProbeVolume& volume, std::size_t face) {
+  const gpu::TraceFace& f = volume.trace_faces[face];
+  const auto corner = [&](int k) {
+    const gpu::TraceVertex& p = volume.trace_vertices[f.vertex[k]];
+    return glm::vec3(p.x, p.y, p.z);
+  };
+  TraceFaceGeometry g;
+  g.v0 = corner(0);
+  g.edge1 = corner(1) - g.v0;
+  g.edge2 = corner(2) - g.v0;
+  const glm::vec3 n = glm::cross(g.edge1, g.edge2);
+  const float length = glm::length(n);
+  if (length > 0.0f && std::isfinite(length)) g.normal = n / length;
+  return g;
+}
+
+} // namespace probebake::formats

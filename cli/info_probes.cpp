@@ -56,7 +56,7 @@ nlohmann::json tracing_json(const formats::ProbeVolume& v) {
   const std::size_t triangles = v.trace_triangles.size() + v.trace_faces.size();
   const std::size_t bytes = formats::tracing_bytes(v);
   return {{"triangles", triangles}, {"bytes", bytes}, {"bytes_per_triangle", triangles > 0 ? double(bytes) / double(triangles) : 0.0},
-          {"layout", v.trace_triangles.empty() ? "compact" : "float (1.1-1.3)"}};
+          {"layout", formats::has_float_tracing(v) ? "float (1.1-1.3)" : "compact"}};
 }
 
 nlohmann::json info_json(const ProbesInfo& in) {

@@ -9,7 +9,7 @@ jobs=$(nproc)
 
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DPROBEBAKE_SANITIZE=address,undefined \
   -DPROBEBAKE_BUILD_BENCHMARKS=OFF >/dev/null
-asan_tests="scene_tests formats_file_test formats_corruption_test formats_validate_test formats_octree_test
+asan_tests="scene_tests formats_file_test formats_corruption_test formats_validate_test formats_octree_test formats_trace_mesh_test
   scene_fuzz_regression_test formats_fuzz_regression_test"
 cmake --build build-asan -j "$jobs" --target probebake $asan_tests
 for t in $asan_tests; do

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "probebake/formats/error.h"
+#include "probebake/formats/trace_mesh.h"
 
 namespace probebake::formats {
 namespace {
@@ -35,7 +36,7 @@ void sync_info_counts(ProbeVolume& volume) {
   volume.info.svo_leaves = checked_count(volume.svo_leaves.size(), "svo_leaves");
   if (!volume.lighting) return;
   gpu::LightingInfo& lighting = *volume.lighting;
-  const bool float_layout = !volume.bvh_nodes.empty() || !volume.trace_triangles.empty(); // a 1.1-1.3 file
+  const bool float_layout = has_float_tracing(volume); // a 1.1-1.3 file
   lighting.bvh_nodes = checked_count(float_layout ? volume.bvh_nodes.size() : volume.trace_nodes.size(), "bvh_nodes");
   lighting.triangles = checked_count(float_layout ? volume.trace_triangles.size() : volume.trace_faces.size(), "trace_triangles");
   lighting.lights = checked_count(volume.punctual_lights.size(), "punctual_lights");

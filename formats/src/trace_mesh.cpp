@@ -213,7 +213,7 @@ void add_legacy_tree(const ProbeVolume& v, int first, int count, int first_trian
 } // namespace
 
 void upgrade_tracing(ProbeVolume& volume) {
-  if (volume.bvh_nodes.empty() && volume.trace_triangles.empty()) return;
+  if (!has_float_tracing(volume)) return;
   volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear();
   volume.trace_vertices.clear(), volume.trace_materials.clear();
   TraceMeshBuilder builder(volume);

@@ -79,6 +79,10 @@ public:
         bad("trace_trees", t, "its faces lie outside trace_faces");
         continue;
       }
+      if (next_node + nodes > v_.trace_nodes.size()) {
+        bad("trace_trees", t, concat("its nodes [", next_node, ", ", next_node + nodes, ") lie outside trace_nodes"));
+        return;
+      }
       walk(t, next_node, nodes, faces);
       next_node += nodes;
     }
@@ -204,7 +208,8 @@ void check_object_boxes(const ProbeVolume& v, Reporter& out) {
       }
       return false;
     };
-    for (std::size_t f = std::size_t(object.first_triangle); f < std::size_t(object.first_triangle + object.triangle_count); ++f) {
+    const std::size_t first = std::size_t(object.first_triangle), end = first + std::size_t(object.triangle_count); // checked ranges
+    for (std::size_t f = first; f < end; ++f) {
       if (!outside(f)) continue;
       out.add("dynamic_values", "dynamic_objects", (long long)o, concat("face ", f, " lies outside the object's box"));
       break;
@@ -219,7 +224,7 @@ bool uses_compact_tracing(const ProbeVolume& v) {
 }
 
 void check_trace_mesh(const ProbeVolume& v, Reporter& out) {
-  if (!v.bvh_nodes.empty() || !v.trace_triangles.empty()) return out.add("lighting_sections", "trace_trees", -1, "both the float (1.1-1.3) and the compact (1.4) tracing sections");
+  if (has_float_tracing(v)) return out.add("lighting_sections", "trace_trees", -1, "both the float (1.1-1.3) and the compact (1.4) tracing sections");
   const std::size_t expected_trees = 1 + v.dynamic_objects.size();
   if (v.trace_trees.size() != expected_trees) return out.add("lighting_sections", "trace_trees", -1, concat(v.trace_trees.size(), " trees, expected 1 + dynamic objects = ", expected_trees));
   const std::size_t reported = out.count();

@@ -102,10 +102,12 @@ Result<Volume> Volume::upload(Context& context, const formats::ProbeVolume& volu
       const Status valid = status_of(formats::validate(volume));
       if (!valid.ok()) return valid;
     }
-    if (volume.bvh_nodes.empty() && volume.trace_triangles.empty()) return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
-    formats::ProbeVolume upgraded = volume; // a 1.1-1.3 volume: the shaders trace the compact layout only
-    formats::upgrade_tracing(upgraded);
-    return Volume(std::make_unique<detail::VolumeState>(context.device_, upgraded, options));
+    if (formats::has_float_tracing(volume)) { // a 1.1-1.3 volume: the shaders trace the compact layout only
+      formats::ProbeVolume upgraded = volume;
+      formats::upgrade_tracing(upgraded);
+      return Volume(std::make_unique<detail::VolumeState>(context.device_, upgraded, options));
+    }
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
   });
 }
 

@@ -49,6 +49,9 @@ private:
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> materials_; // hash of the values -> indices
 };
 
+// The volume holds the float tracing sections of 1.1-1.3 (bvh_nodes, trace_triangles).
+inline bool has_float_tracing(const ProbeVolume& v) { return !v.bvh_nodes.empty() || !v.trace_triangles.empty(); }
+
 // A 1.1-1.3 volume (bvh_nodes and trace_triangles) in the compact layout: same trees, same leaf order,
 // corners v0, v0 + edge1, v0 + edge2 (within rounding of the stored edges); the float sections are cleared
 // and dynamic objects' bvh_root, bvh_node_count and first_triangle point into the new ones. A volume

@@ -31,9 +31,10 @@ vec3 probebake_trace_vertex(uint i) {
 // Moller-Trumbore on v0 and the edges to v1 and v2 (the same float subtractions as the CPU's
 // formats::face_geometry); t of the hit or -1. Both faces count (Embree's default).
 float probebake_ray_triangle(vec3 origin, vec3 dir, int face) {
-  const vec3 v0 = probebake_trace_vertex(probebake_trace_faces[face].vertex[0]);
-  const vec3 e1 = probebake_trace_vertex(probebake_trace_faces[face].vertex[1]) - v0;
-  const vec3 e2 = probebake_trace_vertex(probebake_trace_faces[face].vertex[2]) - v0;
+  const TraceFace f = probebake_trace_faces[face]; // one 16-byte read
+  const vec3 v0 = probebake_trace_vertex(f.vertex[0]);
+  const vec3 e1 = probebake_trace_vertex(f.vertex[1]) - v0;
+  const vec3 e2 = probebake_trace_vertex(f.vertex[2]) - v0;
   const vec3 p = cross(dir, e2);
   const float det = dot(e1, p);
   if (det == 0.0) return -1.0;
@@ -76,10 +77,10 @@ vec3 probebake_decode(uint x, uint y, uint z, uint shift, vec3 frame_lower, vec3
   return frame_lower + vec3(uvec3(x, y, z) >> shift & 0xFFFFu) * frame_scale;
 }
 
-// Entry distances into the two children's boxes of `node` (-1: missed).
-vec2 probebake_child_entries(int node, vec3 origin, vec3 inv_dir, vec3 frame_lower, vec3 frame_scale, float t_min, float t_max) {
-  const uint lx = probebake_trace_nodes[node].lower[0], ly = probebake_trace_nodes[node].lower[1], lz = probebake_trace_nodes[node].lower[2];
-  const uint ux = probebake_trace_nodes[node].upper[0], uy = probebake_trace_nodes[node].upper[1], uz = probebake_trace_nodes[node].upper[2];
+// Entry distances into the two children's boxes of node `n` (-1: missed).
+vec2 probebake_child_entries(TraceNode n, vec3 origin, vec3 inv_dir, vec3 frame_lower, vec3 frame_scale, float t_min, float t_max) {
+  const uint lx = n.lower[0], ly = n.lower[1], lz = n.lower[2];
+  const uint ux = n.upper[0], uy = n.upper[1], uz = n.upper[2];
   return vec2(probebake_ray_aabb(origin, inv_dir, probebake_decode(lx, ly, lz, 0u, frame_lower, frame_scale),
                                  probebake_decode(ux, uy, uz, 0u, frame_lower, frame_scale), t_min, t_max),
               probebake_ray_aabb(origin, inv_dir, probebake_decode(lx, ly, lz, 16u, frame_lower, frame_scale),
@@ -129,9 +130,9 @@ int probebake_traverse(int tree, vec3 origin, vec3 dir, float t_min, inout float
       pending = false;
       continue;
     }
-    const int node = int(child);
+    const TraceNode node = probebake_trace_nodes[child]; // one 32-byte read decides both children
     const vec2 enter = probebake_child_entries(node, origin, inv_dir, frame_lower, frame_scale, t_min, t_max);
-    const uint child0 = probebake_trace_nodes[node].child[0], child1 = probebake_trace_nodes[node].child[1];
+    const uint child0 = node.child[0], child1 = node.child[1];
     if (enter.x >= 0.0 && enter.y >= 0.0) {
       const bool first_nearer = enter.x <= enter.y;
       if (depth < BVH_MAX_DEPTH) { // the bake keeps the tree shallower than the stack (validate: trace_tree)

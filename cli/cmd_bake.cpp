@@ -217,8 +217,10 @@ Command add_bake_command(CLI::App& root) {
                 "area lights added at shading points, like punctual lights)");
   app->add_option("--emitter-samples", s->bake.lighting.emitter_samples, "Sub-triangles per emitter lookup (area lights)");
   app->add_flag("--surfels-out", s->bake.store_surfels, "Also store surfel batches (for dynamic runtime updates)");
+  app->add_option("--trace-leaf-cost", s->bake.trace_leaf_cost,
+                  "Runtime tracing trees: SAH cost of a triangle test (lower: smaller files, slower GPU traces; default 0.35)");
   app->add_flag("!--no-runtime-lighting", s->bake.runtime_lighting,
-                "Leave out the runtime lighting sections (BVH, triangles, lights, emitter patches, ray directions)");
+                "Leave out the runtime lighting sections (tracing trees and faces, lights, emitter patches, ray directions)");
   app->add_flag("--json", s->json, "Print the report as JSON");
   return {app, [s] { return run_bake(*s); }};
 }

@@ -239,6 +239,8 @@ void check_settings(const BakeSettings& s) {
   require(s.threads >= 0, "--threads must be >= 0");
   require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget, fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
   require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
+  require(std::isfinite(s.trace_leaf_cost) && s.trace_leaf_cost >= 0.05f && s.trace_leaf_cost <= 10.0f,
+          "--trace-leaf-cost must be in [0.05, 10]");
   check_lighting_settings(s.lighting);
 }
 
@@ -259,7 +261,7 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
   const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
                                s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0,
                                int(s.split_rule), s.probe_budget};
-  const float floats[] = {s.split_low, s.split_high, s.clearance, s.uniform_share};
+  const float floats[] = {s.split_low, s.split_high, s.clearance, s.uniform_share, s.trace_leaf_cost};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
   const auto& l = s.lighting;

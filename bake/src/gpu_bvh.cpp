@@ -23,11 +23,6 @@ namespace {
 // last levels into a small tree of leaves instead of going deeper.
 constexpr unsigned kMaxBuildDepth = 40;
 
-// SAH cost of a triangle test relative to a node visit (Embree's default is 1). Lower makes larger leaves,
-// fewer nodes: on the 24-room scene 1 gives 38 B per triangle and 0.35 gives 28 B, at 28 % more light_trace
-// time on an H100 (docs/RESULTS.md "Compact tracing data"); 0.35 keeps every untextured scene under the
-// 32 B target.
-constexpr float kLeafIntersectionCost = 0.35f;
 
 // Build nodes live in Embree's thread-local allocator memory: trivially destructible, never deleted.
 struct BuildNode {
@@ -128,14 +123,14 @@ public:
   EmbreeBvh(const EmbreeBvh&) = delete;
   EmbreeBvh& operator=(const EmbreeBvh&) = delete;
 
-  const BuildNode* build(std::vector<RTCBuildPrimitive>& primitives) {
+  const BuildNode* build(std::vector<RTCBuildPrimitive>& primitives, float leaf_cost) {
     BuildState state;
     RTCBuildArguments args = rtcDefaultBuildArguments();
     args.buildQuality = RTC_BUILD_QUALITY_HIGH; // binned SAH; no splitPrimitive: each triangle in one leaf
     args.maxBranchingFactor = 2;
     args.maxDepth = kMaxBuildDepth;
     args.minLeafSize = 1;
-    args.intersectionCost = kLeafIntersectionCost;
+    args.intersectionCost = leaf_cost; // Embree's default is 1; lower gives larger leaves
     args.maxLeafSize = unsigned(gpu::TRACE_MAX_LEAF_FACES);
     args.bvh = bvh_;
     args.primitives = primitives.data();
@@ -162,11 +157,11 @@ private:
 
 } // namespace
 
-GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles) {
+GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles, float leaf_cost) {
   if (triangles.empty()) return {};
   std::vector<RTCBuildPrimitive> primitives = build_primitives(triangles);
   EmbreeBvh embree;
-  GpuBvh bvh = flatten(embree.build(primitives)); // the build nodes die with `embree`
+  GpuBvh bvh = flatten(embree.build(primitives, leaf_cost)); // the build nodes die with `embree`
   if (bvh.depth >= gpu::BVH_MAX_DEPTH) {
     throw Error(ErrorKind::internal, fmt::format("gpu_scene: BVH depth {} reaches BVH_MAX_DEPTH {}", bvh.depth, gpu::BVH_MAX_DEPTH));
   }

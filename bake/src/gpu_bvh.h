@@ -19,9 +19,10 @@ struct GpuBvh {
   int depth = 0;                           // deepest node (root = 0)
 };
 
-// The tree over `triangles` (their corners are used). Deterministic: Embree builds on one thread.
+// The tree over `triangles` (their corners are used); `leaf_cost` is the SAH cost of a triangle test
+// relative to a node visit (BakeSettings::trace_leaf_cost). Deterministic: Embree builds on one thread.
 // Empty input gives an empty tree. Throws Error(internal) when Embree fails or the tree reaches
 // BVH_MAX_DEPTH.
-GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles);
+GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles, float leaf_cost);
 
 } // namespace probebake::bake::detail

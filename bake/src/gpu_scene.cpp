@@ -65,8 +65,8 @@ std::vector<formats::TraceInputTriangle> scene_triangles(const scene::Scene& sce
 }
 
 // Appends a BVH over `triangles` to the volume's compact tracing sections (its faces in leaf order).
-int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, formats::TraceMeshBuilder& mesh, int& depth) {
-  const detail::GpuBvh bvh = detail::build_gpu_bvh(triangles);
+int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, formats::TraceMeshBuilder& mesh, int& depth) {
+  const detail::GpuBvh bvh = detail::build_gpu_bvh(triangles, leaf_cost);
   std::vector<formats::TraceInputTriangle> leaf_ordered;
   leaf_ordered.reserve(triangles.size());
   for (std::uint32_t k : bvh.leaf_order) leaf_ordered.push_back(triangles[k]);
@@ -76,7 +76,7 @@ int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, forma
 
 // The dynamic objects (format 1.3) after the static tree: each one's triangles in its rest frame, its own
 // tree and its record. Objects whose triangles all have zero area are left out (nothing to trace).
-void append_dynamic_objects(const scene::Scene& scene, const std::vector<int>& objects, const LightingSettings& lighting,
+void append_dynamic_objects(const scene::Scene& scene, const std::vector<int>& objects, const BakeSettings& settings,
                             formats::ProbeVolume& volume, formats::TraceMeshBuilder& mesh, int& depth) {
   volume.dynamic_objects.clear();
   for (std::size_t o = 0; o < scene.dynamic_objects.size(); ++o) {
@@ -87,12 +87,12 @@ void append_dynamic_objects(const scene::Scene& scene, const std::vector<int>& o
     const std::vector<formats::TraceInputTriangle> triangles = scene_triangles(scene, objects, int(o), glm::inverse(rest));
     if (triangles.empty()) continue;
     for (const formats::TraceInputTriangle& t : triangles)
-      if (lighting.emissive_as_lights && t.emission != glm::vec3(0.0f))
+      if (settings.lighting.emissive_as_lights && t.emission != glm::vec3(0.0f))
         throw Error(ErrorKind::input, fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]) is emissive: emitters are static area "
                                                   "lights (docs/LIGHTING.md)", node.name, node.node));
     gpu::DynamicObject record{};
     record.first_triangle = int(volume.trace_faces.size());
-    record.bvh_root = append_tree(triangles, mesh, depth);
+    record.bvh_root = append_tree(triangles, settings.trace_leaf_cost, mesh, depth);
     record.bvh_node_count = volume.trace_trees.back().node_count;
     record.triangle_count = int(triangles.size());
     record.lower = glm::vec3(3.4e38f);
@@ -176,8 +176,8 @@ RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const Bake
   volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear(), volume.trace_vertices.clear(), volume.trace_materials.clear();
   int depth = 0;
   formats::TraceMeshBuilder mesh(volume);
-  append_tree(scene_triangles(scene, objects, -1, glm::mat4(1.0f)), mesh, depth); // tree 0, empty without static faces
-  append_dynamic_objects(scene, objects, settings.lighting, volume, mesh, depth);
+  append_tree(scene_triangles(scene, objects, -1, glm::mat4(1.0f)), settings.trace_leaf_cost, mesh, depth); // tree 0
+  append_dynamic_objects(scene, objects, settings, volume, mesh, depth);
   report.bvh_seconds = std::chrono::duration<double>(Clock::now() - start).count(); // build and compaction
 
   volume.punctual_lights.clear();

@@ -379,9 +379,9 @@ TEST_F(LightInputsTest, OrbitingLightLeavesNoDriftInTheCache) {
 // share for them, so the next frame's one-ray update gives what two rays give. Two volumes see the same light
 // orbit, boxes and depths; in the second a dark headroom light changes too, so every frame has two changes and
 // no light is tracked. Every probe, matched by position (the pools hand out slots in the order threads reach
-// them), must hold the same bits in both, frame after frame. (The two trees can differ for a frame at a few
-// leaves, a split in one where the other merged: a race in the memory update's decisions, docs/RUNTIME.md
-// "Not done yet"; those probes are counted, not compared.)
+// them), must hold the same bits in both, frame after frame, until the two trees first differ. (They can: the
+// memory update is not yet deterministic, docs/RUNTIME.md "Not done yet". From then on the probes that differ
+// light the others through the SVO, so later frames are counted, not compared.)
 TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
   runtime::UploadOptions options;
@@ -403,6 +403,7 @@ TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
     return out;
   };
   int reused = 0, reused_untracked = 0, traced = 0, unequal = 0, unmatched = 0, compared = 0, live = 0;
+  int same_trees = 0, reused_compared = 0, traced_compared = 0; // frames before the trees first differ, and their work
   for (int f = 0; f < 60; ++f) {
     runtime::FrameInputs in;
     const float x = info.root_min.x + info.root_size * float(f % 8) / 8.0f; // a slab sweeping the root cube
@@ -424,21 +425,24 @@ TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
     const formats::ProbeVolume xv = read_back(tracked.value()), yv = read_back(untracked.value());
     const auto x1 = by_position(xv), y1 = by_position(yv);
     live += int(x1.size());
+    const int unmatched_before = unmatched;
+    for (const auto& [position, p] : x1) unmatched += y1.count(position) == 0 ? 1 : 0;
+    if (unmatched != unmatched_before || x1.size() != y1.size() || same_trees < f) continue;
+    ++same_trees;
     for (const auto& [position, p] : x1) {
-      const auto other = y1.find(position);
-      if (other == y1.end()) {
-        ++unmatched;
-        continue;
-      }
-      for (int v = 0; v < 27; ++v, ++compared) unequal += p.irradiance_sh[v] == other->second.irradiance_sh[v] ? 0 : 1;
+      const gpu::Probe& other = y1.at(position);
+      for (int v = 0; v < 27; ++v, ++compared) unequal += p.irradiance_sh[v] == other.irradiance_sh[v] ? 0 : 1;
     }
+    reused_compared = reused;
+    traced_compared = traced;
   }
   std::printf("[lights] cornell bulb orbited while the memory update split, merged and re-measured (%d probes traced): "
-              "%d records updated with one ray; %d of %d SH coefficients differ from the two-ray volume over 60 frames "
-              "(%d of %d probe-frames without a twin at the same place)\n",
-              traced, reused, unequal, compared, unmatched, live);
-  EXPECT_GT(traced, 0);
-  EXPECT_GT(reused, 0);
+              "%d records updated with one ray; over the %d frames before the trees first differed (%d probes traced, %d "
+              "records with one ray), %d of %d SH coefficients differ from the two-ray volume (%d of %d probe-frames of the "
+              "60 without a twin at the same place)\n",
+              traced, reused, same_trees, traced_compared, reused_compared, unequal, compared, unmatched, live);
+  EXPECT_GT(reused_compared, 0);
+  EXPECT_GE(same_trees, 3); // the first frames: a full trace, then one relight from the traced share, then one from the tracked
   EXPECT_EQ(reused_untracked, 0);
   EXPECT_LT(unmatched, live / 20);
   EXPECT_EQ(unequal, 0);

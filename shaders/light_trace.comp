@@ -45,15 +45,16 @@ LightRecord trace_record(vec3 origin, vec3 dir, out vec3 tracked) {
     return rec;
   }
   const int tri = hit.triangle;
-  rec.normal = probebake_hit_normal(hit);
+  const vec3 normal = probebake_hit_normal(hit);
+  rec.normal = normal;
   rec.base = vec3(0.0);
-  if (probebake_hit_inside(hit, dir)) {
+  if (probebake_hit_inside(hit, normal, dir)) {
     rec.kind = LIGHT_RECORD_BACKFACE;
     atomicAdd(back_count, 1u);
     return rec;
   }
   // The front, or the back of a double-sided triangle: shaded alike with the normal facing the probe.
-  rec.normal = probebake_hit_facing_normal(hit, dir);
+  rec.normal = probebake_facing_normal(normal, dir);
   atomicAdd(front_count, 1u);
   rec.kind = LIGHT_RECORD_FRONT;
   rec.position = origin + hit.t * dir;

@@ -233,14 +233,27 @@ void upgrade_tracing(ProbeVolume& volume) {
   sync_info_counts(volume);
 }
 
-TraceBox decode_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
+namespace {
+
+template <class Decode>
+TraceBox child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child, Decode lower_of, Decode upper_of) {
   const int shift = child == 0 ? 0 : 16;
   TraceBox box;
   for (int a = 0; a < 3; ++a) {
-    box.lower[a] = decoded(tree.lower[a], tree.scale[a], (node.lower[a] >> shift) & 0xFFFFu);
-    box.upper[a] = decoded(tree.lower[a], tree.scale[a], (node.upper[a] >> shift) & 0xFFFFu);
+    box.lower[a] = lower_of(tree.lower[a], tree.scale[a], (node.lower[a] >> shift) & 0xFFFFu);
+    box.upper[a] = upper_of(tree.lower[a], tree.scale[a], (node.upper[a] >> shift) & 0xFFFFu);
   }
   return box;
+}
+
+} // namespace
+
+TraceBox decode_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
+  return child_box(tree, node, child, decoded, decoded);
+}
+
+TraceBox narrowest_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
+  return child_box(tree, node, child, highest_decoding, lowest_decoding);
 }
 
 TraceBox tree_box(const gpu::TraceTree& tree) {

@@ -30,17 +30,6 @@ bool tree_finite(const gpu::TraceTree& t) { return finite3(t.lower) && finite3(t
 
 bool material_finite(const gpu::TraceMaterial& m) { return finite3(m.albedo) && finite3(m.emission) && all_finite({m.pad0, m.pad1}); }
 
-// The box of `child` as the GPU may decode it at its smallest (both roundings of lower + q * scale).
-TraceBox narrowest_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
-  TraceBox box = decode_child_box(tree, node, child);
-  const int shift = child == 0 ? 0 : 16;
-  for (int a = 0; a < 3; ++a) {
-    box.lower[a] = std::max(box.lower[a], std::fma(float((node.lower[a] >> shift) & 0xFFFFu), tree.scale[a], tree.lower[a]));
-    box.upper[a] = std::min(box.upper[a], std::fma(float((node.upper[a] >> shift) & 0xFFFFu), tree.scale[a], tree.lower[a]));
-  }
-  return box;
-}
-
 TraceBox intersect(const TraceBox& a, const TraceBox& b) { return {glm::max(a.lower, b.lower), glm::min(a.upper, b.upper)}; }
 
 bool inside(const TraceBox& box, const glm::vec3& p) {

@@ -197,21 +197,17 @@ vec3 probebake_hit_normal(ProbebakeHit hit) {
   return normalize(n.x * inst.object_from_world[0].xyz + n.y * inst.object_from_world[1].xyz + n.z * inst.object_from_world[2].xyz);
 }
 
-// The ray arrived at the back of the triangle (the same sign in object and world space: the inverse
-// transpose keeps dot(n, dir)).
-bool probebake_hit_backface(ProbebakeHit hit, vec3 dir) { return dot(probebake_hit_normal(hit), dir) > 0.0; }
-
 // The ray arrived at the back of a single-sided triangle: inside a solid (scene::RayHit::inside). The back
-// of a double-sided triangle is open space like its front.
-bool probebake_hit_inside(ProbebakeHit hit, vec3 dir) {
-  return probebake_hit_backface(hit, dir) && (probebake_trace_faces[hit.triangle].material & TRACE_FACE_DOUBLE_SIDED) == 0u;
+// of a double-sided triangle is open space like its front. `normal` is probebake_hit_normal(hit), computed
+// once per hit by the caller (three vertex reads and a normalisation); the inverse transpose keeps the sign
+// of dot(n, dir), so object hits are decided alike in both spaces.
+bool probebake_hit_inside(ProbebakeHit hit, vec3 normal, vec3 dir) {
+  return dot(normal, dir) > 0.0 && (probebake_trace_faces[hit.triangle].material & TRACE_FACE_DOUBLE_SIDED) == 0u;
 }
 
-// The unit world-space normal of the side the ray arrived at (scene::RayHit::facing_normal).
-vec3 probebake_hit_facing_normal(ProbebakeHit hit, vec3 dir) {
-  const vec3 n = probebake_hit_normal(hit);
-  return dot(n, dir) > 0.0 ? -n : n;
-}
+// The unit world-space normal of the side the ray arrived at (scene::RayHit::facing_normal), from the hit's
+// normal.
+vec3 probebake_facing_normal(vec3 normal, vec3 dir) { return dot(normal, dir) > 0.0 ? -normal : normal; }
 
 bool probebake_occluded(vec3 origin, vec3 dir, float t_min, float t_max) {
   return probebake_trace_scene(origin, dir, t_min, t_max, true).triangle >= 0;

@@ -59,7 +59,7 @@ void octree_lattice_ray(vec3 cube_min, float size, vec3 centre, int r, inout uin
   const ProbebakeHit hit = probebake_trace_scene(centre, dir, 0.0, 3.4e38, false);
   if (hit.triangle < 0) return;
   hits += 1u;
-  if (probebake_hit_inside(hit, dir)) backface += 1u;
+  if (probebake_hit_inside(hit, probebake_hit_normal(hit), dir)) backface += 1u;
   if (hit.t <= octree_exit_distance(cube_min, size, centre, dir)) in_cube += 1u;
 }
 

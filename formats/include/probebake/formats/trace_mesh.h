@@ -63,6 +63,9 @@ struct TraceBox {
   glm::vec3 lower{0.0f}, upper{0.0f};
 };
 TraceBox decode_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child);
+// The box of `child` at its smallest over the two roundings a shader may use (lower + q * scale, or one
+// fma): what a face must lie in to be found on every device (the validator's trace_tree check).
+TraceBox narrowest_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child);
 // The root's box: [lower, lower + TRACE_BOX_STEPS * scale].
 TraceBox tree_box(const gpu::TraceTree& tree);
 

@@ -1,6 +1,9 @@
 #include "camera_options.h"
 
+#include <algorithm>
 #include <cstdio>
+
+#include <glm/trigonometric.hpp>
 
 #include "probebake/formats/error.h"
 
@@ -28,6 +31,23 @@ std::optional<bake::Camera> CameraOptions::camera() const {
     throw Error(ErrorKind::usage, "--size must be WxH, e.g. 640x480 (got " + size + ")");
   bake::check_camera(c);
   return c;
+}
+
+bake::Camera default_camera(const scene::Scene& scene) {
+  bake::Camera camera;
+  camera.width = 320, camera.height = 240;
+  if (!scene.cameras.empty()) {
+    const scene::SceneCamera& c = scene.cameras.front();
+    camera.position = c.position;
+    camera.look_at = c.position + c.forward;
+    camera.fov_degrees = glm::degrees(c.yfov);
+    return camera;
+  }
+  const glm::vec3 centre = 0.5f * (scene.bounds.min + scene.bounds.max), extent = scene.bounds.max - scene.bounds.min;
+  camera.position = centre + glm::vec3(0.0f, 0.0f, 0.5f * extent.z + 1.2f * std::max(extent.x, extent.y));
+  camera.look_at = centre;
+  camera.fov_degrees = 50.0f;
+  return camera;
 }
 
 } // namespace probebake::cli

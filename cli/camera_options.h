@@ -1,4 +1,4 @@
-// Camera options shared by `probebake reference` and `probebake eval`:
+// Camera options shared by `probebake reference`, `eval`, `run` and `render`:
 // --camera x,y,z --look-at x,y,z --fov deg --size WxH.
 #pragma once
 
@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "probebake/eval/reference.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::cli {
 
@@ -22,5 +23,9 @@ struct CameraOptions {
   // The camera when --camera was given (--look-at is then required); Error(usage) on bad values.
   std::optional<bake::Camera> camera() const;
 };
+
+// The scene's first glTF camera at 320 x 240, else one on the +Z side of the bounds looking at their centre
+// (the open side of the Cornell boxes).
+bake::Camera default_camera(const scene::Scene& scene);
 
 } // namespace probebake::cli

@@ -21,7 +21,8 @@ Command add_validate_command(CLI::App& root);
 Command add_reference_command(CLI::App& root);
 Command add_eval_command(CLI::App& root);
 #ifdef PROBEBAKE_HAS_RUNTIME
-Command add_run_command(CLI::App& root); // the Vulkan runtime's run driver
+Command add_run_command(CLI::App& root);    // the Vulkan runtime's run driver
+Command add_render_command(CLI::App& root); // pictures through the runtime's lookup
 #endif
 
 } // namespace probebake::cli

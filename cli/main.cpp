@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
       cli::add_eval_command(app),
 #ifdef PROBEBAKE_HAS_RUNTIME
       cli::add_run_command(app),
+      cli::add_render_command(app),
 #endif
   };
 

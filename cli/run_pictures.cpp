@@ -1,5 +1,7 @@
 #include "run_pictures.h"
 
+#include "camera_options.h"
+#include "runtime_lookup.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,57 +9,16 @@
 #include <fstream>
 
 #include <fmt/core.h>
-#include <glm/trigonometric.hpp>
-#include <stb_image_write.h>
 
-#include "probebake/bake/direct_light.h"
 #include "probebake/eval/pose_error.h"
 #include "probebake/formats/error.h"
+#include "probebake/render/render.h"
 #include "probebake/scene/ray_scene.h"
+#include "camera_options.h"
+#include "runtime_lookup.h"
 
 namespace probebake::cli {
 namespace {
-
-// The scene's first camera, else one on the +Z side of the bounds looking at their centre (the open side
-// of the Cornell boxes).
-bake::Camera default_camera(const scene::Scene& scene) {
-  bake::Camera camera;
-  camera.width = 320, camera.height = 240;
-  if (!scene.cameras.empty()) {
-    const scene::SceneCamera& c = scene.cameras.front();
-    camera.position = c.position;
-    camera.look_at = c.position + c.forward;
-    camera.fov_degrees = glm::degrees(c.yfov);
-    return camera;
-  }
-  const glm::vec3 centre = 0.5f * (scene.bounds.min + scene.bounds.max), extent = scene.bounds.max - scene.bounds.min;
-  camera.position = centre + glm::vec3(0.0f, 0.0f, 0.5f * extent.z + 1.2f * std::max(extent.x, extent.y));
-  camera.look_at = centre;
-  camera.fov_degrees = 50.0f;
-  return camera;
-}
-
-void write_png(const std::filesystem::path& path, const bake::Image& image, float exposure) {
-  std::vector<unsigned char> bytes;
-  bytes.reserve(image.pixels.size() * 3);
-  for (const glm::vec3& p : image.pixels)
-    for (int c = 0; c < 3; ++c) {
-      const float v = std::clamp(p[c] * exposure, 0.0f, 1.0f);
-      const float srgb = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-      bytes.push_back(static_cast<unsigned char>(std::lround(255.0f * srgb)));
-    }
-  if (stbi_write_png(path.string().c_str(), image.width, image.height, 3, bytes.data(), image.width * 3) == 0)
-    throw Error(ErrorKind::output, path.string() + ": cannot be written");
-}
-
-// 1 / the 99th percentile of the image's luminance (so that few pixels clip), or 1 for a black image.
-float exposure_of(const bake::Image& image) {
-  std::vector<float> luminance;
-  for (const glm::vec3& p : image.pixels) luminance.push_back(0.2126f * p.x + 0.7152f * p.y + 0.0722f * p.z);
-  std::sort(luminance.begin(), luminance.end());
-  const float high = luminance.empty() ? 0.0f : luminance[luminance.size() * 99 / 100];
-  return high > 0.0f ? 1.0f / high : 1.0f;
-}
 
 std::string svg_number(double v) { return fmt::format("{:.6g}", v); }
 
@@ -103,29 +64,17 @@ runtime::Status RunPictures::after_frame(int frame, runtime::Volume& volume) {
 
 void RunPictures::write_images(int frame, const scene::Scene& posed, runtime::Volume& volume) {
   const scene::RayScene rays(posed);
-  const bake::Camera& camera = *options_.camera;
-  const std::vector<std::optional<bake::SamplePoint>> hits = bake::camera_surface_points(rays, camera);
-  std::vector<glm::vec3> positions, normals;
-  for (const auto& hit : hits)
-    if (hit) positions.push_back(hit->position), normals.push_back(hit->normal);
-  auto indirect = volume.sample_irradiance(positions, normals);
-  if (!indirect.ok()) throw Error(ErrorKind::internal, indirect.status().message);
-  bake::LightingSettings lighting;
-  lighting.emissive_as_lights = volume.buffers().emitter_patches.buffer != VK_NULL_HANDLE;
-  const bake::lighting_detail::DirectLighting direct(posed, rays, lighting); // the bake's own direct light
-  bake::Image final_image{camera.width, camera.height, std::vector<glm::vec3>(hits.size(), glm::vec3(0.0f))};
-  bake::Image indirect_image = final_image;
-  for (std::size_t i = 0, k = 0; i < hits.size(); ++i) {
-    if (!hits[i]) continue;
-    indirect_image.pixels[i] = indirect.value()[k];
-    final_image.pixels[i] = indirect.value()[k] + direct.irradiance(hits[i]->position, hits[i]->normal);
-    ++k;
-  }
-  if (exposure_ == 0.0f) exposure_ = exposure_of(final_image);
+  render::RenderInputs inputs;
+  inputs.scene = &posed, inputs.rays = &rays, inputs.camera = *options_.camera;
+  inputs.emitters_as_lights = volume.buffers().emitter_patches.buffer != VK_NULL_HANDLE;
+  inputs.indirect = runtime_lookup(volume);
+  render::Renderer renderer(inputs);
+  const bake::Image final_image = renderer.render(render::View::final), indirect_image = renderer.render(render::View::indirect);
+  if (exposure_ == 0.0f) exposure_ = render::exposure_of(final_image);
   const std::filesystem::path base = std::filesystem::path(options_.folder) / fmt::format("frame_{:04d}", frame);
   for (const auto& [image, name] : {std::pair{&final_image, "final"}, std::pair{&indirect_image, "indirect"}}) {
-    bake::write_exr(base.string() + "_" + name + ".exr", *image);
-    write_png(base.string() + "_" + name + ".png", *image, exposure_);
+    render::write_image(base.string() + "_" + name + ".exr", *image);
+    render::write_image(base.string() + "_" + name + ".png", *image, exposure_);
   }
   fmt::print("frame {}: wrote {}_final.(exr|png) and {}_indirect.(exr|png)\n", frame, base.string(), base.string());
 }

@@ -68,7 +68,7 @@ float normal_bias(const gpu::VolumeInfo& info) {
 }
 
 // Integer voxel coordinates at svo_depth; the bits of each, from the top, pick the octant per level.
-int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p) {
+int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p, int* leaf_depth) {
   const gpu::VolumeInfo& info = volume.info;
   if (volume.svo_nodes.empty() || info.svo_depth < 0 || info.svo_depth > 30) return -1;
   const glm::vec3 t = (p - info.root_min) / info.root_size;
@@ -78,7 +78,10 @@ int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p) {
   std::size_t node = 0;
   for (int level = info.svo_depth - 1; level >= -1; --level) {
     const int v = volume.svo_nodes[node];
-    if (v < 0) return std::size_t(~v) < volume.svo_leaves.size() ? ~v : -1;
+    if (v < 0) {
+      if (leaf_depth != nullptr) *leaf_depth = info.svo_depth - 1 - level;
+      return std::size_t(~v) < volume.svo_leaves.size() ? ~v : -1;
+    }
     if (v == 0 || level < 0) return -1;
     const int octant = ((c.x >> level) & 1) | (((c.y >> level) & 1) << 1) | (((c.z >> level) & 1) << 2);
     node = std::size_t(v) + std::size_t(octant);

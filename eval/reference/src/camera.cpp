@@ -1,5 +1,6 @@
 // Pinhole camera: first visible surface per pixel, and reference irradiance images of it.
 #include <cmath>
+#include <limits>
 
 #include <fmt/core.h>
 #include <glm/geometric.hpp>
@@ -15,23 +16,6 @@ namespace {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-struct View {
-  glm::vec3 forward, right, up;
-  float tan_half_y, aspect;
-};
-
-View make_view(const Camera& c) {
-  View v;
-  v.forward = glm::normalize(c.look_at - c.position);
-  // World up is +Y (glTF); looking straight up or down, use -Z as the image's up instead.
-  const glm::vec3 world_up = std::abs(v.forward.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
-  v.right = glm::normalize(glm::cross(v.forward, world_up));
-  v.up = glm::cross(v.right, v.forward);
-  v.tan_half_y = std::tan(glm::radians(c.fov_degrees) / 2.0f);
-  v.aspect = float(c.width) / float(c.height);
-  return v;
-}
-
 } // namespace
 
 void check_camera(const Camera& c) {
@@ -43,17 +27,40 @@ void check_camera(const Camera& c) {
     throw Error(ErrorKind::usage, "--camera and --look-at must be finite and distinct points");
 }
 
-std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RayScene& rays, const Camera& camera) {
+CameraFrame::CameraFrame(const Camera& c) : position(c.position), width(c.width), height(c.height) {
+  forward = glm::normalize(c.look_at - c.position);
+  const glm::vec3 world_up = std::abs(forward.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+  right = glm::normalize(glm::cross(forward, world_up));
+  up = glm::cross(right, forward);
+  tan_half_y = std::tan(glm::radians(c.fov_degrees) / 2.0f);
+  aspect = float(c.width) / float(c.height);
+}
+
+glm::vec3 CameraFrame::pixel_direction(std::size_t pixel) const {
+  const float px = (float(pixel % std::size_t(width)) + 0.5f) / float(width);
+  const float py = (float(pixel / std::size_t(width)) + 0.5f) / float(height);
+  return glm::normalize(forward + right * ((2.0f * px - 1.0f) * tan_half_y * aspect) + up * ((1.0f - 2.0f * py) * tan_half_y));
+}
+
+std::optional<glm::vec3> CameraFrame::project(glm::vec3 p) const {
+  const glm::vec3 q = p - position;
+  const float z = glm::dot(q, forward);
+  if (!(z > 0.0f)) return std::nullopt;
+  const float sx = glm::dot(q, right) / (z * tan_half_y * aspect), sy = glm::dot(q, up) / (z * tan_half_y);
+  return glm::vec3(0.5f * (sx + 1.0f) * float(width), 0.5f * (1.0f - sy) * float(height), z);
+}
+
+std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RayScene& rays, const Camera& camera,
+                                                              std::vector<float>* distances) {
   check_camera(camera);
-  const View v = make_view(camera);
+  const CameraFrame frame(camera);
   const scene::Scene& scene = rays.scene();
   std::vector<std::optional<SamplePoint>> points(std::size_t(camera.width) * std::size_t(camera.height));
+  if (distances != nullptr) distances->assign(points.size(), std::numeric_limits<float>::infinity());
   parallel_for(points.size(), 0, [&](std::size_t i) {
-    const float px = (float(i % std::size_t(camera.width)) + 0.5f) / float(camera.width);
-    const float py = (float(i / std::size_t(camera.width)) + 0.5f) / float(camera.height);
-    const glm::vec3 dir = glm::normalize(v.forward + v.right * ((2.0f * px - 1.0f) * v.tan_half_y * v.aspect) +
-                                         v.up * ((1.0f - 2.0f * py) * v.tan_half_y));
+    const glm::vec3 dir = frame.pixel_direction(i);
     const auto hit = rays.intersect(camera.position, dir);
+    if (hit && distances != nullptr) (*distances)[i] = hit->distance;
     // The side the ray arrived at; the back of a single-sided surface is inside a solid and shows nothing.
     if (hit && !hit->inside())
       points[i] = SamplePoint{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->facing_normal()};

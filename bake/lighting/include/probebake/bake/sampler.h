@@ -85,8 +85,9 @@ struct SamplerStats {
 // Half an SVO voxel: the normal bias of step 1.
 float normal_bias(const gpu::VolumeInfo& info);
 // Step 2: index into volume.svo_leaves of the leaf containing `p`, or -1 (empty node, outside the root
-// cube, no SVO, non-finite point).
-int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p);
+// cube, no SVO, non-finite point). `leaf_depth`, when given, receives the leaf node's depth (root 0; the
+// SVO merges uniform regions into shallower leaves).
+int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p, int* leaf_depth = nullptr);
 // Steps 1-3.
 ProbeStencil svo_stencil(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal);
 // Step 4 with the volume's probes.

@@ -103,6 +103,22 @@ struct Camera {
 // Throws Error(usage) when the camera is unusable (size, fov, position equal to look_at, non-finite).
 void check_camera(const Camera& camera);
 
+// A pinhole camera's frame and its pixel rays: one definition for camera_surface_points and every picture
+// drawn over its hits (probebake render's markers). World up is +Y (glTF); looking straight up or down, -Z
+// is the image's up instead.
+struct CameraFrame {
+  explicit CameraFrame(const Camera& camera); // the camera must pass check_camera
+  // Unit direction of the ray through the centre of `pixel` (row-major, top row first).
+  glm::vec3 pixel_direction(std::size_t pixel) const;
+  // Where `p` lands: x to the right and y down in pixels (pixel k spans [k, k + 1)), z its distance along
+  // the view axis; nullopt when p is not in front of the camera.
+  std::optional<glm::vec3> project(glm::vec3 p) const;
+
+  glm::vec3 position{0.0f}, forward{0.0f}, right{0.0f}, up{0.0f};
+  float tan_half_y = 0.0f, aspect = 1.0f;
+  int width = 0, height = 0;
+};
+
 // Row-major RGB, top row first.
 struct Image {
   int width = 0;
@@ -111,8 +127,10 @@ struct Image {
 };
 
 // The first surface seen through each pixel's centre with the normal of the side seen, or nothing where
-// the ray misses or first meets the back of a single-sided surface.
-std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RayScene& rays, const Camera& camera);
+// the ray misses or first meets the back of a single-sided surface. `distances`, when given, receives each
+// pixel's distance to its first hit on either side (+inf for a miss): what hides things drawn behind it.
+std::vector<std::optional<SamplePoint>> camera_surface_points(const scene::RayScene& rays, const Camera& camera,
+                                                              std::vector<float>* distances = nullptr);
 
 // Reference irradiance of the first visible surface per pixel (0 where nothing or the back of a
 // single-sided surface is seen);

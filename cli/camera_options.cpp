@@ -13,7 +13,7 @@ void CameraOptions::add_to(CLI::App& app) {
   app.add_option("--camera", position, "Camera position x,y,z (metres)")->delimiter(',')->expected(3);
   app.add_option("--look-at", look_at, "Point the camera looks at, x,y,z")->delimiter(',')->expected(3);
   app.add_option("--fov", fov, "Vertical field of view, degrees");
-  app.add_option("--size", size, "Image size WxH in pixels");
+  size_option_ = app.add_option("--size", size, "Image size WxH in pixels");
 }
 
 std::optional<bake::Camera> CameraOptions::camera() const {
@@ -26,9 +26,21 @@ std::optional<bake::Camera> CameraOptions::camera() const {
   c.position = {position[0], position[1], position[2]};
   c.look_at = {look_at[0], look_at[1], look_at[2]};
   c.fov_degrees = fov;
+  parse_size(c);
+  bake::check_camera(c);
+  return c;
+}
+
+void CameraOptions::parse_size(bake::Camera& c) const {
   char x = 0, end = 0;
   if (std::sscanf(size.c_str(), "%d%c%d%c", &c.width, &x, &c.height, &end) != 3 || (x != 'x' && x != 'X'))
     throw Error(ErrorKind::usage, "--size must be WxH, e.g. 640x480 (got " + size + ")");
+}
+
+bake::Camera CameraOptions::camera_or_default(const scene::Scene& scene) const {
+  if (std::optional<bake::Camera> c = camera()) return *c;
+  bake::Camera c = default_camera(scene);
+  if (size_option_ != nullptr && size_option_->count() > 0) parse_size(c);
   bake::check_camera(c);
   return c;
 }

@@ -22,6 +22,12 @@ struct CameraOptions {
   void add_to(CLI::App& app);
   // The camera when --camera was given (--look-at is then required); Error(usage) on bad values.
   std::optional<bake::Camera> camera() const;
+  // camera(), else default_camera(scene) at --size when it was given.
+  bake::Camera camera_or_default(const scene::Scene& scene) const;
+
+private:
+  void parse_size(bake::Camera& camera) const;
+  CLI::Option* size_option_ = nullptr;
 };
 
 // The scene's first glTF camera at 320 x 240, else one on the +Z side of the bounds looking at their centre

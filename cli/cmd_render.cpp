@@ -126,7 +126,7 @@ int render_command(const RenderCommandSettings& s) {
   DeviceVolume device;
   render::RenderInputs in;
   in.scene = &scene, in.rays = &rays, in.volume = &volume;
-  in.camera = s.camera.camera().value_or(default_camera(scene));
+  in.camera = s.camera.camera_or_default(scene);
   in.emitters_as_lights = !volume.emitter_patches.empty();
   in.probe_radius = s.probe_radius;
   if (s.cpu) {

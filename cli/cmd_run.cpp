@@ -62,10 +62,11 @@ int run_command(CLI::App* app, RunCommandSettings& s) {
     picture_options.at_frames = s.at_frames;
     picture_options.images = !s.images.empty();
     picture_options.reference = !s.reference.empty();
-    picture_options.camera = s.camera.camera();
     picture_options.receivers = s.receivers;
     picture_options.paths = s.paths;
-    pictures = std::make_unique<RunPictures>(picture_options, scene::load_scene(s.scene, load_options(s.input, true)));
+    scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
+    picture_options.camera = s.camera.camera_or_default(scene);
+    pictures = std::make_unique<RunPictures>(picture_options, std::move(scene));
     options->after_frame = [&pictures](int frame, runtime::Volume& volume) { return pictures->after_frame(frame, volume); };
   }
   const int code = run::run_volume(*options);

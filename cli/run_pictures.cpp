@@ -26,7 +26,6 @@ std::string svg_number(double v) { return fmt::format("{:.6g}", v); }
 
 RunPictures::RunPictures(RunPictureOptions options, scene::Scene scene) : options_(std::move(options)), scene_(std::move(scene)) {
   if (!options_.camera) options_.camera = default_camera(scene_);
-  bake::check_camera(*options_.camera);
   std::error_code ec;
   std::filesystem::create_directories(options_.folder, ec);
   if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot create folder: {}", options_.folder, ec.message()));

@@ -21,7 +21,7 @@ struct RunPictureOptions {
   std::vector<int> at_frames;   // 0-based frames
   bool images = false;
   bool reference = false;
-  std::optional<bake::Camera> camera; // default: the scene's first camera, else one facing the bounds from +Z
+  std::optional<bake::Camera> camera; // checked; default: the scene's first camera, else one facing the bounds from +Z
   int receivers = 256;
   int paths = 256;
 };

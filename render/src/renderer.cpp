@@ -153,7 +153,7 @@ bake::Image Renderer::render_octree() const {
            const bake::SamplePoint& hit = *hits_[i];
            const auto leaf = formats::find_leaf(v, hit.position);
            if (!leaf) return shade(i, glm::vec3(0.25f));
-           const float width = 1.2f * pixel_angle * glm::length(hit.position - frame_.position);
+           const float width = 0.75f * pixel_angle * glm::length(hit.position - frame_.position);
            const glm::vec3 colour = depth_colour(leaf->depth);
            return shade(i, on_cube_border(hit.position, hit.normal, leaf->min, leaf->size, width) ? 0.25f * colour : colour);
          })
@@ -175,7 +175,7 @@ bake::Image Renderer::render_svo() const {
            if (bake::find_svo_leaf(v, p, &depth) >= 0) {
              const float size = cube_size(v.info, depth);
              const glm::vec3 min = v.info.root_min + glm::floor((p - v.info.root_min) / size) * size;
-             if (on_cube_border(p, hit.normal, min, size, 1.2f * pixel_angle * glm::length(p - frame_.position))) colour *= 0.25f;
+             if (on_cube_border(p, hit.normal, min, size, 0.75f * pixel_angle * glm::length(p - frame_.position))) colour *= 0.25f;
            }
            return shade(i, colour);
          })

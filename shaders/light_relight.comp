@@ -6,7 +6,9 @@
 // nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
 // frame) reads its E_before from the tracked buffer, where the last frame (or light_trace) left its E_after:
 // one shadow ray. With `everything` (an object moved: a shadow may fall anywhere) every front record's sum
-// is recomputed as light_trace computes it.
+// is recomputed as light_trace computes it (lights sampled past push.shadow_rays). A change of one light
+// replaces that light's exact share in a sampled sum: E - E_before + E_after stays an unbiased estimate. A
+// record that several changes reach gets its whole sum instead where that casts fewer rays.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/light_bindings.glsl"
@@ -17,18 +19,34 @@ layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
 shared uint relit, reused;
 
+// Several changes reach the record and their differences (two shadow rays each) would cost more rays than its
+// whole sum (one per light, or push.shadow_rays when lights are sampled). Never with one change: the tracked
+// light's bookkeeping needs the difference path.
+bool whole_sum_is_cheaper(LightRecord rec, uint count) {
+  if (count < 2u) return false;
+  const int lights = probebake_lighting.lights;
+  const int whole = push.shadow_rays > 0 ? min(push.shadow_rays, lights) : lights;
+  int reaching = 0;
+  for (uint c = 0u; c < count; ++c)
+    if (probebake_light_reaches(relight_changes.changes[c].before, rec.position) ||
+        probebake_light_reaches(relight_changes.changes[c].after, rec.position)) ++reaching;
+  return reaching >= 2 && 2 * reaching > whole;
+}
+
 // The record's E_punctual after this frame's changes; false when none reaches it. `from_tracked`: E_before
 // of the single change came from the tracked buffer.
 bool updated_punctual(uint slot, uint ray, LightRecord rec, out vec3 e, out bool from_tracked) {
   e = vec3(0.0);
   from_tracked = false;
-  if (relight_changes.everything != 0u) {
-    e = probebake_punctual_irradiance(rec.position, rec.normal);
+  const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
+  if (relight_changes.everything != 0u || whole_sum_is_cheaper(rec, count)) {
+    vec3 unused;
+    e = probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays, -1,
+                                               probebake_record_seed(push.seed, slot, ray), unused);
     return true;
   }
   vec3 delta = vec3(0.0);
   bool reached = false;
-  const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
   for (uint c = 0u; c < count; ++c) {
     const PunctualLight before = relight_changes.changes[c].before, after = relight_changes.changes[c].after;
     const bool was = probebake_light_reaches(before, rec.position), is = probebake_light_reaches(after, rec.position);

@@ -35,7 +35,7 @@ void measure_hit_fraction(int probe) {
   atomicAdd(backface_hits, backface);
 }
 
-LightRecord trace_record(vec3 origin, vec3 dir, out vec3 tracked) {
+LightRecord trace_record(vec3 origin, vec3 dir, uint seed, out vec3 tracked) {
   tracked = vec3(0.0);
   LightRecord rec = LightRecord(vec3(0.0), LIGHT_RECORD_MISS, vec3(0.0), 0.0, probebake_lighting.sky_radiance, 0.0,
                                 vec3(0.0), 0.0);
@@ -61,15 +61,9 @@ LightRecord trace_record(vec3 origin, vec3 dir, out vec3 tracked) {
   rec.reflect = probebake_face_material(tri).albedo * 0.318309886;
   const vec3 emitted = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_face_material(tri).emission;
   rec.base = emitted + rec.reflect * probebake_emitter_irradiance(rec.position, rec.normal);
-  // The sum of probebake_punctual_irradiance, keeping the tracked light's share for light_relight.
-  vec3 e = vec3(0.0);
-  tracked = vec3(0.0);
-  for (int i = 0; i < probebake_lighting.lights; ++i) {
-    const vec3 share = probebake_light_irradiance_of(probebake_lights[i], rec.position, rec.normal);
-    e += share;
-    if (i == push.tracked_light) tracked = share;
-  }
-  light_record_set_punctual(rec, e);
+  // The punctual sum (sampled past push.shadow_rays lights), keeping the tracked light's share for light_relight.
+  light_record_set_punctual(rec, probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays,
+                                                                        push.tracked_light, seed, tracked));
   return rec;
 }
 
@@ -90,7 +84,8 @@ void main() {
   const int rays = probebake_lighting.rays;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
     vec3 tracked;
-    set_light_record(slot, uint(r), trace_record(origin, probebake_ray_directions[r].xyz, tracked));
+    const uint seed = probebake_record_seed(push.seed, slot, uint(r));
+    set_light_record(slot, uint(r), trace_record(origin, probebake_ray_directions[r].xyz, seed, tracked));
     if (push.tracked_light >= 0) set_tracked_punctual(slot, uint(r), tracked);
   }
   barrier();

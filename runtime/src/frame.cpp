@@ -45,7 +45,7 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
       frame.ran[kPassLightTransitions] = true;
     }
     const LightTimerSlots slots{kPassLightRelight, kPassLightTrace, kPassLightGather, kPassLightResolve};
-    frame.ran[kPassLightTrace] = passes.light->record(cmd, timer, slots, std::uint32_t(inputs.limits.max_gathered_probes));
+    frame.ran[kPassLightTrace] = passes.light->record(cmd, timer, slots, inputs.limits);
     frame.ran[kPassLightRelight] = passes.light->relit();
     frame.ran[kPassLightGather] = frame.ran[kPassLightResolve] = true;
   }

@@ -116,7 +116,7 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
   }
 }
 
-void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot) {
+void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& sampling) {
   const bool changed = relight_everything_ || changes_.count > 0;
   relit_ = changed && !trace_pending_; // a full trace caches afresh
   // One light changed: its E_after is tracked, and if it was the tracked light, E_before is read back.
@@ -132,7 +132,8 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
                       offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
     barrier(cmd, kTransferWrite, kComputeReadWrite);
     // Every live slot, whatever the window or the list: a stale record would otherwise stay stale.
-    const gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, probes_per_page_, tracked_light_};
+    gpu::LightPush push = sampling;
+    push.tracked_light = tracked_light_;
     bind_set_and_push(cmd, device_.compute_pipelines().light.layout.get(), descriptors_.set, push);
     timer.begin(cmd, slot);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_relight.get());
@@ -144,13 +145,16 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   relight_everything_ = false;
 }
 
-bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, std::uint32_t max_gathered) {
+bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
-  record_relight(cmd, timer, slots.relight);
+  gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, probes_per_page_, tracked_light_,
+                      limits.shadow_rays_per_record, frames_recorded_++, 0u, 0u};
+  record_relight(cmd, timer, slots.relight, push);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
+  const auto max_gathered = std::uint32_t(limits.max_gathered_probes);
   const std::uint32_t window = max_gathered == 0 ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
@@ -159,8 +163,10 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   // frames), only in coarser steps.
   const std::uint32_t period = (probe_capacity_ + window - 1) / std::max(window, 1u);
   const float hysteresis = queue_driven_ ? hysteresis_ : std::pow(hysteresis_, float(period));
-  gpu::LightPush push{probe_capacity_, hysteresis, trace_pending_ ? 1u : 0u, queue_driven_ ? 1u : 0u, 0u,
-                      probe_capacity_, probes_per_page_, tracked_light_};
+  push.hysteresis = hysteresis;
+  push.trace_all = trace_pending_ ? 1u : 0u;
+  push.listed = queue_driven_ ? 1u : 0u;
+  push.tracked_light = tracked_light_;
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
   const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);

@@ -41,9 +41,10 @@ public:
 
   // Records L1 (first frame every probe, or after retrace(); with walk_light_list(), the flagged probes in
   // every later frame), L2 and L3 between the timer slots' timestamps. Returns whether L1 was recorded.
-  // `max_gathered`: probes gathered and resolved this frame when the pass does not walk the light list, a
-  // window of slots that moves on every frame (0 = every slot). Returns whether L1 was recorded.
-  bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, std::uint32_t max_gathered);
+  // `limits.max_gathered_probes`: probes gathered and resolved this frame when the pass does not walk the
+  // light list, a window of slots that moves on every frame (0 = every slot); `limits.shadow_rays_per_record`:
+  // the light sampling's budget of whole punctual sums (0 = exact). Returns whether L1 was recorded.
+  bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits);
   // Whether the last record() updated cached punctual irradiance (light_relight).
   bool relit() const { return relit_; }
   // After the submission: this frame's statistics.
@@ -67,7 +68,7 @@ private:
   // Pages of whole probes' records, each within maxStorageBufferRange (probes_per_page_).
   void create_record_pages(int rays);
   // Uploads the pending changes and records light_relight between the slot's timestamps, when any.
-  void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot);
+  void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& sampling);
 
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
@@ -77,6 +78,7 @@ private:
   bool relight_everything_ = false;
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
+  std::uint32_t frames_recorded_ = 0; // the light sampling's seed: the same frames, the same draws
   gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;    // light index of changes_.changes[0]
   Buffer relight_changes_;

@@ -179,6 +179,8 @@ Status check_frame_inputs(const FrameInputs& in) {
   if (!unit_interval(in.dead_backface_fraction)) return bad("dead_backface_fraction outside [0, 1]");
   if (in.limits.max_memory_entries < 0 || in.limits.max_light_entries < 0 || in.limits.max_gathered_probes < 0)
     return bad("negative per-frame limit");
+  if (in.limits.shadow_rays_per_record < 0 || in.limits.shadow_rays_per_record == 1 || in.limits.shadow_rays_per_record > 9)
+    return bad("shadow_rays_per_record " + std::to_string(in.limits.shadow_rays_per_record) + " is not 0 or in [2, 9]");
   return {};
 }
 

@@ -108,7 +108,9 @@ runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volu
   if (frame == 0 && options.max_depth) in.max_depth = options.max_depth;
   if (options.orbit_light) {
     in.lights.emplace(baked_lights.begin(), baked_lights.end());
-    (*in.lights)[std::size_t(options.orbit_light->light)] = orbit_pose(baked_lights[std::size_t(options.orbit_light->light)], *options.orbit_light, frame);
+    for (std::size_t l = 0; l < baked_lights.size(); ++l)
+      if (options.orbit_light->light == LightOrbit::kEveryLight || std::size_t(options.orbit_light->light) == l)
+        (*in.lights)[l] = orbit_pose(baked_lights[l], *options.orbit_light, frame);
   }
   if (!options.depth_cycle || frame % options.depth_cycle->period != 0) return in;
   const bool high = (frame / options.depth_cycle->period) % 2 == 0;
@@ -119,7 +121,7 @@ runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volu
 
 // "x,y,z" of the orbiting light (or of light 0) after the frame; empty fields without lights.
 std::string light_position(const runtime::Volume& volume, const RunOptions& options) {
-  const std::size_t index = options.orbit_light ? std::size_t(options.orbit_light->light) : 0;
+  const std::size_t index = options.orbit_light ? std::size_t(std::max(options.orbit_light->light, 0)) : 0;
   if (index >= volume.lights().size()) return ",,";
   const glm::vec3 p = volume.lights()[index].position;
   return std::to_string(p.x) + ',' + std::to_string(p.y) + ',' + std::to_string(p.z);

@@ -12,7 +12,7 @@ constexpr const char* kUsage =
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "                     [--animate thesis|revolution|soak [--plots DIR]] [--memory-update] [--max-depth N]\n"
-    "                     [--limits M:L] [--gather-budget N] [--verbose]\n"
+    "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -26,6 +26,8 @@ constexpr const char* kUsage =
     "  --limits M:L      with the memory update: at most M allocations and L lit leaves per frame (0 = all)\n"
     "  --gather-budget N without the memory update: gather N probes per frame, a window of probe slots\n"
     "                    that moves on every frame (0 = all, the default)\n"
+    "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
+    "                    default; 2-9: the strongest N - 1 lights exact, one of the others sampled)\n"
     "  --verbose         one line per frame (default: a progress bar on a terminal, else a line every 100\n"
     "                    frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
@@ -38,7 +40,7 @@ constexpr const char* kUsage =
     "  --depth-cycle LOW:HIGH:PERIOD  run the memory update (octree volumes with lighting sections);\n"
     "                    every PERIOD frames the max depth alternates HIGH, LOW, ... and every leaf is\n"
     "                    measured again\n"
-    "  --orbit-light I:RADIUS:PERIOD  move the file's punctual light I (from 0) on a horizontal circle of\n"
+    "  --orbit-light I:RADIUS:PERIOD  move the file's punctual light I (from 0; `all`: every light) on a horizontal circle of\n"
     "                    RADIUS metres through its baked position, one turn every PERIOD frames (a\n"
     "                    directional light turns its direction about Y); light_x/y/z in the CSV\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
@@ -68,14 +70,16 @@ bool parse_limits(std::string_view text, runtime::FrameLimits& out) {
          parse_int(text.substr(a + 1), 0, out.max_light_entries);
 }
 
-// I:RADIUS:PERIOD, light index >= 0, radius finite and >= 0, period >= 1.
+// I:RADIUS:PERIOD, light index >= 0 or `all`, radius finite and >= 0, period >= 1.
 bool parse_light_orbit(std::string_view text, LightOrbit& out) {
   const std::size_t a = text.find(':'), b = a == std::string_view::npos ? a : text.find(':', a + 1);
   if (b == std::string_view::npos) return false;
   const std::string_view radius = text.substr(a + 1, b - a - 1);
   const auto [end, error] = std::from_chars(radius.data(), radius.data() + radius.size(), out.radius);
   const bool radius_ok = error == std::errc() && end == radius.data() + radius.size() && std::isfinite(out.radius) && out.radius >= 0.0f;
-  return radius_ok && parse_int(text.substr(0, a), 0, out.light) && parse_int(text.substr(b + 1), 1, out.period);
+  const bool every_light = text.substr(0, a) == "all";
+  if (every_light) out.light = LightOrbit::kEveryLight;
+  return radius_ok && (every_light || parse_int(text.substr(0, a), 0, out.light)) && parse_int(text.substr(b + 1), 1, out.period);
 }
 
 } // namespace
@@ -115,7 +119,7 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--orbit-light") {
       LightOrbit orbit;
       if (!has_value || !parse_light_orbit(argv[++i], orbit))
-        return usage_error("--orbit-light needs I:RADIUS:PERIOD (light index >= 0, radius >= 0 metres, period >= 1 frames)");
+        return usage_error("--orbit-light needs I:RADIUS:PERIOD (light index >= 0 or all, radius >= 0 metres, period >= 1 frames)");
       options.orbit_light = orbit;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
@@ -135,6 +139,9 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--gather-budget") {
       if (!has_value || !parse_int(argv[++i], 0, options.limits.max_gathered_probes))
         return usage_error("--gather-budget needs a whole number of probes >= 0");
+    } else if (arg == "--shadow-rays") {
+      int& rays = options.limits.shadow_rays_per_record;
+      if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9) return usage_error("--shadow-rays needs 0 or a number in 2-9");
     } else if (arg == "--plots") {
       if (!has_value) return usage_error("--plots needs a folder");
       options.plots = argv[++i];

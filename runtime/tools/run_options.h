@@ -18,8 +18,10 @@ struct DepthCycle {
 
 // --orbit-light I:RADIUS:PERIOD: the file's punctual light I circles about the vertical (Y) axis, one turn
 // every PERIOD frames, on a horizontal circle of RADIUS metres that passes through its baked position (frame
-// 0; the centre is RADIUS along -X from it). A directional light's direction turns instead.
+// 0; the centre is RADIUS along -X from it). A directional light's direction turns instead. I = `all`:
+// every light of the file, each on its own circle.
 struct LightOrbit {
+  static constexpr int kEveryLight = -1; // `all`: every light on its own circle
   int light = 0;
   float radius = 0.0f;
   int period = 1;

@@ -31,14 +31,12 @@ bool probebake_light_reaches(PunctualLight light, vec3 p) {
   return dot(d, d) < light.range * light.range * 1.0001; // a relative margin for rounding; beyond it, exactly 0
 }
 
-vec3 probebake_light_irradiance_of(PunctualLight light, vec3 p, vec3 n) {
+// The irradiance `light` would give at (p, n) without its shadow ray: 0 where it cannot light p at all.
+vec3 probebake_light_unshadowed(PunctualLight light, vec3 p, vec3 n) {
   if (light.intensity == vec3(0.0)) return vec3(0.0);
-  const vec3 origin = p + n * probebake_lighting.shadow_offset;
   if (light.type == LIGHT_DIRECTIONAL) {
-    const vec3 l = -light.direction;
-    const float cosine = dot(n, l);
-    if (cosine <= 0.0 || probebake_occluded(origin, l, 0.0, 3.0e38)) return vec3(0.0);
-    return light.intensity * cosine;
+    const float cosine = dot(n, -light.direction);
+    return cosine <= 0.0 ? vec3(0.0) : light.intensity * cosine;
   }
   const vec3 to = light.position - p;
   const float r2 = dot(to, to);
@@ -52,8 +50,19 @@ vec3 probebake_light_irradiance_of(PunctualLight light, vec3 p, vec3 n) {
     const float a = clamp((dot(light.direction, -l) - light.cos_outer) * light.spot_scale, 0.0, 1.0);
     attenuation *= a * a;
   }
-  if (attenuation == 0.0 || !probebake_visible(origin, light.position)) return vec3(0.0);
-  return light.intensity * (cosine * attenuation);
+  return attenuation == 0.0 ? vec3(0.0) : light.intensity * (cosine * attenuation);
+}
+
+// The shadow ray of `light` from (p, n).
+bool probebake_light_visible_from(PunctualLight light, vec3 p, vec3 n) {
+  const vec3 origin = p + n * probebake_lighting.shadow_offset;
+  if (light.type == LIGHT_DIRECTIONAL) return !probebake_occluded(origin, -light.direction, 0.0, 3.0e38);
+  return probebake_visible(origin, light.position);
+}
+
+vec3 probebake_light_irradiance_of(PunctualLight light, vec3 p, vec3 n) {
+  const vec3 e = probebake_light_unshadowed(light, p, n);
+  return e == vec3(0.0) || !probebake_light_visible_from(light, p, n) ? vec3(0.0) : e;
 }
 
 vec3 probebake_punctual_irradiance(vec3 p, vec3 n) {
@@ -61,6 +70,73 @@ vec3 probebake_punctual_irradiance(vec3 p, vec3 n) {
   for (int i = 0; i < probebake_lighting.lights; ++i) e += probebake_light_irradiance_of(probebake_lights[i], p, n);
   return e;
 }
+
+// ---- Many lights: a budget of shadow rays per record ------------------------------------------------------
+// With more lights than `shadow_rays`, the strongest shadow_rays - 1 by unshadowed luminance (the tracked
+// light among them when there is one) get their shadow ray, and one of the others is drawn with probability
+// proportional to its unshadowed luminance and counted with weight 1 / that probability: an unbiased estimate
+// of the whole sum for shadow_rays rays instead of one per light. The draw is weighted reservoir sampling in
+// light order from a hash of `seed`, so the same seed gives the same bits. runtime_types.h LightPush.
+const int PROBEBAKE_MAX_STRONGEST_LIGHTS = 8;
+
+uint probebake_hash(uint x) { // PCG output permutation (O'Neill 2014)
+  x = x * 747796405u + 2891336453u;
+  const uint w = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
+  return (w >> 22u) ^ w;
+}
+
+float probebake_luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// `tracked` (>= 0) is always exact and its share returned in tracked_share.
+vec3 probebake_punctual_irradiance_budgeted(vec3 p, vec3 n, int shadow_rays, int tracked, uint seed, out vec3 tracked_share) {
+  tracked_share = vec3(0.0);
+  const int lights = probebake_lighting.lights;
+  vec3 e = vec3(0.0);
+  if (shadow_rays <= 0 || lights <= shadow_rays) { // one ray per light: the exact sum, in light order
+    for (int i = 0; i < lights; ++i) {
+      const vec3 share = probebake_light_irradiance_of(probebake_lights[i], p, n);
+      e += share;
+      if (i == tracked) tracked_share = share;
+    }
+    return e;
+  }
+  if (tracked >= 0 && tracked < lights) {
+    tracked_share = probebake_light_irradiance_of(probebake_lights[tracked], p, n);
+    e = tracked_share;
+  }
+  const int strongest = min(shadow_rays - 1 - (tracked >= 0 ? 1 : 0), PROBEBAKE_MAX_STRONGEST_LIGHTS);
+  int best[PROBEBAKE_MAX_STRONGEST_LIGHTS];
+  float best_w[PROBEBAKE_MAX_STRONGEST_LIGHTS];
+  for (int k = 0; k < PROBEBAKE_MAX_STRONGEST_LIGHTS; ++k) best[k] = -1, best_w[k] = 0.0;
+  for (int i = 0; i < lights && strongest > 0; ++i) { // insertion into a descending list; ties keep light order
+    if (i == tracked) continue;
+    const float w = probebake_luminance(probebake_light_unshadowed(probebake_lights[i], p, n));
+    if (!(w > best_w[strongest - 1])) continue;
+    int at = strongest - 1;
+    for (; at > 0 && w > best_w[at - 1]; --at) best[at] = best[at - 1], best_w[at] = best_w[at - 1];
+    best[at] = i, best_w[at] = w;
+  }
+  for (int k = 0; k < strongest; ++k)
+    if (best[k] >= 0) e += probebake_light_irradiance_of(probebake_lights[best[k]], p, n);
+  float rest = 0.0, chosen_w = 0.0;
+  int chosen = -1;
+  uint state = seed;
+  for (int i = 0; i < lights; ++i) {
+    bool exact = i == tracked;
+    for (int k = 0; k < strongest; ++k) exact = exact || best[k] == i;
+    if (exact) continue;
+    const float w = probebake_luminance(probebake_light_unshadowed(probebake_lights[i], p, n));
+    if (!(w > 0.0)) continue;
+    rest += w;
+    state = probebake_hash(state);
+    if (float(state >> 8u) * (1.0 / 16777216.0) * rest < w) chosen = i, chosen_w = w;
+  }
+  if (chosen >= 0) e += probebake_light_irradiance_of(probebake_lights[chosen], p, n) * (rest / chosen_w);
+  return e;
+}
+
+// The seed of one record's draw in one frame.
+uint probebake_record_seed(uint frame_seed, uint slot, uint ray) { return probebake_hash(frame_seed ^ probebake_hash(slot * 65536u + ray)); }
 
 // Unoccluded irradiance of one patch (Lambert's formula after clipping the patch to n's hemisphere) and
 // the shadow ray's target (the clipped polygon's vertex mean); false when the patch cannot light p

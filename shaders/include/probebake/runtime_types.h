@@ -114,6 +114,12 @@ struct LightPush {
   uint probes_per_page; // offset 24: light records: slot s is in page s / probes_per_page (bindings.h)
   int tracked_light;    // offset 28: light_trace: the light whose share it also writes to the tracked
                         //   punctual buffer (RelightChanges), -1 = none
+  int shadow_rays;      // offset 32: light_trace, light_relight (everything): shadow rays per record for a
+                        //   whole punctual sum; 0 = one per light (exact); else lights are sampled when there
+                        //   are more (FrameLimits::shadow_rays_per_record, direct_light.glsl)
+  uint seed;            // offset 36: this frame's seed of the light sampling (the same frames, the same bits)
+  uint pad0;            // offset 40
+  uint pad1;            // offset 44
 };                      // size 32
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
@@ -179,7 +185,7 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 32 && offsetof(LightListHeader, resolve_x) == 16);
-static_assert(sizeof(LightPush) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(LightPush) == 48 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) == 16 + 128 * RELIGHT_MAX_CHANGES && offsetof(RelightChanges, changes) == 16);
 } // namespace probebake::gpu

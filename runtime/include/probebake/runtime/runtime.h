@@ -217,6 +217,14 @@ struct FrameLimits {
   // converged irradiance does not depend on it. The cached punctual irradiance of every probe is still made
   // current in the frame its light changes.
   int max_gathered_probes = 0;
+  // Shadow rays per lighting record when a record's whole punctual sum is computed (the first trace, new
+  // probes, and every record after an object moved or more than 16 lights changed in a frame); 0 = one per
+  // light, exact. With more lights than this, the strongest shadow_rays_per_record - 1 lights by unshadowed
+  // irradiance get their ray and one of the others is drawn in proportion to its unshadowed irradiance,
+  // weighted by 1 / its probability: unbiased, and the noise of each record averages out over the probe's
+  // rays (docs/RUNTIME.md "Many lights"). A light changed alone is still relit exactly. In [0, 9]; sampling
+  // needs at least 2 (1 is refused).
+  int shadow_rays_per_record = 0;
 };
 
 // Where a dynamic object is this frame (format 1.3, gpu::DynamicObject): world_from_object of

@@ -1,6 +1,8 @@
 // Light update: the cached punctual irradiance of the records (LightRecord.punctual_*) brought up to date
-// after the host changed lights, one workgroup per live probe slot (every slot, whatever the gather window
-// or the light list: a stale record would stay stale). Per changed light, a front record in reach of its
+// after the host changed lights, one workgroup per live probe slot. Probes in this frame's gather window
+// (all of them without a gather budget, and with the light list) are brought up to date now; the others
+// only note that a change reached them (TRACE_FLAG_STALE_PUNCTUAL) and get whole sums when the window
+// reaches them, so the pass's shadow rays follow the gather budget. Per changed light, a front record in reach of its
 // record before or after the change gets E += E_after - E_before: two shadow rays per changed light instead of
 // one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
 // nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
@@ -65,21 +67,60 @@ bool updated_punctual(uint slot, uint ray, LightRecord rec, out vec3 e, out bool
   return reached;
 }
 
+// The record's whole sum after it missed changes outside the gather window, with the tracked light's share
+// written to the tracked buffer as light_trace writes it (later changes of that light read it as E_before).
+vec3 caught_up_punctual(uint slot, uint ray, LightRecord rec) {
+  vec3 tracked;
+  const vec3 e = probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays, push.tracked_light,
+                                                        probebake_record_seed(push.seed, slot, ray), tracked);
+  if (push.tracked_light >= 0) set_tracked_punctual(slot, ray, tracked);
+  return e;
+}
+
+// Whether this frame's changes reach the record (no shadow ray: ranges only).
+bool changes_reach(LightRecord rec) {
+  if (relight_changes.everything != 0u) return true;
+  const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
+  for (uint c = 0u; c < count; ++c)
+    if (probebake_light_reaches(relight_changes.changes[c].before, rec.position) ||
+        probebake_light_reaches(relight_changes.changes[c].after, rec.position)) return true;
+  return false;
+}
+
+bool in_gather_window(uint slot) { return (slot + push.probe_capacity - push.first_slot) % push.probe_capacity < push.slot_count; }
+
 void main() {
   const uint slot = probebake_flat_workgroup();
   if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  const bool stale = (trace_flags[slot] & TRACE_FLAG_STALE_PUNCTUAL) != 0u;
+  const bool changed = relight_changes.everything != 0u || relight_changes.count > 0u;
+  const int rays = probebake_lighting.rays;
+  if (!in_gather_window(slot)) {
+    // Not gathered this frame: no shadow ray now. A probe the changes reach is marked stale and catches up
+    // with whole sums when the window reaches it (FrameLimits::max_gathered_probes bounds this pass too).
+    if (stale || !changed) return;
+    bool reached = false;
+    for (int r = int(gl_LocalInvocationIndex); r < rays && !reached; r += int(LIGHT_WORKGROUP_SIZE)) {
+      const LightRecord rec = light_record(slot, uint(r));
+      reached = rec.kind == LIGHT_RECORD_FRONT && changes_reach(rec);
+    }
+    if (reached) atomicOr(trace_flags[slot], TRACE_FLAG_STALE_PUNCTUAL);
+    return;
+  }
+  if (!stale && !changed) return; // uniform per workgroup
   if (gl_LocalInvocationIndex == 0) {
     relit = 0u;
     reused = 0u;
   }
   barrier();
-  const int rays = probebake_lighting.rays;
   uint count = 0u, from_tracked_count = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
     LightRecord rec = light_record(slot, uint(r));
+    if (rec.kind != LIGHT_RECORD_FRONT) continue;
     vec3 e;
-    bool from_tracked;
-    if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(slot, uint(r), rec, e, from_tracked)) continue;
+    bool from_tracked = false;
+    if (stale) e = caught_up_punctual(slot, uint(r), rec);
+    else if (!updated_punctual(slot, uint(r), rec, e, from_tracked)) continue;
     light_record_set_punctual(rec, e);
     set_light_record(slot, uint(r), rec);
     ++count;
@@ -89,6 +130,7 @@ void main() {
   atomicAdd(reused, from_tracked_count);
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
+  if (stale) trace_flags[slot] &= ~TRACE_FLAG_STALE_PUNCTUAL;
   if (relit > 0u) atomicAdd(light_counters.relit_records, int(relit));
   if (reused > 0u) atomicAdd(light_counters.reused_records, int(reused));
 }

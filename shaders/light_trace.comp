@@ -71,7 +71,7 @@ void main() {
   const int listed = light_slot(probebake_flat_workgroup());
   if (listed < 0 || probebake_probes[listed].link == 0) return; // uniform per workgroup
   const uint slot = uint(listed);
-  if (push.trace_all == 0u && trace_flags[slot] == 0u) return; // records still valid
+  if (push.trace_all == 0u && (trace_flags[slot] & TRACE_FLAG_RETRACE) == 0u) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {
     hits_in_cube = 0u; hits = 0u; backface_hits = 0u;
@@ -90,7 +90,7 @@ void main() {
   }
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
-  trace_flags[slot] = 0u;
+  trace_flags[slot] = 0u; // fresh records: retraced, and their punctual sums current
   if (octree_probe) {
     probebake_probes[probe].hit_fraction = float(hits_in_cube) / float(probebake_lighting.placement_rays);
     probebake_probes[probe].backface_fraction = hits > 0u ? float(backface_hits) / float(hits) : 0.0;

@@ -68,7 +68,7 @@ void act(int node, vec2 m, int depth) {
   } else {
     queue_push(light_light_out(), node, LEAF_L2_LIGHT);
     queue_push_parent(light_memory_out(), node, LEAF_M4_FREE_CLUSTER);
-    trace_flags[probe] = 1u;
+    trace_flags[probe] = TRACE_FLAG_RETRACE;
   }
 }
 

@@ -116,9 +116,14 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
   }
 }
 
-void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& sampling) {
+void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window) {
   const bool changed = relight_everything_ || changes_.count > 0;
-  relit_ = changed && !trace_pending_; // a full trace caches afresh
+  // Probes outside a gather window only note a change (stale) and catch up within one period of windows.
+  const bool windowed = window.slot_count < probe_capacity_;
+  if (changed && windowed && !trace_pending_) stale_frames_left_ = (probe_capacity_ + window.slot_count - 1) / std::max(window.slot_count, 1u);
+  const bool catching_up = stale_frames_left_ > 0;
+  if (stale_frames_left_ > 0) --stale_frames_left_;
+  relit_ = (changed || catching_up) && !trace_pending_; // a full trace caches afresh
   // One light changed: its E_after is tracked, and if it was the tracked light, E_before is read back.
   const bool single = tracking_ && !relight_everything_ && changes_.count == 1;
   const int changed_light = single ? int(first_change_) : -1;
@@ -131,8 +136,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     vkCmdUpdateBuffer(cmd, relight_changes_.get(), 0,
                       offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
     barrier(cmd, kTransferWrite, kComputeReadWrite);
-    // Every live slot, whatever the window or the list: a stale record would otherwise stay stale.
-    gpu::LightPush push = sampling;
+    gpu::LightPush push = window;
     push.tracked_light = tracked_light_;
     bind_set_and_push(cmd, device_.compute_pipelines().light.layout.get(), descriptors_.set, push);
     timer.begin(cmd, slot);
@@ -150,14 +154,14 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const VkPipelineLayout layout = pipelines.light.layout.get();
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
-  gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, 0u, probe_capacity_, probes_per_page_, tracked_light_,
-                      limits.shadow_rays_per_record, frames_recorded_++, 0u, 0u};
-  record_relight(cmd, timer, slots.relight, push);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
   const auto max_gathered = std::uint32_t(limits.max_gathered_probes);
-  const std::uint32_t window = max_gathered == 0 ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
+  const std::uint32_t window = max_gathered == 0 || queue_driven_ ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
+  gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, first, window, probes_per_page_, tracked_light_,
+                      limits.shadow_rays_per_record, frames_recorded_++, 0u, 0u};
+  record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
   // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
   // frames), only in coarser steps.
@@ -167,6 +171,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   push.trace_all = trace_pending_ ? 1u : 0u;
   push.listed = queue_driven_ ? 1u : 0u;
   push.tracked_light = tracked_light_;
+  push.first_slot = 0u, push.slot_count = probe_capacity_; // light_trace: every slot (its flags decide)
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
   const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);

@@ -67,8 +67,10 @@ public:
 private:
   // Pages of whole probes' records, each within maxStorageBufferRange (probes_per_page_).
   void create_record_pages(int rays);
-  // Uploads the pending changes and records light_relight between the slot's timestamps, when any.
-  void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& sampling);
+  // Uploads the pending changes and records light_relight between the slot's timestamps, when any change is
+  // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
+  // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
+  void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
 
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
@@ -79,6 +81,7 @@ private:
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
   std::uint32_t frames_recorded_ = 0; // the light sampling's seed: the same frames, the same draws
+  std::uint32_t stale_frames_left_ = 0; // frames until every window has caught up with the last change
   gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;    // light index of changes_.changes[0]
   Buffer relight_changes_;

@@ -243,6 +243,42 @@ TEST_F(LightInputsTest, SampledLightsStayNearTheExactSum) {
   }
 }
 
+TEST_F(LightInputsTest, GatherBudgetBoundsTheRelightAndCatchesUpWithMovingLights) {
+  // A quarter of the probes per frame: light 0 moves every frame for 20 frames (the tracked light), then all
+  // six move at once; the probes outside each frame's window wait (stale) and catch up with whole sums when
+  // the window reaches them. The records relit per frame stay within the window's, and the volume lands on
+  // the CPU bake of the final lights.
+  Baked b = bake_generated(cornell_with_six_lights(), "cornell-six-window");
+  runtime::Volume gpu = upload(context(), b.volume);
+  const int capacity = int(b.volume.probes.size()), window = (capacity + 3) / 4, rays = b.settings.lighting.rays;
+  std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
+  int most_relit = 0;
+  const auto frame = [&](bool change) {
+    runtime::FrameInputs in;
+    in.limits.max_gathered_probes = window;
+    if (change) in.lights = lights;
+    auto stats = gpu.run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    most_relit = std::max(most_relit, stats.value().light.relit_records);
+  };
+  frame(false);
+  for (int f = 1; f <= 20; ++f) {
+    lights[0].position = b.volume.punctual_lights[0].position + 0.02f * glm::vec3(std::sin(0.3f * float(f)), 0.0f, std::cos(0.3f * float(f)));
+    frame(true);
+  }
+  for (gpu::PunctualLight& l : lights) l.position += glm::vec3(-0.02f, 0.03f, 0.02f);
+  frame(true);
+  for (int f = 0; f < 300; ++f) frame(false);
+  for (std::size_t l = 0; l < lights.size(); ++l) b.scene->lights[l].position = lights[l].position;
+  const float error = max_sh_difference(read_back(gpu), cpu_lighting(b, b.volume, 0));
+  std::printf("[lights] gather budget %d of %d probes: at most %d records relit per frame (window: %d), GPU vs CPU "
+              "after the lights stopped %.2e\n", window, capacity, most_relit, window * rays, double(error));
+  EXPECT_GT(most_relit, 0);
+  EXPECT_LE(most_relit, window * rays);
+  EXPECT_LT(error, 2e-3f);
+  EXPECT_TRUE(gpu.validate_live().ok());
+}
+
 TEST_F(LightInputsTest, ShadowRayBudgetOutsideItsRangeIsInvalidArgument) {
   runtime::Volume gpu = upload(context(), baked_leak_octree());
   for (int bad : {-1, 1, 10}) {

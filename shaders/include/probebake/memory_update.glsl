@@ -114,7 +114,7 @@ void seat_probe(int probe, int node, vec3 cube_min, float size, int depth) {
   probebake_probes[probe].backface_fraction = 0.0;
   probebake_probes[probe].pad0 = 0.0;
   probebake_octree[node] = ~probe;
-  trace_flags[probe] = 1u;
+  trace_flags[probe] = TRACE_FLAG_RETRACE;
 }
 
 // Gives a probe that has none the surfel chain of batches batch_stack[first, first + batches_per_probe)

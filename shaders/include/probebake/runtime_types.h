@@ -104,6 +104,12 @@ struct RelightChanges {
   LightChange changes[RELIGHT_MAX_CHANGES]; // offset 16
 };                 // size 16 + 128 * RELIGHT_MAX_CHANGES
 
+// Per probe slot flags (LIGHT_BINDING_TRACE_FLAGS): trace the slot's records in the next light_trace (a new or
+// re-measured probe), or its cached punctual irradiance missed a light change while the probe was outside
+// the gather window (light_relight recomputes its whole sums when the window reaches it). light_trace clears both.
+PB_CONSTANT(uint, TRACE_FLAG_RETRACE, 1u);
+PB_CONSTANT(uint, TRACE_FLAG_STALE_PUNCTUAL, 2u);
+
 struct LightPush {
   uint probe_capacity; // offset  0
   float hysteresis;    // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered

@@ -214,8 +214,10 @@ struct FrameLimits {
   // Without the memory update: probes gathered (L2) per frame, a window of probe slots that moves on each
   // frame, so every probe is updated once every k = ceil(capacity / max_gathered_probes) frames, blending
   // with hysteresis^k: a change spreads in as many frames as without a budget, in coarser steps, and the
-  // converged irradiance does not depend on it. The cached punctual irradiance of every probe is still made
-  // current in the frame its light changes.
+  // converged irradiance does not depend on it. The cached punctual irradiance follows the window too: a
+  // probe outside it only notes that a light change reached it and recomputes its whole sums (at most
+  // shadow_rays_per_record rays each) when the window reaches it, so a frame's shadow rays scale with the
+  // budget, not with the volume.
   int max_gathered_probes = 0;
   // Shadow rays per lighting record when a record's whole punctual sum is computed (the first trace, new
   // probes, and every record after an object moved or more than 16 lights changed in a frame); 0 = one per

@@ -1,8 +1,8 @@
 // Light update: the cached punctual irradiance of the records (LightRecord.punctual_*) brought up to date
-// after the host changed lights, one workgroup per live probe slot. Probes in this frame's gather window
-// (all of them without a gather budget, and with the light list) are brought up to date now; the others
-// only note that a change reached them (TRACE_FLAG_STALE_PUNCTUAL) and get whole sums when the window
-// reaches them, so the pass's shadow rays follow the gather budget. Per changed light, a front record in reach of its
+// after the host changed lights, one workgroup per probe slot of the window it is given: every slot, or, in
+// frames whose whole sums the gather budget rations (light_update_pass.cpp), the gather window, after
+// light_mark_stale marked the probes outside it that the changes reach; a stale probe in the window gets its
+// whole sums. Per changed light, a front record in reach of its
 // record before or after the change gets E += E_after - E_before: two shadow rays per changed light instead of
 // one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
 // nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
@@ -36,12 +36,15 @@ bool whole_sum_is_cheaper(LightRecord rec, uint count) {
 }
 
 // The record's E_punctual after this frame's changes; false when none reaches it. `from_tracked`: E_before
-// of the single change came from the tracked buffer.
-bool updated_punctual(uint slot, uint ray, LightRecord rec, out vec3 e, out bool from_tracked) {
+// of the single change came from the tracked buffer. A stale record (it missed changes outside the gather
+// window) takes its whole sum; no light is tracked while any record may be stale (light_update_pass.cpp).
+// The whole sum is called with no tracked light (a constant): with the tracked share kept here too, the
+// pass ran 2x slower on an H100 (registers), in every frame, whichever path a frame took.
+bool updated_punctual(uint slot, uint ray, LightRecord rec, bool stale, out vec3 e, out bool from_tracked) {
   e = vec3(0.0);
   from_tracked = false;
   const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
-  if (relight_changes.everything != 0u || whole_sum_is_cheaper(rec, count)) {
+  if (stale || relight_changes.everything != 0u || whole_sum_is_cheaper(rec, count)) {
     vec3 unused;
     e = probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays, -1,
                                                probebake_record_seed(push.seed, slot, ray), unused);
@@ -67,60 +70,25 @@ bool updated_punctual(uint slot, uint ray, LightRecord rec, out vec3 e, out bool
   return reached;
 }
 
-// The record's whole sum after it missed changes outside the gather window, with the tracked light's share
-// written to the tracked buffer as light_trace writes it (later changes of that light read it as E_before).
-vec3 caught_up_punctual(uint slot, uint ray, LightRecord rec) {
-  vec3 tracked;
-  const vec3 e = probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays, push.tracked_light,
-                                                        probebake_record_seed(push.seed, slot, ray), tracked);
-  if (push.tracked_light >= 0) set_tracked_punctual(slot, ray, tracked);
-  return e;
-}
-
-// Whether this frame's changes reach the record (no shadow ray: ranges only).
-bool changes_reach(LightRecord rec) {
-  if (relight_changes.everything != 0u) return true;
-  const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
-  for (uint c = 0u; c < count; ++c)
-    if (probebake_light_reaches(relight_changes.changes[c].before, rec.position) ||
-        probebake_light_reaches(relight_changes.changes[c].after, rec.position)) return true;
-  return false;
-}
-
-bool in_gather_window(uint slot) { return (slot + push.probe_capacity - push.first_slot) % push.probe_capacity < push.slot_count; }
-
 void main() {
-  const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  // One workgroup per slot of this frame's window (push.first_slot on, modulo the capacity).
+  const uint group = probebake_flat_workgroup();
+  const uint slot = (push.first_slot + group) % max(push.probe_capacity, 1u);
+  if (group >= push.slot_count || probebake_probes[slot].link == 0) return; // uniform per workgroup
   const bool stale = (trace_flags[slot] & TRACE_FLAG_STALE_PUNCTUAL) != 0u;
-  const bool changed = relight_changes.everything != 0u || relight_changes.count > 0u;
-  const int rays = probebake_lighting.rays;
-  if (!in_gather_window(slot)) {
-    // Not gathered this frame: no shadow ray now. A probe the changes reach is marked stale and catches up
-    // with whole sums when the window reaches it (FrameLimits::max_gathered_probes bounds this pass too).
-    if (stale || !changed) return;
-    bool reached = false;
-    for (int r = int(gl_LocalInvocationIndex); r < rays && !reached; r += int(LIGHT_WORKGROUP_SIZE)) {
-      const LightRecord rec = light_record(slot, uint(r));
-      reached = rec.kind == LIGHT_RECORD_FRONT && changes_reach(rec);
-    }
-    if (reached) atomicOr(trace_flags[slot], TRACE_FLAG_STALE_PUNCTUAL);
-    return;
-  }
-  if (!stale && !changed) return; // uniform per workgroup
+  if (!stale && relight_changes.everything == 0u && relight_changes.count == 0u) return; // uniform
   if (gl_LocalInvocationIndex == 0) {
     relit = 0u;
     reused = 0u;
   }
   barrier();
+  const int rays = probebake_lighting.rays;
   uint count = 0u, from_tracked_count = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
     LightRecord rec = light_record(slot, uint(r));
-    if (rec.kind != LIGHT_RECORD_FRONT) continue;
     vec3 e;
-    bool from_tracked = false;
-    if (stale) e = caught_up_punctual(slot, uint(r), rec);
-    else if (!updated_punctual(slot, uint(r), rec, e, from_tracked)) continue;
+    bool from_tracked;
+    if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(slot, uint(r), rec, stale, e, from_tracked)) continue;
     light_record_set_punctual(rec, e);
     set_light_record(slot, uint(r), rec);
     ++count;

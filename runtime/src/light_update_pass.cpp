@@ -118,14 +118,20 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window) {
   const bool changed = relight_everything_ || changes_.count > 0;
-  // Probes outside a gather window only note a change (stale) and catch up within one period of windows.
-  const bool windowed = window.slot_count < probe_capacity_;
-  if (changed && windowed && !trace_pending_) stale_frames_left_ = (probe_capacity_ + window.slot_count - 1) / std::max(window.slot_count, 1u);
+  // A frame that recomputes whole sums everywhere (an object moved, or more than RELIGHT_MAX_CHANGES changes)
+  // spends them on the gather window's probes; the others only note the change (stale) and catch up when the
+  // window reaches them, within one period of windows. A few changes update every probe by differences
+  // (one or two shadow rays per record: cheaper now than a whole sum later).
+  // While probes catch up, later changes are deferred the same way.
+  const bool windowed = window.slot_count < probe_capacity_ && (relight_everything_ || stale_frames_left_ > 0);
+  const std::uint32_t period = (probe_capacity_ + window.slot_count - 1) / std::max(window.slot_count, 1u);
+  if (windowed && changed) stale_frames_left_ = period; // this frame and the next period - 1 windows
   const bool catching_up = stale_frames_left_ > 0;
-  if (stale_frames_left_ > 0) --stale_frames_left_;
+  if (catching_up) --stale_frames_left_;
   relit_ = (changed || catching_up) && !trace_pending_; // a full trace caches afresh
-  // One light changed: its E_after is tracked, and if it was the tracked light, E_before is read back.
-  const bool single = tracking_ && !relight_everything_ && changes_.count == 1;
+  // One light changed: its E_after is tracked, and if it was the tracked light, E_before is read back. Not
+  // while records may be stale: their catch-up does not write the tracked share.
+  const bool single = tracking_ && !relight_everything_ && changes_.count == 1 && !windowed;
   const int changed_light = single ? int(first_change_) : -1;
   changes_.reuse_before = single && tracked_light_ == changed_light ? 1u : 0u;
   changes_.track_after = single ? 1u : 0u;
@@ -138,10 +144,17 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     barrier(cmd, kTransferWrite, kComputeReadWrite);
     gpu::LightPush push = window;
     push.tracked_light = tracked_light_;
-    bind_set_and_push(cmd, device_.compute_pipelines().light.layout.get(), descriptors_.set, push);
+    if (!windowed) push.first_slot = 0u, push.slot_count = probe_capacity_; // every probe now, stale ones too
+    Pipelines& pipelines = device_.compute_pipelines();
+    bind_set_and_push(cmd, pipelines.light.layout.get(), descriptors_.set, push);
     timer.begin(cmd, slot);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_relight.get());
-    dispatch_groups(cmd, device_, probe_capacity_);
+    if (windowed && changed) { // the probes outside the window note the change first
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_mark_stale.get());
+      dispatch_groups(cmd, device_, probe_capacity_);
+      barrier(cmd, kComputeReadWrite, kComputeReadWrite); // the relight reads and clears the flags it wrote
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_relight.get());
+    dispatch_groups(cmd, device_, push.slot_count);
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
   }

@@ -17,7 +17,7 @@
 #include "probebake/dispatch.glsl"
 #include "probebake/direct_light.glsl"
 
-layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
+layout(local_size_x = RELIGHT_WORKGROUP_SIZE) in;
 
 shared uint relit, reused;
 
@@ -84,7 +84,7 @@ void main() {
   barrier();
   const int rays = probebake_lighting.rays;
   uint count = 0u, from_tracked_count = 0u;
-  for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
+  for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(RELIGHT_WORKGROUP_SIZE)) {
     LightRecord rec = light_record(slot, uint(r));
     vec3 e;
     bool from_tracked;

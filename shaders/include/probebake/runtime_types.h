@@ -63,6 +63,9 @@ struct SamplePush {
 // One workgroup per probe slot for trace and gather (threads over the probe's rays), one thread per probe
 // for resolve. docs/RUNTIME.md describes the states and buffers.
 PB_CONSTANT(uint, LIGHT_WORKGROUP_SIZE, 64u);
+// light_relight: one workgroup per probe too, but 256 threads (one record each at 256 rays): its shadow rays
+// are the frame's longest chain, and a few hundred probes do not fill a large GPU (latency, not throughput).
+PB_CONSTANT(uint, RELIGHT_WORKGROUP_SIZE, 256u);
 PB_CONSTANT(int, LIGHT_RECORD_MISS, 0);     // the ray left the scene: sky radiance
 PB_CONSTANT(int, LIGHT_RECORD_BACKFACE, 1); // the back of a single-sided triangle (inside geometry): no light
 PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // a front face or a double-sided back: relit every frame

@@ -18,13 +18,14 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   }
 
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the
-  //     leaves under each moved object's old and new world boxes; without it, L1 re-traces every probe.
+  //     leaves under each moved object's old and new world boxes; without it, L1 re-traces the probes whose
+  //     rays cross those boxes (light_mark_moved).
   std::span<const Box> moved_boxes;
   if (passes.objects && !inputs.object_poses.empty()) {
     frame.moved_objects = passes.objects->record(cmd, inputs.object_poses);
     moved_boxes = passes.objects->moved_boxes();
     if (frame.moved_objects > 0 && passes.light) passes.light->relight_everything(); // shadows anywhere
-    if (frame.moved_objects > 0 && !passes.memory && passes.light) passes.light->retrace();
+    if (frame.moved_objects > 0 && !passes.memory && passes.light) passes.light->retrace_crossing(moved_boxes);
   }
 
   // 1. Memory update (§3.2.1, M0-M4) and SVO refresh: allocates and frees before the probe index lists them.

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <string>
 
+#include <glm/common.hpp>
+
 #include "error.h"
 #include "pipelines.h"
 #include "probebake/runtime_types.h"
@@ -162,10 +164,36 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   relight_everything_ = false;
 }
 
+void LightUpdatePass::retrace_crossing(std::span<const Box> boxes) {
+  for (const Box& box : boxes) {
+    if (moved_boxes_.size() < gpu::RELIGHT_MAX_MOVED_BOXES) {
+      moved_boxes_.push_back({box.min, 0.0f, box.max, 0.0f});
+      continue;
+    }
+    gpu::MovedBox& last = moved_boxes_.back();
+    last.lower = glm::min(last.lower, box.min), last.upper = glm::max(last.upper, box.max);
+  }
+}
+
+void LightUpdatePass::upload_moved_boxes(VkCommandBuffer cmd) {
+  const std::uint32_t count = std::uint32_t(moved_boxes_.size());
+  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, moved_boxes), sizeof(count), &count);
+  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, boxes), count * sizeof(gpu::MovedBox), moved_boxes_.data());
+}
+
+void LightUpdatePass::record_mark_moved(VkCommandBuffer cmd) {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_mark_moved.get());
+  dispatch_groups(cmd, device_, probe_capacity_);
+  barrier(cmd, kComputeReadWrite, kComputeReadWrite); // light_trace reads the flags
+  moved_boxes_.clear();
+}
+
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
+  // Before any pass of this frame reads RelightChanges (the frame's opening barrier orders last frame's reads).
+  if (!moved_boxes_.empty() && !trace_pending_) upload_moved_boxes(cmd);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
   const auto max_gathered = std::uint32_t(limits.max_gathered_probes);
@@ -192,14 +220,17 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     else dispatch_groups(cmd, device_, slot_groups);
   };
   bind_set_and_push(cmd, layout, descriptors_.set, push);
-  const bool traced = trace_pending_ || queue_driven_;
+  const bool marked = !moved_boxes_.empty() && !trace_pending_;
+  const bool traced = trace_pending_ || queue_driven_ || marked;
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
+    if (marked) record_mark_moved(cmd);
     dispatch(pipelines.light_trace.get(), probe_capacity_, 0);
     timer.end(cmd, slots.trace);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
     trace_pending_ = false;
   }
+  moved_boxes_.clear(); // a full trace covered them
   push.first_slot = first;
   push.slot_count = window;
   bind_set_and_push(cmd, layout, descriptors_.set, push);

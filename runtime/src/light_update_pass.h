@@ -39,8 +39,8 @@ public:
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
 
-  // Records L1 (first frame every probe, or after retrace(); with walk_light_list(), the flagged probes in
-  // every later frame), L2 and L3 between the timer slots' timestamps. Returns whether L1 was recorded.
+  // Records L1 (first frame every probe; after retrace_crossing(), or with walk_light_list() in every later
+  // frame, the flagged probes), L2 and L3 between the timer slots' timestamps.
   // `limits.max_gathered_probes`: probes gathered and resolved this frame when the pass does not walk the
   // light list, a window of slots that moves on every frame (0 = every slot); `limits.shadow_rays_per_record`:
   // the light sampling's budget of whole punctual sums (0 = exact). Returns whether L1 was recorded.
@@ -49,7 +49,9 @@ public:
   bool relit() const { return relit_; }
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
-  void retrace() { trace_pending_ = true; }
+  // Objects moved (without the memory update): the next record() re-traces only the probes whose rays cross
+  // one of these boxes (light_mark_moved); more than RELIGHT_MAX_MOVED_BOXES are merged into the last.
+  void retrace_crossing(std::span<const Box> boxes);
   // Lights changed: the next record() updates the cached punctual irradiance of the records they reach
   // (light_relight); more than RELIGHT_MAX_CHANGES changes before a record() mean relight_everything().
   // `first`: the light index of changes[0] (the others follow it).
@@ -71,6 +73,9 @@ private:
   // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
+  // The pending moved boxes into RelightChanges, and the probes whose rays cross them flagged (light_mark_moved).
+  void upload_moved_boxes(VkCommandBuffer cmd);
+  void record_mark_moved(VkCommandBuffer cmd);
 
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
@@ -82,6 +87,7 @@ private:
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
   std::uint32_t frames_recorded_ = 0; // the light sampling's seed: the same frames, the same draws
   std::uint32_t stale_frames_left_ = 0; // frames until every window has caught up with the last change
+  std::vector<gpu::MovedBox> moved_boxes_; // pending retrace_crossing boxes (empty: none)
   gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;    // light index of changes_.changes[0]
   Buffer relight_changes_;

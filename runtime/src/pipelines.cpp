@@ -76,6 +76,7 @@ Pipelines::Pipelines(VkDevice device) {
   light_resolve = make_pipeline(device, light.layout.get(), "light_resolve");
   light_relight = make_pipeline(device, light.layout.get(), "light_relight");
   light_mark_stale = make_pipeline(device, light.layout.get(), "light_mark_stale");
+  light_mark_moved = make_pipeline(device, light.layout.get(), "light_mark_moved");
   memory = make_pass_layout(device, gpu::MEMORY_BINDING_COUNT, sizeof(gpu::MemoryPush));
   memory_begin = make_pipeline(device, memory.layout.get(), "memory_begin");
   memory_decide = make_pipeline(device, memory.layout.get(), "memory_decide");

@@ -345,7 +345,8 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
   EXPECT_GE(expect_layout("light_relight", "RelightChanges",
                           {{"count", offsetof(RelightChanges, count)}, {"everything", offsetof(RelightChanges, everything)},
                            {"reuse_before", offsetof(RelightChanges, reuse_before)},
-                           {"track_after", offsetof(RelightChanges, track_after)}, {"changes", offsetof(RelightChanges, changes)}}),
+                           {"track_after", offsetof(RelightChanges, track_after)}, {"changes", offsetof(RelightChanges, changes)},
+                           {"moved_boxes", offsetof(RelightChanges, moved_boxes)}, {"boxes", offsetof(RelightChanges, boxes)}}),
             1);
   EXPECT_GE(expect_layout("light_relight", "LightChange", {{"before", offsetof(LightChange, before)}, {"after", offsetof(LightChange, after)}}), 1);
   EXPECT_GE(expect_layout("light_gather", "LightPush",

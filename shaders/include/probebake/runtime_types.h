@@ -99,13 +99,26 @@ struct LightChange {
   PunctualLight before; // offset   0
   PunctualLight after;  // offset  64
 };                      // size 128
+// Without the memory update, the world boxes swept by objects that moved this frame (each the union of an
+// object's old and new box; more are merged into fewer): light_mark_moved flags for re-tracing the probes
+// whose lighting or lattice rays cross one, the others keep their records.
+PB_CONSTANT(uint, RELIGHT_MAX_MOVED_BOXES, 8u);
+struct MovedBox {
+  vec3 lower; // offset  0
+  float pad0; // offset 12
+  vec3 upper; // offset 16
+  float pad1; // offset 28
+};            // size 32
 struct RelightChanges {
   uint count;      // offset  0: changes in use
   uint everything; // offset  4: 1 = recompute every front record's E_punctual
   uint reuse_before; // offset  8: 1 = changes[0].before's E at each record is in the tracked buffer
   uint track_after;  // offset 12: 1 = write changes[0].after's E at each front record to the tracked buffer
   LightChange changes[RELIGHT_MAX_CHANGES]; // offset 16
-};                 // size 16 + 128 * RELIGHT_MAX_CHANGES
+  uint moved_boxes; // offset 16 + 128 * RELIGHT_MAX_CHANGES: boxes in use
+  uint pad0, pad1, pad2;
+  MovedBox boxes[RELIGHT_MAX_MOVED_BOXES];
+};                 // size 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES
 
 // Per probe slot flags (LIGHT_BINDING_TRACE_FLAGS): trace the slot's records in the next light_trace (a new or
 // re-measured probe), or its cached punctual irradiance missed a light change while the probe was outside
@@ -196,7 +209,10 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
 static_assert(sizeof(LightListHeader) == 32 && offsetof(LightListHeader, resolve_x) == 16);
 static_assert(sizeof(LightPush) == 48 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
-static_assert(sizeof(RelightChanges) == 16 + 128 * RELIGHT_MAX_CHANGES && offsetof(RelightChanges, changes) == 16);
+static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES && offsetof(RelightChanges, changes) == 16 &&
+              offsetof(RelightChanges, moved_boxes) == 16 + 128 * RELIGHT_MAX_CHANGES &&
+              offsetof(RelightChanges, boxes) == 32 + 128 * RELIGHT_MAX_CHANGES);
+static_assert(sizeof(MovedBox) == 32 && offsetof(MovedBox, upper) == 16);
 } // namespace probebake::gpu
 #endif
 

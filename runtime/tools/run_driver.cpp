@@ -90,6 +90,8 @@ std::vector<runtime::ObjectPose> animated_poses(const RunOptions& options, const
   if (!options.animate) return poses;
   const std::span<const gpu::DynamicObject> objects = volume.dynamic_objects();
   for (std::size_t o = 0; o < objects.size(); ++o) {
+    const auto& only = options.animated_objects;
+    if (!only.empty() && std::find(only.begin(), only.end(), int(o)) == only.end()) continue;
     const glm::mat4 pose = dynamic::animated_pose(*options.animate, frame, objects[o]);
     if (pose != volume.object_pose(int(o))) poses.push_back({int(o), pose});
   }
@@ -222,7 +224,7 @@ int run_volume(const RunOptions& options) {
   runtime::UploadOptions upload;
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis;
-  upload.memory_update = options.depth_cycle.has_value() || options.memory_update || options.animate.has_value();
+  upload.memory_update = !options.no_memory_update && (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
   const gpu::VolumeInfo& info = volume->info();
@@ -239,7 +241,9 @@ int run_volume(const RunOptions& options) {
 
   if (options.animate)
     std::printf("animation: %s over %d frames, %zu dynamic object(s), memory update %s\n", dynamic::to_string(*options.animate),
-                options.frames, volume->dynamic_objects().size(), volume->runs_memory_update() ? "on" : "off (needs octree placement and lighting)");
+                options.frames, volume->dynamic_objects().size(), volume->runs_memory_update() ? "on"
+                : options.no_memory_update ? "off (--no-memory-update)"
+                                           : "off (needs octree placement and lighting)");
   std::ofstream csv;
   if (options.csv) {
     csv.open(*options.csv);

@@ -11,7 +11,8 @@ constexpr const char* kUsage =
     "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
-    "                     [--animate thesis|revolution|soak [--plots DIR]] [--memory-update] [--max-depth N]\n"
+    "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
+    "                     [--no-memory-update] [--max-depth N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
@@ -21,6 +22,9 @@ constexpr const char* kUsage =
     "  --animate NAME    turn the file's dynamic objects (thesis: 45 degrees over frames 200-350; revolution:\n"
     "                    a turn in 150 frames, 50 still, three times; soak: random motion); memory update on\n"
     "  --plots DIR       with --animate: SVG plots of the per-frame table into DIR\n"
+    "  --objects LIST    with --animate: move only these dynamic objects (comma-separated indices from 0)\n"
+    "  --no-memory-update  keep the octree fixed even with --animate (moved objects re-trace only the probes\n"
+    "                    whose rays cross them)\n"
     "  --memory-update   reshape the octree on the GPU (octree volumes with lighting sections)\n"
     "  --max-depth N     with the memory update: the leaf rule's max depth from frame 0 (0-12)\n"
     "  --limits M:L      with the memory update: at most M allocations and L lit leaves per frame (0 = all)\n"
@@ -125,6 +129,18 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       options.vulkan_validation = true;
     } else if (arg == "--memory-update") {
       options.memory_update = true;
+    } else if (arg == "--no-memory-update") {
+      options.no_memory_update = true;
+    } else if (arg == "--objects") {
+      if (!has_value) return usage_error("--objects needs a comma-separated list of object indices");
+      std::string_view list = argv[++i];
+      while (!list.empty()) {
+        const std::size_t comma = std::min(list.find(','), list.size());
+        int object = 0;
+        if (!parse_int(list.substr(0, comma), 0, object)) return usage_error("--objects needs a comma-separated list of object indices >= 0");
+        options.animated_objects.push_back(object);
+        list.remove_prefix(std::min(comma + 1, list.size()));
+      }
     } else if (arg == "--verbose") {
       options.verbose = true;
     } else if (arg == "--animate") {

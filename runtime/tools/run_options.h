@@ -4,6 +4,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "probebake/dynamic/animation.h"
 #include "probebake/runtime/runtime.h"
@@ -42,6 +43,9 @@ struct RunOptions {
   std::optional<LightOrbit> orbit_light; // move one punctual light every frame (FrameInputs::lights)
   std::optional<dynamic::Animation> animate; // pose the file's dynamic objects per frame (dynamic/animation.h)
   bool memory_update = false;        // runtime::UploadOptions::memory_update (implied by --depth-cycle, --animate)
+  bool no_memory_update = false;     // --no-memory-update: off even with --animate (moved objects re-trace the
+                                     // probes whose rays cross them; light_mark_moved)
+  std::vector<int> animated_objects; // --objects LIST: the objects --animate moves (empty: all)
   std::optional<int> max_depth;      // FrameInputs::max_depth in frame 0 (memory update)
   runtime::FrameLimits limits;       // per-frame limits of the memory and light updates
   std::optional<std::string> plots;  // folder for SVG plots of the per-frame table (--animate)

@@ -119,16 +119,13 @@ int render_command(const RenderCommandSettings& s) {
   if (output.extension() != ".png" && output.extension() != ".exr") throw Error(ErrorKind::usage, "-o must end in .png or .exr");
   const std::vector<std::filesystem::path> inputs = {s.file, s.scene};
   for (render::View view : views) check_output_path(output_of(output, view, views.size() > 1), inputs);
+  (void)s.camera.camera(); // a bad --camera, --look-at, --fov or --size is a usage error before any work
 
   const formats::ProbeVolume volume = read_valid_volume(s.file);
-  const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
-  const scene::RayScene rays(scene);
+  // The device first: loading the scene caps the address space (--max-memory), and a GPU driver reserves
+  // much of it when it starts.
   DeviceVolume device;
   render::RenderInputs in;
-  in.scene = &scene, in.rays = &rays, in.volume = &volume;
-  in.camera = s.camera.camera_or_default(scene);
-  in.emitters_as_lights = !volume.emitter_patches.empty();
-  in.probe_radius = s.probe_radius;
   if (s.cpu) {
     in.indirect = [&volume](std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
       std::vector<glm::vec3> out(positions.size());
@@ -139,6 +136,12 @@ int render_command(const RenderCommandSettings& s) {
     device = upload(s, volume);
     in.indirect = runtime_lookup(*device.volume);
   }
+  const scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
+  const scene::RayScene rays(scene);
+  in.scene = &scene, in.rays = &rays, in.volume = &volume;
+  in.camera = s.camera.camera_or_default(scene);
+  in.emitters_as_lights = !volume.emitter_patches.empty();
+  in.probe_radius = s.probe_radius;
   render::Renderer renderer(in);
   float exposure = 0.0f; // one PNG scale for every irradiance view, from the first
   for (render::View view : views) {

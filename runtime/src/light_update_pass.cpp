@@ -128,6 +128,9 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   const bool windowed = window.slot_count < probe_capacity_ && (relight_everything_ || stale_frames_left_ > 0);
   const std::uint32_t period = (probe_capacity_ + window.slot_count - 1) / std::max(window.slot_count, 1u);
   if (windowed && changed) stale_frames_left_ = period; // this frame and the next period - 1 windows
+  // A budget changed while probes wait: a whole period of the new windows from here covers every slot.
+  if (stale_frames_left_ > 0 && window.slot_count != last_window_) stale_frames_left_ = std::max(stale_frames_left_, period);
+  last_window_ = window.slot_count;
   const bool catching_up = stale_frames_left_ > 0;
   if (catching_up) --stale_frames_left_;
   relit_ = (changed || catching_up) && !trace_pending_; // a full trace caches afresh

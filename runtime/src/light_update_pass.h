@@ -87,6 +87,7 @@ private:
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
   std::uint32_t frames_recorded_ = 0; // the light sampling's seed: the same frames, the same draws
   std::uint32_t stale_frames_left_ = 0; // frames until every window has caught up with the last change
+  std::uint32_t last_window_ = 0;       // the last frame's window size
   std::vector<gpu::MovedBox> moved_boxes_; // pending retrace_crossing boxes (empty: none)
   gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;    // light index of changes_.changes[0]

@@ -39,14 +39,6 @@ struct RenderCommandSettings {
   SceneInputOptions input;
 };
 
-constexpr const char* kLegend[] = {
-    "",                                                                                         // final
-    "",                                                                                         // indirect
-    "spheres: each live probe's irradiance in every direction, over the indirect view in grey", // probes
-    "colour: depth of the octree leaf (0 grey, 1 blue, 2 orange, 3 green, 4 red, 5 purple, 6 brown, ...); dark lines: leaf borders",
-    "colour: probes the lookup blends (1 dark blue, 2 teal, 3 green, 4 yellow); magenta: none (direct light only); dark lines: SVO voxels",
-    "blue-grey: probe at its cube's centre; orange: moved out of geometry (line from the centre); red: leaf without a probe",
-};
 
 std::vector<render::View> parse_views(const std::vector<std::string>& names) {
   std::vector<render::View> views;
@@ -149,8 +141,8 @@ int render_command(const RenderCommandSettings& s) {
     if (render::is_irradiance_view(view) && exposure == 0.0f) exposure = render::exposure_of(image);
     const std::filesystem::path path = output_of(output, view, views.size() > 1);
     render::write_image(path, image, render::is_irradiance_view(view) ? exposure : 1.0f);
-    const char* legend = kLegend[std::size_t(view)];
-    fmt::print("wrote {} ({}){}{}\n", path.string(), render::view_name(view), *legend ? ": " : "", legend);
+    const std::string_view legend = render::view_legend(view);
+    fmt::print("wrote {} ({}){}{}\n", path.string(), render::view_name(view), legend.empty() ? "" : ": ", legend);
   }
   check_validation(device);
   return 0;

@@ -14,8 +14,6 @@
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
-shared uint crossing;
-
 // Whether origin + t dir, t in [0, t_max], meets the padded box (slab test; a zero direction component is
 // inside its slab or not at all).
 bool segment_meets_box(vec3 origin, vec3 dir, float t_max, MovedBox box) {
@@ -45,8 +43,6 @@ bool meets_moved(vec3 origin, vec3 dir, float t_max) {
 void main() {
   const uint slot = probebake_flat_workgroup();
   if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
-  if (gl_LocalInvocationIndex == 0) crossing = 0u;
-  barrier();
   const vec3 origin = probebake_probes[slot].position;
   bool meets = false;
   for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.rays && !meets; r += int(LIGHT_WORKGROUP_SIZE)) {
@@ -65,7 +61,5 @@ void main() {
     for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays && !meets; r += int(LIGHT_WORKGROUP_SIZE))
       meets = meets_moved(centre, probebake_ray_directions[probebake_lighting.rays + r].xyz, 3.4e38);
   }
-  if (meets) atomicOr(crossing, 1u);
-  barrier();
-  if (gl_LocalInvocationIndex == 0 && crossing != 0u) trace_flags[slot] |= TRACE_FLAG_RETRACE;
+  if (meets) atomicOr(trace_flags[slot], TRACE_FLAG_RETRACE);
 }

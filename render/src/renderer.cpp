@@ -70,6 +70,21 @@ std::optional<View> view_from_name(std::string_view name) {
 
 bool is_irradiance_view(View view) { return view == View::final || view == View::indirect || view == View::probes; }
 
+std::string_view view_legend(View view) {
+  switch (view) {
+  case View::final:
+  case View::indirect: return "";
+  case View::probes: return "spheres: each live probe's irradiance in every direction, over the indirect view in grey";
+  case View::octree:
+    return "colour: depth of the octree leaf (0 grey, 1 blue, 2 orange, 3 green, 4 red, 5 purple, 6 brown, ...); dark lines: leaf borders";
+  case View::svo:
+    return "colour: probes the lookup blends (1 dark blue, 2 teal, 3 green, 4 yellow); magenta: none (direct light only); dark lines: SVO voxels";
+  case View::relocation:
+    return "blue-grey: probe at its cube's centre; orange: moved out of geometry (line from the centre); red: leaf without a probe";
+  }
+  return "";
+}
+
 Renderer::Renderer(RenderInputs inputs) : in_(std::move(inputs)), frame_((bake::check_camera(in_.camera), in_.camera)) {
   if (in_.scene == nullptr || in_.rays == nullptr) throw Error(ErrorKind::internal, "Renderer: scene and rays are required");
   hits_ = bake::camera_surface_points(*in_.rays, in_.camera, &distances_);
@@ -94,6 +109,11 @@ const std::vector<glm::vec3>& Renderer::indirect() {
 const formats::ProbeVolume& Renderer::volume() const {
   if (in_.volume == nullptr) throw Error(ErrorKind::usage, "the debug views need the probe volume");
   return *in_.volume;
+}
+
+// Three quarters of a pixel's footprint at `p`: cell borders drawn on surfaces stay about a pixel wide.
+float Renderer::border_width(glm::vec3 p) const {
+  return 0.75f * 2.0f * frame_.tan_half_y / float(frame_.height) * glm::length(p - frame_.position);
 }
 
 // Surfaces lit from the eye, so that shapes read in the flat-coloured views.
@@ -148,14 +168,12 @@ bake::Image Renderer::render_probes() {
 bake::Image Renderer::render_octree() const {
   const formats::ProbeVolume& v = volume();
   if (v.info.placement != gpu::PLACEMENT_OCTREE) throw Error(ErrorKind::usage, "the octree view needs a volume with octree placement");
-  const float pixel_angle = 2.0f * frame_.tan_half_y / float(frame_.height);
   return surfaces([&](std::size_t i) {
            const bake::SamplePoint& hit = *hits_[i];
            const auto leaf = formats::find_leaf(v, hit.position);
            if (!leaf) return shade(i, glm::vec3(0.25f));
-           const float width = 0.75f * pixel_angle * glm::length(hit.position - frame_.position);
            const glm::vec3 colour = depth_colour(leaf->depth);
-           return shade(i, on_cube_border(hit.position, hit.normal, leaf->min, leaf->size, width) ? 0.25f * colour : colour);
+           return shade(i, on_cube_border(hit.position, hit.normal, leaf->min, leaf->size, border_width(hit.position)) ? 0.25f * colour : colour);
          })
       .image;
 }
@@ -163,7 +181,6 @@ bake::Image Renderer::render_octree() const {
 bake::Image Renderer::render_svo() const {
   const formats::ProbeVolume& v = volume();
   if (v.svo_nodes.empty()) throw Error(ErrorKind::usage, "the svo view needs a volume with an SVO probe index");
-  const float pixel_angle = 2.0f * frame_.tan_half_y / float(frame_.height);
   return surfaces([&](std::size_t i) {
            const bake::SamplePoint& hit = *hits_[i];
            const bake::ProbeStencil stencil = bake::svo_stencil(v, hit.position, hit.normal);
@@ -175,7 +192,7 @@ bake::Image Renderer::render_svo() const {
            if (bake::find_svo_leaf(v, p, &depth) >= 0) {
              const float size = cube_size(v.info, depth);
              const glm::vec3 min = v.info.root_min + glm::floor((p - v.info.root_min) / size) * size;
-             if (on_cube_border(p, hit.normal, min, size, 0.75f * pixel_angle * glm::length(p - frame_.position))) colour *= 0.25f;
+             if (on_cube_border(p, hit.normal, min, size, border_width(p))) colour *= 0.25f;
            }
            return shade(i, colour);
          })

@@ -195,8 +195,10 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
-  // Before any pass of this frame reads RelightChanges (the frame's opening barrier orders last frame's reads).
-  if (!moved_boxes_.empty() && !trace_pending_) upload_moved_boxes(cmd);
+  // Objects moved: their boxes go into RelightChanges before any pass of this frame reads it (the frame's
+  // opening barrier orders last frame's reads); a full trace needs no marks.
+  const bool marked = !moved_boxes_.empty() && !trace_pending_;
+  if (marked) upload_moved_boxes(cmd);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
   const auto max_gathered = std::uint32_t(limits.max_gathered_probes);
@@ -223,7 +225,6 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     else dispatch_groups(cmd, device_, slot_groups);
   };
   bind_set_and_push(cmd, layout, descriptors_.set, push);
-  const bool marked = !moved_boxes_.empty() && !trace_pending_;
   const bool traced = trace_pending_ || queue_driven_ || marked;
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);

@@ -13,13 +13,11 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "probebake/bake/bake.h"
-#include "probebake/samples/scenes.h"
-#include "probebake/scene/scene.h"
 #include "memory_reference.h"
 #include "probebake/dynamic/animation.h"
 #include "probebake/formats/trace_mesh.h"
 #include "probebake/formats/validate.h"
+#include "probebake/samples/scenes.h"
 #include "runtime_test_util.h"
 
 namespace probebake::test {
@@ -245,15 +243,7 @@ TEST_F(DynamicObjectsTest, MovedObjectRetracesOnlyTheProbesWhoseRaysCrossItsBox)
   samples::RoomsOptions rooms;
   rooms.count = 4;
   rooms.detail = 1;
-  const std::vector<std::uint8_t> glb = samples::rooms(rooms).to_glb();
-  const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), "rooms4", ".",
-                                                           {.require_triangles = true});
-  bake::BakeSettings settings;
-  settings.max_depth = 3;
-  settings.surfels_per_probe = 64;
-  settings.svo_depth = 4;
-  settings.lighting.rays = 64;
-  const formats::ProbeVolume v = bake::bake(scene, settings).volume;
+  const formats::ProbeVolume v = bake_scene(samples::rooms(rooms), "rooms4");
   ASSERT_FALSE(v.dynamic_objects.empty());
   const glm::mat4 moved = glm::translate(dynamic::rest_pose(v.dynamic_objects[0]), glm::vec3(0.4f, 0.0f, 0.3f));
   auto gpu = runtime::Volume::upload(context(), v, {.hysteresis = 0.0f});

@@ -60,6 +60,8 @@ public:
 [[maybe_unused]] ::testing::Environment* const g_environment =
     ::testing::AddGlobalTestEnvironment(new VulkanEnvironment);
 
+} // namespace
+
 formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid, bool full) {
   const std::vector<std::uint8_t> glb = builder.to_glb();
   const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), name, ".",
@@ -76,8 +78,6 @@ formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std:
   if (full) formats::init_leaf_queue(volume, 64);
   return volume;
 }
-
-} // namespace
 
 runtime::ContextOptions validated_options() {
   runtime::ContextOptions options;

@@ -9,6 +9,7 @@
 
 #include "probebake/formats/probe_volume.h"
 #include "probebake/runtime/runtime.h"
+#include "probebake/samples/scene_builder.h"
 
 namespace probebake::test {
 
@@ -32,6 +33,10 @@ protected:
 private:
   std::uint64_t messages_before_ = 0;
 };
+
+// A generated scene loaded like the CLI loads it and baked with small settings (max depth 3, 64 surfels, SVO
+// depth 4, 96 rays; octree or a 6^3 grid; `full`: surfel batches and a leaf queue).
+formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid = false, bool full = false);
 
 // Baked volumes, cached per process (small settings, lighting on).
 const formats::ProbeVolume& baked_cornell_octree();

@@ -65,12 +65,6 @@ vec3 probebake_light_irradiance_of(PunctualLight light, vec3 p, vec3 n) {
   return e == vec3(0.0) || !probebake_light_visible_from(light, p, n) ? vec3(0.0) : e;
 }
 
-vec3 probebake_punctual_irradiance(vec3 p, vec3 n) {
-  vec3 e = vec3(0.0);
-  for (int i = 0; i < probebake_lighting.lights; ++i) e += probebake_light_irradiance_of(probebake_lights[i], p, n);
-  return e;
-}
-
 // ---- Many lights: a budget of shadow rays per record ------------------------------------------------------
 // With more lights than `shadow_rays`, the strongest shadow_rays - 1 by unshadowed luminance (the tracked
 // light among them when there is one) get their shadow ray, and one of the others is drawn with probability

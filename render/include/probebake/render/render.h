@@ -43,6 +43,8 @@ std::string_view view_name(View view);
 std::optional<View> view_from_name(std::string_view name);
 // Whether the view's pixels are irradiance (W/m^2) rather than display colours.
 bool is_irradiance_view(View view);
+// One line that says what the view's colours mean (empty for the irradiance images).
+std::string_view view_legend(View view);
 
 // The relocation view's colours (the spheres are shaded by up to 40 % where they face up or down).
 inline constexpr glm::vec3 kProbeAtCentreColour{0.55f, 0.62f, 0.75f};
@@ -77,6 +79,7 @@ private:
   const std::vector<glm::vec3>& indirect();
   Canvas surfaces(const std::function<glm::vec3(std::size_t pixel)>& colour) const;
   glm::vec3 shade(std::size_t pixel, glm::vec3 colour) const;
+  float border_width(glm::vec3 p) const;
   bake::Image render_irradiance(bool with_direct);
   bake::Image render_probes();
   bake::Image render_octree() const;

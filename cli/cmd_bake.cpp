@@ -1,6 +1,7 @@
 // `probebake bake SCENE` (also `probebake SCENE`): bake probes and write a .probes file.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <type_traits>
@@ -12,6 +13,7 @@
 #include "scene_input.h"
 #include "probebake/bake/bake.h"
 #include "probebake/formats/atomic_file.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
@@ -73,6 +75,10 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
   j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves}, {"solid_voxels", r.svo_solid_voxels},
               {"uncovered_voxels", r.svo_uncovered_voxels},
               {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
+  std::uint64_t cell_total = 0, cell_largest = 0;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) cell_total += formats::cell_bytes(v, k), cell_largest = std::max(cell_largest, formats::cell_bytes(v, k));
+  j["cells"] = {{"depth", r.cell_depth}, {"size", r.cell_size}, {"count", v.cells.size()}, {"bytes", cell_total}, {"largest_bytes", cell_largest},
+                {"split_tracing", !v.cell_tracing.empty()}};
   j["sections"] = section_bytes(v);
   const bake::RuntimeLightingReport& g = r.runtime_lighting;
   j["runtime_lighting"] = {{"written", g.written}, {"bvh_nodes", g.bvh_nodes}, {"bvh_depth", g.bvh_depth},
@@ -121,6 +127,10 @@ void print_report(const nlohmann::ordered_json& j) {
                gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(), gpu_scene["tracing_bytes_per_triangle"].get<double>(),
                gpu_scene["lights"].get<int>(), gpu_scene["emitter_patches"].get<int>(), gpu_scene["dynamic_objects"].get<int>(),
                gpu_scene["bytes"].get<std::size_t>(), 1e3 * gpu_scene["bvh_seconds"].get<double>());
+  const auto& cells = j["cells"];
+  fmt::print("cells        {} of {:.4g} m (depth {}), {} bytes in cells, largest {}{}\n", cells["count"].get<std::size_t>(), cells["size"].get<float>(),
+             cells["depth"].get<int>(), cells["bytes"].get<std::uint64_t>(), cells["largest_bytes"].get<std::uint64_t>(),
+             cells["split_tracing"].get<bool>() ? " (tracing split by cell)" : "");
   fmt::print("sections    ");
   for (const auto& [name, bytes] : j["sections"].items())
     if (bytes.get<std::size_t>() > 0) fmt::print(" {}:{}", name, bytes.get<std::size_t>());
@@ -208,6 +218,7 @@ Command add_bake_command(CLI::App& root) {
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");
   app->add_option("--threads", s->bake.threads, "Worker threads (0 = all cores); output does not depend on it");
   app->add_option("--cell-depth", s->bake.cell_depth, "Streaming cells: (2^N)^3 grid");
+  app->add_option("--cell-size", s->bake.cell_size, "Streaming cells at most S metres wide (the shallowest such grid; overrides --cell-depth)");
   app->add_option("--light-rays", s->bake.lighting.rays, "Rays per probe for the bake-time lighting");
   app->add_option("--light-tolerance", s->bake.lighting.tolerance, "Relative error at which the bounce iteration stops");
   app->add_option("--light-max-iterations", s->bake.lighting.max_iterations, "Bounce iterations at most");

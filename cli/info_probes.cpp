@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
@@ -68,10 +69,17 @@ nlohmann::json info_json(const ProbesInfo& in) {
                         {"required", (e.flags & formats::kSectionRequired) != 0}});
   }
   nlohmann::json cells = nlohmann::json::array();
-  for (const formats::Cell& c : v.cells) {
-    cells.push_back({{"index", c.cell_index}, {"bounds_min", vec_json(c.bounds_min)}, {"bounds_max", vec_json(c.bounds_max)},
-                     {"root_node", c.root_node}, {"probes", range_json(c.probes)},
-                     {"surfel_batches", range_json(c.surfel_batches)}, {"svo_leaves", range_json(c.svo_leaves)}});
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const formats::Cell& c = v.cells[k];
+    nlohmann::json cell = {{"index", c.cell_index}, {"bounds_min", vec_json(c.bounds_min)}, {"bounds_max", vec_json(c.bounds_max)},
+                           {"root_node", c.root_node}, {"probes", range_json(c.probes)},
+                           {"surfel_batches", range_json(c.surfel_batches)}, {"svo_leaves", range_json(c.svo_leaves)},
+                           {"bytes", formats::cell_bytes(v, k)}};
+    if (k < v.cell_tracing.size()) {
+      const formats::CellTracing& t = v.cell_tracing[k];
+      cell["trace_nodes"] = range_json(t.trace_nodes), cell["trace_faces"] = range_json(t.trace_faces), cell["trace_vertices"] = range_json(t.trace_vertices);
+    }
+    cells.push_back(cell);
   }
   const formats::FileHeader& h = in.container.header;
   return {{"file", in.path},
@@ -130,10 +138,17 @@ void print_text(const ProbesInfo& in) {
                tracing["bytes"].get<std::size_t>(), tracing["bytes_per_triangle"].get<double>(), tracing["layout"].get<std::string>());
   }
   fmt::print("cells        {} (depth {})\n", v.cells.size(), v.cell_depth);
-  for (const formats::Cell& c : v.cells) {
-    fmt::print("  cell {:<5} root node {:<5} {} probes ({} B), {} batches ({} B), {} svo leaves ({} B)\n", c.cell_index, c.root_node,
-               c.probes.count, c.probes.byte_size, c.surfel_batches.count, c.surfel_batches.byte_size, c.svo_leaves.count,
-               c.svo_leaves.byte_size);
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const formats::Cell& c = v.cells[k];
+    std::string tracing;
+    if (k < v.cell_tracing.size()) {
+      const formats::CellTracing& t = v.cell_tracing[k];
+      tracing = fmt::format(", {} trace faces ({} B with {} nodes and {} vertices)", t.trace_faces.count,
+                            t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size, t.trace_nodes.count, t.trace_vertices.count);
+    }
+    fmt::print("  cell {:<5} {:>10} B  root node {:<5} {} probes ({} B), {} batches ({} B), {} svo leaves ({} B){}\n", c.cell_index,
+               formats::cell_bytes(v, k), c.root_node, c.probes.count, c.probes.byte_size, c.surfel_batches.count, c.surfel_batches.byte_size,
+               c.svo_leaves.count, c.svo_leaves.byte_size, tracing);
   }
 }
 

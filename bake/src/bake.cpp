@@ -239,6 +239,7 @@ void check_settings(const BakeSettings& s) {
   require(s.threads >= 0, "--threads must be >= 0");
   require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget, fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
   require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
+  require(std::isfinite(s.cell_size) && s.cell_size >= 0.0f, "--cell-size must be a finite width >= 0");
   require(std::isfinite(s.trace_leaf_cost) && s.trace_leaf_cost >= 0.05f && s.trace_leaf_cost <= 10.0f,
           "--trace-leaf-cost must be in [0.05, 10]");
   check_lighting_settings(s.lighting);
@@ -275,7 +276,18 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
   return hash;
 }
 
-BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress) {
+int cell_depth_for(const BakeSettings& s, float root_size) {
+  if (!(s.cell_size > 0.0f)) return s.cell_depth;
+  for (int depth = 0; depth <= formats::kMaxCellDepth; ++depth)
+    if (root_size / float(formats::cells_per_axis(depth)) <= s.cell_size) return depth;
+  throw Error(ErrorKind::usage, fmt::format("--cell-size {:g}: the root cube is {:g} m wide and at most {} cells per axis are supported "
+                                            "(cells of {:g} m); give a larger size",
+                                            s.cell_size, root_size, formats::cells_per_axis(formats::kMaxCellDepth),
+                                            root_size / float(formats::cells_per_axis(formats::kMaxCellDepth))));
+}
+
+BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const ProgressCallback& progress) {
+  BakeSettings settings = requested; // the cell depth is resolved once the root cube is known
   check_settings(settings);
   check_scene(scene);
   check_clearance(scene, settings);
@@ -307,6 +319,10 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const P
     report.surrounded_root = true;
     placement_bounds = {volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size)};
   }
+  settings.cell_depth = cell_depth_for(settings, volume.info.root_size);
+  settings.cell_size = 0.0f; // the input hash sees the depth used, whichever way it was asked for
+  report.cell_depth = settings.cell_depth;
+  report.cell_size = volume.info.root_size / float(formats::cells_per_axis(settings.cell_depth));
   formats::Octree tree(volume);
 
   timer.stage("place");

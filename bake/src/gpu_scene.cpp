@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
+#include <utility>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -17,6 +19,7 @@
 #include "gpu_bvh.h"
 #include "probebake/bake/direct_light.h"
 #include "probebake/common/lattice.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/trace_mesh.h"
 
@@ -64,14 +67,62 @@ std::vector<formats::TraceInputTriangle> scene_triangles(const scene::Scene& sce
   return triangles;
 }
 
+// A BVH over triangles with its triangles in leaf order.
+struct LeafOrderedBvh {
+  detail::GpuBvh bvh;
+  std::vector<formats::TraceInputTriangle> triangles;
+  formats::TraceTreeInput input() const { return formats::TraceTreeInput{bvh.nodes, triangles}; }
+};
+
+LeafOrderedBvh leaf_ordered_bvh(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, int& depth) {
+  LeafOrderedBvh out{detail::build_gpu_bvh(triangles, leaf_cost), {}};
+  out.triangles.reserve(triangles.size());
+  for (std::uint32_t k : out.bvh.leaf_order) out.triangles.push_back(triangles[k]);
+  depth = std::max(depth, out.bvh.depth);
+  return out;
+}
+
 // Appends a BVH over `triangles` to the volume's compact tracing sections (its faces in leaf order).
 int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, formats::TraceMeshBuilder& mesh, int& depth) {
-  const detail::GpuBvh bvh = detail::build_gpu_bvh(triangles, leaf_cost);
-  std::vector<formats::TraceInputTriangle> leaf_ordered;
-  leaf_ordered.reserve(triangles.size());
-  for (std::uint32_t k : bvh.leaf_order) leaf_ordered.push_back(triangles[k]);
-  depth = std::max(depth, bvh.depth);
-  return mesh.add_tree(formats::TraceTreeInput{bvh.nodes, leaf_ordered});
+  return mesh.add_tree(leaf_ordered_bvh(triangles, leaf_cost, depth).input());
+}
+
+// Interleaved bits of a cell's grid coordinates: halving cells in this order keeps neighbours together.
+std::uint32_t morton_code(int cell_index, int cell_depth) {
+  const int n = formats::cells_per_axis(cell_depth);
+  const int xyz[3] = {cell_index % n, (cell_index / n) % n, cell_index / (n * n)};
+  std::uint32_t code = 0;
+  for (int bit = 0; bit < cell_depth; ++bit)
+    for (int axis = 0; axis < 3; ++axis) code |= std::uint32_t((xyz[axis] >> bit) & 1) << (3 * bit + axis);
+  return code;
+}
+
+// The static tree split by streaming cell (format 1.5, formats::CellTracing): one BVH per cell over the
+// triangles whose centroid lies in it, stored in cell order under a top level over the cells in Morton
+// order. Rebuilds the volume's cells (arrange_cells) with the tracing ranges.
+void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, const BakeSettings& settings, formats::ProbeVolume& volume,
+                         formats::TraceMeshBuilder& mesh, int& depth) {
+  std::map<int, std::vector<formats::TraceInputTriangle>> by_cell; // sorted by cell index
+  for (formats::TraceInputTriangle& t : triangles)
+    by_cell[formats::cell_of_triangle(volume.info, settings.cell_depth, t.corners[0], t.corners[1], t.corners[2])].push_back(std::move(t));
+  std::vector<LeafOrderedBvh> bvhs;
+  std::vector<formats::TraceTreeInput> inputs;
+  std::vector<std::size_t> top_order;
+  volume.cells.clear();
+  for (const auto& [index, cell_triangles] : by_cell) {
+    bvhs.push_back(leaf_ordered_bvh(cell_triangles, settings.trace_leaf_cost, depth));
+    top_order.push_back(top_order.size());
+    formats::Cell record;
+    record.cell_index = index;
+    volume.cells.push_back(record);
+  }
+  for (const LeafOrderedBvh& bvh : bvhs) inputs.push_back(bvh.input());
+  std::stable_sort(top_order.begin(), top_order.end(), [&](std::size_t a, std::size_t b) {
+    return morton_code(volume.cells[a].cell_index, settings.cell_depth) < morton_code(volume.cells[b].cell_index, settings.cell_depth);
+  });
+  mesh.add_cell_tree(inputs, top_order, volume.cell_tracing);
+  volume.cell_depth = settings.cell_depth;
+  formats::arrange_cells(volume, settings.cell_depth); // complete records: the volume stays valid
 }
 
 // The dynamic objects (format 1.3) after the static tree: each one's triangles in its rest frame, its own
@@ -176,7 +227,7 @@ RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const Bake
   volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear(), volume.trace_vertices.clear(), volume.trace_materials.clear();
   int depth = 0;
   formats::TraceMeshBuilder mesh(volume);
-  append_tree(scene_triangles(scene, objects, -1, glm::mat4(1.0f)), settings.trace_leaf_cost, mesh, depth); // tree 0
+  append_static_cells(scene_triangles(scene, objects, -1, glm::mat4(1.0f)), settings, volume, mesh, depth); // tree 0
   append_dynamic_objects(scene, objects, settings, volume, mesh, depth);
   report.bvh_seconds = std::chrono::duration<double>(Clock::now() - start).count(); // build and compaction
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -140,6 +141,10 @@ int cell_of_point(const gpu::VolumeInfo& info, int cell_depth, glm::vec3 point) 
   return coordinate[0] + n * (coordinate[1] + n * coordinate[2]);
 }
 
+int cell_of_triangle(const gpu::VolumeInfo& info, int cell_depth, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  return cell_of_point(info, cell_depth, (a + b + c) / 3.0f);
+}
+
 void cell_bounds(const gpu::VolumeInfo& info, int cell_depth, int cell_index, glm::vec3& min, glm::vec3& max) {
   const int n = cells_per_axis(cell_depth);
   const float size = info.root_size / static_cast<float>(n);
@@ -193,10 +198,33 @@ std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth) {
   return cells;
 }
 
+// The tracing ranges of the volume's cells by cell index; empty when its tracing is not split by cell, or
+// split on another grid (the tree stays a valid tree, only its cell index is lost).
+std::map<int, CellTracing> tracing_by_cell(const ProbeVolume& volume, int cell_depth) {
+  std::map<int, CellTracing> tracing;
+  if (volume.cell_tracing.empty() || volume.cell_depth != cell_depth) return tracing;
+  if (volume.cell_tracing.size() != volume.cells.size()) throw_invalid("cell_tracing and cells differ in length");
+  for (std::size_t k = 0; k < volume.cells.size(); ++k) tracing[volume.cells[k].cell_index] = volume.cell_tracing[k];
+  return tracing;
+}
+
+// Ranges that continue where the previous cell's ended, for a cell without tracing data.
+CellTracing empty_tracing(const CellTracing& previous) {
+  CellTracing empty;
+  for (auto member : {&CellTracing::trace_nodes, &CellTracing::trace_faces, &CellTracing::trace_vertices}) {
+    const CellRange& before = previous.*member;
+    CellRange& range = empty.*member;
+    range.first = before.first + before.count;
+    range.byte_offset = before.byte_offset + before.byte_size;
+  }
+  return empty;
+}
+
 void arrange_cells(ProbeVolume& volume, int cell_depth) {
   if (cell_depth < 0 || cell_depth > kMaxCellDepth) {
     throw Error(ErrorKind::usage, "cell depth " + std::to_string(cell_depth) + " outside [0, " + std::to_string(kMaxCellDepth) + "]");
   }
+  const std::map<int, CellTracing> tracing = tracing_by_cell(volume, cell_depth);
   const std::vector<int> cell_of_probe = probe_cells(volume, cell_depth);
   const std::vector<int> probe_order = order_by_key(cell_of_probe);
   std::vector<int> cell_of_batch;
@@ -215,6 +243,7 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
   const std::vector<int> batch_keys = permuted(cell_of_batch, batches_in_order);
   const std::vector<int> leaf_keys = permuted(cell_of_leaf, leaf_order);
   std::vector<int> used_cells;
+  for (const auto& [cell, ranges] : tracing) used_cells.push_back(cell);
   for (const std::vector<int>* keys : {&probe_keys, &batch_keys, &leaf_keys}) {
     for (int cell : *keys) {
       if (cell != kNoCell) used_cells.push_back(cell);
@@ -225,7 +254,13 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
 
   volume.cell_depth = cell_depth;
   volume.cells.clear();
+  volume.cell_tracing.clear();
   for (int index : used_cells) {
+    if (!tracing.empty()) {
+      const auto found = tracing.find(index);
+      volume.cell_tracing.push_back(found != tracing.end()               ? found->second
+                                    : volume.cell_tracing.empty() ? empty_tracing(CellTracing{}) : empty_tracing(volume.cell_tracing.back()));
+    }
     Cell cell;
     cell.cell_index = index;
     cell_bounds(volume.info, cell_depth, index, cell.bounds_min, cell.bounds_max);
@@ -237,8 +272,19 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
   }
 }
 
+std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
+  const Cell& cell = volume.cells.at(k);
+  std::uint64_t bytes = cell.probes.byte_size + cell.surfel_batches.byte_size + cell.svo_leaves.byte_size;
+  if (k < volume.cell_tracing.size()) {
+    const CellTracing& t = volume.cell_tracing[k];
+    bytes += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+  }
+  return bytes;
+}
+
 void clear_cells(ProbeVolume& volume) {
   volume.cells.clear();
+  volume.cell_tracing.clear();
   volume.cell_depth = 0;
 }
 

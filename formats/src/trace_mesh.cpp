@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -104,6 +105,35 @@ void set_child_box(gpu::TraceNode& node, int child, const gpu::TraceTree& frame,
   }
 }
 
+// Appends the tree's inner nodes (children after parents, as in the input) with faces numbered from
+// face_base; returns the root's child word.
+std::uint32_t append_inner_nodes(std::vector<gpu::TraceNode>& nodes, const TraceTreeInput& tree, const std::vector<Box>& boxes,
+                                 const gpu::TraceTree& frame, std::size_t face_base) {
+  const std::size_t node_base = nodes.size();
+  // Inner input nodes become compact nodes in index order, so children keep larger indices than parents.
+  std::vector<std::uint32_t> compact(tree.nodes.size(), 0);
+  std::uint32_t inner = 0;
+  for (std::size_t n = 0; n < tree.nodes.size(); ++n)
+    if (tree.nodes[n].count == 0) compact[n] = std::uint32_t(node_base) + inner++;
+  const auto word = [&](std::size_t n) {
+    const gpu::BvhNode& node = tree.nodes[n];
+    if (node.count == 0) return compact[n];
+    return gpu::TRACE_CHILD_LEAF | (std::uint32_t(node.count - 1) << gpu::TRACE_LEAF_COUNT_SHIFT) | std::uint32_t(face_base + std::size_t(node.first));
+  };
+  for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
+    if (tree.nodes[n].count != 0) continue;
+    gpu::TraceNode node{};
+    for (int c = 0; c < 2; ++c) {
+      const std::size_t child = std::size_t(tree.nodes[n].first) + std::size_t(c);
+      set_child_box(node, c, frame, boxes[child]);
+      node.child[c] = word(child);
+    }
+    nodes.push_back(node);
+  }
+  if (nodes.size() > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more nodes than a child word holds");
+  return tree.nodes.empty() ? gpu::TRACE_NO_ROOT : word(0);
+}
+
 } // namespace
 
 TraceMeshBuilder::TraceMeshBuilder(ProbeVolume& volume) : volume_(volume) {
@@ -116,9 +146,11 @@ TraceMeshBuilder::TraceMeshBuilder(ProbeVolume& volume) : volume_(volume) {
   }
 }
 
-std::uint32_t TraceMeshBuilder::vertex(const glm::vec3& p) {
+std::uint32_t TraceMeshBuilder::vertex(const glm::vec3& p) { return vertex_in(p, vertices_); }
+
+std::uint32_t TraceMeshBuilder::vertex_in(const glm::vec3& p, VertexMap& vertices) {
   const float xyz[3] = {p.x, p.y, p.z};
-  std::vector<std::uint32_t>& same_hash = vertices_[hash_bits(xyz, 3)];
+  std::vector<std::uint32_t>& same_hash = vertices[hash_bits(xyz, 3)];
   for (std::uint32_t i : same_hash)
     if (same_bits(&volume_.trace_vertices[i].x, xyz, 3)) return i;
   const auto index = std::uint32_t(volume_.trace_vertices.size());
@@ -145,40 +177,106 @@ std::uint32_t TraceMeshBuilder::material(const TraceInputTriangle& t) {
   return index;
 }
 
+gpu::TraceFace TraceMeshBuilder::face(const TraceInputTriangle& t, const std::function<std::uint32_t(const glm::vec3&)>& vertex_of) {
+  gpu::TraceFace face{};
+  for (int k = 0; k < 3; ++k) face.vertex[k] = vertex_of(t.corners[k]);
+  face.material = material(t) | (t.double_sided ? gpu::TRACE_FACE_DOUBLE_SIDED : 0u);
+  return face;
+}
+
+void TraceMeshBuilder::check_face_room(std::size_t faces) const {
+  if (volume_.trace_faces.size() + faces > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more faces than a child word holds");
+}
+
 int TraceMeshBuilder::add_tree(const TraceTreeInput& tree) {
+  check_face_room(tree.triangles.size());
   const std::size_t face_base = volume_.trace_faces.size(), node_base = volume_.trace_nodes.size();
-  if (face_base + tree.triangles.size() > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more faces than a child word holds");
-  for (const TraceInputTriangle& t : tree.triangles) {
-    gpu::TraceFace face{};
-    for (int k = 0; k < 3; ++k) face.vertex[k] = vertex(t.corners[k]);
-    face.material = material(t) | (t.double_sided ? gpu::TRACE_FACE_DOUBLE_SIDED : 0u);
-    volume_.trace_faces.push_back(face);
-  }
+  for (const TraceInputTriangle& t : tree.triangles) volume_.trace_faces.push_back(face(t, [&](const glm::vec3& p) { return vertex(p); }));
   const std::vector<Box> boxes = node_boxes(tree);
   gpu::TraceTree frame = boxes.empty() ? gpu::TraceTree{} : tree_frame(boxes[0]);
-  // Inner input nodes become compact nodes in index order, so children keep larger indices than parents.
-  std::vector<std::uint32_t> compact(tree.nodes.size(), 0);
-  std::uint32_t inner = 0;
-  for (std::size_t n = 0; n < tree.nodes.size(); ++n)
-    if (tree.nodes[n].count == 0) compact[n] = std::uint32_t(node_base) + inner++;
-  const auto word = [&](std::size_t n) {
-    const gpu::BvhNode& node = tree.nodes[n];
-    if (node.count == 0) return compact[n];
-    return gpu::TRACE_CHILD_LEAF | (std::uint32_t(node.count - 1) << gpu::TRACE_LEAF_COUNT_SHIFT) | std::uint32_t(face_base + std::size_t(node.first));
-  };
-  for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
-    if (tree.nodes[n].count != 0) continue;
-    gpu::TraceNode node{};
-    for (int c = 0; c < 2; ++c) {
-      const std::size_t child = std::size_t(tree.nodes[n].first) + std::size_t(c);
-      set_child_box(node, c, frame, boxes[child]);
-      node.child[c] = word(child);
-    }
-    volume_.trace_nodes.push_back(node);
+  frame.root = append_inner_nodes(volume_.trace_nodes, tree, boxes, frame, face_base);
+  frame.node_count = int(volume_.trace_nodes.size() - node_base);
+  volume_.trace_trees.push_back(frame);
+  return int(volume_.trace_trees.size()) - 1;
+}
+
+namespace {
+
+// The top level over cells [first, last): the cells' root words and boxes in, top-level nodes (preorder,
+// from `next`) out; returns the word and box of the subtree.
+struct TopLevel {
+  const gpu::TraceTree& frame;
+  const std::vector<std::uint32_t>& cell_words;
+  const std::vector<Box>& cell_boxes;
+  std::span<const std::size_t> order;
+  std::vector<gpu::TraceNode>& nodes; // pre-sized: cells - 1
+  std::uint32_t node_base;
+  std::uint32_t next = 0;
+
+  std::pair<std::uint32_t, Box> build(std::size_t first, std::size_t last) { // depth log2(cells)
+    if (last - first == 1) return {cell_words[order[first]], cell_boxes[order[first]]};
+    const std::uint32_t index = next++;
+    const std::size_t middle = first + (last - first) / 2;
+    const auto [left_word, left_box] = build(first, middle);
+    const auto [right_word, right_box] = build(middle, last);
+    gpu::TraceNode& node = nodes[index];
+    set_child_box(node, 0, frame, left_box);
+    set_child_box(node, 1, frame, right_box);
+    node.child[0] = left_word, node.child[1] = right_word;
+    Box box = left_box;
+    box.grow(right_box);
+    return {node_base + index, box};
   }
-  if (volume_.trace_nodes.size() > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more nodes than a child word holds");
-  frame.root = tree.nodes.empty() ? gpu::TRACE_NO_ROOT : word(0);
-  frame.node_count = int(inner);
+};
+
+CellRange cell_range(std::size_t first, std::size_t end, std::size_t element_size) {
+  CellRange range;
+  range.first = std::uint32_t(first);
+  range.count = std::uint32_t(end - first);
+  range.byte_offset = range.first * element_size;
+  range.byte_size = range.count * element_size;
+  return range;
+}
+
+} // namespace
+
+int TraceMeshBuilder::add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order, std::vector<CellTracing>& ranges) {
+  if (top_order.size() != cells.size()) malformed("the top-level order does not list every cell");
+  std::size_t total_faces = 0;
+  for (const TraceTreeInput& cell : cells) {
+    if (cell.nodes.empty()) malformed("a cell without faces");
+    total_faces += cell.triangles.size();
+  }
+  check_face_room(total_faces);
+  std::vector<std::vector<Box>> boxes;
+  std::vector<Box> cell_boxes;
+  Box root;
+  for (const TraceTreeInput& cell : cells) {
+    boxes.push_back(node_boxes(cell));
+    cell_boxes.push_back(boxes.back()[0]);
+    root.grow(boxes.back()[0]);
+  }
+  gpu::TraceTree frame = cells.empty() ? gpu::TraceTree{} : tree_frame(root);
+  const std::size_t node_base = volume_.trace_nodes.size();
+  const std::size_t top_nodes = cells.empty() ? 0 : cells.size() - 1;
+  volume_.trace_nodes.resize(node_base + top_nodes); // the top level, filled once the cells' roots are known
+  ranges.assign(cells.size(), CellTracing{});
+  std::vector<std::uint32_t> cell_words;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    const std::size_t face_base = volume_.trace_faces.size(), vertex_base = volume_.trace_vertices.size(), cell_node_base = volume_.trace_nodes.size();
+    VertexMap cell_vertices; // a cell shares no vertex with another
+    const auto vertex_of = [&](const glm::vec3& p) { return vertex_in(p, cell_vertices); };
+    for (const TraceInputTriangle& t : cells[k].triangles) volume_.trace_faces.push_back(face(t, vertex_of));
+    cell_words.push_back(append_inner_nodes(volume_.trace_nodes, cells[k], boxes[k], frame, face_base));
+    ranges[k].trace_nodes = cell_range(cell_node_base, volume_.trace_nodes.size(), sizeof(gpu::TraceNode));
+    ranges[k].trace_faces = cell_range(face_base, volume_.trace_faces.size(), sizeof(gpu::TraceFace));
+    ranges[k].trace_vertices = cell_range(vertex_base, volume_.trace_vertices.size(), sizeof(gpu::TraceVertex));
+  }
+  std::vector<gpu::TraceNode> top(top_nodes);
+  TopLevel level{frame, cell_words, cell_boxes, top_order, top, std::uint32_t(node_base)};
+  frame.root = cells.empty() ? gpu::TRACE_NO_ROOT : level.build(0, cells.size()).first;
+  std::copy(top.begin(), top.end(), volume_.trace_nodes.begin() + std::ptrdiff_t(node_base));
+  frame.node_count = int(volume_.trace_nodes.size() - node_base);
   volume_.trace_trees.push_back(frame);
   return int(volume_.trace_trees.size()) - 1;
 }

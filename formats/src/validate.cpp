@@ -87,6 +87,7 @@ constexpr InvariantInfo kInvariants[] = {
     {"cell_root_node", "a cell's root node is the octree node covering exactly the cell, or -1"},
     {"cell_range", "cell ranges lie inside their sections, ascend without overlap, bytes = elements x size"},
     {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
+    {"cell_tracing", "one cell_tracing record per cell; its ranges cover the static tree's faces, and each cell's trace nodes, faces and vertices refer only to each other, its faces' centroids inside it"},
     {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; placement_rays = surfels_per_probe"},
     {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero; 1.4 faces: indices in range, non-zero area"},
     {"lighting_flags", "trace triangle and emitter patch flags set no bit but bit 0 (double-sided)"},

@@ -27,7 +27,7 @@ struct SectionBytes {
 
 // The sections of a volume by type id (formats::for_each_section), over const or mutable memory. The leaf
 // header is a section only when there are leaf entries (docs/FORMAT.md: written exactly when leaf_entries
-// is); cells stay on the CPU.
+// is); the cell index stays on the CPU.
 template <class Volume>
 auto sections_of(Volume& v) {
   using Byte = std::conditional_t<std::is_const_v<Volume>, const std::byte, std::byte>;
@@ -35,7 +35,7 @@ auto sections_of(Volume& v) {
   formats::for_each_section(v, [&](Section type, auto& member) {
     using Member = std::remove_cvref_t<decltype(member)>;
     SectionBytes<Byte>& s = sections[static_cast<std::size_t>(type)];
-    if (type == Section::cells) return;
+    if (formats::is_cell_index_section(type)) return;
     if constexpr (requires { member.data(); }) {
       s = {reinterpret_cast<Byte*>(member.data()), member.size(), sizeof(typename Member::value_type)};
     } else if constexpr (requires { member.has_value(); }) {
@@ -108,10 +108,11 @@ formats::ProbeVolume GpuVolume::read_back(const formats::ProbeVolume& cpu_parts)
   formats::ProbeVolume out;
   out.cell_depth = cpu_parts.cell_depth;
   out.cells = cpu_parts.cells;
+  out.cell_tracing = cpu_parts.cell_tracing;
   out.input_hash = cpu_parts.input_hash;
   formats::for_each_section(out, [&](Section type, auto& member) {
     if constexpr (requires { member.resize(0); }) {
-      if (type != Section::cells) member.resize(elements(type));
+      if (!formats::is_cell_index_section(type)) member.resize(elements(type));
     } else if constexpr (requires { member.emplace(); }) {
       if (elements(type) != 0) member.emplace();
     }

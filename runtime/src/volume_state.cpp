@@ -19,6 +19,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   if (!dynamic_tree) {
     cpu_parts.cell_depth = volume.cell_depth;
     cpu_parts.cells = volume.cells;
+    cpu_parts.cell_tracing = volume.cell_tracing;
   }
   cpu_parts.input_hash = volume.input_hash;
   cpu_parts.dynamic_objects = volume.dynamic_objects;

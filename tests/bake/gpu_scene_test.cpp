@@ -10,6 +10,9 @@
 #include <limits>
 #include <optional>
 #include <random>
+#include <set>
+#include <span>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -18,6 +21,7 @@
 #include "probebake/bake/gpu_scene.h"
 #include "probebake/common/lattice.h"
 #include "probebake/dynamic/animation.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
@@ -239,6 +243,125 @@ TEST(GpuScene, LeafCostTradesNodesForLargerLeavesWithTheSameHits) {
   EXPECT_THROW(bake::check_settings(settings), Error);
 }
 
+// ---- the static tree split by streaming cell (format 1.5) ----------------------------------------------
+
+// Cell k's part of the static tree as a tree of its own: its nodes, faces and vertices copied out of the
+// file's bytes at the cell's byte ranges and renumbered from 0, as a streaming reader would place them.
+formats::ProbeVolume cell_alone(const std::vector<std::uint8_t>& file, const formats::ProbeVolume& v, std::size_t k) {
+  const formats::ContainerView view = formats::parse_container(file, "cells");
+  const auto payload = [&](formats::SectionType type) {
+    for (std::size_t i = 0; i < view.sections.size(); ++i)
+      if (view.sections[i].type == static_cast<std::uint32_t>(type)) return view.payloads[i];
+    return std::span<const std::uint8_t>{};
+  };
+  const formats::CellTracing& ranges = v.cell_tracing[k];
+  const auto copy = [&](formats::SectionType type, const formats::CellRange& range, auto& out) {
+    const std::span<const std::uint8_t> bytes = payload(type).subspan(range.byte_offset, range.byte_size);
+    out.resize(range.count);
+    std::memcpy(out.data(), bytes.data(), bytes.size());
+  };
+  formats::ProbeVolume cell;
+  copy(formats::SectionType::trace_nodes, ranges.trace_nodes, cell.trace_nodes);
+  copy(formats::SectionType::trace_faces, ranges.trace_faces, cell.trace_faces);
+  copy(formats::SectionType::trace_vertices, ranges.trace_vertices, cell.trace_vertices);
+  const auto rebase = [&](std::uint32_t word) {
+    if (!formats::is_leaf_word(word)) return word - ranges.trace_nodes.first;
+    return (word & ~gpu::TRACE_LEAF_FIRST_MASK) | (formats::leaf_first(word) - ranges.trace_faces.first);
+  };
+  for (gpu::TraceNode& node : cell.trace_nodes)
+    for (std::uint32_t& child : node.child) child = rebase(child);
+  for (gpu::TraceFace& face : cell.trace_faces)
+    for (std::uint32_t& vertex : face.vertex) vertex -= ranges.trace_vertices.first;
+  // Its root: its first node, or the top-level leaf word that holds all its faces.
+  gpu::TraceTree tree = v.trace_trees[0];
+  tree.root = ranges.trace_nodes.count > 0 ? ranges.trace_nodes.first : gpu::TRACE_NO_ROOT;
+  for (std::size_t n = 0; tree.root == gpu::TRACE_NO_ROOT && n < v.trace_nodes.size(); ++n)
+    for (std::uint32_t child : v.trace_nodes[n].child)
+      if (formats::is_leaf_word(child) && formats::leaf_first(child) == ranges.trace_faces.first) tree.root = child;
+  tree.root = rebase(tree.root);
+  cell.trace_trees.push_back(tree);
+  return cell;
+}
+
+// The split tree finds Embree's hits like the single one; each cell's part, read alone from the file's
+// bytes, is a complete tree over exactly the scene's triangles whose centroid lies in the cell: every ray
+// finds what a brute-force test of the cell's faces finds. A tampered cell is refused by validate().
+TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
+  const scene::Scene s = load_generated(samples::rooms({.count = 4, .detail = 4}), "gpu_rooms_cells");
+  bake::BakeSettings settings = test_settings();
+  settings.cell_depth = 3;
+  gpu::VolumeInfo info = bake::volume_info(s, settings);
+  formats::ProbeVolume v = formats::make_empty_volume(info);
+  bake::add_runtime_lighting(s, settings, v);
+  ASSERT_TRUE(formats::validate(v).valid()) << violations(formats::validate(v));
+  ASSERT_EQ(v.cell_tracing.size(), v.cells.size());
+  ASSERT_GT(v.cells.size(), 16u);
+  const Comparison c = compare_with_embree(s, v, 5000);
+  EXPECT_GT(c.hits, c.rays / 4);
+  EXPECT_EQ(c.only_gpu + c.only_embree + c.other_triangle + c.other_face + c.far, 0);
+
+  const std::vector<std::uint8_t> file = formats::write_probes(v);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::normal_distribution<float> normal;
+  std::size_t faces = 0, hits = 0;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const formats::ProbeVolume cell = cell_alone(file, v, k);
+    faces += cell.trace_faces.size();
+    for (std::size_t f = 0; f < cell.trace_faces.size(); ++f) {
+      const formats::TraceFaceGeometry g = formats::face_geometry(cell, f);
+      const glm::vec3 a = g.v0, b = g.v0 + g.edge1, cc = g.v0 + g.edge2;
+      ASSERT_EQ(formats::cell_of_triangle(v.info, v.cell_depth, a, b, cc), v.cells[k].cell_index) << "cell " << k << " face " << f;
+    }
+    if (cell.trace_faces.empty()) continue;
+    glm::vec3 lower, upper;
+    formats::cell_bounds(v.info, v.cell_depth, v.cells[k].cell_index, lower, upper);
+    for (int r = 0; r < 64; ++r) {
+      const glm::vec3 origin = lower + (upper - lower) * glm::vec3(unit(rng), unit(rng), unit(rng));
+      const glm::vec3 direction = glm::normalize(glm::vec3(normal(rng), normal(rng), normal(rng)));
+      GpuHit traced{std::numeric_limits<float>::max(), -1};
+      trace_tree(cell, 0, origin, direction, traced);
+      float nearest = std::numeric_limits<float>::max();
+      for (std::size_t f = 0; f < cell.trace_faces.size(); ++f)
+        if (const auto d = intersect(formats::face_geometry(cell, f), origin, direction); d && *d >= 0.0f) nearest = std::min(nearest, *d);
+      ASSERT_EQ(traced.distance, nearest) << "cell " << k << " ray " << r;
+      hits += traced.triangle >= 0 ? 1 : 0;
+    }
+  }
+  std::printf("[ cells ] %zu cells, %zu static faces, %zu of %zu rays from inside cells hit their cell's faces\n", v.cells.size(), faces, hits,
+              64 * v.cells.size());
+  ASSERT_FALSE(v.dynamic_objects.empty()); // the rooms' spheres: their faces follow the cells'
+  EXPECT_EQ(faces, std::size_t(v.dynamic_objects[0].first_triangle));
+  EXPECT_GT(hits, 0u);
+
+  const auto invariants_of = [](const formats::ProbeVolume& tampered) {
+    std::set<std::string> ids;
+    for (const auto& violation : formats::validate(tampered).violations) ids.insert(violation.invariant);
+    return ids;
+  };
+  formats::ProbeVolume other_vertex = v; // a face that borrows the next cell's vertex
+  const std::size_t last = v.cells.size() - 1;
+  other_vertex.trace_faces[v.cell_tracing[0].trace_faces.first].vertex[0] = v.cell_tracing[last].trace_vertices.first;
+  EXPECT_TRUE(invariants_of(other_vertex).count("cell_tracing"));
+  formats::ProbeVolume overlapping = v;
+  overlapping.cell_tracing[1].trace_faces.first -= 1, overlapping.cell_tracing[1].trace_faces.byte_offset -= sizeof(gpu::TraceFace);
+  EXPECT_TRUE(invariants_of(overlapping).count("cell_range"));
+}
+
+TEST(GpuScene, CellSizePicksTheShallowestGridWithCellsThatNarrow) {
+  bake::BakeSettings settings;
+  settings.cell_depth = 4;
+  EXPECT_EQ(bake::cell_depth_for(settings, 10.0f), 4); // no size: the depth as given
+  settings.cell_size = 3.0f;
+  EXPECT_EQ(bake::cell_depth_for(settings, 10.0f), 2); // 2.5 m cells
+  settings.cell_size = 10.0f;
+  EXPECT_EQ(bake::cell_depth_for(settings, 10.0f), 0);
+  settings.cell_size = 0.3125f;
+  EXPECT_EQ(bake::cell_depth_for(settings, 10.0f), 5);
+  settings.cell_size = 0.3f; // 32 cells per axis are 0.3125 m wide
+  EXPECT_THROW(bake::cell_depth_for(settings, 10.0f), Error);
+}
+
 // ---- conversions -------------------------------------------------------------------------------------
 
 samples::SceneBuilder lit_scene() {
@@ -363,7 +486,7 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
   EXPECT_EQ(std::size_t(one_side + two_sides), v.emitter_patches.size());
   const formats::ValidationReport validation = formats::validate(v);
   EXPECT_TRUE(validation.valid()) << violations(validation);
-  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCompactTracingMinor);
+  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCellTracingMinor);
 }
 
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
@@ -455,7 +578,7 @@ TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
   const auto stage = std::find_if(with.report.stages.begin(), with.report.stages.end(), [](const auto& t) { return t.stage == "gpu_scene"; });
   EXPECT_NE(stage, with.report.stages.end());
   const std::vector<std::uint8_t> bytes = formats::write_probes(with.volume);
-  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCompactTracingMinor);
+  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCellTracingMinor);
   const auto types = section_types(bytes);
   for (auto type : {formats::SectionType::lighting_info, formats::SectionType::ray_directions, formats::SectionType::trace_trees,
                     formats::SectionType::trace_faces, formats::SectionType::trace_vertices, formats::SectionType::trace_materials,

@@ -72,6 +72,8 @@ const std::map<std::string, Layout>& code_layouts() {
       {"Cell", {{FIELD(Cell, bounds_min), FIELD(Cell, root_node), FIELD(Cell, bounds_max), FIELD(Cell, cell_index), FIELD(Cell, probes),
                  FIELD(Cell, surfel_batches), FIELD(Cell, svo_leaves)},
                 sizeof(Cell)}},
+      {"CellTracing", {{FIELD(CellTracing, trace_nodes), FIELD(CellTracing, trace_faces), FIELD(CellTracing, trace_vertices)},
+                       sizeof(CellTracing)}},
       {"CellRange", {{FIELD(CellRange, first), FIELD(CellRange, count), FIELD(CellRange, byte_offset), FIELD(CellRange, byte_size)},
                      sizeof(CellRange)}},
       {"LightingInfo", {{FIELD(gpu::LightingInfo, sky_radiance), FIELD(gpu::LightingInfo, rays), FIELD(gpu::LightingInfo, shadow_offset),

@@ -187,6 +187,7 @@ const std::vector<Corruption>& corruptions() {
       {"cell_bounds", Sample::small, [](ProbeVolume& v) { v.cells[0].bounds_min.x += 0.5f; }},
       {"cell_root_node", Sample::small, [](ProbeVolume& v) { v.cells[0].root_node = 5; }},
       {"cell_range", Sample::small, [](ProbeVolume& v) { v.cells[0].probes.byte_offset += 1; }},
+      {"cell_tracing", Sample::small, [](ProbeVolume& v) { v.cell_tracing.resize(v.cells.size() + 1); }}, // deeper cases: cell_tracing_test
       {"cell_membership", Sample::small, [](ProbeVolume& v) {
          v.cells[0].probes.count -= 1;
          v.cells[0].probes.byte_size -= sizeof(gpu::Probe);

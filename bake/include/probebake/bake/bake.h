@@ -46,6 +46,8 @@ struct BakeSettings {
   int threads = 0;                // 0 = all cores
   bool store_surfels = false;     // write the surfel batches (for runtime updates of dynamic scenes)
   int cell_depth = 1;             // streaming cells: (2^cell_depth)^3
+  float cell_size = 0.0f;         // > 0: cells at most this wide (metres), the shallowest such depth
+                                  // replaces cell_depth once the root cube is known
   LightingSettings lighting;      // probe irradiance (lighting.h); its `threads` is replaced by `threads`
   // Write the runtime lighting sections (format 1.1: BVH, trace triangles, lights, emitter patches, ray
   // directions, LightingInfo) so that a GPU runtime can reproduce `lighting` without ray-tracing
@@ -59,6 +61,11 @@ struct BakeSettings {
 
 // Throws Error(usage) with a message naming the option when a setting is out of range.
 void check_settings(const BakeSettings& settings);
+
+// The cell depth a bake uses in a root cube of `root_size` metres: settings.cell_depth, or with cell_size > 0
+// the shallowest depth whose cells are at most cell_size wide. Throws Error(usage) when even the deepest
+// grid (kMaxCellDepth) has wider cells.
+int cell_depth_for(const BakeSettings& settings, float root_size);
 
 // The VolumeInfo a bake of `scene` with `settings` starts from: the root cube and the placement settings
 // (counts zero). The runtime's tree update and its benchmark start from the same root.
@@ -112,6 +119,8 @@ struct BakeReport {
   int svo_solid_voxels = 0;           // leaf-depth voxels left out: inside geometry
   int svo_uncovered_voxels = 0;       // leaf-depth voxels from which no probe is visible (left empty)
   float clearance = 0.0f;             // the clearance actually used
+  int cell_depth = 0;                 // the streaming cell grid used: (2^cell_depth)^3 cells of cell_size
+  float cell_size = 0.0f;
   bool surrounded_root = false;       // no open space inside the scene bounds: root cube tripled around them
                                       // (the grid covers that cube)
   LightingReport lighting;            // when settings.lighting.enabled

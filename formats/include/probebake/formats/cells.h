@@ -11,6 +11,8 @@
 //    on voxel coordinates; voxels at or below the cell depth lie inside exactly one cell).
 // Free elements (and unreferenced SVO leaves) are placed after all cells and belong to none.
 // Only cells owning at least one element get a record; records are sorted by cell_index.
+// Since format 1.5 the static tracing tree may be split by cell too (CellTracing, probe_volume.h): a face
+// belongs to the cell containing its centroid; such cells get a record even without probes.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +34,9 @@ constexpr int cells_per_axis(int cell_depth) { return 1 << cell_depth; }
 // floor((p - root_min) / root_size * n) clamped to [0, n - 1] (non-finite coordinates map to 0).
 int cell_of_point(const gpu::VolumeInfo& info, int cell_depth, glm::vec3 point);
 
+// Cell of a triangle: the cell of its centroid (a + b + c) / 3, computed in float exactly so.
+int cell_of_triangle(const gpu::VolumeInfo& info, int cell_depth, glm::vec3 a, glm::vec3 b, glm::vec3 c);
+
 // World-space bounds of cell `cell_index`.
 void cell_bounds(const gpu::VolumeInfo& info, int cell_depth, int cell_index, glm::vec3& min, glm::vec3& max);
 
@@ -44,10 +49,16 @@ std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth);
 
 // Reorders probes, surfel batches and SVO leaves by cell (stable: original order inside a cell), remaps
 // every link (octree probe links, probe <-> batch links, SVO payload and probe indices), rebuilds the
-// probe index, sets volume.cell_depth and fills volume.cells. The leaf buffer is not affected (it holds
+// probe index, sets volume.cell_depth and fills volume.cells (and cell_tracing, keeping the tracing ranges
+// the volume's cells already carry when the depth is theirs: the bake's gpu_scene stage sets them; at another
+// depth cell_tracing is dropped). The leaf buffer is not affected (it holds
 // node indices). Precondition: the volume is valid (validate() clean); an Octree working on it must
 // rebuild_free_lists() afterwards. Throws Error(usage) for a cell_depth outside [0, kMaxCellDepth].
 void arrange_cells(ProbeVolume& volume, int cell_depth);
+
+// Bytes of cell k's own ranges (probes, surfel batches, SVO payloads and, with cell_tracing, its trace
+// nodes, faces and vertices): what loading the cell alone reads beyond the global sections.
+std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k);
 
 // Removes the streaming index (cells empty, cell_depth 0); element order is kept.
 void clear_cells(ProbeVolume& volume);

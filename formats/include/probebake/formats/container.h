@@ -89,16 +89,23 @@ enum class SectionType : std::uint32_t {
   trace_faces = 20,      // gpu::TraceFace x lighting.triangles
   trace_vertices = 21,   // gpu::TraceVertex
   trace_materials = 22,  // gpu::TraceMaterial
+  // Cells of the static tracing tree (1.5), optional like cells: a 1.4 reader traces the same tree.
+  cell_tracing = 23,     // CellTracing x cells
 };
-inline constexpr std::uint32_t kSectionTypeCount = 22;
+inline constexpr std::uint32_t kSectionTypeCount = 23;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
+// The streaming cell index (cells, cell_tracing): data for the reader that loads a file cell by cell, not
+// for the GPU.
+inline constexpr bool is_cell_index_section(SectionType type) { return type == SectionType::cells || type == SectionType::cell_tracing; }
+
 // The lowest minor version that a section of this type needs (the lighting sections came in 1.1, dynamic
-// objects in 1.3, compact tracing in 1.4);
+// objects in 1.3, compact tracing in 1.4, cell tracing in 1.5);
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
   if (!is_known_section_type(type)) return 0;
+  if (type == static_cast<std::uint32_t>(SectionType::cell_tracing)) return kCellTracingMinor;
   if (type >= static_cast<std::uint32_t>(SectionType::trace_trees)) return kCompactTracingMinor;
   if (type >= static_cast<std::uint32_t>(SectionType::dynamic_objects)) return kDynamicObjectsMinor;
   return type >= static_cast<std::uint32_t>(SectionType::lighting_info) ? kLightingSectionsMinor : std::uint16_t{0};
@@ -109,7 +116,7 @@ inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
 // of 1.1-1.3 are optional, so that older readers skip them. The writer and the validator both use it.
 inline constexpr bool is_required_section_type(std::uint32_t type) {
   return (type >= 1 && type <= static_cast<std::uint32_t>(SectionType::svo_leaves)) ||
-         (type >= static_cast<std::uint32_t>(SectionType::trace_trees) && is_known_section_type(type));
+         (type >= static_cast<std::uint32_t>(SectionType::trace_trees) && type <= static_cast<std::uint32_t>(SectionType::trace_materials));
 }
 
 // "octree", "probes", ...; "section_<id>" for unknown types.

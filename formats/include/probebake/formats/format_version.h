@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 4;
+inline constexpr std::uint16_t kFormatVersionMinor = 5;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -21,4 +21,8 @@ inline constexpr std::uint16_t kDynamicObjectsMinor = 3;
 // the compact ones (trace_trees ... trace_materials), marked REQUIRED so that a 1.3 reader refuses the
 // file. 1.1-1.3 files still read; the runtime upgrades their tracing sections on load.
 inline constexpr std::uint16_t kCompactTracingMinor = 4;
+// 1.5 split the static tracing tree by streaming cell (a top level over one subtree per cell) and added the
+// optional cell_tracing section naming each cell's nodes, faces and vertices. The tree is an ordinary 1.4
+// tree, so a 1.4 reader that skips the section traces the same hits.
+inline constexpr std::uint16_t kCellTracingMinor = 5;
 } // namespace probebake::formats

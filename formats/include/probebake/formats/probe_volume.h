@@ -41,7 +41,17 @@ struct Cell {
   CellRange svo_leaves;           // offset 80: SVO leaf payloads of voxels inside the cell
 };                                // size 104
 
-static_assert(sizeof(CellRange) == 24 && sizeof(Cell) == 104);
+// Where one cell's part of the static tracing tree lies (format 1.5, section cell_tracing; one record per
+// Cell, same order). The static tree (trace_trees[0]) is a top level over per-cell subtrees: a cell's inner
+// nodes, faces (those whose centroid lies in the cell) and vertices are contiguous and refer only to each
+// other, so a reader can load or drop them alone. The top-level nodes come before every cell's nodes.
+struct CellTracing {
+  CellRange trace_nodes;    // offset  0: the cell subtree's inner nodes, its root first
+  CellRange trace_faces;    // offset 24
+  CellRange trace_vertices; // offset 48
+};                          // size 72
+
+static_assert(sizeof(CellRange) == 24 && sizeof(Cell) == 104 && sizeof(CellTracing) == 72);
 
 // Everything a .probes file holds. Vectors that a scene does not use stay empty and are not written
 // (static scenes: no surfel_batches; bakes without a runtime queue: no leaf buffer; no cells: no index).
@@ -62,6 +72,7 @@ struct ProbeVolume {
   std::vector<gpu::SvoLeaf> svo_leaves;           // info.svo_leaves
   std::int32_t cell_depth = 0;                    // the cell grid is (2^cell_depth)^3; see cells.h
   std::vector<Cell> cells;                        // streaming index, or empty (load everything)
+  std::vector<CellTracing> cell_tracing;          // one per cell (format 1.5), or empty: tracing not split
   std::uint64_t input_hash = 0;                   // hash of the bake's inputs and settings (given by it)
 
   std::optional<gpu::LightingInfo> lighting;      // settings and counts of the sections below

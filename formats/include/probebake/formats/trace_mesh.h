@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -39,13 +40,23 @@ public:
   // Appends the tree; returns its index in trace_trees. Node boxes are recomputed from the corners and
   // quantised outwards. Throws Error(internal) on a malformed tree or more faces than a child word holds.
   int add_tree(const TraceTreeInput& tree);
+  // Appends one tree split by streaming cell (format 1.5): a top level that halves the cells in `top_order`
+  // (indices into `cells`; the caller's Morton order keeps neighbours together), then each cell's inner
+  // nodes, faces and vertices in the order of `cells`, contiguous and its own (no vertex shared with any
+  // other tree or cell). ranges[k] receives cells[k]'s. Every cell has at least one triangle. Returns the
+  // tree's index.
+  int add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order, std::vector<CellTracing>& ranges);
 
 private:
+  using VertexMap = std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>; // hash of the bits -> indices
   std::uint32_t vertex(const glm::vec3& p);
+  std::uint32_t vertex_in(const glm::vec3& p, VertexMap& vertices);
   std::uint32_t material(const TraceInputTriangle& t);
+  gpu::TraceFace face(const TraceInputTriangle& t, const std::function<std::uint32_t(const glm::vec3&)>& vertex_of);
+  void check_face_room(std::size_t faces) const;
 
   ProbeVolume& volume_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> vertices_;  // hash of the bits -> indices
+  VertexMap vertices_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> materials_; // hash of the values -> indices
 };
 

@@ -36,7 +36,8 @@ void for_each_section(Volume& v, F&& f) {
   f(SectionType::trace_faces, v.trace_faces);
   f(SectionType::trace_vertices, v.trace_vertices);
   f(SectionType::trace_materials, v.trace_materials);
-  static_assert(kSectionTypeCount == 22, "a new section type: add it above");
+  f(SectionType::cell_tracing, v.cell_tracing);
+  static_assert(kSectionTypeCount == 23, "a new section type: add it above");
 }
 
 } // namespace probebake::formats

@@ -184,7 +184,8 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
       {"trace_triangles", sizeof(gpu::TraceTriangle)}, {"punctual_lights", sizeof(gpu::PunctualLight)},
       {"emitter_patches", sizeof(gpu::EmitterPatch)}, {"dynamic_objects", sizeof(gpu::DynamicObject)},
       {"trace_trees", sizeof(gpu::TraceTree)}, {"trace_nodes", sizeof(gpu::TraceNode)}, {"trace_faces", sizeof(gpu::TraceFace)},
-      {"trace_vertices", sizeof(gpu::TraceVertex)}, {"trace_materials", sizeof(gpu::TraceMaterial)}};
+      {"trace_vertices", sizeof(gpu::TraceVertex)}, {"trace_materials", sizeof(gpu::TraceMaterial)},
+      {"cell_tracing", sizeof(CellTracing)}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
   // Between them the four samples hold every section type.
@@ -194,6 +195,11 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
     const ContainerView view = parse_container(bytes, testing::sample_name(sample));
     entries.insert(entries.end(), view.sections.begin(), view.sections.end());
   }
+  ProbeVolume with_cell_tracing = testing::make_sample(testing::Sample::small); // the bake's (gpu_scene_tests) in the writer's layout
+  with_cell_tracing.cell_tracing.resize(with_cell_tracing.cells.size());
+  const std::vector<std::uint8_t> cell_bytes = write_probes(with_cell_tracing);
+  const ContainerView cell_view = parse_container(cell_bytes, "cell_tracing");
+  entries.insert(entries.end(), cell_view.sections.begin(), cell_view.sections.end());
   for (const Row& row : rows) {
     const std::uint32_t id = static_cast<std::uint32_t>(std::stoul(row[1]));
     EXPECT_EQ(section_name(id), row[0]);

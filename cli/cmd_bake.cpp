@@ -76,7 +76,10 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
               {"uncovered_voxels", r.svo_uncovered_voxels},
               {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
   std::uint64_t cell_total = 0, cell_largest = 0;
-  for (std::size_t k = 0; k < v.cells.size(); ++k) cell_total += formats::cell_bytes(v, k), cell_largest = std::max(cell_largest, formats::cell_bytes(v, k));
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const std::uint64_t cell = formats::cell_bytes(v, k);
+    cell_total += cell, cell_largest = std::max(cell_largest, cell);
+  }
   j["cells"] = {{"depth", r.cell_depth}, {"size", r.cell_size}, {"count", v.cells.size()}, {"bytes", cell_total}, {"largest_bytes", cell_largest},
                 {"split_tracing", !v.cell_tracing.empty()}};
   j["sections"] = section_bytes(v);

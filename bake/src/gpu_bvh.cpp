@@ -123,12 +123,12 @@ public:
   EmbreeBvh(const EmbreeBvh&) = delete;
   EmbreeBvh& operator=(const EmbreeBvh&) = delete;
 
-  const BuildNode* build(std::vector<RTCBuildPrimitive>& primitives, float leaf_cost) {
+  const BuildNode* build(std::vector<RTCBuildPrimitive>& primitives, float leaf_cost, unsigned max_depth) {
     BuildState state;
     RTCBuildArguments args = rtcDefaultBuildArguments();
     args.buildQuality = RTC_BUILD_QUALITY_HIGH; // binned SAH; no splitPrimitive: each triangle in one leaf
     args.maxBranchingFactor = 2;
-    args.maxDepth = kMaxBuildDepth;
+    args.maxDepth = max_depth;
     args.minLeafSize = 1;
     args.intersectionCost = leaf_cost; // Embree's default is 1; lower gives larger leaves
     args.maxLeafSize = unsigned(gpu::TRACE_MAX_LEAF_FACES);
@@ -157,11 +157,14 @@ private:
 
 } // namespace
 
-GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles, float leaf_cost) {
+GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles, float leaf_cost, int depth_above) {
   if (triangles.empty()) return {};
+  if (depth_above < 0 || depth_above >= int(kMaxBuildDepth))
+    throw Error(ErrorKind::internal, fmt::format("gpu_scene: a subtree starts at depth {}, past the build limit {}", depth_above, kMaxBuildDepth));
   std::vector<RTCBuildPrimitive> primitives = build_primitives(triangles);
   EmbreeBvh embree;
-  GpuBvh bvh = flatten(embree.build(primitives, leaf_cost)); // the build nodes die with `embree`
+  GpuBvh bvh = flatten(embree.build(primitives, leaf_cost, kMaxBuildDepth - unsigned(depth_above))); // the build nodes die with `embree`
+  bvh.depth += depth_above;
   if (bvh.depth >= gpu::BVH_MAX_DEPTH) {
     throw Error(ErrorKind::internal, fmt::format("gpu_scene: BVH depth {} reaches BVH_MAX_DEPTH {}", bvh.depth, gpu::BVH_MAX_DEPTH));
   }

@@ -74,8 +74,8 @@ struct LeafOrderedBvh {
   formats::TraceTreeInput input() const { return formats::TraceTreeInput{bvh.nodes, triangles}; }
 };
 
-LeafOrderedBvh leaf_ordered_bvh(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, int& depth) {
-  LeafOrderedBvh out{detail::build_gpu_bvh(triangles, leaf_cost), {}};
+LeafOrderedBvh leaf_ordered_bvh(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, int& depth, int depth_above = 0) {
+  LeafOrderedBvh out{detail::build_gpu_bvh(triangles, leaf_cost, depth_above), {}};
   out.triangles.reserve(triangles.size());
   for (std::uint32_t k : out.bvh.leaf_order) out.triangles.push_back(triangles[k]);
   depth = std::max(depth, out.bvh.depth);
@@ -99,27 +99,30 @@ std::uint32_t morton_code(int cell_index, int cell_depth) {
 
 // The static tree split by streaming cell (format 1.5, formats::CellTracing): one BVH per cell over the
 // triangles whose centroid lies in it, stored in cell order under a top level over the cells in Morton
-// order. Rebuilds the volume's cells (arrange_cells) with the tracing ranges.
+// order (formats::TraceMeshBuilder::add_cell_tree). Rebuilds the volume's cells (arrange_cells) with the tracing ranges.
 void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, const BakeSettings& settings, formats::ProbeVolume& volume,
                          formats::TraceMeshBuilder& mesh, int& depth) {
   std::map<int, std::vector<formats::TraceInputTriangle>> by_cell; // sorted by cell index
   for (formats::TraceInputTriangle& t : triangles)
     by_cell[formats::cell_of_triangle(volume.info, settings.cell_depth, t.corners[0], t.corners[1], t.corners[2])].push_back(std::move(t));
-  std::vector<LeafOrderedBvh> bvhs;
-  std::vector<formats::TraceTreeInput> inputs;
   std::vector<std::size_t> top_order;
   volume.cells.clear();
   for (const auto& [index, cell_triangles] : by_cell) {
-    bvhs.push_back(leaf_ordered_bvh(cell_triangles, settings.trace_leaf_cost, depth));
     top_order.push_back(top_order.size());
     formats::Cell record;
     record.cell_index = index;
     volume.cells.push_back(record);
   }
-  for (const LeafOrderedBvh& bvh : bvhs) inputs.push_back(bvh.input());
   std::stable_sort(top_order.begin(), top_order.end(), [&](std::size_t a, std::size_t b) {
     return morton_code(volume.cells[a].cell_index, settings.cell_depth) < morton_code(volume.cells[b].cell_index, settings.cell_depth);
   });
+  // Each cell's tree starts where the top level leaves it, so the whole tree stays under BVH_MAX_DEPTH.
+  const std::vector<int> depth_above = formats::cell_top_depths(top_order);
+  std::vector<LeafOrderedBvh> bvhs;
+  std::size_t k = 0;
+  for (const auto& [index, cell_triangles] : by_cell) bvhs.push_back(leaf_ordered_bvh(cell_triangles, settings.trace_leaf_cost, depth, depth_above[k++]));
+  std::vector<formats::TraceTreeInput> inputs;
+  for (const LeafOrderedBvh& bvh : bvhs) inputs.push_back(bvh.input());
   mesh.add_cell_tree(inputs, top_order, volume.cell_tracing);
   volume.cell_depth = settings.cell_depth;
   formats::arrange_cells(volume, settings.cell_depth); // complete records: the volume stays valid

@@ -255,11 +255,12 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
   volume.cell_depth = cell_depth;
   volume.cells.clear();
   volume.cell_tracing.clear();
+  CellTracing previous_tracing;
   for (int index : used_cells) {
     if (!tracing.empty()) {
       const auto found = tracing.find(index);
-      volume.cell_tracing.push_back(found != tracing.end()               ? found->second
-                                    : volume.cell_tracing.empty() ? empty_tracing(CellTracing{}) : empty_tracing(volume.cell_tracing.back()));
+      previous_tracing = found != tracing.end() ? found->second : empty_tracing(previous_tracing);
+      volume.cell_tracing.push_back(previous_tracing);
     }
     Cell cell;
     cell.cell_index = index;

@@ -146,8 +146,6 @@ TraceMeshBuilder::TraceMeshBuilder(ProbeVolume& volume) : volume_(volume) {
   }
 }
 
-std::uint32_t TraceMeshBuilder::vertex(const glm::vec3& p) { return vertex_in(p, vertices_); }
-
 std::uint32_t TraceMeshBuilder::vertex_in(const glm::vec3& p, VertexMap& vertices) {
   const float xyz[3] = {p.x, p.y, p.z};
   std::vector<std::uint32_t>& same_hash = vertices[hash_bits(xyz, 3)];
@@ -177,9 +175,9 @@ std::uint32_t TraceMeshBuilder::material(const TraceInputTriangle& t) {
   return index;
 }
 
-gpu::TraceFace TraceMeshBuilder::face(const TraceInputTriangle& t, const std::function<std::uint32_t(const glm::vec3&)>& vertex_of) {
+gpu::TraceFace TraceMeshBuilder::face(const TraceInputTriangle& t, VertexMap& vertices) {
   gpu::TraceFace face{};
-  for (int k = 0; k < 3; ++k) face.vertex[k] = vertex_of(t.corners[k]);
+  for (int k = 0; k < 3; ++k) face.vertex[k] = vertex_in(t.corners[k], vertices);
   face.material = material(t) | (t.double_sided ? gpu::TRACE_FACE_DOUBLE_SIDED : 0u);
   return face;
 }
@@ -191,7 +189,7 @@ void TraceMeshBuilder::check_face_room(std::size_t faces) const {
 int TraceMeshBuilder::add_tree(const TraceTreeInput& tree) {
   check_face_room(tree.triangles.size());
   const std::size_t face_base = volume_.trace_faces.size(), node_base = volume_.trace_nodes.size();
-  for (const TraceInputTriangle& t : tree.triangles) volume_.trace_faces.push_back(face(t, [&](const glm::vec3& p) { return vertex(p); }));
+  for (const TraceInputTriangle& t : tree.triangles) volume_.trace_faces.push_back(face(t, vertices_));
   const std::vector<Box> boxes = node_boxes(tree);
   gpu::TraceTree frame = boxes.empty() ? gpu::TraceTree{} : tree_frame(boxes[0]);
   frame.root = append_inner_nodes(volume_.trace_nodes, tree, boxes, frame, face_base);
@@ -202,21 +200,25 @@ int TraceMeshBuilder::add_tree(const TraceTreeInput& tree) {
 
 namespace {
 
-// The top level over cells [first, last): the cells' root words and boxes in, top-level nodes (preorder,
-// from `next`) out; returns the word and box of the subtree.
+// The top level over cells [first, last): the range halved in the caller's order (Morton: neighbours
+// together), so it is ceil(log2(cells)) deep whatever the boxes; nodes in preorder from `next`. (A SAH top
+// level over the cell boxes traced about 1 % faster on an H100 at depth 3 and was not kept: docs/RESULTS.md.)
+// Where the top level splits cells [first, last) of its order (TopLevel::build and cell_top_depths).
+std::size_t top_split(std::size_t first, std::size_t last) { return first + (last - first) / 2; }
+
 struct TopLevel {
   const gpu::TraceTree& frame;
   const std::vector<std::uint32_t>& cell_words;
   const std::vector<Box>& cell_boxes;
-  std::span<const std::size_t> order;
+  std::span<const std::size_t> order; // cell indices
   std::vector<gpu::TraceNode>& nodes; // pre-sized: cells - 1
   std::uint32_t node_base;
   std::uint32_t next = 0;
 
-  std::pair<std::uint32_t, Box> build(std::size_t first, std::size_t last) { // depth log2(cells)
+  std::pair<std::uint32_t, Box> build(std::size_t first, std::size_t last) { // depth ceil(log2(cells))
     if (last - first == 1) return {cell_words[order[first]], cell_boxes[order[first]]};
     const std::uint32_t index = next++;
-    const std::size_t middle = first + (last - first) / 2;
+    const std::size_t middle = top_split(first, last);
     const auto [left_word, left_box] = build(first, middle);
     const auto [right_word, right_box] = build(middle, last);
     gpu::TraceNode& node = nodes[index];
@@ -239,6 +241,20 @@ CellRange cell_range(std::size_t first, std::size_t end, std::size_t element_siz
 }
 
 } // namespace
+
+std::vector<int> cell_top_depths(std::span<const std::size_t> top_order) {
+  std::vector<int> depths(top_order.size(), 0);
+  const auto descend = [&](const auto& self, std::size_t first, std::size_t last, int depth) -> void { // depth ceil(log2(cells))
+    if (last - first == 1) {
+      depths.at(top_order[first]) = depth;
+      return;
+    }
+    self(self, first, top_split(first, last), depth + 1);
+    self(self, top_split(first, last), last, depth + 1);
+  };
+  if (!top_order.empty()) descend(descend, 0, top_order.size(), 0);
+  return depths;
+}
 
 int TraceMeshBuilder::add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order, std::vector<CellTracing>& ranges) {
   if (top_order.size() != cells.size()) malformed("the top-level order does not list every cell");
@@ -265,8 +281,7 @@ int TraceMeshBuilder::add_cell_tree(std::span<const TraceTreeInput> cells, std::
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const std::size_t face_base = volume_.trace_faces.size(), vertex_base = volume_.trace_vertices.size(), cell_node_base = volume_.trace_nodes.size();
     VertexMap cell_vertices; // a cell shares no vertex with another
-    const auto vertex_of = [&](const glm::vec3& p) { return vertex_in(p, cell_vertices); };
-    for (const TraceInputTriangle& t : cells[k].triangles) volume_.trace_faces.push_back(face(t, vertex_of));
+    for (const TraceInputTriangle& t : cells[k].triangles) volume_.trace_faces.push_back(face(t, cell_vertices));
     cell_words.push_back(append_inner_nodes(volume_.trace_nodes, cells[k], boxes[k], frame, face_base));
     ranges[k].trace_nodes = cell_range(cell_node_base, volume_.trace_nodes.size(), sizeof(gpu::TraceNode));
     ranges[k].trace_faces = cell_range(face_base, volume_.trace_faces.size(), sizeof(gpu::TraceFace));

@@ -300,6 +300,37 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
   EXPECT_GT(c.hits, c.rays / 4);
   EXPECT_EQ(c.only_gpu + c.only_embree + c.other_triangle + c.other_face + c.far, 0);
 
+  // Each cell's tree starts at the depth the bake planned for it (formats::cell_top_depths), so the whole
+  // tree stays under the shaders' stack: the depth of every word of tree 0, from its root.
+  std::vector<int> word_depth_of_cell(v.cells.size(), -1);
+  std::vector<std::pair<std::uint32_t, int>> stack{{v.trace_trees[0].root, 0}};
+  int deepest = 0;
+  while (!stack.empty()) {
+    const auto [word, word_depth] = stack.back();
+    stack.pop_back();
+    deepest = std::max(deepest, word_depth);
+    for (std::size_t k = 0; k < v.cells.size(); ++k) {
+      const formats::CellTracing& r = v.cell_tracing[k];
+      const bool cell_root = r.trace_nodes.count > 0 ? word == r.trace_nodes.first
+                                                     : formats::is_leaf_word(word) && formats::leaf_first(word) == r.trace_faces.first;
+      if (cell_root) word_depth_of_cell[k] = word_depth;
+    }
+    if (!formats::is_leaf_word(word))
+      for (std::uint32_t child : v.trace_nodes[word].child) stack.emplace_back(child, word_depth + 1);
+  }
+  std::vector<std::size_t> order; // the bake's: Morton order of the cells' grid coordinates
+  for (std::size_t k = 0; k < v.cells.size(); ++k) order.push_back(k);
+  const int n = formats::cells_per_axis(v.cell_depth);
+  const auto morton = [&](int cell) {
+    std::uint32_t code = 0;
+    for (int bit = 0; bit < v.cell_depth; ++bit)
+      for (int axis = 0, rest = cell; axis < 3; ++axis, rest /= n) code |= std::uint32_t(((rest % n) >> bit) & 1) << (3 * bit + axis);
+    return code;
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return morton(v.cells[a].cell_index) < morton(v.cells[b].cell_index); });
+  EXPECT_EQ(word_depth_of_cell, formats::cell_top_depths(order));
+  EXPECT_LT(deepest, gpu::BVH_MAX_DEPTH);
+
   const std::vector<std::uint8_t> file = formats::write_probes(v);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);

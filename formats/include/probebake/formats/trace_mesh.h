@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -41,7 +40,8 @@ public:
   // quantised outwards. Throws Error(internal) on a malformed tree or more faces than a child word holds.
   int add_tree(const TraceTreeInput& tree);
   // Appends one tree split by streaming cell (format 1.5): a top level that halves the cells in `top_order`
-  // (indices into `cells`; the caller's Morton order keeps neighbours together), then each cell's inner
+  // (indices into `cells`; the caller's Morton order keeps neighbours together; cell_top_depths gives where
+  // each cell's tree starts), then each cell's inner
   // nodes, faces and vertices in the order of `cells`, contiguous and its own (no vertex shared with any
   // other tree or cell). ranges[k] receives cells[k]'s. Every cell has at least one triangle. Returns the
   // tree's index.
@@ -49,10 +49,9 @@ public:
 
 private:
   using VertexMap = std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>; // hash of the bits -> indices
-  std::uint32_t vertex(const glm::vec3& p);
   std::uint32_t vertex_in(const glm::vec3& p, VertexMap& vertices);
   std::uint32_t material(const TraceInputTriangle& t);
-  gpu::TraceFace face(const TraceInputTriangle& t, const std::function<std::uint32_t(const glm::vec3&)>& vertex_of);
+  gpu::TraceFace face(const TraceInputTriangle& t, VertexMap& vertices); // its vertices shared through `vertices`
   void check_face_room(std::size_t faces) const;
 
   ProbeVolume& volume_;
@@ -73,6 +72,10 @@ void upgrade_tracing(ProbeVolume& volume);
 struct TraceBox {
   glm::vec3 lower{0.0f}, upper{0.0f};
 };
+// The depth (root = 0) at which each cell's own tree starts under the top level that
+// TraceMeshBuilder::add_cell_tree builds for `cells` cells in `top_order`: a builder keeps each cell's tree
+// shallow enough that the whole tree stays under BVH_MAX_DEPTH.
+std::vector<int> cell_top_depths(std::span<const std::size_t> top_order);
 TraceBox decode_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child);
 // The box of `child` at its smallest over the two roundings a shader may use (lower + q * scale, or one
 // fma): what a face must lie in to be found on every device (the validator's trace_tree check).

@@ -69,6 +69,7 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
   j["freed_probes"] = r.freed_probes;
   j["clearance"] = r.clearance;
   j["lighting"] = {{"iterations", r.lighting.iterations}, {"extrapolations", r.lighting.extrapolations},
+                   {"rejected_extrapolations", r.lighting.rejected_extrapolations},
                    {"converged", r.lighting.converged}, {"change", r.lighting.change},
                    {"estimated_error", r.lighting.estimated_error}, {"rays", r.lighting.rays},
                    {"seconds", r.lighting.seconds}};
@@ -116,8 +117,9 @@ void print_report(const nlohmann::ordered_json& j) {
              j["moved_probes"].get<int>(), j["freed_probes"].get<int>(), j["clearance"].get<float>());
   const auto& lighting = j["lighting"];
   if (lighting["iterations"].get<int>() > 0)
-    fmt::print("lighting     {} iterations ({} extrapolated), {}, estimated error {:.2g}\n",
+    fmt::print("lighting     {} iterations ({} extrapolated, {} undone), {}, estimated error {:.2g}\n",
                lighting["iterations"].get<int>(), lighting["extrapolations"].get<int>(),
+               lighting["rejected_extrapolations"].get<int>(),
                lighting["converged"].get<bool>() ? "converged" : "NOT converged", lighting["estimated_error"].get<float>());
   fmt::print("svo          {} nodes, {} leaves, {} bytes ({} solid and {} uncovered voxels left empty)\n",
              j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(), j["svo"]["bytes"].get<std::size_t>(),

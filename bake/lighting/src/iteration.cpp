@@ -115,8 +115,51 @@ double Convergence::extrapolation_factor() {
   const double rate = changes_.back() / changes_[changes_.size() - 2];
   if (!(rate >= 0.5 && rate <= 0.9999) || hi - lo > 0.05 * (1.0 - rate)) return 0.0;
   extrapolated_rate_ = float(rate);
+  change_before_extrapolation_ = changes_.back();
   changes_.clear();
   return rate / (1.0 - rate);
+}
+
+bool Convergence::keep_extrapolation(const SweepChange& after) {
+  if (after.absolute < change_before_extrapolation_) return true;
+  accelerate_ = false;
+  extrapolated_rate_ = 0.0f;
+  changes_.clear();
+  return false;
+}
+
+void solve(const HitCache& cache, const LightingSettings& settings, ShBuffer& sh, LightingReport& report) {
+  ShBuffer previous(sh.size(), 0.0), before_extrapolation;
+  Convergence convergence(settings.tolerance, settings.accelerate);
+  for (int number = 1; number <= settings.max_iterations; ++number) {
+    sweep(cache, sh, previous, settings.threads);
+    check_finite(cache, previous, number);
+    const SweepChange change = measure_change(cache, sh, previous);
+    std::swap(sh, previous); // sh = the new iterate, previous = the one it came from
+    report.iterations = number;
+    if (!before_extrapolation.empty()) {
+      const bool keep = convergence.keep_extrapolation(change);
+      if (!keep) {
+        sh.swap(before_extrapolation); // back to the plain iterate; this sweep is discarded
+        --report.extrapolations;
+        ++report.rejected_extrapolations;
+      }
+      ShBuffer().swap(before_extrapolation);
+      if (!keep) continue;
+    }
+    report.converged = convergence.add(change);
+    if (report.converged) break;
+    if (number == settings.max_iterations) break; // an extrapolation is only kept after a sweep judged it
+    if (const double factor = convergence.extrapolation_factor(); factor > 0.0) {
+      before_extrapolation = sh;
+      extrapolate(cache, sh, previous, factor);
+      check_finite(cache, sh, number);
+      ++report.extrapolations;
+    }
+  }
+  report.change = convergence.change();
+  report.rate = std::max(convergence.rate(), 0.0f);
+  report.estimated_error = convergence.estimated_error();
 }
 
 } // namespace probebake::bake::lighting_detail

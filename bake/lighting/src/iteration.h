@@ -35,6 +35,10 @@ void extrapolate(const HitCache& cache, ShBuffer& current, const ShBuffer& previ
 //  - converged: change == 0, or rate < 1 and both change and change * rate / (1 - rate) < tolerance.
 //  - extrapolate (when enabled): 3 ratios since the last extrapolation within 5% of (1 - rate) of each
 //    other, 0.5 <= rate <= 0.9999; factor rate / (1 - rate) removes the dominant error mode.
+//  - keep an extrapolation only when the sweep after it changes less than the plain sweep before it. Steady
+//    ratios do not prove one dominant mode: an eigenvalue -rate (a probe pair lighting each other through
+//    a clamped SH lobe) gives the same ratios, and the step multiplies that mode by 1 + 2 * factor. A
+//    rejected step is undone and acceleration stops for the rest of the solve.
 class Convergence {
 public:
   Convergence(float tolerance, bool accelerate) : tolerance_(tolerance), accelerate_(accelerate) {}
@@ -42,6 +46,9 @@ public:
   bool add(const SweepChange& change);
   // The extrapolation factor to apply now (0: none). Resets the ratio history when non-zero.
   double extrapolation_factor();
+  // Judges the first sweep after an extrapolation: true keeps the step (then add() the change as usual);
+  // false means undo it, and turns acceleration off.
+  bool keep_extrapolation(const SweepChange& after);
   float rate() const;
   float estimated_error() const;
   float change() const { return last_.relative; }
@@ -51,7 +58,13 @@ private:
   bool accelerate_;
   SweepChange last_;
   std::deque<double> changes_; // absolute changes since the last extrapolation, at most 4
+  double change_before_extrapolation_ = 0.0;
   float extrapolated_rate_ = 0.0f;
 };
+
+// Sweeps `sh` (the starting iterate; zero for a bake) until `convergence` says so or settings.max_iterations
+// ran, extrapolating when settings.accelerate and the rates allow it. `sh` ends with the last plain iterate
+// or an extrapolated one kept; fills the iteration fields of `report`.
+void solve(const HitCache& cache, const LightingSettings& settings, ShBuffer& sh, LightingReport& report);
 
 } // namespace probebake::bake::lighting_detail

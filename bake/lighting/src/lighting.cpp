@@ -3,10 +3,8 @@
 // thesis's L2 step run to convergence, DDGI's probe-to-probe recursion for multiple bounces).
 #include "probebake/bake/lighting.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
-
 
 #include "hit_cache.h"
 #include "iteration.h"
@@ -21,30 +19,6 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 
 void require(bool ok, const char* message) {
   if (!ok) throw Error(ErrorKind::usage, message);
-}
-
-// Sweeps until converged or out of iterations; `current` ends with the last iterate.
-void iterate(const lighting_detail::HitCache& cache, const LightingSettings& s, lighting_detail::ShBuffer& current,
-             LightingReport& report) {
-  lighting_detail::ShBuffer other(current.size(), 0.0);
-  lighting_detail::Convergence convergence(s.tolerance, s.accelerate);
-  for (int sweep = 1; sweep <= s.max_iterations; ++sweep) {
-    lighting_detail::sweep(cache, current, other, s.threads);
-    lighting_detail::check_finite(cache, other, sweep);
-    const lighting_detail::SweepChange change = lighting_detail::measure_change(cache, current, other);
-    std::swap(current, other); // current = new iterate, other = the one before
-    report.iterations = sweep;
-    report.converged = convergence.add(change);
-    if (report.converged) break;
-    if (const double factor = convergence.extrapolation_factor(); factor > 0.0) {
-      lighting_detail::extrapolate(cache, current, other, factor);
-      lighting_detail::check_finite(cache, current, sweep);
-      ++report.extrapolations;
-    }
-  }
-  report.change = convergence.change();
-  report.rate = std::max(convergence.rate(), 0.0f);
-  report.estimated_error = convergence.estimated_error();
 }
 
 } // namespace
@@ -74,7 +48,7 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
 
   const auto iterate_start = Clock::now();
   lighting_detail::ShBuffer sh(27 * volume.probes.size(), 0.0);
-  if (!cache.probes.empty()) iterate(cache, settings, sh, report);
+  if (!cache.probes.empty()) lighting_detail::solve(cache, settings, sh, report);
   else report.converged = true;
   for (int p : cache.probes)
     for (int v = 0; v < 27; ++v) volume.probes[std::size_t(p)].irradiance_sh[v] = float(sh[27 * std::size_t(p) + std::size_t(v)]);

@@ -55,7 +55,9 @@ struct LightingReport {
   std::size_t misses = 0;           // rays that left the scene (sky)
   std::size_t indirect_misses = 0;  // front hits whose SVO lookup found no probe (they get no E_indirect)
   int iterations = 0;               // Jacobi sweeps (sweep 1 = emission + direct light, one bounce each more)
-  int extrapolations = 0;           // accelerated steps among them
+  int extrapolations = 0;           // accelerated steps kept among them
+  int rejected_extrapolations = 0;  // steps undone because the sweep after them changed more than the one
+                                    // before (docs/LIGHTING.md "Convergence"); acceleration then stops
   float change = 0.0f;              // max relative change of any probe's DC term in the last sweep
   float rate = 0.0f;                // estimated contraction rate per sweep (0 when unknown)
   float estimated_error = 0.0f;     // change * rate / (1 - rate): distance to the fixed point, relative;

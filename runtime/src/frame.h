@@ -9,6 +9,7 @@
 
 #include <vulkan/vulkan_core.h>
 
+#include "cell_streaming.h"
 #include "commands.h"
 #include "gpu_volume.h"
 #include "light_inputs.h"
@@ -22,6 +23,7 @@ namespace probebake::runtime::detail {
 
 // Timer slots of a frame's passes, in execution order (FrameStats lists them in this order).
 enum FramePass : std::uint32_t {
+  kPassStreamUpload,
   kPassMemoryUpdate,
   kPassProbeIndex,
   kPassLightTransitions,
@@ -41,6 +43,7 @@ struct FramePasses {
   LightInputs* light_inputs = nullptr; // with `light`: the host's punctual lights, uploaded into `volume`
   GpuVolume* volume = nullptr;
   ObjectPoses* objects = nullptr; // volumes with dynamic objects: the host's poses
+  CellStreaming* streaming = nullptr; // with `light`, UploadOptions::streaming: the cells around the camera
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.
@@ -48,6 +51,7 @@ struct RecordedFrame {
   bool ran[kFramePasses] = {};
   int uploaded_lights = 0; // punctual light records the host changed this frame
   int moved_objects = 0;   // dynamic objects whose pose the host changed this frame
+  StreamStats streaming;
 
   // After the submission completed: the GPU time of each pass that ran, in execution order.
   std::vector<PassTime> pass_times(const PassTimer& timer, std::uint32_t ring) const;

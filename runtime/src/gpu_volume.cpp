@@ -50,10 +50,20 @@ auto sections_of(Volume& v) {
 
 std::string name_of(Section section) { return formats::section_name(static_cast<std::uint32_t>(section)); }
 
+// The static tree's sections, which streaming replaces by its arena (streamed_tracing.h).
+bool is_streamed_section(Section section) {
+  return section == Section::trace_trees || section == Section::trace_nodes || section == Section::trace_faces ||
+         section == Section::trace_vertices;
+}
+
 } // namespace
 
-GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom) : device_(device) {
-  const auto sections = sections_of(volume);
+GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom, bool streamed_tracing)
+    : device_(device) {
+  auto sections = sections_of(volume);
+  if (streamed_tracing)
+    for (std::size_t i = 0; i < kSectionCount; ++i)
+      if (is_streamed_section(Section(i))) sections[i].elements = 0;
   std::size_t total = 0;
   for (std::size_t i = 0; i < kSectionCount; ++i) {
     elements_[i] = capacity_[i] = sections[i].elements;
@@ -100,6 +110,8 @@ void GpuVolume::set_live_elements(Section section, std::size_t count) {
 }
 
 VkBuffer GpuVolume::binding(Section section) const {
+  if (streamed_arena_ != VK_NULL_HANDLE && is_streamed_section(section))
+    return section == Section::trace_trees ? streamed_trees_ : streamed_arena_;
   const Buffer& b = buffer(section);
   return b ? b.get() : placeholder_.get();
 }

@@ -25,7 +25,9 @@ public:
   // Creates the buffers and uploads `volume`; the punctual_lights buffer gets room for `light_headroom`
   // more records (zeroed). Throws RuntimeError(unsupported) when a section is larger than
   // maxStorageBufferRange, naming the section and both sizes.
-  GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom = 0);
+  // `streamed_tracing`: the static tree's sections (trees, nodes, faces, vertices) get no buffer here; the
+  // streaming arena (streamed_tracing.h) takes their bindings through set_streamed_tracing().
+  GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom = 0, bool streamed_tracing = false);
 
   // A copy of every buffer; the CPU-only members (cells, cell_depth, input_hash) come from `cpu_parts`.
   formats::ProbeVolume read_back(const formats::ProbeVolume& cpu_parts) const;
@@ -33,8 +35,11 @@ public:
   // The section's buffer, or an empty Buffer when the volume has no such section.
   const Buffer& buffer(Section section) const { return buffers_[static_cast<std::size_t>(section)]; }
   // The section's buffer for descriptor sets: a 16-byte placeholder when the section is empty (shaders
-  // check the counts in VolumeInfo and never read it).
+  // check the counts in VolumeInfo and never read it); the streaming arena for the streamed sections.
   VkBuffer binding(Section section) const;
+  // Streaming: trace_trees binds `trees`, and trace_nodes, trace_faces and trace_vertices all bind `arena`
+  // (each its own array over the same bytes). Call before any pass binds the tracing sections.
+  void set_streamed_tracing(VkBuffer trees, VkBuffer arena) { streamed_trees_ = trees, streamed_arena_ = arena; }
   // The compact tracing sections (trees, nodes, faces, vertices, materials) at a layout's five bindings,
   // for every pass that traces rays (bvh_trace.glsl).
   template <std::size_t N>
@@ -64,6 +69,7 @@ private:
   std::array<std::size_t, kSectionCount> capacity_{};
   Buffer placeholder_;
   Buffer object_instances_;
+  VkBuffer streamed_trees_ = VK_NULL_HANDLE, streamed_arena_ = VK_NULL_HANDLE;
 };
 
 } // namespace probebake::runtime::detail

@@ -251,6 +251,31 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   return traced;
 }
 
+void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std::int32_t> slots,
+                                       std::span<const formats::CellRange> retrace) {
+  if (slots.size() > probe_capacity_) fail(StatusCode::internal, "light list: more slots than probes");
+  // VkDispatchIndirectCommand sizes folded into y past LIGHT_LIST_MAX_GROUPS_X, as memory_begin.comp does.
+  const auto folded = [](std::uint32_t groups, std::uint32_t* out) {
+    const std::uint32_t x = std::min(groups, gpu::LIGHT_LIST_MAX_GROUPS_X);
+    out[0] = x, out[1] = x == 0 ? 0 : (groups + x - 1) / x, out[2] = 1;
+  };
+  gpu::LightListHeader header{};
+  header.count = std::uint32_t(slots.size());
+  std::uint32_t groups[3], resolve[3];
+  folded(header.count, groups);
+  folded((header.count + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE, resolve);
+  header.groups_x = groups[0], header.groups_y = groups[1], header.groups_z = groups[2];
+  header.resolve_x = resolve[0], header.resolve_y = resolve[1], header.resolve_z = resolve[2];
+  vkCmdUpdateBuffer(cmd, light_list_.get(), 0, sizeof(header), &header);
+  constexpr std::size_t kChunk = 65536 / sizeof(std::int32_t); // vkCmdUpdateBuffer's limit
+  for (std::size_t i = 0; i < slots.size(); i += kChunk)
+    vkCmdUpdateBuffer(cmd, light_list_.get(), sizeof(header) + i * sizeof(std::int32_t),
+                      std::min(kChunk, slots.size() - i) * sizeof(std::int32_t), slots.data() + i);
+  for (const formats::CellRange& range : retrace)
+    if (range.count > 0)
+      vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4, gpu::TRACE_FLAG_RETRACE);
+}
+
 LightStats LightUpdatePass::stats(std::uint32_t ring) const {
   const gpu::LightCounters c = counters_.read(ring);
   LightStats s;

@@ -20,6 +20,7 @@
 #include "handles.h"
 #include "pass_counters.h"
 #include "pipelines.h"
+#include "probebake/formats/probe_volume.h"
 #include "probebake/runtime_types.h"
 #include "probebake/runtime/runtime.h"
 
@@ -61,6 +62,11 @@ public:
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
   void walk_light_list() { queue_driven_ = true; }
+  // Streaming (walk_light_list() on, no memory update): the host's list of the probe slots to light, and
+  // the slot ranges [first, first + count) whose records the next light_trace makes afresh (probes whose
+  // geometry just arrived). Recorded before record(); at most LightListHeader + probe_capacity entries.
+  void record_host_list(VkCommandBuffer cmd, std::span<const std::int32_t> slots,
+                        std::span<const formats::CellRange> retrace);
   // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
   VkBuffer trace_flags() const { return trace_flags_.get(); }
   // LightListHeader + int per probe slot (runtime_types.h), written by the light transitions.

@@ -19,9 +19,6 @@
 namespace probebake::runtime::detail {
 namespace {
 
-// Compute work and the indirect dispatch sizes it wrote (the state buffer's, the light list's).
-constexpr Access kComputeAndIndirect{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT};
 constexpr Access kAnyDeviceAndIndirect{kAnyDeviceAccess.stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                                        kAnyDeviceAccess.access | VK_ACCESS_INDIRECT_COMMAND_READ_BIT};
 

@@ -1,6 +1,7 @@
 // The public API (runtime.h): argument checks and the conversion of every exception into a Status.
 #include "probebake/runtime/runtime.h"
 
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -37,8 +38,12 @@ Status check_options(const UploadOptions& options) {
   return {};
 }
 
-BufferView view(const detail::GpuVolume& gpu, Section section) {
-  const detail::Buffer& b = gpu.buffer(section);
+BufferView view(const detail::VolumeState& state, Section section) {
+  if (state.streaming && (section == Section::trace_nodes || section == Section::trace_faces || section == Section::trace_vertices))
+    return {state.streaming->tracing().arena(), state.streaming->tracing().arena_size()};
+  if (state.streaming && section == Section::trace_trees)
+    return {state.streaming->tracing().trees(), state.streaming->tracing().trees_size()};
+  const detail::Buffer& b = state.gpu->buffer(section);
   return {b.get(), b.size()};
 }
 
@@ -163,7 +168,41 @@ Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::ve
 }
 
 Result<formats::ProbeVolume> Volume::read_back() {
-  return guarded([&]() -> Result<formats::ProbeVolume> { return state_->gpu->read_back(state_->cpu_parts); });
+  return guarded([&]() -> Result<formats::ProbeVolume> {
+    formats::ProbeVolume out = state_->gpu->read_back(state_->cpu_parts);
+    if (state_->streaming) { // the arena holds a renumbered part of these; validate_live checks it against them
+      const formats::ProbeVolume& file = state_->streaming->tracing().file_tracing();
+      out.trace_trees = file.trace_trees, out.trace_nodes = file.trace_nodes;
+      out.trace_faces = file.trace_faces, out.trace_vertices = file.trace_vertices;
+    }
+    return out;
+  });
+}
+
+Status Volume::stream_around(glm::vec3 position, float radius) {
+  return guarded([&]() -> Status {
+    if (!state_->streaming) return {StatusCode::invalid_argument, "stream_around: the volume was loaded without streaming"};
+    if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z) || !std::isfinite(radius) ||
+        radius < 0.0f)
+      return {StatusCode::invalid_argument, "stream_around: the position must be finite and the radius finite and >= 0"};
+    state_->streaming->set_camera(position, radius);
+    return {};
+  });
+}
+
+std::vector<int> Volume::resident_cells() const {
+  return state_->streaming ? state_->streaming->resident_cells() : std::vector<int>{};
+}
+
+Status Volume::set_stream_budget(std::uint64_t bytes) {
+  return guarded([&]() -> Status {
+    if (!state_->streaming) return {StatusCode::invalid_argument, "set_stream_budget: the volume was loaded without streaming"};
+    if (bytes > state_->streaming->max_budget())
+      return {StatusCode::invalid_argument, "set_stream_budget: " + std::to_string(bytes) + " bytes exceed the " +
+                                                std::to_string(state_->streaming->max_budget()) + " allocated at upload"};
+    state_->streaming->set_budget(bytes);
+    return {};
+  });
 }
 
 Status Volume::validate_live(formats::ValidationReport* report) {
@@ -172,6 +211,9 @@ Status Volume::validate_live(formats::ValidationReport* report) {
     if (!live.ok()) return live.status();
     formats::ValidationReport checked = formats::validate(live.value());
     checked.name = "live volume";
+    if (state_->streaming)
+      for (const std::string& problem : state_->streaming->tracing().verify())
+        checked.violations.push_back({"streamed_cell", "trace_nodes", -1, problem});
     Status status = status_of(checked);
     if (report) *report = std::move(checked);
     return status;
@@ -179,13 +221,13 @@ Status Volume::validate_live(formats::ValidationReport* report) {
 }
 
 VolumeBuffers Volume::buffers() const {
-  const detail::GpuVolume& gpu = *state_->gpu;
-  return {view(gpu, Section::volume_info), view(gpu, Section::octree),       view(gpu, Section::probes),
-          view(gpu, Section::surfel_batches), view(gpu, Section::leaf_queue_header), view(gpu, Section::leaf_entries),
-          view(gpu, Section::probe_index), view(gpu, Section::svo_nodes),    view(gpu, Section::svo_leaves),
-          view(gpu, Section::lighting_info), view(gpu, Section::ray_directions), view(gpu, Section::punctual_lights),
-          view(gpu, Section::emitter_patches), view(gpu, Section::trace_trees), view(gpu, Section::trace_nodes),
-          view(gpu, Section::trace_faces), view(gpu, Section::trace_vertices), view(gpu, Section::trace_materials)};
+  const detail::VolumeState& s = *state_;
+  return {view(s, Section::volume_info), view(s, Section::octree),       view(s, Section::probes),
+          view(s, Section::surfel_batches), view(s, Section::leaf_queue_header), view(s, Section::leaf_entries),
+          view(s, Section::probe_index), view(s, Section::svo_nodes),    view(s, Section::svo_leaves),
+          view(s, Section::lighting_info), view(s, Section::ray_directions), view(s, Section::punctual_lights),
+          view(s, Section::emitter_patches), view(s, Section::trace_trees), view(s, Section::trace_nodes),
+          view(s, Section::trace_faces), view(s, Section::trace_vertices), view(s, Section::trace_materials)};
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }

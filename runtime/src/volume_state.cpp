@@ -24,7 +24,15 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.input_hash = volume.input_hash;
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
-  gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u);
+  const bool streams = options.streaming.budget_bytes > 0;
+  if (streams && (dynamic_tree || !lit))
+    fail(StatusCode::invalid_argument, dynamic_tree ? "streaming cells and the memory update do not run together yet"
+                                                    : "streaming cells needs the light update and the lighting sections");
+  gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u, streams);
+  if (streams) {
+    streaming = std::make_unique<CellStreaming>(*device, uploaded, options.streaming, std::uint32_t(options.frames_in_flight));
+    gpu->set_streamed_tracing(streaming->tracing().trees(), streaming->tracing().arena());
+  }
   if (!uploaded.dynamic_objects.empty()) objects = std::make_unique<ObjectPoses>(*device, *gpu, uploaded.dynamic_objects);
   const auto ring_count = static_cast<std::uint32_t>(options.frames_in_flight);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu, ring_count);
@@ -37,6 +45,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count);
     light->walk_light_list();
   }
+  if (streaming && light) light->walk_light_list(); // the host lists the resident cells' probes
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);
   rings.resize(ring_count);
   for (FrameRing& ring : rings) {
@@ -60,7 +69,7 @@ std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs
   }
   check_vk(vkResetEvent(device->vk(), ring.done.get()), "vkResetEvent");
   frame_timer->reset(cmd, index);
-  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get(), objects.get()};
+  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get(), objects.get(), streaming.get()};
   ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
   vkCmdSetEvent(cmd, ring.done.get(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   if (memory) cpu_parts.info = memory->info();
@@ -92,6 +101,7 @@ FrameStats VolumeState::collect(FrameRing& ring) {
     stats.light.moved_objects = ring.recorded.moved_objects;
   }
   if (memory) stats.memory = memory->stats(index);
+  stats.streaming = ring.recorded.streaming;
   stats.live_probes = probe_index->live_probes(index);
   stats.probe_capacity = static_cast<int>(gpu->elements(Section::probes));
   stats.cpu_ms = ring.cpu_ms;

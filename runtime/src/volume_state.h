@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "cell_streaming.h"
 #include "commands.h"
 #include "device.h"
 #include "frame.h"
@@ -44,6 +45,7 @@ struct VolumeState {
   std::unique_ptr<LightInputs> light_inputs; // with `light`: the host's punctual lights
   std::unique_ptr<ObjectPoses> objects; // only for volumes with dynamic objects
   std::unique_ptr<MemoryUpdatePass> memory; // only with a light update, on octree volumes (memory_update_applies)
+  std::unique_ptr<CellStreaming> streaming; // only with UploadOptions::streaming (and a light update)
   std::unique_ptr<PassTimer> frame_timer; // one slot per FramePass (frame.h), one ring per frame in flight
   std::vector<FrameRing> rings;
   std::uint64_t frames = 0;

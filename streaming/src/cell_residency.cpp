@@ -78,4 +78,11 @@ ResidencyChanges CellResidency::update(glm::vec3 position, float radius) {
   return changes;
 }
 
+void CellResidency::cancel_load(std::size_t cell) {
+  if (cell >= cells_.size() || resident_[cell] == 0) return;
+  resident_[cell] = 0;
+  resident_bytes_ -= cells_[cell].bytes;
+  --resident_count_;
+}
+
 } // namespace probebake::streaming

@@ -172,6 +172,20 @@ struct MemoryPools {
   int free_batches = -1;  // surfel batches (volumes that store surfels); default free probes x batches per probe
 };
 
+// Streaming cells (issue #15; docs/RUNTIME.md "Streaming cells"): the static tracing tree is kept on the
+// device only for the cells around the camera (Volume::stream_around), within a byte budget, and the light
+// update lights only the probes of those cells; the others keep their irradiance (the bake's, or the last
+// one they were lit with). Needs a file whose tracing tree is split by cell (format 1.5: bake with
+// --cell-size or --cell-depth >= 1), the light update, and no memory update.
+struct StreamingOptions {
+  // Device bytes for the resident cells' tracing blocks; 0 = no streaming (the whole tree is uploaded). The
+  // top level, the dynamic objects' trees and the per-cell bookkeeping come on top (a few KB).
+  std::uint64_t budget_bytes = 0;
+  // Bytes copied per frame at most (0 = no limit); one cell is always allowed, so a cell larger than this
+  // still arrives. Bounds each frame's upload spike; the other cells wait, nearest first.
+  std::uint64_t max_upload_bytes = 0;
+};
+
 struct UploadOptions {
   // Run formats::validate() before uploading and refuse an invalid volume (invalid_volume). Turn off only
   // to test the runtime on deliberately broken data.
@@ -196,6 +210,7 @@ struct UploadOptions {
   // Punctual lights the host may add beyond the file's (FrameInputs::lights): the light buffer holds the
   // file's count plus this many records, allocated once at upload. >= 0; needs the lighting sections.
   int light_headroom = 0;
+  StreamingOptions streaming{};
   // Frames that may be recorded (Volume::record_frame) before the first of them finished on the GPU; each
   // keeps its own timestamps and counters until Volume::poll_frame_stats returns them. In [1, 16].
   int frames_in_flight = 3;
@@ -263,7 +278,7 @@ struct FrameInputs {
 
 // The per-frame passes in execution order: the names FrameStats::passes uses (a pass that did not run in a
 // frame is left out of that frame's list).
-inline constexpr std::array<const char*, 7> kFramePassNames = {"memory_update", "probe_index",  "light_transitions",
+inline constexpr std::array<const char*, 8> kFramePassNames = {"stream_upload", "memory_update", "probe_index",  "light_transitions",
                                                                "light_relight", "light_trace",  "light_gather",
                                                                "light_resolve"};
 
@@ -311,6 +326,19 @@ struct MemoryUpdateStats {
   int free_batches = 0, batch_capacity = 0;
 };
 
+// Statistics of one frame's cell streaming (all 0 and active = false without it). The upload's GPU time is
+// the "stream_upload" pass; its host time (numbering the blocks into the staging buffer) is upload_cpu_ms.
+struct StreamStats {
+  bool active = false;
+  int resident_cells = 0;        // cells whose probes are lit (with their tracing block, if they have faces)
+  std::uint64_t resident_bytes = 0; // their blocks' bytes, <= the budget
+  int loaded_cells = 0, dropped_cells = 0;
+  std::uint64_t loaded_bytes = 0;
+  int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes
+  int unplaced_cells = 0;        // loads that found no free run in the fragmented arena (retried next frame)
+  double upload_cpu_ms = 0.0;
+};
+
 struct FrameStats {
   std::uint64_t frame = 0;      // frames run on this Volume, this one included
   std::vector<PassTime> passes; // in execution order; passes a frame does not run are not listed
@@ -319,6 +347,7 @@ struct FrameStats {
   int probe_capacity = 0;
   LightStats light;
   MemoryUpdateStats memory;
+  StreamStats streaming;
 };
 
 struct SampleStats {
@@ -392,11 +421,23 @@ public:
                                                    std::span<const glm::vec3> normals, SampleStats* stats = nullptr,
                                                    SampleMethod method = SampleMethod::svo);
 
+  // Streaming (UploadOptions::streaming): the camera that the next recorded frames stream around: cells whose
+  // cube lies within `radius` metres of `position`, nearest first, while they fit the budget. Until the
+  // first call no cell is resident. invalid_argument for a non-finite position, a negative or non-finite
+  // radius, or a volume loaded without streaming.
+  Status stream_around(glm::vec3 position, float radius);
+  // A new budget from the next frame on, at most UploadOptions::streaming.budget_bytes (invalid_argument).
+  Status set_stream_budget(std::uint64_t bytes);
+  // Cell::cell_index of every resident cell after the last recorded frame, ascending (empty without streaming).
+  std::vector<int> resident_cells() const;
+
   // Copies every GPU buffer back into a ProbeVolume; the CPU-only parts (streaming cells, cell depth, input
-  // hash) come from the uploaded volume.
+  // hash) come from the uploaded volume; with streaming, the tracing sections are the file's.
   Result<formats::ProbeVolume> read_back();
   // read_back() + formats::validate(): invalid_volume naming the first violations when the live state breaks
-  // an invariant. `report` (optional) receives the full report.
+  // an invariant. With streaming, also every resident cell's tracing block read back and numbered back
+  // equals the file's bytes and is the one its top-level word leads to, and every other cell's word is the
+  // null leaf (violations "streamed_cell"). `report` (optional) receives the full report.
   Status validate_live(formats::ValidationReport* report = nullptr);
 
   // The buffers; punctual_lights holds light_capacity() records, the first lighting_info.lights live.

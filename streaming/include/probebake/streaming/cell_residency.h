@@ -57,6 +57,10 @@ public:
   // no cell). The caller applies the drops and then the loads.
   ResidencyChanges update(glm::vec3 position, float radius);
 
+  // A load the caller could not carry out (no room left in a fragmented store): the cell is not resident
+  // and the next update wants it again.
+  void cancel_load(std::size_t cell);
+
   // The cells the policy wants resident around `position`, nearest first, ignoring max_load_bytes.
   std::vector<std::size_t> wanted(glm::vec3 position, float radius) const;
 

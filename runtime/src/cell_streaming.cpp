@@ -1,0 +1,61 @@
+#include "cell_streaming.h"
+
+#include <chrono>
+
+namespace probebake::runtime::detail {
+
+CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, const StreamingOptions& options,
+                             std::uint32_t rings)
+    : tracing_(device, volume, options.budget_bytes,
+               options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings),
+      residency_(tracing_.footprints(volume.cells)), max_budget_(options.budget_bytes) {
+  residency_.set_budget(options.budget_bytes);
+  residency_.set_max_load_bytes(options.max_upload_bytes);
+  for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
+}
+
+std::vector<int> CellStreaming::resident_cells() const {
+  std::vector<int> out;
+  for (std::size_t k = 0; k < residency_.cells().size(); ++k)
+    if (residency_.resident(k)) out.push_back(residency_.cells()[k].cell_index);
+  return out;
+}
+
+StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, std::uint32_t ring,
+                                  LightUpdatePass& light, bool& timed) {
+  StreamStats stats;
+  stats.active = true;
+  if (moved_ || pending_) {
+    const auto start = std::chrono::steady_clock::now();
+    streaming::ResidencyChanges changes = residency_.update(camera_, radius_);
+    timer.begin(cmd, slot);
+    const std::vector<std::size_t> unplaced = tracing_.record(cmd, ring, changes);
+    for (std::size_t k : unplaced) residency_.cancel_load(k);
+    std::vector<std::int32_t> slots;
+    std::vector<formats::CellRange> retrace;
+    for (std::size_t k = 0; k < probe_ranges_.size(); ++k) {
+      if (!residency_.resident(k)) continue;
+      for (std::uint32_t i = 0; i < probe_ranges_[k].count; ++i) slots.push_back(std::int32_t(probe_ranges_[k].first + i));
+    }
+    for (std::size_t k : changes.loads)
+      if (residency_.resident(k)) retrace.push_back(probe_ranges_[k]);
+    if (!changes.loads.empty() || !changes.drops.empty()) light.record_host_list(cmd, slots, retrace);
+    timer.end(cmd, slot);
+    timed = true;
+    barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes
+    stats.loaded_cells = int(changes.loads.size() - unplaced.size());
+    stats.dropped_cells = int(changes.drops.size());
+    stats.loaded_bytes = changes.loaded_bytes;
+    for (std::size_t k : unplaced) stats.loaded_bytes -= residency_.cells()[k].bytes;
+    stats.waiting_cells = int(changes.waiting);
+    stats.unplaced_cells = int(unplaced.size());
+    stats.upload_cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    pending_ = changes.waiting > 0 || !unplaced.empty();
+    moved_ = false;
+  }
+  stats.resident_cells = int(residency_.resident_count());
+  stats.resident_bytes = residency_.resident_bytes();
+  return stats;
+}
+
+} // namespace probebake::runtime::detail

@@ -1,0 +1,50 @@
+// Cell streaming inside a frame (issue #15; docs/RUNTIME.md "Streaming cells"): the residency policy
+// (probebake_streaming) decides around the host's camera, the streamed tracing arena applies the drops and
+// loads, and the light update is told which probe slots to light (the resident cells') and which to trace
+// afresh (the cells that just arrived).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <vulkan/vulkan_core.h>
+
+#include "commands.h"
+#include "light_update_pass.h"
+#include "streamed_tracing.h"
+#include "probebake/runtime/runtime.h"
+#include "probebake/streaming/cell_residency.h"
+
+namespace probebake::runtime::detail {
+
+class CellStreaming {
+public:
+  CellStreaming(Device& device, const formats::ProbeVolume& volume, const StreamingOptions& options, std::uint32_t rings);
+
+  StreamedTracing& tracing() { return tracing_; }
+  const StreamedTracing& tracing() const { return tracing_; }
+  void set_camera(glm::vec3 position, float radius) { camera_ = position, radius_ = radius, moved_ = true; }
+  void set_budget(std::uint64_t bytes) { residency_.set_budget(bytes), moved_ = true; }
+  std::uint64_t max_budget() const { return max_budget_; }
+  std::vector<int> resident_cells() const;
+
+  // Records this frame's residency changes (between the timer slot's timestamps when there are any) and
+  // the light list; ring `ring`'s staging buffer must be free.
+  // `timed`: set when the slot's timestamps were written.
+  StreamStats record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, std::uint32_t ring, LightUpdatePass& light,
+                     bool& timed);
+
+private:
+  StreamedTracing tracing_;
+  streaming::CellResidency residency_;
+  std::vector<formats::CellRange> probe_ranges_; // per Cell record: its probe slots
+  std::uint64_t max_budget_ = 0;
+  glm::vec3 camera_{0.0f};
+  float radius_ = -1.0f; // no camera yet: no cell wanted
+  bool moved_ = false;   // camera or budget changed since the last record (a still camera may still have waiting cells)
+  bool pending_ = false; // cells wait or failed: update again next frame
+};
+
+} // namespace probebake::runtime::detail

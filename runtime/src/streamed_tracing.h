@@ -1,0 +1,100 @@
+// The static tracing tree streamed by cell (issue #15; docs/RUNTIME.md "Streaming cells"). One device buffer,
+// the arena, holds at its start the top level of the file's cell-split tree (format 1.5, docs/FORMAT.md
+// section 6.1), the dynamic objects' trees and one null face; behind them the resident cells' blocks: each
+// cell's nodes, faces and vertices, renumbered on the host to where the block lies. The shaders' three
+// tracing bindings (nodes, faces, vertices) all alias the arena, so one budget covers the three sections. A
+// cell that is not resident is reached through a leaf holding the null face (three equal vertices, which
+// no ray hits): rays cross its box as empty space.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan_core.h>
+
+#include "allocator.h"
+#include "device.h"
+#include "probebake/formats/probe_volume.h"
+#include "probebake/streaming/cell_residency.h"
+
+namespace probebake::runtime::detail {
+
+// First-fit allocation of blocks in a byte range, in units of `unit` bytes, freed blocks merged with their
+// neighbours. Offsets are relative to the range.
+class BlockAllocator {
+public:
+  BlockAllocator(std::uint64_t bytes, std::uint64_t unit);
+  // The offset of a block of `bytes` (rounded up to the unit), or -1 when no free run is long enough.
+  std::int64_t allocate(std::uint64_t bytes);
+  void release(std::uint64_t offset, std::uint64_t bytes);
+
+private:
+  std::uint64_t unit_;
+  std::map<std::uint64_t, std::uint64_t> free_; // offset -> units
+};
+
+class StreamedTracing {
+public:
+  // `volume`: validated, with cell_tracing. `cell_bytes`: the arena's room for cell blocks (the streaming
+  // budget); `staging_bytes`: the most one frame copies (at least the largest block); one staging buffer
+  // per ring. Throws RuntimeError(unsupported) when the arena would pass maxStorageBufferRange or 2 GiB.
+  StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::uint64_t cell_bytes, std::uint64_t staging_bytes,
+                  std::uint32_t rings);
+
+  // Each Cell record's block size in the arena (0 without faces), in record order: what the residency
+  // policy budgets. `cells`: the volume's Cell records.
+  std::vector<streaming::CellFootprint> footprints(std::span<const formats::Cell> cells) const;
+  std::uint64_t largest_block() const { return largest_block_; }
+
+  // Records `changes` into `cmd` (ring `ring`'s staging is free: its last frame finished): drops turn the
+  // word that leads to the cell into the null leaf and free the block; loads renumber the cell's block on the
+  // host into the staging buffer, copy it into a free block and set the word. Loads that find no free run
+  // long enough (a fragmented arena) are returned: those cells stay out. Ends with a barrier before compute.
+  std::vector<std::size_t> record(VkCommandBuffer cmd, std::uint32_t ring, const streaming::ResidencyChanges& changes);
+
+  VkBuffer trees() const { return trees_.get(); }
+  VkBuffer arena() const { return arena_.get(); }
+  VkDeviceSize arena_size() const { return arena_.size(); }
+  VkDeviceSize trees_size() const { return trees_.size(); }
+  // The file's tracing sections (trees, nodes, faces, vertices), as read_back() reports them.
+  const formats::ProbeVolume& file_tracing() const { return file_; }
+
+  // Reads the arena back: every resident cell's block, numbered back, equals the file's bytes and the word
+  // leading to it points at it; every other cell's word is the null leaf. The problems found (at most 8).
+  std::vector<std::string> verify() const;
+
+private:
+  struct Layout; // where a cell's nodes, faces and vertices lie in a block
+  struct CellPart {
+    formats::CellTracing ranges{};
+    std::uint64_t block_bytes = 0;
+    std::int64_t offset = -1; // its block in the arena, -1 when not resident
+    bool in_tree_root = false; // the word leading to it: trace_trees[0].root, or
+    std::uint32_t parent_node = 0, parent_child = 0; // child `parent_child` of top-level node `parent_node`
+  };
+  void build_global_region(const formats::ProbeVolume& volume, std::vector<std::byte>& bytes);
+  void find_parent_words(const formats::ProbeVolume& volume);
+  std::uint32_t cell_root_word(const CellPart& cell) const; // where its block is now
+  void write_block(const CellPart& cell, std::uint64_t offset, std::byte* out) const;
+  void set_word(VkCommandBuffer cmd, const CellPart& cell, std::uint32_t word);
+
+  Device& device_;
+  formats::ProbeVolume file_; // trees, nodes, faces, vertices of the file
+  std::vector<CellPart> cells_;
+  std::uint32_t top_nodes_ = 0;
+  std::uint32_t dynamic_nodes_ = 0;
+  std::int64_t dyn_node_shift_ = 0, dyn_face_shift_ = 0; // the dynamic objects' words, file -> arena
+  std::uint32_t null_leaf_ = 0;
+  std::uint64_t pool_start_ = 0;
+  std::uint64_t largest_block_ = 0;
+  std::uint64_t staging_bytes_ = 0;
+  BlockAllocator blocks_;
+  Buffer arena_;
+  Buffer trees_;
+  std::vector<Buffer> staging_;
+};
+
+} // namespace probebake::runtime::detail

@@ -1,0 +1,188 @@
+// Streaming cells (UploadOptions::streaming, issue #15) on generated closed rooms, under the validation
+// layer: with every cell resident the volume lights exactly as the whole file does; with some resident, the
+// probes whose cell and neighbouring cells are resident light exactly as the whole file does and the others
+// keep the file's irradiance; along a camera path back and forth the resident bytes stay within the budget
+// and the live state (every resident cell's block numbered back to the file's bytes) is valid every frame.
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <vector>
+
+#include <glm/common.hpp>
+
+#include "probebake/bake/bake.h"
+#include "probebake/formats/cells.h"
+#include "probebake/scene/scene.h"
+#include "probebake/samples/scenes.h"
+#include "runtime_test_util.h"
+
+namespace probebake::test {
+namespace {
+
+class StreamingTest : public RuntimeTest {};
+
+// Eight closed rooms (6.2 m with their walls) baked to max depth 5 in cells at least 6.5 m wide, so that the
+// faces of a probe's room lie in its cell and the neighbouring ones.
+const formats::ProbeVolume& streamed_rooms() {
+  static const formats::ProbeVolume v = [] {
+    const std::vector<std::uint8_t> glb = samples::rooms({.count = 8, .detail = 2}).to_glb();
+    const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), "rooms8", ".",
+                                                             {.require_triangles = true});
+    bake::BakeSettings s;
+    s.max_depth = 5;
+    s.surfels_per_probe = 64;
+    s.svo_depth = 5;
+    s.lighting.rays = 64;
+    s.cell_size = 6.5f;
+    return bake::bake(scene, s).volume;
+  }();
+  return v;
+}
+
+std::uint64_t tracing_bytes_of_cells(const formats::ProbeVolume& v) {
+  std::uint64_t total = 0;
+  for (const formats::CellTracing& t : v.cell_tracing)
+    total += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+  return total;
+}
+
+bool same_irradiance(const gpu::Probe& a, const gpu::Probe& b) {
+  return std::memcmp(a.irradiance_sh, b.irradiance_sh, sizeof(a.irradiance_sh)) == 0;
+}
+
+runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max_upload = 0) {
+  runtime::UploadOptions options;
+  options.streaming.budget_bytes = budget;
+  options.streaming.max_upload_bytes = max_upload;
+  return options;
+}
+
+TEST_F(StreamingTest, EveryCellResidentLightsExactlyAsTheWholeFile) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  ASSERT_FALSE(v.cell_tracing.empty());
+  auto whole = runtime::Volume::upload(context(), v);
+  auto streamed = runtime::Volume::upload(context(), v, streaming_options(2 * tracing_bytes_of_cells(v)));
+  ASSERT_TRUE(whole.ok()) << whole.status().message;
+  ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+  ASSERT_TRUE(streamed.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
+  for (int f = 0; f < 3; ++f) {
+    auto a = whole.value().run_frame();
+    auto b = streamed.value().run_frame();
+    ASSERT_TRUE(a.ok() && b.ok()) << b.status().message;
+    EXPECT_EQ(b.value().light.lit_probes, a.value().light.lit_probes);
+    if (f == 0) {
+      EXPECT_EQ(b.value().streaming.resident_cells, int(v.cells.size()));
+    }
+  }
+  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+  auto a = whole.value().read_back(), b = streamed.value().read_back();
+  ASSERT_TRUE(a.ok() && b.ok());
+  for (std::size_t i = 0; i < v.probes.size(); ++i)
+    ASSERT_TRUE(same_irradiance(a.value().probes[i], b.value().probes[i])) << "probe " << i;
+}
+
+TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIrradiance) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  auto whole = runtime::Volume::upload(context(), v);
+  auto streamed = runtime::Volume::upload(context(), v, streaming_options(2 * tracing_bytes_of_cells(v)));
+  ASSERT_TRUE(whole.ok() && streamed.ok());
+  // The camera at the first live probe, the radius about two cells.
+  const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
+  ASSERT_NE(first, v.probes.end());
+  const float cell = v.info.root_size / float(formats::cells_per_axis(v.cell_depth));
+  ASSERT_TRUE(streamed.value().stream_around(first->position, 12.0f).ok());
+  ASSERT_TRUE(whole.value().run_frame().ok());
+  ASSERT_TRUE(streamed.value().run_frame().ok());
+  const std::vector<int> resident = streamed.value().resident_cells();
+  const std::set<int> resident_set(resident.begin(), resident.end());
+  const int n = formats::cells_per_axis(v.cell_depth);
+  // A room with its walls is 6.4 m wide: its faces lie within `reach` cells of any probe inside it.
+  const int reach = int(std::ceil(6.4f / cell));
+  const auto neighbourhood_resident = [&](int c) {
+    const int x = c % n, y = c / n % n, z = c / (n * n);
+    for (int dz = -reach; dz <= reach; ++dz)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const int cx = x + dx, cy = y + dy, cz = z + dz;
+          if (cx < 0 || cy < 0 || cz < 0 || cx >= n || cy >= n || cz >= n) continue;
+          const int neighbour = cx + n * (cy + n * cz);
+          const bool has_record = std::any_of(v.cells.begin(), v.cells.end(), [&](const formats::Cell& r) { return r.cell_index == neighbour; });
+          if (has_record && !resident_set.count(neighbour)) return false;
+        }
+    return true;
+  };
+  auto a = whole.value().read_back(), b = streamed.value().read_back();
+  ASSERT_TRUE(a.ok() && b.ok());
+  int exact = 0, kept = 0, between = 0;
+  for (std::size_t i = 0; i < v.probes.size(); ++i) {
+    if (v.probes[i].link == 0) continue;
+    const int c = formats::cell_of_point(v.info, v.cell_depth, v.probes[i].position);
+    if (!resident_set.count(c)) {
+      ASSERT_TRUE(same_irradiance(b.value().probes[i], v.probes[i])) << "probe " << i << " of a cell out of range changed";
+      ++kept;
+    } else if (neighbourhood_resident(c)) {
+      ASSERT_TRUE(same_irradiance(b.value().probes[i], a.value().probes[i])) << "probe " << i << " of cell " << c;
+      ++exact;
+    } else {
+      ++between;
+    }
+  }
+  std::printf("[streaming] %d live probes, cells of %.2f m: %zu of %zu cells resident: %d probes lit exactly as the whole file, %d kept the file's "
+              "irradiance, %d lit beside cells that are out\n", live_probe_count(v), double(cell), resident.size(), v.cells.size(), exact, kept, between);
+  EXPECT_GT(exact, 0);
+  EXPECT_GT(kept, 0);
+}
+
+TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  const std::uint64_t all = tracing_bytes_of_cells(v), budget = all * 2 / 5;
+  auto streamed = runtime::Volume::upload(context(), v, streaming_options(budget, budget / 4));
+  ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+  const glm::vec3 lo = v.info.root_min, hi = v.info.root_min + v.info.root_size;
+  const float radius = 0.3f * v.info.root_size;
+  int loads = 0, drops = 0, waits = 0;
+  std::uint64_t worst_upload = 0;
+  const int frames = 24;
+  for (int f = 0; f < frames; ++f) {
+    const float t = f < frames / 2 ? float(f) / float(frames / 2 - 1) : float(frames - 1 - f) / float(frames / 2 - 1);
+    const glm::vec3 camera = glm::mix(lo, hi, glm::vec3(t, 0.5f, 1.0f - t));
+    ASSERT_TRUE(streamed.value().stream_around(camera, radius).ok());
+    auto stats = streamed.value().run_frame();
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    const runtime::StreamStats& s = stats.value().streaming;
+    ASSERT_TRUE(s.active);
+    ASSERT_LE(s.resident_bytes, budget) << "frame " << f;
+    loads += s.loaded_cells, drops += s.dropped_cells, waits += s.waiting_cells;
+    worst_upload = std::max(worst_upload, s.loaded_bytes);
+    const runtime::Status live = streamed.value().validate_live();
+    ASSERT_TRUE(live.ok()) << "frame " << f << ": " << live.message;
+  }
+  std::printf("[streaming] %d frames, budget %llu of %llu bytes: %d loads, %d drops, %d waits, largest frame upload %llu bytes\n",
+              frames, static_cast<unsigned long long>(budget), static_cast<unsigned long long>(all), loads, drops, waits,
+              static_cast<unsigned long long>(worst_upload));
+  EXPECT_GT(drops, 0);
+  EXPECT_GT(loads, int(v.cells.size()) / 2) << "the way back loads dropped cells again";
+  EXPECT_FALSE(streamed.value().set_stream_budget(budget + 1).ok());
+  EXPECT_FALSE(streamed.value().stream_around(glm::vec3(NAN), 1.0f).ok());
+}
+
+TEST_F(StreamingTest, RefusesVolumesItCannotStream) {
+  formats::ProbeVolume v = streamed_rooms();
+  v.cell_tracing.clear();
+  auto refused = runtime::Volume::upload(context(), v, streaming_options(1 << 20));
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code, runtime::StatusCode::unsupported) << refused.status().message;
+  runtime::UploadOptions no_light = streaming_options(1 << 20);
+  no_light.light_update = false;
+  auto unlit = runtime::Volume::upload(context(), streamed_rooms(), no_light);
+  ASSERT_FALSE(unlit.ok());
+  EXPECT_EQ(unlit.status().code, runtime::StatusCode::invalid_argument);
+  auto plain = runtime::Volume::upload(context(), streamed_rooms());
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain.value().stream_around(glm::vec3(0.0f), 1.0f).code, runtime::StatusCode::invalid_argument);
+}
+
+} // namespace
+} // namespace probebake::test

@@ -1,6 +1,8 @@
 #include "cell_streaming.h"
 
+#include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace probebake::runtime::detail {
 
@@ -8,7 +10,8 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
                              std::uint32_t rings)
     : tracing_(device, volume, options.budget_bytes,
                options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings),
-      residency_(tracing_.footprints(volume.cells)), max_budget_(options.budget_bytes) {
+      residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
+      max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes) {
   residency_.set_budget(options.budget_bytes);
   residency_.set_max_load_bytes(options.max_upload_bytes);
   for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
@@ -21,6 +24,28 @@ std::vector<int> CellStreaming::resident_cells() const {
   return out;
 }
 
+bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
+                                     StreamStats& stats) {
+  bool changed = false;
+  for (std::size_t k : changes.drops) changed = std::exchange(lit_[k], 0u) != 0 || changed;
+  for (std::size_t k : changes.loads) joining_.push_back(k);
+  std::erase_if(joining_, [&](std::size_t k) { return !residency_.resident(k); }); // dropped, or not placed
+  std::uint32_t left = max_joining_probes_ > 0 ? std::uint32_t(max_joining_probes_) : ~0u;
+  for (std::size_t k : joining_) {
+    const formats::CellRange& probes = probe_ranges_[k];
+    const std::uint32_t take = std::min(left, probes.count - lit_[k]);
+    if (left == 0) break;
+    if (take == 0) continue; // a cell without probes
+    retrace.push_back({probes.first + lit_[k], take, 0, 0});
+    lit_[k] += take, left -= take;
+    stats.joined_probes += int(take);
+    changed = true;
+  }
+  std::erase_if(joining_, [&](std::size_t k) { return lit_[k] == probe_ranges_[k].count; });
+  for (std::size_t k : joining_) stats.joining_probes += int(probe_ranges_[k].count - lit_[k]);
+  return changed;
+}
+
 StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, std::uint32_t ring,
                                   LightUpdatePass& light, bool& timed) {
   StreamStats stats;
@@ -31,15 +56,13 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     timer.begin(cmd, slot);
     const std::vector<std::size_t> unplaced = tracing_.record(cmd, ring, changes);
     for (std::size_t k : unplaced) residency_.cancel_load(k);
-    std::vector<std::int32_t> slots;
     std::vector<formats::CellRange> retrace;
-    for (std::size_t k = 0; k < probe_ranges_.size(); ++k) {
-      if (!residency_.resident(k)) continue;
-      for (std::uint32_t i = 0; i < probe_ranges_[k].count; ++i) slots.push_back(std::int32_t(probe_ranges_[k].first + i));
+    if (update_lit_cells(changes, retrace, stats)) {
+      std::vector<std::int32_t> slots;
+      for (std::size_t k = 0; k < probe_ranges_.size(); ++k)
+        for (std::uint32_t i = 0; i < lit_[k]; ++i) slots.push_back(std::int32_t(probe_ranges_[k].first + i));
+      light.record_host_list(cmd, slots, retrace);
     }
-    for (std::size_t k : changes.loads)
-      if (residency_.resident(k)) retrace.push_back(probe_ranges_[k]);
-    if (!changes.loads.empty() || !changes.drops.empty()) light.record_host_list(cmd, slots, retrace);
     timer.end(cmd, slot);
     timed = true;
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes
@@ -50,7 +73,7 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     stats.waiting_cells = int(changes.waiting);
     stats.unplaced_cells = int(unplaced.size());
     stats.upload_cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    pending_ = changes.waiting > 0 || !unplaced.empty();
+    pending_ = changes.waiting > 0 || !unplaced.empty() || !joining_.empty();
     moved_ = false;
   }
   stats.resident_cells = int(residency_.resident_count());

@@ -39,7 +39,14 @@ public:
 private:
   StreamedTracing tracing_;
   streaming::CellResidency residency_;
+  // Applies the residency changes to the lit cells and admits waiting cells within max_joining_probes;
+  // returns whether the light list changed, with the probe ranges to trace afresh.
+  bool update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace, StreamStats& stats);
+
   std::vector<formats::CellRange> probe_ranges_; // per Cell record: its probe slots
+  std::vector<std::uint32_t> lit_;               // per Cell record: its first lit_[k] probes are in the light list
+  std::vector<std::size_t> joining_;             // resident cells with probes not lit yet, in arrival order
+  int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;
   glm::vec3 camera_{0.0f};
   float radius_ = -1.0f; // no camera yet: no cell wanted

@@ -225,7 +225,8 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     else dispatch_groups(cmd, device_, slot_groups);
   };
   bind_set_and_push(cmd, layout, descriptors_.set, push);
-  const bool traced = trace_pending_ || queue_driven_ || marked;
+  // A list the memory update writes has new probes every frame; the host's only when it flagged some.
+  const bool traced = trace_pending_ || (queue_driven_ && !host_listed_) || host_retrace_ || marked;
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
     if (marked) record_mark_moved(cmd);
@@ -233,6 +234,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     timer.end(cmd, slots.trace);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
     trace_pending_ = false;
+    host_retrace_ = false;
   }
   moved_boxes_.clear(); // a full trace covered them
   push.first_slot = first;
@@ -271,9 +273,12 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
   for (std::size_t i = 0; i < slots.size(); i += kChunk)
     vkCmdUpdateBuffer(cmd, light_list_.get(), sizeof(header) + i * sizeof(std::int32_t),
                       std::min(kChunk, slots.size() - i) * sizeof(std::int32_t), slots.data() + i);
-  for (const formats::CellRange& range : retrace)
-    if (range.count > 0)
-      vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4, gpu::TRACE_FLAG_RETRACE);
+  host_listed_ = true;
+  for (const formats::CellRange& range : retrace) {
+    if (range.count == 0) continue;
+    vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4, gpu::TRACE_FLAG_RETRACE);
+    host_retrace_ = true;
+  }
 }
 
 LightStats LightUpdatePass::stats(std::uint32_t ring) const {

@@ -88,6 +88,8 @@ private:
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
   bool queue_driven_ = false;
+  bool host_listed_ = false;   // the host writes the light list (streaming): trace only when it asks
+  bool host_retrace_ = false;  // record_host_list flagged probes since the last trace
   bool relight_everything_ = false;
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window

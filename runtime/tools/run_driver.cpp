@@ -20,7 +20,9 @@
 #include <glm/trigonometric.hpp>
 
 #include "probebake/dynamic/animation.h"
+#include "probebake/formats/error.h"
 #include "probebake/runtime/runtime.h"
+#include "probebake/streaming/camera_path.h"
 #include "run_report.h"
 
 namespace probebake::run {
@@ -225,6 +227,16 @@ int run_volume(const RunOptions& options) {
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis;
   upload.memory_update = !options.no_memory_update && (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
+  std::vector<streaming::PathPoint> path;
+  if (options.stream) {
+    upload.streaming = {options.stream->budget, options.stream->max_upload, options.stream->max_joining};
+    try {
+      path = streaming::read_camera_path(options.stream->path);
+    } catch (const Error& e) {
+      return report(options, {runtime::StatusCode::file_error, e.what()});
+    }
+  }
+  const int frames = options.stream ? int(path.size()) : options.frames;
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
   const gpu::VolumeInfo& info = volume->info();
@@ -251,7 +263,7 @@ int run_volume(const RunOptions& options) {
       std::fprintf(stderr, "%s: %s: cannot be written\n", options.program.c_str(), options.csv->c_str());
       return 3;
     }
-    if (options.animate) write_frame_header(csv);
+    if (options.animate || options.stream) write_frame_header(csv);
     else
       csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
              "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z\n";
@@ -260,23 +272,34 @@ int run_volume(const RunOptions& options) {
   PassSummary cpu;
   std::vector<FrameRow> rows;
   const bool terminal = isatty(fileno(stdout)) != 0;
-  for (int frame = 0; frame < options.frames; ++frame) {
+  for (int frame = 0; frame < frames; ++frame) {
+    if (options.stream) {
+      const runtime::Status moved = volume->stream_around(path[std::size_t(frame)].position, options.stream->radius);
+      if (!moved.ok()) return report(options, moved);
+    }
     auto stats = volume->run_frame(frame_inputs(options, volume.value(), baked_lights, frame));
     if (!stats.ok()) return report(options, stats.status());
     const double angle = options.animate ? glm::degrees(dynamic::animation_angle(*options.animate, frame)) : 0.0;
     rows.push_back(frame_row(frame, angle, stats.value()));
-    if (csv.is_open() && options.animate) write_frame_row(csv, rows.back());
+    if (options.stream) {
+      const glm::vec3 camera = path[std::size_t(frame)].position;
+      rows.back().camera = {camera.x, camera.y, camera.z};
+      std::printf("%s", stream_frame_line(rows.back()).c_str());
+    }
+    if (csv.is_open() && (options.animate || options.stream)) write_frame_row(csv, rows.back());
     // One line per frame with --verbose; otherwise a progress bar redrawn in place on a terminal, or a
     // progress line every 100 frames into a file or pipe; then the summary.
     if (options.verbose) {
       print_frame(stats.value());
+    } else if (options.stream) {
+      // the streaming line above is the frame's line
     } else if (terminal) {
-      std::printf("\r%s  live probes %d, gpu %.3f ms   ", progress_bar(frame + 1, options.frames).c_str(), stats->live_probes,
+      std::printf("\r%s  live probes %d, gpu %.3f ms   ", progress_bar(frame + 1, frames).c_str(), stats->live_probes,
                   rows.back().gpu_ms);
-      if (frame + 1 == options.frames) std::printf("\n");
+      if (frame + 1 == frames) std::printf("\n");
       std::fflush(stdout);
-    } else if ((frame + 1) % 100 == 0 || frame + 1 == options.frames) {
-      std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, options.frames, stats->live_probes, rows.back().gpu_ms);
+    } else if ((frame + 1) % 100 == 0 || frame + 1 == frames) {
+      std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, frames, stats->live_probes, rows.back().gpu_ms);
     }
     cpu.add(stats->cpu_ms);
     if (options.after_frame) {
@@ -285,7 +308,7 @@ int run_volume(const RunOptions& options) {
     }
     for (const runtime::PassTime& p : stats->passes) {
       summary[p.name].add(p.gpu_ms);
-      if (csv.is_open() && !options.animate)
+      if (csv.is_open() && !options.animate && !options.stream)
         csv << stats->frame << ',' << p.name << ',' << p.gpu_ms << ',' << stats->cpu_ms << ',' << stats->live_probes
             << ',' << stats->probe_capacity << ',' << stats->light.lit_probes << ',' << stats->light.indirect_misses
             << ',' << stats->light.non_finite << ',' << stats->memory.splits << ',' << stats->memory.collapses << ','
@@ -301,14 +324,14 @@ int run_volume(const RunOptions& options) {
   std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
               options.validate ? "; live state valid after every frame" : "");
   std::printf("%s", summary_table(rows, options.animate).c_str());
-  if (options.animate) {
-    if (options.plots) {
-      try {
-        for (const std::string& file : write_plots(*options.plots, rows, *options.animate)) std::printf("wrote %s\n", file.c_str());
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "%s: %s\n", options.program.c_str(), e.what());
-        return 3;
-      }
+  if (options.stream) std::printf("%s", stream_summary(rows, options.stream->budget).c_str());
+  if (options.plots && (options.animate || options.stream)) {
+    try {
+      const auto written = options.animate ? write_plots(*options.plots, rows, *options.animate) : write_stream_plots(*options.plots, rows);
+      for (const std::string& file : written) std::printf("wrote %s\n", file.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s: %s\n", options.program.c_str(), e.what());
+      return 3;
     }
   }
   if (options.samples > 0) {

@@ -14,6 +14,7 @@ constexpr const char* kUsage =
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
     "                     [--no-memory-update] [--max-depth N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
+    "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -32,6 +33,13 @@ constexpr const char* kUsage =
     "                    that moves on every frame (0 = all, the default)\n"
     "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
     "                    default; 2-9: the strongest N - 1 lights exact, one of the others sampled)\n"
+    "  --budget BYTES    stream the cells' tracing blocks within BYTES of device memory (K, M, G suffixes;\n"
+    "                    needs --path and a file baked with --cell-size): one frame per path row, a line per\n"
+    "                    frame and the worst upload spike (docs/RUNTIME.md \"Streaming cells\")\n"
+    "  --path PATH.csv   the camera: frame,x,y,z rows (a header line frame,x,y,z first)\n"
+    "  --radius R        with --path: cells within R metres of the camera are wanted (default 20)\n"
+    "  --max-upload B    with --path: copy at most B bytes per frame (0 = no limit, the default)\n"
+    "  --max-joining N   with --path: at most N probes of arrived cells start being lit (traced) per frame\n"
     "  --verbose         one line per frame (default: a progress bar on a terminal, else a line every 100\n"
     "                    frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
@@ -54,10 +62,25 @@ bool parse_int(std::string_view text, int minimum, int& out) {
   return error == std::errc() && end == text.data() + text.size() && out >= minimum;
 }
 
-bool parse_fraction(std::string_view text, float& out) {
+bool parse_number(std::string_view text, float& out) {
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
-  return error == std::errc() && end == text.data() + text.size() && out >= 0.0f && out < 1.0f;
+  return error == std::errc() && end == text.data() + text.size();
 }
+
+// A byte count with an optional K, M or G suffix (powers of 1024).
+bool parse_bytes(std::string_view text, std::uint64_t& out) {
+  std::uint64_t scale = 1;
+  if (!text.empty() && (text.back() == 'K' || text.back() == 'M' || text.back() == 'G')) {
+    scale = text.back() == 'K' ? 1ull << 10 : text.back() == 'M' ? 1ull << 20 : 1ull << 30;
+    text.remove_suffix(1);
+  }
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
+  if (error != std::errc() || end != text.data() + text.size() || out > (~0ull) / scale) return false;
+  out *= scale;
+  return true;
+}
+
+bool parse_fraction(std::string_view text, float& out) { return parse_number(text, out) && out >= 0.0f && out < 1.0f; }
 
 // LOW:HIGH:PERIOD, depths in [0, 12], period >= 1.
 bool parse_depth_cycle(std::string_view text, DepthCycle& out) {
@@ -158,6 +181,21 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--shadow-rays") {
       int& rays = options.limits.shadow_rays_per_record;
       if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9) return usage_error("--shadow-rays needs 0 or a number in 2-9");
+    } else if (arg == "--budget" || arg == "--max-upload") {
+      StreamRun& run = options.stream ? *options.stream : options.stream.emplace();
+      if (!has_value || !parse_bytes(argv[++i], arg == "--budget" ? run.budget : run.max_upload) ||
+          (arg == "--budget" && run.budget == 0))
+        return usage_error(std::string(arg) + " needs a byte count like 65536, 512K or 64M" + (arg == "--budget" ? " (> 0)" : ""));
+    } else if (arg == "--max-joining") {
+      int& probes = (options.stream ? *options.stream : options.stream.emplace()).max_joining;
+      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--max-joining needs a whole number of probes >= 0");
+    } else if (arg == "--path") {
+      if (!has_value) return usage_error("--path needs a CSV file (frame,x,y,z)");
+      (options.stream ? *options.stream : options.stream.emplace()).path = argv[++i];
+    } else if (arg == "--radius") {
+      float& radius = (options.stream ? *options.stream : options.stream.emplace()).radius;
+      if (!has_value || !parse_number(argv[++i], radius) || !(radius >= 0.0f) || !std::isfinite(radius))
+        return usage_error("--radius needs a finite number of metres >= 0");
     } else if (arg == "--plots") {
       if (!has_value) return usage_error("--plots needs a folder");
       options.plots = argv[++i];
@@ -179,6 +217,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     }
   }
   if (options.input.empty()) return usage_error("no input file");
+  if (options.stream && (options.stream->budget == 0 || options.stream->path.empty()))
+    return usage_error("--budget and --path go together (and --radius, --max-upload need them)");
+  if (options.stream && (options.animate || options.depth_cycle || options.memory_update))
+    return usage_error("--path streams cells without the memory update: no --animate, --depth-cycle or --memory-update");
   if (options.animate && !frames_given) options.frames = dynamic::default_frames(*options.animate);
   return options;
 }

@@ -1,6 +1,7 @@
 // Command line of probebake-run (a plain argv parser: the tool links only the runtime and formats).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -28,6 +29,16 @@ struct LightOrbit {
   int period = 1;
 };
 
+// --budget BYTES --path PATH.csv: stream cells around a camera that follows the path, one frame per row
+// (runtime::StreamingOptions; docs/RUNTIME.md "Streaming cells").
+struct StreamRun {
+  std::uint64_t budget = 0;      // --budget: device bytes for the resident cells' tracing blocks
+  std::uint64_t max_upload = 0;  // --max-upload: bytes copied per frame at most (0 = no limit)
+  std::string path;              // --path: frame,x,y,z
+  float radius = 20.0f;          // --radius: metres around the camera
+  int max_joining = 0;           // --max-joining: probes of arrived cells lit (traced) per frame at most
+};
+
 struct RunOptions {
   std::string input;                 // .probes file
   int frames = 1;                    // >= 1
@@ -48,7 +59,8 @@ struct RunOptions {
   std::vector<int> animated_objects; // --objects LIST: the objects --animate moves (empty: all)
   std::optional<int> max_depth;      // FrameInputs::max_depth in frame 0 (memory update)
   runtime::FrameLimits limits;       // per-frame limits of the memory and light updates
-  std::optional<std::string> plots;  // folder for SVG plots of the per-frame table (--animate)
+  std::optional<std::string> plots;  // folder for SVG plots of the per-frame table (--animate, --path)
+  std::optional<StreamRun> stream;   // --budget and --path (both or neither)
   bool verbose = false;              // one line per frame even without --csv
   std::string program = "probebake-run"; // prefix of error messages
   // Called after every frame with the frame index (0-based), for the CLI's pictures and error against the

@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <span>
 #include <stdexcept>
+#include <string_view>
 
 namespace probebake::run {
 namespace {
@@ -51,7 +53,7 @@ double nice_step(double max) {
 }
 
 std::string line_plot(const std::string& title, const std::string& y_title, const std::vector<FrameRow>& rows,
-                      const std::vector<Series>& series, dynamic::Animation animation) {
+                      const std::vector<Series>& series, std::optional<dynamic::Animation> animation) {
   const double x_max = std::max(1, rows.back().frame), x0 = kLeft, x1 = kWidth - kRight, y0 = kHeight - kBottom, y1 = kTop;
   double y_max = 0.0;
   for (const Series& s : series)
@@ -63,10 +65,10 @@ std::string line_plot(const std::string& title, const std::string& y_title, cons
   std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='" + number(kWidth) + "' height='" + number(kHeight) +
                     "' font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n";
   // Frames in motion, shaded (the phases that are not still).
-  for (std::size_t i = 0; i < rows.size();) {
-    const std::string phase = motion_phase(animation, rows[i].frame);
+  for (std::size_t i = 0; animation && i < rows.size();) {
+    const std::string phase = motion_phase(*animation, rows[i].frame);
     std::size_t j = i;
-    while (j < rows.size() && motion_phase(animation, rows[j].frame) == phase) ++j;
+    while (j < rows.size() && motion_phase(*animation, rows[j].frame) == phase) ++j;
     if (phase == "during" || phase == "turning" || phase == "moving")
       svg += "<rect x='" + number(x(rows[i].frame), 6) + "' y='" + number(y1) + "' width='" + number(x(rows[j - 1].frame) - x(rows[i].frame), 6) +
              "' height='" + number(y0 - y1) + "' fill='#f2efe6'/>\n";
@@ -103,6 +105,20 @@ Series series_of(const std::string& name, const std::vector<FrameRow>& rows, con
   return s;
 }
 
+// Each (file name, SVG text) into `folder` (created); the paths written, or std::runtime_error naming the file.
+std::vector<std::string> write_svgs(const std::string& folder, std::span<const std::pair<std::string, std::string>> plots) {
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  std::vector<std::string> written;
+  for (const auto& [file, svg] : plots) {
+    const std::string path = (std::filesystem::path(folder) / file).string();
+    std::ofstream out(path);
+    if (!(out << svg) || !out.flush()) throw std::runtime_error(path + ": cannot be written");
+    written.push_back(path);
+  }
+  return written;
+}
+
 } // namespace
 
 FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats) {
@@ -124,6 +140,7 @@ FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats
   row.clusters_used = m.cluster_capacity - m.free_clusters, row.cluster_capacity = m.cluster_capacity;
   row.probes_used = m.probe_capacity - m.free_probes, row.probe_capacity = m.probe_capacity;
   row.batches_used = m.batch_capacity - m.free_batches, row.batch_capacity = m.batch_capacity;
+  row.stream = stats.streaming;
   return row;
 }
 
@@ -133,7 +150,8 @@ void write_frame_header(std::ostream& out) {
   out << ",gpu_ms,cpu_ms,live_probes";
   for (const char* state : kStateNames) out << ',' << state;
   out << ",surfel_hit_fraction,probes_placed,probes_freed,splits,merges,failed_allocations,deferred,moved_objects,"
-         "clusters_used,cluster_capacity,probes_used,probe_capacity,batches_used,batch_capacity\n";
+         "clusters_used,cluster_capacity,probes_used,probe_capacity,batches_used,batch_capacity,camera_x,camera_y,camera_z,"
+         "resident_cells,resident_bytes,loaded_cells,loaded_bytes,dropped_cells,waiting_cells,upload_cpu_ms\n";
 }
 
 void write_frame_row(std::ostream& out, const FrameRow& r) {
@@ -144,7 +162,11 @@ void write_frame_row(std::ostream& out, const FrameRow& r) {
   out << ',' << (r.hit_fraction ? number(*r.hit_fraction, 6) : std::string());
   out << ',' << r.placed << ',' << r.freed << ',' << r.splits << ',' << r.collapses << ',' << r.failed << ',' << r.deferred << ','
       << r.moved_objects << ',' << r.clusters_used << ',' << r.cluster_capacity << ',' << r.probes_used << ',' << r.probe_capacity << ','
-      << r.batches_used << ',' << r.batch_capacity << '\n';
+      << r.batches_used << ',' << r.batch_capacity;
+  for (float c : r.camera) out << ',' << number(c, 6);
+  const runtime::StreamStats& s = r.stream;
+  out << ',' << s.resident_cells << ',' << s.resident_bytes << ',' << s.loaded_cells << ',' << s.loaded_bytes << ','
+      << s.dropped_cells << ',' << s.waiting_cells << ',' << number(s.upload_cpu_ms, 6) << '\n';
 }
 
 const char* motion_phase(dynamic::Animation animation, int frame) {
@@ -194,6 +216,58 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
   return table;
 }
 
+// Columns of FrameRow::pass_ms that the streaming report reads.
+constexpr std::size_t kStreamUploadPass = 0, kLightTracePass = 5;
+static_assert(std::string_view(kFramePassNames[kStreamUploadPass]) == "stream_upload" &&
+              std::string_view(kFramePassNames[kLightTracePass]) == "light_trace");
+
+std::string stream_frame_line(const FrameRow& r) {
+  const runtime::StreamStats& s = r.stream;
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d, "
+                "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms\n",
+                r.frame, double(r.camera[0]), double(r.camera[1]), double(r.camera[2]), s.resident_cells,
+                static_cast<unsigned long long>(s.resident_bytes), s.loaded_cells, static_cast<unsigned long long>(s.loaded_bytes),
+                s.dropped_cells, s.waiting_cells, s.joined_probes, s.joining_probes, std::max(0.0, r.pass_ms[kStreamUploadPass]), s.upload_cpu_ms,
+                std::max(0.0, r.pass_ms[kLightTracePass]));
+  return line;
+}
+
+std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budget) {
+  const FrameRow* worst_gpu = nullptr;
+  const FrameRow* worst_host = nullptr;
+  std::uint64_t most = 0, loaded = 0;
+  int loads = 0, drops = 0;
+  for (const FrameRow& r : rows) {
+    if (!worst_gpu || r.pass_ms[kStreamUploadPass] > worst_gpu->pass_ms[kStreamUploadPass]) worst_gpu = &r;
+    if (!worst_host || r.stream.upload_cpu_ms > worst_host->stream.upload_cpu_ms) worst_host = &r;
+    most = std::max(most, r.stream.resident_bytes);
+    loads += r.stream.loaded_cells, drops += r.stream.dropped_cells, loaded += r.stream.loaded_bytes;
+  }
+  if (!worst_gpu) return "";
+  char line[400];
+  std::snprintf(line, sizeof(line),
+                "streaming: worst upload spike %.3f ms GPU (frame %d, %llu bytes), %.3f ms host (frame %d); at most %llu of "
+                "%llu bytes resident; %d loads (%llu bytes), %d drops over %zu frames\n",
+                std::max(0.0, worst_gpu->pass_ms[kStreamUploadPass]), worst_gpu->frame, static_cast<unsigned long long>(worst_gpu->stream.loaded_bytes),
+                worst_host->stream.upload_cpu_ms, worst_host->frame, static_cast<unsigned long long>(most),
+                static_cast<unsigned long long>(budget), loads, static_cast<unsigned long long>(loaded), drops, rows.size());
+  return line;
+}
+
+std::vector<std::string> write_stream_plots(const std::string& folder, const std::vector<FrameRow>& rows) {
+  const std::vector<Series> bytes = {
+      series_of("resident KB", rows, [](const FrameRow& r) { return double(r.stream.resident_bytes) / 1024.0; }),
+      series_of("loaded KB", rows, [](const FrameRow& r) { return double(r.stream.loaded_bytes) / 1024.0; })};
+  const std::vector<Series> times = {series_of("stream_upload GPU", rows, [](const FrameRow& r) { return std::max(0.0, r.pass_ms[kStreamUploadPass]); }),
+                                     series_of("host numbering", rows, [](const FrameRow& r) { return r.stream.upload_cpu_ms; })};
+  const std::pair<std::string, std::string> plots[] = {
+      {"streaming.svg", line_plot("streaming: resident and loaded bytes per frame", "KB", rows, bytes, std::nullopt)},
+      {"upload_times.svg", line_plot("streaming: upload time per frame", "ms", rows, times, std::nullopt)}};
+  return write_svgs(folder, plots);
+}
+
 std::string progress_bar(int done, int total, int width) {
   const int filled = total > 0 ? int(std::int64_t(width) * std::clamp(done, 0, total) / total) : width;
   return "[" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '-') + "] " + std::to_string(done) +
@@ -201,8 +275,6 @@ std::string progress_bar(int done, int total, int width) {
 }
 
 std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows, dynamic::Animation animation) {
-  std::error_code ec;
-  std::filesystem::create_directories(folder, ec);
   std::vector<Series> times;
   for (std::size_t k = 0; k < kFramePassNames.size(); ++k)
     if (std::any_of(rows.begin(), rows.end(), [&](const FrameRow& r) { return r.pass_ms[k] > 0.0; }))
@@ -219,14 +291,7 @@ std::vector<std::string> write_plots(const std::string& folder, const std::vecto
       {"frame_times.svg", line_plot(name + ": GPU time per pass and frame", "GPU ms", rows, times, animation)},
       {"probes.svg", line_plot(name + ": live probes and pool use", "count", rows, probes, animation)},
       {"leaf_states.svg", line_plot(name + ": leaf-queue entries processed per state", "entries", rows, states, animation)}};
-  std::vector<std::string> written;
-  for (const auto& [file, svg] : plots) {
-    const std::string path = (std::filesystem::path(folder) / file).string();
-    std::ofstream out(path);
-    if (!(out << svg) || !out.flush()) throw std::runtime_error(path + ": cannot be written");
-    written.push_back(path);
-  }
-  return written;
+  return write_svgs(folder, plots);
 }
 
 } // namespace probebake::run

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -27,11 +28,22 @@ struct FrameRow {
   std::optional<double> hit_fraction; // front hits / rays of the probes traced this frame
   int placed = 0, freed = 0, splits = 0, collapses = 0, failed = 0, deferred = 0, moved_objects = 0;
   int clusters_used = 0, cluster_capacity = 0, probes_used = 0, probe_capacity = 0, batches_used = 0, batch_capacity = 0;
+  std::array<float, 3> camera{}; // --path: where the frame streamed around
+  runtime::StreamStats stream;   // --path: the frame's cell streaming
 };
 
 FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats);
 void write_frame_header(std::ostream& out);
 void write_frame_row(std::ostream& out, const FrameRow& row);
+
+// --path: one line per frame (resident cells and bytes, loads, drops, waiting cells, upload times), and
+// the summary: the worst upload spike (the stream_upload pass's GPU time, and the host's numbering), the
+// most bytes resident against the budget, loads and drops over the run.
+std::string stream_frame_line(const FrameRow& row);
+std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budget);
+// --path --plots DIR: streaming.svg (resident and loaded KB per frame) and upload_times.svg (stream_upload
+// GPU ms and host ms per frame). Returns the files written; throws std::runtime_error like write_plots.
+std::vector<std::string> write_stream_plots(const std::string& folder, const std::vector<FrameRow>& rows);
 
 // "before", "during", "after" (thesis), "turning", "still" (revolution), "moving", "still" (soak).
 const char* motion_phase(dynamic::Animation animation, int frame);

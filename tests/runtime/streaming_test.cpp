@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <set>
 #include <vector>
 
@@ -14,8 +16,10 @@
 
 #include "probebake/bake/bake.h"
 #include "probebake/formats/cells.h"
+#include "probebake/formats/probes_file.h"
 #include "probebake/scene/scene.h"
 #include "probebake/samples/scenes.h"
+#include "run_cli.h"
 #include "runtime_test_util.h"
 
 namespace probebake::test {
@@ -52,10 +56,9 @@ bool same_irradiance(const gpu::Probe& a, const gpu::Probe& b) {
   return std::memcmp(a.irradiance_sh, b.irradiance_sh, sizeof(a.irradiance_sh)) == 0;
 }
 
-runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max_upload = 0) {
+runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max_upload = 0, int max_joining = 0) {
   runtime::UploadOptions options;
-  options.streaming.budget_bytes = budget;
-  options.streaming.max_upload_bytes = max_upload;
+  options.streaming = {budget, max_upload, max_joining};
   return options;
 }
 
@@ -138,11 +141,12 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
 TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
   const formats::ProbeVolume& v = streamed_rooms();
   const std::uint64_t all = tracing_bytes_of_cells(v), budget = all * 2 / 5;
-  auto streamed = runtime::Volume::upload(context(), v, streaming_options(budget, budget / 4));
+  constexpr int kJoining = 8; // probes that start being lit (and traced) per frame
+  auto streamed = runtime::Volume::upload(context(), v, streaming_options(budget, budget / 4, kJoining));
   ASSERT_TRUE(streamed.ok()) << streamed.status().message;
   const glm::vec3 lo = v.info.root_min, hi = v.info.root_min + v.info.root_size;
   const float radius = 0.3f * v.info.root_size;
-  int loads = 0, drops = 0, waits = 0;
+  int loads = 0, drops = 0, waits = 0, joined = 0;
   std::uint64_t worst_upload = 0;
   const int frames = 24;
   for (int f = 0; f < frames; ++f) {
@@ -154,18 +158,65 @@ TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
     const runtime::StreamStats& s = stats.value().streaming;
     ASSERT_TRUE(s.active);
     ASSERT_LE(s.resident_bytes, budget) << "frame " << f;
-    loads += s.loaded_cells, drops += s.dropped_cells, waits += s.waiting_cells;
+    ASSERT_LE(s.joined_probes, kJoining) << "frame " << f;
+    ASSERT_LE(stats.value().light.traced_probes, kJoining) << "frame " << f << ": only joining probes trace";
+    loads += s.loaded_cells, drops += s.dropped_cells, waits += s.waiting_cells, joined += s.joined_probes;
     worst_upload = std::max(worst_upload, s.loaded_bytes);
     const runtime::Status live = streamed.value().validate_live();
     ASSERT_TRUE(live.ok()) << "frame " << f << ": " << live.message;
   }
-  std::printf("[streaming] %d frames, budget %llu of %llu bytes: %d loads, %d drops, %d waits, largest frame upload %llu bytes\n",
-              frames, static_cast<unsigned long long>(budget), static_cast<unsigned long long>(all), loads, drops, waits,
-              static_cast<unsigned long long>(worst_upload));
+  std::printf("[streaming] %d frames, budget %llu of %llu bytes: %d loads, %d drops, %d waits, %d probes joined, largest "
+              "frame upload %llu bytes\n", frames, static_cast<unsigned long long>(budget), static_cast<unsigned long long>(all),
+              loads, drops, waits, joined, static_cast<unsigned long long>(worst_upload));
+  // A still camera: the waiting probes join, kJoining a frame, and then nothing more traces.
+  int still = 0;
+  for (;; ++still) {
+    auto stats = streamed.value().run_frame();
+    ASSERT_TRUE(stats.ok());
+    if (stats.value().streaming.joining_probes == 0 && stats.value().streaming.waiting_cells == 0) break;
+    ASSERT_LT(still, 200);
+  }
+  auto settled = streamed.value().run_frame();
+  ASSERT_TRUE(settled.ok());
+  EXPECT_EQ(settled.value().light.traced_probes, 0);
+  EXPECT_GT(joined, kJoining) << "joins spread over frames";
   EXPECT_GT(drops, 0);
   EXPECT_GT(loads, int(v.cells.size()) / 2) << "the way back loads dropped cells again";
   EXPECT_FALSE(streamed.value().set_stream_budget(budget + 1).ok());
   EXPECT_FALSE(streamed.value().stream_around(glm::vec3(NAN), 1.0f).ok());
+}
+
+// probebake-run --budget --path: a line per frame and the summary with the worst upload spike.
+TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
+  const std::string probes = temp_path("stream-rooms.probes"), path = temp_path("stream-path.csv"), csv = temp_path("stream.csv");
+  const formats::ProbeVolume& v = streamed_rooms();
+  formats::write_probes_file(probes, v);
+  {
+    std::ofstream out(path);
+    out << "frame,x,y,z\n";
+    for (int f = 0; f < 6; ++f) {
+      const glm::vec3 p = v.info.root_min + v.info.root_size * glm::vec3(0.2f + 0.12f * float(f), 0.5f, 0.5f);
+      out << f << ',' << p.x << ',' << p.y << ',' << p.z << '\n';
+    }
+  }
+  const std::uint64_t budget = tracing_bytes_of_cells(v) / 2;
+  const CliResult r = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) + " --path " +
+                              test::quoted(std::filesystem::path(path)) + " --radius 8 --max-joining 16 --validate --vk-validation --csv " +
+                              test::quoted(std::filesystem::path(csv)));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("frame 5 at ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("streaming: worst upload spike "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| stream_upload | all |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
+  std::ifstream rows(csv);
+  int lines = 0;
+  for (std::string line; std::getline(rows, line);) ++lines;
+  EXPECT_EQ(lines, 1 + 6);
+  const CliResult missing = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M");
+  EXPECT_EQ(missing.exit_code, 1) << "--budget needs --path";
+  const CliResult bad_path = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " +
+                                     test::quoted(std::filesystem::path(probes)));
+  EXPECT_EQ(bad_path.exit_code, 2) << bad_path.err;
 }
 
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {

@@ -184,6 +184,10 @@ struct StreamingOptions {
   // Bytes copied per frame at most (0 = no limit); one cell is always allowed, so a cell larger than this
   // still arrives. Bounds each frame's upload spike; the other cells wait, nearest first.
   std::uint64_t max_upload_bytes = 0;
+  // Probes of arrived cells that start being lit per frame at most (0 = no limit): a probe traces its rays
+  // in the frame it joins, which costs far more than the copy, so this bounds that frame's spike. Probes
+  // join in arrival order of their cells and keep their irradiance while they wait.
+  int max_joining_probes = 0;
 };
 
 struct UploadOptions {
@@ -336,6 +340,8 @@ struct StreamStats {
   std::uint64_t loaded_bytes = 0;
   int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes
   int unplaced_cells = 0;        // loads that found no free run in the fragmented arena (retried next frame)
+  int joined_probes = 0;         // probes of resident cells that joined the light update this frame (traced)
+  int joining_probes = 0;        // probes of resident cells still waiting for max_joining_probes
   double upload_cpu_ms = 0.0;
 };
 

@@ -3,7 +3,7 @@
 # folder and runs each fuzzer for a bounded time. Fails when a fuzzer reports a crash, timeout, leak or
 # memory-limit breach, and prints the reproducer; copy it to tests/data/fuzz-regressions/<target>/.
 #
-#   bash scripts/fuzz.sh [--time SECONDS] [TARGET...]     TARGET: scene_loader probes_reader validator
+#   bash scripts/fuzz.sh [--time SECONDS] [TARGET...]     TARGET: scene_loader probes_reader validator camera_path
 #
 # Environment: PROBEBAKE_FUZZ_BUILD (build folder, default build-fuzz), PROBEBAKE_FUZZ_SECONDS (per target,
 # default 60; --time wins). The corpus in <build>/fuzz-corpus/<target> grows from run to run.
@@ -19,7 +19,7 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(scene_loader probes_reader validator)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_loader probes_reader validator camera_path)
 
 # Only the fuzz targets and the libraries they link: no runtime, no benchmarks, no test executables.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
@@ -47,6 +47,7 @@ seed scene_loader "$src"/tests/data/fuzz/scene_loader/* "$src"/tests/data/fuzz-r
 for t in probes_reader validator; do
   seed $t "$src"/tests/data/golden/*.probes "$src"/tests/data/fuzz/$t/* "$src"/tests/data/fuzz-regressions/$t/*
 done
+seed camera_path "$src"/tests/data/fuzz/camera_path/* "$src"/tests/data/fuzz-regressions/camera_path/*
 
 failed=()
 for t in "${targets[@]}"; do
@@ -56,6 +57,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$artifacts" "$scratch"
   dict=(-dict="$src/tests/formats/fuzz_probes_reader.dict")
   [ "$t" = scene_loader ] && dict=(-dict="$src/tests/scene/fuzz_scene_loader.dict")
+  [ "$t" = camera_path ] && dict=()
   echo "== fuzz_$t for ${seconds}s (corpus $build/fuzz-corpus/$t)"
   # The loader resolves external URIs against $scratch/scene only (fuzz_scene_loader_entry.cpp).
   if ! (cd "$scratch" && PROBEBAKE_FUZZ_SCRATCH="$scratch" UBSAN_OPTIONS=print_stacktrace=1 \

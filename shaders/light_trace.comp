@@ -1,5 +1,7 @@
-// Light update L1 (octree thesis §3.2.2, "place surfels"): one workgroup per probe slot, every live probe
-// on the first frame, then the probes whose trace flag is set (new probes, re-measured leaves).
+// Light update L1 (octree thesis §3.2.2, "place surfels"): LIGHT_TRACE_CHUNKS workgroups per probe slot
+// (gl_WorkGroupID.z: chunk c takes the lighting rays r with (r / LIGHT_WORKGROUP_SIZE) % chunks == c, chunk 0
+// also the lattice), every live probe on the first frame, then the probes whose trace flag is set (new
+// probes, re-measured leaves, cells that arrived). The last chunk to finish clears the flag.
 //  - Hit fraction: the placement lattice (ray_directions[rays, rays + placement_rays)) traced from the
 //    centre of the probe's octree node, hits counted inside the node cube (bake/src/probe_tracing.cpp);
 //    octree probes only (grid probes keep the bake's value).
@@ -78,11 +80,13 @@ void main() {
     front_count = 0u; back_count = 0u; miss_count = 0u;
   }
   barrier();
+  const uint chunk = gl_WorkGroupID.z, chunks = gl_NumWorkGroups.z;
   const bool octree_probe = probebake_probes[probe].node >= 0;
-  if (octree_probe) measure_hit_fraction(probe);
+  if (octree_probe && chunk == 0u) measure_hit_fraction(probe);
   const vec3 origin = probebake_probes[probe].position;
   const int rays = probebake_lighting.rays;
-  for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(LIGHT_WORKGROUP_SIZE)) {
+  const int stride = int(LIGHT_WORKGROUP_SIZE * chunks);
+  for (int r = int(gl_LocalInvocationIndex + LIGHT_WORKGROUP_SIZE * chunk); r < rays; r += stride) {
     vec3 tracked;
     const uint seed = probebake_record_seed(push.seed, slot, uint(r));
     set_light_record(slot, uint(r), trace_record(origin, probebake_ray_directions[r].xyz, seed, tracked));
@@ -90,13 +94,17 @@ void main() {
   }
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
-  trace_flags[slot] = 0u; // fresh records: retraced, and their punctual sums current
+  // Fresh records (retraced, their punctual sums current) once every chunk is done: the last one clears the
+  // flag. A chunk checks the flag before it counts itself, so none can miss it.
+  const uint before = atomicAdd(trace_flags[slot], TRACE_FLAG_CHUNK_ONE);
+  if (before / TRACE_FLAG_CHUNK_ONE == chunks - 1u) atomicExchange(trace_flags[slot], 0u);
+  atomicAdd(light_counters.front_hits, int(front_count));
+  atomicAdd(light_counters.backface_hits, int(back_count));
+  atomicAdd(light_counters.misses, int(miss_count));
+  if (chunk != 0u) return;
   if (octree_probe) {
     probebake_probes[probe].hit_fraction = float(hits_in_cube) / float(probebake_lighting.placement_rays);
     probebake_probes[probe].backface_fraction = hits > 0u ? float(backface_hits) / float(hits) : 0.0;
   }
   atomicAdd(light_counters.traced_probes, 1);
-  atomicAdd(light_counters.front_hits, int(front_count));
-  atomicAdd(light_counters.backface_hits, int(back_count));
-  atomicAdd(light_counters.misses, int(miss_count));
 }

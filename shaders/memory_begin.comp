@@ -37,6 +37,9 @@ void main() {
     light_list_header.resolve_x = r.x;
     light_list_header.resolve_y = r.y;
     light_list_header.resolve_z = r.z;
+    light_list_header.trace_x = g.x;
+    light_list_header.trace_y = g.y;
+    light_list_header.trace_z = g.x == 0u ? 0u : LIGHT_TRACE_CHUNKS;
   } else {
     light_list_header.count = 0u;
     const int s = light_pull_segment();

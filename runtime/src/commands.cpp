@@ -52,14 +52,14 @@ void barrier(VkCommandBuffer cmd, Access before, Access after) {
   vkCmdPipelineBarrier(cmd, before.stages, after.stages, 0, 1, &memory, 0, nullptr, 0, nullptr);
 }
 
-void dispatch_groups(VkCommandBuffer cmd, const Device& device, std::uint32_t groups) {
+void dispatch_groups(VkCommandBuffer cmd, const Device& device, std::uint32_t groups, std::uint32_t z) {
   if (groups == 0) return;
   const std::uint32_t max_x = device.limits.maxComputeWorkGroupCount[0];
   const std::uint32_t x = std::min(groups, max_x);
   const std::uint32_t y = (groups + x - 1) / x;
   if (y > device.limits.maxComputeWorkGroupCount[1])
     fail(StatusCode::unsupported, "a dispatch of " + std::to_string(groups) + " workgroups exceeds the device limits");
-  vkCmdDispatch(cmd, x, y, 1);
+  vkCmdDispatch(cmd, x, y, z);
 }
 
 // ---- PassTimer -------------------------------------------------------------------------------------------

@@ -59,7 +59,7 @@ void barrier(VkCommandBuffer cmd, Access before, Access after);
 
 // Dispatches `groups` workgroups split over x and y (shaders use probebake_flat_workgroup()); extra
 // groups in the last row must return early (the shaders check their counts).
-void dispatch_groups(VkCommandBuffer cmd, const Device& device, std::uint32_t groups);
+void dispatch_groups(VkCommandBuffer cmd, const Device& device, std::uint32_t groups, std::uint32_t z = 1);
 
 // Begin/end timestamps of named passes; without timestamp support every time is -1. `rings` sets of
 // queries, one per frame in flight: a frame records into ring r while earlier frames' rings are still

@@ -219,10 +219,10 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   push.tracked_light = tracked_light_;
   push.first_slot = 0u, push.slot_count = probe_capacity_; // light_trace: every slot (its flags decide)
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
-  const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset) {
+  const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset, std::uint32_t z = 1) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
-    else dispatch_groups(cmd, device_, slot_groups);
+    else dispatch_groups(cmd, device_, slot_groups, z);
   };
   bind_set_and_push(cmd, layout, descriptors_.set, push);
   // A list the memory update writes has new probes every frame; the host's only when it flagged some.
@@ -230,7 +230,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
     if (marked) record_mark_moved(cmd);
-    dispatch(pipelines.light_trace.get(), probe_capacity_, 0);
+    dispatch(pipelines.light_trace.get(), probe_capacity_, offsetof(gpu::LightListHeader, trace_x), gpu::LIGHT_TRACE_CHUNKS);
     timer.end(cmd, slots.trace);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
     trace_pending_ = false;
@@ -268,6 +268,7 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
   folded((header.count + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE, resolve);
   header.groups_x = groups[0], header.groups_y = groups[1], header.groups_z = groups[2];
   header.resolve_x = resolve[0], header.resolve_y = resolve[1], header.resolve_z = resolve[2];
+  header.trace_x = groups[0], header.trace_y = groups[1], header.trace_z = groups[0] == 0 ? 0 : gpu::LIGHT_TRACE_CHUNKS;
   vkCmdUpdateBuffer(cmd, light_list_.get(), 0, sizeof(header), &header);
   constexpr std::size_t kChunk = 65536 / sizeof(std::int32_t); // vkCmdUpdateBuffer's limit
   for (std::size_t i = 0; i < slots.size(); i += kChunk)

@@ -148,7 +148,7 @@ struct LightPush {
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
 // (memory_begin phase 2). Followed in the buffer by int probes[probe_capacity].
 struct LightListHeader {
-  uint groups_x;  // offset  0: VkDispatchIndirectCommand of trace and gather: one workgroup per listed probe,
+  uint groups_x;  // offset  0: VkDispatchIndirectCommand of gather: one workgroup per listed probe,
   uint groups_y;  // offset  4:   folded into y past LIGHT_LIST_MAX_GROUPS_X
   uint groups_z;  // offset  8
   uint count;     // offset 12: listed probes
@@ -156,7 +156,17 @@ struct LightListHeader {
   uint resolve_y; // offset 20
   uint resolve_z; // offset 24
   uint pad0;      // offset 28
-};                // size 32
+  uint trace_x;   // offset 32: VkDispatchIndirectCommand of trace: groups_x, groups_y and LIGHT_TRACE_CHUNKS
+  uint trace_y;   // offset 36
+  uint trace_z;   // offset 40
+  uint pad1;      // offset 44
+};                // size 48
+// light_trace splits each probe's lighting rays over this many workgroups (gl_WorkGroupID.z), so that a few
+// probes tracing alone (probes arriving with a streamed cell, new leaves) keep more of the GPU busy: a
+// probe's trace takes about 1 / LIGHT_TRACE_CHUNKS of the time of one workgroup doing all its rays.
+PB_CONSTANT(uint, LIGHT_TRACE_CHUNKS, 4u);
+// trace_flags: light_trace's chunks count their completions in the bits from here up; the last clears the word.
+PB_CONSTANT(uint, TRACE_FLAG_CHUNK_ONE, 256u);
 PB_CONSTANT(uint, LIGHT_LIST_MAX_GROUPS_X, 65535u); // the least maxComputeWorkGroupCount[0] Vulkan allows
 
 // Statistics of the light update, reset every frame; trace counts are written only in frames that trace.
@@ -206,7 +216,7 @@ static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) 
 static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48 &&
               offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
               offsetof(LightRecord, punctual_b) == 60);
-static_assert(sizeof(LightListHeader) == 32 && offsetof(LightListHeader, resolve_x) == 16);
+static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 && offsetof(LightListHeader, trace_x) == 32);
 static_assert(sizeof(LightPush) == 48 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES && offsetof(RelightChanges, changes) == 16 &&

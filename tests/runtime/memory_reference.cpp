@@ -22,16 +22,13 @@ namespace probebake::test {
 namespace {
 
 formats::ProbeVolume bake_shallow_cornell() {
-  const std::vector<std::uint8_t> glb = samples::cornell().to_glb();
-  const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), "cornell-d1", ".",
-                                                           {.require_triangles = true});
   bake::BakeSettings s;
   s.max_depth = 1;
   s.surfels_per_probe = 48;
   s.svo_depth = 4;
   s.lighting.rays = 32;
   s.store_surfels = true;
-  return bake::bake(scene, s).volume;
+  return bake_with(samples::cornell(), "cornell-d1", s);
 }
 
 } // namespace

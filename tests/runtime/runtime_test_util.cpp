@@ -62,10 +62,14 @@ public:
 
 } // namespace
 
-formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid, bool full) {
+formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings) {
   const std::vector<std::uint8_t> glb = builder.to_glb();
   const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), name, ".",
                                                            {.require_triangles = true});
+  return bake::bake(scene, settings).volume;
+}
+
+formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid, bool full) {
   bake::BakeSettings s;
   s.placement = grid ? bake::Placement::grid : bake::Placement::octree;
   s.grid_resolution = 6;
@@ -74,7 +78,7 @@ formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std:
   s.svo_depth = 4;
   s.lighting.rays = 96;
   s.store_surfels = full;
-  formats::ProbeVolume volume = bake::bake(scene, s).volume;
+  formats::ProbeVolume volume = bake_with(builder, name, s);
   if (full) formats::init_leaf_queue(volume, 64);
   return volume;
 }

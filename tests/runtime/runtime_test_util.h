@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "probebake/bake/bake.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/runtime/runtime.h"
 #include "probebake/samples/scene_builder.h"
@@ -37,6 +38,9 @@ private:
 // A generated scene loaded like the CLI loads it and baked with small settings (max depth 3, 64 surfels, SVO
 // depth 4, 96 rays; octree or a 6^3 grid; `full`: surfel batches and a leaf queue).
 formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid = false, bool full = false);
+
+// A generated scene loaded like the CLI loads it and baked with `settings`.
+formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings);
 
 // Baked volumes, cached per process (small settings, lighting on).
 const formats::ProbeVolume& baked_cornell_octree();

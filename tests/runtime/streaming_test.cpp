@@ -14,10 +14,8 @@
 
 #include <glm/common.hpp>
 
-#include "probebake/bake/bake.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/probes_file.h"
-#include "probebake/scene/scene.h"
 #include "probebake/samples/scenes.h"
 #include "run_cli.h"
 #include "runtime_test_util.h"
@@ -31,16 +29,13 @@ class StreamingTest : public RuntimeTest {};
 // faces of a probe's room lie in its cell and the neighbouring ones.
 const formats::ProbeVolume& streamed_rooms() {
   static const formats::ProbeVolume v = [] {
-    const std::vector<std::uint8_t> glb = samples::rooms({.count = 8, .detail = 2}).to_glb();
-    const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), "rooms8", ".",
-                                                             {.require_triangles = true});
     bake::BakeSettings s;
     s.max_depth = 5;
     s.surfels_per_probe = 64;
     s.svo_depth = 5;
     s.lighting.rays = 64;
     s.cell_size = 6.5f;
-    return bake::bake(scene, s).volume;
+    return bake_with(samples::rooms({.count = 8, .detail = 2}), "rooms8", s);
   }();
   return v;
 }

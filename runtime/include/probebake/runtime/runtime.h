@@ -385,7 +385,8 @@ struct VolumeBuffers {
   // Runtime lighting sections (format 1.1): the light update's inputs, e.g. for the game's own ray queries.
   BufferView lighting_info, ray_directions, punctual_lights, emitter_patches;
   // The scene as the shaders trace it (format 1.4, gpu_types.h "Compact tracing"; 1.1-1.3 files are
-  // upgraded to it on load).
+  // upgraded to it on load). With streaming, trace_nodes, trace_faces and trace_vertices are all the
+  // streaming arena (the resident cells renumbered, docs/RUNTIME.md "Streaming cells") and trace_trees its trees.
   BufferView trace_trees, trace_nodes, trace_faces, trace_vertices, trace_materials;
 };
 

@@ -14,6 +14,7 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes) {
   residency_.set_budget(options.budget_bytes);
   residency_.set_max_load_bytes(options.max_upload_bytes);
+  residency_.set_keep_margin(options.keep_margin);
   for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
 }
 

@@ -14,7 +14,8 @@ constexpr const char* kUsage =
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
     "                     [--no-memory-update] [--max-depth N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
-    "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]]\n"
+    "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
+    "                      [--keep-margin M]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -40,6 +41,7 @@ constexpr const char* kUsage =
     "  --radius R        with --path: cells within R metres of the camera are wanted (default 20)\n"
     "  --max-upload B    with --path: copy at most B bytes per frame (0 = no limit, the default)\n"
     "  --max-joining N   with --path: at most N probes of arrived cells start being lit (traced) per frame\n"
+    "  --keep-margin M   with --path: resident cells stay while within R + M metres (default 0)\n"
     "  --verbose         one line per frame (default: a progress bar on a terminal, else a line every 100\n"
     "                    frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
@@ -189,6 +191,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--max-joining") {
       int& probes = (options.stream ? *options.stream : options.stream.emplace()).max_joining;
       if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--max-joining needs a whole number of probes >= 0");
+    } else if (arg == "--keep-margin") {
+      float& margin = (options.stream ? *options.stream : options.stream.emplace()).keep_margin;
+      if (!has_value || !parse_number(argv[++i], margin) || !(margin >= 0.0f) || !std::isfinite(margin))
+        return usage_error("--keep-margin needs a finite number of metres >= 0");
     } else if (arg == "--path") {
       if (!has_value) return usage_error("--path needs a CSV file (frame,x,y,z)");
       (options.stream ? *options.stream : options.stream.emplace()).path = argv[++i];

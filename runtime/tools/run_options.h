@@ -37,6 +37,7 @@ struct StreamRun {
   std::string path;              // --path: frame,x,y,z
   float radius = 20.0f;          // --radius: metres around the camera
   int max_joining = 0;           // --max-joining: probes of arrived cells lit (traced) per frame at most
+  float keep_margin = 0.0f;      // --keep-margin: metres beyond the radius within which resident cells stay
 };
 
 struct RunOptions {

@@ -35,7 +35,7 @@ std::vector<std::size_t> CellResidency::wanted(glm::vec3 position, float radius)
   if (!usable) return {};
   for (std::size_t k = 0; k < cells_.size(); ++k) {
     const float d = distance_to_box(position, cells_[k].min, cells_[k].max);
-    if (d <= radius) near.emplace_back(d, k);
+    if (d <= radius || (resident_[k] != 0 && d <= radius + keep_margin_)) near.emplace_back(d, k);
   }
   // Ties by record order, which is cell_index order (the format sorts records by it).
   std::sort(near.begin(), near.end());

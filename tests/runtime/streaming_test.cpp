@@ -196,7 +196,7 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   }
   const std::uint64_t budget = tracing_bytes_of_cells(v) / 2;
   const CliResult r = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) + " --path " +
-                              test::quoted(std::filesystem::path(path)) + " --radius 8 --max-joining 16 --validate --vk-validation --csv " +
+                              test::quoted(std::filesystem::path(path)) + " --radius 8 --max-joining 16 --keep-margin 2 --validate --vk-validation --csv " +
                               test::quoted(std::filesystem::path(csv)));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("frame 5 at ("), std::string::npos) << r.out;

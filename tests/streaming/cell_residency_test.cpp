@@ -34,20 +34,21 @@ std::vector<CellFootprint> grid_cells(int n, std::mt19937& rng) {
   return cells;
 }
 
-// The policy restated: a cell within the radius is wanted exactly when its bytes fit beside the wanted
-// cells nearer than it (ties by index); one outside the radius never is.
-void expect_policy(const CellResidency& r, glm::vec3 camera, float radius, const std::vector<std::uint8_t>& wanted) {
+// The policy restated: a cell within the radius, or resident before and within radius + margin, is wanted
+// exactly when its bytes fit beside the wanted cells nearer than it (ties by index); no other cell is.
+void expect_policy(const CellResidency& r, glm::vec3 camera, float radius, float margin, const std::vector<std::uint8_t>& before,
+                   const std::vector<std::uint8_t>& wanted) {
   const auto cells = r.cells();
   const auto distance = [&](std::size_t k) { return streaming::distance_to_box(camera, cells[k].min, cells[k].max); };
   for (std::size_t k = 0; k < cells.size(); ++k) {
-    if (distance(k) > radius) {
+    if (distance(k) > radius && !(before[k] != 0 && distance(k) <= radius + margin)) {
       ASSERT_EQ(wanted[k], 0) << "cell " << k << " is outside the radius";
       continue;
     }
     std::uint64_t nearer = 0;
     for (std::size_t j = 0; j < cells.size(); ++j) {
-      const bool before = distance(j) < distance(k) || (distance(j) == distance(k) && j < k);
-      if (before && wanted[j] != 0) nearer += cells[j].bytes;
+      const bool closer = distance(j) < distance(k) || (distance(j) == distance(k) && j < k);
+      if (closer && wanted[j] != 0) nearer += cells[j].bytes;
     }
     ASSERT_EQ(wanted[k] != 0, nearer + cells[k].bytes <= r.budget()) << "cell " << k;
   }
@@ -64,15 +65,19 @@ TEST(CellResidency, ThousandsOfRandomMovesKeepTheBudgetAndThePolicy) {
     camera = glm::clamp(camera + glm::vec3(step(rng), step(rng), step(rng)), glm::vec3(-1.0f), glm::vec3(7.0f));
     if (frame % 97 == 0) residency.set_budget(std::uint64_t(unit(rng) * 12000.0f));
     residency.set_max_load_bytes(frame < 2000 ? 0 : 1500);
+    const float margin = frame % 1000 < 500 ? 0.0f : 0.6f;
+    residency.set_keep_margin(margin);
     const float radius = 0.5f + 2.5f * unit(rng);
     std::vector<std::uint8_t> before(residency.cells().size());
     for (std::size_t k = 0; k < before.size(); ++k) before[k] = residency.resident(k);
     const streaming::ResidencyChanges changes = residency.update(camera, radius);
 
     ASSERT_LE(residency.resident_bytes(), residency.budget()) << "frame " << frame;
+    // wanted() after the update equals what the update wanted: a kept cell it dropped did not fit, and
+    // skipping a cell that does not fit changes nothing for the others.
     std::vector<std::uint8_t> wanted(before.size(), 0);
     for (std::size_t k : residency.wanted(camera, radius)) wanted[k] = 1;
-    expect_policy(residency, camera, radius, wanted);
+    expect_policy(residency, camera, radius, margin, before, wanted);
     std::uint64_t bytes = 0, loaded = 0;
     std::size_t count = 0;
     for (std::size_t k = 0; k < before.size(); ++k) {
@@ -133,6 +138,29 @@ TEST(CellResidency, AStillCameraSettlesAndThenChangesNothing) {
   const auto emptied = residency.update(camera, 2.0f);
   EXPECT_EQ(emptied.drops.size(), wanted.size());
   EXPECT_EQ(residency.resident_bytes(), 0u);
+}
+
+// A camera stepping back and forth across the edge of the radius: without a keep margin the cell at the edge
+// is dropped and loaded again every step; with one it stays.
+TEST(CellResidency, AKeepMarginStopsReloadsAtTheEdgeOfTheRadius) {
+  std::vector<CellFootprint> cells;
+  for (int x = 0; x < 4; ++x) cells.push_back({x, glm::vec3(float(x), 0.0f, 0.0f), glm::vec3(float(x) + 1.0f, 1.0f, 1.0f), 100});
+  for (const float margin : {0.0f, 0.5f}) {
+    CellResidency residency(cells);
+    residency.set_budget(1000);
+    residency.set_keep_margin(margin);
+    int loads = 0; // after the first step, which loads cells 0 and 1
+    for (int step = 0; step < 20; ++step) {
+      const glm::vec3 camera(step % 2 == 0 ? 0.9f : 1.1f, 0.5f, 0.5f); // cell 2 starts at x = 2: 1.1 and 0.9 m away
+      const auto changes = residency.update(camera, 1.0f);
+      if (step > 0) loads += int(changes.loads.size());
+    }
+    if (margin == 0.0f) {
+      EXPECT_EQ(loads, 10) << "cell 2 comes and goes every other step";
+    } else {
+      EXPECT_EQ(loads, 1) << "cell 2 loads once and is kept within radius + margin";
+    }
+  }
 }
 
 TEST(CellResidency, ACellLargerThanTheBudgetBlocksNothingBehindIt) {

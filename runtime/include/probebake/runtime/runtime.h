@@ -188,6 +188,9 @@ struct StreamingOptions {
   // in the frame it joins, which costs far more than the copy, so this bounds that frame's spike. Probes
   // join in arrival order of their cells and keep their irradiance while they wait.
   int max_joining_probes = 0;
+  // Metres beyond the stream_around radius within which resident cells stay (after the cells inside the
+  // radius, as the budget allows), so that a camera going back and forth at the edge does not reload them.
+  float keep_margin = 0.0f;
 };
 
 struct UploadOptions {

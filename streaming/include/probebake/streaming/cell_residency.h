@@ -8,7 +8,9 @@
 // taken, skipped otherwise: a nearer cell always has the room before a farther one, and one cell larger than
 // the budget blocks nothing behind it. Updates drop first, then load nearest first, at most
 // max_load_bytes per update (at least one cell, so a cell larger than that limit still loads); the rest wait
-// for the next update. Resident bytes never exceed the budget. Deterministic.
+// for the next update. A resident cell stays while it lies within radius + keep margin (after the cells within
+// the radius, nearest first, as the budget allows): a camera moving back and forth across the radius does not
+// drop and reload the same cells every frame. Resident bytes never exceed the budget. Deterministic.
 #pragma once
 
 #include <cstddef>
@@ -52,6 +54,8 @@ public:
   void set_budget(std::uint64_t bytes) { budget_ = bytes; }
   // Bytes loaded per update at most (0 = no limit); one cell is always allowed.
   void set_max_load_bytes(std::uint64_t bytes) { max_load_bytes_ = bytes; }
+  // Metres beyond the radius within which resident cells are kept (>= 0; 0 = none, the default).
+  void set_keep_margin(float metres) { keep_margin_ = metres >= 0.0f && metres < 3.0e38f ? metres : 0.0f; }
 
   // Moves the camera. `radius` >= 0 and `position` finite (a non-finite value or a negative radius wants
   // no cell). The caller applies the drops and then the loads.
@@ -61,7 +65,8 @@ public:
   // and the next update wants it again.
   void cancel_load(std::size_t cell);
 
-  // The cells the policy wants resident around `position`, nearest first, ignoring max_load_bytes.
+  // The cells the policy wants resident around `position`, nearest first, ignoring max_load_bytes (the
+  // kept ones depend on what is resident now).
   std::vector<std::size_t> wanted(glm::vec3 position, float radius) const;
 
   std::span<const CellFootprint> cells() const { return cells_; }
@@ -75,6 +80,7 @@ private:
   std::vector<std::uint8_t> resident_;
   std::uint64_t budget_ = 0;
   std::uint64_t max_load_bytes_ = 0;
+  float keep_margin_ = 0.0f;
   std::uint64_t resident_bytes_ = 0;
   std::size_t resident_count_ = 0;
 };

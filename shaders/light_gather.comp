@@ -29,7 +29,7 @@ vec3 relight(LightRecord rec) {
 
 void main() {
   const int listed = light_slot(probebake_flat_workgroup());
-  if (listed < 0 || probebake_probes[listed].link == 0) return; // uniform per workgroup
+  if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
   const uint t = gl_LocalInvocationIndex;
   if (t == 0) indirect_misses = 0u;

@@ -42,7 +42,7 @@ bool meets_moved(vec3 origin, vec3 dir, float t_max) {
 
 void main() {
   const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  if (slot >= push.probe_capacity || light_slot_idle(slot)) return; // uniform per workgroup
   const vec3 origin = probebake_probes[slot].position;
   bool meets = false;
   for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.rays && !meets; r += int(LIGHT_WORKGROUP_SIZE)) {

@@ -21,7 +21,7 @@ bool changes_reach(vec3 p) {
 
 void main() {
   const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || probebake_probes[slot].link == 0) return; // uniform per workgroup
+  if (slot >= push.probe_capacity || light_slot_idle(slot)) return; // uniform per workgroup
   const bool in_window = (slot + push.probe_capacity - push.first_slot) % push.probe_capacity < push.slot_count;
   if (in_window || (trace_flags[slot] & TRACE_FLAG_STALE_PUNCTUAL) != 0u) return;
   bool reached = false;

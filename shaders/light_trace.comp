@@ -71,7 +71,7 @@ LightRecord trace_record(vec3 origin, vec3 dir, uint seed, out vec3 tracked) {
 
 void main() {
   const int listed = light_slot(probebake_flat_workgroup());
-  if (listed < 0 || probebake_probes[listed].link == 0) return; // uniform per workgroup
+  if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
   if (push.trace_all == 0u && (trace_flags[slot] & TRACE_FLAG_RETRACE) == 0u) return; // records still valid
   const int probe = int(slot);

@@ -16,6 +16,12 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
   residency_.set_max_load_bytes(options.max_upload_bytes);
   residency_.set_keep_margin(options.keep_margin);
   for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
+  const std::size_t probes = volume.probes.size();
+  const std::size_t slots = options.max_lit_probes > 0 ? std::min(probes, std::size_t(options.max_lit_probes)) : probes;
+  record_of_probe_.assign(probes, -1);
+  record_slot_count_ = std::uint32_t(slots);
+  free_records_.reserve(slots);
+  for (std::size_t r = slots; r-- > 0;) free_records_.push_back(std::int32_t(r)); // slot 0 handed out first
 }
 
 std::vector<int> CellStreaming::resident_cells() const {
@@ -26,18 +32,30 @@ std::vector<int> CellStreaming::resident_cells() const {
 }
 
 bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
-                                     StreamStats& stats) {
+                                     std::vector<formats::CellRange>& reassigned, StreamStats& stats) {
   bool changed = false;
-  for (std::size_t k : changes.drops) changed = std::exchange(lit_[k], 0u) != 0 || changed;
+  for (std::size_t k : changes.drops) {
+    const formats::CellRange& probes = probe_ranges_[k];
+    for (std::uint32_t i = 0; i < lit_[k]; ++i) free_records_.push_back(std::exchange(record_of_probe_[probes.first + i], -1));
+    if (lit_[k] != 0) reassigned.push_back({probes.first, lit_[k], 0, 0}), changed = true;
+    lit_[k] = 0;
+  }
   for (std::size_t k : changes.loads) joining_.push_back(k);
   std::erase_if(joining_, [&](std::size_t k) { return !residency_.resident(k); }); // dropped, or not placed
   std::uint32_t left = max_joining_probes_ > 0 ? std::uint32_t(max_joining_probes_) : ~0u;
   for (std::size_t k : joining_) {
     const formats::CellRange& probes = probe_ranges_[k];
-    const std::uint32_t take = std::min(left, probes.count - lit_[k]);
+    left = std::min(left, std::uint32_t(free_records_.size()));
     if (left == 0) break;
+    const std::uint32_t take = std::min(left, probes.count - lit_[k]);
     if (take == 0) continue; // a cell without probes
-    retrace.push_back({probes.first + lit_[k], take, 0, 0});
+    const formats::CellRange joined{probes.first + lit_[k], take, 0, 0};
+    for (std::uint32_t i = 0; i < take; ++i) {
+      record_of_probe_[joined.first + i] = free_records_.back();
+      free_records_.pop_back();
+    }
+    retrace.push_back(joined);
+    reassigned.push_back(joined);
     lit_[k] += take, left -= take;
     stats.joined_probes += int(take);
     changed = true;
@@ -57,11 +75,12 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     timer.begin(cmd, slot);
     const std::vector<std::size_t> unplaced = tracing_.record(cmd, ring, changes);
     for (std::size_t k : unplaced) residency_.cancel_load(k);
-    std::vector<formats::CellRange> retrace;
-    if (update_lit_cells(changes, retrace, stats)) {
+    std::vector<formats::CellRange> retrace, reassigned;
+    if (update_lit_cells(changes, retrace, reassigned, stats)) {
       std::vector<std::int32_t> slots;
       for (std::size_t k = 0; k < probe_ranges_.size(); ++k)
         for (std::uint32_t i = 0; i < lit_[k]; ++i) slots.push_back(std::int32_t(probe_ranges_[k].first + i));
+      light.record_record_slots(cmd, reassigned, record_of_probe_);
       light.record_host_list(cmd, slots, retrace);
     }
     timer.end(cmd, slot);

@@ -21,6 +21,8 @@ namespace probebake::runtime::detail {
 class CellStreaming {
 public:
   CellStreaming(Device& device, const formats::ProbeVolume& volume, const StreamingOptions& options, std::uint32_t rings);
+  // Probes that can be lit at once: the light update's record slots.
+  std::uint32_t record_slots() const { return record_slot_count_; }
 
   StreamedTracing& tracing() { return tracing_; }
   const StreamedTracing& tracing() const { return tracing_; }
@@ -38,13 +40,18 @@ public:
 private:
   StreamedTracing tracing_;
   streaming::CellResidency residency_;
-  // Applies the residency changes to the lit cells and admits waiting cells within max_joining_probes;
-  // returns whether the light list changed, with the probe ranges to trace afresh.
-  bool update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace, StreamStats& stats);
+  // Applies the residency changes to the lit cells and admits waiting probes within max_joining_probes and
+  // the free record slots; returns whether the light list changed, with the probe ranges to trace afresh
+  // and those whose record slots changed.
+  bool update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
+                        std::vector<formats::CellRange>& reassigned, StreamStats& stats);
 
   std::vector<formats::CellRange> probe_ranges_; // per Cell record: its probe slots
   std::vector<std::uint32_t> lit_;               // per Cell record: its first lit_[k] probes are in the light list
   std::vector<std::size_t> joining_;             // resident cells with probes not lit yet, in arrival order
+  std::vector<std::int32_t> record_of_probe_;    // per probe slot: its record slot, -1 when not lit
+  std::vector<std::int32_t> free_records_;       // record slots not handed out (taken from the back)
+  std::uint32_t record_slot_count_ = 0;
   int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;
   glm::vec3 camera_{0.0f};

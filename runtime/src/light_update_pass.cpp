@@ -33,9 +33,12 @@ bool LightUpdatePass::applies(const GpuVolume& volume) {
   return volume.elements(Section::lighting_info) == 1 && volume.elements(Section::probes) > 0;
 }
 
-LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings)
+LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
+                                 std::uint32_t record_slots)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
+  indirect_records_ = record_slots > 0;
+  record_capacity_ = indirect_records_ ? std::min(record_slots, probe_capacity_) : probe_capacity_;
   create_record_pages(rays);
   next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
@@ -45,7 +48,8 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                                 MemoryUse::device, "light list");
   relight_changes_ = create_scratch(device, sizeof(gpu::RelightChanges), "relight changes");
-  const VkDeviceSize tracked_bytes = VkDeviceSize(probe_capacity_) * VkDeviceSize(rays) * 3 * sizeof(float);
+  const VkDeviceSize tracked_bytes = VkDeviceSize(record_capacity_) * VkDeviceSize(rays) * 3 * sizeof(float);
+  if (indirect_records_) record_slots_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::int32_t), "record slots");
   tracking_ = tracked_bytes <= device.info.max_storage_buffer_range;
   tracked_punctual_ = create_scratch(device, tracking_ ? tracked_bytes : 16, "tracked punctual");
   {
@@ -57,6 +61,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     // the relight walks every live slot, and the same input must give the same output.
     vkCmdFillBuffer(clear.cmd(), tracked_punctual_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), next_irradiance_.get(), 0, VK_WHOLE_SIZE, 0);
+    if (record_slots_) vkCmdFillBuffer(clear.cmd(), record_slots_.get(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu); // -1: none
     for (const Buffer& page : record_pages_) vkCmdFillBuffer(clear.cmd(), page.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
@@ -86,6 +91,8 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_OBJECT_INSTANCES] = volume.object_instances();
   buffers[gpu::LIGHT_BINDING_RELIGHT_CHANGES] = relight_changes_.get();
   buffers[gpu::LIGHT_BINDING_TRACKED_PUNCTUAL] = tracked_punctual_.get();
+  // Read only with LightPush.indirect_records; otherwise any buffer satisfies the binding.
+  buffers[gpu::LIGHT_BINDING_RECORD_SLOTS] = record_slots_ ? record_slots_.get() : trace_flags_.get();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().light.set_layout.get(), buffers);
 }
 
@@ -93,16 +100,16 @@ void LightUpdatePass::create_record_pages(int rays) {
   if (rays < 1) fail(StatusCode::invalid_volume, "lighting_info: rays " + std::to_string(rays) + " < 1"); // unvalidated upload
   const VkDeviceSize probe_bytes = VkDeviceSize(rays) * sizeof(gpu::LightRecord);
   const VkDeviceSize fit = device_.info.max_storage_buffer_range / probe_bytes; // whole probes per page
-  const VkDeviceSize pages = fit == 0 ? gpu::LIGHT_RECORD_PAGES + 1 : (VkDeviceSize(probe_capacity_) + fit - 1) / fit;
+  const VkDeviceSize pages = fit == 0 ? gpu::LIGHT_RECORD_PAGES + 1 : (VkDeviceSize(record_capacity_) + fit - 1) / fit;
   if (pages > gpu::LIGHT_RECORD_PAGES)
-    fail(StatusCode::unsupported, "light records: " + std::to_string(VkDeviceSize(probe_capacity_) * probe_bytes) + " bytes need " +
+    fail(StatusCode::unsupported, "light records: " + std::to_string(VkDeviceSize(record_capacity_) * probe_bytes) + " bytes need " +
                                       std::to_string(pages) + " pages of at most maxStorageBufferRange (" +
                                       std::to_string(device_.info.max_storage_buffer_range) + ") of " + device_.info.name +
                                       ", more than " + std::to_string(gpu::LIGHT_RECORD_PAGES) +
                                       "; bake with fewer probes or lighting rays, or load with light_update = false");
-  probes_per_page_ = static_cast<std::uint32_t>(std::min<VkDeviceSize>(fit, probe_capacity_)); // applies(): >= 1 probe
-  for (std::uint32_t first = 0; first < probe_capacity_; first += probes_per_page_) {
-    const std::uint32_t probes = std::min(probes_per_page_, probe_capacity_ - first);
+  probes_per_page_ = static_cast<std::uint32_t>(std::min<VkDeviceSize>(fit, record_capacity_)); // applies(): >= 1 probe
+  for (std::uint32_t first = 0; first < record_capacity_; first += probes_per_page_) {
+    const std::uint32_t probes = std::min(probes_per_page_, record_capacity_ - first);
     record_pages_.push_back(create_scratch(device_, VkDeviceSize(probes) * probe_bytes, "light records"));
   }
 }
@@ -206,7 +213,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
   gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, first, window, probes_per_page_, tracked_light_,
-                      limits.shadow_rays_per_record, frames_recorded_++, 0u, 0u};
+                      limits.shadow_rays_per_record, frames_recorded_++, indirect_records_ ? 1u : 0u, 0u};
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
   // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
@@ -280,6 +287,16 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
     vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4, gpu::TRACE_FLAG_RETRACE);
     host_retrace_ = true;
   }
+}
+
+void LightUpdatePass::record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges,
+                                          std::span<const std::int32_t> slots) {
+  if (!record_slots_ || slots.size() != probe_capacity_) fail(StatusCode::internal, "record slots without streaming");
+  constexpr std::uint32_t kChunk = 65536 / sizeof(std::int32_t); // vkCmdUpdateBuffer's limit
+  for (const formats::CellRange& range : ranges)
+    for (std::uint32_t i = 0; i < range.count; i += kChunk)
+      vkCmdUpdateBuffer(cmd, record_slots_.get(), VkDeviceSize(range.first + i) * sizeof(std::int32_t),
+                        std::min(kChunk, range.count - i) * sizeof(std::int32_t), slots.data() + range.first + i);
 }
 
 LightStats LightUpdatePass::stats(std::uint32_t ring) const {

@@ -35,7 +35,10 @@ public:
   // The per-ray records are split into up to LIGHT_RECORD_PAGES pages of whole probes, each within
   // maxStorageBufferRange; throws RuntimeError(unsupported) when they need more.
   // `rings`: frames in flight whose statistics are kept apart (PassCounters).
-  LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings);
+  // `record_slots` > 0 (streaming): records for that many probes only, handed out by the host
+  // (record_record_slots); 0: every probe slot has its own.
+  LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
+                  std::uint32_t record_slots = 0);
 
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
@@ -67,6 +70,8 @@ public:
   // geometry just arrived). Recorded before record(); at most LightListHeader + probe_capacity entries.
   void record_host_list(VkCommandBuffer cmd, std::span<const std::int32_t> slots,
                         std::span<const formats::CellRange> retrace);
+  // Streaming: uploads the record slot (-1: none) of the probes in `ranges` from `slots` (one per probe slot).
+  void record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges, std::span<const std::int32_t> slots);
   // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
   VkBuffer trace_flags() const { return trace_flags_.get(); }
   // LightListHeader + int per probe slot (runtime_types.h), written by the light transitions.
@@ -85,6 +90,8 @@ private:
 
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
+  std::uint32_t record_capacity_ = 0; // probes whose records the pages hold
+  bool indirect_records_ = false;     // records by LIGHT_BINDING_RECORD_SLOTS (streaming)
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
   bool queue_driven_ = false;
@@ -109,6 +116,7 @@ private:
   std::uint32_t probes_per_page_ = 0;
   Buffer next_irradiance_;
   Buffer trace_flags_;
+  Buffer record_slots_; // streaming: int per probe slot
   Buffer light_list_;
   PassCounters<gpu::LightCounters> counters_;
   PassDescriptorSet descriptors_;

@@ -38,7 +38,8 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu, ring_count);
   sample = std::make_unique<SamplePass>(*device, *gpu);
   if (options.light_update && LightUpdatePass::applies(*gpu)) {
-    light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis, ring_count);
+    light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis, ring_count,
+                                              streaming ? streaming->record_slots() : 0u);
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {

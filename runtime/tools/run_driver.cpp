@@ -229,7 +229,8 @@ int run_volume(const RunOptions& options) {
   upload.memory_update = !options.no_memory_update && (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
   std::vector<streaming::PathPoint> path;
   if (options.stream) {
-    upload.streaming = {options.stream->budget, options.stream->max_upload, options.stream->max_joining, options.stream->keep_margin};
+    upload.streaming = {options.stream->budget, options.stream->max_upload, options.stream->max_joining, options.stream->keep_margin,
+                        options.stream->max_lit};
     try {
       path = streaming::read_camera_path(options.stream->path);
     } catch (const Error& e) {

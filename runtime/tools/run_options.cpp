@@ -15,7 +15,7 @@ constexpr const char* kUsage =
     "                     [--no-memory-update] [--max-depth N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
-    "                      [--keep-margin M]]\n"
+    "                      [--keep-margin M] [--max-lit N]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -42,6 +42,7 @@ constexpr const char* kUsage =
     "  --max-upload B    with --path: copy at most B bytes per frame (0 = no limit, the default)\n"
     "  --max-joining N   with --path: at most N probes of arrived cells start being lit (traced) per frame\n"
     "  --keep-margin M   with --path: resident cells stay while within R + M metres (default 0)\n"
+    "  --max-lit N       with --path: light records for N probes at once (default: every probe)\n"
     "  --verbose         one line per frame (default: a progress bar on a terminal, else a line every 100\n"
     "                    frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
@@ -191,6 +192,9 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--max-joining") {
       int& probes = (options.stream ? *options.stream : options.stream.emplace()).max_joining;
       if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--max-joining needs a whole number of probes >= 0");
+    } else if (arg == "--max-lit") {
+      int& probes = (options.stream ? *options.stream : options.stream.emplace()).max_lit;
+      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--max-lit needs a whole number of probes >= 0");
     } else if (arg == "--keep-margin") {
       float& margin = (options.stream ? *options.stream : options.stream.emplace()).keep_margin;
       if (!has_value || !parse_number(argv[++i], margin) || !(margin >= 0.0f) || !std::isfinite(margin))

@@ -169,7 +169,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"DynamicObjectBuffer", LIGHT_BINDING_DYNAMIC_OBJECTS},
                            {"ObjectInstanceBuffer", LIGHT_BINDING_OBJECT_INSTANCES},
                            {"RelightChangeBuffer", LIGHT_BINDING_RELIGHT_CHANGES},
-                           {"TrackedPunctualBuffer", LIGHT_BINDING_TRACKED_PUNCTUAL}};
+                           {"TrackedPunctualBuffer", LIGHT_BINDING_TRACKED_PUNCTUAL},
+                           {"RecordSlotBuffer", LIGHT_BINDING_RECORD_SLOTS}};
   for (const char* shader : {"light_trace", "light_gather", "light_resolve", "light_relight"}) expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
@@ -352,7 +353,8 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
   EXPECT_GE(expect_layout("light_gather", "LightPush",
                           {{"probe_capacity", offsetof(LightPush, probe_capacity)},
                            {"hysteresis", offsetof(LightPush, hysteresis)}, {"first_slot", offsetof(LightPush, first_slot)},
-                           {"slot_count", offsetof(LightPush, slot_count)}}),
+                           {"slot_count", offsetof(LightPush, slot_count)},
+                           {"indirect_records", offsetof(LightPush, indirect_records)}}),
             1);
   EXPECT_GE(expect_layout("light_resolve", "LightCounters",
                           {{"traced_probes", offsetof(LightCounters, traced_probes)},
@@ -428,7 +430,8 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
                           {{"trace_all", offsetof(LightPush, trace_all)}, {"listed", offsetof(LightPush, listed)}}),
             1);
   const std::vector<Member> list{{"groups_x", offsetof(LightListHeader, groups_x)}, {"count", offsetof(LightListHeader, count)},
-                                 {"resolve_x", offsetof(LightListHeader, resolve_x)}, {"resolve_z", offsetof(LightListHeader, resolve_z)}};
+                                 {"resolve_x", offsetof(LightListHeader, resolve_x)}, {"resolve_z", offsetof(LightListHeader, resolve_z)},
+                                 {"trace_x", offsetof(LightListHeader, trace_x)}, {"trace_z", offsetof(LightListHeader, trace_z)}};
   EXPECT_GE(expect_layout("memory_begin", "LightListHeader", list), 1);
   EXPECT_GE(expect_layout("light_resolve", "LightListHeader", list), 1);
 }

@@ -16,6 +16,7 @@
 
 #include "probebake/formats/cells.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/runtime_types.h"
 #include "probebake/samples/scenes.h"
 #include "run_cli.h"
 #include "runtime_test_util.h"
@@ -51,9 +52,10 @@ bool same_irradiance(const gpu::Probe& a, const gpu::Probe& b) {
   return std::memcmp(a.irradiance_sh, b.irradiance_sh, sizeof(a.irradiance_sh)) == 0;
 }
 
-runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max_upload = 0, int max_joining = 0) {
+runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max_upload = 0, int max_joining = 0,
+                                         int max_lit = 0) {
   runtime::UploadOptions options;
-  options.streaming = {budget, max_upload, max_joining};
+  options.streaming = {budget, max_upload, max_joining, 0.0f, max_lit};
   return options;
 }
 
@@ -137,7 +139,8 @@ TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
   const formats::ProbeVolume& v = streamed_rooms();
   const std::uint64_t all = tracing_bytes_of_cells(v), budget = all * 2 / 5;
   constexpr int kJoining = 8; // probes that start being lit (and traced) per frame
-  auto streamed = runtime::Volume::upload(context(), v, streaming_options(budget, budget / 4, kJoining));
+  constexpr int kLit = 40;    // probes with light records at once
+  auto streamed = runtime::Volume::upload(context(), v, streaming_options(budget, budget / 4, kJoining, kLit));
   ASSERT_TRUE(streamed.ok()) << streamed.status().message;
   const glm::vec3 lo = v.info.root_min, hi = v.info.root_min + v.info.root_size;
   const float radius = 0.3f * v.info.root_size;
@@ -155,6 +158,7 @@ TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
     ASSERT_LE(s.resident_bytes, budget) << "frame " << f;
     ASSERT_LE(s.joined_probes, kJoining) << "frame " << f;
     ASSERT_LE(stats.value().light.traced_probes, kJoining) << "frame " << f << ": only joining probes trace";
+    ASSERT_LE(stats.value().light.lit_probes, kLit) << "frame " << f << ": only probes with records are lit";
     loads += s.loaded_cells, drops += s.dropped_cells, waits += s.waiting_cells, joined += s.joined_probes;
     worst_upload = std::max(worst_upload, s.loaded_bytes);
     const runtime::Status live = streamed.value().validate_live();
@@ -212,6 +216,24 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   const CliResult bad_path = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " +
                                      test::quoted(std::filesystem::path(probes)));
   EXPECT_EQ(bad_path.exit_code, 2) << bad_path.err;
+}
+
+// max_lit_probes sizes the light records (64 B per ray and probe, 12 more for the tracked light) for that
+// many probes instead of every probe of the file.
+TEST_F(StreamingTest, LitProbeCapSizesTheLightRecords) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  const std::uint64_t budget = tracing_bytes_of_cells(v);
+  const auto device_bytes = [&](int max_lit) {
+    const std::uint64_t before = context().memory_stats().live_bytes;
+    auto volume = runtime::Volume::upload(context(), v, streaming_options(budget, 0, 0, max_lit));
+    EXPECT_TRUE(volume.ok()) << volume.status().message;
+    return context().memory_stats().live_bytes - before;
+  };
+  const std::uint64_t all = device_bytes(0), capped = device_bytes(32);
+  const std::uint64_t per_probe = std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12);
+  std::printf("[streaming] light records for every one of %zu probe slots: %llu bytes on the device; for 32: %llu\n",
+              v.probes.size(), static_cast<unsigned long long>(all), static_cast<unsigned long long>(capped));
+  EXPECT_EQ(all - capped, (v.probes.size() - 32) * per_probe);
 }
 
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {

@@ -81,7 +81,10 @@ PB_CONSTANT(uint, LIGHT_BINDING_TRACKED_PUNCTUAL, 22u); // float[3] per record (
 PB_CONSTANT(uint, LIGHT_BINDING_TRACE_TREES, 23u);     // the compact tracing sections (format 1.4),
 PB_CONSTANT(uint, LIGHT_BINDING_TRACE_VERTICES, 24u);  // with TRACE_NODES and TRACE_FACES above
 PB_CONSTANT(uint, LIGHT_BINDING_TRACE_MATERIALS, 25u);
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 26u);
+// Streaming: int per probe slot, the slot of its records in the record pages, -1 for a probe that has none
+// (not lit); read only when LightPush.indirect_records is set (otherwise a probe's records are its slot's).
+PB_CONSTANT(uint, LIGHT_BINDING_RECORD_SLOTS, 26u);
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 27u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------
 // 0-3 equal the sampling bindings (sample_irradiance.glsl's SVO lookup gives new probes their start).

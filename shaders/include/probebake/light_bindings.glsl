@@ -40,6 +40,7 @@ layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uin
 layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) readonly buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
 layout(std430, binding = LIGHT_BINDING_TRACKED_PUNCTUAL) buffer TrackedPunctualBuffer { float tracked_punctual[]; }; // 3 per record
 layout(std430, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer { RelightChanges relight_changes; };
+layout(std430, binding = LIGHT_BINDING_RECORD_SLOTS) readonly buffer RecordSlotBuffer { int light_record_slots[]; };
 layout(push_constant) uniform Push { LightPush push; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0
@@ -53,10 +54,19 @@ int light_slot(uint index) {
   return slot >= 0 && uint(slot) < push.probe_capacity ? slot : -1;
 }
 
-// Record `ray` of probe slot `slot`: page slot / probes_per_page (uniform per workgroup: one slot each).
-uint light_record_page(uint slot) { return slot / push.probes_per_page; }
+// Where probe slot `slot` keeps its records: its own slot, or with streaming the slot the host gave it (-1:
+// none, the probe is not lit).
+int light_record_slot(uint slot) { return push.indirect_records != 0u ? light_record_slots[slot] : int(slot); }
+
+// Whether the light update skips the probe: a free slot, or a probe without records (uniform per workgroup).
+bool light_slot_idle(uint slot) { return probebake_probes[slot].link == 0 || light_record_slot(slot) < 0; }
+
+// Record `ray` of probe slot `slot` (which has records): page r / probes_per_page of its record slot r
+// (uniform per workgroup: one slot each).
+uint light_record_page(uint slot) { return uint(light_record_slot(slot)) / push.probes_per_page; }
 uint light_record_index(uint slot, uint ray) {
-  return (slot - light_record_page(slot) * push.probes_per_page) * uint(probebake_lighting.rays) + ray;
+  const uint r = uint(light_record_slot(slot));
+  return (r - (r / push.probes_per_page) * push.probes_per_page) * uint(probebake_lighting.rays) + ray;
 }
 
 LightRecord light_record(uint slot, uint ray) {
@@ -77,12 +87,12 @@ void set_light_record(uint slot, uint ray, LightRecord rec) {
 
 // The tracked light's E at record `ray` of `slot` (RelightChanges), unpaged: 12 bytes per record.
 vec3 tracked_punctual_at(uint slot, uint ray) {
-  const uint i = 3u * (slot * uint(probebake_lighting.rays) + ray);
+  const uint i = 3u * (uint(light_record_slot(slot)) * uint(probebake_lighting.rays) + ray);
   return vec3(tracked_punctual[i], tracked_punctual[i + 1u], tracked_punctual[i + 2u]);
 }
 
 void set_tracked_punctual(uint slot, uint ray, vec3 e) {
-  const uint i = 3u * (slot * uint(probebake_lighting.rays) + ray);
+  const uint i = 3u * (uint(light_record_slot(slot)) * uint(probebake_lighting.rays) + ray);
   tracked_punctual[i] = e.r;
   tracked_punctual[i + 1u] = e.g;
   tracked_punctual[i + 2u] = e.b;

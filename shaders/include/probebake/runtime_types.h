@@ -140,9 +140,9 @@ struct LightPush {
                         //   whole punctual sum; 0 = one per light (exact); else lights are sampled when there
                         //   are more (FrameLimits::shadow_rays_per_record, direct_light.glsl)
   uint seed;            // offset 36: this frame's seed of the light sampling (the same frames, the same bits)
-  uint pad0;            // offset 40
+  uint indirect_records; // offset 40: 1 = a probe's records are at LIGHT_BINDING_RECORD_SLOTS[slot] (streaming)
   uint pad1;            // offset 44
-};                      // size 32
+};                      // size 48
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes

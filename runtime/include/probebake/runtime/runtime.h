@@ -191,6 +191,10 @@ struct StreamingOptions {
   // Metres beyond the stream_around radius within which resident cells stay (after the cells inside the
   // radius, as the budget allows), so that a camera going back and forth at the edge does not reload them.
   float keep_margin = 0.0f;
+  // Probes lit at once at most (0 = every probe of the file): the light records (64 B per lighting ray,
+  // 16 KiB per probe at 256 rays) are allocated for this many probes, not for the whole world; arrived
+  // probes wait while every record slot is taken (StreamStats::joining_probes).
+  int max_lit_probes = 0;
 };
 
 struct UploadOptions {

@@ -74,6 +74,8 @@ public:
   void record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges, std::span<const std::int32_t> slots);
   // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
   VkBuffer trace_flags() const { return trace_flags_.get(); }
+  // Streaming: int per probe slot, its record slot (-1: not lit); VK_NULL_HANDLE otherwise.
+  VkBuffer record_slots() const { return record_slots_ ? record_slots_.get() : VK_NULL_HANDLE; }
   // LightListHeader + int per probe slot (runtime_types.h), written by the light transitions.
   VkBuffer light_list() const { return light_list_.get(); }
 

@@ -158,14 +158,15 @@ std::optional<FrameStats> Volume::poll_frame_stats() {
 
 Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::vec3> positions,
                                                          std::span<const glm::vec3> normals, SampleStats* stats,
-                                                         SampleMethod method) {
+                                                         SampleMethod method, std::vector<std::uint32_t>* flags) {
   return guarded([&]() -> Result<std::vector<glm::vec3>> {
     if (positions.size() != normals.size())
       return Status{StatusCode::invalid_argument, "sample_irradiance: " + std::to_string(positions.size()) +
                                                       " positions but " + std::to_string(normals.size()) + " normals"};
     std::vector<glm::vec3> out(positions.size());
     SampleStats local;
-    state_->sample->run(positions, normals, out, local, method);
+    if (flags) flags->assign(positions.size(), 0u);
+    state_->sample->run(positions, normals, out, local, method, flags ? std::span<std::uint32_t>(*flags) : std::span<std::uint32_t>());
     if (stats) *stats = local;
     return out;
   });

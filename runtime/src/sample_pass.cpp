@@ -34,15 +34,17 @@ void write_queries(void* mapped, std::span<const glm::vec3> positions, std::span
   for (std::size_t i = 0; i < positions.size(); ++i) queries[i] = {positions[i], 0.0f, normals[i], 0.0f};
 }
 
-// Copies the results out; returns the number of misses.
-std::size_t read_results(const void* mapped, std::span<glm::vec3> out) {
+// Copies the results out and counts them into `stats`; `flags` (empty or out.size()) gets each one's.
+void read_results(const void* mapped, std::span<glm::vec3> out, std::span<std::uint32_t> flags, SampleStats& stats) {
   const auto* results = static_cast<const gpu::SampleResult*>(mapped);
-  std::size_t misses = 0;
   for (std::size_t i = 0; i < out.size(); ++i) {
     out[i] = results[i].irradiance;
-    misses += results[i].probes_used == 0 ? 1 : 0;
+    const bool miss = (results[i].probes_used & ~gpu::SAMPLE_RESULT_NOT_LIT) == 0;
+    const bool not_lit = (results[i].probes_used & gpu::SAMPLE_RESULT_NOT_LIT) != 0;
+    stats.misses += miss ? 1 : 0;
+    stats.not_lit += not_lit ? 1 : 0;
+    if (!flags.empty()) flags[i] = (miss ? kSampleMiss : 0u) | (not_lit ? kSampleNotLit : 0u);
   }
-  return misses;
 }
 
 } // namespace
@@ -57,7 +59,7 @@ SamplePass::SamplePass(Device& device, const GpuVolume& volume) : device_(device
 }
 
 void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
-                     SampleStats& stats, SampleMethod method) {
+                     SampleStats& stats, SampleMethod method, std::span<std::uint32_t> flags) {
   const auto start = std::chrono::steady_clock::now();
   const bool all_probes = method == SampleMethod::all_probes;
   if (all_probes && volume_.elements(Section::lighting_info) == 0)
@@ -95,6 +97,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     bindings[gpu::SAMPLE_BINDING_SVO_LEAVES] = volume_.binding(Section::svo_leaves);
     bindings[gpu::SAMPLE_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_BINDING_RESULTS] = buffers.results.get();
+    // Read only with SamplePush.streaming; otherwise any buffer satisfies the binding.
+    bindings[gpu::SAMPLE_BINDING_RECORD_SLOTS] = record_slots_ != VK_NULL_HANDLE ? record_slots_ : buffers.results.get();
     write_storage_buffers(device_.vk(), set, bindings);
   }
   PassTimer timer(device_, 1);
@@ -109,7 +113,7 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     const VkBufferCopy queries{0, 0, count * sizeof(gpu::SampleQuery)};
     vkCmdCopyBuffer(cmd, buffers.queries_host.get(), buffers.queries.get(), 1, &queries);
     barrier(cmd, kTransferWrite, kComputeRead);
-    const gpu::SamplePush push{static_cast<std::uint32_t>(count), 0, 0, 0};
+    const gpu::SamplePush push{static_cast<std::uint32_t>(count), record_slots_ != VK_NULL_HANDLE && !all_probes ? 1u : 0u, 0, 0};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     bind_set_and_push(cmd, layout, set, push);
     timer.begin(cmd, 0);
@@ -122,7 +126,7 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     barrier(cmd, kTransferWrite, kHostRead);
     submission.submit_and_wait();
 
-    stats.misses += read_results(buffers.results_host.mapped(), out.subspan(first, count));
+    read_results(buffers.results_host.mapped(), out.subspan(first, count), flags.empty() ? flags : flags.subspan(first, count), stats);
     const double ms = timer.read_ms(1)[0];
     if (ms >= 0.0) stats.gpu_ms = (stats.gpu_ms < 0.0 ? 0.0 : stats.gpu_ms) + ms;
     ++stats.dispatches;

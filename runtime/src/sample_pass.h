@@ -22,8 +22,11 @@ public:
 
   // out[i] = irradiance at (positions[i], normals[i]); sizes must be equal (checked by the caller).
   // SampleMethod::all_probes throws RuntimeError(unsupported) for volumes without the lighting sections.
+  // `flags` (optional, out.size() entries): SampleFlags per lookup.
   void run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
-           SampleStats& stats, SampleMethod method);
+           SampleStats& stats, SampleMethod method, std::span<std::uint32_t> flags = {});
+  // Streaming: the light update's record slots, so that results say when their probes are not lit.
+  void set_record_slots(VkBuffer record_slots) { record_slots_ = record_slots; }
 
   // Queries per dispatch: limited by maxStorageBufferRange and by a staging budget.
   std::size_t max_batch() const { return max_batch_; }
@@ -35,6 +38,7 @@ private:
   DeviceObject<VkDescriptorPool> pool_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;     // SVO sampler
   VkDescriptorSet all_set_ = VK_NULL_HANDLE; // all-probe baseline
+  VkBuffer record_slots_ = VK_NULL_HANDLE;   // streaming only
 };
 
 } // namespace probebake::runtime::detail

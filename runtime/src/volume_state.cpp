@@ -46,7 +46,10 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count);
     light->walk_light_list();
   }
-  if (streaming && light) light->walk_light_list(); // the host lists the resident cells' probes
+  if (streaming && light) {
+    light->walk_light_list(); // the host lists the resident cells' probes
+    sample->set_record_slots(light->record_slots());
+  }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);
   rings.resize(ring_count);
   for (FrameRing& ring : rings) {

@@ -128,7 +128,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                                         {"ProbebakeSvoNodes", SAMPLE_BINDING_SVO_NODES},
                                         {"ProbebakeSvoLeaves", SAMPLE_BINDING_SVO_LEAVES},
                                         {"Queries", SAMPLE_BINDING_QUERIES},
-                                        {"Results", SAMPLE_BINDING_RESULTS}});
+                                        {"Results", SAMPLE_BINDING_RESULTS},
+                                        {"RecordSlots", SAMPLE_BINDING_RECORD_SLOTS}});
   expect_bindings("sample_all_probes", {{"VolumeInfoBuffer", SAMPLE_ALL_BINDING_VOLUME_INFO},
                                         {"ProbeBuffer", SAMPLE_ALL_BINDING_PROBES},
                                         {"SvoNodeBuffer", SAMPLE_ALL_BINDING_SVO_NODES},

@@ -14,6 +14,7 @@
 
 #include <glm/common.hpp>
 
+#include "probebake/bake/sampler.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/runtime_types.h"
@@ -129,6 +130,30 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
       ++between;
     }
   }
+  // Lookups at every live probe: a result says kSampleNotLit exactly when a probe of its SVO stencil lies in
+  // a cell that is out (every resident cell's probes are lit here: no join limit).
+  std::vector<glm::vec3> positions, normals;
+  for (const gpu::Probe& p : v.probes)
+    if (p.link != 0) positions.push_back(p.position), normals.push_back(glm::vec3(0.0f, 1.0f, 0.0f));
+  std::vector<std::uint32_t> flags, whole_flags;
+  runtime::SampleStats sampled, whole_sampled;
+  ASSERT_TRUE(streamed.value().sample_irradiance(positions, normals, &sampled, runtime::SampleMethod::svo, &flags).ok());
+  ASSERT_TRUE(whole.value().sample_irradiance(positions, normals, &whole_sampled, runtime::SampleMethod::svo, &whole_flags).ok());
+  std::size_t expected_not_lit = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const bake::ProbeStencil s = bake::svo_stencil(v, positions[i], normals[i]);
+    bool out = false;
+    for (int k = 0; k < 4; ++k)
+      out = out || (s.probes[k] >= 0 && !resident_set.count(formats::cell_of_point(v.info, v.cell_depth, v.probes[std::size_t(s.probes[k])].position)));
+    ASSERT_EQ((flags[i] & runtime::kSampleNotLit) != 0, out) << "lookup " << i;
+    ASSERT_EQ(whole_flags[i] & runtime::kSampleNotLit, 0u) << "the whole file lights every probe";
+    expected_not_lit += out ? 1 : 0;
+  }
+  EXPECT_EQ(sampled.not_lit, expected_not_lit);
+  EXPECT_GT(sampled.not_lit, 0u);
+  EXPECT_LT(sampled.not_lit, positions.size());
+  std::printf("[streaming] %zu of %zu lookups at the probes say that a probe of theirs is not lit\n", sampled.not_lit,
+              positions.size());
   std::printf("[streaming] %d live probes, cells of %.2f m: %zu of %zu cells resident: %d probes lit exactly as the whole file, %d kept the file's "
               "irradiance, %d lit beside cells that are out\n", live_probe_count(v), double(cell), resident.size(), v.cells.size(), exact, kept, between);
   EXPECT_GT(exact, 0);

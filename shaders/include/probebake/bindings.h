@@ -23,7 +23,10 @@ PB_CONSTANT(uint, SAMPLE_BINDING_SVO_NODES, 2u);
 PB_CONSTANT(uint, SAMPLE_BINDING_SVO_LEAVES, 3u);
 PB_CONSTANT(uint, SAMPLE_BINDING_QUERIES, 4u);
 PB_CONSTANT(uint, SAMPLE_BINDING_RESULTS, 5u);
-PB_CONSTANT(uint, SAMPLE_BINDING_COUNT, 6u);
+// Streaming: the light update's record slots (LIGHT_BINDING_RECORD_SLOTS), so that a result can say that
+// its probes are not being lit; read only with SamplePush.streaming.
+PB_CONSTANT(uint, SAMPLE_BINDING_RECORD_SLOTS, 6u);
+PB_CONSTANT(uint, SAMPLE_BINDING_COUNT, 7u);
 
 // ---- All-probe baseline sampler (sample_all_probes.comp) --------------------------------------------------
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_VOLUME_INFO, 0u);

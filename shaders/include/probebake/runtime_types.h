@@ -49,12 +49,13 @@ struct SampleQuery {
 
 struct SampleResult {
   vec3 irradiance;  // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/bake/sampler.h)
-  int probes_used;  // offset 12: probes in the stencil, 0 = miss
-};                  // size 16
+  int probes_used;  // offset 12: probes in the stencil, 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
+};                  //   left one of them out of the light update (its irradiance is kept, not updated)
+PB_CONSTANT(int, SAMPLE_RESULT_NOT_LIT, 256);
 
 struct SamplePush {
-  uint count; // offset 0: queries in this dispatch
-  uint pad0;  // offset 4
+  uint count;     // offset 0: queries in this dispatch
+  uint streaming; // offset 4: 1 = flag results whose probes have no record slot (SAMPLE_BINDING_RECORD_SLOTS)
   uint pad1;  // offset 8
   uint pad2;  // offset 12
 };            // size 16

@@ -366,10 +366,16 @@ struct FrameStats {
 struct SampleStats {
   std::size_t samples = 0;
   std::size_t misses = 0;   // lookups without a probe (as bake::SamplerStats)
+  std::size_t not_lit = 0;  // streaming: lookups that used a probe the light update does not light now (the
+                            // cell is out, or its probes wait): its irradiance is the file's or the last lit
   std::size_t dispatches = 0;
   double gpu_ms = -1;       // sum over dispatches; -1 without timestamps
   double cpu_ms = 0.0;      // including uploads and read-backs of queries and results
 };
+
+// What Volume::sample_irradiance says of each lookup besides its irradiance (bits).
+inline constexpr std::uint32_t kSampleMiss = 1u;   // no probe: the irradiance is 0
+inline constexpr std::uint32_t kSampleNotLit = 2u; // streaming: a probe it used is not being lit (kept irradiance)
 
 // How Volume::sample_irradiance finds the probes of a point.
 enum class SampleMethod {
@@ -431,9 +437,11 @@ public:
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
   // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the
   // device's maxStorageBufferRange allows are split into several dispatches.
+  // `flags` (optional) receives SampleFlags per lookup (kSampleNotLit only with streaming and the SVO method).
   Result<std::vector<glm::vec3>> sample_irradiance(std::span<const glm::vec3> positions,
                                                    std::span<const glm::vec3> normals, SampleStats* stats = nullptr,
-                                                   SampleMethod method = SampleMethod::svo);
+                                                   SampleMethod method = SampleMethod::svo,
+                                                   std::vector<std::uint32_t>* flags = nullptr);
 
   // Streaming (UploadOptions::streaming): the camera that the next recorded frames stream around: cells whose
   // cube lies within `radius` metres of `position`, nearest first, while they fit the budget. Until the

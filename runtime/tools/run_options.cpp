@@ -127,6 +127,8 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     message = program + ": " + what + "\n" + usage;
     return std::nullopt;
   };
+  // The --budget/--path group's options, made on first use.
+  const auto stream = [&]() -> StreamRun& { return options.stream ? *options.stream : options.stream.emplace(); };
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -185,27 +187,19 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       int& rays = options.limits.shadow_rays_per_record;
       if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9) return usage_error("--shadow-rays needs 0 or a number in 2-9");
     } else if (arg == "--budget" || arg == "--max-upload") {
-      StreamRun& run = options.stream ? *options.stream : options.stream.emplace();
-      if (!has_value || !parse_bytes(argv[++i], arg == "--budget" ? run.budget : run.max_upload) ||
-          (arg == "--budget" && run.budget == 0))
+      std::uint64_t& bytes = arg == "--budget" ? stream().budget : stream().max_upload;
+      if (!has_value || !parse_bytes(argv[++i], bytes) || (arg == "--budget" && bytes == 0))
         return usage_error(std::string(arg) + " needs a byte count like 65536, 512K or 64M" + (arg == "--budget" ? " (> 0)" : ""));
-    } else if (arg == "--max-joining") {
-      int& probes = (options.stream ? *options.stream : options.stream.emplace()).max_joining;
-      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--max-joining needs a whole number of probes >= 0");
-    } else if (arg == "--max-lit") {
-      int& probes = (options.stream ? *options.stream : options.stream.emplace()).max_lit;
-      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--max-lit needs a whole number of probes >= 0");
-    } else if (arg == "--keep-margin") {
-      float& margin = (options.stream ? *options.stream : options.stream.emplace()).keep_margin;
-      if (!has_value || !parse_number(argv[++i], margin) || !(margin >= 0.0f) || !std::isfinite(margin))
-        return usage_error("--keep-margin needs a finite number of metres >= 0");
+    } else if (arg == "--max-joining" || arg == "--max-lit") {
+      int& probes = arg == "--max-joining" ? stream().max_joining : stream().max_lit;
+      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error(std::string(arg) + " needs a whole number of probes >= 0");
+    } else if (arg == "--keep-margin" || arg == "--radius") {
+      float& metres = arg == "--radius" ? stream().radius : stream().keep_margin;
+      if (!has_value || !parse_number(argv[++i], metres) || !(metres >= 0.0f) || !std::isfinite(metres))
+        return usage_error(std::string(arg) + " needs a finite number of metres >= 0");
     } else if (arg == "--path") {
       if (!has_value) return usage_error("--path needs a CSV file (frame,x,y,z)");
-      (options.stream ? *options.stream : options.stream.emplace()).path = argv[++i];
-    } else if (arg == "--radius") {
-      float& radius = (options.stream ? *options.stream : options.stream.emplace()).radius;
-      if (!has_value || !parse_number(argv[++i], radius) || !(radius >= 0.0f) || !std::isfinite(radius))
-        return usage_error("--radius needs a finite number of metres >= 0");
+      stream().path = argv[++i];
     } else if (arg == "--plots") {
       if (!has_value) return usage_error("--plots needs a folder");
       options.plots = argv[++i];

@@ -62,15 +62,15 @@ int light_record_slot(uint slot) { return push.indirect_records != 0u ? light_re
 bool light_slot_idle(uint slot) { return probebake_probes[slot].link == 0 || light_record_slot(slot) < 0; }
 
 // Record `ray` of probe slot `slot` (which has records): page r / probes_per_page of its record slot r
-// (uniform per workgroup: one slot each).
-uint light_record_page(uint slot) { return uint(light_record_slot(slot)) / push.probes_per_page; }
-uint light_record_index(uint slot, uint ray) {
-  const uint r = uint(light_record_slot(slot));
-  return (r - (r / push.probes_per_page) * push.probes_per_page) * uint(probebake_lighting.rays) + ray;
+// (uniform per workgroup: one slot each), and the index in that page. The record slot is read once.
+uvec2 light_record_place(uint slot, uint ray) {
+  const uint r = uint(light_record_slot(slot)), page = r / push.probes_per_page;
+  return uvec2(page, (r - page * push.probes_per_page) * uint(probebake_lighting.rays) + ray);
 }
 
 LightRecord light_record(uint slot, uint ray) {
-  const uint page = light_record_page(slot), i = light_record_index(slot, ray);
+  const uvec2 place = light_record_place(slot, ray);
+  const uint page = place.x, i = place.y;
   if (page == 0u) return light_records_0[i];
   if (page == 1u) return light_records_1[i];
   if (page == 2u) return light_records_2[i];
@@ -78,7 +78,8 @@ LightRecord light_record(uint slot, uint ray) {
 }
 
 void set_light_record(uint slot, uint ray, LightRecord rec) {
-  const uint page = light_record_page(slot), i = light_record_index(slot, ray);
+  const uvec2 place = light_record_place(slot, ray);
+  const uint page = place.x, i = place.y;
   if (page == 0u) light_records_0[i] = rec;
   else if (page == 1u) light_records_1[i] = rec;
   else if (page == 2u) light_records_2[i] = rec;

@@ -1,7 +1,8 @@
 // Light update L1 (octree thesis §3.2.2, "place surfels"): LIGHT_TRACE_CHUNKS workgroups per probe slot
-// (gl_WorkGroupID.z: chunk c takes the lighting rays r with (r / LIGHT_WORKGROUP_SIZE) % chunks == c, chunk 0
-// also the lattice), every live probe on the first frame, then the probes whose trace flag is set (new
-// probes, re-measured leaves, cells that arrived). The last chunk to finish clears the flag.
+// (gl_WorkGroupID.z: chunk c takes the lighting rays r with (r / g) % chunks == c, g = LIGHT_WORKGROUP_SIZE /
+// push.trace_lanes rays per workgroup; chunk 0 also the lattice), every live probe on the first frame, then
+// the probes whose trace flag is set (new probes, re-measured leaves, cells that arrived). The last chunk to
+// finish clears the flag.
 //  - Hit fraction: the placement lattice (ray_directions[rays, rays + placement_rays)) traced from the
 //    centre of the probe's octree node, hits counted inside the node cube (bake/src/probe_tracing.cpp);
 //    octree probes only (grid probes keep the bake's value).
@@ -22,6 +23,7 @@ layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
 shared uint hits_in_cube, hits, backface_hits;
 shared uint front_count, back_count, miss_count;
+shared vec3 lane_emitter[LIGHT_WORKGROUP_SIZE], lane_punctual[LIGHT_WORKGROUP_SIZE], lane_tracked[LIGHT_WORKGROUP_SIZE];
 
 void measure_hit_fraction(int probe) {
   vec3 cube_min;
@@ -37,13 +39,13 @@ void measure_hit_fraction(int probe) {
   atomicAdd(backface_hits, backface);
 }
 
-LightRecord trace_record(vec3 origin, vec3 dir, uint seed, out vec3 tracked) {
-  tracked = vec3(0.0);
+// The ray's hit as a record without its light (base holds the emission), counted once (lane 0).
+LightRecord trace_hit(vec3 origin, vec3 dir, bool count) {
   LightRecord rec = LightRecord(vec3(0.0), LIGHT_RECORD_MISS, vec3(0.0), 0.0, probebake_lighting.sky_radiance, 0.0,
                                 vec3(0.0), 0.0);
   const ProbebakeHit hit = probebake_trace_scene(origin, dir, 0.0, 3.4e38, false);
   if (hit.triangle < 0) {
-    atomicAdd(miss_count, 1u);
+    if (count) atomicAdd(miss_count, 1u);
     return rec;
   }
   const int tri = hit.triangle;
@@ -52,20 +54,16 @@ LightRecord trace_record(vec3 origin, vec3 dir, uint seed, out vec3 tracked) {
   rec.base = vec3(0.0);
   if (probebake_hit_inside(hit, normal, dir)) {
     rec.kind = LIGHT_RECORD_BACKFACE;
-    atomicAdd(back_count, 1u);
+    if (count) atomicAdd(back_count, 1u);
     return rec;
   }
   // The front, or the back of a double-sided triangle: shaded alike with the normal facing the probe.
   rec.normal = probebake_facing_normal(normal, dir);
-  atomicAdd(front_count, 1u);
+  if (count) atomicAdd(front_count, 1u);
   rec.kind = LIGHT_RECORD_FRONT;
   rec.position = origin + hit.t * dir;
   rec.reflect = probebake_face_material(tri).albedo * 0.318309886;
-  const vec3 emitted = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_face_material(tri).emission;
-  rec.base = emitted + rec.reflect * probebake_emitter_irradiance(rec.position, rec.normal);
-  // The punctual sum (sampled past push.shadow_rays lights), keeping the tracked light's share for light_relight.
-  light_record_set_punctual(rec, probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays,
-                                                                        push.tracked_light, seed, tracked));
+  rec.base = probebake_lighting.emissive_as_lights != 0 ? vec3(0.0) : probebake_face_material(tri).emission;
   return rec;
 }
 
@@ -85,12 +83,44 @@ void main() {
   if (octree_probe && chunk == 0u) measure_hit_fraction(probe);
   const vec3 origin = probebake_probes[probe].position;
   const int rays = probebake_lighting.rays;
-  const int stride = int(LIGHT_WORKGROUP_SIZE * chunks);
-  for (int r = int(gl_LocalInvocationIndex + LIGHT_WORKGROUP_SIZE * chunk); r < rays; r += stride) {
-    vec3 tracked;
+  // `lanes` threads per ray: each traces the ray (the same hit), casts its share of the hit's shadow rays,
+  // and the first lane sums the shares in lane order. The pass count is uniform: barriers inside.
+  const uint lanes = push.trace_lanes;
+  const uint lane = gl_LocalInvocationIndex % lanes, ray_in_group = gl_LocalInvocationIndex / lanes;
+  const uint rays_per_group = LIGHT_WORKGROUP_SIZE / lanes, rays_per_pass = rays_per_group * chunks;
+  const uint passes = (uint(rays) + rays_per_pass - 1u) / rays_per_pass;
+  for (uint pass = 0u; pass < passes; ++pass) {
+    const int r = int(ray_in_group + rays_per_group * (chunk + chunks * pass));
+    LightRecord rec;
+    vec3 emitter = vec3(0.0), punctual = vec3(0.0), tracked = vec3(0.0);
     const uint seed = probebake_record_seed(push.seed, slot, uint(r));
-    set_light_record(slot, uint(r), trace_record(origin, probebake_ray_directions[r].xyz, seed, tracked));
-    if (push.tracked_light >= 0) set_tracked_punctual(slot, uint(r), tracked);
+    if (r < rays) {
+      rec = trace_hit(origin, probebake_ray_directions[r].xyz, lane == 0u);
+      if (rec.kind == LIGHT_RECORD_FRONT) {
+        emitter = probebake_emitter_irradiance_share(rec.position, rec.normal, lane, lanes);
+        punctual = probebake_punctual_irradiance_share(rec.position, rec.normal, push.shadow_rays, push.tracked_light, seed,
+                                                       lane, lanes, tracked);
+      }
+    }
+    lane_emitter[gl_LocalInvocationIndex] = emitter;
+    lane_punctual[gl_LocalInvocationIndex] = punctual;
+    lane_tracked[gl_LocalInvocationIndex] = tracked;
+    memoryBarrierShared();
+    barrier();
+    if (r < rays && lane == 0u) {
+      for (uint k = 1u; k < lanes; ++k) {
+        emitter += lane_emitter[gl_LocalInvocationIndex + k];
+        punctual += lane_punctual[gl_LocalInvocationIndex + k];
+        tracked += lane_tracked[gl_LocalInvocationIndex + k];
+      }
+      if (rec.kind == LIGHT_RECORD_FRONT) {
+        rec.base += rec.reflect * emitter;
+        light_record_set_punctual(rec, punctual); // the punctual sum (sampled past push.shadow_rays lights)
+      }
+      set_light_record(slot, uint(r), rec);
+      if (push.tracked_light >= 0) set_tracked_punctual(slot, uint(r), tracked); // for light_relight
+    }
+    barrier(); // the shares are read before the next pass writes them
   }
   barrier();
   if (gl_LocalInvocationIndex != 0) return;

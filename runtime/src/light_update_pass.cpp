@@ -222,6 +222,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const float hysteresis = queue_driven_ ? hysteresis_ : std::pow(hysteresis_, float(period));
   push.hysteresis = hysteresis;
   push.trace_all = trace_pending_ ? 1u : 0u;
+  push.trace_lanes = trace_pending_ ? 1u : gpu::LIGHT_TRACE_LANES; // throughput when every probe traces, else latency
   push.listed = queue_driven_ ? 1u : 0u;
   push.tracked_light = tracked_light_;
   push.first_slot = 0u, push.slot_count = probe_capacity_; // light_trace: every slot (its flags decide)

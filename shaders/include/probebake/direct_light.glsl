@@ -1,6 +1,7 @@
 // Direct irradiance at a surface point, the GPU twin of bake/src/lighting/direct_light.cpp (docs/LIGHTING.md):
 // KHR_lights_punctual lights and the emitter patches (emissive triangles as area lights), each with one
-// shadow ray through bvh_trace.glsl. Same formulas in the same order as the CPU, so results agree to rounding.
+// shadow ray through bvh_trace.glsl. Same formulas as the CPU, so results agree to rounding; with lanes = 1
+// also in the same order (light_trace sums lanes' parts, light_relight takes whole sums).
 //
 // The including shader declares (std430) what bvh_trace.glsl needs, plus PunctualLight probebake_lights[]
 // and EmitterPatch probebake_emitter_patches[] (counts in probebake_lighting).
@@ -82,22 +83,26 @@ uint probebake_hash(uint x) { // PCG output permutation (O'Neill 2014)
 float probebake_luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // `tracked` (>= 0) is always exact and its share returned in tracked_share.
-vec3 probebake_punctual_irradiance_budgeted(vec3 p, vec3 n, int shadow_rays, int tracked, uint seed, out vec3 tracked_share) {
+//
+// Split over `lanes` threads of one record (light_trace: LIGHT_TRACE_LANES), lane `lane` casts the shadow
+// rays of every lanes-th item of the sum (a light of the exact sum; of the budgeted one: the tracked light,
+// the strongest, the drawn one) and returns that part; the parts add up to the sum, and tracked_share is 0
+// except in the lane that owns the tracked light. Every lane draws the same lights from the same seed
+// (unshadowed terms only: no ray). lanes = 1 is the whole sum in the order of the CPU twin.
+vec3 probebake_punctual_irradiance_share(vec3 p, vec3 n, int shadow_rays, int tracked, uint seed, uint lane, uint lanes,
+                                         out vec3 tracked_share) {
   tracked_share = vec3(0.0);
   const int lights = probebake_lighting.lights;
   vec3 e = vec3(0.0);
   if (shadow_rays <= 0 || lights <= shadow_rays) { // one ray per light: the exact sum, in light order
-    for (int i = 0; i < lights; ++i) {
+    for (int i = int(lane); i < lights; i += int(lanes)) {
       const vec3 share = probebake_light_irradiance_of(probebake_lights[i], p, n);
       e += share;
       if (i == tracked) tracked_share = share;
     }
     return e;
   }
-  if (tracked >= 0 && tracked < lights) {
-    tracked_share = probebake_light_irradiance_of(probebake_lights[tracked], p, n);
-    e = tracked_share;
-  }
+  const bool has_tracked = tracked >= 0 && tracked < lights;
   const int strongest = min(shadow_rays - 1 - (tracked >= 0 ? 1 : 0), PROBEBAKE_MAX_STRONGEST_LIGHTS);
   int best[PROBEBAKE_MAX_STRONGEST_LIGHTS];
   float best_w[PROBEBAKE_MAX_STRONGEST_LIGHTS];
@@ -110,8 +115,6 @@ vec3 probebake_punctual_irradiance_budgeted(vec3 p, vec3 n, int shadow_rays, int
     for (; at > 0 && w > best_w[at - 1]; --at) best[at] = best[at - 1], best_w[at] = best_w[at - 1];
     best[at] = i, best_w[at] = w;
   }
-  for (int k = 0; k < strongest; ++k)
-    if (best[k] >= 0) e += probebake_light_irradiance_of(probebake_lights[best[k]], p, n);
   float rest = 0.0, chosen_w = 0.0;
   int chosen = -1;
   uint state = seed;
@@ -125,8 +128,20 @@ vec3 probebake_punctual_irradiance_budgeted(vec3 p, vec3 n, int shadow_rays, int
     state = probebake_hash(state);
     if (float(state >> 8u) * (1.0 / 16777216.0) * rest < w) chosen = i, chosen_w = w;
   }
-  if (chosen >= 0) e += probebake_light_irradiance_of(probebake_lights[chosen], p, n) * (rest / chosen_w);
+  // The items in order: tracked, the strongest, the drawn light; this lane's are item % lanes == lane.
+  uint item = 0u;
+  if (has_tracked && item++ % lanes == lane) {
+    tracked_share = probebake_light_irradiance_of(probebake_lights[tracked], p, n);
+    e = tracked_share;
+  }
+  for (int k = 0; k < strongest; ++k)
+    if (best[k] >= 0 && item++ % lanes == lane) e += probebake_light_irradiance_of(probebake_lights[best[k]], p, n);
+  if (chosen >= 0 && item++ % lanes == lane) e += probebake_light_irradiance_of(probebake_lights[chosen], p, n) * (rest / chosen_w);
   return e;
+}
+
+vec3 probebake_punctual_irradiance_budgeted(vec3 p, vec3 n, int shadow_rays, int tracked, uint seed, out vec3 tracked_share) {
+  return probebake_punctual_irradiance_share(p, n, shadow_rays, tracked, seed, 0u, 1u, tracked_share);
 }
 
 // The seed of one record's draw in one frame.
@@ -175,10 +190,11 @@ bool probebake_patch_irradiance(int index, vec3 p, vec3 n, out vec3 irradiance, 
   return true;
 }
 
-vec3 probebake_emitter_irradiance(vec3 p, vec3 n) {
+// The emitter patches i with i % lanes == lane (all of them with lanes = 1, in the CPU twin's order).
+vec3 probebake_emitter_irradiance_share(vec3 p, vec3 n, uint lane, uint lanes) {
   const vec3 origin = p + n * probebake_lighting.shadow_offset;
   vec3 e = vec3(0.0);
-  for (int i = 0; i < probebake_lighting.emitter_patches; ++i) {
+  for (int i = int(lane); i < probebake_lighting.emitter_patches; i += int(lanes)) {
     vec3 patch_e, target;
     if (!probebake_patch_irradiance(i, p, n, patch_e, target)) continue;
     const vec3 to = target - origin;

@@ -142,7 +142,7 @@ struct LightPush {
                         //   are more (FrameLimits::shadow_rays_per_record, direct_light.glsl)
   uint seed;            // offset 36: this frame's seed of the light sampling (the same frames, the same bits)
   uint indirect_records; // offset 40: 1 = a probe's records are at LIGHT_BINDING_RECORD_SLOTS[slot] (streaming)
-  uint pad1;            // offset 44
+  uint trace_lanes;     // offset 44: light_trace: threads per record, 1 or LIGHT_TRACE_LANES (below)
 };                      // size 48
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
@@ -162,10 +162,14 @@ struct LightListHeader {
   uint trace_z;   // offset 40
   uint pad1;      // offset 44
 };                // size 48
-// light_trace splits each probe's lighting rays over this many workgroups (gl_WorkGroupID.z), so that a few
-// probes tracing alone (probes arriving with a streamed cell, new leaves) keep more of the GPU busy: a
-// probe's trace takes about 1 / LIGHT_TRACE_CHUNKS of the time of one workgroup doing all its rays.
-PB_CONSTANT(uint, LIGHT_TRACE_CHUNKS, 4u);
+// light_trace spreads a probe's trace over LIGHT_TRACE_CHUNKS workgroups (gl_WorkGroupID.z) and, when few
+// probes trace (probes arriving with a streamed cell, new leaves, retraces around a moved object: the cost
+// is one probe's latency), each record's shadow rays (emitter patches', lights') over LIGHT_TRACE_LANES
+// threads. The frame that traces every probe fills the GPU anyway and takes one thread per record
+// (LightPush::trace_lanes = 1), since the lanes repeat the record's ray and light choice.
+// docs/RESULTS.md "Streaming cells" measures both.
+PB_CONSTANT(uint, LIGHT_TRACE_LANES, 8u);
+PB_CONSTANT(uint, LIGHT_TRACE_CHUNKS, 32u);
 // trace_flags: light_trace's chunks count their completions in the bits from here up; the last clears the word.
 PB_CONSTANT(uint, TRACE_FLAG_CHUNK_ONE, 256u);
 PB_CONSTANT(uint, LIGHT_LIST_MAX_GROUPS_X, 65535u); // the least maxComputeWorkGroupCount[0] Vulkan allows
@@ -211,6 +215,8 @@ static_assert(sizeof(ObjectInstance) == 128 && offsetof(ObjectInstance, object_f
               offsetof(ObjectInstance, world_lower) == 96 && offsetof(ObjectInstance, world_upper) == 112);
 static_assert(sizeof(ObjectRefitPush) == 16);
 static_assert(PROBE_INDEX_BLOCK == PROBE_INDEX_THREADS * PROBE_INDEX_PER_THREAD);
+static_assert(LIGHT_WORKGROUP_SIZE % LIGHT_TRACE_LANES == 0 && LIGHT_TRACE_CHUNKS < TRACE_FLAG_CHUNK_ONE &&
+              uint64_t(LIGHT_TRACE_CHUNKS) * TRACE_FLAG_CHUNK_ONE <= 0xffffffffull); // light_trace.comp
 static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && sizeof(SamplePush) == 16);
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);
 static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) == 12);

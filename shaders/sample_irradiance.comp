@@ -6,13 +6,13 @@
 #include "probebake/bindings.h"
 #include "probebake/runtime_types.h"
 #include "probebake/dispatch.glsl"
+#define PROBEBAKE_BINDING_RECORD_SLOTS SAMPLE_BINDING_RECORD_SLOTS // read only when push.streaming
 #include "probebake/sample_irradiance.glsl"
 
 layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
 
 layout(std430, set = 0, binding = SAMPLE_BINDING_QUERIES) readonly buffer Queries { SampleQuery queries[]; };
 layout(std430, set = 0, binding = SAMPLE_BINDING_RESULTS) writeonly buffer Results { SampleResult results[]; };
-layout(std430, set = 0, binding = SAMPLE_BINDING_RECORD_SLOTS) readonly buffer RecordSlots { int record_slots[]; };
 layout(push_constant) uniform Push { SamplePush push; };
 
 void main() {
@@ -21,11 +21,7 @@ void main() {
   const SampleQuery q = queries[i];
   const ProbebakeStencil s = probebake_svo_stencil(q.position, q.normal);
   int used = 0;
-  bool not_lit = false;
-  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) {
-    if (s.probes[k] < 0) continue;
-    ++used;
-    not_lit = not_lit || (push.streaming != 0u && record_slots[s.probes[k]] < 0);
-  }
+  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) used += s.probes[k] >= 0 ? 1 : 0;
+  const bool not_lit = push.streaming != 0u && probebake_stencil_not_lit(s);
   results[i] = SampleResult(probebake_apply_stencil(s, q.normal), used | (not_lit ? SAMPLE_RESULT_NOT_LIT : 0));
 }

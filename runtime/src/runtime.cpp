@@ -51,6 +51,11 @@ BufferView view(const detail::VolumeState& state, Section section) {
   return {b.get(), b.size()};
 }
 
+BufferView record_slots_view(const detail::VolumeState& s) {
+  if (!s.light || s.light->record_slots() == VK_NULL_HANDLE) return {};
+  return {s.light->record_slots(), VkDeviceSize(s.gpu->capacity(Section::probes)) * sizeof(std::int32_t)};
+}
+
 // The checks of run_frame and record_frame: ranges, and inputs the volume has no pass for.
 Status check_inputs_for(const detail::VolumeState& state, const FrameInputs& inputs) {
   if (const Status checked = detail::check_frame_inputs(inputs); !checked.ok()) return checked;
@@ -232,7 +237,8 @@ VolumeBuffers Volume::buffers() const {
           view(s, Section::probe_index), view(s, Section::svo_nodes),    view(s, Section::svo_leaves),
           view(s, Section::lighting_info), view(s, Section::ray_directions), view(s, Section::punctual_lights),
           view(s, Section::emitter_patches), view(s, Section::trace_trees), view(s, Section::trace_nodes),
-          view(s, Section::trace_faces), view(s, Section::trace_vertices), view(s, Section::trace_materials)};
+          view(s, Section::trace_faces), view(s, Section::trace_vertices), view(s, Section::trace_materials),
+          record_slots_view(s)};
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }

@@ -129,7 +129,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                                         {"ProbebakeSvoLeaves", SAMPLE_BINDING_SVO_LEAVES},
                                         {"Queries", SAMPLE_BINDING_QUERIES},
                                         {"Results", SAMPLE_BINDING_RESULTS},
-                                        {"RecordSlots", SAMPLE_BINDING_RECORD_SLOTS}});
+                                        {"ProbebakeRecordSlots", SAMPLE_BINDING_RECORD_SLOTS}});
   expect_bindings("sample_all_probes", {{"VolumeInfoBuffer", SAMPLE_ALL_BINDING_VOLUME_INFO},
                                         {"ProbeBuffer", SAMPLE_ALL_BINDING_PROBES},
                                         {"SvoNodeBuffer", SAMPLE_ALL_BINDING_SVO_NODES},

@@ -150,6 +150,10 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
     expected_not_lit += out ? 1 : 0;
   }
   EXPECT_EQ(sampled.not_lit, expected_not_lit);
+  // The game's include reads the same slots (sample_irradiance.glsl, PROBEBAKE_BINDING_RECORD_SLOTS).
+  EXPECT_EQ(streamed.value().buffers().record_slots.size, v.probes.size() * sizeof(std::int32_t));
+  EXPECT_NE(streamed.value().buffers().record_slots.buffer, VK_NULL_HANDLE);
+  EXPECT_EQ(whole.value().buffers().record_slots.buffer, VK_NULL_HANDLE) << "only with streaming";
   EXPECT_GT(sampled.not_lit, 0u);
   EXPECT_LT(sampled.not_lit, positions.size());
   std::printf("[streaming] %zu of %zu lookups at the probes say that a probe of theirs is not lit\n", sampled.not_lit,

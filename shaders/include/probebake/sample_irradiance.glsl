@@ -20,6 +20,12 @@
 //
 // Entry point: vec3 probebake_sample_irradiance(vec3 position, vec3 normal), world space metres, unit
 // normal; returns W/m^2 (0 on a miss). Punctual lights are not in the probes (docs/LIGHTING.md).
+//
+// Streaming (docs/RUNTIME.md "Streaming cells"): define PROBEBAKE_BINDING_RECORD_SLOTS to also get
+// int probebake_record_slots[] (<- Volume::buffers().record_slots, same set) and
+// bool probebake_sample_irradiance_not_lit(vec3 position, vec3 normal, out vec3 irradiance): true when a
+// probe of the lookup has no light records (its cell is out of range, or past UploadOptions::streaming's
+// max_lit_probes), so that its irradiance is the file's or the last lit value, not relit this frame.
 #ifndef PROBEBAKE_SAMPLE_IRRADIANCE_GLSL
 #define PROBEBAKE_SAMPLE_IRRADIANCE_GLSL
 
@@ -152,5 +158,26 @@ vec3 probebake_apply_stencil(ProbebakeStencil s, vec3 normal) {
 vec3 probebake_sample_irradiance(vec3 position, vec3 normal) {
   return probebake_apply_stencil(probebake_svo_stencil(position, normal), normal);
 }
+
+#ifdef PROBEBAKE_BINDING_RECORD_SLOTS
+#if PROBEBAKE_DECLARE_BUFFERS
+layout(std430, set = PROBEBAKE_SET, binding = PROBEBAKE_BINDING_RECORD_SLOTS) readonly buffer ProbebakeRecordSlots {
+  int probebake_record_slots[];
+};
+#endif
+
+// A probe of the stencil has no record slot: the light update does not relight it.
+bool probebake_stencil_not_lit(ProbebakeStencil s) {
+  bool not_lit = false;
+  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) not_lit = not_lit || (s.probes[k] >= 0 && probebake_record_slots[s.probes[k]] < 0);
+  return not_lit;
+}
+
+bool probebake_sample_irradiance_not_lit(vec3 position, vec3 normal, out vec3 irradiance) {
+  const ProbebakeStencil s = probebake_svo_stencil(position, normal);
+  irradiance = probebake_apply_stencil(s, normal);
+  return probebake_stencil_not_lit(s);
+}
+#endif
 
 #endif // PROBEBAKE_SAMPLE_IRRADIANCE_GLSL

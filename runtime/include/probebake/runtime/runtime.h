@@ -401,6 +401,10 @@ struct VolumeBuffers {
   // upgraded to it on load). With streaming, trace_nodes, trace_faces and trace_vertices are all the
   // streaming arena (the resident cells renumbered, docs/RUNTIME.md "Streaming cells") and trace_trees its trees.
   BufferView trace_trees, trace_nodes, trace_faces, trace_vertices, trace_materials;
+  // Streaming with a light update only (else empty): int per probe slot, < 0 where the probe has no light
+  // records; bind it at PROBEBAKE_BINDING_RECORD_SLOTS for probebake_sample_irradiance_not_lit
+  // (sample_irradiance.glsl). Not a file section.
+  BufferView record_slots;
 };
 
 class Volume {

@@ -1,6 +1,7 @@
 // `probebake validate FILE.probes [--verbose] [--json] [--max-errors N]`: checks the container and every
-// invariant of the model (formats/validate.h). Text: one summary line per violated invariant, then a
-// verdict; --verbose adds every violation, --json gives them all. Exit 0 valid, 1 invalid, 2 unreadable.
+// invariant of the model (formats/validate.h). Text: one summary line per violated invariant, for files
+// that stream the count of cells checked on their own and each damaged one, then a verdict; --verbose adds
+// every violation, --json gives them all. Exit 0 valid, 1 invalid, 2 unreadable.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -65,6 +66,19 @@ std::vector<ProblemClass> problem_classes(const formats::ValidationReport& repor
 
 std::string plural(std::size_t count, const char* noun) { return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s"); }
 
+// Files that stream (format 1.6) have each cell checked on its own: say how many, and which are damaged.
+void print_cells(const formats::ValidationReport& report) {
+  if (report.cells_checked == 0) return;
+  std::vector<const formats::Violation*> damaged;
+  for (const formats::Violation& violation : report.violations)
+    if (violation.invariant == "cell_checksum" && violation.index >= 0) damaged.push_back(&violation);
+  fmt::print("{}: {} checked on their own, {} damaged\n", report.name, plural(report.cells_checked, "cell"), damaged.size());
+  constexpr std::size_t kNamed = 10;
+  for (std::size_t i = 0; i < std::min(damaged.size(), kNamed); ++i)
+    fmt::print("{}: damaged: {}: {}\n", report.name, formats::violation_place(*damaged[i]), damaged[i]->message);
+  if (damaged.size() > kNamed) fmt::print("{}: damaged: {} more (--json lists them)\n", report.name, damaged.size() - kNamed);
+}
+
 void print_text(const formats::ValidationReport& report, bool verbose) {
   if (!report.readable) { // one "container" violation, already "<file>: <place>: <reason>"
     for (const formats::Violation& violation : report.violations) fmt::print("{}\n", violation.message);
@@ -79,6 +93,7 @@ void print_text(const formats::ValidationReport& report, bool verbose) {
     fmt::print("{}: invalid: {}: {}, first: {}: {}\n", report.name, c.first->invariant, plural(c.count, "violation"),
                formats::violation_place(*c.first), c.first->message);
   }
+  print_cells(report);
   if (report.valid()) {
     fmt::print("{}: valid\n", report.name);
   } else {

@@ -12,6 +12,10 @@
 #include "probebake/formats/error.h"
 #include "probebake/formats/octree.h"
 
+// Header-only, as in container.cpp: the runtime links formats.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 namespace probebake::formats {
 namespace {
 
@@ -271,6 +275,10 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
     cell.svo_leaves = range_of(leaf_keys, index, sizeof(gpu::SvoLeaf));
     volume.cells.push_back(cell);
   }
+  // Checksums for files that stream (split tracing, 1.5): the others stay byte-identical to their versions.
+  volume.cell_checksums.clear();
+  if (!volume.cell_tracing.empty())
+    for (std::size_t k = 0; k < volume.cells.size(); ++k) volume.cell_checksums.push_back(cell_checksum(volume, k));
 }
 
 std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
@@ -283,9 +291,36 @@ std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
   return bytes;
 }
 
+namespace {
+
+template <class T>
+void hash_range(XXH3_state_t& state, const std::vector<T>& section, const CellRange& range) {
+  if (std::uint64_t(range.first) + range.count > section.size()) throw Error(ErrorKind::internal, "cell_checksum: a range outside its section");
+  if (range.count > 0) XXH3_64bits_update(&state, section.data() + range.first, std::size_t(range.count) * sizeof(T));
+}
+
+} // namespace
+
+std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k) {
+  const Cell& cell = volume.cells.at(k);
+  XXH3_state_t state;
+  XXH3_64bits_reset(&state);
+  hash_range(state, volume.probes, cell.probes);
+  hash_range(state, volume.surfel_batches, cell.surfel_batches);
+  hash_range(state, volume.svo_leaves, cell.svo_leaves);
+  if (k < volume.cell_tracing.size()) {
+    const CellTracing& t = volume.cell_tracing[k];
+    hash_range(state, volume.trace_nodes, t.trace_nodes);
+    hash_range(state, volume.trace_faces, t.trace_faces);
+    hash_range(state, volume.trace_vertices, t.trace_vertices);
+  }
+  return XXH3_64bits_digest(&state);
+}
+
 void clear_cells(ProbeVolume& volume) {
   volume.cells.clear();
   volume.cell_tracing.clear();
+  volume.cell_checksums.clear();
   volume.cell_depth = 0;
 }
 

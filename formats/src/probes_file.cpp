@@ -19,6 +19,7 @@
 
 #include "byte_io.h"
 #include "probebake/formats/atomic_file.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/format_version.h"
 #include "probebake/formats/volume_sections.h"
@@ -45,13 +46,23 @@ template <class T> struct is_optional<std::optional<T>> : std::true_type {};
 
 std::uint32_t section_flags(SectionType type) { return is_required_section_type(static_cast<std::uint32_t>(type)) ? kSectionRequired : 0u; }
 
+// The checksum of every cell of a file whose tracing is split by cell (1.6), taken from the bytes written:
+// whatever the volume carries (a volume edited in memory keeps the checksums it was read with).
+std::vector<std::uint64_t> written_cell_checksums(const ProbeVolume& volume) {
+  std::vector<std::uint64_t> sums;
+  if (!volume.cell_tracing.empty())
+    for (std::size_t k = 0; k < volume.cells.size(); ++k) sums.push_back(cell_checksum(volume, k));
+  return sums;
+}
+
 // Every section of the volume with data, in type order (volume_sections.h); the leaf header only with
-// leaf entries (docs/FORMAT.md).
-std::vector<SectionPayload> sections_of(const ProbeVolume& volume) {
+// leaf entries (docs/FORMAT.md); `cell_checksums` in place of the volume's.
+std::vector<SectionPayload> sections_of(const ProbeVolume& volume, const std::vector<std::uint64_t>& cell_checksums) {
   std::vector<SectionPayload> sections;
   for_each_section(volume, [&](SectionType type, const auto& member) {
     using Member = std::decay_t<decltype(member)>;
-    if constexpr (is_vector<Member>::value) add_section(sections, type, section_flags(type), member);
+    if (type == SectionType::cell_checksums) add_section(sections, type, section_flags(type), cell_checksums);
+    else if constexpr (is_vector<Member>::value) add_section(sections, type, section_flags(type), member);
     else if constexpr (is_optional<Member>::value) {
       if (member) add_single(sections, type, *member, section_flags(type));
     } else if (type != SectionType::leaf_queue_header || !volume.leaf_entries.empty()) {
@@ -129,7 +140,8 @@ std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
 }
 
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
-  const std::vector<SectionPayload> sections = sections_of(volume);
+  const std::vector<std::uint64_t> cell_checksums = written_cell_checksums(volume);
+  const std::vector<SectionPayload> sections = sections_of(volume, cell_checksums);
   const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections, volume)};
   return write_container(fields, sections);
 }

@@ -1,6 +1,7 @@
 // Validator phase for the streaming cell index (cells.h, docs/FORMAT.md "Cells"): records sorted by cell,
 // exact bounds and root nodes, ranges inside their sections and in ascending order, every allocated
-// element inside the range of the cell it belongs to and no free element inside any range.
+// element inside the range of the cell it belongs to and no free element inside any range, each cell's
+// tracing self-contained; for files, each cell's bytes equal to its checksum.
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/trace_mesh.h"
@@ -175,6 +176,29 @@ void check_cell_tracing(const ProbeVolume& volume, Reporter& out) {
 }
 
 } // namespace
+
+// cell_checksums (1.6): one per cell, each the checksum of the cell's bytes in the file (cells.h
+// cell_checksum), so that a reader that loads one cell can trust it. Each cell is checked on its own and a
+// damaged one is named; a cell whose ranges leave their sections is cell_range's.
+void check_cell_checksums(const ProbeVolume& volume, Reporter& out) {
+  if (volume.cell_checksums.empty()) return;
+  if (volume.cell_checksums.size() != volume.cells.size()) {
+    out.add("cell_checksum", "cell_checksums", -1, concat(volume.cell_checksums.size(), " checksums for ", volume.cells.size(), " cells"));
+    return;
+  }
+  out.cells_checked(volume.cells.size());
+  for (std::size_t k = 0; k < volume.cells.size(); ++k) {
+    std::uint64_t sum = 0;
+    try {
+      sum = cell_checksum(volume, k);
+    } catch (const Error&) {
+      continue;
+    }
+    if (sum == volume.cell_checksums[k]) continue;
+    out.add("cell_checksum", "cells", static_cast<long long>(k),
+            concat("the ", cell_bytes(volume, k), " bytes of cell ", volume.cells[k].cell_index, " differ from its checksum"));
+  }
+}
 
 void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out) {
   if (volume.cells.empty() && !volume.cell_tracing.empty())

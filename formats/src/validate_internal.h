@@ -33,6 +33,7 @@ public:
     report_.violations.push_back(Violation{invariant, section, index, message});
   }
   std::size_t count() const { return report_.violations.size(); }
+  void cells_checked(std::size_t cells) { report_.cells_checked = cells; }
   const ValidateOptions& options() const { return options_; }
 
 private:
@@ -95,6 +96,8 @@ void check_probe_index(const ProbeVolume& volume, Reporter& out);
 void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
 void check_svo(const ProbeVolume& volume, Reporter& out);
 void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
+// Files only (validate_file): a volume edited in memory keeps the checksums it was read with.
+void check_cell_checksums(const ProbeVolume& volume, Reporter& out);
 // Runtime lighting sections (validate_lighting.cpp): their floats, called by check_finite; then the
 // sections, values and BVH, run last.
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);

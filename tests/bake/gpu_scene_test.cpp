@@ -247,13 +247,15 @@ TEST(GpuScene, LeafCostTradesNodesForLargerLeavesWithTheSameHits) {
 
 // Cell k's part of the static tree as a tree of its own: its nodes, faces and vertices copied out of the
 // file's bytes at the cell's byte ranges and renumbered from 0, as a streaming reader would place them.
+std::span<const std::uint8_t> section_payload(const formats::ContainerView& view, formats::SectionType type) {
+  for (std::size_t i = 0; i < view.sections.size(); ++i)
+    if (view.sections[i].type == static_cast<std::uint32_t>(type)) return view.payloads[i];
+  return {};
+}
+
 formats::ProbeVolume cell_alone(const std::vector<std::uint8_t>& file, const formats::ProbeVolume& v, std::size_t k) {
   const formats::ContainerView view = formats::parse_container(file, "cells");
-  const auto payload = [&](formats::SectionType type) {
-    for (std::size_t i = 0; i < view.sections.size(); ++i)
-      if (view.sections[i].type == static_cast<std::uint32_t>(type)) return view.payloads[i];
-    return std::span<const std::uint8_t>{};
-  };
+  const auto payload = [&](formats::SectionType type) { return section_payload(view, type); };
   const formats::CellTracing& ranges = v.cell_tracing[k];
   const auto copy = [&](formats::SectionType type, const formats::CellRange& range, auto& out) {
     const std::span<const std::uint8_t> bytes = payload(type).subspan(range.byte_offset, range.byte_size);
@@ -377,6 +379,60 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
   formats::ProbeVolume overlapping = v;
   overlapping.cell_tracing[1].trace_faces.first -= 1, overlapping.cell_tracing[1].trace_faces.byte_offset -= sizeof(gpu::TraceFace);
   EXPECT_TRUE(invariants_of(overlapping).count("cell_range"));
+}
+
+TEST(GpuScene, EachCellIsCheckedOnItsOwnAgainstItsChecksum) {
+  const scene::Scene s = load_generated(samples::rooms({.count = 4, .detail = 4}), "gpu_rooms_cells");
+  bake::BakeSettings settings = test_settings();
+  settings.cell_depth = 3;
+  const formats::ProbeVolume v = bake::bake(s, settings).volume;
+  ASSERT_EQ(v.cell_checksums.size(), v.cells.size());
+  std::vector<std::uint8_t> file = formats::write_probes(v);
+  const formats::ContainerView view = formats::parse_container(file, "cells");
+  // What a reader that loads cell k alone reads: its six ranges, straight from the file (file offsets).
+  using Section = formats::SectionType;
+  const auto file_ranges = [&](std::size_t k) {
+    const formats::Cell& c = v.cells[k];
+    const formats::CellTracing& t = v.cell_tracing[k];
+    const std::pair<Section, const formats::CellRange*> ranges[] = {
+        {Section::probes, &c.probes},           {Section::surfel_batches, &c.surfel_batches}, {Section::svo_leaves, &c.svo_leaves},
+        {Section::trace_nodes, &t.trace_nodes}, {Section::trace_faces, &t.trace_faces},       {Section::trace_vertices, &t.trace_vertices}};
+    std::vector<std::pair<std::size_t, std::size_t>> out; // offset in the file and bytes of each range, in order
+    for (const auto& [section, range] : ranges) {
+      const std::span<const std::uint8_t> payload = section_payload(view, section);
+      out.emplace_back(range->byte_size == 0 ? 0 : std::size_t(payload.data() - file.data()) + range->byte_offset, range->byte_size);
+    }
+    return out;
+  };
+  int cells_with_probes = 0, cells_with_faces = 0;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    std::vector<std::uint8_t> bytes;
+    for (const auto& [offset, size] : file_ranges(k)) bytes.insert(bytes.end(), file.begin() + std::ptrdiff_t(offset), file.begin() + std::ptrdiff_t(offset + size));
+    EXPECT_EQ(formats::checksum64(bytes), v.cell_checksums[k]) << "cell " << k;
+    cells_with_probes += v.cells[k].probes.count > 0 ? 1 : 0;
+    cells_with_faces += v.cell_tracing[k].trace_faces.count > 0 ? 1 : 0;
+  }
+  EXPECT_GT(cells_with_probes, 1);
+  EXPECT_GT(cells_with_faces, 1);
+  // One damaged byte in a cell's faces, then one in its probes: the validator names that cell and no other
+  // (besides the section's own checksum).
+  const auto damaged_cells = [&](std::size_t k, std::size_t range) {
+    std::vector<std::uint8_t> damaged = file;
+    const auto [offset, size] = file_ranges(k).at(range);
+    damaged[offset + size / 2] ^= 0x10;
+    std::set<long long> named;
+    bool section_checksum = false;
+    for (const formats::Violation& violation : formats::validate_file(damaged, "damaged", {}).violations) {
+      if (violation.invariant == "cell_checksum") named.insert(violation.index);
+      section_checksum = section_checksum || violation.invariant == "checksum";
+    }
+    EXPECT_TRUE(section_checksum);
+    return named;
+  };
+  std::size_t with_faces = 0;
+  while (v.cell_tracing[with_faces].trace_faces.count == 0 || v.cells[with_faces].probes.count == 0) ++with_faces;
+  EXPECT_EQ(damaged_cells(with_faces, 4), std::set<long long>{static_cast<long long>(with_faces)}) << "a face";
+  EXPECT_EQ(damaged_cells(with_faces, 0), std::set<long long>{static_cast<long long>(with_faces)}) << "a probe";
 }
 
 TEST(GpuScene, CellSizePicksTheShallowestGridWithCellsThatNarrow) {
@@ -517,7 +573,7 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
   EXPECT_EQ(std::size_t(one_side + two_sides), v.emitter_patches.size());
   const formats::ValidationReport validation = formats::validate(v);
   EXPECT_TRUE(validation.valid()) << violations(validation);
-  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCellTracingMinor);
+  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCellChecksumsMinor);
 }
 
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
@@ -609,7 +665,7 @@ TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
   const auto stage = std::find_if(with.report.stages.begin(), with.report.stages.end(), [](const auto& t) { return t.stage == "gpu_scene"; });
   EXPECT_NE(stage, with.report.stages.end());
   const std::vector<std::uint8_t> bytes = formats::write_probes(with.volume);
-  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCellTracingMinor);
+  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCellChecksumsMinor);
   const auto types = section_types(bytes);
   for (auto type : {formats::SectionType::lighting_info, formats::SectionType::ray_directions, formats::SectionType::trace_trees,
                     formats::SectionType::trace_faces, formats::SectionType::trace_vertices, formats::SectionType::trace_materials,

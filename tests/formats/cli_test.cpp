@@ -3,6 +3,7 @@
 // run_info_probes (cli/info_probes.cpp, linked in directly).
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -110,6 +111,43 @@ TEST_F(CliValidate, TextIsOneLinePerInvariant) {
 
   const test::CliResult stopped = run_cli(with_path("validate --max-errors 5", path));
   EXPECT_NE(stopped.out.find(": invalid: 5 violations of 2 invariants (stopped at --max-errors)"), std::string::npos) << stopped.out;
+}
+
+// A file that streams (cell_tracing, 1.6) has each cell checked on its own. One cell's bytes replaced under
+// the checksums written before (every section checksum holds: a patch that swapped one cell's bytes but
+// not its checksum) is named, and no other.
+TEST_F(CliValidate, EachCellIsCheckedOnItsOwnAndADamagedOneIsNamed) {
+  ProbeVolume volume = testing::make_sample(testing::Sample::small);
+  volume.cell_tracing.resize(volume.cells.size()); // empty tracing ranges: the sample has no tracing sections
+  const std::string cells = std::to_string(volume.cells.size()) + " cells checked on their own, ";
+  const std::vector<std::uint8_t> before = write_probes(volume);
+  const std::filesystem::path clean = write_bytes("clean.probes", before);
+  const test::CliResult ok = run_cli(with_path("validate", clean));
+  EXPECT_EQ(ok.exit_code, 0) << ok.out;
+  EXPECT_EQ(lines_of(ok.out), (std::vector<std::string>{clean.string() + ": " + cells + "0 damaged", clean.string() + ": valid"}));
+
+  std::size_t damaged = 1;
+  while (volume.cells[damaged].probes.count == 0) ++damaged;
+  volume.probes[volume.cells[damaged].probes.first].irradiance_sh[0] += 1.0f;
+  const ContainerView old_view = parse_container(before, "before");
+  const auto old_checksums = std::find_if(old_view.sections.begin(), old_view.sections.end(), [](const SectionEntry& e) {
+    return e.type == static_cast<std::uint32_t>(SectionType::cell_checksums);
+  });
+  ASSERT_NE(old_checksums, old_view.sections.end());
+  const std::vector<std::uint8_t> patched = testing::rewrite_sections(write_probes(volume), [&](std::vector<SectionPayload>& sections) {
+    for (SectionPayload& section : sections)
+      if (section.type == old_checksums->type) section.bytes = old_view.payloads[std::size_t(old_checksums - old_view.sections.begin())];
+  });
+  const std::filesystem::path path = write_bytes("damaged.probes", patched);
+  const test::CliResult text = run_cli(with_path("validate", path));
+  EXPECT_EQ(text.exit_code, 1) << text.out;
+  const std::string name = path.string(), place = "cells[" + std::to_string(damaged) + "]";
+  EXPECT_NE(text.out.find(name + ": " + cells + "1 damaged\n" + name + ": damaged: " + place + ": the "), std::string::npos) << text.out;
+  const nlohmann::json json = nlohmann::json::parse(run_cli(with_path("validate --json", path)).out);
+  EXPECT_EQ(json["cells_checked"], volume.cells.size());
+  ASSERT_EQ(json["violations"].size(), 1u) << json.dump();
+  EXPECT_EQ(json["violations"][0]["invariant"], "cell_checksum");
+  EXPECT_EQ(json["violations"][0]["index"], damaged);
 }
 
 // Zero bytes after the last payload: readable (the reader reads the file), but invalid.

@@ -91,20 +91,25 @@ enum class SectionType : std::uint32_t {
   trace_materials = 22,  // gpu::TraceMaterial
   // Cells of the static tracing tree (1.5), optional like cells: a 1.4 reader traces the same tree.
   cell_tracing = 23,     // CellTracing x cells
+  // A checksum per cell (1.6), optional: what a reader that loads one cell checks its bytes against.
+  cell_checksums = 24,   // uint64 x cells
 };
-inline constexpr std::uint32_t kSectionTypeCount = 23;
+inline constexpr std::uint32_t kSectionTypeCount = 24;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
-// The streaming cell index (cells, cell_tracing): data for the reader that loads a file cell by cell, not
-// for the GPU.
-inline constexpr bool is_cell_index_section(SectionType type) { return type == SectionType::cells || type == SectionType::cell_tracing; }
+// The streaming cell index (cells, cell_tracing, cell_checksums): data for the reader that loads a file cell
+// by cell, not for the GPU.
+inline constexpr bool is_cell_index_section(SectionType type) {
+  return type == SectionType::cells || type == SectionType::cell_tracing || type == SectionType::cell_checksums;
+}
 
 // The lowest minor version that a section of this type needs (the lighting sections came in 1.1, dynamic
-// objects in 1.3, compact tracing in 1.4, cell tracing in 1.5);
+// objects in 1.3, compact tracing in 1.4, cell tracing in 1.5, cell checksums in 1.6);
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
   if (!is_known_section_type(type)) return 0;
+  if (type == static_cast<std::uint32_t>(SectionType::cell_checksums)) return kCellChecksumsMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_tracing)) return kCellTracingMinor;
   if (type >= static_cast<std::uint32_t>(SectionType::trace_trees)) return kCompactTracingMinor;
   if (type >= static_cast<std::uint32_t>(SectionType::dynamic_objects)) return kDynamicObjectsMinor;

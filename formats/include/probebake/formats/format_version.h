@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 5;
+inline constexpr std::uint16_t kFormatVersionMinor = 6;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -25,4 +25,7 @@ inline constexpr std::uint16_t kCompactTracingMinor = 4;
 // optional cell_tracing section naming each cell's nodes, faces and vertices. The tree is an ordinary 1.4
 // tree, so a 1.4 reader that skips the section traces the same hits.
 inline constexpr std::uint16_t kCellTracingMinor = 5;
+// 1.6 added the optional cell_checksums section: an XXH3-64 per cell over its byte ranges, so that a reader
+// that loads one cell (or a patcher that replaces one) checks it without reading the whole sections.
+inline constexpr std::uint16_t kCellChecksumsMinor = 6;
 } // namespace probebake::formats

@@ -31,6 +31,7 @@ struct ValidationReport {
   std::string name;                  // file name or "volume"
   bool readable = true;              // false: the bytes are not a .probes file we can decode
   bool truncated = false;            // stopped at ValidateOptions::max_errors
+  std::size_t cells_checked = 0;     // cells whose bytes were checked on their own against their checksum (1.6)
   std::vector<Violation> violations;
   bool valid() const { return readable && violations.empty(); }
 };
@@ -51,7 +52,7 @@ ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& opti
 // Container checks (readable = false and a "container" violation when the bytes cannot be decoded;
 // "checksum" violations for mismatches; format_version, section_flags, section_layout, trailing_bytes and
 // section_dependency for what the reader reads but the format does not allow), then validate() on the
-// decoded volume.
+// decoded volume, then each cell on its own against its checksum (1.6: cell_checksum, cells_checked).
 ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name,
                                const ValidateOptions& options = {});
 

@@ -275,10 +275,7 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
     cell.svo_leaves = range_of(leaf_keys, index, sizeof(gpu::SvoLeaf));
     volume.cells.push_back(cell);
   }
-  // Checksums for files that stream (split tracing, 1.5): the others stay byte-identical to their versions.
-  volume.cell_checksums.clear();
-  if (!volume.cell_tracing.empty())
-    for (std::size_t k = 0; k < volume.cells.size(); ++k) volume.cell_checksums.push_back(cell_checksum(volume, k));
+  volume.cell_checksums.clear(); // a file's, for other ranges; the writer takes the bytes' own (cell_checksums_of)
 }
 
 std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
@@ -315,6 +312,13 @@ std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k) {
     hash_range(state, volume.trace_vertices, t.trace_vertices);
   }
   return XXH3_64bits_digest(&state);
+}
+
+std::vector<std::uint64_t> cell_checksums_of(const ProbeVolume& volume) {
+  std::vector<std::uint64_t> sums;
+  if (!volume.cell_tracing.empty()) // files that stream (split tracing): the others keep the bytes of their version
+    for (std::size_t k = 0; k < volume.cells.size(); ++k) sums.push_back(cell_checksum(volume, k));
+  return sums;
 }
 
 void clear_cells(ProbeVolume& volume) {

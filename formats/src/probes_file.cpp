@@ -46,17 +46,9 @@ template <class T> struct is_optional<std::optional<T>> : std::true_type {};
 
 std::uint32_t section_flags(SectionType type) { return is_required_section_type(static_cast<std::uint32_t>(type)) ? kSectionRequired : 0u; }
 
-// The checksum of every cell of a file whose tracing is split by cell (1.6), taken from the bytes written:
-// whatever the volume carries (a volume edited in memory keeps the checksums it was read with).
-std::vector<std::uint64_t> written_cell_checksums(const ProbeVolume& volume) {
-  std::vector<std::uint64_t> sums;
-  if (!volume.cell_tracing.empty())
-    for (std::size_t k = 0; k < volume.cells.size(); ++k) sums.push_back(cell_checksum(volume, k));
-  return sums;
-}
-
 // Every section of the volume with data, in type order (volume_sections.h); the leaf header only with
-// leaf entries (docs/FORMAT.md); `cell_checksums` in place of the volume's.
+// leaf entries (docs/FORMAT.md); `cell_checksums` in place of the volume's: like the section checksums
+// they are taken from the bytes written (a volume edited in memory keeps those it was read with).
 std::vector<SectionPayload> sections_of(const ProbeVolume& volume, const std::vector<std::uint64_t>& cell_checksums) {
   std::vector<SectionPayload> sections;
   for_each_section(volume, [&](SectionType type, const auto& member) {
@@ -140,7 +132,7 @@ std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
 }
 
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
-  const std::vector<std::uint64_t> cell_checksums = written_cell_checksums(volume);
+  const std::vector<std::uint64_t> cell_checksums = cell_checksums_of(volume);
   const std::vector<SectionPayload> sections = sections_of(volume, cell_checksums);
   const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections, volume)};
   return write_container(fields, sections);

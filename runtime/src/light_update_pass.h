@@ -76,6 +76,7 @@ public:
   VkBuffer trace_flags() const { return trace_flags_.get(); }
   // Streaming: int per probe slot, its record slot (-1: not lit); VK_NULL_HANDLE otherwise.
   VkBuffer record_slots() const { return record_slots_ ? record_slots_.get() : VK_NULL_HANDLE; }
+  VkDeviceSize record_slots_size() const { return record_slots_ ? record_slots_.size() : 0; }
   // LightListHeader + int per probe slot (runtime_types.h), written by the light transitions.
   VkBuffer light_list() const { return light_list_.get(); }
 

@@ -53,7 +53,7 @@ BufferView view(const detail::VolumeState& state, Section section) {
 
 BufferView record_slots_view(const detail::VolumeState& s) {
   if (!s.light || s.light->record_slots() == VK_NULL_HANDLE) return {};
-  return {s.light->record_slots(), VkDeviceSize(s.gpu->capacity(Section::probes)) * sizeof(std::int32_t)};
+  return {s.light->record_slots(), s.light->record_slots_size()};
 }
 
 // The checks of run_frame and record_frame: ranges, and inputs the volume has no pass for.

@@ -22,7 +22,7 @@ public:
 
   // out[i] = irradiance at (positions[i], normals[i]); sizes must be equal (checked by the caller).
   // SampleMethod::all_probes throws RuntimeError(unsupported) for volumes without the lighting sections.
-  // `flags` (optional, out.size() entries): SampleFlags per lookup.
+  // `flags` (optional, out.size() entries): each lookup's kSample* bits.
   void run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
            SampleStats& stats, SampleMethod method, std::span<std::uint32_t> flags = {});
   // Streaming: the light update's record slots, so that results say when their probes are not lit.

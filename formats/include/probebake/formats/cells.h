@@ -51,7 +51,7 @@ std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth);
 // every link (octree probe links, probe <-> batch links, SVO payload and probe indices), rebuilds the
 // probe index, sets volume.cell_depth and fills volume.cells (and cell_tracing, keeping the tracing ranges
 // the volume's cells already carry when the depth is theirs: the bake's gpu_scene stage sets them; at another
-// depth cell_tracing is dropped; with cell_tracing also cell_checksums). The leaf buffer is not affected (it holds
+// depth cell_tracing is dropped; cell_checksums, a file's, are cleared). The leaf buffer is not affected (it holds
 // node indices). Precondition: the volume is valid (validate() clean); an Octree working on it must
 // rebuild_free_lists() afterwards. Throws Error(usage) for a cell_depth outside [0, kMaxCellDepth].
 void arrange_cells(ProbeVolume& volume, int cell_depth);
@@ -64,6 +64,8 @@ std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k);
 // its trace nodes, faces and vertices, each range's bytes in that order (format 1.6, cell_checksums): what a
 // reader that loads the cell alone checks it against. The ranges must lie inside their sections.
 std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k);
+// Every cell's checksum when the tracing is split by cell (what the writer stores), else none.
+std::vector<std::uint64_t> cell_checksums_of(const ProbeVolume& volume);
 
 // Removes the streaming index (cells empty, cell_depth 0); element order is kept.
 void clear_cells(ProbeVolume& volume);

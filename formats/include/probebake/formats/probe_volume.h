@@ -73,8 +73,8 @@ struct ProbeVolume {
   std::int32_t cell_depth = 0;                    // the cell grid is (2^cell_depth)^3; see cells.h
   std::vector<Cell> cells;                        // streaming index, or empty (load everything)
   std::vector<CellTracing> cell_tracing;          // one per cell (format 1.5), or empty: tracing not split
-  std::vector<std::uint64_t> cell_checksums;      // one per cell (format 1.6, cells.h cell_checksum), or empty;
-                                                  // the writer writes the bytes' own, validate_file checks them
+  std::vector<std::uint64_t> cell_checksums;      // as read from a file (format 1.6, cells.h cell_checksum), or
+                                                  // empty; validate_file checks them, the writer takes the bytes' own
   std::uint64_t input_hash = 0;                   // hash of the bake's inputs and settings (given by it)
 
   std::optional<gpu::LightingInfo> lighting;      // settings and counts of the sections below

@@ -441,7 +441,7 @@ public:
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
   // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the
   // device's maxStorageBufferRange allows are split into several dispatches.
-  // `flags` (optional) receives SampleFlags per lookup (kSampleNotLit only with streaming and the SVO method).
+  // `flags` (optional) receives each lookup's kSample* bits (kSampleNotLit only with streaming and the SVO method).
   Result<std::vector<glm::vec3>> sample_irradiance(std::span<const glm::vec3> positions,
                                                    std::span<const glm::vec3> normals, SampleStats* stats = nullptr,
                                                    SampleMethod method = SampleMethod::svo,

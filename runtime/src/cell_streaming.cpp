@@ -6,9 +6,9 @@
 
 namespace probebake::runtime::detail {
 
-CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, const StreamingOptions& options,
-                             std::uint32_t rings)
-    : tracing_(device, volume, options.budget_bytes,
+CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
+                             const StreamingOptions& options, std::uint32_t rings)
+    : tracing_(device, volume, std::move(source), options.budget_bytes,
                options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings),
       residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes) {
@@ -73,8 +73,9 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     const auto start = std::chrono::steady_clock::now();
     streaming::ResidencyChanges changes = residency_.update(camera_, radius_);
     timer.begin(cmd, slot);
-    const std::vector<std::size_t> unplaced = tracing_.record(cmd, ring, changes);
-    for (std::size_t k : unplaced) residency_.cancel_load(k);
+    const StreamedTracing::Missed missed = tracing_.record(cmd, ring, changes);
+    for (std::size_t k : missed.unplaced) residency_.cancel_load(k);
+    for (const auto& [k, reason] : missed.refused) residency_.refuse(k), refusals_.push_back(reason);
     std::vector<formats::CellRange> retrace, reassigned;
     if (update_lit_cells(changes, retrace, reassigned, stats)) {
       std::vector<std::int32_t> slots;
@@ -86,14 +87,16 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     timer.end(cmd, slot);
     timed = true;
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes
-    stats.loaded_cells = int(changes.loads.size() - unplaced.size());
+    stats.loaded_cells = int(changes.loads.size() - missed.unplaced.size() - missed.refused.size());
     stats.dropped_cells = int(changes.drops.size());
     stats.loaded_bytes = changes.loaded_bytes;
-    for (std::size_t k : unplaced) stats.loaded_bytes -= residency_.cells()[k].bytes;
+    for (std::size_t k : missed.unplaced) stats.loaded_bytes -= residency_.cells()[k].bytes;
+    for (const auto& refused : missed.refused) stats.loaded_bytes -= residency_.cells()[refused.first].bytes;
     stats.waiting_cells = int(changes.waiting);
-    stats.unplaced_cells = int(unplaced.size());
+    stats.unplaced_cells = int(missed.unplaced.size());
+    stats.refused_cells = int(missed.refused.size());
     stats.upload_cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    pending_ = changes.waiting > 0 || !unplaced.empty() || !joining_.empty();
+    pending_ = changes.waiting > 0 || !missed.unplaced.empty() || !joining_.empty();
     moved_ = false;
   }
   stats.resident_cells = int(residency_.resident_count());

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -20,7 +22,9 @@ namespace probebake::runtime::detail {
 
 class CellStreaming {
 public:
-  CellStreaming(Device& device, const formats::ProbeVolume& volume, const StreamingOptions& options, std::uint32_t rings);
+  // `source`: where cells are read when they load (cell_source.h).
+  CellStreaming(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
+                const StreamingOptions& options, std::uint32_t rings);
   // Probes that can be lit at once: the light update's record slots.
   std::uint32_t record_slots() const { return record_slot_count_; }
 
@@ -30,6 +34,8 @@ public:
   void set_budget(std::uint64_t bytes) { residency_.set_budget(bytes), moved_ = true; }
   std::uint64_t max_budget() const { return max_budget_; }
   std::vector<int> resident_cells() const;
+  // Why each refused cell was refused, in the order it happened.
+  const std::vector<std::string>& refusals() const { return refusals_; }
 
   // Records this frame's residency changes (between the timer slot's timestamps when there are any) and
   // the light list; ring `ring`'s staging buffer must be free.
@@ -51,6 +57,7 @@ private:
   std::vector<std::size_t> joining_;             // resident cells with probes not lit yet, in arrival order
   std::vector<std::int32_t> record_of_probe_;    // per probe slot: its record slot, -1 when not lit
   std::vector<std::int32_t> free_records_;       // record slots not handed out (taken from the back)
+  std::vector<std::string> refusals_;
   std::uint32_t record_slot_count_ = 0;
   int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;

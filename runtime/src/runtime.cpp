@@ -2,12 +2,15 @@
 #include "probebake/runtime/runtime.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 
+#include "cell_source.h"
 #include "device.h"
 #include "error.h"
 #include "probebake/dynamic/animation.h"
+#include "probebake/formats/cell_file.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/trace_mesh.h"
 #include "volume_state.h"
@@ -128,7 +131,10 @@ Result<Volume> Volume::upload(Context& context, const formats::ProbeVolume& volu
 Result<Volume> Volume::load(Context& context, const std::filesystem::path& path, const UploadOptions& options) {
   return guarded([&]() -> Result<Volume> {
     if (const Status checked = check_options(options); !checked.ok()) return checked;
-    formats::ProbeVolume volume = formats::read_probes_file(path);
+    formats::ProbeVolume volume;
+    std::optional<formats::CellFile> file; // streaming reads each cell from disk when it loads
+    if (options.streaming.budget_bytes > 0) file.emplace(formats::CellFile::open(path, volume));
+    else volume = formats::read_probes_file(path);
     if (options.validate) {
       formats::ValidationReport report = formats::validate(volume);
       report.name = path.string();
@@ -136,7 +142,12 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
       if (!valid.ok()) return valid;
     }
     formats::upgrade_tracing(volume); // 1.1-1.3 files: the shaders trace the compact layout only
-    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
+    std::unique_ptr<detail::CellSource> cells;
+    if (file && !volume.cell_tracing.empty()) { // without it, VolumeState refuses streaming
+      file->expect(volume);
+      cells = detail::cell_source_on_disk(std::move(*file));
+    }
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options, std::move(cells)));
   });
 }
 
@@ -181,7 +192,7 @@ Result<formats::ProbeVolume> Volume::read_back() {
   return guarded([&]() -> Result<formats::ProbeVolume> {
     formats::ProbeVolume out = state_->gpu->read_back(state_->cpu_parts);
     if (state_->streaming) { // the arena holds a renumbered part of these; validate_live checks it against them
-      const formats::ProbeVolume& file = state_->streaming->tracing().file_tracing();
+      const formats::ProbeVolume file = state_->streaming->tracing().file_tracing();
       out.trace_trees = file.trace_trees, out.trace_nodes = file.trace_nodes;
       out.trace_faces = file.trace_faces, out.trace_vertices = file.trace_vertices;
     }
@@ -202,6 +213,10 @@ Status Volume::stream_around(glm::vec3 position, float radius) {
 
 std::vector<int> Volume::resident_cells() const {
   return state_->streaming ? state_->streaming->resident_cells() : std::vector<int>{};
+}
+
+std::vector<std::string> Volume::stream_refusals() const {
+  return state_->streaming ? state_->streaming->refusals() : std::vector<std::string>{};
 }
 
 Status Volume::set_stream_budget(std::uint64_t bytes) {

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "error.h"
+#include "probebake/formats/error.h"
 #include "probebake/formats/trace_mesh.h"
 
 namespace probebake::runtime::detail {
@@ -67,16 +68,12 @@ void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
   free_[at] = units;
 }
 
-StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::uint64_t cell_bytes,
-                                 std::uint64_t staging_bytes, std::uint32_t rings)
-    : device_(device), blocks_(cell_bytes, kBlockUnit) {
+StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
+                                 std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings)
+    : device_(device), source_(std::move(source)), blocks_(cell_bytes, kBlockUnit) {
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
     fail(StatusCode::unsupported, "streaming needs the static tracing tree split by cell (format 1.5 cell_tracing); "
                                   "bake with --cell-size or --cell-depth >= 1");
-  file_.trace_trees = volume.trace_trees;
-  file_.trace_nodes = volume.trace_nodes;
-  file_.trace_faces = volume.trace_faces;
-  file_.trace_vertices = volume.trace_vertices;
   for (const formats::CellTracing& ranges : volume.cell_tracing) {
     CellPart cell;
     cell.ranges = ranges;
@@ -103,13 +100,13 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
   constexpr VkBufferUsageFlags usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   arena_ = device.allocator->create_buffer(total, usage, MemoryUse::device, "streamed tracing arena");
-  trees_ = device.allocator->create_buffer(file_.trace_trees.size() * sizeof(gpu::TraceTree), usage, MemoryUse::device,
+  trees_ = device.allocator->create_buffer(volume.trace_trees.size() * sizeof(gpu::TraceTree), usage, MemoryUse::device,
                                            "streamed trace trees");
   for (std::uint32_t r = 0; r < rings; ++r)
     staging_.push_back(device.allocator->create_buffer(staging_bytes_, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload,
                                                        "streaming staging"));
   // The global region and the trees, once: no cell resident, every cell word the null leaf.
-  std::vector<gpu::TraceTree> trees = file_.trace_trees;
+  std::vector<gpu::TraceTree> trees = volume.trace_trees;
   const std::uint64_t tree_bytes = trees.size() * sizeof(gpu::TraceTree);
   Buffer upload = device.allocator->create_buffer(global.size() + tree_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                                   MemoryUse::upload, "upload staging");
@@ -204,7 +201,8 @@ void StreamedTracing::find_parent_words(const formats::ProbeVolume& volume) {
 }
 
 
-void StreamedTracing::write_block(const CellPart& cell, std::uint64_t offset, std::byte* out) const {
+void StreamedTracing::write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset,
+                                  std::byte* out) const {
   const formats::CellTracing& r = cell.ranges;
   const Layout layout(r.trace_nodes.count, r.trace_faces.count, r.trace_vertices.count);
   const std::uint64_t at = pool_start_ + offset;
@@ -214,17 +212,17 @@ void StreamedTracing::write_block(const CellPart& cell, std::uint64_t offset, st
   std::memset(out, 0, layout.bytes);
   auto* nodes = reinterpret_cast<gpu::TraceNode*>(out);
   for (std::uint32_t i = 0; i < r.trace_nodes.count; ++i) {
-    gpu::TraceNode n = file_.trace_nodes[r.trace_nodes.first + i];
+    gpu::TraceNode n = data.nodes[i];
     for (std::uint32_t& w : n.child) w = moved_word(w, node_shift, face_shift);
     nodes[i] = n;
   }
   auto* faces = reinterpret_cast<gpu::TraceFace*>(out + layout.faces_at);
   for (std::uint32_t i = 0; i < r.trace_faces.count; ++i) {
-    gpu::TraceFace f = file_.trace_faces[r.trace_faces.first + i];
+    gpu::TraceFace f = data.faces[i];
     for (std::uint32_t& v : f.vertex) v = std::uint32_t(std::int64_t(v) + vertex_shift);
     faces[i] = f;
   }
-  std::memcpy(out + layout.vertices_at, file_.trace_vertices.data() + r.trace_vertices.first, r.trace_vertices.count * kVertexBytes);
+  std::memcpy(out + layout.vertices_at, data.vertices.data(), r.trace_vertices.count * kVertexBytes);
 }
 
 std::vector<streaming::CellFootprint> StreamedTracing::footprints(std::span<const formats::Cell> cells) const {
@@ -243,9 +241,8 @@ void StreamedTracing::set_word(VkCommandBuffer cmd, const CellPart& cell, std::u
   vkCmdUpdateBuffer(cmd, arena_.get(), at, sizeof(word), &word);
 }
 
-std::vector<std::size_t> StreamedTracing::record(VkCommandBuffer cmd, std::uint32_t ring,
-                                                 const streaming::ResidencyChanges& changes) {
-  std::vector<std::size_t> failed;
+StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32_t ring, const streaming::ResidencyChanges& changes) {
+  Missed missed;
   for (std::size_t k : changes.drops) {
     CellPart& cell = cells_[k];
     if (cell.offset < 0) continue;
@@ -261,18 +258,27 @@ std::vector<std::size_t> StreamedTracing::record(VkCommandBuffer cmd, std::uint3
     if (cell.block_bytes == 0) continue; // a cell without faces: nothing to trace
     const std::int64_t offset = used + cell.block_bytes <= staging_bytes_ ? blocks_.allocate(cell.block_bytes) : -1;
     if (offset < 0) {
-      failed.push_back(k);
+      missed.unplaced.push_back(k);
+      continue;
+    }
+    formats::CellTracingData data;
+    try {
+      data = source_->read(k);
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::input) throw;
+      blocks_.release(std::uint64_t(offset), cell.block_bytes);
+      missed.refused.emplace_back(k, e.what());
       continue;
     }
     cell.offset = offset;
-    write_block(cell, std::uint64_t(offset), staging + used);
+    write_block(cell, data, std::uint64_t(offset), staging + used);
     copies.push_back({used, pool_start_ + std::uint64_t(offset), cell.block_bytes});
     used += cell.block_bytes;
   }
   if (!copies.empty()) vkCmdCopyBuffer(cmd, staging_[ring].get(), arena_.get(), std::uint32_t(copies.size()), copies.data());
   for (std::size_t k : changes.loads)
     if (cells_[k].offset >= 0) set_word(cmd, cells_[k], cell_root_word(cells_[k]));
-  return failed;
+  return missed;
 }
 
 std::vector<std::string> StreamedTracing::verify() const {
@@ -303,7 +309,13 @@ std::vector<std::string> StreamedTracing::verify() const {
       continue;
     }
     if (cell.offset < 0) continue;
-    write_block(cell, std::uint64_t(cell.offset), expected.data());
+    try {
+      write_block(cell, source_->read(k), std::uint64_t(cell.offset), expected.data());
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::input) throw;
+      problems.push_back("cell record " + std::to_string(k) + ": " + e.what());
+      continue;
+    }
     if (std::memcmp(expected.data(), bytes + pool_start_ + std::uint64_t(cell.offset), cell.block_bytes) != 0)
       problems.push_back("cell record " + std::to_string(k) + ": its block in the arena differs from the file's bytes");
   }

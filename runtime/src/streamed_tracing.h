@@ -9,13 +9,16 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan_core.h>
 
 #include "allocator.h"
+#include "cell_source.h"
 #include "device.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/streaming/cell_residency.h"
@@ -38,29 +41,38 @@ private:
 
 class StreamedTracing {
 public:
-  // `volume`: validated, with cell_tracing. `cell_bytes`: the arena's room for cell blocks (the streaming
-  // budget); `staging_bytes`: the most one frame copies (at least the largest block); one staging buffer
-  // per ring. Throws RuntimeError(unsupported) when the arena would pass maxStorageBufferRange or 2 GiB.
-  StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::uint64_t cell_bytes, std::uint64_t staging_bytes,
-                  std::uint32_t rings);
+  // `volume`: validated, with cell_tracing; only its global parts are kept (the top level, the dynamic
+  // objects' trees), each cell is read from `source` when it loads. `cell_bytes`: the arena's room for cell
+  // blocks (the streaming budget); `staging_bytes`: the most one frame copies (at least the largest block);
+  // one staging buffer per ring. Throws RuntimeError(unsupported) when the arena would pass
+  // maxStorageBufferRange or 2 GiB.
+  StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
+                  std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings);
 
   // Each Cell record's block size in the arena (0 without faces), in record order: what the residency
   // policy budgets. `cells`: the volume's Cell records.
   std::vector<streaming::CellFootprint> footprints(std::span<const formats::Cell> cells) const;
   std::uint64_t largest_block() const { return largest_block_; }
 
+  // Loads record() could not carry out: no free run long enough in a fragmented arena (retry later), or the
+  // cell's bytes could not be read or differ from those validated (never retry; the reason).
+  struct Missed {
+    std::vector<std::size_t> unplaced;
+    std::vector<std::pair<std::size_t, std::string>> refused;
+  };
   // Records `changes` into `cmd` (ring `ring`'s staging is free: its last frame finished): drops turn the
-  // word that leads to the cell into the null leaf and free the block; loads renumber the cell's block on the
-  // host into the staging buffer, copy it into a free block and set the word. Loads that find no free run
-  // long enough (a fragmented arena) are returned: those cells stay out. Ends with a barrier before compute.
-  std::vector<std::size_t> record(VkCommandBuffer cmd, std::uint32_t ring, const streaming::ResidencyChanges& changes);
+  // word that leads to the cell into the null leaf and free the block; loads read the cell from the source,
+  // renumber its block on the host into the staging buffer, copy it into a free block and set the word. The
+  // cells of Missed stay out.
+  Missed record(VkCommandBuffer cmd, std::uint32_t ring, const streaming::ResidencyChanges& changes);
 
   VkBuffer trees() const { return trees_.get(); }
   VkBuffer arena() const { return arena_.get(); }
   VkDeviceSize arena_size() const { return arena_.size(); }
   VkDeviceSize trees_size() const { return trees_.size(); }
-  // The file's tracing sections (trees, nodes, faces, vertices), as read_back() reports them.
-  const formats::ProbeVolume& file_tracing() const { return file_; }
+  // The file's tracing sections (trees, nodes, faces, vertices), as read_back() reports them: read again
+  // from the source (from disk for a loaded file).
+  formats::ProbeVolume file_tracing() const { return source_->tracing(); }
 
   // Reads the arena back: every resident cell's block, numbered back, equals the file's bytes and the word
   // leading to it points at it; every other cell's word is the null leaf. The problems found (at most 8).
@@ -78,11 +90,11 @@ private:
   void build_global_region(const formats::ProbeVolume& volume, std::vector<std::byte>& bytes);
   void find_parent_words(const formats::ProbeVolume& volume);
   std::uint32_t cell_root_word(const CellPart& cell) const; // where its block is now
-  void write_block(const CellPart& cell, std::uint64_t offset, std::byte* out) const;
+  void write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset, std::byte* out) const;
   void set_word(VkCommandBuffer cmd, const CellPart& cell, std::uint32_t word);
 
   Device& device_;
-  formats::ProbeVolume file_; // trees, nodes, faces, vertices of the file
+  std::unique_ptr<CellSource> source_;
   std::vector<CellPart> cells_;
   std::uint32_t top_nodes_ = 0;
   std::uint32_t dynamic_nodes_ = 0;

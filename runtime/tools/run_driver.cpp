@@ -240,6 +240,7 @@ int run_volume(const RunOptions& options) {
   const int frames = options.stream ? int(path.size()) : options.frames;
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
+  const HostMemory after_load = host_memory();
   const gpu::VolumeInfo& info = volume->info();
   std::printf("volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %d punctual lights, %llu bytes "
               "on the GPU\n",
@@ -325,7 +326,11 @@ int run_volume(const RunOptions& options) {
   std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
               options.validate ? "; live state valid after every frame" : "");
   std::printf("%s", summary_table(rows, options.animate).c_str());
-  if (options.stream) std::printf("%s", stream_summary(rows, options.stream->budget).c_str());
+  if (options.stream) {
+    std::printf("%s", stream_summary(rows, options.stream->budget).c_str());
+    for (const std::string& refusal : volume->stream_refusals()) std::printf("streaming: refused %s\n", refusal.c_str());
+    std::printf("%s", host_memory_line(after_load, host_memory()).c_str());
+  }
   if (options.plots && (options.animate || options.stream)) {
     try {
       const auto written = options.animate ? write_plots(*options.plots, rows, *options.animate) : write_stream_plots(*options.plots, rows);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string_view>
@@ -223,14 +224,14 @@ static_assert(std::string_view(kFramePassNames[kStreamUploadPass]) == "stream_up
 
 std::string stream_frame_line(const FrameRow& r) {
   const runtime::StreamStats& s = r.stream;
-  char line[256];
+  char line[320];
   std::snprintf(line, sizeof(line),
                 "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d, "
-                "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms\n",
+                "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms%s\n",
                 r.frame, double(r.camera[0]), double(r.camera[1]), double(r.camera[2]), s.resident_cells,
                 static_cast<unsigned long long>(s.resident_bytes), s.loaded_cells, static_cast<unsigned long long>(s.loaded_bytes),
                 s.dropped_cells, s.waiting_cells, s.joined_probes, s.joining_probes, std::max(0.0, r.pass_ms[kStreamUploadPass]), s.upload_cpu_ms,
-                std::max(0.0, r.pass_ms[kLightTracePass]));
+                std::max(0.0, r.pass_ms[kLightTracePass]), s.refused_cells > 0 ? "; REFUSED a cell (below)" : "");
   return line;
 }
 
@@ -253,6 +254,30 @@ std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budg
                 std::max(0.0, worst_gpu->pass_ms[kStreamUploadPass]), worst_gpu->frame, static_cast<unsigned long long>(worst_gpu->stream.loaded_bytes),
                 worst_host->stream.upload_cpu_ms, worst_host->frame, static_cast<unsigned long long>(most),
                 static_cast<unsigned long long>(budget), loads, static_cast<unsigned long long>(loaded), drops, rows.size());
+  return line;
+}
+
+HostMemory host_memory() {
+  HostMemory memory;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  const auto kilobytes = [&](std::string_view key) -> std::optional<std::uint64_t> {
+    if (line.rfind(key, 0) != 0) return std::nullopt;
+    return std::strtoull(line.c_str() + key.size(), nullptr, 10) * 1024u;
+  };
+  while (std::getline(status, line)) {
+    if (auto v = kilobytes("VmRSS:")) memory.resident = *v;
+    if (auto v = kilobytes("VmHWM:")) memory.peak = *v;
+  }
+  return memory;
+}
+
+std::string host_memory_line(HostMemory after_load, HostMemory at_end) {
+  if (at_end.resident == 0) return "host memory: unknown on this system\n";
+  const auto mb = [](std::uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); };
+  char line[200];
+  std::snprintf(line, sizeof(line), "host memory: %.1f MB resident after load, %.1f MB at the end, peak %.1f MB\n",
+                mb(after_load.resident), mb(at_end.resident), mb(at_end.peak));
   return line;
 }
 

@@ -41,6 +41,14 @@ void write_frame_row(std::ostream& out, const FrameRow& row);
 // most bytes resident against the budget, loads and drops over the run.
 std::string stream_frame_line(const FrameRow& row);
 std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budget);
+
+// This process's resident host memory now and at its peak (Linux VmRSS, VmHWM), in bytes; 0 where unknown.
+struct HostMemory {
+  std::uint64_t resident = 0, peak = 0;
+};
+HostMemory host_memory();
+// "host memory: ..." for the streaming summary: after load and at the end.
+std::string host_memory_line(HostMemory after_load, HostMemory at_end);
 // --path --plots DIR: streaming.svg (resident and loaded KB per frame) and upload_times.svg (stream_upload
 // GPU ms and host ms per frame). Returns the files written; throws std::runtime_error like write_plots.
 std::vector<std::string> write_stream_plots(const std::string& folder, const std::vector<FrameRow>& rows);

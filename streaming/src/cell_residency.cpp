@@ -26,7 +26,7 @@ float distance_to_box(glm::vec3 point, glm::vec3 min, glm::vec3 max) {
   return glm::length(outside);
 }
 
-CellResidency::CellResidency(std::vector<CellFootprint> cells) : cells_(std::move(cells)), resident_(cells_.size(), 0) {}
+CellResidency::CellResidency(std::vector<CellFootprint> cells) : cells_(std::move(cells)), resident_(cells_.size(), 0), refused_(cells_.size(), 0) {}
 
 std::vector<std::size_t> CellResidency::wanted(glm::vec3 position, float radius) const {
   std::vector<std::pair<float, std::size_t>> near;
@@ -35,6 +35,7 @@ std::vector<std::size_t> CellResidency::wanted(glm::vec3 position, float radius)
   if (!usable) return {};
   for (std::size_t k = 0; k < cells_.size(); ++k) {
     const float d = distance_to_box(position, cells_[k].min, cells_[k].max);
+    if (refused_[k] != 0) continue;
     if (d <= radius || (resident_[k] != 0 && d <= radius + keep_margin_)) near.emplace_back(d, k);
   }
   // Ties by record order, which is cell_index order (the format sorts records by it).
@@ -83,6 +84,12 @@ void CellResidency::cancel_load(std::size_t cell) {
   resident_[cell] = 0;
   resident_bytes_ -= cells_[cell].bytes;
   --resident_count_;
+}
+
+void CellResidency::refuse(std::size_t cell) {
+  if (cell >= cells_.size()) return;
+  cancel_load(cell);
+  refused_[cell] = 1;
 }
 
 } // namespace probebake::streaming

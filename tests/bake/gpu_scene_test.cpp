@@ -13,6 +13,9 @@
 #include <set>
 #include <span>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -21,6 +24,7 @@
 #include "probebake/bake/gpu_scene.h"
 #include "probebake/common/lattice.h"
 #include "probebake/dynamic/animation.h"
+#include "probebake/formats/cell_file.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/error.h"
@@ -433,6 +437,80 @@ TEST(GpuScene, EachCellIsCheckedOnItsOwnAgainstItsChecksum) {
   while (v.cell_tracing[with_faces].trace_faces.count == 0 || v.cells[with_faces].probes.count == 0) ++with_faces;
   EXPECT_EQ(damaged_cells(with_faces, 4), std::set<long long>{static_cast<long long>(with_faces)}) << "a face";
   EXPECT_EQ(damaged_cells(with_faces, 0), std::set<long long>{static_cast<long long>(with_faces)}) << "a probe";
+}
+
+// A streaming runtime's reader (formats/cell_file.h): every cell read back from disk equals the cell in the
+// volume read whole; a cell whose bytes change on disk after the open, or that the file no longer reaches,
+// is refused with its name, and the other cells still read.
+TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
+  const scene::Scene s = load_generated(samples::rooms({.count = 4, .detail = 4}), "gpu_rooms_cell_file");
+  bake::BakeSettings settings = test_settings();
+  settings.cell_depth = 3;
+  const std::string path = ::testing::TempDir() + "probebake-cell-file-" + std::to_string(::getpid()) + ".probes";
+  formats::write_probes_file(path, bake::bake(s, settings).volume);
+  formats::ProbeVolume v;
+  formats::CellFile file = formats::CellFile::open(path, v);
+  ASSERT_TRUE(formats::validate(v).valid());
+  EXPECT_THROW(file.read_cell_tracing(0), Error) << "before expect()";
+  file.expect(v);
+  const auto same = [](const formats::CellTracingData& a, const formats::CellTracingData& b) {
+    const auto bytes_equal = [](const auto& x, const auto& y) {
+      return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
+    };
+    return bytes_equal(a.nodes, b.nodes) && bytes_equal(a.faces, b.faces) && bytes_equal(a.vertices, b.vertices);
+  };
+  std::size_t faces = 0;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const formats::CellTracingData read = file.read_cell_tracing(k);
+    ASSERT_TRUE(same(read, formats::cell_tracing_data(v, k))) << "cell " << k;
+    faces += read.faces.size();
+  }
+  ASSERT_GT(faces, 0u);
+  const formats::ContainerView view = formats::parse_container(formats::read_file_bytes(path), path);
+  const auto file_offset = [&](formats::SectionType type, const formats::CellRange& range) {
+    for (const formats::SectionEntry& e : view.sections)
+      if (e.type == static_cast<std::uint32_t>(type)) return e.offset + range.byte_offset + range.byte_size / 2;
+    return std::uint64_t(0);
+  };
+  const auto flip_byte = [&](std::uint64_t offset) {
+    std::fstream out(path, std::ios::in | std::ios::out | std::ios::binary);
+    out.seekg(std::streamoff(offset));
+    const char byte = char(out.get() ^ 0x10);
+    out.seekp(std::streamoff(offset));
+    out.put(byte);
+  };
+  std::size_t damaged = 0;
+  while (v.cell_tracing[damaged].trace_faces.count == 0) ++damaged;
+  flip_byte(file_offset(formats::SectionType::trace_faces, v.cell_tracing[damaged].trace_faces));
+  const auto refusal = [&](std::size_t k) -> std::string {
+    try {
+      file.read_cell_tracing(k);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::input);
+      return e.what();
+    }
+    return "";
+  };
+  const std::string changed = refusal(damaged);
+  EXPECT_NE(changed.find("cells[" + std::to_string(damaged) + "] (cell " + std::to_string(v.cells[damaged].cell_index) + ")"),
+            std::string::npos) << changed;
+  EXPECT_NE(changed.find("differ from those validated"), std::string::npos) << changed;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    if (k == damaged) continue;
+    EXPECT_TRUE(same(file.read_cell_tracing(k), formats::cell_tracing_data(v, k))) << "cell " << k;
+  }
+  // Cut the file in the middle of the last cell's vertices: that cell no longer reads, an earlier one does.
+  std::size_t last = v.cells.size() - 1;
+  while (v.cell_tracing[last].trace_vertices.count == 0) --last;
+  std::filesystem::resize_file(path, file_offset(formats::SectionType::trace_vertices, v.cell_tracing[last].trace_vertices));
+  const std::string cut = refusal(last);
+  EXPECT_NE(cut.find("cells[" + std::to_string(last) + "]"), std::string::npos) << cut;
+  EXPECT_NE(cut.find("bytes early"), std::string::npos) << cut;
+  std::size_t first = 0;
+  while (first == damaged || v.cell_tracing[first].trace_faces.count == 0) ++first;
+  EXPECT_TRUE(same(file.read_cell_tracing(first), formats::cell_tracing_data(v, first)));
+  EXPECT_THROW(file.read_volume(), Error) << "the whole file no longer reads";
+  std::filesystem::remove(path);
 }
 
 TEST(GpuScene, CellSizePicksTheShallowestGridWithCellsThatNarrow) {

@@ -16,6 +16,7 @@
 
 #include "probebake/bake/sampler.h"
 #include "probebake/formats/cells.h"
+#include "probebake/formats/container.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/runtime_types.h"
 #include "probebake/samples/scenes.h"
@@ -212,6 +213,65 @@ TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
   EXPECT_GT(loads, int(v.cells.size()) / 2) << "the way back loads dropped cells again";
   EXPECT_FALSE(streamed.value().set_stream_budget(budget + 1).ok());
   EXPECT_FALSE(streamed.value().stream_around(glm::vec3(NAN), 1.0f).ok());
+}
+
+// Volume::load with streaming reads each cell from disk when it arrives (formats/cell_file.h): the result
+// equals the in-memory upload's bit for bit. A cell whose bytes change on disk after the load is refused
+// with its name, never uploaded and never asked for again; the other cells stream on.
+TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceLoad) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  const std::string path = temp_path("stream-from-disk.probes");
+  formats::write_probes_file(path, v);
+  const runtime::UploadOptions options = streaming_options(2 * tracing_bytes_of_cells(v));
+  auto from_disk = runtime::Volume::load(context(), path, options);
+  auto in_memory = runtime::Volume::upload(context(), v, options);
+  ASSERT_TRUE(from_disk.ok()) << from_disk.status().message;
+  ASSERT_TRUE(in_memory.ok());
+  for (runtime::Volume* volume : {&from_disk.value(), &in_memory.value()}) {
+    ASSERT_TRUE(volume->stream_around(glm::vec3(0.0f), 1e6f).ok());
+    for (int f = 0; f < 2; ++f) ASSERT_TRUE(volume->run_frame().ok());
+  }
+  EXPECT_EQ(from_disk.value().resident_cells().size(), v.cells.size());
+  ASSERT_TRUE(from_disk.value().validate_live().ok()) << from_disk.value().validate_live().message;
+  auto a = from_disk.value().read_back(), b = in_memory.value().read_back();
+  ASSERT_TRUE(a.ok() && b.ok());
+  for (std::size_t i = 0; i < v.probes.size(); ++i) ASSERT_TRUE(same_irradiance(a.value().probes[i], b.value().probes[i])) << "probe " << i;
+
+  // A second load, then one byte of a cell's faces changes on disk before the camera reaches it.
+  auto later = runtime::Volume::load(context(), path, options);
+  ASSERT_TRUE(later.ok());
+  std::size_t damaged = 0;
+  while (v.cell_tracing[damaged].trace_faces.count == 0) ++damaged;
+  const formats::ContainerView view = formats::parse_container(formats::read_file_bytes(path), path);
+  std::uint64_t offset = 0;
+  for (const formats::SectionEntry& e : view.sections)
+    if (e.type == static_cast<std::uint32_t>(formats::SectionType::trace_faces)) offset = e.offset + v.cell_tracing[damaged].trace_faces.byte_offset;
+  const auto flip_byte = [&] {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekg(std::streamoff(offset));
+    const char byte = char(file.get() ^ 0x01);
+    file.seekp(std::streamoff(offset));
+    file.put(byte);
+  };
+  flip_byte();
+  ASSERT_TRUE(later.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
+  auto first = later.value().run_frame();
+  ASSERT_TRUE(first.ok()) << first.status().message;
+  EXPECT_EQ(first.value().streaming.refused_cells, 1);
+  EXPECT_EQ(first.value().streaming.loaded_cells, int(v.cells.size()) - 1);
+  const std::vector<std::string> refusals = later.value().stream_refusals();
+  ASSERT_EQ(refusals.size(), 1u);
+  EXPECT_NE(refusals[0].find("cells[" + std::to_string(damaged) + "]"), std::string::npos) << refusals[0];
+  const std::vector<int> resident = later.value().resident_cells();
+  EXPECT_EQ(std::count(resident.begin(), resident.end(), v.cells[damaged].cell_index), 0);
+  EXPECT_EQ(resident.size(), v.cells.size() - 1);
+  auto second = later.value().run_frame();
+  ASSERT_TRUE(second.ok());
+  EXPECT_EQ(second.value().streaming.refused_cells + second.value().streaming.loaded_cells, 0) << "a refused cell is not retried";
+  // With the byte back the file reads as validated again: the live state checks out, the refused cell's
+  // word the null leaf.
+  flip_byte();
+  EXPECT_TRUE(later.value().validate_live().ok()) << later.value().validate_live().message;
 }
 
 // probebake-run --budget --path: a line per frame and the summary with the worst upload spike.

@@ -174,6 +174,26 @@ TEST(CellResidency, ACellLargerThanTheBudgetBlocksNothingBehindIt) {
   EXPECT_TRUE(residency.update(glm::vec3(NAN), 10.0f).drops.size() == 1) << "a non-finite camera wants nothing";
 }
 
+// A refused cell (its bytes on disk damaged) gives its budget back and is never wanted again; its room goes
+// to the next cell in distance order.
+TEST(CellResidency, ARefusedCellIsNeverWantedAgainAndGivesItsRoomToTheNext) {
+  std::vector<CellFootprint> cells;
+  for (int x = 0; x < 3; ++x) cells.push_back({x, glm::vec3(float(x), 0.0f, 0.0f), glm::vec3(float(x + 1), 1.0f, 1.0f), 100});
+  CellResidency residency(cells);
+  residency.set_budget(200);
+  const auto first = residency.update(glm::vec3(0.5f), 10.0f);
+  ASSERT_EQ(first.loads, (std::vector<std::size_t>{0, 1}));
+  residency.refuse(0);
+  EXPECT_FALSE(residency.resident(0));
+  EXPECT_TRUE(residency.refused(0));
+  EXPECT_EQ(residency.resident_bytes(), 100u);
+  const auto next = residency.update(glm::vec3(0.5f), 10.0f);
+  EXPECT_EQ(next.loads, (std::vector<std::size_t>{2}));
+  EXPECT_TRUE(next.drops.empty());
+  EXPECT_EQ(residency.wanted(glm::vec3(0.5f), 10.0f), (std::vector<std::size_t>{1, 2}));
+  EXPECT_TRUE(residency.update(glm::vec3(0.5f), 10.0f).loads.empty());
+}
+
 TEST(CameraPath, ParsesRowsAndRefusesHostileText) {
   const auto path = streaming::parse_camera_path("frame,x,y,z\r\n0, 1.5,2,-3\n\n7,0,0,1e3\n", "p.csv");
   ASSERT_EQ(path.size(), 2u);

@@ -347,6 +347,8 @@ struct StreamStats {
   std::uint64_t loaded_bytes = 0;
   int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes
   int unplaced_cells = 0;        // loads that found no free run in the fragmented arena (retried next frame)
+  int refused_cells = 0;         // loads whose bytes on disk could not be read or differ from those validated at
+                                 // load (never retried; Volume::stream_refusals says why)
   int joined_probes = 0;         // probes of resident cells that joined the light update this frame (traced)
   int joining_probes = 0;        // probes of resident cells still waiting for max_joining_probes
   double upload_cpu_ms = 0.0;
@@ -409,7 +411,9 @@ struct VolumeBuffers {
 
 class Volume {
 public:
-  // Reads the file (formats::read_probes_file), validates it and uploads it.
+  // Reads the file (formats::read_probes_file), validates it and uploads it. With streaming the file stays
+  // open: host memory keeps the global sections only, and each cell's tracing is read again from disk when
+  // the cell loads, checked against the bytes validated here (a changed cell is refused, StreamStats).
   static Result<Volume> load(Context& context, const std::filesystem::path& path, const UploadOptions& options = {});
   // Uploads an in-memory volume (copied; the caller keeps its own).
   static Result<Volume> upload(Context& context, const formats::ProbeVolume& volume, const UploadOptions& options = {});
@@ -456,6 +460,9 @@ public:
   Status set_stream_budget(std::uint64_t bytes);
   // Cell::cell_index of every resident cell after the last recorded frame, ascending (empty without streaming).
   std::vector<int> resident_cells() const;
+  // Why each refused cell (StreamStats::refused_cells) was refused, one line each ("<file>: cells[k] (cell N):
+  // <reason>"), oldest first; empty without streaming.
+  std::vector<std::string> stream_refusals() const;
 
   // Copies every GPU buffer back into a ProbeVolume; the CPU-only parts (streaming cells, cell depth, input
   // hash) come from the uploaded volume; with streaming, the tracing sections are the file's.

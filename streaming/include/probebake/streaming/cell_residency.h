@@ -64,6 +64,10 @@ public:
   // A load the caller could not carry out (no room left in a fragmented store): the cell is not resident
   // and the next update wants it again.
   void cancel_load(std::size_t cell);
+  // A load whose cell cannot be used (its bytes could not be read, or differ from those validated): the cell
+  // is not resident and no later update wants it.
+  void refuse(std::size_t cell);
+  bool refused(std::size_t cell) const { return refused_[cell] != 0; }
 
   // The cells the policy wants resident around `position`, nearest first, ignoring max_load_bytes (the
   // kept ones depend on what is resident now).
@@ -78,6 +82,7 @@ public:
 private:
   std::vector<CellFootprint> cells_;
   std::vector<std::uint8_t> resident_;
+  std::vector<std::uint8_t> refused_;
   std::uint64_t budget_ = 0;
   std::uint64_t max_load_bytes_ = 0;
   float keep_margin_ = 0.0f;

@@ -9,7 +9,7 @@ namespace probebake::runtime::detail {
 CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
                              const StreamingOptions& options, std::uint32_t rings)
     : tracing_(device, volume, std::move(source), options.budget_bytes,
-               options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings),
+               options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings, options.read_in_background),
       residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes) {
   residency_.set_budget(options.budget_bytes);
@@ -75,6 +75,7 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     timer.begin(cmd, slot);
     const StreamedTracing::Missed missed = tracing_.record(cmd, ring, changes);
     for (std::size_t k : missed.unplaced) residency_.cancel_load(k);
+    for (std::size_t k : missed.reading) residency_.cancel_load(k);
     for (const auto& [k, reason] : missed.refused) residency_.refuse(k), refusals_.push_back(reason);
     std::vector<formats::CellRange> retrace, reassigned;
     if (update_lit_cells(changes, retrace, reassigned, stats)) {
@@ -87,16 +88,18 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     timer.end(cmd, slot);
     timed = true;
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes
-    stats.loaded_cells = int(changes.loads.size() - missed.unplaced.size() - missed.refused.size());
+    stats.loaded_cells = int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
     stats.dropped_cells = int(changes.drops.size());
     stats.loaded_bytes = changes.loaded_bytes;
     for (std::size_t k : missed.unplaced) stats.loaded_bytes -= residency_.cells()[k].bytes;
+    for (std::size_t k : missed.reading) stats.loaded_bytes -= residency_.cells()[k].bytes;
     for (const auto& refused : missed.refused) stats.loaded_bytes -= residency_.cells()[refused.first].bytes;
     stats.waiting_cells = int(changes.waiting);
     stats.unplaced_cells = int(missed.unplaced.size());
     stats.refused_cells = int(missed.refused.size());
+    stats.reading_cells = int(missed.reading.size());
     stats.upload_cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    pending_ = changes.waiting > 0 || !missed.unplaced.empty() || !joining_.empty();
+    pending_ = changes.waiting > 0 || !missed.unplaced.empty() || !missed.reading.empty() || !joining_.empty();
     moved_ = false;
   }
   stats.resident_cells = int(residency_.resident_count());

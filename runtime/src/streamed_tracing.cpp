@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <unordered_map>
 
 #include "commands.h"
@@ -69,8 +70,9 @@ void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
 }
 
 StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
-                                 std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings)
+                                 std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background)
     : device_(device), source_(std::move(source)), blocks_(cell_bytes, kBlockUnit) {
+  if (background) reader_ = std::make_unique<BackgroundCellReader>(*source_);
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
     fail(StatusCode::unsupported, "streaming needs the static tracing tree split by cell (format 1.5 cell_tracing); "
                                   "bake with --cell-size or --cell-depth >= 1");
@@ -256,25 +258,29 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
   for (std::size_t k : changes.loads) {
     CellPart& cell = cells_[k];
     if (cell.block_bytes == 0) continue; // a cell without faces: nothing to trace
-    const std::int64_t offset = used + cell.block_bytes <= staging_bytes_ ? blocks_.allocate(cell.block_bytes) : -1;
-    if (offset < 0) {
-      missed.unplaced.push_back(k);
-      continue;
-    }
-    formats::CellTracingData data;
+    std::optional<formats::CellTracingData> data;
     try {
-      data = source_->read(k);
+      data = reader_ ? reader_->take_or_request(k) : source_->read(k);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::input) throw;
-      blocks_.release(std::uint64_t(offset), cell.block_bytes);
       missed.refused.emplace_back(k, e.what());
       continue;
     }
+    if (!data) {
+      missed.reading.push_back(k);
+      continue;
+    }
+    const std::int64_t offset = used + cell.block_bytes <= staging_bytes_ ? blocks_.allocate(cell.block_bytes) : -1;
+    if (offset < 0) { // its bytes are dropped: a fragmented arena is rare, reading again is cheap
+      missed.unplaced.push_back(k);
+      continue;
+    }
     cell.offset = offset;
-    write_block(cell, data, std::uint64_t(offset), staging + used);
+    write_block(cell, *data, std::uint64_t(offset), staging + used);
     copies.push_back({used, pool_start_ + std::uint64_t(offset), cell.block_bytes});
     used += cell.block_bytes;
   }
+  if (reader_) reader_->keep_only(missed.reading); // the others were taken or are no longer wanted
   if (!copies.empty()) vkCmdCopyBuffer(cmd, staging_[ring].get(), arena_.get(), std::uint32_t(copies.size()), copies.data());
   for (std::size_t k : changes.loads)
     if (cells_[k].offset >= 0) set_word(cmd, cells_[k], cell_root_word(cells_[k]));

@@ -18,6 +18,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include "allocator.h"
+#include "background_cell_reader.h"
 #include "cell_source.h"
 #include "device.h"
 #include "probebake/formats/probe_volume.h"
@@ -46,18 +47,21 @@ public:
   // blocks (the streaming budget); `staging_bytes`: the most one frame copies (at least the largest block);
   // one staging buffer per ring. Throws RuntimeError(unsupported) when the arena would pass
   // maxStorageBufferRange or 2 GiB.
+  // `background`: read cells on a thread of their own (background_cell_reader.h).
   StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
-                  std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings);
+                  std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background);
 
   // Each Cell record's block size in the arena (0 without faces), in record order: what the residency
   // policy budgets. `cells`: the volume's Cell records.
   std::vector<streaming::CellFootprint> footprints(std::span<const formats::Cell> cells) const;
   std::uint64_t largest_block() const { return largest_block_; }
 
-  // Loads record() could not carry out: no free run long enough in a fragmented arena (retry later), or the
-  // cell's bytes could not be read or differ from those validated (never retry; the reason).
+  // Loads record() could not carry out: no free run long enough in a fragmented arena, or (background
+  // reads) the cell is not read yet: retry later; or the cell's bytes could not be read or differ from
+  // those validated: never retry (the reason).
   struct Missed {
     std::vector<std::size_t> unplaced;
+    std::vector<std::size_t> reading;
     std::vector<std::pair<std::size_t, std::string>> refused;
   };
   // Records `changes` into `cmd` (ring `ring`'s staging is free: its last frame finished): drops turn the
@@ -95,6 +99,7 @@ private:
 
   Device& device_;
   std::unique_ptr<CellSource> source_;
+  std::unique_ptr<BackgroundCellReader> reader_; // after source_, which it reads: stops first
   std::vector<CellPart> cells_;
   std::uint32_t top_nodes_ = 0;
   std::uint32_t dynamic_nodes_ = 0;

@@ -230,7 +230,7 @@ int run_volume(const RunOptions& options) {
   std::vector<streaming::PathPoint> path;
   if (options.stream) {
     upload.streaming = {options.stream->budget, options.stream->max_upload, options.stream->max_joining, options.stream->keep_margin,
-                        options.stream->max_lit};
+                        options.stream->max_lit, options.stream->background_reads};
     try {
       path = streaming::read_camera_path(options.stream->path);
     } catch (const Error& e) {

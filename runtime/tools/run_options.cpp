@@ -15,7 +15,7 @@ constexpr const char* kUsage =
     "                     [--no-memory-update] [--max-depth N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
-    "                      [--keep-margin M] [--max-lit N]]\n"
+    "                      [--keep-margin M] [--max-lit N] [--background-reads]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -43,6 +43,8 @@ constexpr const char* kUsage =
     "  --max-joining N   with --path: at most N probes of arrived cells start being lit (traced) per frame\n"
     "  --keep-margin M   with --path: resident cells stay while within R + M metres (default 0)\n"
     "  --max-lit N       with --path: light records for N probes at once (default: every probe)\n"
+    "  --background-reads  with --path: read arriving cells from the file on a thread of their own (a cell\n"
+    "                    arrives a frame or more after it is wanted; frames never wait for the disk)\n"
     "  --verbose         one line per frame (default: a progress bar on a terminal, else a line every 100\n"
     "                    frames)\n"
     "  --validate        read the live state back and run the .probes validator after every frame\n"
@@ -197,6 +199,8 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       float& metres = arg == "--radius" ? stream().radius : stream().keep_margin;
       if (!has_value || !parse_number(argv[++i], metres) || !(metres >= 0.0f) || !std::isfinite(metres))
         return usage_error(std::string(arg) + " needs a finite number of metres >= 0");
+    } else if (arg == "--background-reads") {
+      stream().background_reads = true;
     } else if (arg == "--path") {
       if (!has_value) return usage_error("--path needs a CSV file (frame,x,y,z)");
       stream().path = argv[++i];

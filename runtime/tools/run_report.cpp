@@ -226,11 +226,12 @@ std::string stream_frame_line(const FrameRow& r) {
   const runtime::StreamStats& s = r.stream;
   char line[320];
   std::snprintf(line, sizeof(line),
-                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d, "
+                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d%s, "
                 "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms%s\n",
                 r.frame, double(r.camera[0]), double(r.camera[1]), double(r.camera[2]), s.resident_cells,
                 static_cast<unsigned long long>(s.resident_bytes), s.loaded_cells, static_cast<unsigned long long>(s.loaded_bytes),
-                s.dropped_cells, s.waiting_cells, s.joined_probes, s.joining_probes, std::max(0.0, r.pass_ms[kStreamUploadPass]), s.upload_cpu_ms,
+                s.dropped_cells, s.waiting_cells, s.reading_cells > 0 ? (" (" + std::to_string(s.reading_cells) + " being read)").c_str() : "",
+                s.joined_probes, s.joining_probes, std::max(0.0, r.pass_ms[kStreamUploadPass]), s.upload_cpu_ms,
                 std::max(0.0, r.pass_ms[kLightTracePass]), s.refused_cells > 0 ? "; REFUSED a cell (below)" : "");
   return line;
 }

@@ -195,6 +195,11 @@ struct StreamingOptions {
   // 16 KiB per probe at 256 rays) are allocated for this many probes, not for the whole world; arrived
   // probes wait while every record slot is taken (StreamStats::joining_probes).
   int max_lit_probes = 0;
+  // Read arriving cells on a thread of their own: a frame takes the cells already read and asks for the
+  // others, so that it never waits for the disk; a cell then arrives a frame or more after it is wanted,
+  // depending on the disk (StreamStats::reading_cells). Off: each frame reads the cells it loads, and the
+  // same camera path gives the same frames.
+  bool read_in_background = false;
 };
 
 struct UploadOptions {
@@ -347,6 +352,7 @@ struct StreamStats {
   std::uint64_t loaded_bytes = 0;
   int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes
   int unplaced_cells = 0;        // loads that found no free run in the fragmented arena (retried next frame)
+  int reading_cells = 0;         // wanted cells still being read on the background thread (read_in_background)
   int refused_cells = 0;         // loads whose bytes on disk could not be read or differ from those validated at
                                  // load (never retried; Volume::stream_refusals says why)
   int joined_probes = 0;         // probes of resident cells that joined the light update this frame (traced)

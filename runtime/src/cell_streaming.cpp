@@ -1,7 +1,11 @@
 #include "cell_streaming.h"
 
+#include "probebake/formats/cells.h"
+
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <utility>
 
 namespace probebake::runtime::detail {
@@ -22,6 +26,34 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
   record_slot_count_ = std::uint32_t(slots);
   free_records_.reserve(slots);
   for (std::size_t r = slots; r-- > 0;) free_records_.push_back(std::int32_t(r)); // slot 0 handed out first
+  queued_.assign(volume.cells.size(), 0);
+  find_cells_within_reach(volume, options.light_reach);
+}
+
+// Grid cells dx, dy, dz apart are sqrt(sum of max(0, |d| - 1)^2) cell widths apart (box to box).
+void CellStreaming::find_cells_within_reach(const formats::ProbeVolume& volume, float reach) {
+  reach_.assign(volume.cells.size(), {});
+  if (!(reach > 0.0f)) return;
+  const int n = formats::cells_per_axis(volume.cell_depth);
+  const float width = volume.info.root_size / float(n);
+  const int span = int(std::min(float(n), std::ceil(reach / width)));
+  std::vector<std::int32_t> record_of_cell(std::size_t(n) * std::size_t(n) * std::size_t(n), -1);
+  for (std::size_t k = 0; k < volume.cells.size(); ++k) record_of_cell[std::size_t(volume.cells[k].cell_index)] = std::int32_t(k);
+  const auto gap = [](int d) { return float(std::max(0, std::abs(d) - 1)); };
+  for (std::size_t k = 0; k < volume.cells.size(); ++k) {
+    const int c = volume.cells[k].cell_index, x = c % n, y = c / n % n, z = c / (n * n);
+    for (int dz = -span; dz <= span; ++dz)
+      for (int dy = -span; dy <= span; ++dy)
+        for (int dx = -span; dx <= span; ++dx) {
+          const int cx = x + dx, cy = y + dy, cz = z + dz;
+          if ((dx == 0 && dy == 0 && dz == 0) || cx < 0 || cy < 0 || cz < 0 || cx >= n || cy >= n || cz >= n) continue;
+          const std::int32_t other = record_of_cell[std::size_t(cx + n * (cy + n * cz))];
+          if (other < 0 || residency_.cells()[std::size_t(other)].bytes == 0) continue; // nothing to trace there
+          if (width * std::sqrt(gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz)) <= reach)
+            reach_[k].push_back(std::uint32_t(other));
+        }
+    if (!reach_[k].empty() && probe_ranges_[k].count > 0) reach_cells_.push_back(k);
+  }
 }
 
 std::vector<int> CellStreaming::resident_cells() const {
@@ -31,17 +63,33 @@ std::vector<int> CellStreaming::resident_cells() const {
   return out;
 }
 
+bool CellStreaming::lightable(std::size_t k) const {
+  if (!residency_.resident(k)) return false;
+  return std::all_of(reach_[k].begin(), reach_[k].end(), [&](std::uint32_t n) { return residency_.resident(n); });
+}
+
 bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
                                      std::vector<formats::CellRange>& reassigned, StreamStats& stats) {
   bool changed = false;
-  for (std::size_t k : changes.drops) {
+  // Cells dropped, or with a cell within light_reach dropped: their probes leave the light list.
+  for (std::size_t k = 0; k < lit_.size(); ++k) {
+    if (lit_[k] == 0 || lightable(k)) continue;
     const formats::CellRange& probes = probe_ranges_[k];
     for (std::uint32_t i = 0; i < lit_[k]; ++i) free_records_.push_back(std::exchange(record_of_probe_[probes.first + i], -1));
-    if (lit_[k] != 0) reassigned.push_back({probes.first, lit_[k], 0, 0}), changed = true;
+    reassigned.push_back({probes.first, lit_[k], 0, 0});
     lit_[k] = 0;
+    changed = true;
   }
-  for (std::size_t k : changes.loads) joining_.push_back(k);
-  std::erase_if(joining_, [&](std::size_t k) { return !residency_.resident(k); }); // dropped, or not placed
+  std::erase_if(joining_, [&](std::size_t k) { return !lightable(k) ? (queued_[k] = 0, true) : false; });
+  // Cells that became lightable join: the arrived ones in arrival order, then those whose last neighbour arrived.
+  const auto queue = [&](std::size_t k) {
+    if (queued_[k] != 0 || lit_[k] == probe_ranges_[k].count || !lightable(k)) return;
+    joining_.push_back(k);
+    queued_[k] = 1;
+  };
+  for (std::size_t k : changes.loads) queue(k);
+  if (!reach_cells_.empty() && !changes.loads.empty())
+    for (std::size_t k : reach_cells_) queue(k);
   std::uint32_t left = max_joining_probes_ > 0 ? std::uint32_t(max_joining_probes_) : ~0u;
   for (std::size_t k : joining_) {
     const formats::CellRange& probes = probe_ranges_[k];
@@ -60,7 +108,7 @@ bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes,
     stats.joined_probes += int(take);
     changed = true;
   }
-  std::erase_if(joining_, [&](std::size_t k) { return lit_[k] == probe_ranges_[k].count; });
+  std::erase_if(joining_, [&](std::size_t k) { return lit_[k] == probe_ranges_[k].count ? (queued_[k] = 0, true) : false; });
   for (std::size_t k : joining_) stats.joining_probes += int(probe_ranges_[k].count - lit_[k]);
   return changed;
 }

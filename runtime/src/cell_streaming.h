@@ -51,10 +51,17 @@ private:
   // and those whose record slots changed.
   bool update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
                         std::vector<formats::CellRange>& reassigned, StreamStats& stats);
+  // StreamingOptions::light_reach: the cells (with faces) within `reach` metres of each cell.
+  void find_cells_within_reach(const formats::ProbeVolume& volume, float reach);
+  // Resident, and so is every cell within light_reach: its probes may be lit.
+  bool lightable(std::size_t k) const;
 
   std::vector<formats::CellRange> probe_ranges_; // per Cell record: its probe slots
   std::vector<std::uint32_t> lit_;               // per Cell record: its first lit_[k] probes are in the light list
-  std::vector<std::size_t> joining_;             // resident cells with probes not lit yet, in arrival order
+  std::vector<std::size_t> joining_;             // lightable cells with probes not lit yet, in arrival order
+  std::vector<std::uint8_t> queued_;             // per Cell record: in joining_
+  std::vector<std::vector<std::uint32_t>> reach_; // per Cell record: the cells within light_reach (with faces)
+  std::vector<std::size_t> reach_cells_;         // the records with probes and a non-empty reach_
   std::vector<std::int32_t> record_of_probe_;    // per probe slot: its record slot, -1 when not lit
   std::vector<std::int32_t> free_records_;       // record slots not handed out (taken from the back)
   std::vector<std::string> refusals_;

@@ -38,6 +38,8 @@ Status check_options(const UploadOptions& options) {
     return {StatusCode::invalid_argument, "frames_in_flight must be in [1, 16], got " + std::to_string(options.frames_in_flight)};
   if (!(options.streaming.keep_margin >= 0.0f) || !std::isfinite(options.streaming.keep_margin))
     return {StatusCode::invalid_argument, "streaming.keep_margin must be finite and >= 0"};
+  if (!(options.streaming.light_reach >= 0.0f) || !std::isfinite(options.streaming.light_reach))
+    return {StatusCode::invalid_argument, "streaming.light_reach must be finite and >= 0"};
   if (options.streaming.max_joining_probes < 0 || options.streaming.max_lit_probes < 0)
     return {StatusCode::invalid_argument, "streaming.max_joining_probes and max_lit_probes must be >= 0"};
   if (options.light_headroom < 0)

@@ -72,10 +72,10 @@ void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
 StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
                                  std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background)
     : device_(device), source_(std::move(source)), blocks_(cell_bytes, kBlockUnit) {
-  if (background) reader_ = std::make_unique<BackgroundCellReader>(*source_);
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
     fail(StatusCode::unsupported, "streaming needs the static tracing tree split by cell (format 1.5 cell_tracing); "
                                   "bake with --cell-size or --cell-depth >= 1");
+  if (background) reader_ = std::make_unique<BackgroundCellReader>(*source_);
   for (const formats::CellTracing& ranges : volume.cell_tracing) {
     CellPart cell;
     cell.ranges = ranges;
@@ -258,6 +258,10 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
   for (std::size_t k : changes.loads) {
     CellPart& cell = cells_[k];
     if (cell.block_bytes == 0) continue; // a cell without faces: nothing to trace
+    if (used + cell.block_bytes > staging_bytes_) { // this frame's staging is full
+      missed.unplaced.push_back(k);
+      continue;
+    }
     std::optional<formats::CellTracingData> data;
     try {
       data = reader_ ? reader_->take_or_request(k) : source_->read(k);
@@ -270,8 +274,8 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
       missed.reading.push_back(k);
       continue;
     }
-    const std::int64_t offset = used + cell.block_bytes <= staging_bytes_ ? blocks_.allocate(cell.block_bytes) : -1;
-    if (offset < 0) { // its bytes are dropped: a fragmented arena is rare, reading again is cheap
+    const std::int64_t offset = blocks_.allocate(cell.block_bytes);
+    if (offset < 0) { // no free run in a fragmented arena (rare): its bytes are read again next time
       missed.unplaced.push_back(k);
       continue;
     }

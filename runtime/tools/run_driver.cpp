@@ -229,8 +229,13 @@ int run_volume(const RunOptions& options) {
   upload.memory_update = !options.no_memory_update && (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
   std::vector<streaming::PathPoint> path;
   if (options.stream) {
-    upload.streaming = {options.stream->budget, options.stream->max_upload, options.stream->max_joining, options.stream->keep_margin,
-                        options.stream->max_lit, options.stream->background_reads};
+    upload.streaming = {.budget_bytes = options.stream->budget,
+                        .max_upload_bytes = options.stream->max_upload,
+                        .max_joining_probes = options.stream->max_joining,
+                        .keep_margin = options.stream->keep_margin,
+                        .max_lit_probes = options.stream->max_lit,
+                        .light_reach = options.stream->light_reach,
+                        .read_in_background = options.stream->background_reads};
     try {
       path = streaming::read_camera_path(options.stream->path);
     } catch (const Error& e) {

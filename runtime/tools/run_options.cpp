@@ -15,7 +15,7 @@ constexpr const char* kUsage =
     "                     [--no-memory-update] [--max-depth N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
-    "                      [--keep-margin M] [--max-lit N] [--background-reads]]\n"
+    "                      [--keep-margin M] [--max-lit N] [--light-reach M] [--background-reads]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
     "  --csv OUT.csv     write frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,\n"
     "                    indirect_misses,non_finite,splits,merges,failed_allocations,free_probes,\n"
@@ -43,6 +43,8 @@ constexpr const char* kUsage =
     "  --max-joining N   with --path: at most N probes of arrived cells start being lit (traced) per frame\n"
     "  --keep-margin M   with --path: resident cells stay while within R + M metres (default 0)\n"
     "  --max-lit N       with --path: light records for N probes at once (default: every probe)\n"
+    "  --light-reach M   with --path: light a cell's probes only once every cell within M metres is resident\n"
+    "                    (default 0: once the cell is)\n"
     "  --background-reads  with --path: read arriving cells from the file on a thread of their own (a cell\n"
     "                    arrives a frame or more after it is wanted; frames never wait for the disk)\n"
     "  --verbose         one line per frame (default: a progress bar on a terminal, else a line every 100\n"
@@ -195,8 +197,8 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--max-joining" || arg == "--max-lit") {
       int& probes = arg == "--max-joining" ? stream().max_joining : stream().max_lit;
       if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error(std::string(arg) + " needs a whole number of probes >= 0");
-    } else if (arg == "--keep-margin" || arg == "--radius") {
-      float& metres = arg == "--radius" ? stream().radius : stream().keep_margin;
+    } else if (arg == "--keep-margin" || arg == "--radius" || arg == "--light-reach") {
+      float& metres = arg == "--radius" ? stream().radius : arg == "--keep-margin" ? stream().keep_margin : stream().light_reach;
       if (!has_value || !parse_number(argv[++i], metres) || !(metres >= 0.0f) || !std::isfinite(metres))
         return usage_error(std::string(arg) + " needs a finite number of metres >= 0");
     } else if (arg == "--background-reads") {

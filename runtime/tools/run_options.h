@@ -39,6 +39,7 @@ struct StreamRun {
   int max_joining = 0;           // --max-joining: probes of arrived cells lit (traced) per frame at most
   float keep_margin = 0.0f;      // --keep-margin: metres beyond the radius within which resident cells stay
   int max_lit = 0;               // --max-lit: probes with light records at once (0 = every probe)
+  float light_reach = 0.0f;      // --light-reach: StreamingOptions::light_reach
   bool background_reads = false; // --background-reads: StreamingOptions::read_in_background
 };
 

@@ -63,6 +63,24 @@ runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max
   return options;
 }
 
+// Where the middle byte of one of a cell's ranges lies in the file at `path`.
+std::uint64_t file_offset_in(const std::string& path, formats::SectionType section, const formats::CellRange& range) {
+  const formats::ContainerView view = formats::parse_container(formats::read_file_bytes(path), path);
+  for (const formats::SectionEntry& e : view.sections)
+    if (e.type == static_cast<std::uint32_t>(section)) return e.offset + range.byte_offset + range.byte_size / 2;
+  return 0;
+}
+
+// Flips bits of one byte in place: a volume that keeps the file open reads the change (a new file written
+// to the path would be another inode, which it does not read).
+void flip_byte(const std::string& path, std::uint64_t offset, char bits) {
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  file.seekg(std::streamoff(offset));
+  const char byte = char(file.get() ^ bits);
+  file.seekp(std::streamoff(offset));
+  file.put(byte);
+}
+
 TEST_F(StreamingTest, EveryCellResidentLightsExactlyAsTheWholeFile) {
   const formats::ProbeVolume& v = streamed_rooms();
   ASSERT_FALSE(v.cell_tracing.empty());
@@ -167,6 +185,46 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
   EXPECT_GT(kept, 0);
 }
 
+// light_reach: a cell's probes are lit only once every cell within reach is resident. With the reach of a
+// room (6.4 m with its walls), every probe either lights bit for bit as with the whole file or keeps the
+// file's irradiance: none is lit through a neighbouring cell that is out (no seam), whatever is resident.
+TEST_F(StreamingTest, LightReachLightsOnlyProbesThatSeeWhatTheWholeFileSees) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  runtime::UploadOptions options = streaming_options(2 * tracing_bytes_of_cells(v));
+  options.streaming.light_reach = 6.4f;
+  auto whole = runtime::Volume::upload(context(), v);
+  ASSERT_TRUE(whole.ok());
+  ASSERT_TRUE(whole.value().run_frame().ok());
+  auto a = whole.value().read_back();
+  ASSERT_TRUE(a.ok());
+  const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
+  int exact_total = 0, kept_total = 0;
+  for (const float radius : {4.0f, 8.0f, 12.0f, 20.0f}) { // more and more resident around the first probe
+    auto streamed = runtime::Volume::upload(context(), v, options); // each from the file, one frame like `whole`
+    ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+    ASSERT_TRUE(streamed.value().stream_around(first->position, radius).ok());
+    ASSERT_TRUE(streamed.value().run_frame().ok());
+    auto b = streamed.value().read_back();
+    ASSERT_TRUE(b.ok());
+    int exact = 0, kept = 0;
+    for (std::size_t i = 0; i < v.probes.size(); ++i) {
+      if (v.probes[i].link == 0) continue;
+      if (same_irradiance(b.value().probes[i], a.value().probes[i])) ++exact;
+      else if (same_irradiance(b.value().probes[i], v.probes[i])) ++kept;
+      else ADD_FAILURE() << "radius " << radius << ": probe " << i << " lit unlike the whole file (a seam)";
+    }
+    std::printf("[streaming] light reach 6.4 m, radius %.0f m: %zu cells resident, %d probes lit as the whole file, %d kept the "
+                "file's irradiance\n", double(radius), streamed.value().resident_cells().size(), exact, kept);
+    exact_total += exact, kept_total += kept;
+    ASSERT_TRUE(streamed.value().validate_live().ok());
+  }
+  EXPECT_GT(exact_total, 0);
+  EXPECT_GT(kept_total, 0);
+  runtime::UploadOptions bad = options;
+  bad.streaming.light_reach = -1.0f;
+  EXPECT_EQ(runtime::Volume::upload(context(), v, bad).status().code, runtime::StatusCode::invalid_argument);
+}
+
 TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
   const formats::ProbeVolume& v = streamed_rooms();
   const std::uint64_t all = tracing_bytes_of_cells(v), budget = all * 2 / 5;
@@ -244,18 +302,8 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   ASSERT_TRUE(later.ok());
   std::size_t damaged = 0;
   while (v.cell_tracing[damaged].trace_faces.count == 0) ++damaged;
-  const formats::ContainerView view = formats::parse_container(formats::read_file_bytes(path), path);
-  std::uint64_t offset = 0;
-  for (const formats::SectionEntry& e : view.sections)
-    if (e.type == static_cast<std::uint32_t>(formats::SectionType::trace_faces)) offset = e.offset + v.cell_tracing[damaged].trace_faces.byte_offset;
-  const auto flip_byte = [&] {
-    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
-    file.seekg(std::streamoff(offset));
-    const char byte = char(file.get() ^ 0x01);
-    file.seekp(std::streamoff(offset));
-    file.put(byte);
-  };
-  flip_byte();
+  const std::uint64_t offset = file_offset_in(path, formats::SectionType::trace_faces, v.cell_tracing[damaged].trace_faces);
+  flip_byte(path, offset, 0x01);
   ASSERT_TRUE(later.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
   auto first = later.value().run_frame();
   ASSERT_TRUE(first.ok()) << first.status().message;
@@ -272,7 +320,7 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   EXPECT_EQ(second.value().streaming.refused_cells + second.value().streaming.loaded_cells, 0) << "a refused cell is not retried";
   // With the byte back the file reads as validated again: the live state checks out, the refused cell's
   // word the null leaf.
-  flip_byte();
+  flip_byte(path, offset, 0x01);
   EXPECT_TRUE(later.value().validate_live().ok()) << later.value().validate_live().message;
 }
 
@@ -290,18 +338,8 @@ TEST_F(StreamingTest, BackgroundReadsArriveInLaterFramesAndRefuseADamagedCell) {
   std::size_t damaged = 0, with_faces = 0;
   for (const formats::CellTracing& t : v.cell_tracing) with_faces += t.trace_faces.count > 0 ? 1 : 0;
   while (v.cell_tracing[damaged].trace_faces.count == 0) ++damaged;
-  const formats::ContainerView view = formats::parse_container(formats::read_file_bytes(path), path);
-  std::uint64_t offset = 0;
-  for (const formats::SectionEntry& e : view.sections)
-    if (e.type == static_cast<std::uint32_t>(formats::SectionType::trace_vertices)) offset = e.offset + v.cell_tracing[damaged].trace_vertices.byte_offset;
-  const auto flip_byte = [&] { // in place: the volume reads the file it opened, not a new one at the path
-    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
-    file.seekg(std::streamoff(offset));
-    const char byte = char(file.get() ^ 0x40);
-    file.seekp(std::streamoff(offset));
-    file.put(byte);
-  };
-  flip_byte();
+  const std::uint64_t offset = file_offset_in(path, formats::SectionType::trace_vertices, v.cell_tracing[damaged].trace_vertices);
+  flip_byte(path, offset, 0x40);
   ASSERT_TRUE(volume.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
   int loaded = 0, refused = 0, frames = 0;
   for (;; ++frames) {
@@ -325,7 +363,7 @@ TEST_F(StreamingTest, BackgroundReadsArriveInLaterFramesAndRefuseADamagedCell) {
   std::printf("[streaming] background reads: %zu cells with faces arrived within %d frames, one refused\n", with_faces, frames);
   // The rest of the file is intact: every resident cell's block equals its bytes. (The damaged cell's
   // section checksum now fails, so the whole file is compared only after restoring it.)
-  flip_byte();
+  flip_byte(path, offset, 0x40);
   EXPECT_TRUE(volume.value().validate_live().ok()) << volume.value().validate_live().message;
 }
 

@@ -195,6 +195,12 @@ struct StreamingOptions {
   // 16 KiB per probe at 256 rays) are allocated for this many probes, not for the whole world; arrived
   // probes wait while every record slot is taken (StreamStats::joining_probes).
   int max_lit_probes = 0;
+  // Metres around a cell within which every cell with faces must be resident before the cell's probes are
+  // lit (0: as soon as the cell itself is resident). A probe's rays see only resident geometry and pass
+  // through a cell that is out; with the reach of the rays that light a probe (a room's size indoors) the
+  // probes lit see what they see in the whole file, so neighbouring cells light alike whichever are
+  // resident. The others keep their irradiance (kSampleNotLit).
+  float light_reach = 0.0f;
   // Read arriving cells on a thread of their own: a frame takes the cells already read and asks for the
   // others, so that it never waits for the disk; a cell then arrives a frame or more after it is wanted,
   // depending on the disk (StreamStats::reading_cells). Off: each frame reads the cells it loads, and the

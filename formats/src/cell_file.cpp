@@ -13,6 +13,10 @@
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
 
+// Header-only, as in container.cpp: the runtime links formats.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 namespace probebake::formats {
 namespace {
 
@@ -23,11 +27,9 @@ std::vector<T> slice(const std::vector<T>& section, const CellRange& range) {
   return {section.begin() + range.first, section.begin() + range.first + range.count};
 }
 
-template <class T>
-std::vector<T> elements_of(const std::vector<std::uint8_t>& bytes, std::size_t from, std::uint32_t count) {
-  std::vector<T> out(count);
-  if (count > 0) std::memcpy(out.data(), bytes.data() + from, std::size_t(count) * sizeof(T));
-  return out;
+std::uint64_t cell_bytes_of(const Cell& cell, const CellTracing& t) {
+  return cell.probes.byte_size + cell.surfel_batches.byte_size + cell.svo_leaves.byte_size + t.trace_nodes.byte_size +
+         t.trace_faces.byte_size + t.trace_vertices.byte_size;
 }
 
 std::string errno_text() { return std::strerror(errno); }
@@ -90,27 +92,33 @@ void CellFile::expect(const ProbeVolume& validated) {
 
 std::vector<std::uint8_t> CellFile::read_bytes(std::uint64_t offset, std::uint64_t size, const std::string& place) const {
   std::vector<std::uint8_t> bytes(size);
+  read_into(bytes.data(), offset, size, place);
+  return bytes;
+}
+
+void CellFile::read_into(void* out, std::uint64_t offset, std::uint64_t size, const std::string& place) const {
+  auto* bytes = static_cast<std::uint8_t*>(out);
   std::uint64_t done = 0;
   while (done < size) {
-    const ssize_t n = ::pread(fd_, bytes.data() + done, std::size_t(size - done), off_t(offset + done));
+    const ssize_t n = ::pread(fd_, bytes + done, std::size_t(size - done), off_t(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw_input_error(name_, place + ": read error: " + errno_text());
     if (n == 0) throw_input_error(name_, place + ": the file ends at byte " + std::to_string(offset + done) + ", " +
                                              std::to_string(size - done) + " bytes early (changed since it was opened?)");
     done += std::uint64_t(n);
   }
-  return bytes;
 }
 
-void CellFile::append_range(std::uint32_t type, std::size_t element_size, const CellRange& range, const std::string& place,
-                            std::vector<std::uint8_t>& out) const {
-  if (range.count == 0) return;
-  const std::uint64_t bytes = std::uint64_t(range.count) * element_size;
-  const std::uint64_t start = std::uint64_t(range.first) * element_size;
+template <class T, class Hash>
+std::vector<T> CellFile::read_range(std::uint32_t type, const CellRange& range, const std::string& place, Hash& hash) const {
+  std::vector<T> out(range.count);
+  if (range.count == 0) return out;
+  const std::uint64_t bytes = std::uint64_t(range.count) * sizeof(T), start = std::uint64_t(range.first) * sizeof(T);
   if (type >= sections_.size() || start + bytes > sections_[type].size) // the ranges were validated against this file
     throw Error(ErrorKind::internal, name_ + ": " + place + ": a range outside its section");
-  const std::vector<std::uint8_t> part = read_bytes(sections_[type].offset + start, bytes, place);
-  out.insert(out.end(), part.begin(), part.end());
+  read_into(out.data(), sections_[type].offset + start, bytes, place);
+  XXH3_64bits_update(&hash, out.data(), std::size_t(bytes));
+  return out;
 }
 
 CellTracingData CellFile::read_cell_tracing(std::size_t k) const {
@@ -118,24 +126,21 @@ CellTracingData CellFile::read_cell_tracing(std::size_t k) const {
   const std::string place = "cells[" + std::to_string(k) + "] (cell " + std::to_string(cells_[k].cell_index) + ")";
   const Cell& cell = cells_[k];
   const CellTracing& t = tracing_[k];
-  // The six ranges in cell_checksum's order; the tracing ones last, where they are copied out from.
-  std::vector<std::uint8_t> bytes;
-  const auto type = [](SectionType s) { return static_cast<std::uint32_t>(s); };
-  append_range(type(SectionType::probes), sizeof(gpu::Probe), cell.probes, place, bytes);
-  append_range(type(SectionType::surfel_batches), sizeof(gpu::SurfelBatch), cell.surfel_batches, place, bytes);
-  append_range(type(SectionType::svo_leaves), sizeof(gpu::SvoLeaf), cell.svo_leaves, place, bytes);
-  const std::size_t nodes_at = bytes.size();
-  append_range(type(SectionType::trace_nodes), sizeof(gpu::TraceNode), t.trace_nodes, place, bytes);
-  const std::size_t faces_at = bytes.size();
-  append_range(type(SectionType::trace_faces), sizeof(gpu::TraceFace), t.trace_faces, place, bytes);
-  const std::size_t vertices_at = bytes.size();
-  append_range(type(SectionType::trace_vertices), sizeof(gpu::TraceVertex), t.trace_vertices, place, bytes);
-  if (checksum64(bytes) != checksums_[k])
-    throw_input_error(name_, place + ": the " + std::to_string(bytes.size()) +
+  const auto type = [](SectionType section) { return static_cast<std::uint32_t>(section); };
+  // Straight into the vectors returned, hashed as read, in cell_checksum's order.
+  XXH3_state_t hash;
+  XXH3_64bits_reset(&hash);
+  read_range<gpu::Probe>(type(SectionType::probes), cell.probes, place, hash);
+  read_range<gpu::SurfelBatch>(type(SectionType::surfel_batches), cell.surfel_batches, place, hash);
+  read_range<gpu::SvoLeaf>(type(SectionType::svo_leaves), cell.svo_leaves, place, hash);
+  CellTracingData data;
+  data.nodes = read_range<gpu::TraceNode>(type(SectionType::trace_nodes), t.trace_nodes, place, hash);
+  data.faces = read_range<gpu::TraceFace>(type(SectionType::trace_faces), t.trace_faces, place, hash);
+  data.vertices = read_range<gpu::TraceVertex>(type(SectionType::trace_vertices), t.trace_vertices, place, hash);
+  if (XXH3_64bits_digest(&hash) != checksums_[k])
+    throw_input_error(name_, place + ": its " + std::to_string(cell_bytes_of(cell, t)) +
                                  " bytes on disk differ from those validated when the file was opened (changed since?)");
-  return {elements_of<gpu::TraceNode>(bytes, nodes_at, t.trace_nodes.count),
-          elements_of<gpu::TraceFace>(bytes, faces_at, t.trace_faces.count),
-          elements_of<gpu::TraceVertex>(bytes, vertices_at, t.trace_vertices.count)};
+  return data;
 }
 
 ProbeVolume CellFile::read_volume() const {

@@ -1,12 +1,12 @@
 #include "cell_streaming.h"
 
-#include "probebake/formats/cells.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <utility>
+
+#include "probebake/formats/cells.h"
 
 namespace probebake::runtime::detail {
 

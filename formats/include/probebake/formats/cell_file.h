@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "probebake/formats/probe_volume.h"
@@ -60,9 +61,10 @@ private:
   };
   CellFile(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
   std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size, const std::string& place) const;
-  // Appends the bytes of `range` of the section of `type` (elements of `element_size` bytes) to `out`.
-  void append_range(std::uint32_t type, std::size_t element_size, const CellRange& range, const std::string& place,
-                    std::vector<std::uint8_t>& out) const;
+  void read_into(void* out, std::uint64_t offset, std::uint64_t size, const std::string& place) const;
+  // The elements of `range` of the section of `type`, added to `hash` (an XXH3_state_t).
+  template <class T, class Hash>
+  std::vector<T> read_range(std::uint32_t type, const CellRange& range, const std::string& place, Hash& hash) const;
 
   int fd_ = -1;
   std::string name_;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <span>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -279,14 +281,60 @@ void add_sample_object(ProbeVolume& v) {
   v.dynamic_objects = {o};
 }
 
+TraceInputTriangle input_triangle(const gpu::TraceTriangle& t) {
+  TraceInputTriangle in;
+  in.corners[0] = t.v0, in.corners[1] = t.v0 + t.edge1, in.corners[2] = t.v0 + t.edge2;
+  in.albedo = t.albedo, in.emission = t.emission;
+  in.double_sided = (t.flags & gpu::TRIANGLE_DOUBLE_SIDED) != 0u;
+  return in;
+}
+
+// Format 1.5: the float sections traced as a static tree split by the cells of depth 1 (each cell's faces
+// in one leaf, the cells in index order, which is their Morton order at depth 1) and the object's tree.
+void split_tracing_by_cell(ProbeVolume& v) {
+  const gpu::DynamicObject object = v.dynamic_objects.at(0);
+  std::map<int, std::vector<TraceInputTriangle>> by_cell;
+  for (int t = 0; t < object.first_triangle; ++t) {
+    const TraceInputTriangle in = input_triangle(v.trace_triangles[std::size_t(t)]);
+    by_cell[cell_of_triangle(v.info, 1, in.corners[0], in.corners[1], in.corners[2])].push_back(in);
+  }
+  v.cells.clear();
+  std::vector<TraceInputTriangle> card;
+  for (int t = object.first_triangle; t < object.first_triangle + object.triangle_count; ++t)
+    card.push_back(input_triangle(v.trace_triangles[std::size_t(t)]));
+  v.bvh_nodes.clear(), v.trace_triangles.clear();
+  std::vector<gpu::BvhNode> leaves; // one per cell, then the card's
+  for (const auto& [index, triangles] : by_cell) leaves.push_back({{}, 0, {}, int(triangles.size())});
+  std::vector<TraceTreeInput> cells;
+  std::vector<std::size_t> order;
+  std::size_t k = 0;
+  for (const auto& [index, triangles] : by_cell) {
+    cells.push_back({std::span(&leaves[k], 1), triangles});
+    order.push_back(k++);
+    Cell record;
+    record.cell_index = index;
+    v.cells.push_back(record);
+  }
+  TraceMeshBuilder mesh(v);
+  mesh.add_cell_tree(cells, order, v.cell_tracing);
+  const gpu::BvhNode card_leaf{{}, 0, {}, int(card.size())};
+  gpu::DynamicObject& o = v.dynamic_objects[0];
+  o.first_triangle = int(v.trace_faces.size());
+  o.bvh_root = mesh.add_tree({std::span(&card_leaf, 1), card});
+  o.bvh_node_count = v.trace_trees.back().node_count;
+  v.cell_depth = 1;
+}
+
 } // namespace
 
 ProbeVolume make_sample(Sample sample) {
   ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
-  const bool lit = sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic || sample == Sample::compact;
+  const bool compact = sample == Sample::compact || sample == Sample::cells;
+  const bool lit = sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic || compact;
   if (lit) add_sample_lighting(volume);
-  if (sample == Sample::double_sided || sample == Sample::compact) mark_double_sided(volume);
-  if (sample == Sample::dynamic || sample == Sample::compact) add_sample_object(volume);
+  if (sample == Sample::double_sided || compact) mark_double_sided(volume);
+  if (sample == Sample::dynamic || compact) add_sample_object(volume);
+  if (sample == Sample::cells) split_tracing_by_cell(volume);
   sync_info_counts(volume);
   if (sample == Sample::compact) upgrade_tracing(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
@@ -303,6 +351,7 @@ const char* sample_name(Sample sample) {
   case Sample::double_sided: return "double_sided";
   case Sample::dynamic: return "dynamic";
   case Sample::compact: return "compact";
+  case Sample::cells: return "cells";
   }
   return "";
 }
@@ -316,6 +365,7 @@ const char* golden_name(Sample sample) {
   case Sample::double_sided: return "v1_2_double_sided.probes";
   case Sample::dynamic: return "v1_3_dynamic.probes";
   case Sample::compact: return "v1_4_compact.probes";
+  case Sample::cells: return "v1_6_cells.probes";
   }
   return "";
 }

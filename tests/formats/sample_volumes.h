@@ -19,11 +19,13 @@ enum class Sample {
                 // moved by its rest pose (a translation)
   compact,      // dynamic with the double-sided flags, its tracing in format 1.4's compact sections
                 // (formats::upgrade_tracing): two trees, shared vertices, a material table
+  cells,        // compact with its static tree split by streaming cell (format 1.5 cell_tracing: one leaf per
+                // cell of depth 1 under a top level) and so a checksum per cell (1.6 cell_checksums)
 };
 
 // Every sample, for tests that loop over them.
 inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting,
-                                           Sample::double_sided, Sample::dynamic, Sample::compact};
+                                           Sample::double_sided, Sample::dynamic, Sample::compact, Sample::cells};
 
 ProbeVolume make_sample(Sample sample);
 

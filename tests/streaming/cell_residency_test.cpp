@@ -35,13 +35,14 @@ std::vector<CellFootprint> grid_cells(int n, std::mt19937& rng) {
 }
 
 // The policy restated: a cell within the radius, or resident before and within radius + margin, is wanted
-// exactly when its bytes fit beside the wanted cells nearer than it (ties by index); no other cell is.
+// exactly when its bytes fit beside the wanted cells nearer than it (ties by index); no other cell is, nor
+// a refused one.
 void expect_policy(const CellResidency& r, glm::vec3 camera, float radius, float margin, const std::vector<std::uint8_t>& before,
                    const std::vector<std::uint8_t>& wanted) {
   const auto cells = r.cells();
   const auto distance = [&](std::size_t k) { return streaming::distance_to_box(camera, cells[k].min, cells[k].max); };
   for (std::size_t k = 0; k < cells.size(); ++k) {
-    if (distance(k) > radius && !(before[k] != 0 && distance(k) <= radius + margin)) {
+    if (r.refused(k) || (distance(k) > radius && !(before[k] != 0 && distance(k) <= radius + margin))) {
       ASSERT_EQ(wanted[k], 0) << "cell " << k << " is outside the radius";
       continue;
     }
@@ -60,9 +61,15 @@ TEST(CellResidency, ThousandsOfRandomMovesKeepTheBudgetAndThePolicy) {
   std::uniform_real_distribution<float> step(-0.7f, 0.7f), unit(0.0f, 1.0f);
   glm::vec3 camera(3.0f);
   std::uint64_t largest_resident = 0;
-  std::size_t loads = 0, drops = 0;
+  std::size_t loads = 0, drops = 0, refused = 0;
   for (int frame = 0; frame < 4000; ++frame) {
     camera = glm::clamp(camera + glm::vec3(step(rng), step(rng), step(rng)), glm::vec3(-1.0f), glm::vec3(7.0f));
+    if (frame >= 3000 && frame % 40 == 0 && residency.resident_count() > 0) { // a cell found damaged on load
+      std::size_t k = rng() % residency.cells().size();
+      while (!residency.resident(k)) k = (k + 1) % residency.cells().size();
+      residency.refuse(k);
+      ++refused;
+    }
     if (frame % 97 == 0) residency.set_budget(std::uint64_t(unit(rng) * 12000.0f));
     residency.set_max_load_bytes(frame < 2000 ? 0 : 1500);
     const float margin = frame % 1000 < 500 ? 0.0f : 0.6f;
@@ -113,8 +120,9 @@ TEST(CellResidency, ThousandsOfRandomMovesKeepTheBudgetAndThePolicy) {
     loads += changes.loads.size();
     drops += changes.drops.size();
   }
-  std::printf("[residency] 4000 frames, 216 cells: %zu loads, %zu drops, largest resident %llu bytes\n", loads, drops,
-              static_cast<unsigned long long>(largest_resident));
+  std::printf("[residency] 4000 frames, 216 cells: %zu loads, %zu drops, %zu cells refused, largest resident %llu bytes\n", loads,
+              drops, refused, static_cast<unsigned long long>(largest_resident));
+  EXPECT_GT(refused, 10u);
   EXPECT_GT(loads, 1000u);
   EXPECT_GT(drops, 1000u);
 }

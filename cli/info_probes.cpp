@@ -2,7 +2,10 @@
 // cells, bake settings), as text or JSON.
 #include "info_probes.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -60,6 +63,27 @@ nlohmann::json tracing_json(const formats::ProbeVolume& v) {
           {"layout", formats::has_float_tracing(v) ? "float (1.1-1.3)" : "compact"}};
 }
 
+// What a streaming runtime holds (docs/RUNTIME.md "Streaming cells"): every byte of the file but the cells'
+// tracing ranges stays in host memory; each cell's tracing is read when it loads and takes a block of the
+// device budget. Null without split tracing.
+nlohmann::json streaming_json(const ProbesInfo& in) {
+  const formats::ProbeVolume& v = in.volume;
+  if (v.cell_tracing.empty()) return nullptr;
+  std::vector<std::uint64_t> sizes;
+  std::uint64_t total = 0;
+  for (const formats::CellTracing& t : v.cell_tracing) {
+    sizes.push_back(t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size);
+    total += sizes.back();
+  }
+  std::sort(sizes.begin(), sizes.end());
+  const auto with_faces = std::size_t(std::count_if(sizes.begin(), sizes.end(), [](std::uint64_t b) { return b > 0; }));
+  return {{"resident_host_bytes", in.file_size - total},
+          {"cell_tracing_bytes", total},
+          {"cells_with_faces", with_faces},
+          {"largest_cell_tracing_bytes", sizes.back()},
+          {"median_cell_tracing_bytes", with_faces > 0 ? sizes[sizes.size() - with_faces + with_faces / 2] : 0u}};
+}
+
 nlohmann::json info_json(const ProbesInfo& in) {
   const formats::ProbeVolume& v = in.volume;
   nlohmann::json sections = nlohmann::json::array();
@@ -106,6 +130,7 @@ nlohmann::json info_json(const ProbesInfo& in) {
           {"sections", sections},
           {"tracing", tracing_json(v)},
           {"cell_depth", v.cell_depth},
+          {"streaming", streaming_json(in)},
           {"cells", cells}};
 }
 
@@ -138,6 +163,12 @@ void print_text(const ProbesInfo& in) {
                tracing["bytes"].get<std::size_t>(), tracing["bytes_per_triangle"].get<double>(), tracing["layout"].get<std::string>());
   }
   fmt::print("cells        {} (depth {})\n", v.cells.size(), v.cell_depth);
+  if (const nlohmann::json streaming = streaming_json(in); !streaming.is_null())
+    fmt::print("streaming    {} B stay in host memory; {} B of tracing in {} cells with faces, read as they load "
+               "(largest {} B, median {} B)\n",
+               streaming["resident_host_bytes"].get<std::uint64_t>(), streaming["cell_tracing_bytes"].get<std::uint64_t>(),
+               streaming["cells_with_faces"].get<std::size_t>(), streaming["largest_cell_tracing_bytes"].get<std::uint64_t>(),
+               streaming["median_cell_tracing_bytes"].get<std::uint64_t>());
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     const formats::Cell& c = v.cells[k];
     std::string tracing;

@@ -63,9 +63,9 @@ nlohmann::json tracing_json(const formats::ProbeVolume& v) {
           {"layout", formats::has_float_tracing(v) ? "float (1.1-1.3)" : "compact"}};
 }
 
-// What a streaming runtime holds (docs/RUNTIME.md "Streaming cells"): every byte of the file but the cells'
-// tracing ranges stays in host memory; each cell's tracing is read when it loads and takes a block of the
-// device budget. Null without split tracing.
+// What streams (docs/RUNTIME.md "Streaming cells"): a streaming runtime loads every byte of the file but the
+// cells' tracing ranges whole, at load; each cell's tracing is read when the cell loads and takes a block of
+// the device budget. Null without split tracing.
 nlohmann::json streaming_json(const ProbesInfo& in) {
   const formats::ProbeVolume& v = in.volume;
   if (v.cell_tracing.empty()) return nullptr;
@@ -77,7 +77,7 @@ nlohmann::json streaming_json(const ProbesInfo& in) {
   }
   std::sort(sizes.begin(), sizes.end());
   const auto with_faces = std::size_t(std::count_if(sizes.begin(), sizes.end(), [](std::uint64_t b) { return b > 0; }));
-  return {{"resident_host_bytes", in.file_size - total},
+  return {{"global_bytes", in.file_size - total},
           {"cell_tracing_bytes", total},
           {"cells_with_faces", with_faces},
           {"largest_cell_tracing_bytes", sizes.back()},
@@ -164,9 +164,8 @@ void print_text(const ProbesInfo& in) {
   }
   fmt::print("cells        {} (depth {})\n", v.cells.size(), v.cell_depth);
   if (const nlohmann::json streaming = streaming_json(in); !streaming.is_null())
-    fmt::print("streaming    {} B stay in host memory; {} B of tracing in {} cells with faces, read as they load "
-               "(largest {} B, median {} B)\n",
-               streaming["resident_host_bytes"].get<std::uint64_t>(), streaming["cell_tracing_bytes"].get<std::uint64_t>(),
+    fmt::print("streaming    {} B load whole; {} B of tracing in {} cells with faces stream (largest {} B, median {} B)\n",
+               streaming["global_bytes"].get<std::uint64_t>(), streaming["cell_tracing_bytes"].get<std::uint64_t>(),
                streaming["cells_with_faces"].get<std::size_t>(), streaming["largest_cell_tracing_bytes"].get<std::uint64_t>(),
                streaming["median_cell_tracing_bytes"].get<std::uint64_t>());
   for (std::size_t k = 0; k < v.cells.size(); ++k) {

@@ -218,7 +218,7 @@ TEST(InfoProbes, JsonHasCountsSectionsAndCells) {
   EXPECT_NE(text.find("25 of 30 allocated"), std::string::npos) << text;
 }
 
-// A file with split tracing (1.6): what a streaming runtime keeps in host memory and reads per cell.
+// A file with split tracing (1.6): what a streaming runtime loads whole and what it reads per cell.
 TEST(InfoProbes, SaysWhatStreamingKeepsInHostMemory) {
   const std::string golden = testing::golden_path(testing::golden_name(testing::Sample::cells)).string();
   const ProbeVolume v = read_probes_file(golden);
@@ -232,12 +232,12 @@ TEST(InfoProbes, SaysWhatStreamingKeepsInHostMemory) {
   const nlohmann::json info = nlohmann::json::parse(::testing::internal::GetCapturedStdout());
   EXPECT_EQ(info["format_version"], "1.6");
   EXPECT_EQ(info["streaming"]["cell_tracing_bytes"], tracing);
-  EXPECT_EQ(info["streaming"]["resident_host_bytes"], std::filesystem::file_size(golden) - tracing);
+  EXPECT_EQ(info["streaming"]["global_bytes"], std::filesystem::file_size(golden) - tracing);
   EXPECT_EQ(info["streaming"]["largest_cell_tracing_bytes"], largest);
   EXPECT_EQ(info["streaming"]["cells_with_faces"], 4);
   ::testing::internal::CaptureStdout();
   EXPECT_EQ(cli::run_info_probes(golden, false), 0);
-  EXPECT_NE(::testing::internal::GetCapturedStdout().find("B stay in host memory"), std::string::npos);
+  EXPECT_NE(::testing::internal::GetCapturedStdout().find("B load whole"), std::string::npos);
   // Without split tracing there is nothing to stream.
   ::testing::internal::CaptureStdout();
   EXPECT_EQ(cli::run_info_probes(testing::golden_path(testing::golden_name(testing::Sample::compact)).string(), true), 0);

@@ -2,7 +2,7 @@
 // reads and validates the whole file once, keeps only the global sections in host memory, and reads a cell's
 // tracing again from the same descriptor each time the cell is loaded: host memory then holds the global
 // sections and one cell at a time, not the world (the cells' static tracing is 56.5 of the 64.9 MB of the
-// 64-room world; `probebake info` prints what stays).
+// 64-room world; `probebake info` prints what streams).
 //
 // Every cell read is checked against the checksum of the bytes that were validated (cells.h cell_checksum,
 // computed by expect()), so a file changed or cut short on disk since is refused cell by cell and never

@@ -393,6 +393,16 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   int lines = 0;
   for (std::string line; std::getline(rows, line);) ++lines;
   EXPECT_EQ(lines, 1 + 6);
+  // The same path read in the background, probes lit only with the rooms around them resident.
+  const CliResult background = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) + " --path " +
+                                       test::quoted(std::filesystem::path(path)) +
+                                       " --radius 8 --background-reads --light-reach 6.4 --validate --vk-validation");
+  EXPECT_EQ(background.exit_code, 0) << background.out << background.err;
+  EXPECT_NE(background.out.find(" being read)"), std::string::npos) << background.out;
+  EXPECT_NE(background.out.find("host memory: "), std::string::npos) << background.out;
+  EXPECT_NE(background.out.find("validation messages: 0"), std::string::npos) << background.out;
+  EXPECT_EQ(run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " + test::quoted(std::filesystem::path(path)) +
+                    " --light-reach -1").exit_code, 1);
   const CliResult missing = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M");
   EXPECT_EQ(missing.exit_code, 1) << "--budget needs --path";
   const CliResult bad_path = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " +

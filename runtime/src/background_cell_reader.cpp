@@ -23,7 +23,7 @@ std::optional<formats::CellTracingData> BackgroundCellReader::take_or_request(st
   if (auto it = done_.find(k); it != done_.end()) {
     Read read = std::move(it->second);
     done_.erase(it);
-    if (!read.error.empty()) throw Error(ErrorKind::input, read.error);
+    if (!read.error.empty()) throw Error(read.kind, read.error); // as the source threw it, on this thread
     return std::move(read.data);
   }
   if (reading_ != k && std::find(queue_.begin(), queue_.end(), k) == queue_.end()) {
@@ -54,9 +54,9 @@ void BackgroundCellReader::run() {
     try {
       read.data = source_.read(k);
     } catch (const Error& e) {
-      read.error = e.kind() == ErrorKind::input ? e.what() : std::string("internal: ") + e.what();
-    } catch (const std::exception& e) { // out of memory: the cell is refused like an unreadable one
-      read.error = std::string("cannot read: ") + e.what();
+      read.kind = e.kind(), read.error = e.what();
+    } catch (const std::exception& e) { // out of memory
+      read.kind = ErrorKind::internal, read.error = std::string("reading a cell: ") + e.what();
     }
     lock.lock();
     reading_.reset();

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cell_source.h"
+#include "probebake/formats/error.h"
 
 namespace probebake::runtime::detail {
 
@@ -24,8 +25,8 @@ public:
   BackgroundCellReader(const BackgroundCellReader&) = delete;
   BackgroundCellReader& operator=(const BackgroundCellReader&) = delete;
 
-  // Cell k's bytes when read, taken out (an input error reading them is rethrown here, as the source threw
-  // it); otherwise asks for it, unless it is already asked for, and returns nullopt.
+  // Cell k's bytes when read, taken out (an error reading them is rethrown here, of the kind the source
+  // threw); otherwise asks for it, unless it is already asked for, and returns nullopt.
   std::optional<formats::CellTracingData> take_or_request(std::size_t k);
   // Forgets every cell not in `wanted`: queued ones are not read, read ones are dropped.
   void keep_only(std::span<const std::size_t> wanted);
@@ -33,7 +34,8 @@ public:
 private:
   struct Read {
     formats::CellTracingData data;
-    std::string error; // the input error's message, or empty
+    ErrorKind kind = ErrorKind::input;
+    std::string error; // the error's message, or empty
   };
   void run();
 

@@ -26,7 +26,8 @@ float distance_to_box(glm::vec3 point, glm::vec3 min, glm::vec3 max) {
   return glm::length(outside);
 }
 
-CellResidency::CellResidency(std::vector<CellFootprint> cells) : cells_(std::move(cells)), resident_(cells_.size(), 0), refused_(cells_.size(), 0) {}
+CellResidency::CellResidency(std::vector<CellFootprint> cells)
+    : cells_(std::move(cells)), resident_(cells_.size(), 0), refused_(cells_.size(), 0) {}
 
 std::vector<std::size_t> CellResidency::wanted(glm::vec3 position, float radius) const {
   std::vector<std::pair<float, std::size_t>> near;

@@ -153,7 +153,8 @@ void write_frame_header(std::ostream& out) {
   for (const char* state : kStateNames) out << ',' << state;
   out << ",surfel_hit_fraction,probes_placed,probes_freed,splits,merges,failed_allocations,deferred,moved_objects,"
          "clusters_used,cluster_capacity,probes_used,probe_capacity,batches_used,batch_capacity,camera_x,camera_y,camera_z,"
-         "resident_cells,resident_bytes,loaded_cells,loaded_bytes,dropped_cells,waiting_cells,upload_cpu_ms\n";
+         "resident_cells,resident_bytes,loaded_cells,loaded_bytes,dropped_cells,waiting_cells,reading_cells,refused_cells,"
+         "upload_cpu_ms\n";
 }
 
 void write_frame_row(std::ostream& out, const FrameRow& r) {
@@ -168,7 +169,8 @@ void write_frame_row(std::ostream& out, const FrameRow& r) {
   for (float c : r.camera) out << ',' << number(c, 6);
   const runtime::StreamStats& s = r.stream;
   out << ',' << s.resident_cells << ',' << s.resident_bytes << ',' << s.loaded_cells << ',' << s.loaded_bytes << ','
-      << s.dropped_cells << ',' << s.waiting_cells << ',' << number(s.upload_cpu_ms, 6) << '\n';
+      << s.dropped_cells << ',' << s.waiting_cells << ',' << s.reading_cells << ',' << s.refused_cells << ','
+      << number(s.upload_cpu_ms, 6) << '\n';
 }
 
 const char* motion_phase(dynamic::Animation animation, int frame) {

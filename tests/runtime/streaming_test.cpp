@@ -400,8 +400,13 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
   std::ifstream rows(csv);
   int lines = 0;
-  for (std::string line; std::getline(rows, line);) ++lines;
+  std::string header;
+  for (std::string line; std::getline(rows, line); ++lines) {
+    if (lines == 0) header = line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), std::count(header.begin(), header.end(), ',')) << line;
+  }
   EXPECT_EQ(lines, 1 + 6);
+  EXPECT_NE(header.find(",waiting_cells,reading_cells,refused_cells,upload_cpu_ms"), std::string::npos) << header;
   // The same path read in the background, probes lit only with the rooms around them resident.
   const CliResult background = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) + " --path " +
                                        test::quoted(std::filesystem::path(path)) +

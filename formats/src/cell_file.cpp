@@ -27,11 +27,6 @@ std::vector<T> slice(const std::vector<T>& section, const CellRange& range) {
   return {section.begin() + range.first, section.begin() + range.first + range.count};
 }
 
-std::uint64_t cell_bytes_of(const Cell& cell, const CellTracing& t) {
-  return cell.probes.byte_size + cell.surfel_batches.byte_size + cell.svo_leaves.byte_size + t.trace_nodes.byte_size +
-         t.trace_faces.byte_size + t.trace_vertices.byte_size;
-}
-
 std::string errno_text() { return std::strerror(errno); }
 
 } // namespace
@@ -60,24 +55,7 @@ CellFile CellFile::open(const std::filesystem::path& path, ProbeVolume& volume) 
   return file;
 }
 
-CellFile::CellFile(CellFile&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)), name_(std::move(other.name_)), sections_(std::move(other.sections_)),
-      cells_(std::move(other.cells_)), tracing_(std::move(other.tracing_)), checksums_(std::move(other.checksums_)) {}
-
-CellFile& CellFile::operator=(CellFile&& other) noexcept {
-  if (this != &other) {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = std::exchange(other.fd_, -1);
-    name_ = std::move(other.name_);
-    sections_ = std::move(other.sections_);
-    cells_ = std::move(other.cells_);
-    tracing_ = std::move(other.tracing_);
-    checksums_ = std::move(other.checksums_);
-  }
-  return *this;
-}
-
-CellFile::~CellFile() {
+CellFile::Descriptor::~Descriptor() {
   if (fd_ >= 0) ::close(fd_);
 }
 
@@ -86,8 +64,11 @@ void CellFile::expect(const ProbeVolume& validated) {
     throw Error(ErrorKind::usage, name_ + ": reading cells from disk needs the tracing split by cell (format 1.5 cell_tracing)");
   cells_ = validated.cells;
   tracing_ = validated.cell_tracing;
-  checksums_.clear();
-  for (std::size_t k = 0; k < cells_.size(); ++k) checksums_.push_back(cell_checksum(validated, k));
+  checksums_.clear(), bytes_.clear();
+  for (std::size_t k = 0; k < cells_.size(); ++k) {
+    checksums_.push_back(cell_checksum(validated, k));
+    bytes_.push_back(cell_bytes(validated, k));
+  }
 }
 
 std::vector<std::uint8_t> CellFile::read_bytes(std::uint64_t offset, std::uint64_t size, const std::string& place) const {
@@ -100,7 +81,7 @@ void CellFile::read_into(void* out, std::uint64_t offset, std::uint64_t size, co
   auto* bytes = static_cast<std::uint8_t*>(out);
   std::uint64_t done = 0;
   while (done < size) {
-    const ssize_t n = ::pread(fd_, bytes + done, std::size_t(size - done), off_t(offset + done));
+    const ssize_t n = ::pread(fd_.get(), bytes + done, std::size_t(size - done), off_t(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw_input_error(name_, place + ": read error: " + errno_text());
     if (n == 0) throw_input_error(name_, place + ": the file ends at byte " + std::to_string(offset + done) + ", " +
@@ -138,14 +119,14 @@ CellTracingData CellFile::read_cell_tracing(std::size_t k) const {
   data.faces = read_range<gpu::TraceFace>(type(SectionType::trace_faces), t.trace_faces, place, hash);
   data.vertices = read_range<gpu::TraceVertex>(type(SectionType::trace_vertices), t.trace_vertices, place, hash);
   if (XXH3_64bits_digest(&hash) != checksums_[k])
-    throw_input_error(name_, place + ": its " + std::to_string(cell_bytes_of(cell, t)) +
+    throw_input_error(name_, place + ": its " + std::to_string(bytes_[k]) +
                                  " bytes on disk differ from those validated when the file was opened (changed since?)");
   return data;
 }
 
 ProbeVolume CellFile::read_volume() const {
   struct stat info {};
-  if (::fstat(fd_, &info) != 0) throw_input_error(name_, "cannot stat: " + errno_text());
+  if (::fstat(fd_.get(), &info) != 0) throw_input_error(name_, "cannot stat: " + errno_text());
   return read_probes(read_bytes(0, std::uint64_t(info.st_size), "file"), name_);
 }
 

@@ -71,8 +71,9 @@ bool CellStreaming::lightable(std::size_t k) const {
 bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
                                      std::vector<formats::CellRange>& reassigned, StreamStats& stats) {
   bool changed = false;
-  // Cells dropped, or with a cell within light_reach dropped: their probes leave the light list.
-  for (std::size_t k = 0; k < lit_.size(); ++k) {
+  // Cells dropped, or with a cell within light_reach dropped: their probes leave the light list. Only a drop
+  // makes a lit cell unlightable (the loads that did not happen were not resident before).
+  for (std::size_t k = 0; k < lit_.size() && !changes.drops.empty(); ++k) {
     if (lit_[k] == 0 || lightable(k)) continue;
     const formats::CellRange& probes = probe_ranges_[k];
     for (std::uint32_t i = 0; i < lit_[k]; ++i) free_records_.push_back(std::exchange(record_of_probe_[probes.first + i], -1));
@@ -122,9 +123,11 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     streaming::ResidencyChanges changes = residency_.update(camera_, radius_);
     timer.begin(cmd, slot);
     const StreamedTracing::Missed missed = tracing_.record(cmd, ring, changes);
-    for (std::size_t k : missed.unplaced) residency_.cancel_load(k);
-    for (std::size_t k : missed.reading) residency_.cancel_load(k);
-    for (const auto& [k, reason] : missed.refused) residency_.refuse(k), refusals_.push_back(reason);
+    std::uint64_t missed_bytes = 0; // of the loads that did not happen
+    for (const std::vector<std::size_t>* later : {&missed.unplaced, &missed.reading})
+      for (std::size_t k : *later) residency_.cancel_load(k), missed_bytes += residency_.cells()[k].bytes;
+    for (const auto& [k, reason] : missed.refused)
+      residency_.refuse(k), refusals_.push_back(reason), missed_bytes += residency_.cells()[k].bytes;
     std::vector<formats::CellRange> retrace, reassigned;
     if (update_lit_cells(changes, retrace, reassigned, stats)) {
       std::vector<std::int32_t> slots;
@@ -138,10 +141,7 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes
     stats.loaded_cells = int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
     stats.dropped_cells = int(changes.drops.size());
-    stats.loaded_bytes = changes.loaded_bytes;
-    for (std::size_t k : missed.unplaced) stats.loaded_bytes -= residency_.cells()[k].bytes;
-    for (std::size_t k : missed.reading) stats.loaded_bytes -= residency_.cells()[k].bytes;
-    for (const auto& refused : missed.refused) stats.loaded_bytes -= residency_.cells()[refused.first].bytes;
+    stats.loaded_bytes = changes.loaded_bytes - missed_bytes;
     stats.waiting_cells = int(changes.waiting);
     stats.unplaced_cells = int(missed.unplaced.size());
     stats.refused_cells = int(missed.refused.size());

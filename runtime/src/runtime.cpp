@@ -239,7 +239,7 @@ Status Volume::validate_live(formats::ValidationReport* report) {
     formats::ValidationReport checked = formats::validate(live.value());
     checked.name = "live volume";
     if (state_->streaming)
-      for (const std::string& problem : state_->streaming->tracing().verify())
+      for (const std::string& problem : state_->streaming->tracing().verify(live.value())) // the file's tracing
         checked.violations.push_back({"streamed_cell", "trace_nodes", -1, problem});
     Status status = status_of(checked);
     if (report) *report = std::move(checked);

@@ -79,8 +79,9 @@ public:
   formats::ProbeVolume file_tracing() const { return source_->tracing(); }
 
   // Reads the arena back: every resident cell's block, numbered back, equals the file's bytes and the word
-  // leading to it points at it; every other cell's word is the null leaf. The problems found (at most 8).
-  std::vector<std::string> verify() const;
+  // leading to it points at it; every other cell's word is the null leaf. `file`: the tracing sections and
+  // cell_tracing as file_tracing() gave them (read once for the whole check). The problems found (at most 8).
+  std::vector<std::string> verify(const formats::ProbeVolume& file) const;
 
 private:
   struct Layout; // where a cell's nodes, faces and vertices lie in a block

@@ -37,11 +37,8 @@ public:
   // section checks, not validate()). Throws Error(input, "<path>: <reason>").
   static CellFile open(const std::filesystem::path& path, ProbeVolume& volume);
 
-  CellFile(CellFile&& other) noexcept;
-  CellFile& operator=(CellFile&& other) noexcept;
-  CellFile(const CellFile&) = delete;
-  CellFile& operator=(const CellFile&) = delete;
-  ~CellFile();
+  CellFile(CellFile&&) noexcept = default;
+  CellFile& operator=(CellFile&&) noexcept = default;
 
   // Keeps each cell's ranges and the checksum of its bytes as `validated` holds them. Call once the volume
   // that open() read passed validate(); it needs cell_tracing (Error(usage) otherwise).
@@ -54,11 +51,24 @@ public:
   // The whole file again (read_probes): for read-backs that compare the GPU with the file.
   ProbeVolume read_volume() const;
 
-  const std::string& name() const { return name_; }
-
 private:
   struct Section {
     std::uint64_t offset = 0, size = 0;
+  };
+  // The open file: closed on destruction, moved as a value that leaves -1 behind.
+  class Descriptor {
+  public:
+    explicit Descriptor(int fd) : fd_(fd) {}
+    Descriptor(Descriptor&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+    Descriptor& operator=(Descriptor&& other) noexcept {
+      std::swap(fd_, other.fd_);
+      return *this;
+    }
+    ~Descriptor();
+    int get() const { return fd_; }
+
+  private:
+    int fd_ = -1;
   };
   CellFile(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
   std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size, const std::string& place) const;
@@ -67,12 +77,13 @@ private:
   template <class T, class Hash>
   std::vector<T> read_range(std::uint32_t type, const CellRange& range, const std::string& place, Hash& hash) const;
 
-  int fd_ = -1;
+  Descriptor fd_;
   std::string name_;
   std::vector<Section> sections_; // by SectionType value, empty when the file has none
   std::vector<Cell> cells_;
   std::vector<CellTracing> tracing_;
   std::vector<std::uint64_t> checksums_;
+  std::vector<std::uint64_t> bytes_; // cells.h cell_bytes of each cell, for the message of a refusal
 };
 
 } // namespace probebake::formats

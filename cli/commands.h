@@ -16,6 +16,7 @@ struct Command {
 };
 
 Command add_bake_command(CLI::App& root);
+Command add_merge_command(CLI::App& root); // joins the parts of a split bake
 Command add_info_command(CLI::App& root);
 Command add_validate_command(CLI::App& root);
 Command add_reference_command(CLI::App& root);

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<cli::Command> commands = {
       cli::add_bake_command(app),
+      cli::add_merge_command(app),
       cli::add_info_command(app),
       cli::add_validate_command(app),
       cli::add_reference_command(app),

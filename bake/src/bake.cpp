@@ -286,7 +286,8 @@ int cell_depth_for(const BakeSettings& s, float root_size) {
                                             root_size / float(formats::cells_per_axis(formats::kMaxCellDepth))));
 }
 
-BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const ProgressCallback& progress) {
+BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const ProgressCallback& progress,
+                const PrecomputedWork* precomputed) {
   BakeSettings settings = requested; // the cell depth is resolved once the root cube is known
   check_settings(settings);
   check_scene(scene);
@@ -296,16 +297,28 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   BakeReport& report = result.report;
   StageTimer timer(report);
 
-  timer.stage("bvh");
-  const scene::RayScene full_rays(scene);
-  timer.stage("sealed");
   // Placement, relocation, the SVO and lighting see only what open space can see (placement/sealed.h); the
-  // runtime lighting sections keep every triangle.
-  const std::optional<scene::Scene> culled = placement::without_sealed(scene, placement::sealed_triangles(full_rays, settings.threads));
+  // runtime lighting sections keep every triangle. The sealed test needs the whole scene's BVH, which the
+  // later stages need only when nothing is sealed.
+  std::optional<scene::RayScene> full_rays;
+  std::vector<char> sealed;
+  if (precomputed) {
+    if (precomputed->sealed.size() != scene.triangles.size())
+      throw Error(ErrorKind::internal, "bake: precomputed sealed flags for another triangle count");
+    sealed = precomputed->sealed;
+  } else {
+    timer.stage("bvh");
+    full_rays.emplace(scene);
+    timer.stage("sealed");
+    sealed = placement::sealed_triangles(*full_rays, settings.threads);
+  }
+  const std::optional<scene::Scene> culled = placement::without_sealed(scene, sealed);
   const scene::Scene& visible = culled ? *culled : scene;
+  if (precomputed) timer.stage("bvh");
   std::optional<scene::RayScene> culled_rays;
   if (culled) culled_rays.emplace(*culled);
-  const scene::RayScene& rays = culled_rays ? *culled_rays : full_rays;
+  else if (!full_rays) full_rays.emplace(scene);
+  const scene::RayScene& rays = culled_rays ? *culled_rays : *full_rays;
   report.sealed_triangles = int(scene.triangles.size() - visible.triangles.size());
   report.clearance = effective_clearance(scene, settings);
   formats::ProbeVolume& volume = result.volume;

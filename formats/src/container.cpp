@@ -36,8 +36,9 @@ std::uint64_t header_checksum(std::span<const std::uint8_t> header, std::span<co
 
 class ContainerParser {
 public:
-  ContainerParser(std::span<const std::uint8_t> bytes, std::string_view name, const ChecksumMismatch& on_mismatch)
-      : bytes_(bytes), name_(name), on_mismatch_(on_mismatch) {}
+  ContainerParser(std::span<const std::uint8_t> bytes, std::string_view name, const ChecksumMismatch& on_mismatch,
+                  const ContainerKind& kind)
+      : bytes_(bytes), name_(name), on_mismatch_(on_mismatch), kind_(kind) {}
 
   ContainerView parse() {
     check_magic_and_header();
@@ -54,8 +55,8 @@ private:
   }
 
   void check_magic_and_header() {
-    if (bytes_.size() < sizeof(kProbesMagic) || std::memcmp(bytes_.data(), kProbesMagic, sizeof(kProbesMagic)) != 0) {
-      fail("header", "not a .probes file (bad magic)");
+    if (bytes_.size() < sizeof(kind_.magic) || std::memcmp(bytes_.data(), kind_.magic, sizeof(kind_.magic)) != 0) {
+      fail("header", detail::concat("not ", kind_.description, " (bad magic)"));
     }
     if (bytes_.size() < sizeof(FileHeader)) {
       fail("header", detail::concat("truncated: ", bytes_.size(), " bytes, the header alone needs ", sizeof(FileHeader)));
@@ -94,8 +95,8 @@ private:
   void check_entry(std::uint32_t index) {
     const std::uint64_t at = view_.header.header_size + std::uint64_t{index} * view_.header.section_entry_size;
     const SectionEntry entry = detail::value_from<SectionEntry>(bytes_.subspan(at, sizeof(SectionEntry)));
-    const std::string place = detail::concat("section_table[", index, "] (", section_name(entry.type), ")");
-    if (!is_known_section_type(entry.type) && (entry.flags & kSectionRequired) != 0) {
+    const std::string place = detail::concat("section_table[", index, "] (", kind_.section_name(entry.type), ")");
+    if (!kind_.is_known_section_type(entry.type) && (entry.flags & kSectionRequired) != 0) {
       fail(place, "unknown required section (written by a newer probebake?)");
     }
     if (!is_power_of_two(entry.alignment) || entry.alignment < kSectionAlignment || entry.alignment > kMaxSectionAlignment) {
@@ -141,7 +142,7 @@ private:
     for (std::size_t i = 0; i < view_.sections.size(); ++i) {
       const std::uint64_t computed = checksum64(view_.payloads[i]);
       if (computed != view_.sections[i].checksum) {
-        mismatch(section_name(view_.sections[i].type), static_cast<long long>(i),
+        mismatch(kind_.section_name(view_.sections[i].type), static_cast<long long>(i),
                  detail::concat("checksum ", detail::hex64(view_.sections[i].checksum), ", computed ", detail::hex64(computed),
                                 " (section table entry ", i, ")"));
       }
@@ -156,6 +157,7 @@ private:
   std::span<const std::uint8_t> bytes_;
   std::string_view name_;
   const ChecksumMismatch& on_mismatch_;
+  const ContainerKind& kind_;
   ContainerView view_;
   std::uint64_t table_end_ = 0;
   std::uint64_t previous_end_ = 0;
@@ -177,9 +179,10 @@ std::string section_name(std::uint32_t type) {
 
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }
 
-std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, std::span<const SectionPayload> sections) {
+std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, std::span<const SectionPayload> sections,
+                                          const ContainerKind& kind) {
   FileHeader header{};
-  std::memcpy(header.magic, kProbesMagic, sizeof(kProbesMagic));
+  std::memcpy(header.magic, kind.magic, sizeof(kind.magic));
   header.version_major = kFormatVersionMajor;
   header.version_minor = fields.version_minor;
   header.header_size = sizeof(FileHeader);
@@ -192,7 +195,7 @@ std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, s
   std::uint64_t cursor = sizeof(FileHeader) + sections.size() * sizeof(SectionEntry);
   for (const SectionPayload& section : sections) {
     if (section.element_size == 0 || section.bytes.size() != section.element_size * section.element_count) {
-      throw Error(ErrorKind::internal, "write_container: " + section_name(section.type) + ": size disagrees with element count");
+      throw Error(ErrorKind::internal, "write_container: " + kind.section_name(section.type) + ": size disagrees with element count");
     }
     SectionEntry entry{};
     entry.type = section.type;
@@ -219,8 +222,9 @@ std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, s
   return bytes;
 }
 
-ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_view name, const ChecksumMismatch& on_checksum_mismatch) {
-  return ContainerParser(bytes, name, on_checksum_mismatch).parse();
+ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_view name, const ChecksumMismatch& on_checksum_mismatch,
+                              const ContainerKind& kind) {
+  return ContainerParser(bytes, name, on_checksum_mismatch, kind).parse();
 }
 
 } // namespace probebake::formats

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 
@@ -55,11 +56,16 @@ bool triangle_sealed(const scene::RayScene& rays, std::uint32_t t, const std::ve
 } // namespace
 
 std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads) {
-  const scene::Scene& s = rays.scene();
+  std::vector<std::uint32_t> all(rays.scene().triangles.size());
+  std::iota(all.begin(), all.end(), 0u);
+  return sealed_triangles(rays, all, threads);
+}
+
+std::vector<char> sealed_triangles(const scene::RayScene& rays, std::span<const std::uint32_t> triangles, int threads) {
   const std::vector<glm::vec3> sphere = lattice_directions(Lattice::fibonacci, kSealRays);
-  const float lift = scene::ray_epsilon(s); // off the surface as the reference's rays are
-  std::vector<char> sealed(s.triangles.size(), 0);
-  parallel_for(sealed.size(), threads, [&](std::size_t t) { sealed[t] = triangle_sealed(rays, std::uint32_t(t), sphere, lift) ? 1 : 0; });
+  const float lift = scene::ray_epsilon(rays.scene()); // off the surface as the reference's rays are
+  std::vector<char> sealed(triangles.size(), 0);
+  parallel_for(sealed.size(), threads, [&](std::size_t k) { sealed[k] = triangle_sealed(rays, triangles[k], sphere, lift) ? 1 : 0; });
   return sealed;
 }
 

@@ -121,6 +121,39 @@ TEST(BakeCli, JsonReportTimesEveryStage) {
   }
 }
 
+// The split bake as jobs run it: two parts with --cells, then merge, give the single bake's bytes; what a
+// part or a merge is missing is a usage error (exit 1) and a damaged part an input error (exit 2).
+TEST(BakeCli, PartsBakedWithCellsMergeIntoTheSingleBakesBytes) {
+  const auto scene = write_generated(samples::rooms({.count = 2, .detail = 3, .seed = 3}), "cli_split");
+  const auto dir = scene.parent_path();
+  const std::string options = "--max-depth 3 --light-rays 32 --cell-depth 1";
+  ASSERT_EQ(run({scene, options.c_str(), "-o", dir / "single.probes"}).exit_code, 0);
+  const CliRun a = run({"bake", scene, options.c_str(), "--cells 0-3 --threads 1 --json -o", dir / "a.part"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto report = nlohmann::json::parse(a.out);
+  EXPECT_EQ(report["cells"].get<int>(), 4);
+  EXPECT_EQ(report["cell_depth"].get<int>(), 1);
+  ASSERT_EQ(run({"bake", scene, options.c_str(), "--cells 4,5-7 -o", dir / "b.part"}).exit_code, 0);
+  const CliRun merge = run({"merge", scene, dir / "b.part", dir / "a.part", options.c_str(), "-o", dir / "merged.probes"});
+  ASSERT_EQ(merge.exit_code, 0) << merge.err;
+  EXPECT_EQ(read_bytes(dir / "merged.probes"), read_bytes(dir / "single.probes"));
+
+  EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 0-3"}).exit_code, 1);                  // no -o
+  EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 3-1 -o", dir / "c.part"}).exit_code, 1); // backwards
+  EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 8 -o", dir / "c.part"}).exit_code, 1);   // outside 2^3
+  EXPECT_EQ(run({"merge", scene, dir / "a.part", options.c_str()}).exit_code, 1);                  // no -o
+  const CliRun missing = run({"merge", scene, dir / "a.part", options.c_str(), "-o", dir / "m.probes"});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("no part bakes cell"), std::string::npos) << missing.err;
+  const CliRun other = run({"merge", scene, dir / "a.part", dir / "b.part", "--max-depth 2 -o", dir / "m.probes"});
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_NE(other.err.find("baked from another scene or with other settings"), std::string::npos) << other.err;
+  const CliRun not_part = run({"merge", scene, dir / "a.part", dir / "single.probes", options.c_str(), "-o", dir / "m.probes"});
+  EXPECT_EQ(not_part.exit_code, 2);
+  EXPECT_NE(not_part.err.find("single.probes: header: not a probebake bake part (bad magic)"), std::string::npos) << not_part.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m.probes"));
+}
+
 TEST(BakeCli, GridOf21CubedPlaces9261Probes) {
   const auto scene = write_generated(samples::cornell(), "cli_grid");
   const CliRun bake = run({scene, "--placement grid --grid 21 --svo-depth 3 --json"});

@@ -1,11 +1,14 @@
 // The .probes reader on untrusted bytes. Properties checked beyond "no crash, no sanitizer report":
 //  - read_probes and validate_file agree: what the reader refuses is never a valid file;
 //  - checksums aside (so that mutations reach the model checks), a decoded volume that validates clean
-//    writes, reads back and re-writes to the same bytes, and stays valid after arrange_cells.
+//    writes, reads back and re-writes to the same bytes, and stays valid after arrange_cells;
+//  - the same bytes as a bake part (bake_part.h, the same container): a part that reads writes and reads
+//    back to the same part.
 #include <span>
 
 #include "fuzz_check.h"
 #include "fuzz_entries.h"
+#include "probebake/formats/bake_part.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
@@ -39,6 +42,19 @@ void fuzz_model(std::span<const std::uint8_t> bytes) {
   check(validate(volume).valid(), "a valid volume stays valid after arrange_cells");
 }
 
+void fuzz_bake_part(std::span<const std::uint8_t> bytes) {
+  BakePart part;
+  try {
+    part = read_bake_part(bytes, "fuzz");
+  } catch (const Error&) {
+    return;
+  }
+  const BakePart again = read_bake_part(write_bake_part(part), "rewrite");
+  check(again.input_hash == part.input_hash && again.cell_depth == part.cell_depth && again.scene_triangles == part.scene_triangles &&
+            again.cells == part.cells && again.sealed == part.sealed,
+        "a bake part that reads writes and reads back the same");
+}
+
 } // namespace
 
 void fuzz_one_probes_reader(const std::uint8_t* data, std::size_t size) {
@@ -52,6 +68,7 @@ void fuzz_one_probes_reader(const std::uint8_t* data, std::size_t size) {
   const ValidationReport report = validate_file(bytes, "fuzz", ValidateOptions{16});
   check(readable || !report.valid(), "what read_probes refuses is not a valid file");
   fuzz_model(bytes);
+  fuzz_bake_part(bytes);
 }
 
 } // namespace probebake::fuzz

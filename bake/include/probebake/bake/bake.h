@@ -136,7 +136,14 @@ struct BakeResult {
 // Progress: stage name and fraction done in [0, 1]; called from the calling thread only.
 using ProgressCallback = std::function<void(const std::string& stage, double fraction)>;
 
-BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress = {});
+// Work that parts of a split bake did beforehand (bake_parts.h merge_parts): the bake takes it instead of
+// doing it, and the result is the same bytes.
+struct PrecomputedWork {
+  std::vector<char> sealed; // placement/sealed.h sealed_triangles of every scene triangle
+};
+
+BakeResult bake(const scene::Scene& scene, const BakeSettings& settings, const ProgressCallback& progress = {},
+                const PrecomputedWork* precomputed = nullptr);
 
 // Hash of everything that determines the bake's output: the scene's geometry and materials and the
 // settings (not the thread count).

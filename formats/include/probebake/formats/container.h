@@ -127,6 +127,19 @@ inline constexpr bool is_required_section_type(std::uint32_t type) {
 // "octree", "probes", ...; "section_<id>" for unknown types.
 std::string section_name(std::uint32_t type);
 
+// What a container holds: a .probes file, or a part of a split bake (bake_part.h), which has its own magic
+// and section types so that neither reader mistakes one for the other.
+struct ContainerKind {
+  char magic[8];
+  const char* description;                        // "a .probes file", for "not <description> (bad magic)"
+  std::string (*section_name)(std::uint32_t type); // for messages
+  bool (*is_known_section_type)(std::uint32_t type); // an unknown type with kSectionRequired is refused
+};
+inline std::string probes_section_name(std::uint32_t type) { return section_name(type); }
+inline bool probes_section_known(std::uint32_t type) { return is_known_section_type(type); }
+inline constexpr ContainerKind kProbesContainer{{'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'}, "a .probes file", probes_section_name,
+                                                probes_section_known};
+
 // A section to write.
 struct SectionPayload {
   std::uint32_t type = 0;
@@ -145,7 +158,8 @@ struct ContainerHeaderFields {
 // Writes header, table and payloads (in the given order, each aligned to kSectionAlignment, padding
 // zero). Throws Error(internal) when a payload's size disagrees with element_size * element_count.
 std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields,
-                                          std::span<const SectionPayload> sections);
+                                          std::span<const SectionPayload> sections,
+                                          const ContainerKind& kind = kProbesContainer);
 
 // A parsed container: a view on the caller's bytes (they must outlive it).
 struct ContainerView {
@@ -164,7 +178,8 @@ using ChecksumMismatch = std::function<void(const std::string& section, long lon
 // ones). Throws Error(input, "<name>: <place>: <reason>"). Safe on any bytes: every field is checked
 // before it is used and no allocation is sized by an unchecked field.
 ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_view name,
-                              const ChecksumMismatch& on_checksum_mismatch = {});
+                              const ChecksumMismatch& on_checksum_mismatch = {},
+                              const ContainerKind& kind = kProbesContainer);
 
 // XXH3-64 with seed 0, the checksum of every section and of the header.
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes);

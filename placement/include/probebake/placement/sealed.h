@@ -6,7 +6,9 @@
 // it is sealed only when the sample points in front of both sides are.
 #pragma once
 
+#include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "probebake/scene/ray_scene.h"
@@ -16,6 +18,9 @@ namespace probebake::placement {
 
 // 1 per sealed triangle of rays.scene(), else 0.
 std::vector<char> sealed_triangles(const scene::RayScene& rays, int threads);
+// The flags of the listed triangles only, in the list's order: each the value sealed_triangles gives it (a
+// part of a split bake tests its cells' triangles).
+std::vector<char> sealed_triangles(const scene::RayScene& rays, std::span<const std::uint32_t> triangles, int threads);
 // `scene` without the sealed triangles (same vertices, materials, lights and bounds), or nothing when
 // none is sealed.
 std::optional<scene::Scene> without_sealed(const scene::Scene& scene, const std::vector<char>& sealed);

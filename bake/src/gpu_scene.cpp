@@ -18,6 +18,7 @@
 
 #include "gpu_bvh.h"
 #include "probebake/bake/direct_light.h"
+#include "probebake/common/parallel.h"
 #include "probebake/common/lattice.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
@@ -118,9 +119,16 @@ void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, con
   });
   // Each cell's tree starts where the top level leaves it, so the whole tree stays under BVH_MAX_DEPTH.
   const std::vector<int> depth_above = formats::cell_top_depths(top_order);
-  std::vector<LeafOrderedBvh> bvhs;
-  std::size_t k = 0;
-  for (const auto& [index, cell_triangles] : by_cell) bvhs.push_back(leaf_ordered_bvh(cell_triangles, settings.trace_leaf_cost, depth, depth_above[k++]));
+  // The cells' trees are independent and each is built on one thread (the same tree on every run), so they
+  // are built side by side.
+  std::vector<const std::vector<formats::TraceInputTriangle>*> cell_lists;
+  for (const auto& entry : by_cell) cell_lists.push_back(&entry.second);
+  std::vector<LeafOrderedBvh> bvhs(cell_lists.size());
+  std::vector<int> depths(cell_lists.size(), 0);
+  parallel_for(cell_lists.size(), settings.threads, [&](std::size_t k) {
+    bvhs[k] = leaf_ordered_bvh(*cell_lists[k], settings.trace_leaf_cost, depths[k], depth_above[k]);
+  });
+  for (const int d : depths) depth = std::max(depth, d);
   std::vector<formats::TraceTreeInput> inputs;
   for (const LeafOrderedBvh& bvh : bvhs) inputs.push_back(bvh.input());
   mesh.add_cell_tree(inputs, top_order, volume.cell_tracing);

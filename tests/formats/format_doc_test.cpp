@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "probebake/formats/bake_part.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/format_version.h"
@@ -74,6 +75,9 @@ const std::map<std::string, Layout>& code_layouts() {
                 sizeof(Cell)}},
       {"CellTracing", {{FIELD(CellTracing, trace_nodes), FIELD(CellTracing, trace_faces), FIELD(CellTracing, trace_vertices)},
                        sizeof(CellTracing)}},
+      {"PartInfo", {{FIELD(PartInfo, scene_triangles), FIELD(PartInfo, cell_count), FIELD(PartInfo, tested_triangles),
+                     FIELD(PartInfo, reserved)},
+                    sizeof(PartInfo)}},
       {"CellRange", {{FIELD(CellRange, first), FIELD(CellRange, count), FIELD(CellRange, byte_offset), FIELD(CellRange, byte_size)},
                      sizeof(CellRange)}},
       {"LightingInfo", {{FIELD(gpu::LightingInfo, sky_radiance), FIELD(gpu::LightingInfo, rays), FIELD(gpu::LightingInfo, shadow_offset),

@@ -1,4 +1,5 @@
-// `probebake info FILE`: what a glTF scene (or a .probes file) contains.
+// `probebake info FILE`: what a glTF scene (or a .probes file, or a part of a split bake) contains.
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include "commands.h"
 #include "scene_input.h"
 #include "info_probes.h"
+#include "probebake/formats/bake_part.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/scene/scene.h"
 
@@ -82,16 +85,36 @@ void print_scene_info(const std::string& path, const scene::Scene& s) {
   for (const auto& w : s.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
 }
 
-// A .probes file is recognised by its magic, whatever its name.
-bool is_probes_file(const std::string& path) {
+// A .probes file or a bake part is recognised by its magic, whatever its name.
+bool has_magic(const std::string& path, const formats::ContainerKind& kind) {
   std::ifstream in(path, std::ios::binary);
-  char magic[sizeof(formats::kProbesMagic)] = {};
+  char magic[sizeof(kind.magic)] = {};
   in.read(magic, sizeof(magic));
-  return in.gcount() == std::streamsize(sizeof(magic)) && std::memcmp(magic, formats::kProbesMagic, sizeof(magic)) == 0;
+  return in.gcount() == std::streamsize(sizeof(magic)) && std::memcmp(magic, kind.magic, sizeof(magic)) == 0;
+}
+
+// A part of a split bake (docs/BAKE_JOBS.md): its cells and triangles, for the jobs' logs.
+int run_info_part(const std::string& path, bool json) {
+  const formats::BakePart part = formats::read_bake_part_file(path);
+  const auto sealed = std::count(part.sealed.begin(), part.sealed.end(), std::uint8_t(1));
+  const int n = formats::cells_per_axis(part.cell_depth);
+  if (json) {
+    const nlohmann::json j{{"file", path}, {"kind", "bake part"}, {"input_hash", fmt::format("{:016x}", part.input_hash)},
+                           {"cell_depth", part.cell_depth}, {"cells", part.cells}, {"scene_triangles", part.scene_triangles},
+                           {"tested_triangles", part.sealed.size()}, {"sealed_triangles", sealed}};
+    std::puts(j.dump(2).c_str());
+    return 0;
+  }
+  fmt::print("file         {} (bake part, input hash {:016x})\n", path, part.input_hash);
+  fmt::print("cells        {} of the {}^3 grid, {} to {}\n", part.cells.size(), n, part.cells.empty() ? 0 : part.cells.front(),
+             part.cells.empty() ? 0 : part.cells.back());
+  fmt::print("triangles    {} of the scene's {} tested, {} sealed\n", part.sealed.size(), part.scene_triangles, sealed);
+  return 0;
 }
 
 int run_info(const InfoSettings& settings) {
-  if (is_probes_file(settings.path)) return run_info_probes(settings.path, settings.json);
+  if (has_magic(settings.path, formats::kProbesContainer)) return run_info_probes(settings.path, settings.json);
+  if (has_magic(settings.path, formats::kPartContainer)) return run_info_part(settings.path, settings.json);
   const scene::Scene s = scene::load_scene(settings.path, load_options(settings.input, false)); // any readable scene
   if (settings.json) {
     std::puts(scene_info_json(s).dump(2).c_str());
@@ -105,7 +128,7 @@ int run_info(const InfoSettings& settings) {
 
 Command add_info_command(CLI::App& root) {
   auto settings = std::make_shared<InfoSettings>();
-  CLI::App* app = root.add_subcommand("info", "Describe a glTF scene (.gltf/.glb) or a baked .probes file");
+  CLI::App* app = root.add_subcommand("info", "Describe a glTF scene (.gltf/.glb), a baked .probes file or a bake part");
   app->add_option("file", settings->path, "Scene or .probes file")->required();
   app->add_flag("--json", settings->json, "Print one JSON object instead of text");
   add_scene_input_options(app, settings->input);

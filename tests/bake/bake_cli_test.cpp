@@ -134,6 +134,13 @@ TEST(BakeCli, PartsBakedWithCellsMergeIntoTheSingleBakesBytes) {
   EXPECT_EQ(report["cells"].get<int>(), 4);
   EXPECT_EQ(report["cell_depth"].get<int>(), 1);
   ASSERT_EQ(run({"bake", scene, options.c_str(), "--cells 4,5-7 -o", dir / "b.part"}).exit_code, 0);
+  const CliRun info = run({"info --json", dir / "a.part"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto part = nlohmann::json::parse(info.out);
+  EXPECT_EQ(part["kind"].get<std::string>(), "bake part");
+  EXPECT_EQ(part["cells"].get<std::vector<int>>(), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(part["tested_triangles"].get<int>(), report["triangles"].get<int>());
+  EXPECT_EQ(part["sealed_triangles"].get<int>(), report["sealed_triangles"].get<int>());
   const CliRun merge = run({"merge", scene, dir / "b.part", dir / "a.part", options.c_str(), "-o", dir / "merged.probes"});
   ASSERT_EQ(merge.exit_code, 0) << merge.err;
   EXPECT_EQ(read_bytes(dir / "merged.probes"), read_bytes(dir / "single.probes"));

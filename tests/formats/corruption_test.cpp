@@ -234,7 +234,7 @@ TEST(CorruptionRandom, GarbageIsUnreadable) {
   for (int round = 0; round < 2000; ++round) {
     std::vector<std::uint8_t> bytes(rng() % 512);
     for (std::uint8_t& byte : bytes) byte = static_cast<std::uint8_t>(rng());
-    if (round % 2 == 0 && bytes.size() >= 8) std::memcpy(bytes.data(), kProbesMagic, 8);
+    if (round % 2 == 0 && bytes.size() >= 8) std::memcpy(bytes.data(), kProbesContainer.magic, 8);
     EXPECT_TRUE(reader_refuses(bytes));
     EXPECT_FALSE(validate_file(bytes, "garbage").readable);
   }

@@ -18,12 +18,10 @@
 
 namespace probebake::formats {
 
-inline constexpr char kProbesMagic[8] = {'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'};
-
 // File header, at offset 0. 64 bytes in version 1.x; header_size lets a later minor version append
 // fields (a 1.0 reader skips them, and still covers them with the header checksum).
 struct FileHeader {
-  char magic[8];                  // offset  0: kProbesMagic
+  char magic[8];                  // offset  0: the kind's magic (kProbesContainer: "PROBEBK\0")
   std::uint16_t version_major;    // offset  8: a reader refuses any other major
   std::uint16_t version_minor;    // offset 10: compatible additions
   std::uint32_t header_size;      // offset 12: bytes of this header, >= 64, multiple of 8

@@ -184,12 +184,15 @@ void resolve_settings(BakeCommandSettings& s) {
 struct LoadedScene {
   scene::Scene scene;
   bake::StageTime load_time;
+  std::vector<std::filesystem::path> inputs; // every file the command reads: no output may replace one
 };
 
 LoadedScene load_bake_scene(const BakeCommandSettings& s) {
   const bake::StageClock load_clock;
-  LoadedScene loaded{scene::load_scene(s.scene, load_options(s.input, true)), {}};
+  LoadedScene loaded{scene::load_scene(s.scene, load_options(s.input, true)), {}, {}};
   loaded.load_time = load_clock.stop("load");
+  loaded.inputs = loaded.scene.input_files;
+  loaded.inputs.insert(loaded.inputs.end(), s.parts.begin(), s.parts.end());
   for (const auto& w : loaded.scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
   return loaded;
 }
@@ -197,7 +200,7 @@ LoadedScene load_bake_scene(const BakeCommandSettings& s) {
 // Bakes (with the parts' work when given) and writes the file and the report.
 int bake_and_write(const BakeCommandSettings& s, const LoadedScene& loaded, const bake::PrecomputedWork* precomputed) {
   const std::string output = s.output.empty() ? default_output(s.scene) : s.output;
-  check_output_path(output, loaded.scene.input_files); // before the bake, not after it
+  check_output_path(output, loaded.inputs); // before the bake, not after it
   const bool tty = isatty(STDERR_FILENO) != 0 && !s.json;
   bake::ProgressCallback progress;
   if (tty)
@@ -237,7 +240,7 @@ std::vector<std::int32_t> parse_cell_list(const std::string& text) {
     if (last < first) bad(fmt::format("range {}-{} runs backwards", first, last));
     if (std::int64_t(cells.size()) + (last - first) >= (1 << 24)) bad("too many cells");
     for (std::int32_t c = first; c <= last; ++c) cells.push_back(c);
-    if (at < text.size() && text[at++] != ',') bad("expected cell numbers like 0-7,9");
+    if (at < text.size() && (text[at++] != ',' || at == text.size())) bad("expected cell numbers like 0-7,9");
   }
   if (cells.empty()) bad("no cells");
   std::sort(cells.begin(), cells.end());
@@ -247,7 +250,7 @@ std::vector<std::int32_t> parse_cell_list(const std::string& text) {
 
 int run_bake_part(const BakeCommandSettings& s, const LoadedScene& loaded) {
   if (s.output.empty()) throw Error(ErrorKind::usage, "--cells writes a part of the bake: name it with -o PART");
-  check_output_path(s.output, loaded.scene.input_files);
+  check_output_path(s.output, loaded.inputs);
   const bake::StageClock clock;
   const formats::BakePart part = bake::bake_part(loaded.scene, s.bake, parse_cell_list(s.cells));
   const double seconds = clock.stop("part").seconds;
@@ -274,6 +277,7 @@ int run_merge(BakeCommandSettings& s) {
   resolve_settings(s);
   if (s.output.empty()) throw Error(ErrorKind::usage, "merge: name the merged file with -o FILE");
   const LoadedScene loaded = load_bake_scene(s);
+  check_output_path(s.output, loaded.inputs); // before reading the parts, not after the bake
   std::vector<formats::BakePart> parts;
   for (const std::string& path : s.parts) parts.push_back(formats::read_bake_part_file(path));
   const bake::PrecomputedWork work = bake::merge_parts(loaded.scene, s.bake, parts, s.parts);

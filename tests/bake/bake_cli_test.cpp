@@ -159,6 +159,10 @@ TEST(BakeCli, PartsBakedWithCellsMergeIntoTheSingleBakesBytes) {
   EXPECT_EQ(not_part.exit_code, 2);
   EXPECT_NE(not_part.err.find("single.probes: header: not a probebake bake part (bad magic)"), std::string::npos) << not_part.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "m.probes"));
+  const std::string part_bytes = read_bytes(dir / "a.part");
+  EXPECT_EQ(run({"merge", scene, dir / "a.part", dir / "b.part", options.c_str(), "-o", dir / "a.part"}).exit_code, 3); // an input
+  EXPECT_EQ(read_bytes(dir / "a.part"), part_bytes);
+  EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 0-3, -o", dir / "c.part"}).exit_code, 1); // a trailing comma
 }
 
 TEST(BakeCli, GridOf21CubedPlaces9261Probes) {

@@ -316,8 +316,12 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   const scene::Scene& visible = culled ? *culled : scene;
   if (precomputed) timer.stage("bvh");
   std::optional<scene::RayScene> culled_rays;
-  if (culled) culled_rays.emplace(*culled);
-  else if (!full_rays) full_rays.emplace(scene);
+  if (culled) {
+    culled_rays.emplace(*culled);
+    full_rays.reset(); // only the sealed test traced it: its memory goes before the stages that need the most
+  } else if (!full_rays) {
+    full_rays.emplace(scene);
+  }
   const scene::RayScene& rays = culled_rays ? *culled_rays : *full_rays;
   report.sealed_triangles = int(scene.triangles.size() - visible.triangles.size());
   report.clearance = effective_clearance(scene, settings);

@@ -103,9 +103,12 @@ std::uint32_t morton_code(int cell_index, int cell_depth) {
 // order (formats::TraceMeshBuilder::add_cell_tree). Rebuilds the volume's cells (arrange_cells) with the tracing ranges.
 void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, const BakeSettings& settings, formats::ProbeVolume& volume,
                          formats::TraceMeshBuilder& mesh, int& depth) {
+  // One copy of the triangles at a time (a world's triangles are its largest input): the list is freed once
+  // sorted into cells, and each cell's list once its tree holds them in leaf order.
   std::map<int, std::vector<formats::TraceInputTriangle>> by_cell; // sorted by cell index
   for (formats::TraceInputTriangle& t : triangles)
     by_cell[formats::cell_of_triangle(volume.info, settings.cell_depth, t.corners[0], t.corners[1], t.corners[2])].push_back(std::move(t));
+  std::vector<formats::TraceInputTriangle>().swap(triangles);
   std::vector<std::size_t> top_order;
   volume.cells.clear();
   for (const auto& [index, cell_triangles] : by_cell) {
@@ -121,12 +124,13 @@ void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, con
   const std::vector<int> depth_above = formats::cell_top_depths(top_order);
   // The cells' trees are independent and each is built on one thread (the same tree on every run), so they
   // are built side by side.
-  std::vector<const std::vector<formats::TraceInputTriangle>*> cell_lists;
-  for (const auto& entry : by_cell) cell_lists.push_back(&entry.second);
+  std::vector<std::vector<formats::TraceInputTriangle>*> cell_lists;
+  for (auto& entry : by_cell) cell_lists.push_back(&entry.second);
   std::vector<LeafOrderedBvh> bvhs(cell_lists.size());
   std::vector<int> depths(cell_lists.size(), 0);
   parallel_for(cell_lists.size(), settings.threads, [&](std::size_t k) {
     bvhs[k] = leaf_ordered_bvh(*cell_lists[k], settings.trace_leaf_cost, depths[k], depth_above[k]);
+    std::vector<formats::TraceInputTriangle>().swap(*cell_lists[k]);
   });
   for (const int d : depths) depth = std::max(depth, d);
   std::vector<formats::TraceTreeInput> inputs;

@@ -331,7 +331,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   // A closed object seen from outside has no open space inside its bounds (placement/refine_root.h): every
   // method then places its probes in the larger root cube around it (the grid over that cube, not the bounds).
   scene::Bounds placement_bounds = scene.bounds;
-  if (!placement::open_space_inside(rays, volume.info, report.clearance, input.directions, settings.threads)) {
+  if (!placement::open_space_inside(rays, volume.info, scene.bounds, report.clearance, input.directions, settings.threads)) {
     placement::surround_root(volume.info);
     report.surrounded_root = true;
     placement_bounds = {volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size)};

@@ -12,6 +12,7 @@
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 #include "probebake/samples/geometry.h"
+#include "probebake/samples/scenes.h"
 
 namespace probebake::test {
 namespace {
@@ -147,6 +148,25 @@ TEST(Refine, RoomsKeepTheirRootCube) {
   const bake::BakeResult r = bake::bake(s, error_settings(8));
   EXPECT_FALSE(r.report.surrounded_root);
   EXPECT_EQ(r.volume.info.root_size, bake::volume_info(s, error_settings(8)).root_size);
+}
+
+// A flat world of 64 rooms side by side (49 x 3 x 49 m): an eighth of its root cube is 6.2 m, so no point of
+// the root's 8^3 grid lies in the 3 m of the rooms' height and the world was taken for one closed object
+// (root tripled, probes around it). The grid over its bounds finds the rooms.
+TEST(Refine, AFlatWorldOfRoomsKeepsItsRootCube) {
+  const scene::Scene s = load_generated(samples::rooms({.count = 64, .detail = 1, .seed = 1}), "flat_world");
+  bake::BakeSettings settings = test_settings();
+  settings.max_depth = 4;
+  settings.clearance = 0.15f;
+  settings.lighting.enabled = false;
+  settings.runtime_lighting = false;
+  const bake::BakeResult r = bake::bake(s, settings);
+  EXPECT_FALSE(r.report.surrounded_root);
+  EXPECT_EQ(r.volume.info.root_size, bake::volume_info(s, settings).root_size);
+  int in_rooms = 0;
+  for (const gpu::Probe& p : r.volume.probes) in_rooms += p.link != 0 && p.position.y > 0.0f && p.position.y < 3.0f ? 1 : 0;
+  std::printf("flat world: %d probes, %d of them between floor and ceiling height\n", r.report.probes, in_rooms);
+  EXPECT_GT(in_rooms, 64); // more than one per room
 }
 
 TEST(Refine, SettingsAreChecked) {

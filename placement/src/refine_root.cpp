@@ -11,10 +11,6 @@ namespace {
 constexpr int kOpenProbeCells = 8;    // 512 points: any room-scale open space holds several
 constexpr float kSurroundScale = 3.0f;
 
-} // namespace
-
-namespace {
-
 // Whether any centre of a kOpenProbeCells^3 grid over the box is open space.
 bool open_point_in_grid(const scene::RayScene& rays, glm::vec3 min, glm::vec3 size, float clearance,
                         const std::vector<glm::vec3>& directions, int threads) {

@@ -17,8 +17,8 @@ namespace probebake::placement {
 // Whether any centre of a kOpenProbeCells^3 grid over the root cube, or of one over the scene's bounds, is
 // open space (is_open at `clearance` over `directions`), the test the eval's viewpoints use. The second grid
 // finds the rooms of a flat world, whose 3 m of height the root cube's grid (one point per eighth of its
-// width) passes over once the world is 25 m wide: a world of 64 rooms side by side was taken for a closed
-// object and baked in a root three times too wide.
+// width) can pass over: the 64 rooms side by side of a world 49 m wide were taken for a closed object and
+// baked in a root three times too wide.
 bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds, float clearance,
                        const std::vector<glm::vec3>& directions, int threads);
 

@@ -129,7 +129,7 @@ int run_info(const InfoSettings& settings) {
 Command add_info_command(CLI::App& root) {
   auto settings = std::make_shared<InfoSettings>();
   CLI::App* app = root.add_subcommand("info", "Describe a glTF scene (.gltf/.glb), a baked .probes file or a bake part");
-  app->add_option("file", settings->path, "Scene or .probes file")->required();
+  app->add_option("file", settings->path, "Scene, .probes file or bake part")->required();
   app->add_flag("--json", settings->json, "Print one JSON object instead of text");
   add_scene_input_options(app, settings->input);
   return {app, [settings] { return run_info(*settings); }};

@@ -6,7 +6,6 @@
 #include <iterator>
 #include <string>
 
-#include "byte_io.h"
 #include "text.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"

@@ -133,10 +133,8 @@ struct ContainerKind {
   std::string (*section_name)(std::uint32_t type); // for messages
   bool (*is_known_section_type)(std::uint32_t type); // an unknown type with kSectionRequired is refused
 };
-inline std::string probes_section_name(std::uint32_t type) { return section_name(type); }
-inline bool probes_section_known(std::uint32_t type) { return is_known_section_type(type); }
-inline constexpr ContainerKind kProbesContainer{{'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'}, "a .probes file", probes_section_name,
-                                                probes_section_known};
+inline constexpr ContainerKind kProbesContainer{{'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'}, "a .probes file", section_name,
+                                                is_known_section_type};
 
 // A section to write.
 struct SectionPayload {

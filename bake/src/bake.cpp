@@ -301,17 +301,16 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   // runtime lighting sections keep every triangle. The sealed test needs the whole scene's BVH, which the
   // later stages need only when nothing is sealed.
   std::optional<scene::RayScene> full_rays;
-  std::vector<char> sealed;
-  if (precomputed) {
-    if (precomputed->sealed.size() != scene.triangles.size())
-      throw Error(ErrorKind::internal, "bake: precomputed sealed flags for another triangle count");
-    sealed = precomputed->sealed;
-  } else {
+  std::vector<char> tested; // the flags this bake computes itself, without parts
+  if (precomputed && precomputed->sealed.size() != scene.triangles.size())
+    throw Error(ErrorKind::internal, "bake: precomputed sealed flags for another triangle count");
+  if (!precomputed) {
     timer.stage("bvh");
     full_rays.emplace(scene);
     timer.stage("sealed");
-    sealed = placement::sealed_triangles(*full_rays, settings.threads);
+    tested = placement::sealed_triangles(*full_rays, settings.threads);
   }
+  const std::vector<char>& sealed = precomputed ? precomputed->sealed : tested;
   const std::optional<scene::Scene> culled = placement::without_sealed(scene, sealed);
   const scene::Scene& visible = culled ? *culled : scene;
   if (precomputed) timer.stage("bvh");

@@ -57,7 +57,7 @@ formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& setti
   part.cell_depth = part_cell_depth(scene, settings);
   part.input_hash = part_input_hash(scene, settings);
   part.scene_triangles = std::uint32_t(scene.triangles.size());
-  const int grid = formats::cells_per_axis(part.cell_depth) * formats::cells_per_axis(part.cell_depth) * formats::cells_per_axis(part.cell_depth);
+  const int grid = formats::cell_count(part.cell_depth);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     if (cells[k] < 0 || cells[k] >= grid)
       throw Error(ErrorKind::usage, fmt::format("--cells: cell {} is outside the grid's {} cells ({}^3)", cells[k], grid, formats::cells_per_axis(part.cell_depth)));

@@ -66,7 +66,7 @@ private:
       fail("part_sealed", detail::concat(part.sealed.size(), " flags, part_info says ", info.tested_triangles));
     if (info.tested_triangles > info.scene_triangles)
       fail("part_info", detail::concat(info.tested_triangles, " tested of ", info.scene_triangles, " triangles"));
-    const std::int64_t grid = std::int64_t(cells_per_axis(part.cell_depth)) * cells_per_axis(part.cell_depth) * cells_per_axis(part.cell_depth);
+    const int grid = cell_count(part.cell_depth); // the depth is at most kMaxCellDepth
     for (std::size_t k = 0; k < part.cells.size(); ++k) {
       if (part.cells[k] < 0 || part.cells[k] >= grid)
         fail(detail::concat("part_cells[", k, "]"), detail::concat("cell ", part.cells[k], " outside [0, ", grid, ")"));

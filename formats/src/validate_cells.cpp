@@ -62,7 +62,7 @@ void check_membership(const char* section, const std::vector<int>& owners, const
 }
 
 void check_records(const ProbeVolume& volume, const OctreeFacts& octree, bool& ranges_ok, Reporter& out) {
-  const int total = cells_per_axis(volume.cell_depth) * cells_per_axis(volume.cell_depth) * cells_per_axis(volume.cell_depth);
+  const int total = cell_count(volume.cell_depth);
   RangeCursor probes{"probes", volume.probes.size(), sizeof(gpu::Probe)};
   RangeCursor batches{"surfel_batches", volume.surfel_batches.size(), sizeof(gpu::SurfelBatch)};
   RangeCursor leaves{"svo_leaves", volume.svo_leaves.size(), sizeof(gpu::SvoLeaf)};

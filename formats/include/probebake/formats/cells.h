@@ -29,6 +29,8 @@ inline constexpr int kMaxCellDepth = 5;
 
 // Cells per axis for a cell depth (1 << depth).
 constexpr int cells_per_axis(int cell_depth) { return 1 << cell_depth; }
+// Cells of the grid: cells_per_axis^3.
+constexpr int cell_count(int cell_depth) { return cells_per_axis(cell_depth) * cells_per_axis(cell_depth) * cells_per_axis(cell_depth); }
 
 // Linear index x + n * (y + n * z) of the cell containing `point`: per axis
 // floor((p - root_min) / root_size * n) clamped to [0, n - 1] (non-finite coordinates map to 0).

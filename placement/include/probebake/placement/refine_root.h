@@ -14,11 +14,14 @@
 
 namespace probebake::placement {
 
-// Whether any centre of a kOpenProbeCells^3 grid over the root cube, or of one over the scene's bounds, is
-// open space (is_open at `clearance` over `directions`), the test the eval's viewpoints use. The second grid
-// finds the rooms of a flat world, whose 3 m of height the root cube's grid (one point per eighth of its
-// width) can pass over: the 64 rooms side by side of a world 49 m wide were taken for a closed object and
-// baked in a root three times too wide.
+// Whether the scene has open space (is_open at `clearance` over `directions`, the test the eval's viewpoints
+// use) inside the root cube: at a centre of a kOpenProbeCells^3 grid over the root cube, at one of a grid
+// over the scene's bounds, or, inside the bounds, halfway between a point of its surfaces (512, spread by
+// area) and what that point's face sees along its normal. The bounds' grid finds the rooms of a flat world,
+// whose 3 m of height the root cube's grid (one point per eighth of its width) passes over: the 64 rooms
+// side by side of a world 49 m wide were taken for a closed object and baked in a root three times too
+// wide. The surface points find them when no grid point is far enough from every surface, as at the default
+// clearance (0.99 m there, where the bake placed no probe).
 bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds, float clearance,
                        const std::vector<glm::vec3>& directions, int threads);
 

@@ -11,9 +11,13 @@
 //    punctual irradiance, cached until a light or an object changes (light_relight.comp).
 //  Both use the bake's sides rule (glTF doubleSided): only the back of a single-sided triangle is inside
 //  geometry (a back-face hit and record); the back of a double-sided one is shaded with the facing normal.
+//  Streaming: when a lighting ray or one of its shadow rays crosses a cell that is out before it hits,
+//  the slot is left TRACE_FLAG_UNRESOLVED (runtime_types.h): the gather keeps its irradiance, and a trace in
+//  a later frame's retry window tries again.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #define PROBEBAKE_PROBES_WRITABLE
+#define PROBEBAKE_NULL_LEAF push.null_leaf // streaming: rays that cross a cell that is out (bvh_trace.glsl)
 #include "probebake/light_bindings.glsl"
 #include "probebake/dispatch.glsl"
 #include "probebake/direct_light.glsl"
@@ -23,6 +27,7 @@ layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
 shared uint hits_in_cube, hits, backface_hits;
 shared uint front_count, back_count, miss_count;
+shared uint unresolved_records;
 shared vec3 lane_emitter[LIGHT_WORKGROUP_SIZE], lane_punctual[LIGHT_WORKGROUP_SIZE], lane_tracked[LIGHT_WORKGROUP_SIZE];
 
 void measure_hit_fraction(int probe) {
@@ -67,15 +72,26 @@ LightRecord trace_hit(vec3 origin, vec3 dir, bool count) {
   return rec;
 }
 
+// Whether list place `place` lies in the retry window [retry_first, retry_first + retry_count) modulo the
+// list's count (streaming: a slot left unresolved by its last trace is traced again there).
+bool in_retry_window(uint place) {
+  const uint count = light_list_header.count;
+  return push.retry_count != 0u && count != 0u && (place + count - push.retry_first % count) % count < push.retry_count;
+}
+
 void main() {
-  const int listed = light_slot(probebake_flat_workgroup());
+  const uint place = probebake_flat_workgroup();
+  const int listed = light_slot(place);
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
-  if (push.trace_all == 0u && (trace_flags[slot] & TRACE_FLAG_RETRACE) == 0u) return; // records still valid
+  const uint flags = trace_flags[slot]; // the last chunk of a trace resets it only after every chunk read it
+  const bool retry = (flags & TRACE_FLAG_UNRESOLVED) != 0u && push.listed != 0u && in_retry_window(place);
+  if (push.trace_all == 0u && (flags & TRACE_FLAG_RETRACE) == 0u && !retry) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {
     hits_in_cube = 0u; hits = 0u; backface_hits = 0u;
     front_count = 0u; back_count = 0u; miss_count = 0u;
+    unresolved_records = 0u;
   }
   barrier();
   const uint chunk = gl_WorkGroupID.z, chunks = gl_NumWorkGroups.z;
@@ -94,6 +110,7 @@ void main() {
     LightRecord rec;
     vec3 emitter = vec3(0.0), punctual = vec3(0.0), tracked = vec3(0.0);
     const uint seed = probebake_record_seed(push.seed, slot, uint(r));
+    probebake_ray_unresolved = false; // the hit-fraction rays above do not count
     if (r < rays) {
       rec = trace_hit(origin, probebake_ray_directions[r].xyz, lane == 0u);
       if (rec.kind == LIGHT_RECORD_FRONT) {
@@ -102,6 +119,7 @@ void main() {
                                                        lane, lanes, tracked);
       }
     }
+    if (probebake_ray_unresolved) atomicAdd(unresolved_records, 1u);
     lane_emitter[gl_LocalInvocationIndex] = emitter;
     lane_punctual[gl_LocalInvocationIndex] = punctual;
     lane_tracked[gl_LocalInvocationIndex] = tracked;
@@ -125,9 +143,15 @@ void main() {
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
   // Fresh records (retraced, their punctual sums current) once every chunk is done: the last one clears the
-  // flag. A chunk checks the flag before it counts itself, so none can miss it.
+  // flags, leaving UNRESOLVED when a chunk saw a ray cross a cell that is out (each says so before it counts
+  // itself, so the last one sees it). A chunk checks the flags before it counts itself, so none can miss them.
+  if (unresolved_records != 0u) atomicOr(trace_flags[slot], TRACE_FLAG_UNRESOLVED_NOW);
   const uint before = atomicAdd(trace_flags[slot], TRACE_FLAG_CHUNK_ONE);
-  if (before / TRACE_FLAG_CHUNK_ONE == chunks - 1u) atomicExchange(trace_flags[slot], 0u);
+  if (before / TRACE_FLAG_CHUNK_ONE == chunks - 1u) {
+    const bool unresolved = (before & TRACE_FLAG_UNRESOLVED_NOW) != 0u;
+    atomicExchange(trace_flags[slot], unresolved ? TRACE_FLAG_UNRESOLVED : 0u);
+    if (unresolved) atomicAdd(light_counters.unresolved_probes, 1);
+  }
   atomicAdd(light_counters.front_hits, int(front_count));
   atomicAdd(light_counters.backface_hits, int(back_count));
   atomicAdd(light_counters.misses, int(miss_count));

@@ -136,6 +136,8 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
       light.record_record_slots(cmd, reassigned, record_of_probe_);
       light.record_host_list(cmd, slots, retrace);
     }
+    if (changes.loads.size() > missed.unplaced.size() + missed.reading.size() + missed.refused.size())
+      light.retry_unresolved(std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
     timer.end(cmd, slot);
     timed = true;
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes

@@ -213,7 +213,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
   gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, first, window, probes_per_page_, tracked_light_,
-                      limits.shadow_rays_per_record, frames_recorded_++, indirect_records_ ? 1u : 0u, 0u};
+                      limits.shadow_rays_per_record, frames_recorded_++, indirect_records_ ? 1u : 0u, 0u, null_leaf_, 0u, 0u};
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
   // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
@@ -232,9 +232,16 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
     else dispatch_groups(cmd, device_, slot_groups, z);
   };
+  const bool retrying = retry_left_ > 0 && listed_ > 0;
+  if (retrying) {
+    push.retry_first = retry_cursor_ % listed_;
+    push.retry_count = std::min(retry_window_, retry_left_);
+    retry_cursor_ = (push.retry_first + push.retry_count) % listed_;
+    retry_left_ -= push.retry_count;
+  }
   bind_set_and_push(cmd, layout, descriptors_.set, push);
   // A list the memory update writes has new probes every frame; the host's only when it flagged some.
-  const bool traced = trace_pending_ || (queue_driven_ && !host_listed_) || host_retrace_ || marked;
+  const bool traced = trace_pending_ || (queue_driven_ && !host_listed_) || host_retrace_ || marked || retrying;
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
     if (marked) record_mark_moved(cmd);
@@ -247,6 +254,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   moved_boxes_.clear(); // a full trace covered them
   push.first_slot = first;
   push.slot_count = window;
+  push.retry_count = 0;
   bind_set_and_push(cmd, layout, descriptors_.set, push);
   timer.begin(cmd, slots.gather); // L2: relight the records, gather into next_irradiance
   dispatch(pipelines.light_gather.get(), window, 0);
@@ -283,11 +291,18 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
     vkCmdUpdateBuffer(cmd, light_list_.get(), sizeof(header) + i * sizeof(std::int32_t),
                       std::min(kChunk, slots.size() - i) * sizeof(std::int32_t), slots.data() + i);
   host_listed_ = true;
+  listed_ = header.count;
+  if (retry_left_ > 0) retry_left_ = listed_; // places moved: a whole pass over the new list
   for (const formats::CellRange& range : retrace) {
     if (range.count == 0) continue;
     vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4, gpu::TRACE_FLAG_RETRACE);
     host_retrace_ = true;
   }
+}
+
+void LightUpdatePass::retry_unresolved(std::uint32_t window) {
+  retry_window_ = window == 0 ? listed_ : window;
+  retry_left_ = listed_; // once over the list as it is now (call after record_host_list)
 }
 
 void LightUpdatePass::record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges,
@@ -315,6 +330,7 @@ LightStats LightUpdatePass::stats(std::uint32_t ring) const {
   s.want_free = c.want_free;
   s.relit_records = c.relit_records;
   s.reused_records = c.reused_records;
+  s.unresolved_probes = c.unresolved_probes;
   return s;
 }
 

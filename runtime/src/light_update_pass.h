@@ -65,6 +65,14 @@ public:
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
   void walk_light_list() { queue_driven_ = true; }
+  // Streaming: the child word of a cell that is out; light_trace flags probes whose rays cross one
+  // (TRACE_FLAG_UNRESOLVED) and the gather keeps their irradiance.
+  void set_null_leaf(std::uint32_t word) { null_leaf_ = word; }
+  // Streaming: cells arrived, so unresolved probes may now see their geometry. From the next record() on,
+  // light_trace retraces the unresolved probes among `window` places of the light list per frame (0 = all),
+  // moving on until it has passed the whole list once (again from the start when the list changes under it:
+  // places move): a bounded cost per frame, whatever was unresolved. Call after this frame's record_host_list.
+  void retry_unresolved(std::uint32_t window);
   // Streaming (walk_light_list() on, no memory update): the host's list of the probe slots to light, and
   // the slot ranges [first, first + count) whose records the next light_trace makes afresh (probes whose
   // geometry just arrived). Recorded before record(); at most LightListHeader + probe_capacity entries.
@@ -95,11 +103,16 @@ private:
   std::uint32_t probe_capacity_ = 0;
   std::uint32_t record_capacity_ = 0; // probes whose records the pages hold
   bool indirect_records_ = false;     // records by LIGHT_BINDING_RECORD_SLOTS (streaming)
+  std::uint32_t null_leaf_ = 0;       // streaming's null leaf word (LightPush::null_leaf), 0 = none
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
   bool queue_driven_ = false;
   bool host_listed_ = false;   // the host writes the light list (streaming): trace only when it asks
   bool host_retrace_ = false;  // record_host_list flagged probes since the last trace
+  std::uint32_t listed_ = 0;        // entries of the host's light list
+  std::uint32_t retry_cursor_ = 0;  // first list place of the next retry window
+  std::uint32_t retry_window_ = 0;  // list places per frame
+  std::uint32_t retry_left_ = 0;    // list places still to retry since cells last arrived
   bool relight_everything_ = false;
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window

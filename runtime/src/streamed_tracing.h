@@ -55,6 +55,8 @@ public:
   // policy budgets. `cells`: the volume's Cell records.
   std::vector<streaming::CellFootprint> footprints(std::span<const formats::Cell> cells) const;
   std::uint64_t largest_block() const { return largest_block_; }
+  // The child word that stands for a cell that is out: a leaf of the null face (bvh_trace.glsl).
+  std::uint32_t null_leaf() const { return null_leaf_; }
 
   // Loads record() could not carry out: no free run long enough in a fragmented arena, or (background
   // reads) the cell is not read yet: retry later; or the cell's bytes could not be read or differ from

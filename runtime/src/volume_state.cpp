@@ -50,6 +50,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   }
   if (streaming && light) {
     light->walk_light_list(); // the host lists the resident cells' probes
+    light->set_null_leaf(streaming->tracing().null_leaf());
     sample->set_record_slots(light->record_slots());
   }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);

@@ -30,6 +30,7 @@ struct FrameRow {
   int clusters_used = 0, cluster_capacity = 0, probes_used = 0, probe_capacity = 0, batches_used = 0, batch_capacity = 0;
   std::array<float, 3> camera{}; // --path: where the frame streamed around
   runtime::StreamStats stream;   // --path: the frame's cell streaming
+  int traced = 0, unresolved = 0; // probes light_trace traced, and of them those left unresolved (streaming)
 };
 
 FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats);

@@ -21,8 +21,19 @@
 // frame and rounded outwards by the bake (formats/trace_mesh.h), so one node read decides both. Box exits
 // are widened by a few ulps so that rounding never culls a triangle lying in a box face (axis-aligned walls
 // make flat boxes).
+//
+// Streaming (docs/RUNTIME.md "Streaming cells"): a cell that is out is reached through a leaf of the null
+// face, which no ray hits. A shader that defines PROBEBAKE_NULL_LEAF (that word) learns whether a ray could
+// have hit something there: probebake_trace_scene sets probebake_ray_unresolved when the ray entered such
+// a leaf's box before its hit (or, finding none, anywhere), and never clears it.
 #ifndef PROBEBAKE_BVH_TRACE_GLSL
 #define PROBEBAKE_BVH_TRACE_GLSL
+
+// Nearest entry into a null leaf's box of the current static traversal, when one was entered (a flag, not a
+// large sentinel: a miss's t is t_max, which may be as large as any sentinel).
+bool probebake_null_entered = false;
+float probebake_null_enter = 0.0;
+bool probebake_ray_unresolved = false;
 
 vec3 probebake_trace_vertex(uint i) {
   return vec3(probebake_trace_vertices[i].x, probebake_trace_vertices[i].y, probebake_trace_vertices[i].z);
@@ -100,11 +111,13 @@ int probebake_traverse(int tree, vec3 origin, vec3 dir, float t_min, inout float
   if (root == TRACE_NO_ROOT) return -1;
   const vec3 frame_lower = probebake_trace_trees[tree].lower, frame_scale = probebake_trace_trees[tree].scale;
   const vec3 inv_dir = probebake_safe_inverse(dir);
-  if (probebake_ray_aabb(origin, inv_dir, frame_lower, frame_lower + float(TRACE_BOX_STEPS) * frame_scale, t_min, t_max) < 0.0) return -1;
+  const float root_enter = probebake_ray_aabb(origin, inv_dir, frame_lower, frame_lower + float(TRACE_BOX_STEPS) * frame_scale, t_min, t_max);
+  if (root_enter < 0.0) return -1;
   uint stack_child[BVH_MAX_DEPTH];
   float stack_enter[BVH_MAX_DEPTH];
   int depth = 0;
   uint child = root;
+  float child_enter = root_enter; // where the ray enters `child`'s box
   bool pending = true;
   int hit = -1;
   while (true) {
@@ -112,11 +125,17 @@ int probebake_traverse(int tree, vec3 origin, vec3 dir, float t_min, inout float
       // Pop the nearest pending far child that can still hold a closer hit.
       while (depth > 0 && !pending) {
         --depth;
-        if (stack_enter[depth] <= t_max) child = stack_child[depth], pending = true;
+        if (stack_enter[depth] <= t_max) child = stack_child[depth], child_enter = stack_enter[depth], pending = true;
       }
       if (!pending) break;
     }
     if ((child & TRACE_CHILD_LEAF) != 0u) {
+#ifdef PROBEBAKE_NULL_LEAF
+      if (child == PROBEBAKE_NULL_LEAF) {
+        probebake_null_enter = probebake_null_entered ? min(probebake_null_enter, child_enter) : child_enter;
+        probebake_null_entered = true;
+      }
+#endif
       const int first = int(child & TRACE_LEAF_FIRST_MASK);
       const int count = int(child >> TRACE_LEAF_COUNT_SHIFT & 15u) + 1;
       for (int i = first; i < first + count; ++i) {
@@ -141,9 +160,11 @@ int probebake_traverse(int tree, vec3 origin, vec3 dir, float t_min, inout float
         ++depth;
       }
       child = first_nearer ? child0 : child1;
+      child_enter = first_nearer ? enter.x : enter.y;
     } else {
       pending = enter.x >= 0.0 || enter.y >= 0.0;
       child = enter.x >= 0.0 ? child0 : child1;
+      child_enter = enter.x >= 0.0 ? enter.x : enter.y;
     }
   }
   return hit;
@@ -164,12 +185,20 @@ vec3 probebake_to_object(int object, vec4 p) {
 }
 
 // Closest (or, with any_hit, some) hit with t in [t_min, t_max], static geometry and every dynamic object.
+// The static tree's null leaves entered before `t` (the hit, or t_max for none): the ray is unresolved.
+void probebake_note_unresolved(float t) {
+#ifdef PROBEBAKE_NULL_LEAF
+  if (probebake_null_entered && probebake_null_enter <= t) probebake_ray_unresolved = true;
+#endif
+}
+
 ProbebakeHit probebake_trace_scene(vec3 origin, vec3 dir, float t_min, float t_max, bool any_hit) {
   ProbebakeHit hit = ProbebakeHit(-1, -1, t_max);
   float t = t_max;
+  probebake_null_entered = false;
   hit.triangle = probebake_traverse(0, origin, dir, t_min, t, any_hit);
-  if (hit.triangle >= 0 && any_hit) { hit.t = t; return hit; }
-  if (probebake_lighting.dynamic_objects <= 0) { hit.t = t; return hit; } // static scenes: nothing more
+  if (hit.triangle >= 0 && any_hit) { hit.t = t; return hit; } // occluded, whatever is out
+  if (probebake_lighting.dynamic_objects <= 0) { hit.t = t; probebake_note_unresolved(t); return hit; } // static scenes: nothing more
   const vec3 inv_dir = probebake_safe_inverse(dir);
   for (int o = 0; o < probebake_lighting.dynamic_objects; ++o) {
     if (probebake_ray_aabb(origin, inv_dir, probebake_object_instances[o].world_lower, probebake_object_instances[o].world_upper,
@@ -181,10 +210,11 @@ ProbebakeHit probebake_trace_scene(vec3 origin, vec3 dir, float t_min, float t_m
     if (tri >= 0) {
       hit.triangle = tri;
       hit.object = o;
-      if (any_hit) break;
+      if (any_hit) { hit.t = t; return hit; } // occluded, whatever is out
     }
   }
   hit.t = t;
+  probebake_note_unresolved(t);
   return hit;
 }
 

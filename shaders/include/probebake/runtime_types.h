@@ -126,6 +126,13 @@ struct RelightChanges {
 // the gather window (light_relight recomputes its whole sums when the window reaches it). light_trace clears both.
 PB_CONSTANT(uint, TRACE_FLAG_RETRACE, 1u);
 PB_CONSTANT(uint, TRACE_FLAG_STALE_PUNCTUAL, 2u);
+// Streaming: a ray of the slot's last trace (or one of its shadow rays) crossed a cell that is out before it
+// hit anything (bvh_trace.glsl, PROBEBAKE_NULL_LEAF): the records may miss geometry. light_gather keeps the
+// probe's irradiance until a trace resolves it: light_trace retraces such slots whose place in the light
+// list lies in the push's retry window (the host moves the window over the list after cells arrive).
+PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED, 4u);
+// Set by the chunks of the trace under way that saw such a ray; the last chunk turns it into UNRESOLVED.
+PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED_NOW, 8u);
 
 struct LightPush {
   uint probe_capacity; // offset  0
@@ -143,7 +150,10 @@ struct LightPush {
   uint seed;            // offset 36: this frame's seed of the light sampling (the same frames, the same bits)
   uint indirect_records; // offset 40: 1 = a probe's records are at LIGHT_BINDING_RECORD_SLOTS[slot] (streaming)
   uint trace_lanes;     // offset 44: light_trace: threads per record, 1 or LIGHT_TRACE_LANES (below)
-};                      // size 48
+  uint null_leaf;       // offset 48: streaming: the child word of a cell that is out (StreamedTracing), else 0
+  uint retry_first;     // offset 52: streaming: light_trace retraces the TRACE_FLAG_UNRESOLVED slots at light
+  uint retry_count;     // offset 56:   list places [retry_first, retry_first + retry_count) modulo its count
+};                      // size 60
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -187,7 +197,7 @@ struct LightCounters {
   int want_free;       // offset 32: L3: the leaf rule says free the probe
   int relit_records;   // offset 36: records whose cached E_punctual light_relight updated
   int reused_records;  // offset 40: of them, updated with E_before read from the tracked buffer
-  int pad2;            // offset 44
+  int unresolved_probes; // offset 44: streaming: traced probes left TRACE_FLAG_UNRESOLVED (L1)
 };                     // size 48
 
 // ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME.md "Moving objects") -------------------------
@@ -224,7 +234,7 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 && offsetof(LightListHeader, trace_x) == 32);
-static_assert(sizeof(LightPush) == 48 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(LightPush) == 60 && offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES && offsetof(RelightChanges, changes) == 16 &&
               offsetof(RelightChanges, moved_boxes) == 16 + 128 * RELIGHT_MAX_CHANGES &&

@@ -5,7 +5,7 @@
 // Monte Carlo weight 4 pi / rays (bake/src/lighting/iteration.cpp) and blended with the probe's old value
 // by the hysteresis into next_irradiance (the probes themselves are written by light_resolve, so that every
 // probe of this frame reads last frame's values: a Jacobi sweep, deterministic). A probe whose last trace
-// crossed a streamed cell that is out (TRACE_FLAG_UNRESOLVED) keeps its irradiance.
+// crossed a streamed cell that is out (RECORD_SLOT_UNRESOLVED) keeps its irradiance.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/light_bindings.glsl"
@@ -33,7 +33,7 @@ void main() {
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
   const uint t = gl_LocalInvocationIndex;
-  if ((trace_flags[slot] & TRACE_FLAG_UNRESOLVED) != 0u) { // its rays crossed a cell that is out: keep its light
+  if (light_slot_unresolved(slot)) { // its rays crossed a cell that is out: keep its light
     if (t == 0u)
       for (int v = 0; v < 27; ++v) next_irradiance[27u * slot + uint(v)] = probebake_probes[slot].irradiance_sh[v];
     return;

@@ -10,16 +10,19 @@
 // one shadow ray. With `everything` (an object moved: a shadow may fall anywhere) every front record's sum
 // is recomputed as light_trace computes it (lights sampled past push.shadow_rays). A change of one light
 // replaces that light's exact share in a sampled sum: E - E_before + E_after stays an unbiased estimate. A
-// record that several changes reach gets its whole sum instead where that casts fewer rays.
+// record that several changes reach gets its whole sum instead where that casts fewer rays. Streaming: a
+// shadow ray that crosses a cell that is out leaves the probe RECORD_SLOT_UNRESOLVED, as in light_trace (the
+// gather keeps its irradiance until a retry traces its records afresh).
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#define PROBEBAKE_NULL_LEAF push.null_leaf // streaming: shadow rays that cross a cell that is out (bvh_trace.glsl)
 #include "probebake/light_bindings.glsl"
 #include "probebake/dispatch.glsl"
 #include "probebake/direct_light.glsl"
 
 layout(local_size_x = RELIGHT_WORKGROUP_SIZE) in;
 
-shared uint relit, reused;
+shared uint relit, reused, unresolved_records;
 
 // Several changes reach the record and their differences (two shadow rays each) would cost more rays than its
 // whole sum (one per light, or push.shadow_rays when lights are sampled). Never with one change: the tracked
@@ -80,15 +83,18 @@ void main() {
   if (gl_LocalInvocationIndex == 0) {
     relit = 0u;
     reused = 0u;
+    unresolved_records = 0u;
   }
   barrier();
   const int rays = probebake_lighting.rays;
-  uint count = 0u, from_tracked_count = 0u;
+  uint count = 0u, from_tracked_count = 0u, unresolved_count = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < rays; r += int(RELIGHT_WORKGROUP_SIZE)) {
     LightRecord rec = light_record(slot, uint(r));
     vec3 e;
     bool from_tracked;
+    probebake_ray_unresolved = false;
     if (rec.kind != LIGHT_RECORD_FRONT || !updated_punctual(slot, uint(r), rec, stale, e, from_tracked)) continue;
+    if (probebake_ray_unresolved) ++unresolved_count;
     light_record_set_punctual(rec, e);
     set_light_record(slot, uint(r), rec);
     ++count;
@@ -96,9 +102,11 @@ void main() {
   }
   atomicAdd(relit, count);
   atomicAdd(reused, from_tracked_count);
+  atomicAdd(unresolved_records, unresolved_count);
   barrier();
   if (gl_LocalInvocationIndex != 0) return;
-  if (stale) trace_flags[slot] &= ~TRACE_FLAG_STALE_PUNCTUAL;
+  if (stale) atomicAnd(trace_flags[slot], ~TRACE_FLAG_STALE_PUNCTUAL);
+  if (unresolved_records > 0u && !light_set_unresolved(slot, true)) atomicAdd(light_counters.unresolved_probes, 1);
   if (relit > 0u) atomicAdd(light_counters.relit_records, int(relit));
   if (reused > 0u) atomicAdd(light_counters.reused_records, int(reused));
 }

@@ -12,8 +12,8 @@
 //  Both use the bake's sides rule (glTF doubleSided): only the back of a single-sided triangle is inside
 //  geometry (a back-face hit and record); the back of a double-sided one is shaded with the facing normal.
 //  Streaming: when a lighting ray or one of its shadow rays crosses a cell that is out before it hits,
-//  the slot is left TRACE_FLAG_UNRESOLVED (runtime_types.h): the gather keeps its irradiance, and a trace in
-//  a later frame's retry window tries again.
+//  the probe's record slot is left RECORD_SLOT_UNRESOLVED (bindings.h): the gather keeps its irradiance, a
+//  lookup says it is not lit, and a trace in a later frame's retry window tries again.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #define PROBEBAKE_PROBES_WRITABLE
@@ -84,8 +84,8 @@ void main() {
   const int listed = light_slot(place);
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
-  const uint flags = trace_flags[slot]; // the last chunk of a trace resets it only after every chunk read it
-  const bool retry = (flags & TRACE_FLAG_UNRESOLVED) != 0u && push.listed != 0u && in_retry_window(place);
+  const uint flags = trace_flags[slot]; // the last chunk of a trace resets them only after every chunk read them
+  const bool retry = push.listed != 0u && light_slot_unresolved(slot) && in_retry_window(place);
   if (push.trace_all == 0u && (flags & TRACE_FLAG_RETRACE) == 0u && !retry) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {
@@ -149,7 +149,8 @@ void main() {
   const uint before = atomicAdd(trace_flags[slot], TRACE_FLAG_CHUNK_ONE);
   if (before / TRACE_FLAG_CHUNK_ONE == chunks - 1u) {
     const bool unresolved = (before & TRACE_FLAG_UNRESOLVED_NOW) != 0u;
-    atomicExchange(trace_flags[slot], unresolved ? TRACE_FLAG_UNRESOLVED : 0u);
+    atomicExchange(trace_flags[slot], 0u);
+    light_set_unresolved(slot, unresolved);
     if (unresolved) atomicAdd(light_counters.unresolved_probes, 1);
   }
   atomicAdd(light_counters.front_hits, int(front_count));

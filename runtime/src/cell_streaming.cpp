@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <utility>
 
+#include "error.h"
+#include "probebake/bindings.h"
 #include "probebake/formats/cells.h"
 
 namespace probebake::runtime::detail {
@@ -23,6 +25,7 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
   const std::size_t probes = volume.probes.size();
   const std::size_t slots = options.max_lit_probes > 0 ? std::min(probes, std::size_t(options.max_lit_probes)) : probes;
   record_of_probe_.assign(probes, -1);
+  if (slots >= std::size_t(gpu::RECORD_SLOT_UNRESOLVED)) fail(StatusCode::unsupported, "streaming: more probes with light records than record slots can number");
   record_slot_count_ = std::uint32_t(slots);
   free_records_.reserve(slots);
   for (std::size_t r = slots; r-- > 0;) free_records_.push_back(std::int32_t(r)); // slot 0 handed out first

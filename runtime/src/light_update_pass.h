@@ -66,7 +66,7 @@ public:
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
   void walk_light_list() { queue_driven_ = true; }
   // Streaming: the child word of a cell that is out; light_trace flags probes whose rays cross one
-  // (TRACE_FLAG_UNRESOLVED) and the gather keeps their irradiance.
+  // (RECORD_SLOT_UNRESOLVED) and the gather keeps their irradiance.
   void set_null_leaf(std::uint32_t word) { null_leaf_ = word; }
   // Streaming: cells arrived, so unresolved probes may now see their geometry. From the next record() on,
   // light_trace retraces the unresolved probes among `window` places of the light list per frame (0 = all),

@@ -87,6 +87,10 @@ PB_CONSTANT(uint, LIGHT_BINDING_TRACE_MATERIALS, 25u);
 // Streaming: int per probe slot, the slot of its records in the record pages, -1 for a probe that has none
 // (not lit); read only when LightPush.indirect_records is set (otherwise a probe's records are its slot's).
 PB_CONSTANT(uint, LIGHT_BINDING_RECORD_SLOTS, 26u);
+// A record slot with this bit set belongs to a probe left unresolved: its last trace or relight had a ray
+// cross a cell that is out (light_trace.comp). It keeps its irradiance, and a lookup says it is not lit
+// (sample_irradiance.glsl). Record slots stay below it.
+PB_CONSTANT(int, RECORD_SLOT_UNRESOLVED, 0x40000000);
 PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 27u);
 
 // ---- Memory update and light transitions (memory_bindings.glsl: memory_*.comp) -----------------------------

@@ -40,7 +40,7 @@ layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uin
 layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) readonly buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
 layout(std430, binding = LIGHT_BINDING_TRACKED_PUNCTUAL) buffer TrackedPunctualBuffer { float tracked_punctual[]; }; // 3 per record
 layout(std430, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer { RelightChanges relight_changes; };
-layout(std430, binding = LIGHT_BINDING_RECORD_SLOTS) readonly buffer RecordSlotBuffer { int light_record_slots[]; };
+layout(std430, binding = LIGHT_BINDING_RECORD_SLOTS) buffer RecordSlotBuffer { int light_record_slots[]; };
 layout(push_constant) uniform Push { LightPush push; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0
@@ -55,8 +55,24 @@ int light_slot(uint index) {
 }
 
 // Where probe slot `slot` keeps its records: its own slot, or with streaming the slot the host gave it (-1:
-// none, the probe is not lit).
-int light_record_slot(uint slot) { return push.indirect_records != 0u ? light_record_slots[slot] : int(slot); }
+// none, the probe is not lit), without the RECORD_SLOT_UNRESOLVED bit.
+int light_record_slot(uint slot) {
+  if (push.indirect_records == 0u) return int(slot);
+  const int r = light_record_slots[slot];
+  return r < 0 ? -1 : r & ~RECORD_SLOT_UNRESOLVED;
+}
+
+// Streaming: the probe's last trace or relight had a ray cross a cell that is out (bindings.h).
+bool light_slot_unresolved(uint slot) {
+  return push.indirect_records != 0u && light_record_slots[slot] >= 0 && (light_record_slots[slot] & RECORD_SLOT_UNRESOLVED) != 0;
+}
+// Sets or clears that bit of a probe with records; returns whether it was set before.
+bool light_set_unresolved(uint slot, bool unresolved) {
+  if (push.indirect_records == 0u || light_record_slots[slot] < 0) return false;
+  const int before = unresolved ? atomicOr(light_record_slots[slot], RECORD_SLOT_UNRESOLVED)
+                                : atomicAnd(light_record_slots[slot], ~RECORD_SLOT_UNRESOLVED);
+  return (before & RECORD_SLOT_UNRESOLVED) != 0;
+}
 
 // Whether the light update skips the probe: a free slot, or a probe without records (uniform per workgroup).
 bool light_slot_idle(uint slot) { return probebake_probes[slot].link == 0 || light_record_slot(slot) < 0; }

@@ -126,13 +126,11 @@ struct RelightChanges {
 // the gather window (light_relight recomputes its whole sums when the window reaches it). light_trace clears both.
 PB_CONSTANT(uint, TRACE_FLAG_RETRACE, 1u);
 PB_CONSTANT(uint, TRACE_FLAG_STALE_PUNCTUAL, 2u);
-// Streaming: a ray of the slot's last trace (or one of its shadow rays) crossed a cell that is out before it
-// hit anything (bvh_trace.glsl, PROBEBAKE_NULL_LEAF): the records may miss geometry. light_gather keeps the
-// probe's irradiance until a trace resolves it: light_trace retraces such slots whose place in the light
+// Streaming: set by the chunks of the trace under way that saw a ray (or a shadow ray) cross a cell that is
+// out before it hit anything (bvh_trace.glsl, PROBEBAKE_NULL_LEAF); the last chunk then marks the probe's
+// record slot RECORD_SLOT_UNRESOLVED (bindings.h). light_trace retraces such probes whose place in the light
 // list lies in the push's retry window (the host moves the window over the list after cells arrive).
-PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED, 4u);
-// Set by the chunks of the trace under way that saw such a ray; the last chunk turns it into UNRESOLVED.
-PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED_NOW, 8u);
+PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED_NOW, 4u);
 
 struct LightPush {
   uint probe_capacity; // offset  0
@@ -151,7 +149,7 @@ struct LightPush {
   uint indirect_records; // offset 40: 1 = a probe's records are at LIGHT_BINDING_RECORD_SLOTS[slot] (streaming)
   uint trace_lanes;     // offset 44: light_trace: threads per record, 1 or LIGHT_TRACE_LANES (below)
   uint null_leaf;       // offset 48: streaming: the child word of a cell that is out (StreamedTracing), else 0
-  uint retry_first;     // offset 52: streaming: light_trace retraces the TRACE_FLAG_UNRESOLVED slots at light
+  uint retry_first;     // offset 52: streaming: light_trace retraces the RECORD_SLOT_UNRESOLVED probes at light
   uint retry_count;     // offset 56:   list places [retry_first, retry_first + retry_count) modulo its count
 };                      // size 60
 
@@ -197,7 +195,7 @@ struct LightCounters {
   int want_free;       // offset 32: L3: the leaf rule says free the probe
   int relit_records;   // offset 36: records whose cached E_punctual light_relight updated
   int reused_records;  // offset 40: of them, updated with E_before read from the tracked buffer
-  int unresolved_probes; // offset 44: streaming: traced probes left TRACE_FLAG_UNRESOLVED (L1)
+  int unresolved_probes; // offset 44: streaming: probes that L1 or light_relight left RECORD_SLOT_UNRESOLVED
 };                     // size 48
 
 // ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME.md "Moving objects") -------------------------

@@ -25,7 +25,8 @@
 // int probebake_record_slots[] (<- Volume::buffers().record_slots, same set) and
 // bool probebake_sample_irradiance_not_lit(vec3 position, vec3 normal, out vec3 irradiance): true when a
 // probe of the lookup has no light records (its cell is out of range, or past UploadOptions::streaming's
-// max_lit_probes), so that its irradiance is the file's or the last lit value, not relit this frame.
+// max_lit_probes) or is unresolved (its rays crossed a cell that is out: RECORD_SLOT_UNRESOLVED), so that
+// its irradiance is the file's or the last lit value, not relit this frame.
 #ifndef PROBEBAKE_SAMPLE_IRRADIANCE_GLSL
 #define PROBEBAKE_SAMPLE_IRRADIANCE_GLSL
 
@@ -166,10 +167,14 @@ layout(std430, set = PROBEBAKE_SET, binding = PROBEBAKE_BINDING_RECORD_SLOTS) re
 };
 #endif
 
-// A probe of the stencil has no record slot: the light update does not relight it.
+// A probe of the stencil has no record slot or is unresolved: the light update does not relight it.
 bool probebake_stencil_not_lit(ProbebakeStencil s) {
   bool not_lit = false;
-  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) not_lit = not_lit || (s.probes[k] >= 0 && probebake_record_slots[s.probes[k]] < 0);
+  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) {
+    if (s.probes[k] < 0) continue;
+    const int slot = probebake_record_slots[s.probes[k]];
+    not_lit = not_lit || slot < 0 || (slot & RECORD_SLOT_UNRESOLVED) != 0;
+  }
   return not_lit;
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "byte_io.h"
@@ -164,6 +165,9 @@ std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) throw Error(ErrorKind::input, path.string() + ": cannot open: " + errno_text());
   std::vector<std::uint8_t> bytes;
+  // A regular file's size up front: one allocation, where growing by doubling held up to three times the file.
+  struct stat info {};
+  if (::fstat(::fileno(file), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0) bytes.reserve(std::size_t(info.st_size));
   std::uint8_t buffer[1 << 16];
   std::size_t n = 0;
   while ((n = std::fread(buffer, 1, sizeof(buffer), file)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);

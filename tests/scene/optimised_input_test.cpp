@@ -316,6 +316,24 @@ TEST(Textures, UndecodableTextureIsOneWarningAndAnErrorWhenStrict) {
   EXPECT_NE(g.warnings[0].find("unknown image format"), std::string::npos) << g.warnings[0];
 }
 
+// A PNG chunk that declares more bytes than the file holds is refused before stb sees it: stb grew its IDAT
+// buffer to the declared length first (fuzz_scene_loader: a 38 KB texture declaring a 1.1 GB chunk made it
+// ask for 2 GB). The texture falls back to its factor with one warning that names the chunk.
+TEST(Textures, APngChunkLongerThanItsFileIsRefusedBeforeDecoding) {
+  Bytes png = png_bytes(200, 100, 50);
+  const std::size_t idat = 8 + 12 + 13; // after the signature and IHDR's 13 bytes
+  ASSERT_EQ(std::string(png.begin() + idat + 4, png.begin() + idat + 8), "IDAT");
+  const std::uint32_t declared = 1167327232u;
+  for (int k = 0; k < 4; ++k) png[idat + std::size_t(k)] = static_cast<unsigned char>(declared >> (24 - 8 * k));
+  TexturedQuad q;
+  q.g.json["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {0.5, 0.25, 1.0, 1.0};
+  q.g.json["textures"] = {{{"source", q.add_image(png, "image/png")}}};
+  const scene::Scene s = q.load("tex-png-long-chunk");
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("corrupt PNG: chunk 1 at byte 33 declares 1167327232 bytes"), std::string::npos) << s.warnings[0];
+  EXPECT_EQ(s.triangle_albedo[0], glm::vec3(0.5f, 0.25f, 1.0f)); // the factor alone
+}
+
 TEST(Textures, WebpAndKtx2DataUrisAreAccepted) {
   TexturedQuad q;
   const Bytes webp = webp_bytes(200, 100, 50);

@@ -85,7 +85,7 @@ void main() {
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
   const uint flags = trace_flags[slot]; // the last chunk of a trace resets them only after every chunk read them
-  const bool retry = push.listed != 0u && light_slot_unresolved(slot) && in_retry_window(place);
+  const bool retry = light_slot_unresolved(slot) && in_retry_window(place); // streaming only: the host's list
   if (push.trace_all == 0u && (flags & TRACE_FLAG_RETRACE) == 0u && !retry) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {

@@ -139,12 +139,12 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
       light.record_record_slots(cmd, reassigned, record_of_probe_);
       light.record_host_list(cmd, slots, retrace);
     }
-    if (changes.loads.size() > missed.unplaced.size() + missed.reading.size() + missed.refused.size())
-      light.retry_unresolved(std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
+    const int loaded = int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
+    if (loaded > 0) light.retry_unresolved(std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
     timer.end(cmd, slot);
     timed = true;
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes
-    stats.loaded_cells = int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
+    stats.loaded_cells = loaded;
     stats.dropped_cells = int(changes.drops.size());
     stats.loaded_bytes = changes.loaded_bytes - missed_bytes;
     stats.waiting_cells = int(changes.waiting);

@@ -1,10 +1,13 @@
 #include "probebake/formats/cell_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -37,36 +40,67 @@ CellTracingData cell_tracing_data(const ProbeVolume& volume, std::size_t k) {
           slice(volume.trace_vertices, t.trace_vertices)};
 }
 
-CellFile CellFile::open(const std::filesystem::path& path, ProbeVolume& volume) {
+FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
+  if (size == 0) return;
+  if (size > std::numeric_limits<std::size_t>::max()) throw_input_error(name, "cannot map: larger than the address space");
+  void* data = ::mmap(nullptr, std::size_t(size), PROT_READ, MAP_PRIVATE, fd, 0);
+  if (data == MAP_FAILED) throw_input_error(name, "cannot map: " + errno_text());
+  data_ = data, size_ = std::size_t(size);
+}
+
+FileMapping::FileMapping(FileMapping&& other) noexcept
+    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)) {}
+
+FileMapping& FileMapping::operator=(FileMapping&& other) noexcept {
+  std::swap(data_, other.data_);
+  std::swap(size_, other.size_);
+  return *this;
+}
+
+void FileMapping::reset() {
+  if (data_ != nullptr) ::munmap(data_, size_);
+  data_ = nullptr, size_ = 0;
+}
+
+OpenedCellFile CellFile::open(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw_input_error(path.string(), "cannot open: " + errno_text());
-  CellFile file(fd, path.string()); // closes the descriptor on every throw below
+  OpenedCellFile opened{CellFile(fd, path.string()), {}, {}, {}}; // closes the descriptor on every throw below
+  CellFile& file = opened.file;
   struct stat info {};
   if (::fstat(fd, &info) != 0) throw_input_error(file.name_, "cannot stat: " + errno_text());
   if (!S_ISREG(info.st_mode)) throw_input_error(file.name_, "not a regular file");
-  const std::vector<std::uint8_t> bytes = file.read_bytes(0, std::uint64_t(info.st_size), "file");
-  const ContainerView container = parse_container(bytes, file.name_);
-  volume = decode_probes(container, file.name_);
+  opened.mapping = FileMapping(fd, std::uint64_t(info.st_size), file.name_);
+  const ContainerView container = parse_container(opened.mapping.bytes(), file.name_);
+  const auto has = [&](SectionType type) {
+    return std::any_of(container.sections.begin(), container.sections.end(),
+                       [&](const SectionEntry& entry) { return entry.type == static_cast<std::uint32_t>(type); });
+  };
+  // Only files that can stream keep their tracing in the mapping; a 1.1-1.3 file is upgraded in memory.
+  const bool in_place = has(SectionType::cell_tracing) && !has(SectionType::bvh_nodes) && !has(SectionType::trace_triangles);
+  opened.volume = decode_probes(container, file.name_, in_place ? TraceSections::leave_in_bytes : TraceSections::decode);
+  if (in_place) opened.in_mapping = tracing_in(container, file.name_);
+  else opened.mapping.reset();
   for (const SectionEntry& entry : container.sections) {
     if (!is_known_section_type(entry.type)) continue;
     if (file.sections_.size() <= entry.type) file.sections_.resize(entry.type + 1);
     file.sections_[entry.type] = {entry.offset, entry.size};
   }
-  return file;
+  return opened;
 }
 
 CellFile::Descriptor::~Descriptor() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void CellFile::expect(const ProbeVolume& validated) {
+void CellFile::expect(const ProbeVolume& validated, const TracingView& tracing) {
   if (validated.cell_tracing.empty() || validated.cell_tracing.size() != validated.cells.size())
     throw Error(ErrorKind::usage, name_ + ": reading cells from disk needs the tracing split by cell (format 1.5 cell_tracing)");
   cells_ = validated.cells;
   tracing_ = validated.cell_tracing;
   checksums_.clear(), bytes_.clear();
   for (std::size_t k = 0; k < cells_.size(); ++k) {
-    checksums_.push_back(cell_checksum(validated, k));
+    checksums_.push_back(cell_checksum(validated, tracing, k));
     bytes_.push_back(cell_bytes(validated, k));
   }
 }

@@ -291,25 +291,27 @@ std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
 namespace {
 
 template <class T>
-void hash_range(XXH3_state_t& state, const std::vector<T>& section, const CellRange& range) {
+void hash_range(XXH3_state_t& state, std::span<const T> section, const CellRange& range) {
   if (std::uint64_t(range.first) + range.count > section.size()) throw Error(ErrorKind::internal, "cell_checksum: a range outside its section");
   if (range.count > 0) XXH3_64bits_update(&state, section.data() + range.first, std::size_t(range.count) * sizeof(T));
 }
 
 } // namespace
 
-std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k) {
+std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k) { return cell_checksum(volume, tracing_view(volume), k); }
+
+std::uint64_t cell_checksum(const ProbeVolume& volume, const TracingView& tracing, std::size_t k) {
   const Cell& cell = volume.cells.at(k);
   XXH3_state_t state;
   XXH3_64bits_reset(&state);
-  hash_range(state, volume.probes, cell.probes);
-  hash_range(state, volume.surfel_batches, cell.surfel_batches);
-  hash_range(state, volume.svo_leaves, cell.svo_leaves);
+  hash_range(state, std::span<const gpu::Probe>(volume.probes), cell.probes);
+  hash_range(state, std::span<const gpu::SurfelBatch>(volume.surfel_batches), cell.surfel_batches);
+  hash_range(state, std::span<const gpu::SvoLeaf>(volume.svo_leaves), cell.svo_leaves);
   if (k < volume.cell_tracing.size()) {
     const CellTracing& t = volume.cell_tracing[k];
-    hash_range(state, volume.trace_nodes, t.trace_nodes);
-    hash_range(state, volume.trace_faces, t.trace_faces);
-    hash_range(state, volume.trace_vertices, t.trace_vertices);
+    hash_range(state, tracing.nodes, t.trace_nodes);
+    hash_range(state, tracing.faces, t.trace_faces);
+    hash_range(state, tracing.vertices, t.trace_vertices);
   }
   return XXH3_64bits_digest(&state);
 }

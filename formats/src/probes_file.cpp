@@ -83,11 +83,18 @@ public:
 
   template <typename T>
   std::vector<T> elements() const {
-    check_element_size(sizeof(T));
-    if (entry_.element_count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max())) {
-      fail(detail::concat(entry_.element_count, " elements (indices are int32)"));
-    }
+    check_elements<T>();
     return detail::elements_from<T>(payload_);
+  }
+
+  // The elements where they lie in the payload (at a multiple of 16 bytes from the start of the bytes:
+  // parse_container checks each section's alignment).
+  template <typename T>
+  std::span<const T> in_place() const {
+    check_elements<T>();
+    static_assert(std::is_trivially_copyable_v<T> && alignof(T) <= kSectionAlignment);
+    if (reinterpret_cast<std::uintptr_t>(payload_.data()) % alignof(T) != 0) fail("the bytes are not aligned for reading in place");
+    return {reinterpret_cast<const T*>(payload_.data()), payload_.size() / sizeof(T)};
   }
 
   template <typename T>
@@ -98,6 +105,13 @@ public:
   }
 
 private:
+  template <typename T>
+  void check_elements() const {
+    check_element_size(sizeof(T));
+    if (entry_.element_count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max())) {
+      fail(detail::concat(entry_.element_count, " elements (indices are int32)"));
+    }
+  }
   void check_element_size(std::size_t expected) const {
     if (entry_.element_size != expected) fail(detail::concat("element size ", entry_.element_size, ", expected ", expected));
   }
@@ -123,6 +137,11 @@ void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uin
 
 std::string errno_text() { return std::strerror(errno); }
 
+bool is_in_place_trace_section(std::uint32_t type) {
+  return type == static_cast<std::uint32_t>(SectionType::trace_nodes) || type == static_cast<std::uint32_t>(SectionType::trace_faces) ||
+         type == static_cast<std::uint32_t>(SectionType::trace_vertices);
+}
+
 } // namespace
 
 std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
@@ -143,11 +162,12 @@ void write_probes_file(const std::filesystem::path& path, const ProbeVolume& vol
   write_file_atomically(path, write_probes(volume));
 }
 
-ProbeVolume decode_probes(const ContainerView& container, std::string_view name) {
+ProbeVolume decode_probes(const ContainerView& container, std::string_view name, TraceSections trace_sections) {
   ProbeVolume volume;
   bool has_info = false;
   for (std::size_t i = 0; i < container.sections.size(); ++i) {
     const SectionEntry& entry = container.sections[i];
+    if (trace_sections == TraceSections::leave_in_bytes && is_in_place_trace_section(entry.type)) continue;
     decode_section(volume, SectionDecoder(name, entry, container.payloads[i]), entry.type);
     has_info = has_info || entry.type == static_cast<std::uint32_t>(SectionType::volume_info);
   }
@@ -155,6 +175,18 @@ ProbeVolume decode_probes(const ContainerView& container, std::string_view name)
   volume.cell_depth = static_cast<std::int32_t>(std::min<std::uint32_t>(container.header.cell_depth, 1u << 30));
   volume.input_hash = container.header.input_hash;
   return volume;
+}
+
+TracingView tracing_in(const ContainerView& container, std::string_view name) {
+  TracingView view;
+  for (std::size_t i = 0; i < container.sections.size(); ++i) {
+    const SectionEntry& entry = container.sections[i];
+    const SectionDecoder section(name, entry, container.payloads[i]);
+    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_nodes)) view.nodes = section.in_place<gpu::TraceNode>();
+    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_faces)) view.faces = section.in_place<gpu::TraceFace>();
+    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_vertices)) view.vertices = section.in_place<gpu::TraceVertex>();
+  }
+  return view;
 }
 
 ProbeVolume read_probes(std::span<const std::uint8_t> bytes, std::string_view name_for_errors) {

@@ -16,7 +16,7 @@
 namespace probebake::formats {
 namespace {
 
-void run_phases(const ProbeVolume& volume, detail::Reporter& out) {
+void run_phases(const ProbeVolume& volume, const TracingView& tracing, detail::Reporter& out) {
   try {
     detail::check_volume_info(volume, out);
     detail::check_counts(volume, out);
@@ -28,8 +28,8 @@ void run_phases(const ProbeVolume& volume, detail::Reporter& out) {
     detail::check_probe_index(volume, out);
     detail::check_leaf_queue(volume, octree, out);
     detail::check_svo(volume, out);
-    detail::check_cells(volume, octree, out);
-    detail::check_lighting(volume, out);
+    detail::check_cells(volume, tracing, octree, out);
+    detail::check_lighting(volume, tracing, out);
   } catch (const detail::StopValidation&) {
     // max_errors reached; the report says truncated
   }
@@ -103,10 +103,14 @@ constexpr InvariantInfo kInvariants[] = {
 std::span<const InvariantInfo> invariants() { return kInvariants; }
 
 ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& options) {
+  return validate(volume, tracing_view(volume), options);
+}
+
+ValidationReport validate(const ProbeVolume& volume, const TracingView& tracing, const ValidateOptions& options) {
   ValidationReport report;
   report.name = "volume";
   detail::Reporter out(report, options);
-  run_phases(volume, out);
+  run_phases(volume, tracing, out);
   return report;
 }
 
@@ -132,9 +136,9 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
     report.violations.push_back(Violation{"container", "container", -1, error.what()});
     return report;
   }
-  run_phases(volume, out);
+  run_phases(volume, tracing_view(volume), out);
   try {
-    detail::check_cell_checksums(volume, out); // the file's bytes: a volume edited in memory is not checked
+    detail::check_cell_checksums(volume, tracing_view(volume), out); // the file's bytes: a volume edited in memory is not checked
   } catch (const detail::StopValidation&) {
     // max_errors reached
   }

@@ -109,18 +109,18 @@ std::vector<int> expected_batch_cells(const ProbeVolume& volume, const std::vect
 }
 
 // The static tree's faces: those before the first dynamic object's (format 1.3 objects follow tree 0).
-std::size_t static_faces(const ProbeVolume& volume) {
-  if (volume.dynamic_objects.empty()) return volume.trace_faces.size();
-  return std::min<std::size_t>(volume.trace_faces.size(), std::size_t(std::max(0, volume.dynamic_objects[0].first_triangle)));
+std::size_t static_faces(const ProbeVolume& volume, const TracingView& tracing) {
+  if (volume.dynamic_objects.empty()) return tracing.faces.size();
+  return std::min<std::size_t>(tracing.faces.size(), std::size_t(std::max(0, volume.dynamic_objects[0].first_triangle)));
 }
 
 bool in_range(std::uint64_t index, const CellRange& range) { return index >= range.first && index < std::uint64_t(range.first) + range.count; }
 
 // The first way cell k's part of the static tree reaches outside its own nodes, faces and vertices, or a
 // face whose centroid lies in another cell; empty when it is self-contained.
-std::string tracing_leak(const ProbeVolume& volume, const Cell& cell, const CellTracing& ranges) {
+std::string tracing_leak(const ProbeVolume& volume, const TracingView& tracing, const Cell& cell, const CellTracing& ranges) {
   for (std::uint32_t n = ranges.trace_nodes.first; n < ranges.trace_nodes.first + ranges.trace_nodes.count; ++n) {
-    for (const std::uint32_t word : volume.trace_nodes[n].child) {
+    for (const std::uint32_t word : tracing.nodes[n].child) {
       if (is_leaf_word(word)) {
         if (!in_range(leaf_first(word), ranges.trace_faces) || !in_range(leaf_first(word) + leaf_count(word) - 1, ranges.trace_faces))
           return concat("trace node ", n, " has faces outside the cell's");
@@ -131,11 +131,11 @@ std::string tracing_leak(const ProbeVolume& volume, const Cell& cell, const Cell
   }
   const gpu::VolumeInfo& info = volume.info;
   for (std::uint32_t f = ranges.trace_faces.first; f < ranges.trace_faces.first + ranges.trace_faces.count; ++f) {
-    const gpu::TraceFace& face = volume.trace_faces[f];
+    const gpu::TraceFace& face = tracing.faces[f];
     glm::vec3 corners[3];
     for (int k = 0; k < 3; ++k) {
       if (!in_range(face.vertex[k], ranges.trace_vertices)) return concat("trace face ", f, " uses vertex ", face.vertex[k], " outside the cell's");
-      const gpu::TraceVertex& v = volume.trace_vertices[face.vertex[k]];
+      const gpu::TraceVertex& v = tracing.vertices[face.vertex[k]];
       corners[k] = glm::vec3(v.x, v.y, v.z);
     }
     const int owner = cell_of_triangle(info, volume.cell_depth, corners[0], corners[1], corners[2]);
@@ -146,15 +146,15 @@ std::string tracing_leak(const ProbeVolume& volume, const Cell& cell, const Cell
 
 // cell_tracing: one record per cell, ranges inside their sections and ascending, the static tree's faces
 // all in some cell's range, and each cell's nodes, faces and vertices referring only to each other.
-void check_cell_tracing(const ProbeVolume& volume, Reporter& out) {
+void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
   if (volume.cell_tracing.empty()) return;
   if (volume.cell_tracing.size() != volume.cells.size()) {
     out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records for ", volume.cells.size(), " cells"));
     return;
   }
-  RangeCursor nodes{"trace_nodes", volume.trace_nodes.size(), sizeof(gpu::TraceNode)};
-  RangeCursor faces{"trace_faces", volume.trace_faces.size(), sizeof(gpu::TraceFace)};
-  RangeCursor vertices{"trace_vertices", volume.trace_vertices.size(), sizeof(gpu::TraceVertex)};
+  RangeCursor nodes{"trace_nodes", tracing.nodes.size(), sizeof(gpu::TraceNode)};
+  RangeCursor faces{"trace_faces", tracing.faces.size(), sizeof(gpu::TraceFace)};
+  RangeCursor vertices{"trace_vertices", tracing.vertices.size(), sizeof(gpu::TraceVertex)};
   bool ranges_ok = true;
   std::uint64_t covered_faces = 0;
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
@@ -167,10 +167,10 @@ void check_cell_tracing(const ProbeVolume& volume, Reporter& out) {
   }
   if (!ranges_ok) return;
   const std::size_t first_face = volume.cell_tracing.front().trace_faces.first;
-  if (first_face != 0 || covered_faces != static_faces(volume) || faces.end != covered_faces)
-    out.add("cell_tracing", "cell_tracing", -1, concat("the cells' faces are ", first_face, "+", covered_faces, ", the static tree's 0+", static_faces(volume)));
+  if (first_face != 0 || covered_faces != static_faces(volume, tracing) || faces.end != covered_faces)
+    out.add("cell_tracing", "cell_tracing", -1, concat("the cells' faces are ", first_face, "+", covered_faces, ", the static tree's 0+", static_faces(volume, tracing)));
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
-    const std::string leak = tracing_leak(volume, volume.cells[k], volume.cell_tracing[k]);
+    const std::string leak = tracing_leak(volume, tracing, volume.cells[k], volume.cell_tracing[k]);
     if (!leak.empty()) out.add("cell_tracing", "cell_tracing", static_cast<long long>(k), leak);
   }
 }
@@ -180,7 +180,7 @@ void check_cell_tracing(const ProbeVolume& volume, Reporter& out) {
 // cell_checksums (1.6): one per cell, each the checksum of the cell's bytes in the file (cells.h
 // cell_checksum), so that a reader that loads one cell can trust it. Each cell is checked on its own and a
 // damaged one is named; a cell whose ranges leave their sections is cell_range's.
-void check_cell_checksums(const ProbeVolume& volume, Reporter& out) {
+void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
   if (volume.cell_checksums.empty()) return;
   if (volume.cell_checksums.size() != volume.cells.size()) {
     out.add("cell_checksum", "cell_checksums", -1, concat(volume.cell_checksums.size(), " checksums for ", volume.cells.size(), " cells"));
@@ -190,7 +190,7 @@ void check_cell_checksums(const ProbeVolume& volume, Reporter& out) {
   for (std::size_t k = 0; k < volume.cells.size(); ++k) {
     std::uint64_t sum = 0;
     try {
-      sum = cell_checksum(volume, k);
+      sum = cell_checksum(volume, tracing, k);
     } catch (const Error&) {
       continue;
     }
@@ -200,14 +200,14 @@ void check_cell_checksums(const ProbeVolume& volume, Reporter& out) {
   }
 }
 
-void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out) {
+void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, Reporter& out) {
   if (volume.cells.empty() && !volume.cell_tracing.empty())
     out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records without cells"));
   if (volume.cells.empty() || volume.cell_depth < 0 || volume.cell_depth > kMaxCellDepth) return;
   bool ranges_ok = true;
   check_records(volume, octree, ranges_ok, out);
   if (!ranges_ok) return;
-  check_cell_tracing(volume, out);
+  check_cell_tracing(volume, tracing, out);
   const std::vector<int> probe_cells = expected_probe_cells(volume);
   check_membership("probes", range_owners(volume.cells, volume.probes.size(), &Cell::probes), probe_cells, out);
   check_membership("surfel_batches", range_owners(volume.cells, volume.surfel_batches.size(), &Cell::surfel_batches),

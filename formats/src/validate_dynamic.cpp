@@ -91,14 +91,14 @@ void check_object_values(const ProbeVolume& v, std::size_t i, Reporter& out) {
 
 } // namespace
 
-void check_dynamic_objects(const ProbeVolume& v, Reporter& out) {
+void check_dynamic_objects(const ProbeVolume& v, const TracingView& tracing, Reporter& out) {
   if (v.dynamic_objects.empty()) return;
   if (!v.lighting) return out.add("lighting_sections", "dynamic_objects", -1, "dynamic objects without a lighting_info section");
   if (v.lighting->dynamic_objects != static_cast<long long>(v.dynamic_objects.size())) {
     out.add("lighting_sections", "dynamic_objects", -1,
             concat("dynamic_objects is ", v.lighting->dynamic_objects, " but the section has ", v.dynamic_objects.size(), " elements"));
   }
-  if (uses_compact_tracing(v)) { // format 1.4: ranges and boxes are checked with the trees (validate_tracing.cpp)
+  if (uses_compact_tracing(v, tracing)) { // format 1.4: ranges and boxes are checked with the trees (validate_tracing.cpp)
     for (std::size_t i = 0; i < v.dynamic_objects.size(); ++i) check_object_values(v, i, out);
     return;
   }

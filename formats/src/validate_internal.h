@@ -95,16 +95,16 @@ void check_surfel_batches(const ProbeVolume& volume, Reporter& out);
 void check_probe_index(const ProbeVolume& volume, Reporter& out);
 void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
 void check_svo(const ProbeVolume& volume, Reporter& out);
-void check_cells(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
+void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, Reporter& out);
 // Files only (validate_file): a volume edited in memory keeps the checksums it was read with.
-void check_cell_checksums(const ProbeVolume& volume, Reporter& out);
+void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
 // Runtime lighting sections (validate_lighting.cpp): their floats, called by check_finite; then the
 // sections, values and BVH, run last.
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);
-void check_lighting(const ProbeVolume& volume, Reporter& out);
-void check_dynamic_objects(const ProbeVolume& volume, Reporter& out); // format 1.3 (validate_dynamic.cpp)
+void check_lighting(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
+void check_dynamic_objects(const ProbeVolume& volume, const TracingView& tracing, Reporter& out); // format 1.3 (validate_dynamic.cpp)
 // Format 1.4 (validate_tracing.cpp): the compact tracing sections, and the dynamic objects' ranges in them.
-bool uses_compact_tracing(const ProbeVolume& volume);
-void check_trace_mesh(const ProbeVolume& volume, Reporter& out);
+bool uses_compact_tracing(const ProbeVolume& volume, const TracingView& tracing);
+void check_trace_mesh(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
 
 } // namespace probebake::formats::detail

@@ -55,24 +55,24 @@ void check_count(Reporter& out, const char* section, long long expected, std::si
   }
 }
 
-void check_no_lighting_data(const ProbeVolume& v, Reporter& out) {
+void check_no_lighting_data(const ProbeVolume& v, const TracingView& tracing, Reporter& out) {
   const std::pair<const char*, bool> sections[] = {{"ray_directions", v.ray_directions.empty()},
                                                    {"bvh_nodes", v.bvh_nodes.empty()},
                                                    {"trace_triangles", v.trace_triangles.empty()},
                                                    {"punctual_lights", v.punctual_lights.empty()},
                                                    {"emitter_patches", v.emitter_patches.empty()},
-                                                   {"trace_trees", !uses_compact_tracing(v)}};
+                                                   {"trace_trees", !uses_compact_tracing(v, tracing)}};
   for (const auto& [section, empty] : sections) {
     if (!empty) out.add("lighting_sections", section, -1, "lighting data without a lighting_info section");
   }
 }
 
-void check_lighting_sections(const ProbeVolume& v, Reporter& out) {
-  if (!v.lighting) return check_no_lighting_data(v, out);
+void check_lighting_sections(const ProbeVolume& v, const TracingView& tracing, Reporter& out) {
+  if (!v.lighting) return check_no_lighting_data(v, tracing, out);
   const gpu::LightingInfo& info = *v.lighting;
-  const bool compact = uses_compact_tracing(v); // format 1.4
-  check_count(out, compact ? "trace_nodes" : "bvh_nodes", info.bvh_nodes, compact ? v.trace_nodes.size() : v.bvh_nodes.size(), "bvh_nodes");
-  check_count(out, compact ? "trace_faces" : "trace_triangles", info.triangles, compact ? v.trace_faces.size() : v.trace_triangles.size(), "triangles");
+  const bool compact = uses_compact_tracing(v, tracing); // format 1.4
+  check_count(out, compact ? "trace_nodes" : "bvh_nodes", info.bvh_nodes, compact ? tracing.nodes.size() : v.bvh_nodes.size(), "bvh_nodes");
+  check_count(out, compact ? "trace_faces" : "trace_triangles", info.triangles, compact ? tracing.faces.size() : v.trace_triangles.size(), "triangles");
   check_count(out, "punctual_lights", info.lights, v.punctual_lights.size(), "lights");
   check_count(out, "emitter_patches", info.emitter_patches, v.emitter_patches.size(), "emitter_patches");
   check_count(out, "ray_directions", static_cast<long long>(info.rays) + info.placement_rays, v.ray_directions.size(),
@@ -300,12 +300,12 @@ void check_lighting_finite(const ProbeVolume& v, Reporter& out) {
   report_non_finite(v.emitter_patches, "emitter_patches", patch_finite, out);
 }
 
-void check_lighting(const ProbeVolume& volume, Reporter& out) {
-  check_lighting_sections(volume, out);
+void check_lighting(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
+  check_lighting_sections(volume, tracing, out);
   check_lighting_values(volume, out);
   check_lighting_flags(volume, out);
-  check_dynamic_objects(volume, out); // first: the BVH walk starts at the objects' roots
-  if (uses_compact_tracing(volume)) return check_trace_mesh(volume, out);
+  check_dynamic_objects(volume, tracing, out); // first: the BVH walk starts at the objects' roots
+  if (uses_compact_tracing(volume, tracing)) return check_trace_mesh(volume, tracing, out);
   BvhChecker(volume, out).run();
 }
 

@@ -21,8 +21,8 @@
 namespace probebake::formats::detail {
 namespace {
 
-glm::vec3 vertex_at(const ProbeVolume& v, std::uint32_t i) {
-  const gpu::TraceVertex& p = v.trace_vertices[i];
+glm::vec3 vertex_at(const TracingView& t, std::uint32_t i) {
+  const gpu::TraceVertex& p = t.vertices[i];
   return {p.x, p.y, p.z};
 }
 
@@ -41,9 +41,9 @@ struct FaceRange {
 };
 
 // The faces of tree t: static faces before the first object's, then each object's range.
-FaceRange tree_faces(const ProbeVolume& v, std::size_t t) {
+FaceRange tree_faces(const ProbeVolume& v, const TracingView& tracing, std::size_t t) {
   const auto& objects = v.dynamic_objects;
-  if (t == 0) return {0, objects.empty() ? v.trace_faces.size() : std::size_t(std::max(0, objects[0].first_triangle))};
+  if (t == 0) return {0, objects.empty() ? tracing.faces.size() : std::size_t(std::max(0, objects[0].first_triangle))};
   const gpu::DynamicObject& o = objects[t - 1];
   return {std::size_t(std::max(0, o.first_triangle)), std::size_t(std::max(0, o.first_triangle)) + std::size_t(std::max(0, o.triangle_count))};
 }
@@ -52,8 +52,8 @@ FaceRange tree_faces(const ProbeVolume& v, std::size_t t) {
 // reached exactly once and every face lie in exactly one leaf of its own tree.
 class TraceTreeChecker {
 public:
-  TraceTreeChecker(const ProbeVolume& v, Reporter& out)
-      : v_(v), out_(out), reached_(v.trace_nodes.size(), 0), covered_(v.trace_faces.size(), 0) {}
+  TraceTreeChecker(const ProbeVolume& v, const TracingView& t, Reporter& out)
+      : v_(v), t_(t), out_(out), reached_(t.nodes.size(), 0), covered_(t.faces.size(), 0) {}
 
   void run() {
     std::size_t next_node = 0;
@@ -63,19 +63,19 @@ public:
       if (tree.scale.x < 0.0f || tree.scale.y < 0.0f || tree.scale.z < 0.0f) bad("trace_trees", t, "negative scale");
       const std::size_t nodes = std::size_t(std::max(0, tree.node_count));
       if (tree.node_count < 0) bad("trace_trees", t, "negative node_count");
-      const FaceRange faces = tree_faces(v_, t);
-      if (faces.end > v_.trace_faces.size() || faces.begin > faces.end) {
+      const FaceRange faces = tree_faces(v_, t_, t);
+      if (faces.end > t_.faces.size() || faces.begin > faces.end) {
         bad("trace_trees", t, "its faces lie outside trace_faces");
         continue;
       }
-      if (next_node + nodes > v_.trace_nodes.size()) {
+      if (next_node + nodes > t_.nodes.size()) {
         bad("trace_trees", t, concat("its nodes [", next_node, ", ", next_node + nodes, ") lie outside trace_nodes"));
         return;
       }
       walk(t, next_node, nodes, faces);
       next_node += nodes;
     }
-    if (next_node != v_.trace_nodes.size()) out_.add("trace_tree", "trace_nodes", -1, concat("the trees hold ", next_node, " of ", v_.trace_nodes.size(), " nodes"));
+    if (next_node != t_.nodes.size()) out_.add("trace_tree", "trace_nodes", -1, concat("the trees hold ", next_node, " of ", t_.nodes.size(), " nodes"));
     for (std::size_t n = 0; n < reached_.size(); ++n)
       if (reached_[n] == 0) bad("trace_nodes", n, "not reachable from its tree's root");
     for (std::size_t f = 0; f < covered_.size(); ++f)
@@ -113,7 +113,7 @@ private:
     if (n < begin || n >= end) return bad("trace_trees", t, concat("node ", n, " outside the tree's nodes [", begin, ", ", end, ")"));
     if (reached_[n]++ != 0) return bad("trace_nodes", n, "reached twice");
     if (p.depth >= gpu::BVH_MAX_DEPTH) return bad("trace_nodes", n, concat("depth ", p.depth, " reaches BVH_MAX_DEPTH"));
-    const gpu::TraceNode& node = v_.trace_nodes[n];
+    const gpu::TraceNode& node = t_.nodes[n];
     for (int c = 0; c < 2; ++c) {
       const std::uint32_t child = node.child[c];
       if (!is_leaf_word(child) && child <= n) {
@@ -130,22 +130,23 @@ private:
       return bad("trace_faces", first, concat("a leaf of ", count, " faces at ", first, " outside its tree's faces [", faces.begin, ", ", faces.end, ")"));
     for (std::size_t f = first; f < first + count; ++f) {
       if (covered_[f]++ != 0) bad("trace_faces", f, "in two leaves");
-      for (std::uint32_t k : v_.trace_faces[f].vertex)
-        if (k < v_.trace_vertices.size() && !inside(p.box, vertex_at(v_, k))) bad("trace_faces", f, concat("vertex ", k, " outside a box above it"));
+      for (std::uint32_t k : t_.faces[f].vertex)
+        if (k < t_.vertices.size() && !inside(p.box, vertex_at(t_, k))) bad("trace_faces", f, concat("vertex ", k, " outside a box above it"));
     }
   }
 
   const ProbeVolume& v_;
+  const TracingView& t_;
   Reporter& out_;
   std::vector<std::uint8_t> reached_, covered_;
 };
 
-std::string face_problem(const ProbeVolume& v, const gpu::TraceFace& face) {
+std::string face_problem(const ProbeVolume& v, const TracingView& t, const gpu::TraceFace& face) {
   for (std::uint32_t k : face.vertex)
-    if (k >= v.trace_vertices.size()) return concat("vertex ", k, " outside trace_vertices");
+    if (k >= t.vertices.size()) return concat("vertex ", k, " outside trace_vertices");
   if ((face.material & gpu::TRACE_MATERIAL_MASK) >= v.trace_materials.size()) return concat("material ", face.material & gpu::TRACE_MATERIAL_MASK, " outside trace_materials");
-  const glm::vec3 v0 = vertex_at(v, face.vertex[0]);
-  const float area = glm::length(glm::cross(vertex_at(v, face.vertex[1]) - v0, vertex_at(v, face.vertex[2]) - v0));
+  const glm::vec3 v0 = vertex_at(t, face.vertex[0]);
+  const float area = glm::length(glm::cross(vertex_at(t, face.vertex[1]) - v0, vertex_at(t, face.vertex[2]) - v0));
   if (!(area > 0.0f) || !std::isfinite(area)) return "zero or infinite area (such triangles are left out)";
   return "";
 }
@@ -156,9 +157,9 @@ std::string material_problem(const gpu::TraceMaterial& m) {
   return "";
 }
 
-void check_values(const ProbeVolume& v, Reporter& out) {
-  for (std::size_t i = 0; i < v.trace_vertices.size(); ++i)
-    if (!all_finite({v.trace_vertices[i].x, v.trace_vertices[i].y, v.trace_vertices[i].z})) out.add("non_finite", "trace_vertices", (long long)i, "a float is NaN or infinite");
+void check_values(const ProbeVolume& v, const TracingView& t, Reporter& out) {
+  for (std::size_t i = 0; i < t.vertices.size(); ++i)
+    if (!all_finite({t.vertices[i].x, t.vertices[i].y, t.vertices[i].z})) out.add("non_finite", "trace_vertices", (long long)i, "a float is NaN or infinite");
   for (std::size_t i = 0; i < v.trace_trees.size(); ++i)
     if (!tree_finite(v.trace_trees[i])) out.add("non_finite", "trace_trees", (long long)i, "a float is NaN or infinite (or its box's upper corner is)");
   for (std::size_t i = 0; i < v.trace_materials.size(); ++i) {
@@ -166,14 +167,14 @@ void check_values(const ProbeVolume& v, Reporter& out) {
     if (!material_finite(m)) out.add("non_finite", "trace_materials", (long long)i, "a float is NaN or infinite");
     else if (const std::string problem = material_problem(m); !problem.empty()) out.add("lighting_values", "trace_materials", (long long)i, problem);
   }
-  for (std::size_t i = 0; i < v.trace_faces.size(); ++i)
-    if (const std::string problem = face_problem(v, v.trace_faces[i]); !problem.empty()) out.add("lighting_values", "trace_faces", (long long)i, problem);
+  for (std::size_t i = 0; i < t.faces.size(); ++i)
+    if (const std::string problem = face_problem(v, t, t.faces[i]); !problem.empty()) out.add("lighting_values", "trace_faces", (long long)i, problem);
 }
 
 // Objects' faces follow the static ones in object order; bvh_root is the object's tree (1 + o) and
 // bvh_node_count its node count.
-void check_object_ranges(const ProbeVolume& v, Reporter& out) {
-  std::size_t next_face = v.dynamic_objects.empty() ? v.trace_faces.size() : std::size_t(std::max(0, v.dynamic_objects[0].first_triangle));
+void check_object_ranges(const ProbeVolume& v, const TracingView& t, Reporter& out) {
+  std::size_t next_face = v.dynamic_objects.empty() ? t.faces.size() : std::size_t(std::max(0, v.dynamic_objects[0].first_triangle));
   for (std::size_t o = 0; o < v.dynamic_objects.size(); ++o) {
     const gpu::DynamicObject& object = v.dynamic_objects[o];
     const auto bad = [&](const std::string& message) { out.add("dynamic_ranges", "dynamic_objects", (long long)o, message); };
@@ -183,16 +184,16 @@ void check_object_ranges(const ProbeVolume& v, Reporter& out) {
     if (object.bvh_root != int(o) + 1) bad(concat("bvh_root ", object.bvh_root, " is not its tree ", o + 1));
     else if (object.bvh_node_count != v.trace_trees[o + 1].node_count) bad("bvh_node_count is not its tree's");
   }
-  if (next_face != v.trace_faces.size()) out.add("dynamic_ranges", "trace_faces", -1, concat("objects end at face ", next_face, " of ", v.trace_faces.size()));
+  if (next_face != t.faces.size()) out.add("dynamic_ranges", "trace_faces", -1, concat("objects end at face ", next_face, " of ", t.faces.size()));
 }
 
 // Every vertex of an object's faces lies in the object's box (the runtime refits world boxes from it).
-void check_object_boxes(const ProbeVolume& v, Reporter& out) {
+void check_object_boxes(const ProbeVolume& v, const TracingView& t, Reporter& out) {
   for (std::size_t o = 0; o < v.dynamic_objects.size(); ++o) {
     const gpu::DynamicObject& object = v.dynamic_objects[o];
     const auto outside = [&](std::size_t f) {
-      for (std::uint32_t k : v.trace_faces[f].vertex) {
-        const glm::vec3 p = vertex_at(v, k);
+      for (std::uint32_t k : t.faces[f].vertex) {
+        const glm::vec3 p = vertex_at(t, k);
         if (glm::any(glm::lessThan(p, object.lower)) || glm::any(glm::greaterThan(p, object.upper))) return true;
       }
       return false;
@@ -208,20 +209,20 @@ void check_object_boxes(const ProbeVolume& v, Reporter& out) {
 
 } // namespace
 
-bool uses_compact_tracing(const ProbeVolume& v) {
-  return !v.trace_trees.empty() || !v.trace_nodes.empty() || !v.trace_faces.empty() || !v.trace_vertices.empty() || !v.trace_materials.empty();
+bool uses_compact_tracing(const ProbeVolume& v, const TracingView& t) {
+  return !v.trace_trees.empty() || !t.nodes.empty() || !t.faces.empty() || !t.vertices.empty() || !v.trace_materials.empty();
 }
 
-void check_trace_mesh(const ProbeVolume& v, Reporter& out) {
+void check_trace_mesh(const ProbeVolume& v, const TracingView& t, Reporter& out) {
   if (has_float_tracing(v)) return out.add("lighting_sections", "trace_trees", -1, "both the float (1.1-1.3) and the compact (1.4) tracing sections");
   const std::size_t expected_trees = 1 + v.dynamic_objects.size();
   if (v.trace_trees.size() != expected_trees) return out.add("lighting_sections", "trace_trees", -1, concat(v.trace_trees.size(), " trees, expected 1 + dynamic objects = ", expected_trees));
   const std::size_t reported = out.count();
-  check_values(v, out);
-  check_object_ranges(v, out);
+  check_values(v, t, out);
+  check_object_ranges(v, t, out);
   if (out.count() != reported) return; // the boxes and the walk below index with these
-  check_object_boxes(v, out);
-  TraceTreeChecker(v, out).run();
+  check_object_boxes(v, t, out);
+  TraceTreeChecker(v, t, out).run();
 }
 
 } // namespace probebake::formats::detail

@@ -12,9 +12,9 @@
 
 namespace probebake::runtime::detail {
 
-CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
-                             const StreamingOptions& options, std::uint32_t rings)
-    : tracing_(device, volume, std::move(source), options.budget_bytes,
+CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
+                             std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings)
+    : tracing_(device, volume, tracing, std::move(source), options.budget_bytes,
                options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings, options.read_in_background),
       residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes) {

@@ -22,9 +22,10 @@ namespace probebake::runtime::detail {
 
 class CellStreaming {
 public:
-  // `source`: where cells are read when they load (cell_source.h).
-  CellStreaming(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
-                const StreamingOptions& options, std::uint32_t rings);
+  // `source`: where cells are read when they load (cell_source.h); `tracing`: the volume's trace nodes, faces
+  // and vertices, read during the constructor only.
+  CellStreaming(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
+                std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings);
   // Probes that can be lit at once: the light update's record slots.
   std::uint32_t record_slots() const { return record_slot_count_; }
 

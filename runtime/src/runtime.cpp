@@ -31,6 +31,12 @@ Status status_of(const formats::ValidationReport& report) {
   return {StatusCode::invalid_volume, message};
 }
 
+Status validated(const formats::ProbeVolume& volume, const formats::TracingView& tracing, const std::filesystem::path& path) {
+  formats::ValidationReport report = formats::validate(volume, tracing);
+  report.name = path.string();
+  return status_of(report);
+}
+
 Status check_options(const UploadOptions& options) {
   if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
     return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
@@ -133,23 +139,25 @@ Result<Volume> Volume::upload(Context& context, const formats::ProbeVolume& volu
 Result<Volume> Volume::load(Context& context, const std::filesystem::path& path, const UploadOptions& options) {
   return guarded([&]() -> Result<Volume> {
     if (const Status checked = check_options(options); !checked.ok()) return checked;
-    formats::ProbeVolume volume;
-    std::optional<formats::CellFile> file; // streaming reads each cell from disk when it loads
-    if (options.streaming.budget_bytes > 0) file.emplace(formats::CellFile::open(path, volume));
-    else volume = formats::read_probes_file(path);
-    if (options.validate) {
-      formats::ValidationReport report = formats::validate(volume);
-      report.name = path.string();
-      const Status valid = status_of(report);
-      if (!valid.ok()) return valid;
+    if (options.streaming.budget_bytes == 0) {
+      formats::ProbeVolume volume = formats::read_probes_file(path);
+      if (options.validate)
+        if (const Status valid = validated(volume, formats::tracing_view(volume), path); !valid.ok()) return valid;
+      formats::upgrade_tracing(volume); // 1.1-1.3 files: the shaders trace the compact layout only
+      return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
     }
-    formats::upgrade_tracing(volume); // 1.1-1.3 files: the shaders trace the compact layout only
-    std::unique_ptr<detail::CellSource> cells;
-    if (file && !volume.cell_tracing.empty()) { // without it, VolumeState refuses streaming
-      file->expect(volume);
-      cells = detail::cell_source_on_disk(std::move(*file));
-    }
-    return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options, std::move(cells)));
+    // Streaming reads each cell from disk when it loads; until the upload, the cells' tracing is read in
+    // place in the file's mapping (cell_file.h), never copied whole.
+    formats::OpenedCellFile opened = formats::CellFile::open(path);
+    const formats::TracingView tracing = opened.tracing();
+    if (options.validate)
+      if (const Status valid = validated(opened.volume, tracing, path); !valid.ok()) return valid;
+    formats::upgrade_tracing(opened.volume); // 1.1-1.3 files (decoded whole): the shaders trace the compact layout only
+    if (opened.volume.cell_tracing.empty()) // VolumeState refuses to stream it
+      return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options));
+    opened.file.expect(opened.volume, tracing);
+    return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options,
+                                                        detail::cell_source_on_disk(std::move(opened.file)), &tracing));
   });
 }
 

@@ -69,8 +69,8 @@ void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
   free_[at] = units;
 }
 
-StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
-                                 std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background)
+StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
+                                 std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background)
     : device_(device), source_(std::move(source)), blocks_(cell_bytes, kBlockUnit) {
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
     fail(StatusCode::unsupported, "streaming needs the static tracing tree split by cell (format 1.5 cell_tracing); "
@@ -90,9 +90,9 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
       top_nodes_ = cell.ranges.trace_nodes.first;
       break;
     }
-  find_parent_words(volume);
+  find_parent_words(volume, tracing);
   std::vector<std::byte> global;
-  build_global_region(volume, global);
+  build_global_region(tracing, global);
   const std::uint64_t total = pool_start_ + cell_bytes;
   const std::uint64_t limit = std::min<std::uint64_t>(device.info.max_storage_buffer_range, std::uint64_t(1) << 31);
   if (total > limit)
@@ -134,7 +134,7 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
 
 // Arena bytes [0, pool_start_): the top level (cell words set to the null leaf), the dynamic objects'
 // nodes, faces and vertices renumbered to follow it, the null face and its vertex.
-void StreamedTracing::build_global_region(const formats::ProbeVolume& volume, std::vector<std::byte>& bytes) {
+void StreamedTracing::build_global_region(const formats::TracingView& tracing, std::vector<std::byte>& bytes) {
   // The dynamic objects' parts follow every cell's.
   std::uint32_t dyn_nodes_from = top_nodes_, dyn_faces_from = 0, dyn_vertices_from = 0;
   for (const CellPart& cell : cells_) {
@@ -143,9 +143,9 @@ void StreamedTracing::build_global_region(const formats::ProbeVolume& volume, st
     dyn_faces_from = std::max(dyn_faces_from, r.trace_faces.first + r.trace_faces.count);
     dyn_vertices_from = std::max(dyn_vertices_from, r.trace_vertices.first + r.trace_vertices.count);
   }
-  dynamic_nodes_ = std::uint32_t(volume.trace_nodes.size()) - dyn_nodes_from;
-  const std::uint32_t dyn_faces = std::uint32_t(volume.trace_faces.size()) - dyn_faces_from;
-  const std::uint32_t dyn_vertices = std::uint32_t(volume.trace_vertices.size()) - dyn_vertices_from;
+  dynamic_nodes_ = std::uint32_t(tracing.nodes.size()) - dyn_nodes_from;
+  const std::uint32_t dyn_faces = std::uint32_t(tracing.faces.size()) - dyn_faces_from;
+  const std::uint32_t dyn_vertices = std::uint32_t(tracing.vertices.size()) - dyn_vertices_from;
   const Layout layout(top_nodes_ + dynamic_nodes_, dyn_faces + 1, dyn_vertices + 1);
   pool_start_ = layout.bytes;
   bytes.assign(layout.bytes, std::byte{0});
@@ -153,22 +153,22 @@ void StreamedTracing::build_global_region(const formats::ProbeVolume& volume, st
   const std::uint32_t vertex_base = std::uint32_t(layout.vertices_at / kVertexBytes);
   null_leaf_ = leaf_word(face_base + dyn_faces, 1);
   auto* nodes = reinterpret_cast<gpu::TraceNode*>(bytes.data());
-  std::copy_n(volume.trace_nodes.begin(), top_nodes_, nodes);
+  std::copy_n(tracing.nodes.begin(), top_nodes_, nodes);
   dyn_node_shift_ = std::int64_t(top_nodes_) - dyn_nodes_from;
   dyn_face_shift_ = std::int64_t(face_base) - dyn_faces_from;
   for (std::uint32_t i = 0; i < dynamic_nodes_; ++i) {
-    gpu::TraceNode n = volume.trace_nodes[dyn_nodes_from + i];
+    gpu::TraceNode n = tracing.nodes[dyn_nodes_from + i];
     for (std::uint32_t& w : n.child) w = moved_word(w, dyn_node_shift_, dyn_face_shift_);
     nodes[top_nodes_ + i] = n;
   }
   auto* faces = reinterpret_cast<gpu::TraceFace*>(bytes.data() + layout.faces_at);
   for (std::uint32_t i = 0; i < dyn_faces; ++i) {
-    gpu::TraceFace f = volume.trace_faces[dyn_faces_from + i];
+    gpu::TraceFace f = tracing.faces[dyn_faces_from + i];
     for (std::uint32_t& v : f.vertex) v = v - dyn_vertices_from + vertex_base;
     faces[i] = f;
   }
   faces[dyn_faces] = {{vertex_base + dyn_vertices, vertex_base + dyn_vertices, vertex_base + dyn_vertices}, 0u};
-  std::memcpy(bytes.data() + layout.vertices_at, volume.trace_vertices.data() + dyn_vertices_from, dyn_vertices * kVertexBytes);
+  std::memcpy(bytes.data() + layout.vertices_at, tracing.vertices.data() + dyn_vertices_from, dyn_vertices * kVertexBytes);
 }
 
 std::uint32_t StreamedTracing::cell_root_word(const CellPart& cell) const {
@@ -180,7 +180,7 @@ std::uint32_t StreamedTracing::cell_root_word(const CellPart& cell) const {
   return leaf_word(std::uint32_t((at + layout.faces_at) / kFaceBytes), r.trace_faces.count);
 }
 
-void StreamedTracing::find_parent_words(const formats::ProbeVolume& volume) {
+void StreamedTracing::find_parent_words(const formats::ProbeVolume& volume, const formats::TracingView& tracing) {
   std::unordered_map<std::uint32_t, std::size_t> by_file_word; // the cell's root word in the file -> cell
   for (std::size_t k = 0; k < cells_.size(); ++k) {
     const formats::CellTracing& r = cells_[k].ranges;
@@ -199,7 +199,7 @@ void StreamedTracing::find_parent_words(const formats::ProbeVolume& volume) {
     claim(volume.trace_trees[0].root, [](CellPart& cell) { cell.in_tree_root = true; });
   for (std::uint32_t n = 0; n < top_nodes_; ++n)
     for (std::uint32_t c = 0; c < 2; ++c)
-      claim(volume.trace_nodes[n].child[c], [&](CellPart& cell) { cell.parent_node = n, cell.parent_child = c; });
+      claim(tracing.nodes[n].child[c], [&](CellPart& cell) { cell.parent_node = n, cell.parent_child = c; });
 }
 
 

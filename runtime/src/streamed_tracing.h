@@ -42,14 +42,15 @@ private:
 
 class StreamedTracing {
 public:
-  // `volume`: validated, with cell_tracing; only its global parts are kept (the top level, the dynamic
-  // objects' trees), each cell is read from `source` when it loads. `cell_bytes`: the arena's room for cell
+  // `volume`: validated, with cell_tracing, its trace nodes, faces and vertices read through `tracing` (during
+  // the constructor only); only its global parts are kept (the top level, the dynamic objects' trees), each
+  // cell is read from `source` when it loads. `cell_bytes`: the arena's room for cell
   // blocks (the streaming budget); `staging_bytes`: the most one frame copies (at least the largest block);
   // one staging buffer per ring. Throws RuntimeError(unsupported) when the arena would pass
   // maxStorageBufferRange or 2 GiB.
   // `background`: read cells on a thread of their own (background_cell_reader.h).
-  StreamedTracing(Device& device, const formats::ProbeVolume& volume, std::unique_ptr<CellSource> source,
-                  std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background);
+  StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
+                  std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background);
 
   // Each Cell record's block size in the arena (0 without faces), in record order: what the residency
   // policy budgets. `cells`: the volume's Cell records.
@@ -94,8 +95,8 @@ private:
     bool in_tree_root = false; // the word leading to it: trace_trees[0].root, or
     std::uint32_t parent_node = 0, parent_child = 0; // child `parent_child` of top-level node `parent_node`
   };
-  void build_global_region(const formats::ProbeVolume& volume, std::vector<std::byte>& bytes);
-  void find_parent_words(const formats::ProbeVolume& volume);
+  void build_global_region(const formats::TracingView& tracing, std::vector<std::byte>& bytes);
+  void find_parent_words(const formats::ProbeVolume& volume, const formats::TracingView& tracing);
   std::uint32_t cell_root_word(const CellPart& cell) const; // where its block is now
   void write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset, std::byte* out) const;
   void set_word(VkCommandBuffer cmd, const CellPart& cell, std::uint32_t word);

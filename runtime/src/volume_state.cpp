@@ -9,7 +9,7 @@
 namespace probebake::runtime::detail {
 
 VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume,
-                         const UploadOptions& options, std::unique_ptr<CellSource> cells)
+                         const UploadOptions& options, std::unique_ptr<CellSource> cells, const formats::TracingView* tracing)
     : device(std::move(shared_device)) {
   const bool dynamic_tree = options.light_update && options.memory_update && memory_update_applies(volume);
   const formats::ProbeVolume prepared = dynamic_tree ? prepare_for_memory_update(volume, options.pools) : formats::ProbeVolume{};
@@ -31,7 +31,8 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u, streams);
   if (streams) {
     if (!cells) cells = cell_source_in_memory(uploaded);
-    streaming = std::make_unique<CellStreaming>(*device, uploaded, std::move(cells), options.streaming,
+    streaming = std::make_unique<CellStreaming>(*device, uploaded, tracing ? *tracing : formats::tracing_view(uploaded),
+                                                std::move(cells), options.streaming,
                                                 std::uint32_t(options.frames_in_flight));
     gpu->set_streamed_tracing(streaming->tracing().trees(), streaming->tracing().arena());
   }

@@ -50,9 +50,11 @@ struct VolumeState {
   std::vector<FrameRing> rings;
   std::uint64_t frames = 0;
 
-  // `cells`: where streaming reads cells (cell_source.h); null: a copy of the volume's tracing.
+  // `cells`: where streaming reads cells (cell_source.h); null: a copy of the volume's tracing. `tracing`:
+  // the volume's trace nodes, faces and vertices during the constructor (a streaming load's, in the file's
+  // mapping); null: the volume's own.
   VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume, const UploadOptions& options,
-              std::unique_ptr<CellSource> cells = nullptr);
+              std::unique_ptr<CellSource> cells = nullptr, const formats::TracingView* tracing = nullptr);
   // Records one frame into the host's command buffer; no submit, no wait. Returns its number (1, 2, ...).
   // Throws RuntimeError(invalid_argument) when its ring still holds a frame that has not finished.
   std::uint64_t record(VkCommandBuffer cmd, const FrameInputs& inputs);

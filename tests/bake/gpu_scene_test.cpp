@@ -448,11 +448,18 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
   settings.cell_depth = 3;
   const std::string path = ::testing::TempDir() + "probebake-cell-file-" + std::to_string(::getpid()) + ".probes";
   formats::write_probes_file(path, bake::bake(s, settings).volume);
-  formats::ProbeVolume v;
-  formats::CellFile file = formats::CellFile::open(path, v);
-  ASSERT_TRUE(formats::validate(v).valid());
+  const formats::ProbeVolume v = formats::read_probes_file(path);
+  formats::OpenedCellFile opened = formats::CellFile::open(path);
+  formats::CellFile& file = opened.file;
+  // The load holds none of the cells' tracing: it reads the three sections in place, in the mapping.
+  EXPECT_TRUE(opened.volume.trace_nodes.empty() && opened.volume.trace_faces.empty() && opened.volume.trace_vertices.empty());
+  const formats::TracingView in_file = opened.tracing();
+  ASSERT_EQ(in_file.faces.size(), v.trace_faces.size());
+  EXPECT_EQ(std::memcmp(in_file.faces.data(), v.trace_faces.data(), v.trace_faces.size() * sizeof(gpu::TraceFace)), 0);
+  ASSERT_TRUE(formats::validate(opened.volume, in_file).valid());
   EXPECT_THROW(file.read_cell_tracing(0), Error) << "before expect()";
-  file.expect(v);
+  file.expect(opened.volume, in_file);
+  opened.mapping.reset(); // as Volume::load does once it has uploaded: below, the file changes on disk
   const auto same = [](const formats::CellTracingData& a, const formats::CellTracingData& b) {
     const auto bytes_equal = [](const auto& x, const auto& y) {
       return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);

@@ -187,7 +187,15 @@ const std::vector<Corruption>& corruptions() {
       {"cell_bounds", Sample::small, [](ProbeVolume& v) { v.cells[0].bounds_min.x += 0.5f; }},
       {"cell_root_node", Sample::small, [](ProbeVolume& v) { v.cells[0].root_node = 5; }},
       {"cell_range", Sample::small, [](ProbeVolume& v) { v.cells[0].probes.byte_offset += 1; }},
-      {"cell_tracing", Sample::small, [](ProbeVolume& v) { v.cell_tracing.resize(v.cells.size() + 1); }}, // deeper cases: cell_tracing_test
+      {"cell_tracing", Sample::small, [](ProbeVolume& v) { v.cell_tracing.resize(v.cells.size() + 1); }}, // more: gpu_scene_test.cpp
+      // Format 1.5: the cells sample's static tree is a top level over one leaf per cell.
+      {"cell_tracing", Sample::cells, [](ProbeVolume& v) { // a face of the first cell uses a vertex of the second
+         v.trace_faces[v.cell_tracing[0].trace_faces.first].vertex[0] = v.cell_tracing[1].trace_vertices.first;
+       }},
+      {"cell_tracing", Sample::cells, [](ProbeVolume& v) { // the last cell's faces start one late: the first cells' miss one
+         CellRange& faces = v.cell_tracing.back().trace_faces;
+         faces.first += 1, faces.byte_offset += sizeof(gpu::TraceFace);
+       }},
       {"cell_membership", Sample::small, [](ProbeVolume& v) {
          v.cells[0].probes.count -= 1;
          v.cells[0].probes.byte_size -= sizeof(gpu::Probe);
@@ -263,6 +271,26 @@ TEST(Validate, EachCorruptionNamesItsInvariant) {
     EXPECT_EQ(report.violations.front().invariant, corruption.invariant) << violations_text(report);
     if (std::getenv("PROBEBAKE_VERBOSE")) std::printf("%s:\n%s", corruption.invariant, violations_text(report).c_str());
   }
+}
+
+// A streaming load validates a volume whose trace nodes, faces and vertices stay in the file's mapping
+// (CellFile::open): through a view, every sample and every corruption gets the same report, violation for
+// violation, as the volume that holds them.
+TEST(Validate, ATracingViewGetsTheSameReportAsTheVectors) {
+  std::vector<std::pair<Sample, std::function<void(ProbeVolume&)>>> cases;
+  for (Sample sample : testing::kAllSamples) cases.emplace_back(sample, [](ProbeVolume&) {});
+  for (const Corruption& corruption : corruptions()) cases.emplace_back(corruption.sample, corruption.corrupt);
+  std::size_t with_tracing = 0;
+  for (const auto& [sample, corrupt] : cases) {
+    ProbeVolume whole = testing::make_sample(sample);
+    corrupt(whole);
+    ProbeVolume stripped = whole;
+    stripped.trace_nodes.clear(), stripped.trace_faces.clear(), stripped.trace_vertices.clear();
+    const ValidationReport direct = validate(whole), viewed = validate(stripped, tracing_view(whole));
+    EXPECT_EQ(violations_text(viewed), violations_text(direct)) << testing::sample_name(sample);
+    with_tracing += whole.trace_faces.empty() ? 0 : 1;
+  }
+  EXPECT_GE(with_tracing, 20u); // the tracing corruptions and the samples with tracing
 }
 
 TEST(Validate, EveryModelInvariantHasACorruptionCase) {

@@ -431,6 +431,27 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   EXPECT_TRUE(later.value().validate_live().ok()) << later.value().validate_live().message;
 }
 
+// The streaming load validates the cells' tracing in place, in the file's mapping (cell_file.h): a file whose
+// container is sound (the writer's checksums) but where one cell's face uses another cell's vertex is refused
+// before anything is uploaded, as the whole-file load refuses it.
+TEST_F(StreamingTest, ALoadRefusesACellWhoseTracingReachesIntoAnother) {
+  formats::ProbeVolume v = streamed_rooms();
+  std::size_t a = 0;
+  while (v.cell_tracing[a].trace_faces.count == 0) ++a;
+  std::size_t b = a + 1;
+  while (v.cell_tracing[b].trace_vertices.count == 0) ++b;
+  v.trace_faces[v.cell_tracing[a].trace_faces.first].vertex[2] = v.cell_tracing[b].trace_vertices.first;
+  const std::string path = temp_path("stream-leak.probes");
+  formats::write_probes_file(path, v);
+  for (std::uint64_t budget : {std::uint64_t(0), 2 * tracing_bytes_of_cells(v)}) {
+    auto loaded = runtime::Volume::load(context(), path, streaming_options(budget));
+    ASSERT_FALSE(loaded.ok()) << "budget " << budget;
+    EXPECT_EQ(loaded.status().code, runtime::StatusCode::invalid_volume);
+    EXPECT_NE(loaded.status().message.find("cell_tracing[" + std::to_string(a) + "]: cell_tracing: trace face"), std::string::npos)
+        << loaded.status().message;
+  }
+}
+
 // read_in_background: the first frame asks for every cell with faces and loads none of them (their bytes
 // are read on the reader's thread); they arrive in later frames, the live state valid at every one. A cell
 // damaged on disk is refused from the background thread as from the frame's own read.

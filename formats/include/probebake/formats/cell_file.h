@@ -1,17 +1,21 @@
-// A .probes file kept open for streaming (issue #15, docs/RUNTIME.md "Streaming cells"). A streaming runtime
-// reads and validates the whole file once, keeps only the global sections in host memory, and reads a cell's
-// tracing again from the same descriptor each time the cell is loaded: host memory then holds the global
-// sections and one cell at a time, not the world (the cells' static tracing is 56.5 of the 64.9 MB of the
-// 64-room world; `probebake info` prints what streams).
+// A .probes file kept open for streaming (issue #15, docs/RUNTIME.md "Streaming cells"). The load maps the
+// file, checks its container (every checksum) and decodes every section but the three that hold the cells'
+// tracing (trace nodes, faces and vertices), which the validator and the upload read in place through the
+// mapping; the mapping is dropped once the volume is uploaded. Host memory then holds the global sections
+// (8.8 of the 64-room world's 65.1 MB; `probebake info` prints what streams) and one cell at a time, never the
+// world: the mapping's pages are the file's own, which the kernel reads in and drops as it needs.
 //
-// Every cell read is checked against the checksum of the bytes that were validated (cells.h cell_checksum,
-// computed by expect()), so a file changed or cut short on disk since is refused cell by cell and never
-// reaches the GPU. POSIX (open, pread); reads do not move a file position, so several threads may read.
+// Each cell is read again from the same descriptor when it loads, and checked against the checksum of the
+// bytes that were validated (cells.h cell_checksum, computed by expect()), so a file changed or cut short on
+// disk since is refused cell by cell and never reaches the GPU. POSIX (open, mmap, pread); reads do not move a
+// file position, so several threads may read.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,18 +35,37 @@ struct CellTracingData {
 // Cell record k's tracing, copied out of a volume that holds the whole file.
 CellTracingData cell_tracing_data(const ProbeVolume& volume, std::size_t k);
 
+// A read-only mapping of a whole file, unmapped on destruction or reset(); moved as a value.
+class FileMapping {
+public:
+  FileMapping() = default;
+  // Maps `size` bytes of `fd` (an empty mapping for 0). Throws Error(input, "<name>: cannot map: <reason>").
+  FileMapping(int fd, std::uint64_t size, const std::string& name);
+  FileMapping(FileMapping&& other) noexcept;
+  FileMapping& operator=(FileMapping&& other) noexcept;
+  ~FileMapping() { reset(); }
+  std::span<const std::uint8_t> bytes() const { return {static_cast<const std::uint8_t*>(data_), size_}; }
+  void reset();
+
+private:
+  void* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+struct OpenedCellFile;
+
 class CellFile {
 public:
-  // Opens `path` and reads it whole through the new descriptor into `volume` (read_probes: container and
-  // section checks, not validate()). Throws Error(input, "<path>: <reason>").
-  static CellFile open(const std::filesystem::path& path, ProbeVolume& volume);
+  // Opens and maps `path` and decodes it (read_probes' container and section checks, not validate()); see
+  // OpenedCellFile. Throws Error(input, "<path>: <reason>").
+  static OpenedCellFile open(const std::filesystem::path& path);
 
   CellFile(CellFile&&) noexcept = default;
   CellFile& operator=(CellFile&&) noexcept = default;
 
-  // Keeps each cell's ranges and the checksum of its bytes as `validated` holds them. Call once the volume
-  // that open() read passed validate(); it needs cell_tracing (Error(usage) otherwise).
-  void expect(const ProbeVolume& validated);
+  // Keeps each cell's ranges and the checksum of its bytes as `validated` and `tracing` hold them. Call once
+  // the volume that open() read passed validate(); it needs cell_tracing (Error(usage) otherwise).
+  void expect(const ProbeVolume& validated, const TracingView& tracing);
 
   // Cell record k's tracing, read again from the file. Throws Error(input, "<path>: cells[k] (cell N):
   // <reason>") when the file is shorter now or the cell's bytes differ from those validated.
@@ -84,6 +107,17 @@ private:
   std::vector<CellTracing> tracing_;
   std::vector<std::uint64_t> checksums_;
   std::vector<std::uint64_t> bytes_; // cells.h cell_bytes of each cell, for the message of a refusal
+};
+
+// What CellFile::open gives. A file whose tracing is split by cell (cell_tracing) and compact (1.4+) leaves
+// the volume's trace nodes, faces and vertices empty: they are read in place, through tracing(), for as long
+// as `mapping` lives. Any other file is decoded whole (streaming refuses it later) and unmapped at once.
+struct OpenedCellFile {
+  CellFile file;
+  ProbeVolume volume;
+  FileMapping mapping;
+  std::optional<TracingView> in_mapping;
+  TracingView tracing() const { return in_mapping ? *in_mapping : tracing_view(volume); }
 };
 
 } // namespace probebake::formats

@@ -66,6 +66,8 @@ std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k);
 // its trace nodes, faces and vertices, each range's bytes in that order (format 1.6, cell_checksums): what a
 // reader that loads the cell alone checks it against. The ranges must lie inside their sections.
 std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k);
+// The same with the trace nodes, faces and vertices read through `tracing` (a streaming load's).
+std::uint64_t cell_checksum(const ProbeVolume& volume, const TracingView& tracing, std::size_t k);
 // Every cell's checksum when the tracing is split by cell (what the writer stores), else none.
 std::vector<std::uint64_t> cell_checksums_of(const ProbeVolume& volume);
 

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -92,6 +93,17 @@ struct ProbeVolume {
   std::vector<gpu::TraceVertex> trace_vertices;
   std::vector<gpu::TraceMaterial> trace_materials;
 };
+
+// The three largest sections (trace_nodes, trace_faces, trace_vertices), by file index, as the validator and the
+// streamed tracing read them: over a volume's own vectors, or over a file mapped for the length of a streaming
+// load (CellFile::open), which then leaves those vectors empty so that host memory never holds the world.
+struct TracingView {
+  std::span<const gpu::TraceNode> nodes;
+  std::span<const gpu::TraceFace> faces;
+  std::span<const gpu::TraceVertex> vertices;
+};
+
+inline TracingView tracing_view(const ProbeVolume& volume) { return {volume.trace_nodes, volume.trace_faces, volume.trace_vertices}; }
 
 // A volume with a root-only octree (one leaf without probe) and every other buffer empty; `settings`
 // provides root cube, placement and bake parameters, its count fields are overwritten.

@@ -34,7 +34,14 @@ ProbeVolume read_probes(std::span<const std::uint8_t> bytes, std::string_view na
 
 // Sections of a parsed container -> volume (no checksum checks: parse_container does those). Used by
 // read_probes and by validate_file, which reports checksum mismatches instead of throwing.
-ProbeVolume decode_probes(const ContainerView& container, std::string_view name_for_errors);
+// `trace_sections`: leave_in_bytes decodes every section but trace_nodes, trace_faces and trace_vertices,
+// which stay empty: read them with tracing_in() (a streaming load, CellFile::open).
+enum class TraceSections { decode, leave_in_bytes };
+ProbeVolume decode_probes(const ContainerView& container, std::string_view name_for_errors,
+                          TraceSections trace_sections = TraceSections::decode);
+// The container's trace nodes, faces and vertices where they lie in its bytes (which must outlive the view),
+// element sizes and counts checked as decode_probes checks them; a section the file lacks is empty.
+TracingView tracing_in(const ContainerView& container, std::string_view name_for_errors);
 
 // Reads the whole file; Error(input) when it cannot be read.
 std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path);

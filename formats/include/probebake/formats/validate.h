@@ -48,6 +48,9 @@ struct ValidateOptions {
 };
 
 ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& options = {});
+// The same checks with the volume's trace nodes, faces and vertices read through `tracing` instead of its
+// vectors (a streaming load's, CellFile::open: the file's sections in its mapping).
+ValidationReport validate(const ProbeVolume& volume, const TracingView& tracing, const ValidateOptions& options = {});
 
 // Container checks (readable = false and a "container" violation when the bytes cannot be decoded;
 // "checksum" violations for mismatches; format_version, section_flags, section_layout, trailing_bytes and

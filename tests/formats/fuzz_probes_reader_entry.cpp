@@ -1,10 +1,14 @@
 // The .probes reader on untrusted bytes. Properties checked beyond "no crash, no sanitizer report":
 //  - read_probes and validate_file agree: what the reader refuses is never a valid file;
-//  - checksums aside (so that mutations reach the model checks), a decoded volume that validates clean
+//  - checksums aside (so that mutations reach the model checks), the streaming load's validation of the trace
+//    sections in place reports what the decoded volume's does;
+//  - a decoded volume that validates clean
 //    writes, reads back and re-writes to the same bytes, and stays valid after arrange_cells;
 //  - the same bytes as a bake part (bake_part.h, the same container): a part that reads writes and reads
 //    back to the same part.
 #include <span>
+#include <string>
+#include <vector>
 
 #include "fuzz_check.h"
 #include "fuzz_entries.h"
@@ -20,16 +24,29 @@ namespace {
 
 using namespace probebake::formats;
 
-// The model behind the checksums: decode with mismatches ignored, then validate and round-trip.
-void fuzz_model(std::span<const std::uint8_t> bytes) {
-  ProbeVolume volume;
+std::vector<std::string> violation_lines(const ValidationReport& report) {
+  std::vector<std::string> lines;
+  for (const Violation& violation : report.violations) lines.push_back(format_violation(violation));
+  return lines;
+}
+
+// The model behind the checksums: decode with mismatches ignored, then validate and round-trip; and the
+// streaming load's way (CellFile::open), the trace nodes, faces and vertices read in place, gets the same report.
+void fuzz_model(std::span<const std::uint8_t> input) {
+  const std::vector<std::uint8_t> bytes(input.begin(), input.end()); // aligned as a file's mapping is, for tracing_in
+  ProbeVolume volume, in_place;
+  TracingView in_bytes;
   try {
     const ContainerView container = parse_container(bytes, "fuzz", [](const std::string&, long long, const std::string&) {});
     volume = decode_probes(container, "fuzz");
+    in_place = decode_probes(container, "fuzz", TraceSections::leave_in_bytes);
+    in_bytes = tracing_in(container, "fuzz");
   } catch (const Error&) {
     return;
   }
   const ValidationReport report = validate(volume, ValidateOptions{0});
+  check(violation_lines(validate(in_place, in_bytes, ValidateOptions{0})) == violation_lines(report),
+        "the trace sections read in place are validated as the decoded ones");
   try {
     (void)compute_stats(volume); // what `probebake info` runs on unvalidated files
   } catch (const Error&) {

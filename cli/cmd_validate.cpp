@@ -13,6 +13,7 @@
 
 #include "commands.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/file_mapping.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 
@@ -32,8 +33,10 @@ struct ValidateSettings {
 
 formats::ValidationReport validate_path(const ValidateSettings& settings) {
   try {
-    const std::vector<std::uint8_t> bytes = formats::read_file_bytes(settings.path);
-    return formats::validate_file(bytes, settings.path, formats::ValidateOptions{settings.max_errors});
+    // Mapped, not read: the trace sections are checked in place (validate_file), so a world larger than
+    // memory validates (file_mapping.h).
+    const formats::FileMapping file = formats::FileMapping::of(settings.path);
+    return formats::validate_file(file.bytes(), settings.path, formats::ValidateOptions{settings.max_errors});
   } catch (const Error& error) { // the file cannot be read at all: same verdict as a bad container
     formats::ValidationReport report;
     report.name = settings.path;

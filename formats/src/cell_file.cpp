@@ -7,7 +7,6 @@
 #include <utility>
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -38,28 +37,6 @@ CellTracingData cell_tracing_data(const ProbeVolume& volume, std::size_t k) {
   const CellTracing& t = volume.cell_tracing.at(k);
   return {slice(volume.trace_nodes, t.trace_nodes), slice(volume.trace_faces, t.trace_faces),
           slice(volume.trace_vertices, t.trace_vertices)};
-}
-
-FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
-  if (size == 0) return;
-  if (size > std::numeric_limits<std::size_t>::max()) throw_input_error(name, "cannot map: larger than the address space");
-  void* data = ::mmap(nullptr, std::size_t(size), PROT_READ, MAP_PRIVATE, fd, 0);
-  if (data == MAP_FAILED) throw_input_error(name, "cannot map: " + errno_text());
-  data_ = data, size_ = std::size_t(size);
-}
-
-FileMapping::FileMapping(FileMapping&& other) noexcept
-    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)) {}
-
-FileMapping& FileMapping::operator=(FileMapping&& other) noexcept {
-  std::swap(data_, other.data_);
-  std::swap(size_, other.size_);
-  return *this;
-}
-
-void FileMapping::reset() {
-  if (data_ != nullptr) ::munmap(data_, size_);
-  data_ = nullptr, size_ = 0;
 }
 
 OpenedCellFile CellFile::open(const std::filesystem::path& path) {
@@ -103,12 +80,6 @@ void CellFile::expect(const ProbeVolume& validated, const TracingView& tracing) 
     checksums_.push_back(cell_checksum(validated, tracing, k));
     bytes_.push_back(cell_bytes(validated, k));
   }
-}
-
-std::vector<std::uint8_t> CellFile::read_bytes(std::uint64_t offset, std::uint64_t size, const std::string& place) const {
-  std::vector<std::uint8_t> bytes(size);
-  read_into(bytes.data(), offset, size, place);
-  return bytes;
 }
 
 void CellFile::read_into(void* out, std::uint64_t offset, std::uint64_t size, const std::string& place) const {
@@ -161,7 +132,8 @@ CellTracingData CellFile::read_cell_tracing(std::size_t k) const {
 ProbeVolume CellFile::read_volume() const {
   struct stat info {};
   if (::fstat(fd_.get(), &info) != 0) throw_input_error(name_, "cannot stat: " + errno_text());
-  return read_probes(read_bytes(0, std::uint64_t(info.st_size), "file"), name_);
+  const FileMapping mapping(fd_.get(), std::uint64_t(info.st_size), name_);
+  return read_probes(mapping.bytes(), name_);
 }
 
 } // namespace probebake::formats

@@ -3,6 +3,7 @@
 // before checksums, checksums before the model).
 #include "probebake/formats/validate.h"
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -119,6 +120,7 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
   report.name = std::string(name);
   detail::Reporter out(report, options);
   ProbeVolume volume;
+  TracingView tracing;
   std::vector<std::pair<std::string, std::string>> checksums; // section, message
   try {
     // Checksum mismatches are collected, not reported, until the file has decoded: whether it is readable
@@ -126,7 +128,12 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
     const ContainerView container = parse_container(bytes, name, [&](const std::string& section, long long, const std::string& message) {
       checksums.emplace_back(section, message);
     });
-    volume = decode_probes(container, name);
+    // The trace nodes, faces and vertices are checked where they lie in `bytes`, not copied: in a file's
+    // mapping (probebake validate) the world is then the kernel's pages, not the process's memory. Bytes not
+    // aligned for that (a caller's buffer) are decoded whole.
+    const bool in_place = reinterpret_cast<std::uintptr_t>(bytes.data()) % kSectionAlignment == 0;
+    volume = decode_probes(container, name, in_place ? TraceSections::leave_in_bytes : TraceSections::decode);
+    tracing = in_place ? tracing_in(container, name) : tracing_view(volume);
     for (const auto& [section, message] : checksums) out.add("checksum", section, -1, message); // whole section
     detail::check_container(container, volume, out);
   } catch (const detail::StopValidation&) {
@@ -136,9 +143,9 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
     report.violations.push_back(Violation{"container", "container", -1, error.what()});
     return report;
   }
-  run_phases(volume, tracing_view(volume), out);
+  run_phases(volume, tracing, out);
   try {
-    detail::check_cell_checksums(volume, tracing_view(volume), out); // the file's bytes: a volume edited in memory is not checked
+    detail::check_cell_checksums(volume, tracing, out); // the file's bytes: a volume edited in memory is not checked
   } catch (const detail::StopValidation&) {
     // max_errors reached
   }

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "probebake/formats/file_mapping.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::formats {
@@ -34,23 +35,6 @@ struct CellTracingData {
 
 // Cell record k's tracing, copied out of a volume that holds the whole file.
 CellTracingData cell_tracing_data(const ProbeVolume& volume, std::size_t k);
-
-// A read-only mapping of a whole file, unmapped on destruction or reset(); moved as a value.
-class FileMapping {
-public:
-  FileMapping() = default;
-  // Maps `size` bytes of `fd` (an empty mapping for 0). Throws Error(input, "<name>: cannot map: <reason>").
-  FileMapping(int fd, std::uint64_t size, const std::string& name);
-  FileMapping(FileMapping&& other) noexcept;
-  FileMapping& operator=(FileMapping&& other) noexcept;
-  ~FileMapping() { reset(); }
-  std::span<const std::uint8_t> bytes() const { return {static_cast<const std::uint8_t*>(data_), size_}; }
-  void reset();
-
-private:
-  void* data_ = nullptr;
-  std::size_t size_ = 0;
-};
 
 struct OpenedCellFile;
 
@@ -71,7 +55,7 @@ public:
   // <reason>") when the file is shorter now or the cell's bytes differ from those validated.
   CellTracingData read_cell_tracing(std::size_t k) const;
 
-  // The whole file again (read_probes): for read-backs that compare the GPU with the file.
+  // The whole file again (read_probes through a new mapping): for read-backs that compare the GPU with the file.
   ProbeVolume read_volume() const;
 
 private:
@@ -94,7 +78,6 @@ private:
     int fd_ = -1;
   };
   CellFile(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
-  std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size, const std::string& place) const;
   void read_into(void* out, std::uint64_t offset, std::uint64_t size, const std::string& place) const;
   // The elements of `range` of the section of `type`, added to `hash` (an XXH3_state_t).
   template <class T, class Hash>

@@ -1,0 +1,56 @@
+#include "probebake/formats/file_mapping.h"
+
+#include <cerrno>
+#include <cstring>
+#include <limits>
+#include <utility>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "probebake/formats/error.h"
+
+namespace probebake::formats {
+
+FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
+  if (size == 0) return;
+  if (size > std::numeric_limits<std::size_t>::max()) throw_input_error(name, "cannot map: larger than the address space");
+  void* data = ::mmap(nullptr, std::size_t(size), PROT_READ, MAP_PRIVATE, fd, 0);
+  if (data == MAP_FAILED) throw_input_error(name, std::string("cannot map: ") + std::strerror(errno));
+  data_ = data, size_ = std::size_t(size);
+}
+
+FileMapping FileMapping::of(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw_input_error(path.string(), std::string("cannot open: ") + std::strerror(errno));
+  struct stat info {};
+  const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+  FileMapping mapping;
+  try {
+    if (!regular) throw_input_error(path.string(), "not a regular file");
+    mapping = FileMapping(fd, std::uint64_t(info.st_size), path.string());
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  ::close(fd); // the mapping keeps the file
+  return mapping;
+}
+
+FileMapping::FileMapping(FileMapping&& other) noexcept
+    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)) {}
+
+FileMapping& FileMapping::operator=(FileMapping&& other) noexcept {
+  std::swap(data_, other.data_);
+  std::swap(size_, other.size_);
+  return *this;
+}
+
+void FileMapping::reset() {
+  if (data_ != nullptr) ::munmap(data_, size_);
+  data_ = nullptr, size_ = 0;
+}
+
+} // namespace probebake::formats

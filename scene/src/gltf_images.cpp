@@ -1,6 +1,6 @@
 // Texture images: WebP (EXT_texture_webp) through libwebp, PNG/JPEG/BMP/GIF/... through stb (tinygltf's
-// decoder). Dimensions are read from the header and checked, a PNG's chunk lengths against its bytes, and the
-// pixels charged to the memory budget, before anything is decoded. An image that cannot be decoded (unknown format, KTX2/Basis, corrupt data,
+// decoder). Dimensions are read from the header and checked, a PNG's chunks and inflated size against its
+// header (png_limits.h), and the pixels charged to the memory budget, before anything is decoded. An image that cannot be decoded (unknown format, KTX2/Basis, corrupt data,
 // too large) is not an error here: it is recorded, left empty, and its textures fall back to the
 // material's factors (select_texture_images warns once per texture).
 #include <cstdint>
@@ -13,6 +13,7 @@
 #include <webp/decode.h>
 
 #include "gltf_internal.h"
+#include "png_limits.h"
 
 namespace probebake::scene::detail {
 namespace {
@@ -29,26 +30,6 @@ bool is_webp(const unsigned char* bytes, int size) {
 }
 
 bool is_ktx2(const unsigned char* bytes, int size) { return starts_with(bytes, size, "\xABKTX 20\xBB"); }
-
-// Whether every chunk of a PNG up to IEND lies within its bytes (anything else passes). stb grows its IDAT
-// buffer to a chunk's declared length before it reads the chunk: a 38 KB texture that declared a 1.1 GB chunk
-// made it ask for 2 GB (found by fuzz_scene_loader). False with `why` set for such a chunk.
-bool png_chunks_fit(const unsigned char* bytes, int size, std::string& why) {
-  if (!starts_with(bytes, size, "\x89PNG\r\n\x1a\n")) return true;
-  const std::size_t end = std::size_t(size);
-  std::size_t at = 8;
-  for (int chunk = 0; at + 12 <= end; ++chunk) {
-    const std::uint32_t length = std::uint32_t(bytes[at]) << 24 | std::uint32_t(bytes[at + 1]) << 16 |
-                                 std::uint32_t(bytes[at + 2]) << 8 | std::uint32_t(bytes[at + 3]);
-    if (length > end - at - 12) {
-      why = fmt::format("corrupt PNG: chunk {} at byte {} declares {} bytes, {} are left", chunk, at, length, end - at - 12);
-      return false;
-    }
-    if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) break;
-    at += 12 + std::size_t(length);
-  }
-  return true; // a file cut short after a whole chunk: stb reports it
-}
 
 // The side limit and the memory budget, both before any pixel is allocated; false with `why` set when the
 // image is too large to decode.
@@ -92,7 +73,7 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
                                : "unknown image format";
     return false;
   }
-  if (!png_chunks_fit(bytes, size, why)) return false;
+  if (!png_within_limits(bytes, std::size_t(size), why)) return false;
   const bool wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
   if (!admit(width, height, 4u * (wide ? 2u : 1u), index, policy, why)) return false;
   std::string err, warn;

@@ -10,9 +10,11 @@
 #include <meshoptimizer.h>
 #include <stb_image_write.h>
 #include <webp/encode.h>
+#include <zlib.h>
 
 #include "gltf_internal.h"
 #include "mini_gltf.h"
+#include "png_limits.h"
 #include "probebake/scene/scene.h"
 #include "probebake/formats/error.h"
 
@@ -331,6 +333,78 @@ TEST(Textures, APngChunkLongerThanItsFileIsRefusedBeforeDecoding) {
   const scene::Scene s = q.load("tex-png-long-chunk");
   ASSERT_EQ(s.warnings.size(), 1u);
   EXPECT_NE(s.warnings[0].find("corrupt PNG: chunk 1 at byte 33 declares 1167327232 bytes"), std::string::npos) << s.warnings[0];
+  EXPECT_EQ(s.triangle_albedo[0], glm::vec3(0.5f, 0.25f, 1.0f)); // the factor alone
+}
+
+// A PNG of `width` x `height` RGBA8 pixels whose IDAT holds `raw` deflated (zlib, level 9), with correct CRCs.
+Bytes png_of(std::uint32_t width, std::uint32_t height, bool interlaced, const std::vector<unsigned char>& raw) {
+  Bytes out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  const auto be32 = [&](std::uint32_t v) { for (int k = 3; k >= 0; --k) out.push_back(static_cast<unsigned char>(v >> (8 * k))); };
+  const auto chunk = [&](const char* type, const std::vector<unsigned char>& data) {
+    be32(std::uint32_t(data.size()));
+    const std::size_t start = out.size();
+    out.insert(out.end(), type, type + 4);
+    out.insert(out.end(), data.begin(), data.end());
+    be32(std::uint32_t(crc32(0, out.data() + start, uInt(out.size() - start))));
+  };
+  std::vector<unsigned char> ihdr;
+  for (std::uint32_t v : {width, height})
+    for (int k = 3; k >= 0; --k) ihdr.push_back(static_cast<unsigned char>(v >> (8 * k)));
+  ihdr.insert(ihdr.end(), {8, 6, 0, 0, static_cast<unsigned char>(interlaced ? 1 : 0)}); // 8 bits, RGBA
+  chunk("IHDR", ihdr);
+  std::vector<unsigned char> deflated(compressBound(uLong(raw.size())));
+  uLongf size = uLongf(deflated.size());
+  EXPECT_EQ(compress2(deflated.data(), &size, raw.data(), uLong(raw.size()), 9), Z_OK);
+  deflated.resize(size);
+  chunk("IDAT", deflated);
+  chunk("IEND", {});
+  return out;
+}
+
+// Rows of one colour, each with filter byte 0, for the passes of a 16 x 16 image (one pass, or Adam7's seven).
+std::vector<unsigned char> rows_of_colour(bool interlaced) {
+  const std::vector<std::pair<int, int>> passes = interlaced ? std::vector<std::pair<int, int>>{{2, 2}, {2, 2}, {4, 2}, {4, 4}, {8, 4}, {8, 8}, {16, 8}}
+                                                             : std::vector<std::pair<int, int>>{{16, 16}};
+  std::vector<unsigned char> raw;
+  for (const auto& [w, h] : passes)
+    for (int y = 0; y < h; ++y) {
+      raw.push_back(0);
+      for (int x = 0; x < w; ++x) raw.insert(raw.end(), {200, 100, 50, 255});
+    }
+  return raw;
+}
+
+// stb inflates a PNG's pixel data into a buffer it doubles as the stream demands, whatever the header says:
+// a deflate bomb took about a thousand times the PNG's bytes. The data must now inflate to no more than the
+// header's image needs (PNG 8.2: per row a filter byte and its pixels, per Adam7 pass when interlaced), one
+// byte past that is refused before stb sees it, and a 64 MiB bomb in a 16 x 16 texture falls back to its factor.
+TEST(Textures, APngWhosePixelDataInflatesPastItsHeaderIsRefusedBeforeDecoding) {
+  for (const bool interlaced : {false, true}) {
+    std::vector<unsigned char> raw = rows_of_colour(interlaced);
+    EXPECT_EQ(raw.size(), interlaced ? 1054u : 1040u);
+    std::string why;
+    const Bytes png = png_of(16, 16, interlaced, raw);
+    EXPECT_TRUE(scene::detail::png_within_limits(png.data(), png.size(), why)) << why;
+    TexturedQuad exact;
+    exact.g.json["textures"] = {{{"source", exact.add_image(png, "image/png")}}};
+    const scene::Scene s = exact.load(interlaced ? "tex-png-adam7" : "tex-png-exact");
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
+    EXPECT_NEAR(s.triangle_albedo[0].g, srgb(100), 1e-6f) << "interlaced " << interlaced;
+    raw.push_back(0);
+    const Bytes longer = png_of(16, 16, interlaced, raw);
+    EXPECT_FALSE(scene::detail::png_within_limits(longer.data(), longer.size(), why));
+    EXPECT_NE(why.find(interlaced ? "past the 1054 bytes its 16x16 header needs" : "past the 1040 bytes its 16x16 header needs"),
+              std::string::npos) << why;
+  }
+  const Bytes bomb = png_of(16, 16, false, std::vector<unsigned char>(64u << 20, 0));
+  EXPECT_LT(bomb.size(), 128u << 10);
+  TexturedQuad q;
+  q.g.json["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {0.5, 0.25, 1.0, 1.0};
+  q.g.json["textures"] = {{{"source", q.add_image(bomb, "image/png")}}};
+  const scene::Scene s = q.load("tex-png-bomb");
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("corrupt PNG: its pixel data inflates past the 1040 bytes its 16x16 header needs (chunk 1 at byte 33)"),
+            std::string::npos) << s.warnings[0];
   EXPECT_EQ(s.triangle_albedo[0], glm::vec3(0.5f, 0.25f, 1.0f)); // the factor alone
 }
 

@@ -1,0 +1,74 @@
+// What the PNG inflate bound (scene/src/png_limits.h) adds to a texture's decode: png_within_limits (the
+// chunk walk and a counting inflate through a 64 KiB window) against stb's decode of the same bytes, for
+// RGBA8 images of a few sizes (a gradient with noise, stb's own encoder), median of the runs.
+//
+// Usage: probebake-bench-png [--runs N]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "png_limits.h"
+
+namespace {
+
+std::vector<unsigned char> encode(int side) {
+  std::vector<unsigned char> rgba(std::size_t(side) * std::size_t(side) * 4);
+  std::mt19937 random(7);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      unsigned char* p = &rgba[(std::size_t(y) * std::size_t(side) + std::size_t(x)) * 4];
+      const unsigned noise = random() % 16;
+      p[0] = static_cast<unsigned char>(x * 255 / side + noise), p[1] = static_cast<unsigned char>(y * 255 / side + noise);
+      p[2] = static_cast<unsigned char>(128 + noise), p[3] = 255;
+    }
+  std::vector<unsigned char> png;
+  stbi_write_png_to_func([](void* out, void* data, int size) {
+    auto* bytes = static_cast<std::vector<unsigned char>*>(out);
+    bytes->insert(bytes->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+  }, &png, side, side, 4, rgba.data(), side * 4);
+  return png;
+}
+
+template <class F>
+double median_ms(int runs, F&& f) {
+  std::vector<double> ms;
+  for (int r = 0; r < runs; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  return ms[ms.size() / 2];
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  int runs = 9;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+    else return std::fprintf(stderr, "usage: probebake-bench-png [--runs N]\n"), 1;
+  }
+  std::printf("| side | PNG bytes | png_within_limits ms | stb decode ms | ratio |\n|--:|--:|--:|--:|--:|\n");
+  for (int side : {512, 1024, 2048, 4096}) {
+    const std::vector<unsigned char> png = encode(side);
+    std::string why;
+    bool ok = true;
+    const double check = median_ms(runs, [&] { ok = probebake::scene::detail::png_within_limits(png.data(), png.size(), why) && ok; });
+    const double decode = median_ms(runs, [&] {
+      int w = 0, h = 0, n = 0;
+      stbi_image_free(stbi_load_from_memory(png.data(), int(png.size()), &w, &h, &n, 4));
+    });
+    if (!ok) return std::fprintf(stderr, "refused a valid PNG: %s\n", why.c_str()), 1;
+    std::printf("| %d | %zu | %.2f | %.2f | %.2f |\n", side, png.size(), check, decode, check / decode);
+  }
+  return 0;
+}

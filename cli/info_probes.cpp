@@ -14,6 +14,7 @@
 #include "probebake/formats/container.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/formats/file_mapping.h"
 #include "probebake/formats/trace_mesh.h"
 #include "probebake/formats/volume_stats.h"
 
@@ -24,7 +25,8 @@ struct ProbesInfo {
   std::string path;
   std::size_t file_size = 0;
   formats::ContainerView container;
-  formats::ProbeVolume volume;
+  formats::ProbeVolume volume;  // without its trace nodes, faces and vertices: those stay in the mapping
+  formats::TracingView tracing; // the three, in the mapping
   formats::VolumeStats stats;
 };
 
@@ -56,9 +58,11 @@ nlohmann::json settings_json(const gpu::VolumeInfo& info) {
 }
 
 // What the runtime traces: triangles, and the bytes of the tracing sections per triangle (issue #14).
-nlohmann::json tracing_json(const formats::ProbeVolume& v) {
-  const std::size_t triangles = v.trace_triangles.size() + v.trace_faces.size();
-  const std::size_t bytes = formats::tracing_bytes(v);
+nlohmann::json tracing_json(const ProbesInfo& in) {
+  const formats::ProbeVolume& v = in.volume;
+  const std::size_t triangles = v.trace_triangles.size() + in.tracing.faces.size();
+  const std::size_t bytes = formats::tracing_bytes(v) + in.tracing.nodes.size_bytes() + in.tracing.faces.size_bytes() +
+                            in.tracing.vertices.size_bytes();
   return {{"triangles", triangles}, {"bytes", bytes}, {"bytes_per_triangle", triangles > 0 ? double(bytes) / double(triangles) : 0.0},
           {"layout", formats::has_float_tracing(v) ? "float (1.1-1.3)" : "compact"}};
 }
@@ -128,7 +132,7 @@ nlohmann::json info_json(const ProbesInfo& in) {
                                                                  {"pull_origin", v.leaf_header.pull_origin},
                                                                  {"counts", v.leaf_header.count}}},
           {"sections", sections},
-          {"tracing", tracing_json(v)},
+          {"tracing", tracing_json(in)},
           {"cell_depth", v.cell_depth},
           {"streaming", streaming_json(in)},
           {"cells", cells}};
@@ -158,7 +162,7 @@ void print_text(const ProbesInfo& in) {
                (e.flags & formats::kSectionRequired) != 0 ? "" : "  (optional)");
   }
   if (v.lighting) {
-    const nlohmann::json tracing = tracing_json(v);
+    const nlohmann::json tracing = tracing_json(in);
     fmt::print("tracing      {} triangles, {} bytes, {:.1f} B per triangle ({} layout)\n", tracing["triangles"].get<std::size_t>(),
                tracing["bytes"].get<std::size_t>(), tracing["bytes_per_triangle"].get<double>(), tracing["layout"].get<std::string>());
   }
@@ -187,12 +191,14 @@ void print_text(const ProbesInfo& in) {
 int run_info_probes(const std::string& path, bool json) {
   ProbesInfo in;
   in.path = path;
-  const std::vector<std::uint8_t> bytes = formats::read_file_bytes(path);
-  in.file_size = bytes.size();
-  in.container = formats::parse_container(bytes, path, [&](const std::string& section, long long, const std::string& message) {
+  // Mapped, the tracing sections read in place: a world larger than memory prints too (file_mapping.h).
+  const formats::FileMapping file = formats::FileMapping::of(path);
+  in.file_size = file.bytes().size();
+  in.container = formats::parse_container(file.bytes(), path, [&](const std::string& section, long long, const std::string& message) {
     fmt::print(stderr, "probebake: warning: {}: {}: {} (run probebake validate)\n", path, section, message);
   });
-  in.volume = formats::decode_probes(in.container, path);
+  in.volume = formats::decode_probes(in.container, path, formats::TraceSections::leave_in_bytes);
+  in.tracing = formats::tracing_in(in.container, path);
   in.stats = formats::compute_stats(in.volume);
   if (json) {
     std::puts(info_json(in).dump(2).c_str());

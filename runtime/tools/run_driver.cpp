@@ -4,6 +4,7 @@
 #include "run_driver.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -243,14 +244,16 @@ int run_volume(const RunOptions& options) {
     }
   }
   const int frames = options.stream ? int(path.size()) : options.frames;
+  const auto load_start = std::chrono::steady_clock::now();
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   if (!volume.ok()) return report(options, volume.status());
+  const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
   const HostMemory after_load = host_memory();
   const gpu::VolumeInfo& info = volume->info();
   std::printf("volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %d punctual lights, %llu bytes "
-              "on the GPU\n",
+              "on the GPU, loaded in %.1f ms\n",
               options.input.c_str(), info.probe_capacity, info.octree_elements, info.svo_nodes, info.svo_leaves,
-              int(volume->lights().size()), static_cast<unsigned long long>(context->memory_stats().live_bytes));
+              int(volume->lights().size()), static_cast<unsigned long long>(context->memory_stats().live_bytes), load_ms);
   const std::vector<gpu::PunctualLight> baked_lights(volume->lights().begin(), volume->lights().end());
   if (options.orbit_light && options.orbit_light->light >= int(baked_lights.size()))
     return report(options, {runtime::StatusCode::invalid_argument,

@@ -26,10 +26,11 @@ FileMapping FileMapping::of(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw_input_error(path.string(), std::string("cannot open: ") + std::strerror(errno));
   struct stat info {};
-  const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+  const int stat_error = ::fstat(fd, &info) == 0 ? 0 : errno;
   FileMapping mapping;
   try {
-    if (!regular) throw_input_error(path.string(), "not a regular file");
+    if (stat_error != 0) throw_input_error(path.string(), std::string("cannot stat: ") + std::strerror(stat_error));
+    if (!S_ISREG(info.st_mode)) throw_input_error(path.string(), "not a regular file");
     mapping = FileMapping(fd, std::uint64_t(info.st_size), path.string());
   } catch (...) {
     ::close(fd);

@@ -70,7 +70,8 @@ void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
 }
 
 StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
-                                 std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background)
+                                 std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes,
+                                 std::uint32_t rings, bool background)
     : device_(device), source_(std::move(source)), blocks_(cell_bytes, kBlockUnit) {
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
     fail(StatusCode::unsupported, "streaming needs the static tracing tree split by cell (format 1.5 cell_tracing); "

@@ -199,7 +199,12 @@ std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& path) {
   std::vector<std::uint8_t> bytes;
   // A regular file's size up front: one allocation, where growing by doubling held up to three times the file.
   struct stat info {};
-  if (::fstat(::fileno(file), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0) bytes.reserve(std::size_t(info.st_size));
+  const bool known = ::fstat(::fileno(file), &info) == 0;
+  if (known && S_ISDIR(info.st_mode)) {
+    std::fclose(file);
+    throw Error(ErrorKind::input, path.string() + ": is a directory");
+  }
+  if (known && S_ISREG(info.st_mode) && info.st_size > 0) bytes.reserve(std::size_t(info.st_size));
   std::uint8_t buffer[1 << 16];
   std::size_t n = 0;
   while ((n = std::fread(buffer, 1, sizeof(buffer), file)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);

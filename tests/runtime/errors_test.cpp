@@ -22,15 +22,23 @@ void expect_refused(const runtime::Result<runtime::Volume>& result, runtime::Sta
   std::printf("[refused] %s: %s\n", runtime::to_string(result.status().code), result.status().message.c_str());
 }
 
+// Both loads: the whole read, and the streaming load's mapping (formats/cell_file.h).
+const runtime::UploadOptions kLoads[] = {{}, {.streaming = {.budget_bytes = 1u << 20}}};
+
 TEST_F(ErrorsTest, MissingFileIsAFileError) {
   const std::string path = temp_path("does-not-exist.probes");
-  expect_refused(runtime::Volume::load(context(), path), runtime::StatusCode::file_error, "does-not-exist.probes");
+  for (const runtime::UploadOptions& options : kLoads)
+    expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error, "does-not-exist.probes");
 }
 
 TEST_F(ErrorsTest, GarbageIsAFileError) {
   const std::string path = temp_path("garbage.probes");
   write_bytes(path, std::vector<std::uint8_t>(1000, 0x5a));
-  expect_refused(runtime::Volume::load(context(), path), runtime::StatusCode::file_error, "garbage.probes");
+  for (const runtime::UploadOptions& options : kLoads)
+    expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error, "garbage.probes");
+  expect_refused(runtime::Volume::load(context(), ::testing::TempDir()), runtime::StatusCode::file_error, "is a directory");
+  expect_refused(runtime::Volume::load(context(), ::testing::TempDir(), kLoads[1]), runtime::StatusCode::file_error,
+                 "not a regular file");
 }
 
 TEST_F(ErrorsTest, TruncatedFileIsAFileError) {
@@ -38,7 +46,8 @@ TEST_F(ErrorsTest, TruncatedFileIsAFileError) {
   const std::string path = temp_path("truncated.probes");
   for (std::size_t size : {std::size_t(0), std::size_t(63), bytes.size() / 2, bytes.size() - 1}) {
     write_bytes(path, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + std::ptrdiff_t(size)));
-    expect_refused(runtime::Volume::load(context(), path), runtime::StatusCode::file_error, "truncated.probes");
+    for (const runtime::UploadOptions& options : kLoads)
+      expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error, "truncated.probes");
   }
 }
 

@@ -55,7 +55,9 @@ ValidationReport validate(const ProbeVolume& volume, const TracingView& tracing,
 // Container checks (readable = false and a "container" violation when the bytes cannot be decoded;
 // "checksum" violations for mismatches; format_version, section_flags, section_layout, trailing_bytes and
 // section_dependency for what the reader reads but the format does not allow), then validate() on the
-// decoded volume, then each cell on its own against its checksum (1.6: cell_checksum, cells_checked).
+// decoded volume, then each cell on its own against its checksum (1.6: cell_checksum, cells_checked). The
+// trace nodes, faces and vertices are checked in place in `bytes` when those are 16-byte aligned (a file's
+// mapping: file_mapping.h), so that they are never copied; otherwise they are decoded.
 ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name,
                                const ValidateOptions& options = {});
 

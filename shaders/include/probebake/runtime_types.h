@@ -195,7 +195,7 @@ struct LightCounters {
   int want_free;       // offset 32: L3: the leaf rule says free the probe
   int relit_records;   // offset 36: records whose cached E_punctual light_relight updated
   int reused_records;  // offset 40: of them, updated with E_before read from the tracked buffer
-  int unresolved_probes; // offset 44: streaming: probes that L1 or light_relight left RECORD_SLOT_UNRESOLVED
+  int unresolved_probes; // offset 44: streaming: traces that left RECORD_SLOT_UNRESOLVED, relights that newly set it
 };                     // size 48
 
 // ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME.md "Moving objects") -------------------------

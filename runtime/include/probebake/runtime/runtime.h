@@ -327,10 +327,12 @@ struct LightStats {
                            // light: inside its range, or all for a light without range or after an object moved)
   int reused_records = 0;  // of them, updated with one shadow ray (the same light changed last time too)
   int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
-  int unresolved_probes = 0; // streaming: probes whose rays this frame (their trace, or the shadow rays of a
-                             // relight) crossed a cell that is out before they hit anything: they keep their
-                             // irradiance until a trace after cells arrive sees that geometry (docs/RUNTIME.md
-                             // "Streaming cells")
+  int unresolved_probes = 0; // streaming: events of this frame that left a probe unresolved (its rays crossed a
+                             // cell that is out before they hit anything): each trace that did, and each relight
+                             // that newly did (a probe already unresolved is not counted again by the relight;
+                             // one relit and then traced in the same frame counts twice). Such probes keep
+                             // their irradiance until a trace after cells arrive sees that geometry
+                             // (docs/RUNTIME.md "Streaming cells")
 };
 
 // Statistics of one frame's memory update and light transitions (all 0 and active = false without one).

@@ -13,7 +13,6 @@ find_package(embree 3 REQUIRED)
 find_package(draco REQUIRED)
 find_package(meshoptimizer CONFIG REQUIRED) # EXT_meshopt_compression (decoder; encoder in samples/)
 pkg_check_modules(WEBP REQUIRED IMPORTED_TARGET libwebp) # EXT_texture_webp images
-find_package(ZLIB REQUIRED) # bounds a PNG's inflated size before stb decodes it (scene/src/png_limits.h)
 find_package(TBB REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)

@@ -12,8 +12,6 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev libdraco-dev
   # optimised glTF: EXT_meshopt_compression geometry, EXT_texture_webp images
   libmeshoptimizer-dev libwebp-dev
-  # a PNG's inflated size bounded before stb decodes it
-  zlib1g-dev
   # CPU rays, signed distance fields (OpenVDB needs Boost headers and TBB), EXR images
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-dev libtbb-dev libopenexr-dev libimath-dev
   # command line and text

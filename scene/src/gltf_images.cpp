@@ -1,11 +1,13 @@
 // Texture images: WebP (EXT_texture_webp) through libwebp, PNG/JPEG/BMP/GIF/... through stb (tinygltf's
-// decoder). Dimensions are read from the header and checked, a PNG's chunks and inflated size against its
-// header (png_limits.h), and the pixels charged to the memory budget, before anything is decoded. An image that cannot be decoded (unknown format, KTX2/Basis, corrupt data,
+// decoder, compiled into the loader with its allocations capped: stb_capped.h). Dimensions are read from the
+// header and checked and the pixels charged to the memory budget before anything is decoded; the decode may
+// then allocate a few times the image's pixels, no more. An image that cannot be decoded (unknown format, KTX2/Basis, corrupt data,
 // too large) is not an error here: it is recorded, left empty, and its textures fall back to the
 // material's factors (select_texture_images warns once per texture).
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include <fmt/core.h>
 #include <stb_image.h>
@@ -13,7 +15,7 @@
 #include <webp/decode.h>
 
 #include "gltf_internal.h"
-#include "png_limits.h"
+#include "stb_capped.h"
 
 namespace probebake::scene::detail {
 namespace {
@@ -73,14 +75,25 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
                                : "unknown image format";
     return false;
   }
-  if (!png_within_limits(bytes, std::size_t(size), why)) return false;
   const bool wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
-  if (!admit(width, height, 4u * (wide ? 2u : 1u), index, policy, why)) return false;
-  std::string err, warn;
-  if (!tinygltf::LoadImageData(image, index, &err, &warn, 0, 0, bytes, size, nullptr)) {
-    why = "corrupt image data";
+  const unsigned pixel_bytes = 4u * (wide ? 2u : 1u);
+  if (!admit(width, height, pixel_bytes, index, policy, why)) return false;
+  // What stb holds at most for an image within its header: the compressed data (grown by doubling), the
+  // decompressed rows, the file's pixels and their RGBA copy.
+  const std::uint64_t cap = 2u * std::uint64_t(size) + 4u * std::uint64_t(width) * std::uint64_t(height) * pixel_bytes + (1u << 20);
+  StbImage decoded;
+  switch (decode_capped(bytes, size, cap, decoded)) {
+  case StbDecode::over_cap:
+    why = fmt::format("corrupt image data: decoding asks for more than {} bytes, more than its {}x{} pixels need", cap, width, height);
     return false;
+  case StbDecode::failed: why = "corrupt image data"; return false;
+  case StbDecode::ok: break;
   }
+  image->width = decoded.width, image->height = decoded.height;
+  image->component = 4;
+  image->bits = decoded.bits;
+  image->pixel_type = decoded.bits == 16 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image = std::move(decoded.pixels);
   return true;
 }
 

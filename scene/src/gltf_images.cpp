@@ -1,9 +1,9 @@
-// Texture images: WebP (EXT_texture_webp) through libwebp, PNG/JPEG/BMP/GIF/... through stb (tinygltf's
-// decoder, compiled into the loader with its allocations capped: stb_capped.h). Dimensions are read from the
-// header and checked and the pixels charged to the memory budget before anything is decoded; the decode may
-// then allocate a few times the image's pixels, no more. An image that cannot be decoded (unknown format, KTX2/Basis, corrupt data,
-// too large) is not an error here: it is recorded, left empty, and its textures fall back to the
-// material's factors (select_texture_images warns once per texture).
+// Texture images: WebP (EXT_texture_webp) through libwebp, PNG/JPEG/BMP/GIF/... through stb, compiled into the
+// loader with its allocations capped (stb_capped.h; tinygltf's own image loader is replaced). Dimensions are
+// read from the header and checked and the pixels charged to the memory budget before anything is decoded;
+// the decode may then allocate a few times the image's pixels, no more. An image that cannot be decoded
+// (unknown format, KTX2/Basis, corrupt data, too large) is not an error here: it is recorded, left empty, and
+// its textures fall back to the material's factors (select_texture_images warns once per texture).
 #include <cstdint>
 #include <cstring>
 #include <limits>

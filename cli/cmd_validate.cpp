@@ -35,6 +35,7 @@ formats::ValidationReport validate_path(const ValidateSettings& settings) {
   try {
     // Mapped, not read: the trace sections are checked in place (validate_file), so a world larger than
     // memory validates (file_mapping.h).
+    const formats::MappedReadGuard guard("probebake", settings.path);
     const formats::FileMapping file = formats::FileMapping::of(settings.path);
     return formats::validate_file(file.bytes(), settings.path, formats::ValidateOptions{settings.max_errors});
   } catch (const Error& error) { // the file cannot be read at all: same verdict as a bad container

@@ -192,6 +192,7 @@ int run_info_probes(const std::string& path, bool json) {
   ProbesInfo in;
   in.path = path;
   // Mapped, the tracing sections read in place: a world larger than memory prints too (file_mapping.h).
+  const formats::MappedReadGuard guard("probebake", path);
   const formats::FileMapping file = formats::FileMapping::of(path);
   in.file_size = file.bytes().size();
   in.container = formats::parse_container(file.bytes(), path, [&](const std::string& section, long long, const std::string& message) {

@@ -1,5 +1,6 @@
 #include "probebake/formats/file_mapping.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <limits>
@@ -13,6 +14,30 @@
 #include "probebake/formats/error.h"
 
 namespace probebake::formats {
+namespace {
+
+// The guard's message, written by the handler with write(2): nothing else is async-signal-safe.
+char g_sigbus_message[4096];
+std::size_t g_sigbus_length = 0;
+
+void exit_on_sigbus(int) {
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, g_sigbus_message, g_sigbus_length);
+  ::_exit(2);
+}
+
+} // namespace
+
+MappedReadGuard::MappedReadGuard(const char* program, const std::string& path) {
+  const std::string message = std::string(program) + ": error: " + path + ": the file was cut short while it was read\n";
+  g_sigbus_length = std::min(message.size(), sizeof(g_sigbus_message));
+  std::memcpy(g_sigbus_message, message.data(), g_sigbus_length);
+  struct sigaction action {};
+  action.sa_handler = exit_on_sigbus;
+  sigemptyset(&action.sa_mask);
+  ::sigaction(SIGBUS, &action, &previous_);
+}
+
+MappedReadGuard::~MappedReadGuard() { ::sigaction(SIGBUS, &previous_, nullptr); }
 
 FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
   if (size == 0) return;

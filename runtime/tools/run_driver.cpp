@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <span>
 #include <string>
@@ -22,6 +23,7 @@
 
 #include "probebake/dynamic/animation.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/file_mapping.h"
 #include "probebake/runtime/runtime.h"
 #include "probebake/streaming/camera_path.h"
 #include "run_report.h"
@@ -245,7 +247,10 @@ int run_volume(const RunOptions& options) {
   }
   const int frames = options.stream ? int(path.size()) : options.frames;
   const auto load_start = std::chrono::steady_clock::now();
+  std::optional<formats::MappedReadGuard> guard;
+  if (options.stream) guard.emplace("probebake-run", options.input); // the load maps the file (cell_file.h)
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
+  guard.reset();
   if (!volume.ok()) return report(options, volume.status());
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
   const HostMemory after_load = host_memory();

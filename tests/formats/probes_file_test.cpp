@@ -1,13 +1,17 @@
 // .probes reading and writing: round trips, only non-empty sections, forward compatibility (unknown
 // optional sections, longer headers, newer minors), refusals (unknown required sections and features,
 // other majors), one-line errors, atomic file writing.
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include "probebake/formats/error.h"
+#include "probebake/formats/file_mapping.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 #include "sample_volumes.h"
@@ -299,6 +303,35 @@ TEST_F(TempDir, ReadingAMissingFileIsAnInputError) {
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::input);
   }
+}
+
+// A mapped file cut short under the reader raises SIGBUS on the lost page. Outside a guard that kills the
+// program; inside MappedReadGuard (what probebake validate/info and probebake-run's load use) it is an input
+// error, exit code 2, naming the file. The previous handler is back after the guard.
+TEST_F(TempDir, AFileCutShortWhileMappedIsAnInputErrorInsideTheGuard) {
+  const std::filesystem::path path = dir_ / "mapped.probes";
+  std::ofstream(path, std::ios::binary) << std::string(1 << 16, 'x');
+  const FileMapping mapping = FileMapping::of(path);
+  ASSERT_EQ(mapping.bytes().size(), std::size_t(1) << 16);
+  EXPECT_EQ(mapping.bytes()[40000], 'x');
+  const auto cut_and_read = [&] {
+    std::filesystem::resize_file(path, 0);
+    return static_cast<int>(*static_cast<const volatile std::uint8_t*>(&mapping.bytes()[40000]));
+  };
+  EXPECT_EXIT(
+      {
+        const MappedReadGuard guard("probebake", path.string());
+        std::_Exit(cut_and_read());
+      },
+      ::testing::ExitedWithCode(2), "probebake: error: .*mapped.probes: the file was cut short while it was read");
+  // Without the guard: the default action, or a sanitizer's report; anything but the guard's exit.
+  const auto not_the_guards_exit = [](int status) { return !(WIFEXITED(status) && WEXITSTATUS(status) == 2); };
+  EXPECT_EXIT(
+      {
+        { const MappedReadGuard guard("probebake", path.string()); }
+        std::_Exit(cut_and_read());
+      },
+      not_the_guards_exit, "");
 }
 
 } // namespace

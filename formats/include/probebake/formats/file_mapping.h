@@ -3,7 +3,9 @@
 // mapped pages are the kernel's, read in as they are touched and dropped under memory pressure.
 //
 // A file cut short in place by another process while it is mapped makes a read of a lost page raise
-// SIGBUS; files that probebake writes are replaced by a rename, which leaves a mapping intact.
+// SIGBUS; files that probebake writes are replaced by a rename, which leaves a mapping intact. A program
+// (never a library inside someone else's process) turns that signal into an input error with
+// MappedReadGuard.
 #pragma once
 
 #include <cstddef>
@@ -11,6 +13,8 @@
 #include <filesystem>
 #include <span>
 #include <string>
+
+#include <signal.h>
 
 namespace probebake::formats {
 
@@ -33,6 +37,20 @@ public:
 private:
   void* data_ = nullptr;
   std::size_t size_ = 0;
+};
+
+// While it lives, a SIGBUS (a mapped file cut short under the reader) ends the program with exit code 2 and
+// "<program>: error: <path>: the file was cut short while it was read" on stderr, instead of a crash; the
+// previous handler comes back when it is destroyed. One at a time.
+class MappedReadGuard {
+public:
+  MappedReadGuard(const char* program, const std::string& path);
+  ~MappedReadGuard();
+  MappedReadGuard(const MappedReadGuard&) = delete;
+  MappedReadGuard& operator=(const MappedReadGuard&) = delete;
+
+private:
+  struct sigaction previous_ {};
 };
 
 } // namespace probebake::formats

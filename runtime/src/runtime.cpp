@@ -149,12 +149,12 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
     // Streaming reads each cell from disk when it loads; until the upload, the cells' tracing is read in
     // place in the file's mapping (cell_file.h), never copied whole.
     formats::OpenedCellFile opened = formats::CellFile::open(path);
-    const formats::TracingView tracing = opened.tracing();
     if (options.validate)
-      if (const Status valid = validated(opened.volume, tracing, path); !valid.ok()) return valid;
+      if (const Status valid = validated(opened.volume, opened.tracing(), path); !valid.ok()) return valid;
     formats::upgrade_tracing(opened.volume); // 1.1-1.3 files (decoded whole): the shaders trace the compact layout only
     if (opened.volume.cell_tracing.empty()) // VolumeState refuses to stream it
       return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options));
+    const formats::TracingView tracing = opened.tracing(); // after the upgrade, which may have filled the vectors
     opened.file.expect(opened.volume, tracing);
     return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options,
                                                         detail::cell_source_on_disk(std::move(opened.file)), &tracing));

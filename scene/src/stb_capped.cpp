@@ -1,6 +1,7 @@
 #include "stb_capped.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 
@@ -19,6 +20,7 @@ constexpr std::size_t kHeader = alignof(std::max_align_t); // each block's size,
 void* capped_malloc(std::size_t size) {
   Allowance& a = t_allowance;
   if (size > a.cap - a.used) return a.over = true, nullptr;
+  if (size > SIZE_MAX - kHeader) return nullptr;
   auto* block = static_cast<unsigned char*>(std::malloc(size + kHeader));
   if (block == nullptr) return nullptr;
   std::memcpy(block, &size, sizeof(size));
@@ -42,6 +44,7 @@ void* capped_realloc(void* p, std::size_t size) {
   std::memcpy(&old, block, sizeof(old));
   Allowance& a = t_allowance;
   if (size > old && size - old > a.cap - a.used) return a.over = true, nullptr;
+  if (size > SIZE_MAX - kHeader) return nullptr;
   auto* grown = static_cast<unsigned char*>(std::realloc(block, size + kHeader));
   if (grown == nullptr) return nullptr;
   std::memcpy(grown, &size, sizeof(size));

@@ -1,6 +1,5 @@
 #include "probebake/formats/cell_file.h"
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <limits>
@@ -49,12 +48,9 @@ OpenedCellFile CellFile::open(const std::filesystem::path& path) {
   if (!S_ISREG(info.st_mode)) throw_input_error(file.name_, "not a regular file");
   opened.mapping = FileMapping(fd, std::uint64_t(info.st_size), file.name_);
   const ContainerView container = parse_container(opened.mapping.bytes(), file.name_);
-  const auto has = [&](SectionType type) {
-    return std::any_of(container.sections.begin(), container.sections.end(),
-                       [&](const SectionEntry& entry) { return entry.type == static_cast<std::uint32_t>(type); });
-  };
   // Only files that can stream keep their tracing in the mapping; a 1.1-1.3 file is upgraded in memory.
-  const bool in_place = has(SectionType::cell_tracing) && !has(SectionType::bvh_nodes) && !has(SectionType::trace_triangles);
+  const bool in_place = has_section(container, SectionType::cell_tracing) && !has_section(container, SectionType::bvh_nodes) &&
+                        !has_section(container, SectionType::trace_triangles);
   opened.volume = decode_probes(container, file.name_, in_place ? TraceSections::leave_in_bytes : TraceSections::decode);
   if (in_place) opened.in_mapping = tracing_in(container, file.name_);
   else opened.mapping.reset();

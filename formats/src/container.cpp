@@ -179,6 +179,11 @@ std::string section_name(std::uint32_t type) {
 
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }
 
+bool has_section(const ContainerView& container, SectionType type) {
+  return std::any_of(container.sections.begin(), container.sections.end(),
+                     [&](const SectionEntry& entry) { return entry.type == static_cast<std::uint32_t>(type); });
+}
+
 std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, std::span<const SectionPayload> sections,
                                           const ContainerKind& kind) {
   FileHeader header{};

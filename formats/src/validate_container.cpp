@@ -15,7 +15,6 @@
 namespace probebake::formats::detail {
 namespace {
 
-std::uint32_t type_id(SectionType type) { return static_cast<std::uint32_t>(type); }
 
 // Sections of the 1.0 model (1-9) are REQUIRED; cells and the 1.1 lighting sections are optional, so that
 // a reader without them still reads the file.
@@ -28,13 +27,6 @@ std::uint16_t minor_needed(const ContainerView& container, const ProbeVolume& vo
     minor = std::max(minor, minor_version_for_section(entry.type));
   }
   return std::max(minor, minor_version_for_flags(volume));
-}
-
-bool has_section(const ContainerView& container, SectionType type) {
-  for (const SectionEntry& entry : container.sections) {
-    if (entry.type == type_id(type)) return true;
-  }
-  return false;
 }
 
 void check_version(const ContainerView& container, const ProbeVolume& volume, Reporter& out) {

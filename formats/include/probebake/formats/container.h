@@ -180,4 +180,7 @@ ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_v
 // XXH3-64 with seed 0, the checksum of every section and of the header.
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes);
 
+// Whether the container's table lists a section of `type`.
+bool has_section(const ContainerView& container, SectionType type);
+
 } // namespace probebake::formats

@@ -1,5 +1,5 @@
-// What the allocation cap costs a texture's decode: the loader's own stb (scene/src/stb_capped.h, every
-// allocation counted) against Debian's libstb on the same bytes, RGBA8 images of a few sizes (a gradient with
+// What the allocation cap costs a texture's decode: the loader's own stb (scene/src/stb_capped.h, the header
+// read and every allocation counted against the loader's cap) against Debian's libstb on the same bytes, RGBA8 images of a few sizes (a gradient with
 // noise, stb's own encoder), both to RGBA, median of the runs.
 //
 // Usage: probebake-bench-png [--runs N]
@@ -62,9 +62,11 @@ int main(int argc, char** argv) {
     const std::vector<unsigned char> png = encode(side);
     bool ok = true;
     const double capped = median_ms(runs, [&] {
+      probebake::scene::detail::StbHeader header;
       probebake::scene::detail::StbImage image;
-      ok = probebake::scene::detail::decode_capped(png.data(), int(png.size()), ~std::uint64_t(0), image) ==
-               probebake::scene::detail::StbDecode::ok && ok;
+      ok = probebake::scene::detail::read_stb_header(png.data(), int(png.size()), header) &&
+           probebake::scene::detail::decode_capped(png.data(), int(png.size()), header, probebake::scene::detail::stb_decode_cap(header, int(png.size())),
+                                                   image) == probebake::scene::detail::StbDecode::ok && ok;
     });
     const double libstb = median_ms(runs, [&] {
       int w = 0, h = 0, n = 0;

@@ -10,7 +10,6 @@
 #include <utility>
 
 #include <fmt/core.h>
-#include <stb_image.h>
 #include <tiny_gltf.h>
 #include <webp/decode.h>
 
@@ -69,30 +68,27 @@ bool decode_webp(tinygltf::Image* image, int index, const unsigned char* bytes, 
 
 bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy,
                      std::string& why) {
-  int width = 0, height = 0, components = 0;
-  if (stbi_info_from_memory(bytes, size, &width, &height, &components) == 0) {
+  StbHeader header;
+  if (!read_stb_header(bytes, size, header)) {
     why = is_ktx2(bytes, size) ? "KTX2/Basis Universal (no decoder in this build; add a PNG/JPEG fallback `source`)"
                                : "unknown image format";
     return false;
   }
-  const bool wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
-  const unsigned pixel_bytes = 4u * (wide ? 2u : 1u);
-  if (!admit(width, height, pixel_bytes, index, policy, why)) return false;
-  // What stb holds at most for an image within its header: the compressed data (grown by doubling), the
-  // decompressed rows, the file's pixels and their RGBA copy.
-  const std::uint64_t cap = 2u * std::uint64_t(size) + 4u * std::uint64_t(width) * std::uint64_t(height) * pixel_bytes + (1u << 20);
+  if (!admit(header.width, header.height, 4u * (header.wide ? 2u : 1u), index, policy, why)) return false;
+  const std::uint64_t cap = stb_decode_cap(header, size);
   StbImage decoded;
-  switch (decode_capped(bytes, size, cap, decoded)) {
+  switch (decode_capped(bytes, size, header, cap, decoded)) {
   case StbDecode::over_cap:
-    why = fmt::format("corrupt image data: decoding asks for more than {} bytes, more than its {}x{} pixels need", cap, width, height);
+    why = fmt::format("corrupt image data: decoding asks for more than {} bytes, more than its {}x{} pixels need", cap, header.width,
+                      header.height);
     return false;
   case StbDecode::failed: why = "corrupt image data"; return false;
   case StbDecode::ok: break;
   }
   image->width = decoded.width, image->height = decoded.height;
   image->component = 4;
-  image->bits = decoded.bits;
-  image->pixel_type = decoded.bits == 16 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->bits = header.wide ? 16 : 8;
+  image->pixel_type = header.wide ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
   image->image = std::move(decoded.pixels);
   return true;
 }

@@ -1,5 +1,6 @@
 #include "stb_capped.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -66,21 +67,39 @@ void* capped_realloc(void* p, std::size_t size) {
 
 namespace probebake::scene::detail {
 
-StbDecode decode_capped(const unsigned char* bytes, int size, std::uint64_t cap_bytes, StbImage& out) {
+namespace {
+
+std::uint64_t pixel_bytes(const StbHeader& header) { return 4u * (header.wide ? 2u : 1u); }
+
+} // namespace
+
+bool read_stb_header(const unsigned char* bytes, int size, StbHeader& out) {
+  t_allowance = {2u * std::uint64_t(std::max(size, 0)) + (1u << 20), 0, false}; // the parser's own state
+  int components = 0;
+  if (stbi_info_from_memory(bytes, size, &out.width, &out.height, &components) == 0) return false;
+  out.wide = stbi_is_16_bit_from_memory(bytes, size) != 0;
+  return true;
+}
+
+std::uint64_t stb_decode_cap(const StbHeader& header, int size) {
+  return 2u * std::uint64_t(std::max(size, 0)) + 4u * std::uint64_t(header.width) * std::uint64_t(header.height) * pixel_bytes(header) +
+         (1u << 20);
+}
+
+StbDecode decode_capped(const unsigned char* bytes, int size, const StbHeader& header, std::uint64_t cap_bytes, StbImage& out) {
   t_allowance = {cap_bytes, 0, false};
   int width = 0, height = 0, components = 0;
-  out.bits = stbi_is_16_bit_from_memory(bytes, size) != 0 ? 16 : 8;
-  void* pixels = out.bits == 16 ? static_cast<void*>(stbi_load_16_from_memory(bytes, size, &width, &height, &components, 4))
-                                : static_cast<void*>(stbi_load_from_memory(bytes, size, &width, &height, &components, 4));
+  void* pixels = header.wide ? static_cast<void*>(stbi_load_16_from_memory(bytes, size, &width, &height, &components, 4))
+                             : static_cast<void*>(stbi_load_from_memory(bytes, size, &width, &height, &components, 4));
   const bool over = t_allowance.over;
   if (pixels == nullptr || width < 1 || height < 1) {
     stbi_image_free(pixels);
     return over ? StbDecode::over_cap : StbDecode::failed;
   }
-  const std::size_t bytes_out = std::size_t(width) * std::size_t(height) * 4u * std::size_t(out.bits / 8);
+  const std::size_t bytes_out = std::size_t(width) * std::size_t(height) * std::size_t(pixel_bytes(header));
   out.pixels.assign(static_cast<unsigned char*>(pixels), static_cast<unsigned char*>(pixels) + bytes_out);
   stbi_image_free(pixels);
-  out.width = width, out.height = height, out.components = components;
+  out.width = width, out.height = height;
   return StbDecode::ok;
 }
 

@@ -10,17 +10,28 @@
 
 namespace probebake::scene::detail {
 
-struct StbImage {
-  std::vector<unsigned char> pixels; // width x height x 4 components of `bits` each, row by row
+// What an image's header says, read before any pixel is decoded.
+struct StbHeader {
   int width = 0, height = 0;
-  int components = 0; // in the file (the pixels always hold 4)
-  int bits = 8;       // 8, or 16 for 16-bit PNGs
+  bool wide = false; // 16 bits per component (PNG)
+};
+
+struct StbImage {
+  std::vector<unsigned char> pixels; // width x height x 4 components of 8 bits, or 16 when the header is wide
+  int width = 0, height = 0;
 };
 
 enum class StbDecode { ok, over_cap, failed };
 
-// Decodes `bytes` (any format stb reads) to RGBA, 16 bits per component when the file has them. over_cap:
-// stb asked for more than `cap_bytes` in all at some moment; failed: anything else stb refused.
-StbDecode decode_capped(const unsigned char* bytes, int size, std::uint64_t cap_bytes, StbImage& out);
+// The header of `bytes` (any format stb reads); false when stb knows no such format.
+bool read_stb_header(const unsigned char* bytes, int size, StbHeader& out);
+
+// What stb holds at most while it decodes an image within its header: the compressed data (grown by
+// doubling), the decompressed rows, the file's pixels and their RGBA copy, and 1 MiB of tables.
+std::uint64_t stb_decode_cap(const StbHeader& header, int size);
+
+// Decodes `bytes` to RGBA, 16 bits per component when `header` is wide. over_cap: stb asked for more than
+// `cap_bytes` in all at some moment; failed: anything else stb refused.
+StbDecode decode_capped(const unsigned char* bytes, int size, const StbHeader& header, std::uint64_t cap_bytes, StbImage& out);
 
 } // namespace probebake::scene::detail

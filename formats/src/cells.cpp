@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <span>
 #include <string>
 
 #include "probebake/formats/error.h"
@@ -276,6 +277,7 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
     volume.cells.push_back(cell);
   }
   volume.cell_checksums.clear(); // a file's, for other ranges; the writer takes the bytes' own (cell_checksums_of)
+  volume.cell_global_checksums.clear();
 }
 
 std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
@@ -323,10 +325,45 @@ std::vector<std::uint64_t> cell_checksums_of(const ProbeVolume& volume) {
   return sums;
 }
 
+namespace {
+
+// The bytes of `section` between and after the ranges (ascending, inside it).
+template <class T, class Record>
+std::uint64_t global_checksum(std::span<const T> section, const std::vector<Record>& records, CellRange Record::*member) {
+  XXH3_state_t state;
+  XXH3_64bits_reset(&state);
+  std::uint64_t cursor = 0;
+  const auto hash_to = [&](std::uint64_t end) {
+    if (end < cursor || end > section.size()) throw Error(ErrorKind::internal, "cell_global_checksums: the cells' ranges do not ascend inside their section");
+    if (end > cursor) XXH3_64bits_update(&state, section.data() + cursor, std::size_t(end - cursor) * sizeof(T));
+    cursor = end;
+  };
+  for (const Record& record : records) {
+    const CellRange& range = record.*member;
+    hash_to(range.first);
+    cursor = std::uint64_t(range.first) + range.count;
+  }
+  hash_to(section.size());
+  return XXH3_64bits_digest(&state);
+}
+
+} // namespace
+
+std::vector<std::uint64_t> cell_global_checksums_of(const ProbeVolume& volume, const TracingView& tracing) {
+  if (volume.cell_tracing.empty()) return {};
+  return {global_checksum(std::span<const gpu::Probe>(volume.probes), volume.cells, &Cell::probes),
+          global_checksum(std::span<const gpu::SurfelBatch>(volume.surfel_batches), volume.cells, &Cell::surfel_batches),
+          global_checksum(std::span<const gpu::SvoLeaf>(volume.svo_leaves), volume.cells, &Cell::svo_leaves),
+          global_checksum(tracing.nodes, volume.cell_tracing, &CellTracing::trace_nodes),
+          global_checksum(tracing.faces, volume.cell_tracing, &CellTracing::trace_faces),
+          global_checksum(tracing.vertices, volume.cell_tracing, &CellTracing::trace_vertices)};
+}
+
 void clear_cells(ProbeVolume& volume) {
   volume.cells.clear();
   volume.cell_tracing.clear();
   volume.cell_checksums.clear();
+  volume.cell_global_checksums.clear();
   volume.cell_depth = 0;
 }
 

@@ -171,7 +171,8 @@ std::string section_name(std::uint32_t type) {
                                            "svo_leaves",    "cells",          "lighting_info",   "ray_directions",
                                            "bvh_nodes",     "trace_triangles", "punctual_lights", "emitter_patches",
                                            "dynamic_objects", "trace_trees", "trace_nodes", "trace_faces", "trace_vertices",
-                                           "trace_materials", "cell_tracing", "cell_checksums"};
+                                           "trace_materials", "cell_tracing", "cell_checksums",
+                                           "cell_global_checksums"};
   static_assert(std::size(kNames) == kSectionTypeCount);
   if (is_known_section_type(type)) return kNames[type - 1];
   return "section_" + std::to_string(type);

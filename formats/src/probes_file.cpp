@@ -48,13 +48,15 @@ template <class T> struct is_optional<std::optional<T>> : std::true_type {};
 std::uint32_t section_flags(SectionType type) { return is_required_section_type(static_cast<std::uint32_t>(type)) ? kSectionRequired : 0u; }
 
 // Every section of the volume with data, in type order (volume_sections.h); the leaf header only with
-// leaf entries (docs/FORMAT.md); `cell_checksums` in place of the volume's: like the section checksums
+// leaf entries (docs/FORMAT.md); `cell_checksums` and `global_checksums` in place of the volume's: like the section checksums
 // they are taken from the bytes written (a volume edited in memory keeps those it was read with).
-std::vector<SectionPayload> sections_of(const ProbeVolume& volume, const std::vector<std::uint64_t>& cell_checksums) {
+std::vector<SectionPayload> sections_of(const ProbeVolume& volume, const std::vector<std::uint64_t>& cell_checksums,
+                                        const std::vector<std::uint64_t>& global_checksums) {
   std::vector<SectionPayload> sections;
   for_each_section(volume, [&](SectionType type, const auto& member) {
     using Member = std::decay_t<decltype(member)>;
     if (type == SectionType::cell_checksums) add_section(sections, type, section_flags(type), cell_checksums);
+    else if (type == SectionType::cell_global_checksums) add_section(sections, type, section_flags(type), global_checksums);
     else if constexpr (is_vector<Member>::value) add_section(sections, type, section_flags(type), member);
     else if constexpr (is_optional<Member>::value) {
       if (member) add_single(sections, type, *member, section_flags(type));
@@ -153,7 +155,9 @@ std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
 
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
   const std::vector<std::uint64_t> cell_checksums = cell_checksums_of(volume);
-  const std::vector<SectionPayload> sections = sections_of(volume, cell_checksums);
+  const bool read_as_1_6 = !volume.cell_checksums.empty() && volume.cell_global_checksums.empty();
+  const std::vector<std::uint64_t> global_checksums = read_as_1_6 ? std::vector<std::uint64_t>{} : cell_global_checksums_of(volume, tracing_view(volume));
+  const std::vector<SectionPayload> sections = sections_of(volume, cell_checksums, global_checksums);
   const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections, volume)};
   return write_container(fields, sections);
 }

@@ -90,6 +90,7 @@ constexpr InvariantInfo kInvariants[] = {
     {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
     {"cell_tracing", "one cell_tracing record per cell; its ranges cover the static tree's faces, and each cell's trace nodes, faces and vertices refer only to each other, its faces' centroids inside it"},
     {"cell_checksum", "one checksum per cell; each equals the XXH3-64 of its cell's byte ranges, checked cell by cell"},
+    {"cell_global_checksum", "with cell_tracing, one checksum per cell-split section; each equals the XXH3-64 of the section's bytes outside every cell's range"},
     {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; placement_rays = surfels_per_probe"},
     {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero; 1.4 faces: indices in range, non-zero area"},
     {"lighting_flags", "trace triangle and emitter patch flags set no bit but bit 0 (double-sided)"},
@@ -146,6 +147,7 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
   run_phases(volume, tracing, out);
   try {
     detail::check_cell_checksums(volume, tracing, out); // the file's bytes: a volume edited in memory is not checked
+    detail::check_cell_global_checksums(volume, tracing, out);
   } catch (const detail::StopValidation&) {
     // max_errors reached
   }

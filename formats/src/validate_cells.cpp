@@ -200,6 +200,26 @@ void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing,
   }
 }
 
+// cell_global_checksums (1.7): with cell_tracing, one per cell-split section, each the checksum of the bytes
+// outside every cell's range (cells.h), which a streaming load reads alone.
+void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
+  const std::vector<std::uint64_t>& stored = volume.cell_global_checksums;
+  if (stored.empty()) return;
+  if (volume.cell_tracing.empty()) return out.add("cell_global_checksum", "cell_global_checksums", -1, "a file without cell_tracing");
+  if (stored.size() != std::size(kCellSplitSections))
+    return out.add("cell_global_checksum", "cell_global_checksums", -1, concat(stored.size(), " checksums, expected ", std::size(kCellSplitSections)));
+  std::vector<std::uint64_t> computed;
+  try {
+    computed = cell_global_checksums_of(volume, tracing);
+  } catch (const Error&) {
+    return; // ranges outside their sections or out of order: cell_range's and cell_tracing's
+  }
+  for (std::size_t s = 0; s < computed.size(); ++s)
+    if (computed[s] != stored[s])
+      out.add("cell_global_checksum", "cell_global_checksums", static_cast<long long>(s),
+              concat("the bytes of ", section_name(static_cast<std::uint32_t>(kCellSplitSections[s])), " outside the cells differ from their checksum"));
+}
+
 void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, Reporter& out) {
   if (volume.cells.empty() && !volume.cell_tracing.empty())
     out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records without cells"));

@@ -98,6 +98,7 @@ void check_svo(const ProbeVolume& volume, Reporter& out);
 void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, Reporter& out);
 // Files only (validate_file): a volume edited in memory keeps the checksums it was read with.
 void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
+void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
 // Runtime lighting sections (validate_lighting.cpp): their floats, called by check_finite; then the
 // sections, values and BVH, run last.
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);

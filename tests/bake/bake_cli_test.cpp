@@ -87,7 +87,7 @@ TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
   EXPECT_EQ(report["sections"]["punctual_lights"].get<int>(), 64);
   EXPECT_TRUE(report["stages"].contains("gpu_scene"));
   const auto info = nlohmann::json::parse(run({"info --json", with}).out);
-  EXPECT_EQ(info["format_version"].get<std::string>(), "1.6");
+  EXPECT_EQ(info["format_version"].get<std::string>(), "1.7");
   EXPECT_EQ(run({"validate", with}).exit_code, 0);
 
   const CliRun off = run({scene, "--placement grid --grid 3 --no-runtime-lighting --json -o", without});

@@ -658,7 +658,7 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
   EXPECT_EQ(std::size_t(one_side + two_sides), v.emitter_patches.size());
   const formats::ValidationReport validation = formats::validate(v);
   EXPECT_TRUE(validation.valid()) << violations(validation);
-  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCellChecksumsMinor);
+  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCellGlobalChecksumsMinor);
 }
 
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
@@ -750,7 +750,7 @@ TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
   const auto stage = std::find_if(with.report.stages.begin(), with.report.stages.end(), [](const auto& t) { return t.stage == "gpu_scene"; });
   EXPECT_NE(stage, with.report.stages.end());
   const std::vector<std::uint8_t> bytes = formats::write_probes(with.volume);
-  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCellChecksumsMinor);
+  EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCellGlobalChecksumsMinor);
   const auto types = section_types(bytes);
   for (auto type : {formats::SectionType::lighting_info, formats::SectionType::ray_directions, formats::SectionType::trace_trees,
                     formats::SectionType::trace_faces, formats::SectionType::trace_vertices, formats::SectionType::trace_materials,

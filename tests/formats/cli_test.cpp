@@ -150,6 +150,27 @@ TEST_F(CliValidate, EachCellIsCheckedOnItsOwnAndADamagedOneIsNamed) {
   EXPECT_EQ(json["violations"][0]["index"], damaged);
 }
 
+// A global part's checksum that does not match (format 1.7): reported for its section, the rest valid.
+TEST_F(CliValidate, AGlobalChecksumThatDiffersIsReportedForItsSection) {
+  const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(testing::Sample::cells));
+  const std::size_t faces = 4; // kCellSplitSections: probes, batches, SVO leaves, trace nodes, trace faces, ...
+  std::vector<std::uint8_t> changed;
+  const std::vector<std::uint8_t> patched = testing::rewrite_sections(bytes, [&](std::vector<SectionPayload>& sections) {
+    for (SectionPayload& section : sections) {
+      if (section.type != static_cast<std::uint32_t>(SectionType::cell_global_checksums)) continue;
+      ASSERT_EQ(section.element_count, 6u);
+      changed.assign(section.bytes.begin(), section.bytes.end());
+      changed[faces * 8] ^= 1;
+      section.bytes = changed;
+    }
+  });
+  const nlohmann::json json = nlohmann::json::parse(run_cli(with_path("validate --json", write_bytes("global.probes", patched))).out);
+  ASSERT_EQ(json["violations"].size(), 1u) << json.dump();
+  EXPECT_EQ(json["violations"][0]["invariant"], "cell_global_checksum");
+  EXPECT_EQ(json["violations"][0]["index"], faces);
+  EXPECT_NE(json["violations"][0]["message"].get<std::string>().find("trace_faces"), std::string::npos);
+}
+
 // Zero bytes after the last payload: readable (the reader reads the file), but invalid.
 TEST_F(CliValidate, TrailingBytesAreInvalidNotUnreadable) {
   std::vector<std::uint8_t> bytes = read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::small)));
@@ -230,7 +251,7 @@ TEST(InfoProbes, SaysWhatStreamingKeepsInHostMemory) {
   ::testing::internal::CaptureStdout();
   EXPECT_EQ(cli::run_info_probes(golden, true), 0);
   const nlohmann::json info = nlohmann::json::parse(::testing::internal::GetCapturedStdout());
-  EXPECT_EQ(info["format_version"], "1.6");
+  EXPECT_EQ(info["format_version"], "1.7");
   EXPECT_EQ(info["streaming"]["cell_tracing_bytes"], tracing);
   EXPECT_EQ(info["streaming"]["global_bytes"], std::filesystem::file_size(golden) - tracing);
   EXPECT_EQ(info["streaming"]["largest_cell_tracing_bytes"], largest);

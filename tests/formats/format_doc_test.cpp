@@ -189,7 +189,7 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
       {"emitter_patches", sizeof(gpu::EmitterPatch)}, {"dynamic_objects", sizeof(gpu::DynamicObject)},
       {"trace_trees", sizeof(gpu::TraceTree)}, {"trace_nodes", sizeof(gpu::TraceNode)}, {"trace_faces", sizeof(gpu::TraceFace)},
       {"trace_vertices", sizeof(gpu::TraceVertex)}, {"trace_materials", sizeof(gpu::TraceMaterial)},
-      {"cell_tracing", sizeof(CellTracing)}, {"cell_checksums", 8}};
+      {"cell_tracing", sizeof(CellTracing)}, {"cell_checksums", 8}, {"cell_global_checksums", 8}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
   // Between them the four samples hold every section type.
@@ -201,7 +201,6 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
   }
   ProbeVolume with_cell_tracing = testing::make_sample(testing::Sample::small); // the bake's (gpu_scene_tests) in the writer's layout
   with_cell_tracing.cell_tracing.resize(with_cell_tracing.cells.size());
-  with_cell_tracing.cell_checksums.resize(with_cell_tracing.cells.size());
   const std::vector<std::uint8_t> cell_bytes = write_probes(with_cell_tracing);
   const ContainerView cell_view = parse_container(cell_bytes, "cell_tracing");
   entries.insert(entries.end(), cell_view.sections.begin(), cell_view.sections.end());

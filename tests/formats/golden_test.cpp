@@ -51,6 +51,20 @@ TEST_P(Golden, FileNameCarriesTheVersion) {
   EXPECT_EQ(header.version_major, kFormatVersionMajor);
 }
 
+// Golden files of versions the builder no longer writes (the cells sample is 1.7 now): still read, valid,
+// and written back as their own version, byte for byte.
+TEST(GoldenOlder, A16CellFileReadsValidatesAndRewritesAs16) {
+  const std::filesystem::path path = testing::golden_path("v1_6_cells.probes");
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path);
+  const ProbeVolume volume = read_probes(bytes, path.string());
+  EXPECT_FALSE(volume.cell_checksums.empty());
+  EXPECT_TRUE(volume.cell_global_checksums.empty());
+  EXPECT_EQ(write_probes(volume), bytes);
+  const ValidationReport report = validate_file(bytes, path.string());
+  EXPECT_TRUE(report.valid()) << (report.violations.empty() ? "" : format_violation(report.violations[0]));
+  EXPECT_EQ(testing::header_of(bytes).version_minor, 6);
+}
+
 INSTANTIATE_TEST_SUITE_P(Samples, Golden, ::testing::ValuesIn(testing::kAllSamples),
                          [](const ::testing::TestParamInfo<Sample>& param) { return testing::sample_name(param.param); });
 

@@ -365,7 +365,7 @@ const char* golden_name(Sample sample) {
   case Sample::double_sided: return "v1_2_double_sided.probes";
   case Sample::dynamic: return "v1_3_dynamic.probes";
   case Sample::compact: return "v1_4_compact.probes";
-  case Sample::cells: return "v1_6_cells.probes";
+  case Sample::cells: return "v1_7_cells.probes";
   }
   return "";
 }

@@ -20,6 +20,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "probebake/formats/container.h"
 #include "probebake/formats/probe_volume.h"
 
 namespace probebake::formats {
@@ -70,6 +71,15 @@ std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k);
 std::uint64_t cell_checksum(const ProbeVolume& volume, const TracingView& tracing, std::size_t k);
 // Every cell's checksum when the tracing is split by cell (what the writer stores), else none.
 std::vector<std::uint64_t> cell_checksums_of(const ProbeVolume& volume);
+
+// The sections whose elements are ordered by cell, in the order of cell_global_checksums (format 1.7).
+inline constexpr SectionType kCellSplitSections[] = {SectionType::probes,      SectionType::surfel_batches, SectionType::svo_leaves,
+                                                     SectionType::trace_nodes, SectionType::trace_faces,    SectionType::trace_vertices};
+// For each of kCellSplitSections, the XXH3-64 of its bytes outside every cell's range, in file order (the
+// global part, which a streaming load reads whole): the top level and the dynamic objects' trees, free
+// probes... With the trace nodes, faces and vertices read through `tracing`; the cells' ranges must lie
+// inside their sections in ascending order (Error(internal) otherwise). None without cell_tracing.
+std::vector<std::uint64_t> cell_global_checksums_of(const ProbeVolume& volume, const TracingView& tracing);
 
 // Removes the streaming index (cells empty, cell_depth 0); element order is kept.
 void clear_cells(ProbeVolume& volume);

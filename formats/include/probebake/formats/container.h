@@ -91,15 +91,18 @@ enum class SectionType : std::uint32_t {
   cell_tracing = 23,     // CellTracing x cells
   // A checksum per cell (1.6), optional: what a reader that loads one cell checks its bytes against.
   cell_checksums = 24,   // uint64 x cells
+  // The global part's checksums (1.7), optional: what a streaming load that reads no cell checks.
+  cell_global_checksums = 25, // uint64 x 6 (cells.h kCellSplitSections)
 };
-inline constexpr std::uint32_t kSectionTypeCount = 24;
+inline constexpr std::uint32_t kSectionTypeCount = 25;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
-// The streaming cell index (cells, cell_tracing, cell_checksums): data for the reader that loads a file cell
-// by cell, not for the GPU.
+// The streaming cell index (cells, cell_tracing, cell_checksums, cell_global_checksums): data for the reader
+// that loads a file cell by cell, not for the GPU.
 inline constexpr bool is_cell_index_section(SectionType type) {
-  return type == SectionType::cells || type == SectionType::cell_tracing || type == SectionType::cell_checksums;
+  return type == SectionType::cells || type == SectionType::cell_tracing || type == SectionType::cell_checksums ||
+         type == SectionType::cell_global_checksums;
 }
 
 // The lowest minor version that a section of this type needs (the lighting sections came in 1.1, dynamic
@@ -107,6 +110,7 @@ inline constexpr bool is_cell_index_section(SectionType type) {
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
   if (!is_known_section_type(type)) return 0;
+  if (type == static_cast<std::uint32_t>(SectionType::cell_global_checksums)) return kCellGlobalChecksumsMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_checksums)) return kCellChecksumsMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_tracing)) return kCellTracingMinor;
   if (type >= static_cast<std::uint32_t>(SectionType::trace_trees)) return kCompactTracingMinor;

@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 6;
+inline constexpr std::uint16_t kFormatVersionMinor = 7;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -28,4 +28,8 @@ inline constexpr std::uint16_t kCellTracingMinor = 5;
 // 1.6 added the optional cell_checksums section: an XXH3-64 per cell over its byte ranges, so that a reader
 // that loads one cell (or a patcher that replaces one) checks it without reading the whole sections.
 inline constexpr std::uint16_t kCellChecksumsMinor = 6;
+// 1.7 added the optional cell_global_checksums section: an XXH3-64 of each cell-split section's bytes outside
+// every cell's range, so that a streaming load reads and checks only the global part of a file and each cell
+// when it arrives (docs/FORMAT.md section 6.2).
+inline constexpr std::uint16_t kCellGlobalChecksumsMinor = 7;
 } // namespace probebake::formats

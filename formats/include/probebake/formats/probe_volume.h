@@ -76,6 +76,7 @@ struct ProbeVolume {
   std::vector<CellTracing> cell_tracing;          // one per cell (format 1.5), or empty: tracing not split
   std::vector<std::uint64_t> cell_checksums;      // as read from a file (format 1.6, cells.h cell_checksum), or
                                                   // empty; validate_file checks them, the writer takes the bytes' own
+  std::vector<std::uint64_t> cell_global_checksums; // as read (format 1.7, cells.h cell_global_checksums_of), like them
   std::uint64_t input_hash = 0;                   // hash of the bake's inputs and settings (given by it)
 
   std::optional<gpu::LightingInfo> lighting;      // settings and counts of the sections below

@@ -15,6 +15,9 @@ namespace probebake::formats {
 
 // Encodes the volume as .probes bytes. Only non-empty buffers get a section (volume info and octree
 // always do). Deterministic: the same volume gives the same bytes. Does not validate the volume.
+// The cell checksums and global checksums are computed from the bytes written. A volume with split tracing
+// gets both (format 1.7), except one read from a 1.6 file (cell checksums but no global ones), which is
+// written as 1.6 again, byte for byte.
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume);
 
 // The lowest minor version the volume's contents need beyond its section types: kDoubleSidedFlagsMinor

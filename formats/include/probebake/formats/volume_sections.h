@@ -38,7 +38,8 @@ void for_each_section(Volume& v, F&& f) {
   f(SectionType::trace_materials, v.trace_materials);
   f(SectionType::cell_tracing, v.cell_tracing);
   f(SectionType::cell_checksums, v.cell_checksums);
-  static_assert(kSectionTypeCount == 24, "a new section type: add it above");
+  f(SectionType::cell_global_checksums, v.cell_global_checksums);
+  static_assert(kSectionTypeCount == 25, "a new section type: add it above");
 }
 
 } // namespace probebake::formats

@@ -17,7 +17,7 @@
 namespace probebake::formats {
 namespace {
 
-void run_phases(const ProbeVolume& volume, const TracingView& tracing, detail::Reporter& out) {
+void run_phases(const ProbeVolume& volume, const TracingView& tracing, const detail::DeferredCells* deferred, detail::Reporter& out) {
   try {
     detail::check_volume_info(volume, out);
     detail::check_counts(volume, out);
@@ -29,8 +29,8 @@ void run_phases(const ProbeVolume& volume, const TracingView& tracing, detail::R
     detail::check_probe_index(volume, out);
     detail::check_leaf_queue(volume, octree, out);
     detail::check_svo(volume, out);
-    detail::check_cells(volume, tracing, octree, out);
-    detail::check_lighting(volume, tracing, out);
+    detail::check_cells(volume, tracing, octree, deferred, out);
+    detail::check_lighting(volume, tracing, deferred, out);
   } catch (const detail::StopValidation&) {
     // max_errors reached; the report says truncated
   }
@@ -112,7 +112,41 @@ ValidationReport validate(const ProbeVolume& volume, const TracingView& tracing,
   ValidationReport report;
   report.name = "volume";
   detail::Reporter out(report, options);
-  run_phases(volume, tracing, out);
+  run_phases(volume, tracing, nullptr, out);
+  return report;
+}
+
+ValidationReport validate_without_cells(const ProbeVolume& volume, const TracingView& tracing, std::vector<CellEntry>& entries,
+                                        const ValidateOptions& options) {
+  ValidationReport report;
+  report.name = "volume";
+  detail::Reporter out(report, options);
+  entries.assign(volume.cell_tracing.size(), CellEntry{});
+  if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size()) {
+    out.add("cell_tracing", "cell_tracing", -1, "a check without the cells needs one cell_tracing record per cell");
+    return report;
+  }
+  const detail::DeferredCells deferred{entries};
+  run_phases(volume, tracing, &deferred, out);
+  return report;
+}
+
+ValidationReport validate_cell_tracing(const ProbeVolume& volume, std::span<const CellEntry> entries, std::size_t k,
+                                       const TracingView& cell, const ValidateOptions& options) {
+  ValidationReport report;
+  report.name = "cell_tracing[" + std::to_string(k) + "]";
+  detail::Reporter out(report, options);
+  if (k >= volume.cell_tracing.size() || k >= volume.cells.size() || entries.size() != volume.cell_tracing.size())
+    throw Error(ErrorKind::internal, "validate_cell_tracing: no cell record " + std::to_string(k) + " or no entries for it");
+  const CellTracing& r = volume.cell_tracing[k];
+  if (cell.nodes.size() != r.trace_nodes.count || cell.faces.size() != r.trace_faces.count || cell.vertices.size() != r.trace_vertices.count)
+    throw Error(ErrorKind::internal, "validate_cell_tracing: the cell's elements are not its records' ranges");
+  const detail::TracingWindow window{cell, r.trace_nodes.first, r.trace_faces.first, r.trace_vertices.first};
+  try {
+    detail::check_cell_self_contained(volume, k, window, out);
+    if (out.count() == 0) detail::check_cell_trace_mesh(volume, entries[k], k, window, out); // indexes what the first checked
+  } catch (const detail::StopValidation&) {
+  }
   return report;
 }
 
@@ -144,7 +178,7 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
     report.violations.push_back(Violation{"container", "container", -1, error.what()});
     return report;
   }
-  run_phases(volume, tracing, out);
+  run_phases(volume, tracing, nullptr, out);
   try {
     detail::check_cell_checksums(volume, tracing, out); // the file's bytes: a volume edited in memory is not checked
     detail::check_cell_global_checksums(volume, tracing, out);

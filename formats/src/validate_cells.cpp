@@ -117,10 +117,10 @@ std::size_t static_faces(const ProbeVolume& volume, const TracingView& tracing) 
 bool in_range(std::uint64_t index, const CellRange& range) { return index >= range.first && index < std::uint64_t(range.first) + range.count; }
 
 // The first way cell k's part of the static tree reaches outside its own nodes, faces and vertices, or a
-// face whose centroid lies in another cell; empty when it is self-contained.
-std::string tracing_leak(const ProbeVolume& volume, const TracingView& tracing, const Cell& cell, const CellTracing& ranges) {
+// face whose centroid lies in another cell; empty when it is self-contained. `w` holds the cell's ranges.
+std::string tracing_leak(const ProbeVolume& volume, const TracingWindow& w, const Cell& cell, const CellTracing& ranges) {
   for (std::uint32_t n = ranges.trace_nodes.first; n < ranges.trace_nodes.first + ranges.trace_nodes.count; ++n) {
-    for (const std::uint32_t word : tracing.nodes[n].child) {
+    for (const std::uint32_t word : w.node(n).child) {
       if (is_leaf_word(word)) {
         if (!in_range(leaf_first(word), ranges.trace_faces) || !in_range(leaf_first(word) + leaf_count(word) - 1, ranges.trace_faces))
           return concat("trace node ", n, " has faces outside the cell's");
@@ -131,11 +131,11 @@ std::string tracing_leak(const ProbeVolume& volume, const TracingView& tracing, 
   }
   const gpu::VolumeInfo& info = volume.info;
   for (std::uint32_t f = ranges.trace_faces.first; f < ranges.trace_faces.first + ranges.trace_faces.count; ++f) {
-    const gpu::TraceFace& face = tracing.faces[f];
+    const gpu::TraceFace& face = w.face(f);
     glm::vec3 corners[3];
     for (int k = 0; k < 3; ++k) {
       if (!in_range(face.vertex[k], ranges.trace_vertices)) return concat("trace face ", f, " uses vertex ", face.vertex[k], " outside the cell's");
-      const gpu::TraceVertex& v = tracing.vertices[face.vertex[k]];
+      const gpu::TraceVertex& v = w.vertex(face.vertex[k]);
       corners[k] = glm::vec3(v.x, v.y, v.z);
     }
     const int owner = cell_of_triangle(info, volume.cell_depth, corners[0], corners[1], corners[2]);
@@ -144,9 +144,36 @@ std::string tracing_leak(const ProbeVolume& volume, const TracingView& tracing, 
   return {};
 }
 
+// What a reader that streams relies on (docs/FORMAT.md section 6.1): the cells' non-empty node ranges follow
+// one another without a gap up to the static tree's last node (the top level before them), their vertex
+// ranges likewise from vertex 0, and the faces outside the cells (the dynamic objects') use only vertices
+// after the cells'. The empty string when it holds.
+std::string layout_problem(const ProbeVolume& volume, const TracingView& tracing, std::uint64_t static_faces) {
+  std::uint64_t node_end = 0, vertex_end = 0;
+  bool any_nodes = false;
+  for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
+    const CellTracing& r = volume.cell_tracing[k];
+    if (r.trace_nodes.count > 0) {
+      if (any_nodes && r.trace_nodes.first != node_end) return concat("cell record ", k, "'s nodes start at ", r.trace_nodes.first, ", not where the previous cell's end (", node_end, ")");
+      any_nodes = true, node_end = std::uint64_t(r.trace_nodes.first) + r.trace_nodes.count;
+    }
+    if (r.trace_vertices.count > 0) {
+      if (r.trace_vertices.first != vertex_end) return concat("cell record ", k, "'s vertices start at ", r.trace_vertices.first, ", not at ", vertex_end);
+      vertex_end = std::uint64_t(r.trace_vertices.first) + r.trace_vertices.count;
+    }
+  }
+  const std::uint64_t static_nodes = volume.trace_trees.empty() ? 0 : std::uint64_t(std::max(0, volume.trace_trees[0].node_count));
+  if (any_nodes && node_end != static_nodes) return concat("the cells' nodes end at ", node_end, ", the static tree's at ", static_nodes);
+  for (std::uint64_t f = static_faces; f < tracing.faces.size(); ++f)
+    for (std::uint32_t k : tracing.faces[f].vertex)
+      if (k < vertex_end) return concat("trace face ", f, " of the dynamic objects uses vertex ", k, " of a cell");
+  return {};
+}
+
 // cell_tracing: one record per cell, ranges inside their sections and ascending, the static tree's faces
-// all in some cell's range, and each cell's nodes, faces and vertices referring only to each other.
-void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
+// all in some cell's range, the layout above, and (unless the cells are left for later) each cell's nodes,
+// faces and vertices referring only to each other.
+void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out) {
   if (volume.cell_tracing.empty()) return;
   if (volume.cell_tracing.size() != volume.cells.size()) {
     out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records for ", volume.cells.size(), " cells"));
@@ -169,8 +196,10 @@ void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, R
   const std::size_t first_face = volume.cell_tracing.front().trace_faces.first;
   if (first_face != 0 || covered_faces != static_faces(volume, tracing) || faces.end != covered_faces)
     out.add("cell_tracing", "cell_tracing", -1, concat("the cells' faces are ", first_face, "+", covered_faces, ", the static tree's 0+", static_faces(volume, tracing)));
+  if (const std::string problem = layout_problem(volume, tracing, covered_faces); !problem.empty()) out.add("cell_tracing", "cell_tracing", -1, problem);
+  if (deferred) return;
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
-    const std::string leak = tracing_leak(volume, tracing, volume.cells[k], volume.cell_tracing[k]);
+    const std::string leak = tracing_leak(volume, TracingWindow{tracing}, volume.cells[k], volume.cell_tracing[k]);
     if (!leak.empty()) out.add("cell_tracing", "cell_tracing", static_cast<long long>(k), leak);
   }
 }
@@ -220,14 +249,19 @@ void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& t
               concat("the bytes of ", section_name(static_cast<std::uint32_t>(kCellSplitSections[s])), " outside the cells differ from their checksum"));
 }
 
-void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, Reporter& out) {
+void check_cell_self_contained(const ProbeVolume& volume, std::size_t k, const TracingWindow& cell, Reporter& out) {
+  const std::string leak = tracing_leak(volume, cell, volume.cells[k], volume.cell_tracing[k]);
+  if (!leak.empty()) out.add("cell_tracing", "cell_tracing", static_cast<long long>(k), leak);
+}
+
+void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, const DeferredCells* deferred, Reporter& out) {
   if (volume.cells.empty() && !volume.cell_tracing.empty())
     out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records without cells"));
   if (volume.cells.empty() || volume.cell_depth < 0 || volume.cell_depth > kMaxCellDepth) return;
   bool ranges_ok = true;
   check_records(volume, octree, ranges_ok, out);
   if (!ranges_ok) return;
-  check_cell_tracing(volume, tracing, out);
+  check_cell_tracing(volume, tracing, deferred, out);
   const std::vector<int> probe_cells = expected_probe_cells(volume);
   check_membership("probes", range_owners(volume.cells, volume.probes.size(), &Cell::probes), probe_cells, out);
   check_membership("surfel_batches", range_owners(volume.cells, volume.surfel_batches.size(), &Cell::surfel_batches),

@@ -95,17 +95,40 @@ void check_surfel_batches(const ProbeVolume& volume, Reporter& out);
 void check_probe_index(const ProbeVolume& volume, Reporter& out);
 void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
 void check_svo(const ProbeVolume& volume, Reporter& out);
-void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, Reporter& out);
+// The elements of the three trace sections that a check reads: element i of each span is the file's element
+// base + i. A volume is one window at 0; a cell read alone (validate_cell_tracing) the window of its ranges.
+struct TracingWindow {
+  TracingView view;
+  std::uint64_t node_base = 0, face_base = 0, vertex_base = 0;
+  bool has_node(std::uint64_t n) const { return n >= node_base && n - node_base < view.nodes.size(); }
+  bool has_face(std::uint64_t f) const { return f >= face_base && f - face_base < view.faces.size(); }
+  bool has_vertex(std::uint64_t k) const { return k >= vertex_base && k - vertex_base < view.vertices.size(); }
+  const gpu::TraceNode& node(std::uint64_t n) const { return view.nodes[n - node_base]; }
+  const gpu::TraceFace& face(std::uint64_t f) const { return view.faces[f - face_base]; }
+  const gpu::TraceVertex& vertex(std::uint64_t k) const { return view.vertices[k - vertex_base]; }
+};
+
+// validate_without_cells' run: the cells' ranges of the trace sections are never read, and the walk of the
+// static tree records in `entries` where it enters each cell. Null in validate()'s run.
+struct DeferredCells {
+  std::vector<CellEntry>& entries;
+};
+
+void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, const DeferredCells* deferred, Reporter& out);
+// Cell record k read alone: its tracing refers only to itself and its faces' centroids lie in it (cell_tracing).
+void check_cell_self_contained(const ProbeVolume& volume, std::size_t k, const TracingWindow& cell, Reporter& out);
 // Files only (validate_file): a volume edited in memory keeps the checksums it was read with.
 void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
 void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
 // Runtime lighting sections (validate_lighting.cpp): their floats, called by check_finite; then the
 // sections, values and BVH, run last.
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);
-void check_lighting(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
+void check_lighting(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out);
 void check_dynamic_objects(const ProbeVolume& volume, const TracingView& tracing, Reporter& out); // format 1.3 (validate_dynamic.cpp)
 // Format 1.4 (validate_tracing.cpp): the compact tracing sections, and the dynamic objects' ranges in them.
 bool uses_compact_tracing(const ProbeVolume& volume, const TracingView& tracing);
-void check_trace_mesh(const ProbeVolume& volume, const TracingView& tracing, Reporter& out);
+void check_trace_mesh(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out);
+// Cell record k read alone: its vertices and faces' values, and its subtree from `entry` (trace_tree).
+void check_cell_trace_mesh(const ProbeVolume& volume, const CellEntry& entry, std::size_t k, const TracingWindow& cell, Reporter& out);
 
 } // namespace probebake::formats::detail

@@ -300,12 +300,12 @@ void check_lighting_finite(const ProbeVolume& v, Reporter& out) {
   report_non_finite(v.emitter_patches, "emitter_patches", patch_finite, out);
 }
 
-void check_lighting(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
+void check_lighting(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out) {
   check_lighting_sections(volume, tracing, out);
   check_lighting_values(volume, out);
   check_lighting_flags(volume, out);
   check_dynamic_objects(volume, tracing, out); // first: the BVH walk starts at the objects' roots
-  if (uses_compact_tracing(volume, tracing)) return check_trace_mesh(volume, tracing, out);
+  if (uses_compact_tracing(volume, tracing)) return check_trace_mesh(volume, tracing, deferred, out);
   BvhChecker(volume, out).run();
 }
 

@@ -2,10 +2,15 @@
 // without bounds checks of their own (trace_tree), the faces, vertices and materials they read
 // (lighting_values, non_finite) and the dynamic objects' ranges in them (dynamic_ranges, dynamic_values).
 //
+// validate_without_cells leaves the cells' own ranges unread (holes): the walk of the static tree stops where
+// it enters a cell and records the entry, from which check_cell_trace_mesh walks the cell when it arrives.
+//
 // Boxes are checked exactly, without tolerance: a face must lie inside its leaf's box and every box above
 // it, each decoded with the rounding that makes it smallest (a shader may or may not fuse the decoding's
 // multiply-add), because that is the culling the GPU does.
 #include <algorithm>
+#include <optional>
+#include <utility>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -21,14 +26,11 @@
 namespace probebake::formats::detail {
 namespace {
 
-glm::vec3 vertex_at(const TracingView& t, std::uint32_t i) {
-  const gpu::TraceVertex& p = t.vertices[i];
-  return {p.x, p.y, p.z};
-}
-
 bool tree_finite(const gpu::TraceTree& t) { return finite3(t.lower) && finite3(t.scale) && finite3(tree_box(t).upper); }
 
 bool material_finite(const gpu::TraceMaterial& m) { return finite3(m.albedo) && finite3(m.emission) && all_finite({m.pad0, m.pad1}); }
+
+glm::vec3 position(const gpu::TraceVertex& p) { return {p.x, p.y, p.z}; }
 
 TraceBox intersect(const TraceBox& a, const TraceBox& b) { return {glm::max(a.lower, b.lower), glm::min(a.upper, b.upper)}; }
 
@@ -48,12 +50,99 @@ FaceRange tree_faces(const ProbeVolume& v, const TracingView& tracing, std::size
   return {std::size_t(std::max(0, o.first_triangle)), std::size_t(std::max(0, o.first_triangle)) + std::size_t(std::max(0, o.triangle_count))};
 }
 
-// Walks every tree from its root: structure, depth, node and face ranges, boxes. Every node must be
-// reached exactly once and every face lie in exactly one leaf of its own tree.
+// A cell's range of one section that a run leaves unread: [begin, end), record k.
+struct Hole {
+  std::uint64_t begin = 0, end = 0;
+  std::size_t cell = 0;
+};
+using Holes = std::vector<Hole>; // sorted by begin, disjoint, inside the section
+
+// The non-empty ranges of `member` clamped to `size`, sorted; overlapping ones (an invalid file: cell_range
+// reports it) are merged into the first.
+Holes holes_of(const std::vector<CellTracing>& records, CellRange CellTracing::*member, std::size_t size) {
+  Holes holes;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const CellRange& r = records[k].*member;
+    const std::uint64_t begin = std::min<std::uint64_t>(r.first, size), end = std::min<std::uint64_t>(std::uint64_t(r.first) + r.count, size);
+    if (begin < end) holes.push_back({begin, end, k});
+  }
+  std::sort(holes.begin(), holes.end(), [](const Hole& a, const Hole& b) { return a.begin < b.begin; });
+  Holes merged;
+  for (const Hole& h : holes) {
+    if (!merged.empty() && h.begin < merged.back().end) merged.back().end = std::max(merged.back().end, h.end);
+    else merged.push_back(h);
+  }
+  return merged;
+}
+
+const Hole* hole_at(const Holes& holes, std::uint64_t i) {
+  auto it = std::upper_bound(holes.begin(), holes.end(), i, [](std::uint64_t x, const Hole& h) { return x < h.begin; });
+  if (it == holes.begin()) return nullptr;
+  --it;
+  return i < it->end ? &*it : nullptr;
+}
+
+// Calls f(i) for every i in [0, size) outside the holes.
+template <class F>
+void for_each_outside(const Holes& holes, std::size_t size, F&& f) {
+  std::uint64_t i = 0;
+  for (const Hole& h : holes) {
+    for (; i < h.begin; ++i) f(i);
+    i = std::max(i, h.end);
+  }
+  for (; i < size; ++i) f(i);
+}
+
+// What a run reads of the three sections: the window, minus the holes of a run without the cells.
+struct Readable {
+  const TracingWindow& window;
+  Holes nodes, faces, vertices;
+};
+
+Readable readable(const ProbeVolume& v, const TracingWindow& w, const DeferredCells* deferred) {
+  if (!deferred) return {w, {}, {}, {}};
+  return {w, holes_of(v.cell_tracing, &CellTracing::trace_nodes, w.view.nodes.size()),
+          holes_of(v.cell_tracing, &CellTracing::trace_faces, w.view.faces.size()),
+          holes_of(v.cell_tracing, &CellTracing::trace_vertices, w.view.vertices.size())};
+}
+
+// One count per element of a section outside its holes (what a walk may reach), stored without the holes.
+class Marks {
+public:
+  Marks(std::size_t size, const Holes& holes) : size_(size), holes_(holes) {
+    std::uint64_t skipped = 0;
+    for (const Hole& h : holes_) skipped_through_.push_back(skipped += h.end - h.begin);
+    counts_.assign(std::size_t(size - skipped), 0);
+  }
+  // The count of element i, which lies outside the holes: every hole that begins before it ends before it.
+  std::uint8_t& at(std::uint64_t i) {
+    const auto after = std::upper_bound(holes_.begin(), holes_.end(), i, [](std::uint64_t x, const Hole& h) { return x < h.begin; });
+    const std::size_t before = std::size_t(after - holes_.begin());
+    return counts_[std::size_t(i - (before == 0 ? 0 : skipped_through_[before - 1]))];
+  }
+  // f(base + i) for every element i outside the holes whose count is 0.
+  template <class F>
+  void for_each_zero(std::uint64_t base, F&& f) {
+    for_each_outside(holes_, size_, [&](std::uint64_t i) {
+      if (at(i) == 0) f(base + i);
+    });
+  }
+
+private:
+  std::size_t size_;
+  const Holes& holes_;
+  std::vector<std::uint64_t> skipped_through_;
+  std::vector<std::uint8_t> counts_;
+};
+
+// Walks trees from their roots: structure, depth, node and face ranges, boxes. Every node must be reached
+// exactly once and every face lie in exactly one leaf of its own tree. Indices are the file's; the window
+// holds the elements read. Without the cells (`deferred`), the static tree's walk stops at each cell's entry.
 class TraceTreeChecker {
 public:
-  TraceTreeChecker(const ProbeVolume& v, const TracingView& t, Reporter& out)
-      : v_(v), t_(t), out_(out), reached_(t.nodes.size(), 0), covered_(t.faces.size(), 0) {}
+  TraceTreeChecker(const ProbeVolume& v, const Readable& r, const DeferredCells* deferred, Reporter& out)
+      : v_(v), w_(r.window), r_(r), deferred_(deferred), out_(out), reached_(w_.view.nodes.size(), r.nodes),
+        covered_(w_.view.faces.size(), r.faces) {}
 
   void run() {
     std::size_t next_node = 0;
@@ -63,23 +152,32 @@ public:
       if (tree.scale.x < 0.0f || tree.scale.y < 0.0f || tree.scale.z < 0.0f) bad("trace_trees", t, "negative scale");
       const std::size_t nodes = std::size_t(std::max(0, tree.node_count));
       if (tree.node_count < 0) bad("trace_trees", t, "negative node_count");
-      const FaceRange faces = tree_faces(v_, t_, t);
-      if (faces.end > t_.faces.size() || faces.begin > faces.end) {
+      const FaceRange faces = tree_faces(v_, w_.view, t);
+      if (faces.end > w_.view.faces.size() || faces.begin > faces.end) {
         bad("trace_trees", t, "its faces lie outside trace_faces");
         continue;
       }
-      if (next_node + nodes > t_.nodes.size()) {
+      if (next_node + nodes > w_.view.nodes.size()) {
         bad("trace_trees", t, concat("its nodes [", next_node, ", ", next_node + nodes, ") lie outside trace_nodes"));
         return;
       }
       walk(t, next_node, nodes, faces);
       next_node += nodes;
     }
-    if (next_node != t_.nodes.size()) out_.add("trace_tree", "trace_nodes", -1, concat("the trees hold ", next_node, " of ", t_.nodes.size(), " nodes"));
-    for (std::size_t n = 0; n < reached_.size(); ++n)
-      if (reached_[n] == 0) bad("trace_nodes", n, "not reachable from its tree's root");
-    for (std::size_t f = 0; f < covered_.size(); ++f)
-      if (covered_[f] == 0) bad("trace_faces", f, "in no leaf");
+    if (next_node != w_.view.nodes.size()) out_.add("trace_tree", "trace_nodes", -1, concat("the trees hold ", next_node, " of ", w_.view.nodes.size(), " nodes"));
+    finish();
+  }
+
+  // Cell record k alone (the window holds its ranges), from where the static tree enters it.
+  void run_cell(std::size_t k, const CellEntry& entry) {
+    const CellTracing& r = v_.cell_tracing[k];
+    if (!entry.reached) {
+      if (r.trace_nodes.count + r.trace_faces.count > 0) out_.add("trace_tree", "cell_tracing", (long long)k, "the static tree does not reach the cell");
+      return;
+    }
+    first_node_ = r.trace_nodes.first, end_node_ = first_node_ + r.trace_nodes.count;
+    descend(0, {{entry.word, entry.depth, entry.box}}, {r.trace_faces.first, std::size_t(r.trace_faces.first) + r.trace_faces.count});
+    finish();
   }
 
 private:
@@ -91,6 +189,17 @@ private:
 
   void bad(const char* section, std::size_t index, const std::string& message) { out_.add("trace_tree", section, static_cast<long long>(index), message); }
 
+  void finish() {
+    reached_.for_each_zero(w_.node_base, [&](std::uint64_t n) { bad("trace_nodes", n, "not reachable from its tree's root"); });
+    covered_.for_each_zero(w_.face_base, [&](std::uint64_t f) { bad("trace_faces", f, "in no leaf"); });
+    if (!deferred_) return;
+    for (std::size_t k = 0; k < v_.cell_tracing.size(); ++k) {
+      const CellTracing& r = v_.cell_tracing[k];
+      if (!deferred_->entries[k].reached && r.trace_nodes.count + r.trace_faces.count > 0)
+        out_.add("trace_tree", "cell_tracing", (long long)k, "the static tree's top level does not reach the cell");
+    }
+  }
+
   void walk(std::size_t t, std::size_t first_node, std::size_t node_count, FaceRange faces) {
     const gpu::TraceTree& tree = v_.trace_trees[t];
     if (tree.root == gpu::TRACE_NO_ROOT) {
@@ -99,21 +208,45 @@ private:
     }
     if (!is_leaf_word(tree.root) && tree.root != first_node) bad("trace_trees", t, concat("root ", tree.root, " is not its first node ", first_node));
     if (is_leaf_word(tree.root) && node_count != 0) bad("trace_trees", t, "a leaf root with nodes");
-    std::vector<Pending> stack{{tree.root, 0, tree_box(tree)}};
+    first_node_ = first_node, end_node_ = first_node + node_count;
+    descend(t, {{tree.root, 0, tree_box(tree)}}, faces);
+  }
+
+  void descend(std::size_t t, std::vector<Pending> stack, FaceRange faces) {
     while (!stack.empty()) {
       const Pending p = stack.back();
       stack.pop_back();
+      if (t == 0 && enters_cell(p)) continue;
       if (is_leaf_word(p.word)) leaf(p, faces);
-      else inner(t, p, first_node, first_node + node_count, stack);
+      else inner(t, p, stack);
     }
   }
 
-  void inner(std::size_t t, const Pending& p, std::size_t begin, std::size_t end, std::vector<Pending>& stack) {
+  // Without the cells: a word of the static tree that leads into a cell's range must be the cell's entry
+  // (its first node, or the one leaf of a cell without nodes); it is recorded, not followed.
+  bool enters_cell(const Pending& p) {
+    if (!deferred_) return false;
+    const bool leaf = is_leaf_word(p.word);
+    const Hole* hole = leaf ? hole_at(r_.faces, leaf_first(p.word)) : hole_at(r_.nodes, p.word);
+    if (leaf && !hole) hole = hole_at(r_.faces, std::uint64_t(leaf_first(p.word)) + leaf_count(p.word) - 1);
+    if (!hole) return false;
+    const std::size_t k = hole->cell;
+    const CellTracing& r = v_.cell_tracing[k];
+    const bool exact = leaf ? r.trace_nodes.count == 0 && leaf_first(p.word) == r.trace_faces.first && leaf_count(p.word) == r.trace_faces.count
+                            : p.word == r.trace_nodes.first;
+    if (!exact) bad(leaf ? "trace_faces" : "trace_nodes", leaf ? leaf_first(p.word) : p.word, concat("the static tree enters cell record ", k, " elsewhere than at its root"));
+    else if (deferred_->entries[k].reached) bad("trace_nodes", p.word, concat("the static tree enters cell record ", k, " twice"));
+    else deferred_->entries[k] = {p.word, p.depth, p.box, true};
+    return true;
+  }
+
+  void inner(std::size_t t, const Pending& p, std::vector<Pending>& stack) {
     const std::size_t n = p.word;
-    if (n < begin || n >= end) return bad("trace_trees", t, concat("node ", n, " outside the tree's nodes [", begin, ", ", end, ")"));
-    if (reached_[n]++ != 0) return bad("trace_nodes", n, "reached twice");
+    if (n < first_node_ || n >= end_node_ || !w_.has_node(n))
+      return bad("trace_trees", t, concat("node ", n, " outside the tree's nodes [", first_node_, ", ", end_node_, ")"));
+    if (reached_.at(n - w_.node_base)++ != 0) return bad("trace_nodes", n, "reached twice");
     if (p.depth >= gpu::BVH_MAX_DEPTH) return bad("trace_nodes", n, concat("depth ", p.depth, " reaches BVH_MAX_DEPTH"));
-    const gpu::TraceNode& node = t_.nodes[n];
+    const gpu::TraceNode& node = w_.node(n);
     for (int c = 0; c < 2; ++c) {
       const std::uint32_t child = node.child[c];
       if (!is_leaf_word(child) && child <= n) {
@@ -126,27 +259,34 @@ private:
 
   void leaf(const Pending& p, FaceRange faces) {
     const std::size_t first = leaf_first(p.word), count = leaf_count(p.word);
-    if (count > std::size_t(gpu::TRACE_MAX_LEAF_FACES) || first < faces.begin || first + count > faces.end)
+    if (count > std::size_t(gpu::TRACE_MAX_LEAF_FACES) || first < faces.begin || first + count > faces.end || !w_.has_face(first) ||
+        !w_.has_face(first + count - 1))
       return bad("trace_faces", first, concat("a leaf of ", count, " faces at ", first, " outside its tree's faces [", faces.begin, ", ", faces.end, ")"));
+    for (std::size_t f = first; f < first + count; ++f)
+      if (hole_at(r_.faces, f - w_.face_base)) return bad("trace_faces", first, concat("a leaf of ", count, " faces at ", first, " reaches into a cell's faces"));
     for (std::size_t f = first; f < first + count; ++f) {
-      if (covered_[f]++ != 0) bad("trace_faces", f, "in two leaves");
-      for (std::uint32_t k : t_.faces[f].vertex)
-        if (k < t_.vertices.size() && !inside(p.box, vertex_at(t_, k))) bad("trace_faces", f, concat("vertex ", k, " outside a box above it"));
+      if (covered_.at(f - w_.face_base)++ != 0) bad("trace_faces", f, "in two leaves");
+      for (std::uint32_t k : w_.face(f).vertex)
+        if (w_.has_vertex(k) && !hole_at(r_.vertices, k - w_.vertex_base) && !inside(p.box, position(w_.vertex(k))))
+          bad("trace_faces", f, concat("vertex ", k, " outside a box above it"));
     }
   }
 
   const ProbeVolume& v_;
-  const TracingView& t_;
+  const TracingWindow& w_;
+  const Readable& r_;
+  const DeferredCells* deferred_;
   Reporter& out_;
-  std::vector<std::uint8_t> reached_, covered_;
+  Marks reached_, covered_;
+  std::size_t first_node_ = 0, end_node_ = 0; // the nodes of the tree being walked
 };
 
-std::string face_problem(const ProbeVolume& v, const TracingView& t, const gpu::TraceFace& face) {
+std::string face_problem(const ProbeVolume& v, const TracingWindow& w, const gpu::TraceFace& face) {
   for (std::uint32_t k : face.vertex)
-    if (k >= t.vertices.size()) return concat("vertex ", k, " outside trace_vertices");
+    if (!w.has_vertex(k)) return concat("vertex ", k, " outside trace_vertices");
   if ((face.material & gpu::TRACE_MATERIAL_MASK) >= v.trace_materials.size()) return concat("material ", face.material & gpu::TRACE_MATERIAL_MASK, " outside trace_materials");
-  const glm::vec3 v0 = vertex_at(t, face.vertex[0]);
-  const float area = glm::length(glm::cross(vertex_at(t, face.vertex[1]) - v0, vertex_at(t, face.vertex[2]) - v0));
+  const glm::vec3 v0 = position(w.vertex(face.vertex[0]));
+  const float area = glm::length(glm::cross(position(w.vertex(face.vertex[1])) - v0, position(w.vertex(face.vertex[2])) - v0));
   if (!(area > 0.0f) || !std::isfinite(area)) return "zero or infinite area (such triangles are left out)";
   return "";
 }
@@ -157,9 +297,7 @@ std::string material_problem(const gpu::TraceMaterial& m) {
   return "";
 }
 
-void check_values(const ProbeVolume& v, const TracingView& t, Reporter& out) {
-  for (std::size_t i = 0; i < t.vertices.size(); ++i)
-    if (!all_finite({t.vertices[i].x, t.vertices[i].y, t.vertices[i].z})) out.add("non_finite", "trace_vertices", (long long)i, "a float is NaN or infinite");
+void check_tables(const ProbeVolume& v, Reporter& out) {
   for (std::size_t i = 0; i < v.trace_trees.size(); ++i)
     if (!tree_finite(v.trace_trees[i])) out.add("non_finite", "trace_trees", (long long)i, "a float is NaN or infinite (or its box's upper corner is)");
   for (std::size_t i = 0; i < v.trace_materials.size(); ++i) {
@@ -167,8 +305,19 @@ void check_values(const ProbeVolume& v, const TracingView& t, Reporter& out) {
     if (!material_finite(m)) out.add("non_finite", "trace_materials", (long long)i, "a float is NaN or infinite");
     else if (const std::string problem = material_problem(m); !problem.empty()) out.add("lighting_values", "trace_materials", (long long)i, problem);
   }
-  for (std::size_t i = 0; i < t.faces.size(); ++i)
-    if (const std::string problem = face_problem(v, t, t.faces[i]); !problem.empty()) out.add("lighting_values", "trace_faces", (long long)i, problem);
+}
+
+// The readable vertices and faces. A face of the global part whose vertex lies in a cell reads a hole here
+// (zeros); check_cells reports such a face.
+void check_values(const ProbeVolume& v, const Readable& r, Reporter& out) {
+  const TracingWindow& w = r.window;
+  for_each_outside(r.vertices, w.view.vertices.size(), [&](std::uint64_t i) {
+    const gpu::TraceVertex& p = w.view.vertices[i];
+    if (!all_finite({p.x, p.y, p.z})) out.add("non_finite", "trace_vertices", (long long)(w.vertex_base + i), "a float is NaN or infinite");
+  });
+  for_each_outside(r.faces, w.view.faces.size(), [&](std::uint64_t i) {
+    if (const std::string problem = face_problem(v, w, w.view.faces[i]); !problem.empty()) out.add("lighting_values", "trace_faces", (long long)(w.face_base + i), problem);
+  });
 }
 
 // Objects' faces follow the static ones in object order; bvh_root is the object's tree (1 + o) and
@@ -187,13 +336,16 @@ void check_object_ranges(const ProbeVolume& v, const TracingView& t, Reporter& o
   if (next_face != t.faces.size()) out.add("dynamic_ranges", "trace_faces", -1, concat("objects end at face ", next_face, " of ", t.faces.size()));
 }
 
-// Every vertex of an object's faces lies in the object's box (the runtime refits world boxes from it).
-void check_object_boxes(const ProbeVolume& v, const TracingView& t, Reporter& out) {
+// Every vertex of an object's faces lies in the object's box (the runtime refits world boxes from it). A
+// vertex in a cell is not read (check_cells reports the face).
+void check_object_boxes(const ProbeVolume& v, const Readable& r, Reporter& out) {
+  const TracingView& t = r.window.view;
   for (std::size_t o = 0; o < v.dynamic_objects.size(); ++o) {
     const gpu::DynamicObject& object = v.dynamic_objects[o];
     const auto outside = [&](std::size_t f) {
       for (std::uint32_t k : t.faces[f].vertex) {
-        const glm::vec3 p = vertex_at(t, k);
+        if (hole_at(r.vertices, k)) continue;
+        const glm::vec3 p = position(t.vertices[k]);
         if (glm::any(glm::lessThan(p, object.lower)) || glm::any(glm::greaterThan(p, object.upper))) return true;
       }
       return false;
@@ -213,16 +365,27 @@ bool uses_compact_tracing(const ProbeVolume& v, const TracingView& t) {
   return !v.trace_trees.empty() || !t.nodes.empty() || !t.faces.empty() || !t.vertices.empty() || !v.trace_materials.empty();
 }
 
-void check_trace_mesh(const ProbeVolume& v, const TracingView& t, Reporter& out) {
+void check_trace_mesh(const ProbeVolume& v, const TracingView& t, const DeferredCells* deferred, Reporter& out) {
   if (has_float_tracing(v)) return out.add("lighting_sections", "trace_trees", -1, "both the float (1.1-1.3) and the compact (1.4) tracing sections");
   const std::size_t expected_trees = 1 + v.dynamic_objects.size();
   if (v.trace_trees.size() != expected_trees) return out.add("lighting_sections", "trace_trees", -1, concat(v.trace_trees.size(), " trees, expected 1 + dynamic objects = ", expected_trees));
   const std::size_t reported = out.count();
-  check_values(v, t, out);
+  const TracingWindow whole{t};
+  const Readable r = readable(v, whole, deferred);
+  check_tables(v, out);
+  check_values(v, r, out);
   check_object_ranges(v, t, out);
   if (out.count() != reported) return; // the boxes and the walk below index with these
-  check_object_boxes(v, t, out);
-  TraceTreeChecker(v, t, out).run();
+  check_object_boxes(v, r, out);
+  TraceTreeChecker(v, r, deferred, out).run();
+}
+
+void check_cell_trace_mesh(const ProbeVolume& v, const CellEntry& entry, std::size_t k, const TracingWindow& cell, Reporter& out) {
+  const std::size_t reported = out.count();
+  const Readable r{cell, {}, {}, {}};
+  check_values(v, r, out);
+  if (out.count() != reported) return; // the walk reads the faces' vertices
+  TraceTreeChecker(v, r, nullptr, out).run_cell(k, entry);
 }
 
 } // namespace probebake::formats::detail

@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "probebake/formats/cell_file.h"
 #include "probebake/formats/validate.h"
 #include "sample_volumes.h"
 
@@ -196,6 +198,19 @@ const std::vector<Corruption>& corruptions() {
          CellRange& faces = v.cell_tracing.back().trace_faces;
          faces.first += 1, faces.byte_offset += sizeof(gpu::TraceFace);
        }},
+      {"cell_tracing", Sample::cells, [](ProbeVolume& v) { // the dynamic object's face uses a cell's vertex
+         v.trace_faces[std::size_t(v.dynamic_objects[0].first_triangle)].vertex[0] = v.cell_tracing[0].trace_vertices.first;
+       }},
+      {"non_finite", Sample::cells, [](ProbeVolume& v) { v.trace_vertices[v.cell_tracing.back().trace_vertices.first].y = std::nanf(""); }},
+      {"trace_tree", Sample::cells, [](ProbeVolume& v) { // a top-level leaf holds one face fewer of its cell
+         for (gpu::TraceNode& node : v.trace_nodes)
+           for (std::uint32_t& word : node.child)
+             if (is_leaf_word(word) && leaf_count(word) > 1) {
+               word -= 1u << gpu::TRACE_LEAF_COUNT_SHIFT;
+               return;
+             }
+         FAIL() << "no leaf of two faces or more";
+       }},
       {"cell_membership", Sample::small, [](ProbeVolume& v) {
          v.cells[0].probes.count -= 1;
          v.cells[0].probes.byte_size -= sizeof(gpu::Probe);
@@ -291,6 +306,47 @@ TEST(Validate, ATracingViewGetsTheSameReportAsTheVectors) {
     with_tracing += whole.trace_faces.empty() ? 0 : 1;
   }
   EXPECT_GE(with_tracing, 20u); // the tracing corruptions and the samples with tracing
+}
+
+// A streaming load checks the global part at load (validate_without_cells) and each cell as it arrives
+// (validate_cell_tracing): together they find a sample or corruption valid exactly when validate() does, and
+// the load's check never reads the cells' own tracing: with garbage there, its report is the same.
+TEST(Validate, TheCheckWithoutTheCellsAndEachCellsCheckAgreeWithTheWholeCheck) {
+  std::vector<std::pair<std::string, ProbeVolume>> cases;
+  for (Sample sample : testing::kAllSamples) cases.emplace_back(testing::sample_name(sample), testing::make_sample(sample));
+  for (const Corruption& corruption : corruptions()) {
+    ProbeVolume volume = testing::make_sample(corruption.sample);
+    corruption.corrupt(volume);
+    cases.emplace_back(corruption.invariant, std::move(volume));
+  }
+  std::size_t with_cells = 0, invalid = 0;
+  for (const auto& [name, whole] : cases) {
+    if (whole.cell_tracing.empty() || whole.cell_tracing.size() != whole.cells.size()) continue;
+    ++with_cells;
+    ProbeVolume garbage = whole;
+    for (const CellTracing& r : garbage.cell_tracing) {
+      const auto fill = [](auto& section, const CellRange& range) {
+        if (std::uint64_t(range.first) + range.count <= section.size() && range.count > 0)
+          std::memset(static_cast<void*>(section.data() + range.first), 0xA5, range.count * sizeof(section[0]));
+      };
+      fill(garbage.trace_nodes, r.trace_nodes), fill(garbage.trace_faces, r.trace_faces), fill(garbage.trace_vertices, r.trace_vertices);
+    }
+    std::vector<CellEntry> entries, garbage_entries;
+    const ValidationReport global = validate_without_cells(whole, tracing_view(whole), entries);
+    const ValidationReport unread = validate_without_cells(garbage, tracing_view(garbage), garbage_entries);
+    EXPECT_EQ(violations_text(unread), violations_text(global)) << name;
+    bool cells_valid = true;
+    for (std::size_t k = 0; k < whole.cell_tracing.size() && global.valid(); ++k) {
+      const CellTracingData data = cell_tracing_data(whole, k);
+      EXPECT_EQ(garbage_entries[k].word, entries[k].word) << name << " cell " << k;
+      cells_valid = validate_cell_tracing(whole, entries, k, {data.nodes, data.faces, data.vertices}).valid() && cells_valid;
+    }
+    const bool split_valid = global.valid() && cells_valid;
+    EXPECT_EQ(split_valid, validate(whole).valid()) << name << "\n" << violations_text(validate(whole));
+    invalid += split_valid ? 0 : 1;
+  }
+  EXPECT_GE(with_cells, 6u);
+  EXPECT_GE(invalid, 5u); // the cells sample's corruptions
 }
 
 TEST(Validate, EveryModelInvariantHasACorruptionCase) {

@@ -17,6 +17,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "probebake/formats/probe_volume.h"
+#include "probebake/formats/trace_mesh.h"
 
 namespace probebake::formats {
 
@@ -51,6 +52,31 @@ ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& opti
 // The same checks with the volume's trace nodes, faces and vertices read through `tracing` instead of its
 // vectors (a streaming load's, CellFile::open: the file's sections in its mapping).
 ValidationReport validate(const ProbeVolume& volume, const TracingView& tracing, const ValidateOptions& options = {});
+
+// Where the static tracing tree enters cell record k's part (format 1.5 cell_tracing): the top-level word that
+// leads to it (its first node, or for a cell without nodes the leaf of its faces), that word's depth, and
+// the box that every box above it narrows to as the GPU decodes them. Recorded by validate_without_cells.
+struct CellEntry {
+  std::uint32_t word = 0;
+  int depth = 0;
+  TraceBox box{};
+  bool reached = false;
+};
+
+// validate() for a streaming load that has read a file's global part and none of the cells' own trace
+// nodes, faces and vertices (format 1.7: docs/FORMAT.md section 6.2): their elements in `tracing` are never
+// read. Every invariant is checked but those of the cells' own tracing, which validate_cell_tracing checks
+// as each cell arrives. `entries` gets one CellEntry per cell record. The volume needs cell_tracing.
+ValidationReport validate_without_cells(const ProbeVolume& volume, const TracingView& tracing, std::vector<CellEntry>& entries,
+                                        const ValidateOptions& options = {});
+// Cell record k's own trace nodes, faces and vertices (`cell`: its three ranges' elements, numbered as in the
+// file) against what validate() checks of them: finite vertices; faces with vertices and material in range
+// and non-zero area (lighting_values); nothing outside the cell (cell_tracing); its subtree from entries[k],
+// every node reached once and every face in one leaf inside every box above it (trace_tree). `volume` and
+// `entries` as validate_without_cells passed and left them; a volume and its cells that pass both pass
+// validate() (tests/formats/validate_test.cpp, fuzz_probes_reader).
+ValidationReport validate_cell_tracing(const ProbeVolume& volume, std::span<const CellEntry> entries, std::size_t k,
+                                       const TracingView& cell, const ValidateOptions& options = {});
 
 // Container checks (readable = false and a "container" violation when the bytes cannot be decoded;
 // "checksum" violations for mismatches; format_version, section_flags, section_layout, trailing_bytes and

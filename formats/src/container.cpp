@@ -37,8 +37,8 @@ std::uint64_t header_checksum(std::span<const std::uint8_t> header, std::span<co
 class ContainerParser {
 public:
   ContainerParser(std::span<const std::uint8_t> bytes, std::string_view name, const ChecksumMismatch& on_mismatch,
-                  const ContainerKind& kind)
-      : bytes_(bytes), name_(name), on_mismatch_(on_mismatch), kind_(kind) {}
+                  const ContainerKind& kind, std::span<const SectionType> unread = {})
+      : bytes_(bytes), name_(name), on_mismatch_(on_mismatch), kind_(kind), unread_(unread) {}
 
   ContainerView parse() {
     check_magic_and_header();
@@ -140,6 +140,7 @@ private:
       mismatch("header", -1, "header checksum " + detail::hex64(view_.header.header_checksum) + ", computed " + detail::hex64(expected));
     }
     for (std::size_t i = 0; i < view_.sections.size(); ++i) {
+      if (std::find(unread_.begin(), unread_.end(), static_cast<SectionType>(view_.sections[i].type)) != unread_.end()) continue;
       const std::uint64_t computed = checksum64(view_.payloads[i]);
       if (computed != view_.sections[i].checksum) {
         mismatch(kind_.section_name(view_.sections[i].type), static_cast<long long>(i),
@@ -158,6 +159,7 @@ private:
   std::string_view name_;
   const ChecksumMismatch& on_mismatch_;
   const ContainerKind& kind_;
+  std::span<const SectionType> unread_;
   ContainerView view_;
   std::uint64_t table_end_ = 0;
   std::uint64_t previous_end_ = 0;
@@ -176,6 +178,10 @@ std::string section_name(std::uint32_t type) {
   static_assert(std::size(kNames) == kSectionTypeCount);
   if (is_known_section_type(type)) return kNames[type - 1];
   return "section_" + std::to_string(type);
+}
+
+ContainerView parse_container_without(std::span<const std::uint8_t> bytes, std::string_view name, std::span<const SectionType> unread) {
+  return ContainerParser(bytes, name, {}, kProbesContainer, unread).parse();
 }
 
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }

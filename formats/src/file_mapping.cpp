@@ -47,6 +47,21 @@ FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
   data_ = data, size_ = std::size_t(size);
 }
 
+FileMapping FileMapping::anonymous(std::uint64_t size, const std::string& name) {
+  FileMapping mapping;
+  if (size == 0) return mapping;
+  if (size > std::numeric_limits<std::size_t>::max()) throw_input_error(name, "cannot map: larger than the address space");
+  void* data = ::mmap(nullptr, std::size_t(size), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (data == MAP_FAILED) throw_input_error(name, std::string("cannot map: ") + std::strerror(errno));
+  mapping.data_ = data, mapping.size_ = std::size_t(size), mapping.writable_ = true;
+  return mapping;
+}
+
+std::span<std::uint8_t> FileMapping::writable() {
+  if (!writable_ && size_ != 0) throw Error(ErrorKind::internal, "FileMapping::writable: a file's mapping is read-only");
+  return {static_cast<std::uint8_t*>(data_), size_};
+}
+
 FileMapping FileMapping::of(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw_input_error(path.string(), std::string("cannot open: ") + std::strerror(errno));
@@ -66,17 +81,18 @@ FileMapping FileMapping::of(const std::filesystem::path& path) {
 }
 
 FileMapping::FileMapping(FileMapping&& other) noexcept
-    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)) {}
+    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)), writable_(std::exchange(other.writable_, false)) {}
 
 FileMapping& FileMapping::operator=(FileMapping&& other) noexcept {
   std::swap(data_, other.data_);
   std::swap(size_, other.size_);
+  std::swap(writable_, other.writable_);
   return *this;
 }
 
 void FileMapping::reset() {
   if (data_ != nullptr) ::munmap(data_, size_);
-  data_ = nullptr, size_ = 0;
+  data_ = nullptr, size_ = 0, writable_ = false;
 }
 
 } // namespace probebake::formats

@@ -17,6 +17,7 @@
 #include <glm/common.hpp>
 
 #include "probebake/bake/sampler.h"
+#include "probebake/formats/cell_file.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/probes_file.h"
@@ -431,25 +432,52 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   EXPECT_TRUE(later.value().validate_live().ok()) << later.value().validate_live().message;
 }
 
-// The streaming load validates the cells' tracing in place, in the file's mapping (cell_file.h): a file whose
-// container is sound (the writer's checksums) but where one cell's face uses another cell's vertex is refused
-// before anything is uploaded, as the whole-file load refuses it.
-TEST_F(StreamingTest, ALoadRefusesACellWhoseTracingReachesIntoAnother) {
+// A file whose container and checksums are sound (the writer's) but where one cell's face uses another
+// cell's vertex. The whole-file load refuses it. The streaming load of a 1.7 file reads no cell (cell_file.h),
+// so it loads, reading only the global part, and refuses that cell when it arrives, by name and invariant,
+// while every other cell loads. Written as 1.6 (no global checksums) the file is read whole once, its cells'
+// tracing validated in place in the mapping, and refused at load as before.
+TEST_F(StreamingTest, ACellWhoseTracingReachesIntoAnotherIsRefusedWhenItArrives) {
   formats::ProbeVolume v = streamed_rooms();
   std::size_t a = 0;
   while (v.cell_tracing[a].trace_faces.count == 0) ++a;
   std::size_t b = a + 1;
   while (v.cell_tracing[b].trace_vertices.count == 0) ++b;
   v.trace_faces[v.cell_tracing[a].trace_faces.first].vertex[2] = v.cell_tracing[b].trace_vertices.first;
+  const std::string leak = "cell_tracing[" + std::to_string(a) + "]: cell_tracing: trace face";
   const std::string path = temp_path("stream-leak.probes");
   formats::write_probes_file(path, v);
-  for (std::uint64_t budget : {std::uint64_t(0), 2 * tracing_bytes_of_cells(v)}) {
-    auto loaded = runtime::Volume::load(context(), path, streaming_options(budget));
-    ASSERT_FALSE(loaded.ok()) << "budget " << budget;
-    EXPECT_EQ(loaded.status().code, runtime::StatusCode::invalid_volume);
-    EXPECT_NE(loaded.status().message.find("cell_tracing[" + std::to_string(a) + "]: cell_tracing: trace face"), std::string::npos)
-        << loaded.status().message;
+  auto whole = runtime::Volume::load(context(), path, streaming_options(0));
+  ASSERT_FALSE(whole.ok());
+  EXPECT_EQ(whole.status().code, runtime::StatusCode::invalid_volume);
+  EXPECT_NE(whole.status().message.find(leak), std::string::npos) << whole.status().message;
+
+  const formats::OpenedCellFile opened = formats::CellFile::open(path);
+  EXPECT_TRUE(opened.cells_unread);
+  std::uint64_t cells_tracing = 0;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const formats::CellTracing& t = v.cell_tracing[k];
+    cells_tracing += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
   }
+  EXPECT_EQ(opened.bytes_read, std::filesystem::file_size(path) - cells_tracing); // the global part, once
+  auto streamed = runtime::Volume::load(context(), path, streaming_options(2 * tracing_bytes_of_cells(v)));
+  ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+  ASSERT_TRUE(streamed.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
+  auto frame = streamed.value().run_frame();
+  ASSERT_TRUE(frame.ok()) << frame.status().message;
+  EXPECT_EQ(frame.value().streaming.refused_cells, 1);
+  EXPECT_EQ(frame.value().streaming.loaded_cells, int(v.cells.size()) - 1);
+  const std::vector<std::string> refusals = streamed.value().stream_refusals();
+  ASSERT_EQ(refusals.size(), 1u);
+  EXPECT_NE(refusals[0].find("cells[" + std::to_string(a) + "]"), std::string::npos) << refusals[0];
+  EXPECT_NE(refusals[0].find(leak), std::string::npos) << refusals[0];
+
+  v.cell_checksums = formats::cell_checksums_of(v), v.cell_global_checksums.clear(); // written as 1.6
+  formats::write_probes_file(path, v);
+  EXPECT_FALSE(formats::CellFile::open(path).cells_unread);
+  auto older = runtime::Volume::load(context(), path, streaming_options(2 * tracing_bytes_of_cells(v)));
+  ASSERT_FALSE(older.ok());
+  EXPECT_NE(older.status().message.find(leak), std::string::npos) << older.status().message;
 }
 
 // read_in_background: the first frame asks for every cell with faces and loads none of them (their bytes

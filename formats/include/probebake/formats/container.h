@@ -181,6 +181,11 @@ ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_v
                               const ChecksumMismatch& on_checksum_mismatch = {},
                               const ContainerKind& kind = kProbesContainer);
 
+// parse_container without the checksums of the sections of the `unread` types, whose payloads the caller
+// has not read (a streaming load, cell_file.h, which checks their global part by cell_global_checksums and
+// each cell by its cell checksum). Every other check is made; a mismatch throws.
+ContainerView parse_container_without(std::span<const std::uint8_t> bytes, std::string_view name, std::span<const SectionType> unread);
+
 // XXH3-64 with seed 0, the checksum of every section and of the header.
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes);
 

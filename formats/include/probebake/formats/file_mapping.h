@@ -25,6 +25,9 @@ public:
   FileMapping(int fd, std::uint64_t size, const std::string& name);
   // Opens, maps and closes `path` (a regular file). Throws Error(input, "<path>: <reason>").
   static FileMapping of(const std::filesystem::path& path);
+  // `size` bytes of zero pages, writable through writable() (cell_file.h reads a file's global part into
+  // it). Untouched pages take no memory. Throws Error(input, "<name>: cannot map: <reason>").
+  static FileMapping anonymous(std::uint64_t size, const std::string& name);
   FileMapping(FileMapping&& other) noexcept;
   FileMapping& operator=(FileMapping&& other) noexcept;
   FileMapping(const FileMapping&) = delete;
@@ -32,11 +35,14 @@ public:
   ~FileMapping() { reset(); }
 
   std::span<const std::uint8_t> bytes() const { return {static_cast<const std::uint8_t*>(data_), size_}; }
+  // The bytes of an anonymous mapping (a file's mapping is read-only: Error(internal)).
+  std::span<std::uint8_t> writable();
   void reset();
 
 private:
   void* data_ = nullptr;
   std::size_t size_ = 0;
+  bool writable_ = false;
 };
 
 // While it lives, a SIGBUS (a mapped file cut short under the reader) ends the program with exit code 2 and

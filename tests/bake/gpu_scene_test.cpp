@@ -451,14 +451,27 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
   const formats::ProbeVolume v = formats::read_probes_file(path);
   formats::OpenedCellFile opened = formats::CellFile::open(path);
   formats::CellFile& file = opened.file;
-  // The load holds none of the cells' tracing: it reads the three sections in place, in the mapping.
+  // The load reads none of the cells' tracing (format 1.7): the three sections are the file's outside the
+  // cells' ranges and zeros inside them, in zero pages, and the global part is valid without the cells.
+  EXPECT_TRUE(opened.cells_unread);
   EXPECT_TRUE(opened.volume.trace_nodes.empty() && opened.volume.trace_faces.empty() && opened.volume.trace_vertices.empty());
   const formats::TracingView in_file = opened.tracing();
   ASSERT_EQ(in_file.faces.size(), v.trace_faces.size());
-  EXPECT_EQ(std::memcmp(in_file.faces.data(), v.trace_faces.data(), v.trace_faces.size() * sizeof(gpu::TraceFace)), 0);
-  ASSERT_TRUE(formats::validate(opened.volume, in_file).valid());
-  EXPECT_THROW(file.read_cell_tracing(0), Error) << "before expect()";
-  file.expect(opened.volume, in_file);
+  std::uint64_t cells_tracing = 0;
+  for (std::size_t k = 0; k < v.cells.size(); ++k) {
+    const formats::CellTracing& t = v.cell_tracing[k];
+    cells_tracing += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+    for (std::uint32_t f = t.trace_faces.first; f < t.trace_faces.first + t.trace_faces.count; ++f)
+      ASSERT_EQ(in_file.faces[f].vertex[0] | in_file.faces[f].vertex[1] | in_file.faces[f].material, 0u) << "face " << f << " was read";
+  }
+  const std::uint32_t global_faces = v.cell_tracing.back().trace_faces.first + v.cell_tracing.back().trace_faces.count;
+  EXPECT_EQ(std::memcmp(in_file.faces.data() + global_faces, v.trace_faces.data() + global_faces,
+                        (v.trace_faces.size() - global_faces) * sizeof(gpu::TraceFace)), 0);
+  EXPECT_EQ(opened.bytes_read, std::filesystem::file_size(path) - cells_tracing);
+  std::vector<formats::CellEntry> entries;
+  ASSERT_TRUE(formats::validate_without_cells(opened.volume, in_file, entries).valid());
+  EXPECT_THROW(file.read_cell_tracing(0), Error) << "before expect_unread()";
+  file.expect_unread(opened.volume, entries);
   opened.mapping.reset(); // as Volume::load does once it has uploaded: below, the file changes on disk
   const auto same = [](const formats::CellTracingData& a, const formats::CellTracingData& b) {
     const auto bytes_equal = [](const auto& x, const auto& y) {
@@ -501,7 +514,7 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
   const std::string changed = refusal(damaged);
   EXPECT_NE(changed.find("cells[" + std::to_string(damaged) + "] (cell " + std::to_string(v.cells[damaged].cell_index) + ")"),
             std::string::npos) << changed;
-  EXPECT_NE(changed.find("differ from those validated"), std::string::npos) << changed;
+  EXPECT_NE(changed.find("differ from their checksum"), std::string::npos) << changed;
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     if (k == damaged) continue;
     EXPECT_TRUE(same(file.read_cell_tracing(k), formats::cell_tracing_data(v, k))) << "cell " << k;

@@ -2,6 +2,8 @@
 //  - read_probes and validate_file agree: what the reader refuses is never a valid file;
 //  - checksums aside (so that mutations reach the model checks), the streaming load's validation of the trace
 //    sections in place reports what the decoded volume's does;
+//  - a 1.7 streaming load's checks (the global part without the cells, then each cell alone) find a volume
+//    valid exactly when validate() does;
 //  - a decoded volume that validates clean
 //    writes, reads back and re-writes to the same bytes, and stays valid after arrange_cells;
 //  - the same bytes as a bake part (bake_part.h, the same container): a part that reads writes and reads
@@ -13,6 +15,7 @@
 #include "fuzz_check.h"
 #include "fuzz_entries.h"
 #include "probebake/formats/bake_part.h"
+#include "probebake/formats/cell_file.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
@@ -28,6 +31,19 @@ std::vector<std::string> violation_lines(const ValidationReport& report) {
   std::vector<std::string> lines;
   for (const Violation& violation : report.violations) lines.push_back(format_violation(violation));
   return lines;
+}
+
+// validate_without_cells, then validate_cell_tracing for each cell (a 1.7 streaming load's checks); a volume
+// without one cell_tracing record per cell has nothing to stream and takes validate()'s verdict.
+bool split_checks_valid(const ProbeVolume& volume) {
+  if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size()) return validate(volume, ValidateOptions{1}).valid();
+  std::vector<CellEntry> entries;
+  if (!validate_without_cells(volume, tracing_view(volume), entries, ValidateOptions{1}).valid()) return false;
+  for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
+    const CellTracingData data = cell_tracing_data(volume, k); // the ranges passed the check above
+    if (!validate_cell_tracing(volume, entries, k, {data.nodes, data.faces, data.vertices}, ValidateOptions{1}).valid()) return false;
+  }
+  return true;
 }
 
 // The model behind the checksums: decode with mismatches ignored, then validate and round-trip; and the
@@ -47,6 +63,7 @@ void fuzz_model(std::span<const std::uint8_t> input) {
   const ValidationReport report = validate(volume, ValidateOptions{0});
   check(violation_lines(validate(in_place, in_bytes, ValidateOptions{0})) == violation_lines(report),
         "the trace sections read in place are validated as the decoded ones");
+  check(split_checks_valid(volume) == report.valid(), "the checks without the cells and of each cell agree with validate()");
   try {
     (void)compute_stats(volume); // what `probebake info` runs on unvalidated files
   } catch (const Error&) {

@@ -56,6 +56,36 @@ std::pair<ByteRanges, bool> trace_payloads(std::span<const std::uint8_t> table_b
   return std::pair{ranges, global};
 }
 
+// The file bytes of every cell's range of the trace section `entry` (clamped to the section).
+ByteRanges cell_byte_ranges(const SectionEntry& entry, const std::vector<CellTracing>& cells) {
+  ByteRanges ranges;
+  for (const CellTracing& t : cells) {
+    const CellRange& r = entry.type == static_cast<std::uint32_t>(SectionType::trace_nodes)   ? t.trace_nodes
+                         : entry.type == static_cast<std::uint32_t>(SectionType::trace_faces) ? t.trace_faces
+                                                                                              : t.trace_vertices;
+    const std::uint64_t from = std::uint64_t(r.first) * entry.element_size, bytes = std::uint64_t(r.count) * entry.element_size;
+    ranges.emplace_back(entry.offset + std::min(from, entry.size), entry.offset + std::min(from + bytes, entry.size));
+  }
+  return ranges;
+}
+
+// The global part against the file's cell_global_checksums. Throws Error(input, "<name>: ...").
+void check_global_checksums(const std::string& name, const ProbeVolume& volume, const TracingView& tracing) {
+  std::vector<std::uint64_t> computed;
+  try {
+    computed = cell_global_checksums_of(volume, tracing);
+  } catch (const Error&) {
+    throw_input_error(name, "cells: the cells' ranges do not ascend inside their sections");
+  }
+  if (volume.cell_global_checksums.size() != computed.size())
+    throw_input_error(name, "cell_global_checksums: " + std::to_string(volume.cell_global_checksums.size()) + " checksums, expected " +
+                                std::to_string(computed.size()));
+  for (std::size_t s = 0; s < computed.size(); ++s)
+    if (computed[s] != volume.cell_global_checksums[s])
+      throw_input_error(name, "cell_global_checksums[" + std::to_string(s) + "]: the bytes of " +
+                                  section_name(static_cast<std::uint32_t>(kCellSplitSections[s])) + " outside the cells differ from their checksum");
+}
+
 } // namespace
 
 CellTracingData cell_tracing_data(const ProbeVolume& volume, std::size_t k) {
@@ -82,12 +112,16 @@ OpenedCellFile CellFile::open(const std::filesystem::path& path) {
   opened.volume = decode_probes(container, file.name_, in_place ? TraceSections::leave_in_bytes : TraceSections::decode);
   if (in_place) opened.in_mapping = tracing_in(container, file.name_);
   else opened.mapping.reset();
+  file.keep_sections(container);
+  return opened;
+}
+
+void CellFile::keep_sections(const ContainerView& container) {
   for (const SectionEntry& entry : container.sections) {
     if (!is_known_section_type(entry.type)) continue;
-    if (file.sections_.size() <= entry.type) file.sections_.resize(entry.type + 1);
-    file.sections_[entry.type] = {entry.offset, entry.size};
+    if (sections_.size() <= entry.type) sections_.resize(entry.type + 1);
+    sections_[entry.type] = {entry.offset, entry.size};
   }
-  return opened;
 }
 
 // [begin, end) of the file into the image, but the `skipped` ranges.
@@ -125,37 +159,12 @@ bool CellFile::read_global_part(OpenedCellFile& opened, std::uint64_t size) {
   const ContainerView container = parse_container_without(image.bytes(), name_, kCellTracingSections);
   ProbeVolume volume = decode_probes(container, name_, TraceSections::leave_in_bytes);
   if (volume.cell_tracing.empty()) throw_input_error(name_, "cell_global_checksums: the file has no cell_tracing");
-  for (std::size_t i = 0; i < container.sections.size(); ++i) {
-    const SectionEntry& entry = container.sections[i];
-    if (!is_cell_tracing_section(entry.type)) continue;
-    ByteRanges cells;
-    for (const CellTracing& t : volume.cell_tracing) {
-      const CellRange& r = entry.type == static_cast<std::uint32_t>(SectionType::trace_nodes) ? t.trace_nodes
-                           : entry.type == static_cast<std::uint32_t>(SectionType::trace_faces) ? t.trace_faces : t.trace_vertices;
-      const std::uint64_t from = std::uint64_t(r.first) * entry.element_size, bytes = std::uint64_t(r.count) * entry.element_size;
-      cells.emplace_back(entry.offset + std::min(from, entry.size), entry.offset + std::min(from + bytes, entry.size));
-    }
-    read_global_ranges(image.writable(), entry.offset, entry.offset + entry.size, std::move(cells), bytes_read);
-  }
+  for (const SectionEntry& entry : container.sections)
+    if (is_cell_tracing_section(entry.type))
+      read_global_ranges(image.writable(), entry.offset, entry.offset + entry.size, cell_byte_ranges(entry, volume.cell_tracing), bytes_read);
   const TracingView view = tracing_in(container, name_);
-  std::vector<std::uint64_t> computed;
-  try {
-    computed = cell_global_checksums_of(volume, view);
-  } catch (const Error&) {
-    throw_input_error(name_, "cells: the cells' ranges do not ascend inside their sections");
-  }
-  if (volume.cell_global_checksums.size() != computed.size())
-    throw_input_error(name_, "cell_global_checksums: " + std::to_string(volume.cell_global_checksums.size()) + " checksums, expected " +
-                                 std::to_string(computed.size()));
-  for (std::size_t s = 0; s < computed.size(); ++s)
-    if (computed[s] != volume.cell_global_checksums[s])
-      throw_input_error(name_, "cell_global_checksums[" + std::to_string(s) + "]: the bytes of " +
-                                   section_name(static_cast<std::uint32_t>(kCellSplitSections[s])) + " outside the cells differ from their checksum");
-  for (const SectionEntry& entry : container.sections) {
-    if (!is_known_section_type(entry.type)) continue;
-    if (sections_.size() <= entry.type) sections_.resize(entry.type + 1);
-    sections_[entry.type] = {entry.offset, entry.size};
-  }
+  check_global_checksums(name_, volume, view);
+  keep_sections(container);
   opened.volume = std::move(volume);
   opened.mapping = std::move(image);
   opened.in_mapping = view;

@@ -6,8 +6,13 @@
 //    valid exactly when validate() does;
 //  - a decoded volume that validates clean
 //    writes, reads back and re-writes to the same bytes, and stays valid after arrange_cells;
+//  - the same bytes as a file (a memfd) through the streaming reader (CellFile::open, then each cell): a
+//    1.7 file that validate_file finds valid streams whole, and one that streams whole has no violation but
+//    file-level ones;
 //  - the same bytes as a bake part (bake_part.h, the same container): a part that reads writes and reads
 //    back to the same part.
+#include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <vector>
@@ -21,6 +26,9 @@
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 #include "probebake/formats/volume_stats.h"
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 namespace probebake::fuzz {
 namespace {
@@ -76,6 +84,44 @@ void fuzz_model(std::span<const std::uint8_t> input) {
   check(validate(volume).valid(), "a valid volume stays valid after arrange_cells");
 }
 
+// Whether the streaming reader takes the file at `path` and every cell of it; nullopt when it is not a 1.7
+// file that streams (CellFile::open reads it whole, or refuses it before it knows).
+std::optional<bool> streams_whole(const std::string& path) {
+  try {
+    OpenedCellFile opened = CellFile::open(path);
+    if (!opened.cells_unread) return std::nullopt;
+    std::vector<CellEntry> entries;
+    if (!validate_without_cells(opened.volume, opened.tracing(), entries, ValidateOptions{1}).valid()) return false;
+    opened.file.expect_unread(opened.volume, entries);
+    for (std::size_t k = 0; k < opened.volume.cells.size(); ++k) (void)opened.file.read_cell_tracing(k);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+void fuzz_cell_file(std::span<const std::uint8_t> bytes, const ValidationReport& report) {
+  const int fd = ::memfd_create("fuzz", MFD_CLOEXEC);
+  if (fd < 0) return;
+  bool written = true;
+  for (std::size_t done = 0; written && done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    written = n > 0, done += n > 0 ? std::size_t(n) : 0;
+  }
+  const std::optional<bool> whole = written ? streams_whole("/proc/self/fd/" + std::to_string(fd)) : std::nullopt;
+  ::close(fd);
+  bool streams_as_1_7 = false; // validate_file's volume has global checksums
+  try {
+    streams_as_1_7 = !read_probes(bytes, "fuzz").cell_global_checksums.empty();
+  } catch (const Error&) {
+  }
+  if (report.valid() && streams_as_1_7) check(whole == true, "a valid 1.7 file streams, every cell");
+  if (whole == true) {
+    const std::set<std::string> file_level = {"format_version", "section_flags", "section_layout", "trailing_bytes"};
+    for (const Violation& v : report.violations) check(file_level.count(v.invariant) == 1, "a file that streams whole breaks no model invariant");
+  }
+}
+
 void fuzz_bake_part(std::span<const std::uint8_t> bytes) {
   BakePart part;
   try {
@@ -101,6 +147,7 @@ void fuzz_one_probes_reader(const std::uint8_t* data, std::size_t size) {
   }
   const ValidationReport report = validate_file(bytes, "fuzz", ValidateOptions{16});
   check(readable || !report.valid(), "what read_probes refuses is not a valid file");
+  fuzz_cell_file(bytes, report);
   fuzz_model(bytes);
   fuzz_bake_part(bytes);
 }

@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "probebake/formats/container.h"
 #include "probebake/formats/file_mapping.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/formats/validate.h"
@@ -90,6 +91,7 @@ private:
   void read_global_ranges(std::span<std::uint8_t> image, std::uint64_t begin, std::uint64_t end,
                           std::vector<std::pair<std::uint64_t, std::uint64_t>> skipped, std::uint64_t& bytes_read) const;
   void keep_ranges(const ProbeVolume& volume);
+  void keep_sections(const ContainerView& container);
   void read_into(void* out, std::uint64_t offset, std::uint64_t size, const std::string& place) const;
   // The elements of `range` of the section of `type`, added to `hash` (an XXH3_state_t).
   template <class T, class Hash>

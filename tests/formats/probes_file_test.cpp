@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include "probebake/formats/cell_file.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/file_mapping.h"
 #include "probebake/formats/probes_file.h"
@@ -302,6 +303,64 @@ TEST_F(TempDir, ReadingAMissingFileIsAnInputError) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::input);
+  }
+}
+
+// A 1.7 file's streaming reader (CellFile::open) reads the global part only. A byte changed in a cell's faces
+// is not read at the open, and refuses that cell when it is read, the others reading as in the file; a byte
+// changed outside the cells (the dynamic object's vertices) refuses the open, naming its global checksum.
+TEST_F(TempDir, AStreamingOpenReadsTheGlobalPartOnlyAndEachCellWhenAsked) {
+  const ProbeVolume v = testing::make_sample(Sample::cells);
+  const std::vector<std::uint8_t> bytes = write_probes(v);
+  const ContainerView view = parse_container(bytes, "cells");
+  const auto section = [&](SectionType type) {
+    for (const SectionEntry& e : view.sections)
+      if (e.type == static_cast<std::uint32_t>(type)) return e;
+    return SectionEntry{};
+  };
+  std::size_t k = 0;
+  while (v.cell_tracing[k].trace_faces.count == 0) ++k;
+  std::uint64_t cells_tracing = 0;
+  for (const CellTracing& t : v.cell_tracing) cells_tracing += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+  ASSERT_GT(cells_tracing, 0u);
+
+  std::vector<std::uint8_t> cell_changed = bytes;
+  cell_changed[section(SectionType::trace_faces).offset + v.cell_tracing[k].trace_faces.byte_offset] ^= 1;
+  const std::filesystem::path a = dir_ / "cell.probes";
+  std::ofstream(a, std::ios::binary).write(reinterpret_cast<const char*>(cell_changed.data()), std::streamsize(cell_changed.size()));
+  OpenedCellFile opened = CellFile::open(a);
+  EXPECT_TRUE(opened.cells_unread);
+  EXPECT_EQ(opened.bytes_read, bytes.size() - cells_tracing);
+  std::vector<CellEntry> entries;
+  ASSERT_TRUE(validate_without_cells(opened.volume, opened.tracing(), entries).valid());
+  opened.file.expect_unread(opened.volume, entries);
+  for (std::size_t j = 0; j < v.cells.size(); ++j) {
+    if (j == k) continue;
+    const CellTracingData read = opened.file.read_cell_tracing(j), expected = cell_tracing_data(v, j);
+    EXPECT_EQ(read.faces.size(), expected.faces.size());
+    EXPECT_TRUE(read.faces.empty() || std::memcmp(read.faces.data(), expected.faces.data(), read.faces.size() * sizeof(read.faces[0])) == 0) << j;
+  }
+  try {
+    (void)opened.file.read_cell_tracing(k);
+    ADD_FAILURE() << "the changed cell read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_NE(std::string(e.what()).find("cells[" + std::to_string(k) + "]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("differ from their checksum"), std::string::npos) << e.what();
+  }
+
+  std::vector<std::uint8_t> global_changed = bytes;
+  const SectionEntry vertices = section(SectionType::trace_vertices);
+  ASSERT_GT(vertices.size, v.cell_tracing.back().trace_vertices.byte_offset + v.cell_tracing.back().trace_vertices.byte_size);
+  global_changed[vertices.offset + vertices.size - 1] ^= 1; // the dynamic object's last vertex
+  const std::filesystem::path b = dir_ / "global.probes";
+  std::ofstream(b, std::ios::binary).write(reinterpret_cast<const char*>(global_changed.data()), std::streamsize(global_changed.size()));
+  try {
+    (void)CellFile::open(b);
+    ADD_FAILURE() << "the changed global part opened";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::input);
+    EXPECT_NE(std::string(e.what()).find("cell_global_checksums[5]: the bytes of trace_vertices outside the cells differ"), std::string::npos) << e.what();
   }
 }
 

@@ -88,7 +88,7 @@ constexpr InvariantInfo kInvariants[] = {
     {"cell_root_node", "a cell's root node is the octree node covering exactly the cell, or -1"},
     {"cell_range", "cell ranges lie inside their sections, ascend without overlap, bytes = elements x size"},
     {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
-    {"cell_tracing", "one cell_tracing record per cell; its ranges cover the static tree's faces, and each cell's trace nodes, faces and vertices refer only to each other, its faces' centroids inside it"},
+    {"cell_tracing", "one cell_tracing record per cell; its ranges cover the static tree's faces, nodes and vertices without gaps, dynamic faces use no cell's vertex, and each cell's trace nodes, faces and vertices refer only to each other, its faces' centroids inside it"},
     {"cell_checksum", "one checksum per cell; each equals the XXH3-64 of its cell's byte ranges, checked cell by cell"},
     {"cell_global_checksum", "with cell_tracing, one checksum per cell-split section; each equals the XXH3-64 of the section's bytes outside every cell's range"},
     {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; placement_rays = surfels_per_probe"},

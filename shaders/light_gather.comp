@@ -3,8 +3,8 @@
 // cached in the record (light_trace, light_relight), E_probes from the previous frame's probes through the
 // SVO sampler (sample_irradiance.glsl); the radiance is projected onto L2 SH irradiance with
 // Monte Carlo weight 4 pi / rays (bake/src/lighting/iteration.cpp) and blended with the probe's old value
-// by the hysteresis into next_irradiance (the probes themselves are written by light_resolve, so that every
-// probe of this frame reads last frame's values: a Jacobi sweep, deterministic). A probe whose last trace
+// by the hysteresis into next_irradiance, at the probe's record slot (the probes themselves are written by
+// light_resolve, so that every probe of this frame reads last frame's values: a Jacobi sweep, deterministic). A probe whose last trace
 // crossed a streamed cell that is out (RECORD_SLOT_UNRESOLVED) keeps its irradiance.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -32,10 +32,11 @@ void main() {
   const int listed = light_slot(probebake_flat_workgroup());
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
+  const uint next = 27u * uint(light_record_slot(slot)); // streaming: next_irradiance holds the lit probes only
   const uint t = gl_LocalInvocationIndex;
   if (light_slot_unresolved(slot)) { // its rays crossed a cell that is out: keep its light
     if (t == 0u)
-      for (int v = 0; v < 27; ++v) next_irradiance[27u * slot + uint(v)] = probebake_probes[slot].irradiance_sh[v];
+      for (int v = 0; v < 27; ++v) next_irradiance[next + uint(v)] = probebake_probes[slot].irradiance_sh[v];
     return;
   }
   if (t == 0) indirect_misses = 0u;
@@ -72,7 +73,7 @@ void main() {
     finite = finite && !isnan(blended[v]) && !isinf(blended[v]);
   }
   // No NaN or Inf leaves the pass: a probe that would overflow keeps its value and is counted.
-  for (int v = 0; v < 27; ++v) next_irradiance[27u * slot + uint(v)] = finite ? blended[v] : probebake_probes[slot].irradiance_sh[v];
+  for (int v = 0; v < 27; ++v) next_irradiance[next + uint(v)] = finite ? blended[v] : probebake_probes[slot].irradiance_sh[v];
   atomicAdd(light_counters.lit_probes, 1);
   atomicAdd(light_counters.indirect_misses, int(indirect_misses));
   if (!finite) atomicAdd(light_counters.non_finite, 1);

@@ -40,7 +40,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   indirect_records_ = record_slots > 0;
   record_capacity_ = indirect_records_ ? std::min(record_slots, probe_capacity_) : probe_capacity_;
   create_record_pages(rays);
-  next_irradiance_ = create_scratch(device, VkDeviceSize(probe_capacity_) * 27 * sizeof(float), "next irradiance");
+  next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * 27 * sizeof(float), "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
   const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
   if (list_bytes > device.info.max_storage_buffer_range)

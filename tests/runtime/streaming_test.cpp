@@ -571,8 +571,8 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   EXPECT_EQ(bad_path.exit_code, 2) << bad_path.err;
 }
 
-// max_lit_probes sizes the light records (64 B per ray and probe, 12 more for the tracked light) for that
-// many probes instead of every probe of the file.
+// max_lit_probes sizes the light records (64 B per ray and probe, 12 more for the tracked light) and the
+// gathered irradiance (27 floats per probe) for that many probes instead of every probe of the file.
 TEST_F(StreamingTest, LitProbeCapSizesTheLightRecords) {
   const formats::ProbeVolume& v = streamed_rooms();
   const std::uint64_t budget = tracing_bytes_of_cells(v);
@@ -583,7 +583,7 @@ TEST_F(StreamingTest, LitProbeCapSizesTheLightRecords) {
     return context().memory_stats().live_bytes - before;
   };
   const std::uint64_t all = device_bytes(0), capped = device_bytes(32);
-  const std::uint64_t per_probe = std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12);
+  const std::uint64_t per_probe = std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12) + 27 * sizeof(float);
   std::printf("[streaming] light records for every one of %zu probe slots: %llu bytes on the device; for 32: %llu\n",
               v.probes.size(), static_cast<unsigned long long>(all), static_cast<unsigned long long>(capped));
   EXPECT_EQ(all - capped, (v.probes.size() - 32) * per_probe);

@@ -76,6 +76,7 @@ Holes holes_of(const std::vector<CellTracing>& records, CellRange CellTracing::*
 }
 
 const Hole* hole_at(const Holes& holes, std::uint64_t i) {
+  if (holes.empty()) return nullptr; // a whole volume's or a cell's run
   auto it = std::upper_bound(holes.begin(), holes.end(), i, [](std::uint64_t x, const Hole& h) { return x < h.begin; });
   if (it == holes.begin()) return nullptr;
   --it;
@@ -116,6 +117,7 @@ public:
   }
   // The count of element i, which lies outside the holes: every hole that begins before it ends before it.
   std::uint8_t& at(std::uint64_t i) {
+    if (holes_.empty()) return counts_[std::size_t(i)];
     const auto after = std::upper_bound(holes_.begin(), holes_.end(), i, [](std::uint64_t x, const Hole& h) { return x < h.begin; });
     const std::size_t before = std::size_t(after - holes_.begin());
     return counts_[std::size_t(i - (before == 0 ? 0 : skipped_through_[before - 1]))];

@@ -9,8 +9,6 @@
 // it, each decoded with the rounding that makes it smallest (a shader may or may not fuse the decoding's
 // multiply-add), because that is the culling the GPU does.
 #include <algorithm>
-#include <optional>
-#include <utility>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -50,7 +48,7 @@ FaceRange tree_faces(const ProbeVolume& v, const TracingView& tracing, std::size
   return {std::size_t(std::max(0, o.first_triangle)), std::size_t(std::max(0, o.first_triangle)) + std::size_t(std::max(0, o.triangle_count))};
 }
 
-// A cell's range of one section that a run leaves unread: [begin, end), record k.
+// A cell's range of one section that a run leaves unread: [begin, end), its record.
 struct Hole {
   std::uint64_t begin = 0, end = 0;
   std::size_t cell = 0;

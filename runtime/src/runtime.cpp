@@ -37,6 +37,27 @@ Status validated(const formats::ProbeVolume& volume, const formats::TracingView&
   return status_of(report);
 }
 
+// A file opened for streaming, checked and set to check its cells: a 1.7 file without its cells, each of which
+// is then validated as it arrives; an older one validated whole, its cells' tracing in place in the file's
+// mapping, each cell then held to the checksum of the bytes validated.
+Status ready_to_stream(formats::OpenedCellFile& opened, bool validate, const std::filesystem::path& path) {
+  if (opened.cells_unread) {
+    std::vector<formats::CellEntry> entries;
+    if (validate) {
+      formats::ValidationReport report = formats::validate_without_cells(opened.volume, opened.tracing(), entries);
+      report.name = path.string();
+      if (const Status valid = status_of(report); !valid.ok()) return valid;
+    }
+    opened.file.expect_unread(opened.volume, std::move(entries));
+    return {};
+  }
+  if (validate)
+    if (const Status valid = validated(opened.volume, opened.tracing(), path); !valid.ok()) return valid;
+  formats::upgrade_tracing(opened.volume); // 1.1-1.3 files (decoded whole): the shaders trace the compact layout only
+  if (!opened.volume.cell_tracing.empty()) opened.file.expect(opened.volume, opened.tracing()); // after the upgrade
+  return {};
+}
+
 Status check_options(const UploadOptions& options) {
   if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
     return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
@@ -146,26 +167,11 @@ Result<Volume> Volume::load(Context& context, const std::filesystem::path& path,
       formats::upgrade_tracing(volume); // 1.1-1.3 files: the shaders trace the compact layout only
       return Volume(std::make_unique<detail::VolumeState>(context.device_, volume, options));
     }
-    // Streaming reads each cell from disk when it loads. A 1.7 file is read without its cells, which are
-    // validated as they arrive; an older one is read whole once, its cells' tracing in place in the file's
-    // mapping (cell_file.h), never copied whole.
+    // Streaming reads each cell from disk when it loads (cell_file.h).
     formats::OpenedCellFile opened = formats::CellFile::open(path);
-    if (opened.cells_unread) {
-      std::vector<formats::CellEntry> entries;
-      if (options.validate) {
-        formats::ValidationReport report = formats::validate_without_cells(opened.volume, opened.tracing(), entries);
-        report.name = path.string();
-        if (const Status valid = status_of(report); !valid.ok()) return valid;
-      }
-      opened.file.expect_unread(opened.volume, std::move(entries));
-    } else {
-      if (options.validate)
-        if (const Status valid = validated(opened.volume, opened.tracing(), path); !valid.ok()) return valid;
-      formats::upgrade_tracing(opened.volume); // 1.1-1.3 files (decoded whole): the shaders trace the compact layout only
-      if (opened.volume.cell_tracing.empty()) // VolumeState refuses to stream it
-        return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options));
-      opened.file.expect(opened.volume, opened.tracing()); // after the upgrade, which may have filled the vectors
-    }
+    if (const Status ready = ready_to_stream(opened, options.validate, path); !ready.ok()) return ready;
+    if (opened.volume.cell_tracing.empty()) // VolumeState refuses to stream it
+      return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options));
     const formats::TracingView tracing = opened.tracing();
     return Volume(std::make_unique<detail::VolumeState>(context.device_, opened.volume, options,
                                                         detail::cell_source_on_disk(std::move(opened.file)), &tracing));

@@ -154,7 +154,7 @@ std::string layout_problem(const ProbeVolume& volume, const TracingView& tracing
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
     const CellTracing& r = volume.cell_tracing[k];
     if (r.trace_nodes.count > 0) {
-      if (any_nodes && r.trace_nodes.first != node_end) return concat("cell record ", k, "'s nodes start at ", r.trace_nodes.first, ", not where the previous cell's end (", node_end, ")");
+      if (any_nodes && r.trace_nodes.first != node_end) return concat("cell record ", k, "'s nodes start at ", r.trace_nodes.first, ", not at ", node_end, " where the previous cell's end");
       any_nodes = true, node_end = std::uint64_t(r.trace_nodes.first) + r.trace_nodes.count;
     }
     if (r.trace_vertices.count > 0) {

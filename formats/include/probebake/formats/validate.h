@@ -73,8 +73,9 @@ ValidationReport validate_without_cells(const ProbeVolume& volume, const Tracing
 // file) against what validate() checks of them: finite vertices; faces with vertices and material in range
 // and non-zero area (lighting_values); nothing outside the cell (cell_tracing); its subtree from entries[k],
 // every node reached once and every face in one leaf inside every box above it (trace_tree). `volume` and
-// `entries` as validate_without_cells passed and left them; a volume and its cells that pass both pass
-// validate() (tests/formats/validate_test.cpp, fuzz_probes_reader).
+// `entries` as validate_without_cells passed and left them; of `volume` it reads only info, cell_depth, cells,
+// cell_tracing, trace_trees and trace_materials (what CellFile keeps). A volume and its cells that pass both
+// pass validate() (tests/formats/validate_test.cpp, fuzz_probes_reader).
 ValidationReport validate_cell_tracing(const ProbeVolume& volume, std::span<const CellEntry> entries, std::size_t k,
                                        const TracingView& cell, const ValidateOptions& options = {});
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "probebake/formats/cell_file.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/validate.h"
 
@@ -54,10 +55,7 @@ int main(int argc, char** argv) {
     const double global_ms = ms_since(start);
     if (!report.valid()) return std::fprintf(stderr, "%s: %s\n", argv[1], format_violation(report.violations.front()).c_str()), 1;
     std::uint64_t bytes = 0;
-    for (std::size_t k = 0; k < opened.volume.cells.size(); ++k) {
-      const CellTracing& t = opened.volume.cell_tracing[k];
-      bytes += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
-    }
+    for (const CellTracing& t : opened.volume.cell_tracing) bytes += cell_tracing_bytes(t);
     const std::size_t cells = opened.volume.cells.size();
     opened.file.expect_unread(opened.volume, {});
     const double plain = read_all_ms(opened.file, cells, runs);

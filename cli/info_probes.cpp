@@ -76,7 +76,7 @@ nlohmann::json streaming_json(const ProbesInfo& in) {
   std::vector<std::uint64_t> sizes;
   std::uint64_t total = 0;
   for (const formats::CellTracing& t : v.cell_tracing) {
-    sizes.push_back(t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size);
+    sizes.push_back(formats::cell_tracing_bytes(t));
     total += sizes.back();
   }
   std::sort(sizes.begin(), sizes.end());

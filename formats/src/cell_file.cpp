@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <iterator>
 #include <limits>
 #include <utility>
 
@@ -32,12 +31,6 @@ std::vector<T> slice(const std::vector<T>& section, const CellRange& range) {
 
 std::string errno_text() { return std::strerror(errno); }
 
-constexpr SectionType kCellTracingSections[] = {SectionType::trace_nodes, SectionType::trace_faces, SectionType::trace_vertices};
-
-bool is_cell_tracing_section(std::uint32_t type) {
-  return std::find(std::begin(kCellTracingSections), std::end(kCellTracingSections), static_cast<SectionType>(type)) != std::end(kCellTracingSections);
-}
-
 using ByteRanges = std::vector<std::pair<std::uint64_t, std::uint64_t>>; // [begin, end)
 
 // The payload ranges of the three trace sections as the raw table gives them (unchecked, clamped to the
@@ -49,7 +42,7 @@ std::pair<ByteRanges, bool> trace_payloads(std::span<const std::uint8_t> table_b
     SectionEntry entry;
     std::memcpy(&entry, table_bytes.data() + header.header_size + std::uint64_t(i) * header.section_entry_size, sizeof(entry));
     global = global || entry.type == static_cast<std::uint32_t>(SectionType::cell_global_checksums);
-    if (!is_cell_tracing_section(entry.type)) continue;
+    if (!is_in_place_trace_section(entry.type)) continue;
     const std::uint64_t begin = std::min(entry.offset, size);
     ranges.emplace_back(begin, begin + std::min(entry.size, size - begin));
   }
@@ -156,11 +149,11 @@ bool CellFile::read_global_part(OpenedCellFile& opened, std::uint64_t size) {
   FileMapping image = FileMapping::anonymous(size, name_);
   std::uint64_t bytes_read = 0;
   read_global_ranges(image.writable(), 0, size, payloads, bytes_read);
-  const ContainerView container = parse_container_without(image.bytes(), name_, kCellTracingSections);
+  const ContainerView container = parse_container_without(image.bytes(), name_, kInPlaceTraceSections);
   ProbeVolume volume = decode_probes(container, name_, TraceSections::leave_in_bytes);
   if (volume.cell_tracing.empty()) throw_input_error(name_, "cell_global_checksums: the file has no cell_tracing");
   for (const SectionEntry& entry : container.sections)
-    if (is_cell_tracing_section(entry.type))
+    if (is_in_place_trace_section(entry.type))
       read_global_ranges(image.writable(), entry.offset, entry.offset + entry.size, cell_byte_ranges(entry, volume.cell_tracing), bytes_read);
   const TracingView view = tracing_in(container, name_);
   check_global_checksums(name_, volume, view);

@@ -283,10 +283,7 @@ void arrange_cells(ProbeVolume& volume, int cell_depth) {
 std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k) {
   const Cell& cell = volume.cells.at(k);
   std::uint64_t bytes = cell.probes.byte_size + cell.surfel_batches.byte_size + cell.svo_leaves.byte_size;
-  if (k < volume.cell_tracing.size()) {
-    const CellTracing& t = volume.cell_tracing[k];
-    bytes += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
-  }
+  if (k < volume.cell_tracing.size()) bytes += cell_tracing_bytes(volume.cell_tracing[k]);
   return bytes;
 }
 

@@ -139,11 +139,6 @@ void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uin
 
 std::string errno_text() { return std::strerror(errno); }
 
-bool is_in_place_trace_section(std::uint32_t type) {
-  return type == static_cast<std::uint32_t>(SectionType::trace_nodes) || type == static_cast<std::uint32_t>(SectionType::trace_faces) ||
-         type == static_cast<std::uint32_t>(SectionType::trace_vertices);
-}
-
 } // namespace
 
 std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {

@@ -460,7 +460,7 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
   std::uint64_t cells_tracing = 0;
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     const formats::CellTracing& t = v.cell_tracing[k];
-    cells_tracing += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+    cells_tracing += formats::cell_tracing_bytes(t);
     for (std::uint32_t f = t.trace_faces.first; f < t.trace_faces.first + t.trace_faces.count; ++f)
       ASSERT_EQ(in_file.faces[f].vertex[0] | in_file.faces[f].vertex[1] | in_file.faces[f].material, 0u) << "face " << f << " was read";
   }

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "info_probes.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/probes_file.h"
 #include "run_cli.h"
 #include "sample_volumes.h"
@@ -245,7 +246,7 @@ TEST(InfoProbes, SaysWhatStreamingKeepsInHostMemory) {
   const ProbeVolume v = read_probes_file(golden);
   std::uint64_t tracing = 0, largest = 0;
   for (const CellTracing& t : v.cell_tracing) {
-    const std::uint64_t bytes = t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+    const std::uint64_t bytes = cell_tracing_bytes(t);
     tracing += bytes, largest = std::max(largest, bytes);
   }
   ::testing::internal::CaptureStdout();

@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 
 #include "probebake/formats/cell_file.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/file_mapping.h"
 #include "probebake/formats/probes_file.h"
@@ -321,7 +322,7 @@ TEST_F(TempDir, AStreamingOpenReadsTheGlobalPartOnlyAndEachCellWhenAsked) {
   std::size_t k = 0;
   while (v.cell_tracing[k].trace_faces.count == 0) ++k;
   std::uint64_t cells_tracing = 0;
-  for (const CellTracing& t : v.cell_tracing) cells_tracing += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+  for (const CellTracing& t : v.cell_tracing) cells_tracing += cell_tracing_bytes(t);
   ASSERT_GT(cells_tracing, 0u);
 
   std::vector<std::uint8_t> cell_changed = bytes;

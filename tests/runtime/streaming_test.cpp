@@ -48,9 +48,19 @@ const formats::ProbeVolume& streamed_rooms() {
 
 std::uint64_t tracing_bytes_of_cells(const formats::ProbeVolume& v) {
   std::uint64_t total = 0;
-  for (const formats::CellTracing& t : v.cell_tracing)
-    total += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+  for (const formats::CellTracing& t : v.cell_tracing) total += formats::cell_tracing_bytes(t);
   return total;
+}
+
+// A frame that streamed every cell of `v` but record `refused`, which stream_refusals() names with `reason`.
+void expect_one_refusal(runtime::Volume& volume, const runtime::FrameStats& frame, const formats::ProbeVolume& v, std::size_t refused,
+                        const std::string& reason = "") {
+  EXPECT_EQ(frame.streaming.refused_cells, 1);
+  EXPECT_EQ(frame.streaming.loaded_cells, int(v.cells.size()) - 1);
+  const std::vector<std::string> refusals = volume.stream_refusals();
+  ASSERT_EQ(refusals.size(), 1u);
+  EXPECT_NE(refusals[0].find("cells[" + std::to_string(refused) + "]"), std::string::npos) << refusals[0];
+  EXPECT_NE(refusals[0].find(reason), std::string::npos) << refusals[0];
 }
 
 bool same_irradiance(const gpu::Probe& a, const gpu::Probe& b) {
@@ -415,11 +425,7 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   ASSERT_TRUE(later.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
   auto first = later.value().run_frame();
   ASSERT_TRUE(first.ok()) << first.status().message;
-  EXPECT_EQ(first.value().streaming.refused_cells, 1);
-  EXPECT_EQ(first.value().streaming.loaded_cells, int(v.cells.size()) - 1);
-  const std::vector<std::string> refusals = later.value().stream_refusals();
-  ASSERT_EQ(refusals.size(), 1u);
-  EXPECT_NE(refusals[0].find("cells[" + std::to_string(damaged) + "]"), std::string::npos) << refusals[0];
+  expect_one_refusal(later.value(), first.value(), v, damaged);
   const std::vector<int> resident = later.value().resident_cells();
   EXPECT_EQ(std::count(resident.begin(), resident.end(), v.cells[damaged].cell_index), 0);
   EXPECT_EQ(resident.size(), v.cells.size() - 1);
@@ -454,23 +460,13 @@ TEST_F(StreamingTest, ACellWhoseTracingReachesIntoAnotherIsRefusedWhenItArrives)
 
   const formats::OpenedCellFile opened = formats::CellFile::open(path);
   EXPECT_TRUE(opened.cells_unread);
-  std::uint64_t cells_tracing = 0;
-  for (std::size_t k = 0; k < v.cells.size(); ++k) {
-    const formats::CellTracing& t = v.cell_tracing[k];
-    cells_tracing += t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
-  }
-  EXPECT_EQ(opened.bytes_read, std::filesystem::file_size(path) - cells_tracing); // the global part, once
+  EXPECT_EQ(opened.bytes_read, std::filesystem::file_size(path) - tracing_bytes_of_cells(v)); // the global part, once
   auto streamed = runtime::Volume::load(context(), path, streaming_options(2 * tracing_bytes_of_cells(v)));
   ASSERT_TRUE(streamed.ok()) << streamed.status().message;
   ASSERT_TRUE(streamed.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
   auto frame = streamed.value().run_frame();
   ASSERT_TRUE(frame.ok()) << frame.status().message;
-  EXPECT_EQ(frame.value().streaming.refused_cells, 1);
-  EXPECT_EQ(frame.value().streaming.loaded_cells, int(v.cells.size()) - 1);
-  const std::vector<std::string> refusals = streamed.value().stream_refusals();
-  ASSERT_EQ(refusals.size(), 1u);
-  EXPECT_NE(refusals[0].find("cells[" + std::to_string(a) + "]"), std::string::npos) << refusals[0];
-  EXPECT_NE(refusals[0].find(leak), std::string::npos) << refusals[0];
+  expect_one_refusal(streamed.value(), frame.value(), v, a, leak);
 
   v.cell_checksums = formats::cell_checksums_of(v), v.cell_global_checksums.clear(); // written as 1.6
   formats::write_probes_file(path, v);

@@ -59,6 +59,9 @@ std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth);
 // rebuild_free_lists() afterwards. Throws Error(usage) for a cell_depth outside [0, kMaxCellDepth].
 void arrange_cells(ProbeVolume& volume, int cell_depth);
 
+// Bytes of a cell's three tracing ranges (trace nodes, faces, vertices): what streaming reads per cell.
+inline std::uint64_t cell_tracing_bytes(const CellTracing& t) { return t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size; }
+
 // Bytes of cell k's own ranges (probes, surfel batches, SVO payloads and, with cell_tracing, its trace
 // nodes, faces and vertices): what loading the cell alone reads beyond the global sections.
 std::uint64_t cell_bytes(const ProbeVolume& volume, std::size_t k);

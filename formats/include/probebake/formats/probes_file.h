@@ -40,6 +40,13 @@ ProbeVolume read_probes(std::span<const std::uint8_t> bytes, std::string_view na
 // `trace_sections`: leave_in_bytes decodes every section but trace_nodes, trace_faces and trace_vertices,
 // which stay empty: read them with tracing_in() (a streaming load, CellFile::open).
 enum class TraceSections { decode, leave_in_bytes };
+// The three sections leave_in_bytes leaves: trace nodes, faces and vertices (the cells' tracing of format 1.5).
+inline constexpr SectionType kInPlaceTraceSections[] = {SectionType::trace_nodes, SectionType::trace_faces, SectionType::trace_vertices};
+inline constexpr bool is_in_place_trace_section(std::uint32_t type) {
+  for (SectionType s : kInPlaceTraceSections)
+    if (type == static_cast<std::uint32_t>(s)) return true;
+  return false;
+}
 ProbeVolume decode_probes(const ContainerView& container, std::string_view name_for_errors,
                           TraceSections trace_sections = TraceSections::decode);
 // The container's trace nodes, faces and vertices where they lie in its bytes (which must outlive the view),

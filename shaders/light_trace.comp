@@ -36,9 +36,9 @@ void measure_hit_fraction(int probe) {
   int depth;
   octree_node_cube(probebake_probes[probe].node, cube_min, size, depth);
   precise const vec3 centre = cube_min + vec3(0.5 * size);
-  uint in_cube = 0u, all_hits = 0u, backface = 0u;
+  uint in_cube = 0u, all_hits = 0u, backface = 0u, unresolved = 0u; // the lighting rays decide unresolved
   for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays; r += int(LIGHT_WORKGROUP_SIZE))
-    octree_lattice_ray(cube_min, size, centre, r, in_cube, all_hits, backface);
+    octree_lattice_ray(cube_min, size, centre, r, in_cube, all_hits, backface, unresolved);
   atomicAdd(hits_in_cube, in_cube);
   atomicAdd(hits, all_hits);
   atomicAdd(backface_hits, backface);
@@ -72,11 +72,13 @@ LightRecord trace_hit(vec3 origin, vec3 dir, bool count) {
   return rec;
 }
 
-// Whether list place `place` lies in the retry window [retry_first, retry_first + retry_count) modulo the
-// list's count (streaming: a slot left unresolved by its last trace is traced again there).
-bool in_retry_window(uint place) {
-  const uint count = light_list_header.count;
-  return push.retry_count != 0u && count != 0u && (place + count - push.retry_first % count) % count < push.retry_count;
+// Whether list place `place` (or, with push.retry_by_slot, probe slot `slot`) lies in the retry window
+// [retry_first, retry_first + retry_count) modulo the list's count (or the slots'): streaming, a slot left
+// unresolved by its last trace is traced again there.
+bool in_retry_window(uint place, uint slot) {
+  const uint count = push.retry_by_slot != 0u ? push.probe_capacity : light_list_header.count;
+  const uint i = push.retry_by_slot != 0u ? slot : place;
+  return push.retry_count != 0u && count != 0u && (i + count - push.retry_first % count) % count < push.retry_count;
 }
 
 void main() {
@@ -85,7 +87,7 @@ void main() {
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
   const uint flags = trace_flags[slot]; // the last chunk of a trace resets them only after every chunk read them
-  const bool retry = light_slot_unresolved(slot) && in_retry_window(place); // streaming only: the host's list
+  const bool retry = light_slot_unresolved(slot) && in_retry_window(place, slot); // streaming only
   if (push.trace_all == 0u && (flags & TRACE_FLAG_RETRACE) == 0u && !retry) return; // records still valid
   const int probe = int(slot);
   if (gl_LocalInvocationIndex == 0) {

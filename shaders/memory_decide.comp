@@ -2,9 +2,12 @@
 // drops stale entries, and judges M4 parents on the tree as the frame found it: a parent whose children are
 // all leaves merges them when its own centre, measured now, would not split it (TreeUpdate::collapse_verdict).
 // M2 leaves are marked so that a merging parent leaves their probes to them. Nothing is allocated or freed.
-// One workgroup per entry: the lattice of a merging parent is cast by the whole group.
+// One workgroup per entry: the lattice of a merging parent is cast by the whole group. Streaming: a parent
+// whose lattice crosses a cell that is out does not merge (its measure misses that cell's geometry); it is
+// marked to be judged again when cells arrive (memory_remeasure).
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#define PROBEBAKE_NULL_LEAF memory_frame.null_leaf // streaming: lattice rays that cross a cell that is out
 #define PROBEBAKE_OCTREE_GROUP_MEASURE MEMORY_WORKGROUP_SIZE
 #include "probebake/memory_bindings.glsl"
 #include "probebake/memory_update.glsl"
@@ -30,6 +33,7 @@ void main() {
   const LeafEntry e = entry;
   // M4: merge unless the parent's own centre, measured now, would split it (TreeUpdate::collapse_verdict).
   int verdict = -1;
+  bool unresolved = false;
   if (may_merge(e)) {
     vec3 cube_min;
     float size;
@@ -37,6 +41,7 @@ void main() {
     octree_node_cube(e.node, cube_min, size, depth);
     const vec2 m = octree_measure_group(cube_min, size);
     verdict = leaf_verdict(m.x, m.y, depth, probebake_info, memory_frame.dead_backface_fraction);
+    unresolved = octree_measure_unresolved;
   }
   if (gl_LocalInvocationIndex != 0) return;
   MemoryWork w = MemoryWork(e.node, e.state, MEMORY_ACTION_NONE, 0, -1, 0, 0, 0, 0, 0, 0, 0);
@@ -49,6 +54,9 @@ void main() {
     node_marks[e.node] = MEMORY_MARK_FREEING;
   } else if (e.state == LEAF_M3_SPLIT) {
     w.action = MEMORY_ACTION_SPLIT;
+  } else if (e.state == LEAF_M4_FREE_CLUSTER && unresolved) {
+    node_marks[e.node] = MEMORY_MARK_REMEASURE;
+    atomicAdd(memory_counters.unresolved_measures, 1);
   } else if (e.state == LEAF_M4_FREE_CLUSTER) {
     if (verdict >= 0 && verdict != LEAF_VERDICT_SPLIT) {
       w.action = MEMORY_ACTION_COLLAPSE;

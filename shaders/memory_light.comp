@@ -5,9 +5,12 @@
 // or L2 (parent M4: the change may have made the parent's split unnecessary). L1/L2 leaves over the
 // per-frame limit wait, a touched one as L1. Kept L1 probes are flagged for light_trace's records; every
 // processed L1/L2 probe goes on the light list that trace, gather and resolve walk. One workgroup per
-// entry: invocation 0 decides, the whole group casts an L1 lattice.
+// entry: invocation 0 decides, the whole group casts an L1 lattice. Streaming: a lattice that crosses a cell
+// that is out misses its geometry, so the leaf keeps its shape and its probe (L2) and is marked to be
+// measured again when cells arrive (memory_remeasure).
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#define PROBEBAKE_NULL_LEAF memory_frame.null_leaf // streaming: lattice rays that cross a cell that is out
 #define PROBEBAKE_OCTREE_GROUP_MEASURE MEMORY_WORKGROUP_SIZE
 #include "probebake/memory_bindings.glsl"
 #include "probebake/memory_update.glsl"
@@ -56,6 +59,12 @@ bool transition(int i) {
 
 // Invocation 0: L1 acts on the measure of the leaf in the current pose.
 void act(int node, vec2 m, int depth) {
+  if (octree_measure_unresolved) {
+    queue_push(light_light_out(), node, LEAF_L2_LIGHT);
+    node_marks[node] = MEMORY_MARK_REMEASURE;
+    atomicAdd(memory_counters.unresolved_measures, 1);
+    return;
+  }
   const int probe = ~probebake_octree[node];
   probebake_probes[probe].hit_fraction = m.x;
   probebake_probes[probe].backface_fraction = m.y;

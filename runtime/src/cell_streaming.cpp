@@ -13,11 +13,12 @@
 namespace probebake::runtime::detail {
 
 CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
-                             std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings)
+                             std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings,
+                             bool lists_probes)
     : tracing_(device, volume, tracing, std::move(source), options.budget_bytes,
                options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings, options.read_in_background),
       residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
-      max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes) {
+      max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes), lists_probes_(lists_probes) {
   residency_.set_budget(options.budget_bytes);
   residency_.set_max_load_bytes(options.max_upload_bytes);
   residency_.set_keep_margin(options.keep_margin);
@@ -132,7 +133,7 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     for (const auto& [k, reason] : missed.refused)
       residency_.refuse(k), refusals_.push_back(reason), missed_bytes += residency_.cells()[k].bytes;
     std::vector<formats::CellRange> retrace, reassigned;
-    if (update_lit_cells(changes, retrace, reassigned, stats)) {
+    if (lists_probes_ && update_lit_cells(changes, retrace, reassigned, stats)) {
       std::vector<std::int32_t> slots;
       for (std::size_t k = 0; k < probe_ranges_.size(); ++k)
         for (std::uint32_t i = 0; i < lit_[k]; ++i) slots.push_back(std::int32_t(probe_ranges_[k].first + i));

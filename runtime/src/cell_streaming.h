@@ -1,7 +1,8 @@
 // Cell streaming inside a frame (issue #15; docs/RUNTIME.md "Streaming cells"): the residency policy
 // (probebake_streaming) decides around the host's camera, the streamed tracing arena applies the drops and
 // loads, and the light update is told which probe slots to light (the resident cells') and which to trace
-// afresh (the cells that just arrived).
+// afresh (the cells that just arrived). With the memory update, which writes the light list itself, only
+// the tracing streams and arrivals start the retries of unresolved probes.
 #pragma once
 
 #include <cstdint>
@@ -23,11 +24,15 @@ namespace probebake::runtime::detail {
 class CellStreaming {
 public:
   // `source`: where cells are read when they load (cell_source.h); `tracing`: the volume's trace nodes, faces
-  // and vertices, read during the constructor only.
+  // and vertices, read during the constructor only. `lists_probes`: the host writes the light list (the
+  // resident cells' probes, in record slots it hands out); false with the memory update.
   CellStreaming(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
-                std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings);
-  // Probes that can be lit at once: the light update's record slots.
-  std::uint32_t record_slots() const { return record_slot_count_; }
+                std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings,
+                bool lists_probes = true);
+  // How the light update finds a probe's records (light_update_pass.h).
+  RecordSlots record_slots() const {
+    return lists_probes_ ? RecordSlots{RecordSlots::Kind::handed_out, record_slot_count_} : RecordSlots{RecordSlots::Kind::own_marked, 0};
+  }
 
   StreamedTracing& tracing() { return tracing_; }
   const StreamedTracing& tracing() const { return tracing_; }
@@ -69,6 +74,7 @@ private:
   std::uint32_t record_slot_count_ = 0;
   int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;
+  bool lists_probes_ = true;
   glm::vec3 camera_{0.0f};
   float radius_ = -1.0f; // no camera yet: no cell wanted
   bool moved_ = false;   // camera or budget changed since the last record (a still camera may still have waiting cells)

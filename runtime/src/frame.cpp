@@ -13,8 +13,11 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
 
   // 0a. Streaming: the cells around the host's camera (tracing blocks dropped and copied in, the light list).
   if (passes.streaming && passes.light)
+  {
     frame.streaming = passes.streaming->record(cmd, timer, kPassStreamUpload, timer.ring(), *passes.light,
                                                frame.ran[kPassStreamUpload]);
+    if (passes.memory && frame.streaming.loaded_cells > 0) passes.memory->remeasure_unresolved();
+  }
 
   // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.
   if (inputs.lights && passes.light_inputs && passes.volume) {

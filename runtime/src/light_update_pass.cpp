@@ -34,11 +34,13 @@ bool LightUpdatePass::applies(const GpuVolume& volume) {
 }
 
 LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
-                                 std::uint32_t record_slots)
+                                 RecordSlots records)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
-  indirect_records_ = record_slots > 0;
-  record_capacity_ = indirect_records_ ? std::min(record_slots, probe_capacity_) : probe_capacity_;
+  indirect_records_ = records.kind != RecordSlots::Kind::own;
+  retry_by_slot_ = records.kind == RecordSlots::Kind::own_marked;
+  const bool handed_out = records.kind == RecordSlots::Kind::handed_out;
+  record_capacity_ = handed_out ? std::min(records.count, probe_capacity_) : probe_capacity_;
   create_record_pages(rays);
   next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * 27 * sizeof(float), "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
@@ -52,6 +54,13 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   if (indirect_records_) record_slots_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::int32_t), "record slots");
   tracking_ = tracked_bytes <= device.info.max_storage_buffer_range;
   tracked_punctual_ = create_scratch(device, tracking_ ? tracked_bytes : 16, "tracked punctual");
+  Buffer own_slots; // own_marked: record slot s for probe slot s, none marked unresolved
+  if (retry_by_slot_) {
+    own_slots = device.allocator->create_buffer(record_slots_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload,
+                                                "record slots staging");
+    auto* slots = static_cast<std::int32_t*>(own_slots.mapped());
+    for (std::uint32_t s = 0; s < probe_capacity_; ++s) slots[s] = std::int32_t(s);
+  }
   {
     Submission clear(device);
     vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -61,7 +70,12 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     // the relight walks every live slot, and the same input must give the same output.
     vkCmdFillBuffer(clear.cmd(), tracked_punctual_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), next_irradiance_.get(), 0, VK_WHOLE_SIZE, 0);
-    if (record_slots_) vkCmdFillBuffer(clear.cmd(), record_slots_.get(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu); // -1: none
+    if (own_slots) {
+      const VkBufferCopy region{0, 0, record_slots_.size()};
+      vkCmdCopyBuffer(clear.cmd(), own_slots.get(), record_slots_.get(), 1, &region);
+    } else if (record_slots_) {
+      vkCmdFillBuffer(clear.cmd(), record_slots_.get(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu); // -1: none
+    }
     for (const Buffer& page : record_pages_) vkCmdFillBuffer(clear.cmd(), page.get(), 0, VK_WHOLE_SIZE, 0);
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
@@ -213,7 +227,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
   gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, first, window, probes_per_page_, tracked_light_,
-                      limits.shadow_rays_per_record, frames_recorded_++, indirect_records_ ? 1u : 0u, 0u, null_leaf_, 0u, 0u};
+                      limits.shadow_rays_per_record, frames_recorded_++, indirect_records_ ? 1u : 0u, 0u, null_leaf_, 0u, 0u, 0u};
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
   // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
@@ -232,11 +246,13 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
     if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
     else dispatch_groups(cmd, device_, slot_groups, z);
   };
-  const bool retrying = retry_left_ > 0 && listed_ > 0;
+  const std::uint32_t retry_span = retry_by_slot_ ? probe_capacity_ : listed_; // list places or probe slots
+  const bool retrying = retry_left_ > 0 && retry_span > 0;
   if (retrying) {
-    push.retry_first = retry_cursor_ % listed_;
+    push.retry_first = retry_cursor_ % retry_span;
     push.retry_count = std::min(retry_window_, retry_left_);
-    retry_cursor_ = (push.retry_first + push.retry_count) % listed_;
+    push.retry_by_slot = retry_by_slot_ ? 1u : 0u;
+    retry_cursor_ = (push.retry_first + push.retry_count) % retry_span;
     retry_left_ -= push.retry_count;
   }
   bind_set_and_push(cmd, layout, descriptors_.set, push);
@@ -301,8 +317,9 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
 }
 
 void LightUpdatePass::retry_unresolved(std::uint32_t window) {
-  retry_window_ = window == 0 ? listed_ : window;
-  retry_left_ = listed_; // once over the list as it is now (call after record_host_list)
+  const std::uint32_t span = retry_by_slot_ ? probe_capacity_ : listed_;
+  retry_window_ = window == 0 ? span : window;
+  retry_left_ = span; // once over the list as it is now (call after record_host_list), or over every slot
 }
 
 void LightUpdatePass::record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges,

@@ -30,15 +30,26 @@ struct LightTimerSlots {
   std::uint32_t relight, trace, gather, resolve;
 };
 
+// Where a probe slot's light records are (LIGHT_BINDING_RECORD_SLOTS, bindings.h).
+struct RecordSlots {
+  enum class Kind {
+    own,        // each probe slot has its own records; no record-slot buffer
+    handed_out, // streaming: `count` record slots, handed out by the host (record_record_slots)
+    own_marked, // streaming with the memory update: each probe slot its own, the buffer holding the
+                // RECORD_SLOT_UNRESOLVED marks; retries count probe slots (the GPU writes the light list)
+  };
+  Kind kind = Kind::own;
+  std::uint32_t count = 0; // handed_out
+};
+
 class LightUpdatePass {
 public:
   // The per-ray records are split into up to LIGHT_RECORD_PAGES pages of whole probes, each within
   // maxStorageBufferRange; throws RuntimeError(unsupported) when they need more.
   // `rings`: frames in flight whose statistics are kept apart (PassCounters).
-  // `record_slots` > 0 (streaming): records for that many probes only, handed out by the host
-  // (record_record_slots); 0: every probe slot has its own.
+  // `records`: how a probe slot finds its records (RecordSlots).
   LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
-                  std::uint32_t record_slots = 0);
+                  RecordSlots records = {});
 
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
@@ -72,6 +83,7 @@ public:
   // light_trace retraces the unresolved probes among `window` places of the light list per frame (0 = all),
   // moving on until it has passed the whole list once (again from the start when the list changes under it:
   // places move): a bounded cost per frame, whatever was unresolved. Call after this frame's record_host_list.
+  // With RecordSlots::own_marked the window counts probe slots instead of list places.
   void retry_unresolved(std::uint32_t window);
   // Streaming (walk_light_list() on, no memory update): the host's list of the probe slots to light, and
   // the slot ranges [first, first + count) whose records the next light_trace makes afresh (probes whose
@@ -103,6 +115,7 @@ private:
   std::uint32_t probe_capacity_ = 0;
   std::uint32_t record_capacity_ = 0; // probes whose records the pages hold
   bool indirect_records_ = false;     // records by LIGHT_BINDING_RECORD_SLOTS (streaming)
+  bool retry_by_slot_ = false;        // RecordSlots::own_marked: retry windows over probe slots
   std::uint32_t null_leaf_ = 0;       // streaming's null leaf word (LightPush::null_leaf), 0 = none
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -107,8 +108,9 @@ bool finite_box(const Box& b) {
 bool unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
 
 // The frame's boxes as the shaders take them: beyond MEMORY_MAX_BOXES, the rest are merged into the last.
-gpu::MemoryFrame to_frame(const FrameInputs& in, std::span<const Box> moved_boxes, int batches) {
+gpu::MemoryFrame to_frame(const FrameInputs& in, std::span<const Box> moved_boxes, int batches, std::uint32_t null_leaf) {
   gpu::MemoryFrame f{};
+  f.null_leaf = null_leaf;
   f.max_memory_entries = in.limits.max_memory_entries;
   f.max_light_entries = in.limits.max_light_entries;
   f.dead_backface_fraction = in.dead_backface_fraction;
@@ -274,7 +276,7 @@ void MemoryUpdatePass::begin(VkCommandBuffer cmd, VkPipeline pipeline) const {
 void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs,
                                             std::span<const Box> moved_boxes) {
   Pipelines& p = device_.compute_pipelines();
-  const gpu::MemoryFrame frame = to_frame(inputs, moved_boxes, batches_per_probe_);
+  const gpu::MemoryFrame frame = to_frame(inputs, moved_boxes, batches_per_probe_, null_leaf_);
   const bool thresholds = inputs.max_depth || inputs.split_low || inputs.split_high;
   if (inputs.max_depth) info_.max_depth = *inputs.max_depth;
   if (inputs.split_low) info_.split_low = *inputs.split_low;
@@ -294,6 +296,7 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   dispatch(cmd, p.memory_grant.get(), 1, 1);
   dispatch_indirect(cmd, p.memory_allocate.get(), kPerEntryThreads);
   dispatch_indirect(cmd, p.memory_collapse.get(), kPerEntryThreads);
+  if (std::exchange(remeasure_, false)) dispatch(cmd, p.memory_remeasure.get(), std::uint32_t(info_.octree_elements), group);
   dispatch(cmd, p.memory_svo.get(), std::uint32_t(info_.svo_leaves), group);
   timer.end(cmd, slot);
   // The probe index build and the light update read the tree, probes and SVO (compute, transfer).
@@ -341,6 +344,7 @@ MemoryUpdateStats MemoryUpdatePass::stats(std::uint32_t ring) const {
   s.free_clusters = c.free_clusters;
   s.free_probes = c.free_probes;
   s.free_batches = c.free_batches;
+  s.unresolved_measures = c.unresolved_measures;
   s.cluster_capacity = int(formats::complete_clusters(std::size_t(info_.octree_elements)));
   s.probe_capacity = info_.probe_capacity;
   s.batch_capacity = info_.batch_capacity;

@@ -53,6 +53,11 @@ public:
   // After the submission: this frame's statistics.
   MemoryUpdateStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   const gpu::VolumeInfo& info() const { return info_; }
+  // Streaming: the child word of a cell that is out; a measure whose lattice crosses one decides nothing.
+  void set_null_leaf(std::uint32_t word) { null_leaf_ = word; }
+  // Streaming: cells arrived; the next memory update queues again the leaves and parents whose measures
+  // crossed a cell that was out (memory_remeasure).
+  void remeasure_unresolved() { remeasure_ = true; }
 
 private:
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const;
@@ -66,6 +71,8 @@ private:
   gpu::VolumeInfo info_{}; // as on the GPU (thresholds changed by FrameInputs)
   int batches_per_probe_ = 0;
   std::uint32_t segment_capacity_ = 0;
+  std::uint32_t null_leaf_ = 0; // MemoryFrame::null_leaf
+  bool remeasure_ = false;
   Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,
       svo_generations_, svo_centres_;
   PassCounters<gpu::MemoryCounters> counters_;

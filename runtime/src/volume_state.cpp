@@ -25,15 +25,17 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
   const bool streams = options.streaming.budget_bytes > 0;
-  if (streams && (dynamic_tree || !lit))
-    fail(StatusCode::invalid_argument, dynamic_tree ? "streaming cells and the memory update do not run together yet"
-                                                    : "streaming cells needs the light update and the lighting sections");
+  if (streams && !lit) fail(StatusCode::invalid_argument, "streaming cells needs the light update and the lighting sections");
+  // With the memory update the tree's probes are the GPU's: the memory update lists the probes to light.
+  if (streams && dynamic_tree && (options.streaming.max_lit_probes > 0 || options.streaming.light_reach > 0.0f))
+    fail(StatusCode::invalid_argument, "streaming.max_lit_probes and light_reach need a fixed tree: the memory update "
+                                       "lights every probe of its tree");
   gpu = std::make_unique<GpuVolume>(*device, uploaded, lit ? std::size_t(options.light_headroom) : 0u, streams);
-  if (streams) {
-    if (!cells) cells = cell_source_in_memory(uploaded);
-    streaming = std::make_unique<CellStreaming>(*device, uploaded, tracing ? *tracing : formats::tracing_view(uploaded),
+  if (streams) { // the tracing is the file's whatever the memory update does to the probe tree
+    if (!cells) cells = cell_source_in_memory(volume);
+    streaming = std::make_unique<CellStreaming>(*device, volume, tracing ? *tracing : formats::tracing_view(volume),
                                                 std::move(cells), options.streaming,
-                                                std::uint32_t(options.frames_in_flight));
+                                                std::uint32_t(options.frames_in_flight), !dynamic_tree);
     gpu->set_streamed_tracing(streaming->tracing().trees(), streaming->tracing().arena());
   }
   if (!uploaded.dynamic_objects.empty()) objects = std::make_unique<ObjectPoses>(*device, *gpu, uploaded.dynamic_objects);
@@ -42,7 +44,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   sample = std::make_unique<SamplePass>(*device, *gpu);
   if (options.light_update && LightUpdatePass::applies(*gpu)) {
     light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis, ring_count,
-                                              streaming ? streaming->record_slots() : 0u);
+                                              streaming ? streaming->record_slots() : RecordSlots{});
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {
@@ -50,8 +52,9 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     light->walk_light_list();
   }
   if (streaming && light) {
-    light->walk_light_list(); // the host lists the resident cells' probes
+    light->walk_light_list(); // the host lists the resident cells' probes, or the memory update its leaves'
     light->set_null_leaf(streaming->tracing().null_leaf());
+    if (memory) memory->set_null_leaf(streaming->tracing().null_leaf());
     sample->set_record_slots(light->record_slots());
   }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <set>
 #include <thread>
 #include <vector>
@@ -23,6 +25,7 @@
 #include "probebake/formats/probes_file.h"
 #include "probebake/runtime_types.h"
 #include "probebake/samples/scenes.h"
+#include "memory_reference.h"
 #include "run_cli.h"
 #include "runtime_test_util.h"
 
@@ -583,6 +586,91 @@ TEST_F(StreamingTest, LitProbeCapSizesTheLightRecords) {
   std::printf("[streaming] light records for every one of %zu probe slots: %llu bytes on the device; for 32: %llu\n",
               v.probes.size(), static_cast<unsigned long long>(all), static_cast<unsigned long long>(capped));
   EXPECT_EQ(all - capped, (v.probes.size() - 32) * per_probe);
+}
+
+// Frames that re-measure every leaf in `box` (if any) twice, then run until the memory update has no work left (at
+// most `frames`); returns the measures left unresolved over all of them, or -1 when a frame failed or the
+// tree never settled.
+int settle_streamed(runtime::Volume& volume, std::optional<runtime::Box> box, int frames = 40) {
+  int unresolved = 0;
+  for (int f = 1; f <= frames; ++f) {
+    runtime::FrameInputs in;
+    if (f <= 2 && box) in.changed_boxes = {*box};
+    auto stats = volume.run_frame(in);
+    if (!stats.ok()) return ADD_FAILURE() << stats.status().message, -1;
+    const runtime::MemoryUpdateStats& m = stats.value().memory;
+    unresolved += m.unresolved_measures;
+    const bool busy = m.splits + m.collapses + m.probes_placed + m.probes_freed + m.deferred > 0 ||
+                      m.processed[std::size_t(gpu::LEAF_L1_PLACE_SURFELS)] > 0;
+    if (f > 3 && !busy) return unresolved;
+  }
+  return ADD_FAILURE() << "not settled after " << frames << " frames", -1;
+}
+
+// The memory update with streaming (the tracing streams, the probes stay): every leaf is measured again, around
+// one room. A leaf whose lattice crosses a cell that is out keeps its shape and is measured again each frame
+// (MemoryUpdateStats::unresolved_measures), so the leaves of the cells that are out (with faces) are the
+// file's, whatever the whole file's memory update makes of them. Once every cell is in, the same measures
+// settle the streamed tree exactly where the whole file's settles.
+TEST_F(StreamingTest, TheMemoryUpdateDecidesNothingThroughACellThatIsOutAndSettlesAsTheWholeFileOnceItIsIn) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  runtime::UploadOptions whole_options, streamed_options = streaming_options(2 * tracing_bytes_of_cells(v));
+  whole_options.memory_update = streamed_options.memory_update = true;
+  // Room for the probes that empty leaves gain while their cells are out (below), so that no allocation fails.
+  whole_options.pools.free_probes = streamed_options.pools.free_probes = 4096;
+  auto whole = runtime::Volume::upload(context(), v, whole_options);
+  auto streamed = runtime::Volume::upload(context(), v, streamed_options);
+  ASSERT_TRUE(whole.ok()) << whole.status().message;
+  ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+  ASSERT_TRUE(streamed.value().runs_memory_update());
+  const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
+  ASSERT_TRUE(streamed.value().stream_around(first->position, 6.0f).ok());
+  // The boxes reach past the resident cells: an object moving near the camera, into the cells beyond.
+  const runtime::Box all{first->position - glm::vec3(6.0f), first->position + glm::vec3(6.0f)};
+  const int whole_unresolved = settle_streamed(whole.value(), all);
+  const int out_unresolved = settle_streamed(streamed.value(), all);
+  ASSERT_EQ(whole_unresolved, 0) << "nothing is out without streaming";
+  ASSERT_GT(out_unresolved, 0);
+  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+
+  // The leaves whose centre lies in a cell that is out and has faces: as in the file.
+  std::set<int> resident;
+  for (int c : streamed.value().resident_cells()) resident.insert(c);
+  std::set<int> out_with_faces;
+  for (std::size_t k = 0; k < v.cells.size(); ++k)
+    if (!resident.count(v.cells[k].cell_index) && formats::cell_tracing_bytes(v.cell_tracing[k]) > 0)
+      out_with_faces.insert(v.cells[k].cell_index);
+  std::map<std::string, glm::vec3> centres; // the file's leaves by path
+  formats::for_each_leaf(v, [&](const formats::NodeCube& leaf) {
+    centres.emplace(*path_of(v, leaf.node), leaf.min + glm::vec3(0.5f * leaf.size));
+  });
+  const Canonical file = canonical(v), out = canonical(streamed.value().read_back().value());
+  const Canonical settled = canonical(whole.value().read_back().value());
+  int kept = 0, gained = 0, reshaped_by_whole = 0;
+  for (const auto& [path, leaf] : file.leaves) {
+    if (!out_with_faces.count(formats::cell_of_point(v.info, v.cell_depth, centres.at(path)))) continue;
+    const auto found = out.leaves.find(path);
+    ASSERT_TRUE(found != out.leaves.end()) << "leaf " << path << " of a cell that is out was split or merged";
+    // M1 asks for a probe without a measure (thesis §3.2.1): an empty leaf that a box touches gains one, which
+    // keeps its irradiance, unresolved, until a measure that sees every cell frees it or keeps it.
+    const bool gained_probe = !std::get<0>(leaf) && std::get<0>(found->second);
+    ASSERT_TRUE(found->second == leaf || gained_probe) << "leaf " << path << " of a cell that is out changed";
+    ++kept;
+    gained += gained_probe ? 1 : 0;
+    const auto in_whole = settled.leaves.find(path);
+    reshaped_by_whole += in_whole == settled.leaves.end() || in_whole->second != leaf ? 1 : 0;
+  }
+  EXPECT_GT(kept, 0);
+
+  ASSERT_TRUE(streamed.value().stream_around(first->position, 1e6f).ok());
+  // No box touches anything now: the first frame with every cell in measures again what was left unresolved.
+  ASSERT_EQ(settle_streamed(streamed.value(), std::nullopt), 0) << "every cell is in: every measure resolved";
+  const Canonical in = canonical(streamed.value().read_back().value());
+  EXPECT_EQ(in.leaves, settled.leaves) << first_difference(in, settled);
+  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+  std::printf("[streaming] memory update around one room: %d unresolved measures, %d leaves of %zu cells that are out kept "
+              "as in the file (%d gained a probe, %d reshaped by the whole file's update); %zu leaves once every cell is in, as the "
+              "whole file's\n", out_unresolved, kept, out_with_faces.size(), gained, reshaped_by_whole, in.leaves.size());
 }
 
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {

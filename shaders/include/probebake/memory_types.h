@@ -34,6 +34,9 @@ PB_CONSTANT(int, MEMORY_ACTION_STALE, 8);          // the node no longer fits th
 
 // Per-node marks of the frame (MemoryState-sized int per octree element), cleared by memory_collapse.
 PB_CONSTANT(int, MEMORY_MARK_FREEING, -1); // an M2 leaf freeing its probe this frame; > 0: 1 + LEAF_VERDICT_* of a merging parent
+// Streaming: a leaf (L1) or parent (M4) whose measure crossed a cell that is out, kept as it was until cells
+// arrive (memory_remeasure), across frames; decide overwrites it and collapse clears it like the others.
+PB_CONSTANT(int, MEMORY_MARK_REMEASURE, -2);
 
 struct MemoryPush {
   int phase; // offset 0: memory_begin: 0 = memory update, 1 = light transitions
@@ -56,7 +59,8 @@ struct MemoryFrame {
   int max_light_entries;         // offset  8: L1/L2 leaves with a probe per frame, 0 = all
   float dead_backface_fraction;  // offset 12: leaf_rule.h
   int batches_per_probe;         // offset 16: surfel batches of a new probe (0 without a batch pool)
-  int pad0;                      // offset 20
+  uint null_leaf;                // offset 20: streaming: the child word of a cell that is out, else 0; a
+                                 //   measure whose lattice ray crosses one decides nothing (octree.glsl)
   int pad1;                      // offset 24
   int pad2;                      // offset 28
   MemoryBox boxes[MEMORY_MAX_BOXES]; // offset 32
@@ -114,7 +118,7 @@ struct MemoryCounters {
   int free_clusters;               // offset 76: pool use at the end of the frame (memory_sync)
   int free_probes;                 // offset 80
   int free_batches;                // offset 84
-  int pad0;                        // offset 88
+  int unresolved_measures;         // offset 88: streaming: L1/M4 measures that crossed a cell that is out
   int pad1;                        // offset 92
 };                                 // size 96
 
@@ -122,13 +126,14 @@ struct MemoryCounters {
 static_assert(sizeof(MemoryPush) == 16);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
 static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, boxes) == 32);
-static_assert(offsetof(MemoryFrame, batches_per_probe) == 16);
+static_assert(offsetof(MemoryFrame, batches_per_probe) == 16 && offsetof(MemoryFrame, null_leaf) == 20);
 static_assert(sizeof(MemoryState) == 80 && offsetof(MemoryState, light_segment) == 28);
 static_assert(offsetof(MemoryState, entry_groups) == 32 && offsetof(MemoryState, entry_thread_groups) == 44 && offsetof(MemoryState, light_groups) == 56);
 static_assert(sizeof(MemoryWork) == 48 && offsetof(MemoryWork, merged) == 32);
 static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred) == 36);
 static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);
 static_assert(offsetof(MemoryCounters, free_clusters) == 76 && offsetof(MemoryCounters, free_batches) == 84);
+static_assert(offsetof(MemoryCounters, unresolved_measures) == 88);
 } // namespace probebake::gpu
 #endif
 

@@ -53,10 +53,18 @@ float octree_exit_distance(vec3 cube_min, float size, vec3 inside, vec3 dir) {
   return max(t, 0.0);
 }
 
-// One lattice ray r (0 .. placement_rays) from `centre`: adds to the three counts.
-void octree_lattice_ray(vec3 cube_min, float size, vec3 centre, int r, inout uint in_cube, inout uint hits, inout uint backface) {
+// Streaming: the last measure had a lattice ray cross a cell that is out (a shader defining
+// PROBEBAKE_NULL_LEAF, bvh_trace.glsl): its counts miss that cell's geometry, so it decides nothing.
+bool octree_measure_unresolved = false;
+
+// One lattice ray r (0 .. placement_rays) from `centre`: adds to the three counts, and to `unresolved` when
+// it crossed a cell that is out before its hit (or anywhere, finding none).
+void octree_lattice_ray(vec3 cube_min, float size, vec3 centre, int r, inout uint in_cube, inout uint hits, inout uint backface,
+                        inout uint unresolved) {
   const vec3 dir = probebake_ray_directions[probebake_lighting.rays + r].xyz;
+  probebake_ray_unresolved = false;
   const ProbebakeHit hit = probebake_trace_scene(centre, dir, 0.0, 3.4e38, false);
+  if (probebake_ray_unresolved) unresolved += 1u;
   if (hit.triangle < 0) return;
   hits += 1u;
   if (probebake_hit_inside(hit, probebake_hit_normal(hit), dir)) backface += 1u;
@@ -67,8 +75,10 @@ void octree_lattice_ray(vec3 cube_min, float size, vec3 centre, int r, inout uin
 // back-face fraction (back-face hits / hits), as light_trace measures it with a workgroup.
 vec2 octree_measure(vec3 cube_min, float size) {
   precise const vec3 centre = cube_min + vec3(0.5 * size);
-  uint in_cube = 0u, hits = 0u, backface = 0u;
-  for (int r = 0; r < probebake_lighting.placement_rays; ++r) octree_lattice_ray(cube_min, size, centre, r, in_cube, hits, backface);
+  uint in_cube = 0u, hits = 0u, backface = 0u, unresolved = 0u;
+  for (int r = 0; r < probebake_lighting.placement_rays; ++r)
+    octree_lattice_ray(cube_min, size, centre, r, in_cube, hits, backface, unresolved);
+  octree_measure_unresolved = unresolved > 0u;
   const float f = probebake_lighting.placement_rays > 0 ? float(in_cube) / float(probebake_lighting.placement_rays) : 0.0;
   return vec2(f, hits > 0u ? float(backface) / float(hits) : 0.0);
 }
@@ -78,19 +88,22 @@ vec2 octree_measure(vec3 cube_min, float size) {
 // control flow; every invocation gets the result. Counts are integers, so the result equals octree_measure.
 // Define PROBEBAKE_OCTREE_GROUP_MEASURE as the workgroup size (gl_WorkGroupSize is not known before the
 // shader's layout declaration, which follows the includes).
-shared uint octree_group_counts[3];
+shared uint octree_group_counts[4];
 
 vec2 octree_measure_group(vec3 cube_min, float size) {
-  if (gl_LocalInvocationIndex == 0) octree_group_counts[0] = octree_group_counts[1] = octree_group_counts[2] = 0u;
+  if (gl_LocalInvocationIndex == 0)
+    octree_group_counts[0] = octree_group_counts[1] = octree_group_counts[2] = octree_group_counts[3] = 0u;
   barrier();
   precise const vec3 centre = cube_min + vec3(0.5 * size);
-  uint in_cube = 0u, hits = 0u, backface = 0u;
+  uint in_cube = 0u, hits = 0u, backface = 0u, unresolved = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays; r += int(PROBEBAKE_OCTREE_GROUP_MEASURE))
-    octree_lattice_ray(cube_min, size, centre, r, in_cube, hits, backface);
+    octree_lattice_ray(cube_min, size, centre, r, in_cube, hits, backface, unresolved);
   atomicAdd(octree_group_counts[0], in_cube);
   atomicAdd(octree_group_counts[1], hits);
   atomicAdd(octree_group_counts[2], backface);
+  atomicAdd(octree_group_counts[3], unresolved);
   barrier();
+  octree_measure_unresolved = octree_group_counts[3] > 0u;
   const uint rays = uint(max(probebake_lighting.placement_rays, 0));
   const vec2 m = vec2(rays > 0u ? float(octree_group_counts[0]) / float(rays) : 0.0,
                       octree_group_counts[1] > 0u ? float(octree_group_counts[2]) / float(octree_group_counts[1]) : 0.0);

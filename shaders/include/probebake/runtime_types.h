@@ -151,7 +151,9 @@ struct LightPush {
   uint null_leaf;       // offset 48: streaming: the child word of a cell that is out (StreamedTracing), else 0
   uint retry_first;     // offset 52: streaming: light_trace retraces the RECORD_SLOT_UNRESOLVED probes at light
   uint retry_count;     // offset 56:   list places [retry_first, retry_first + retry_count) modulo its count
-};                      // size 60
+  uint retry_by_slot;   // offset 60: 1 = the retry window counts probe slots modulo probe_capacity instead
+                        //   (the memory update writes the list, whose places the host does not know)
+};                      // size 64
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -232,7 +234,7 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 && offsetof(LightListHeader, trace_x) == 32);
-static_assert(sizeof(LightPush) == 60 && offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(LightPush) == 64 && offsetof(LightPush, retry_by_slot) == 60 && offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES && offsetof(RelightChanges, changes) == 16 &&
               offsetof(RelightChanges, moved_boxes) == 16 + 128 * RELIGHT_MAX_CHANGES &&

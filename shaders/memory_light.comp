@@ -7,7 +7,9 @@
 // processed L1/L2 probe goes on the light list that trace, gather and resolve walk. One workgroup per
 // entry: invocation 0 decides, the whole group casts an L1 lattice. Streaming: a lattice that crosses a cell
 // that is out misses its geometry, so the leaf keeps its shape and its probe (L2) and is marked to be
-// measured again when cells arrive (memory_remeasure).
+// measured again when cells arrive (memory_remeasure). For the same reason a probe-less leaf that a box
+// touches is measured first while cells are out, and asks for a probe (M1) only when its measure sees every
+// cell it reaches; otherwise it stays L3, marked.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #define PROBEBAKE_NULL_LEAF memory_frame.null_leaf // streaming: lattice rays that cross a cell that is out
@@ -41,6 +43,12 @@ bool transition(int i) {
   }
   atomicAdd(memory_counters.processed[e.state], 1);
   if (v == 0) { // L3: only the boxes
+    if (moved && memory_frame.null_leaf != 0u) { // streaming: M1 waits for a measure that sees every cell
+      measure_node = e.node;
+      measure_cube = vec4(cube_min, size);
+      measure_depth = depth;
+      return true;
+    }
     if (moved) {
       queue_push(memory_out, e.node, LEAF_M1_ALLOCATE_PROBE);
       queue_push_parent(memory_out, e.node, LEAF_M0_CHILD_ALLOCATING);
@@ -59,13 +67,19 @@ bool transition(int i) {
 
 // Invocation 0: L1 acts on the measure of the leaf in the current pose.
 void act(int node, vec2 m, int depth) {
+  const int v = probebake_octree[node];
   if (octree_measure_unresolved) {
-    queue_push(light_light_out(), node, LEAF_L2_LIGHT);
+    queue_push(light_light_out(), node, v == 0 ? LEAF_L3_CHECK_BOXES : LEAF_L2_LIGHT);
     node_marks[node] = MEMORY_MARK_REMEASURE;
     atomicAdd(memory_counters.unresolved_measures, 1);
     return;
   }
-  const int probe = ~probebake_octree[node];
+  if (v == 0) { // streaming, a probe-less leaf whose measure resolved: M1 as without streaming
+    queue_push(light_memory_out(), node, LEAF_M1_ALLOCATE_PROBE);
+    queue_push_parent(light_memory_out(), node, LEAF_M0_CHILD_ALLOCATING);
+    return;
+  }
+  const int probe = ~v;
   probebake_probes[probe].hit_fraction = m.x;
   probebake_probes[probe].backface_fraction = m.y;
   const int verdict = leaf_verdict(m.x, m.y, depth, probebake_info, memory_frame.dead_backface_fraction);

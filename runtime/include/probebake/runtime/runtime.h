@@ -176,7 +176,8 @@ struct MemoryPools {
 // device only for the cells around the camera (Volume::stream_around), within a byte budget, and the light
 // update lights only the probes of those cells; the others keep their irradiance (the bake's, or the last
 // one they were lit with). Needs a file whose tracing tree is split by cell (format 1.5: bake with
-// --cell-size or --cell-depth >= 1), the light update, and no memory update.
+// --cell-size or --cell-depth >= 1) and the light update. With the memory update the probe tree stays whole
+// and reshapes itself; measures that cross a cell that is out decide nothing until cells arrive.
 struct StreamingOptions {
   // Device bytes for the resident cells' tracing blocks; 0 = no streaming (the whole tree is uploaded). The
   // top level, the dynamic objects' trees and the per-cell bookkeeping come on top (a few KB).
@@ -193,7 +194,8 @@ struct StreamingOptions {
   float keep_margin = 0.0f;
   // Probes lit at once at most (0 = every probe of the file): the light records (64 B per lighting ray,
   // 16 KiB per probe at 256 rays) are allocated for this many probes, not for the whole world; arrived
-  // probes wait while every record slot is taken (StreamStats::joining_probes).
+  // probes wait while every record slot is taken (StreamStats::joining_probes). Must be 0 with the memory
+  // update, which lights every probe of its tree (so must light_reach below).
   int max_lit_probes = 0;
   // Metres around a cell within which every cell with faces must be resident before the cell's probes are
   // lit (0: as soon as the cell itself is resident). A probe's rays see only resident geometry and pass
@@ -224,8 +226,8 @@ struct UploadOptions {
   // itself to the FrameInputs (docs/RUNTIME.md). Needs octree placement and the lighting sections (L1
   // measures leaves by tracing the static BVH) and light_update; ignored otherwise. The uploaded volume then
   // differs from the file: pools grown to `pools`, and a volume without a leaf queue, or with one smaller
-  // than its octree, gets a fresh queue seeded with every leaf (L2 / L3); streaming cells are dropped (they
-  // list element ranges of a fixed tree; read_back() has none). Off by default until moving
+  // than its octree, gets a fresh queue seeded with every leaf (L2 / L3); the cells' element ranges are
+  // dropped (they describe a fixed tree; read_back() has none), and with streaming only the tracing streams. Off by default until moving
   // geometry exists (issue #12): a static tree without FrameInputs never changes.
   bool memory_update = false;
   MemoryPools pools{};

@@ -97,10 +97,14 @@ void main() {
   }
   barrier();
   const uint chunk = gl_WorkGroupID.z, chunks = gl_NumWorkGroups.z;
-  const bool octree_probe = probebake_probes[probe].node >= 0;
-  if (octree_probe && chunk == 0u) measure_hit_fraction(probe);
   const vec3 origin = probebake_probes[probe].position;
-  const int rays = probebake_lighting.rays;
+  // Streaming: a probe inside a cell that is out would only find every ray unresolved; it traces nothing
+  // and keeps its records and measure (uniform per workgroup: every invocation finds the same).
+  const bool inside_out_cell = push.null_leaf != 0u && probebake_inside_null_leaf(origin);
+  if (inside_out_cell && gl_LocalInvocationIndex == 0) unresolved_records = 1u;
+  const bool octree_probe = probebake_probes[probe].node >= 0 && !inside_out_cell;
+  if (octree_probe && chunk == 0u) measure_hit_fraction(probe);
+  const int rays = inside_out_cell ? 0 : probebake_lighting.rays;
   // `lanes` threads per ray: each traces the ray (the same hit), casts its share of the hit's shadow rays,
   // and the first lane sums the shares in lane order. The pass count is uniform: barriers inside.
   const uint lanes = push.trace_lanes;
@@ -163,5 +167,5 @@ void main() {
     probebake_probes[probe].hit_fraction = float(hits_in_cube) / float(probebake_lighting.placement_rays);
     probebake_probes[probe].backface_fraction = hits > 0u ? float(backface_hits) / float(hits) : 0.0;
   }
-  atomicAdd(light_counters.traced_probes, 1);
+  if (!inside_out_cell) atomicAdd(light_counters.traced_probes, 1);
 }

@@ -229,8 +229,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
   if (options.input.empty()) return usage_error("no input file");
   if (options.stream && (options.stream->budget == 0 || options.stream->path.empty()))
     return usage_error("--budget and --path go together (and --radius, --max-upload need them)");
-  if (options.stream && (options.animate || options.depth_cycle || options.memory_update))
-    return usage_error("--path streams cells without the memory update: no --animate, --depth-cycle or --memory-update");
+  const bool memory_update = !options.no_memory_update && (options.animate || options.depth_cycle || options.memory_update);
+  if (options.stream && memory_update && (options.stream->max_lit > 0 || options.stream->light_reach > 0.0f))
+    return usage_error("--max-lit and --light-reach describe a fixed tree: the memory update (--memory-update, --animate, "
+                       "--depth-cycle) lights every probe of its tree");
   if (options.animate && !frames_given) options.frames = dynamic::default_frames(*options.animate);
   return options;
 }

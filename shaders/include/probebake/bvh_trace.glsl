@@ -192,6 +192,20 @@ void probebake_note_unresolved(float t) {
 #endif
 }
 
+// Streaming: whether `p` lies inside the box of a null leaf (a cell that is out): every ray from it enters
+// that leaf at t = 0, before any hit, so it is unresolved whatever it would hit. A traversal that reaches
+// only the boxes holding `p` (t_max = 0).
+bool probebake_inside_null_leaf(vec3 p) {
+#ifdef PROBEBAKE_NULL_LEAF
+  float t = 0.0;
+  probebake_null_entered = false;
+  probebake_traverse(0, p, vec3(0.0, 1.0, 0.0), 0.0, t, false);
+  return probebake_null_entered;
+#else
+  return false;
+#endif
+}
+
 ProbebakeHit probebake_trace_scene(vec3 origin, vec3 dir, float t_min, float t_max, bool any_hit) {
   ProbebakeHit hit = ProbebakeHit(-1, -1, t_max);
   float t = t_max;

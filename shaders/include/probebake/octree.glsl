@@ -91,6 +91,10 @@ vec2 octree_measure(vec3 cube_min, float size) {
 shared uint octree_group_counts[4];
 
 vec2 octree_measure_group(vec3 cube_min, float size) {
+  // Streaming: a centre inside a cell that is out sends every lattice ray through it (uniform: every
+  // invocation finds the same, so no barrier is skipped by some only).
+  octree_measure_unresolved = probebake_inside_null_leaf(cube_min + vec3(0.5 * size));
+  if (octree_measure_unresolved) return vec2(0.0);
   if (gl_LocalInvocationIndex == 0)
     octree_group_counts[0] = octree_group_counts[1] = octree_group_counts[2] = octree_group_counts[3] = 0u;
   barrier();

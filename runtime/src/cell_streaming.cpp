@@ -8,6 +8,7 @@
 
 #include "error.h"
 #include "probebake/bindings.h"
+#include "probebake/memory_types.h"
 #include "probebake/formats/cells.h"
 
 namespace probebake::runtime::detail {
@@ -20,6 +21,7 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
       residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes), lists_probes_(lists_probes) {
   residency_.set_budget(options.budget_bytes);
+  cell_depth_ = volume.cell_depth;
   residency_.set_max_load_bytes(options.max_upload_bytes);
   residency_.set_keep_margin(options.keep_margin);
   for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
@@ -58,6 +60,19 @@ void CellStreaming::find_cells_within_reach(const formats::ProbeVolume& volume, 
         }
     if (!reach_[k].empty() && probe_ranges_[k].count > 0) reach_cells_.push_back(k);
   }
+}
+
+std::vector<std::uint32_t> CellStreaming::take_tree_changes() {
+  if (!std::exchange(tree_seen_, true)) { // the tree starts whole: the cells that are out drop first
+    std::vector<std::uint32_t> out;
+    for (std::size_t k = 0; k < residency_.cells().size(); ++k)
+      if (!residency_.resident(k)) out.push_back(std::uint32_t(residency_.cells()[k].cell_index));
+    for (std::uint32_t change : tree_changes_)
+      if ((change & gpu::MEMORY_CELL_ARRIVED) != 0) out.push_back(change);
+    tree_changes_.clear();
+    return out;
+  }
+  return std::exchange(tree_changes_, {});
 }
 
 std::vector<int> CellStreaming::resident_cells() const {
@@ -141,6 +156,11 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
       light.record_host_list(cmd, slots, retrace);
     }
     const int loaded = int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
+    if (!lists_probes_) {
+      for (std::size_t k : changes.drops) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index));
+      for (std::size_t k : changes.loads)
+        if (residency_.resident(k)) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index) | gpu::MEMORY_CELL_ARRIVED);
+    }
     if (loaded > 0) light.retry_unresolved(std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
     timer.end(cmd, slot);
     timed = true;

@@ -42,6 +42,11 @@ public:
   std::vector<int> resident_cells() const;
   // Why each refused cell was refused, in the order it happened.
   const std::vector<std::string>& refusals() const { return refusals_; }
+  // Without lists_probes (the memory update): the cells (grid index, gpu::MEMORY_CELL_ARRIVED for an
+  // arrival) that dropped or arrived since the last call, for the probe tree to follow; the first call
+  // lists every cell that is not resident as dropped.
+  std::vector<std::uint32_t> take_tree_changes();
+  int cell_depth() const { return cell_depth_; }
 
   // Records this frame's residency changes (between the timer slot's timestamps when there are any) and
   // the light list; ring `ring`'s staging buffer must be free.
@@ -71,6 +76,9 @@ private:
   std::vector<std::int32_t> record_of_probe_;    // per probe slot: its record slot, -1 when not lit
   std::vector<std::int32_t> free_records_;       // record slots not handed out (taken from the back)
   std::vector<std::string> refusals_;
+  std::vector<std::uint32_t> tree_changes_; // take_tree_changes()
+  bool tree_seen_ = false;                  // take_tree_changes() was called
+  int cell_depth_ = 0;
   std::uint32_t record_slot_count_ = 0;
   int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;

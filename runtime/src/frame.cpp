@@ -16,7 +16,10 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   {
     frame.streaming = passes.streaming->record(cmd, timer, kPassStreamUpload, timer.ring(), *passes.light,
                                                frame.ran[kPassStreamUpload]);
-    if (passes.memory && frame.streaming.loaded_cells > 0) passes.memory->remeasure_unresolved();
+    if (passes.memory) { // the probe tree follows the cells (memory_cells), and measures left undecided are made again
+      passes.memory->change_cells(passes.streaming->take_tree_changes(), passes.streaming->cell_depth());
+      if (frame.streaming.loaded_cells > 0) passes.memory->remeasure_unresolved();
+    }
   }
 
   // 0. The host's punctual lights (FrameInputs::lights): the changed records, before anything reads them.

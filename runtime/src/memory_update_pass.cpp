@@ -276,11 +276,16 @@ void MemoryUpdatePass::begin(VkCommandBuffer cmd, VkPipeline pipeline) const {
 void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs,
                                             std::span<const Box> moved_boxes) {
   Pipelines& p = device_.compute_pipelines();
-  const gpu::MemoryFrame frame = to_frame(inputs, moved_boxes, batches_per_probe_, null_leaf_);
+  gpu::MemoryFrame frame = to_frame(inputs, moved_boxes, batches_per_probe_, null_leaf_);
   const bool thresholds = inputs.max_depth || inputs.split_low || inputs.split_high;
   if (inputs.max_depth) info_.max_depth = *inputs.max_depth;
   if (inputs.split_low) info_.split_low = *inputs.split_low;
   if (inputs.split_high) info_.split_high = *inputs.split_high;
+  const std::size_t cells = std::min(cell_changes_.size(), std::size_t(gpu::MEMORY_MAX_CELL_CHANGES));
+  std::copy_n(cell_changes_.begin(), cells, frame.cells);
+  frame.cell_changes = int(cells);
+  frame.cell_depth = cell_depth_;
+  cell_changes_.erase(cell_changes_.begin(), cell_changes_.begin() + std::ptrdiff_t(cells));
   timer.begin(cmd, slot);
   vkCmdUpdateBuffer(cmd, frame_.get(), 0, sizeof(frame), &frame);
   if (thresholds) vkCmdUpdateBuffer(cmd, volume_.buffer(Section::volume_info).get(), 0, sizeof(info_), &info_);
@@ -296,6 +301,7 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   dispatch(cmd, p.memory_grant.get(), 1, 1);
   dispatch_indirect(cmd, p.memory_allocate.get(), kPerEntryThreads);
   dispatch_indirect(cmd, p.memory_collapse.get(), kPerEntryThreads);
+  if (cells > 0) dispatch(cmd, p.memory_cells.get(), std::uint32_t(cells), group);
   if (std::exchange(remeasure_, false)) dispatch(cmd, p.memory_remeasure.get(), std::uint32_t(info_.octree_elements), group);
   dispatch(cmd, p.memory_svo.get(), std::uint32_t(info_.svo_leaves), group);
   timer.end(cmd, slot);
@@ -326,6 +332,11 @@ void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd, std::uint32_t ri
   counters_.record_end_of_pass_copy(cmd, ring);
 }
 
+void MemoryUpdatePass::change_cells(std::span<const std::uint32_t> changes, int cell_depth) {
+  cell_depth_ = cell_depth;
+  cell_changes_.insert(cell_changes_.end(), changes.begin(), changes.end());
+}
+
 MemoryUpdateStats MemoryUpdatePass::stats(std::uint32_t ring) const {
   const gpu::MemoryCounters c = counters_.read(ring);
   MemoryUpdateStats s;
@@ -345,6 +356,7 @@ MemoryUpdateStats MemoryUpdatePass::stats(std::uint32_t ring) const {
   s.free_probes = c.free_probes;
   s.free_batches = c.free_batches;
   s.unresolved_measures = c.unresolved_measures;
+  s.cells_collapsed = c.cells_collapsed;
   s.cluster_capacity = int(formats::complete_clusters(std::size_t(info_.octree_elements)));
   s.probe_capacity = info_.probe_capacity;
   s.batch_capacity = info_.batch_capacity;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include <vulkan/vulkan_core.h>
 
@@ -58,6 +59,10 @@ public:
   // Streaming: cells arrived; the next memory update queues again the leaves and parents whose measures
   // crossed a cell that was out (memory_remeasure).
   void remeasure_unresolved() { remeasure_ = true; }
+  // Streaming: cells (CellStreaming::take_tree_changes) whose subtrees the next memory updates give back to
+  // the pools (drops) or grow again (arrivals), at most MEMORY_MAX_CELL_CHANGES a frame (memory_cells);
+  // `cell_depth`: the octree depth of the cells.
+  void change_cells(std::span<const std::uint32_t> changes, int cell_depth);
 
 private:
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const;
@@ -73,6 +78,8 @@ private:
   std::uint32_t segment_capacity_ = 0;
   std::uint32_t null_leaf_ = 0; // MemoryFrame::null_leaf
   bool remeasure_ = false;
+  int cell_depth_ = 0;
+  std::vector<std::uint32_t> cell_changes_; // not yet given to a frame, oldest first
   Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,
       svo_generations_, svo_centres_;
   PassCounters<gpu::MemoryCounters> counters_;

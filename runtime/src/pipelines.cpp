@@ -85,6 +85,7 @@ Pipelines::Pipelines(VkDevice device) {
   memory_allocate = make_pipeline(device, memory.layout.get(), "memory_allocate");
   memory_collapse = make_pipeline(device, memory.layout.get(), "memory_collapse");
   memory_remeasure = make_pipeline(device, memory.layout.get(), "memory_remeasure");
+  memory_cells = make_pipeline(device, memory.layout.get(), "memory_cells");
   memory_svo = make_pipeline(device, memory.layout.get(), "memory_svo");
   memory_light = make_pipeline(device, memory.layout.get(), "memory_light");
   memory_sync = make_pipeline(device, memory.layout.get(), "memory_sync");

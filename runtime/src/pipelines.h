@@ -32,7 +32,7 @@ public:
   PassLayout light;
   DeviceObject<VkPipeline> light_trace, light_gather, light_resolve, light_relight, light_mark_stale, light_mark_moved;
   PassLayout memory;
-  DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse, memory_remeasure,
+  DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse, memory_remeasure, memory_cells,
       memory_svo, memory_light, memory_sync;
   PassLayout object;
   DeviceObject<VkPipeline> object_refit;

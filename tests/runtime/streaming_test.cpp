@@ -4,6 +4,7 @@
 // keep the file's irradiance; along a camera path back and forth the resident bytes stay within the budget
 // and the live state (every resident cell's block numbered back to the file's bytes) is valid every frame.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -607,12 +608,36 @@ int settle_streamed(runtime::Volume& volume, std::optional<runtime::Box> box, in
   return ADD_FAILURE() << "not settled after " << frames << " frames", -1;
 }
 
-// The memory update with streaming (the tracing streams, the probes stay): every leaf is measured again, around
-// one room. A leaf whose lattice crosses a cell that is out keeps its shape and is measured again each frame
-// (MemoryUpdateStats::unresolved_measures), so the leaves of the cells that are out (with faces) are the
-// file's, whatever the whole file's memory update makes of them. Once every cell is in, the same measures
-// settle the streamed tree exactly where the whole file's settles.
-TEST_F(StreamingTest, TheMemoryUpdateDecidesNothingThroughACellThatIsOutAndSettlesAsTheWholeFileOnceItIsIn) {
+// The octant path of cell `cell` (grid index at `depth`), as path_of() writes a node's.
+std::string cell_path(int cell, int depth) {
+  const int n = 1 << depth, x = cell % n, y = cell / n % n, z = cell / (n * n);
+  std::string path;
+  for (int level = depth - 1; level >= 0; --level)
+    path += char('0' + (((x >> level) & 1) | (((y >> level) & 1) << 1) | (((z >> level) & 1) << 2)));
+  return path;
+}
+
+// The node at `path` of the volume's tree, or -1 when a leaf ends the path before.
+int node_at(const formats::ProbeVolume& v, const std::string& path) {
+  int node = 0;
+  for (char c : path) {
+    const int meta = v.octree[std::size_t(node)];
+    if (meta <= 0) return -1;
+    node = meta + 1 + (c - '0');
+  }
+  return node;
+}
+
+// Whether a tree's leaf at `leaf` lies strictly below `path`.
+bool below(const std::string& leaf, const std::string& path) { return leaf.size() > path.size() && leaf.compare(0, path.size(), path) == 0; }
+
+// The memory update with streaming: the probe tree follows the cells through the memory update's pools. The
+// first frame gives the subtree of every cell that is out back to the pools, leaving the cell's node a leaf
+// whose probe holds the mean irradiance of the probes it replaced. Measures that cross a cell that is out
+// decide nothing (MemoryUpdateStats::unresolved_measures). When every cell is in, the arrived cells' nodes
+// are measured again and the memory update grows their subtrees from the pools until the tree settles where
+// the whole file's memory update settles; a drop gives them back again.
+TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
   const formats::ProbeVolume& v = streamed_rooms();
   runtime::UploadOptions whole_options, streamed_options = streaming_options(2 * tracing_bytes_of_cells(v));
   whole_options.memory_update = streamed_options.memory_update = true;
@@ -625,49 +650,89 @@ TEST_F(StreamingTest, TheMemoryUpdateDecidesNothingThroughACellThatIsOutAndSettl
   ASSERT_TRUE(streamed.value().runs_memory_update());
   const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
   ASSERT_TRUE(streamed.value().stream_around(first->position, 6.0f).ok());
-  // The boxes reach past the resident cells: an object moving near the camera, into the cells beyond.
-  const runtime::Box all{first->position - glm::vec3(6.0f), first->position + glm::vec3(6.0f)};
-  const int whole_unresolved = settle_streamed(whole.value(), all);
-  const int out_unresolved = settle_streamed(streamed.value(), all);
-  ASSERT_EQ(whole_unresolved, 0) << "nothing is out without streaming";
-  ASSERT_GT(out_unresolved, 0);
-  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
 
-  // The leaves whose centre lies in a cell that is out and has faces: as in the file.
+  // Frame 1: every cell that is out and has a subtree in the file collapses to its node.
+  auto frame = streamed.value().run_frame();
+  ASSERT_TRUE(frame.ok()) << frame.status().message;
   std::set<int> resident;
   for (int c : streamed.value().resident_cells()) resident.insert(c);
-  std::set<int> out_with_faces;
-  for (std::size_t k = 0; k < v.cells.size(); ++k)
-    if (!resident.count(v.cells[k].cell_index) && formats::cell_tracing_bytes(v.cell_tracing[k]) > 0)
-      out_with_faces.insert(v.cells[k].cell_index);
-  std::map<std::string, glm::vec3> centres; // the file's leaves by path
-  formats::for_each_leaf(v, [&](const formats::NodeCube& leaf) {
-    centres.emplace(*path_of(v, leaf.node), leaf.min + glm::vec3(0.5f * leaf.size));
-  });
-  const Canonical file = canonical(v), out = canonical(streamed.value().read_back().value());
-  const Canonical settled = canonical(whole.value().read_back().value());
-  int kept = 0, reshaped_by_whole = 0;
-  for (const auto& [path, leaf] : file.leaves) {
-    if (!out_with_faces.count(formats::cell_of_point(v.info, v.cell_depth, centres.at(path)))) continue;
-    const auto found = out.leaves.find(path);
-    ASSERT_TRUE(found != out.leaves.end()) << "leaf " << path << " of a cell that is out was split or merged";
-    ASSERT_TRUE(found->second == leaf) << "leaf " << path << " of a cell that is out gained or lost its probe";
-    ++kept;
-    const auto in_whole = settled.leaves.find(path);
-    reshaped_by_whole += in_whole == settled.leaves.end() || in_whole->second != leaf ? 1 : 0;
+  const Canonical file = canonical(v);
+  const formats::ProbeVolume collapsed = streamed.value().read_back().value();
+  int cells = 0, freed = 0;
+  for (const formats::Cell& cell : v.cells) {
+    if (resident.count(cell.cell_index)) continue;
+    const std::string path = cell_path(cell.cell_index, v.cell_depth);
+    std::array<double, 27> sum{};
+    int probes = 0;
+    for (const auto& [leaf, value] : file.leaves) {
+      if (!below(leaf, path) || !std::get<0>(value)) continue;
+      const gpu::Probe& p = v.probes[std::size_t(~v.octree[std::size_t(node_at(v, leaf))])];
+      for (int k = 0; k < 27; ++k) sum[std::size_t(k)] += p.irradiance_sh[k];
+      ++probes;
+    }
+    if (probes == 0) continue;
+    const int node = node_at(collapsed, path);
+    ASSERT_GE(node, 0) << "cell " << cell.cell_index;
+    ASSERT_LT(collapsed.octree[std::size_t(node)], 0) << "cell " << cell.cell_index << " is not a leaf with a probe";
+    const gpu::Probe& mean = collapsed.probes[std::size_t(~collapsed.octree[std::size_t(node)])];
+    for (int k = 0; k < 27; ++k)
+      ASSERT_NEAR(mean.irradiance_sh[k], sum[std::size_t(k)] / probes, 1e-5 * (1.0 + std::abs(sum[std::size_t(k)] / probes)))
+          << "cell " << cell.cell_index << " coefficient " << k;
+    ++cells, freed += probes - 1;
   }
-  EXPECT_GT(kept, 0);
-
-  ASSERT_TRUE(streamed.value().stream_around(first->position, 1e6f).ok());
-  // No box touches anything now: the first frame with every cell in measures again what was left unresolved.
-  ASSERT_EQ(settle_streamed(streamed.value(), std::nullopt), 0) << "every cell is in: every measure resolved";
-  Canonical in = canonical(streamed.value().read_back().value());
-  in.pull_origin = settled.pull_origin; // the queue's phase differs by the frames each ran: the trees are compared
-  EXPECT_EQ(in.leaves, settled.leaves) << first_difference(in, settled);
+  ASSERT_GT(cells, 0);
+  EXPECT_EQ(frame.value().memory.cells_collapsed, cells);
+  EXPECT_EQ(frame.value().memory.probes_freed, freed);
   ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
-  std::printf("[streaming] memory update around one room: %d unresolved measures, %d leaves of %zu cells that are out kept "
-              "as in the file (%d of them reshaped by the whole file's update); %zu leaves once every cell is in, as the whole "
-              "file's\n", out_unresolved, kept, out_with_faces.size(), reshaped_by_whole, in.leaves.size());
+  const Canonical out = canonical(collapsed);
+  for (const auto& [leaf, value] : file.leaves) { // the resident cells keep the file's probes
+    const glm::vec3 position(std::get<1>(value), std::get<2>(value), std::get<3>(value));
+    if (std::get<0>(value) && resident.count(formats::cell_of_point(v.info, v.cell_depth, position))) {
+      ASSERT_TRUE(out.leaves.count(leaf) && out.leaves.at(leaf) == value) << "leaf " << leaf << " of a resident cell";
+    }
+  }
+
+  // A box 12 m wide around the camera measured again until the tree settles: nothing decided through a cell
+  // that is out, so the collapsed cells stay single leaves.
+  const runtime::Box box{first->position - glm::vec3(6.0f), first->position + glm::vec3(6.0f)};
+  const int unresolved = settle_streamed(streamed.value(), box);
+  ASSERT_GE(settle_streamed(whole.value(), box), 0);
+  ASSERT_GT(unresolved, 0);
+  const Canonical boxed = canonical(streamed.value().read_back().value());
+  int single = 0;
+  for (const formats::Cell& cell : v.cells) {
+    if (resident.count(cell.cell_index)) continue;
+    const std::string path = cell_path(cell.cell_index, v.cell_depth);
+    for (const auto& [leaf, value] : boxed.leaves) ASSERT_FALSE(below(leaf, path)) << "cell " << cell.cell_index << " grew";
+    single += boxed.leaves.count(path) ? 1 : 0;
+  }
+  EXPECT_GE(single, cells);
+
+  // Every cell in, no box: the arrivals grow the cells back from the pools.
+  ASSERT_TRUE(streamed.value().stream_around(first->position, 1e6f).ok());
+  ASSERT_GE(settle_streamed(streamed.value(), std::nullopt, 60), 0);
+  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+  Canonical in = canonical(streamed.value().read_back().value());
+  const Canonical settled = canonical(whole.value().read_back().value());
+  int differ = 0;
+  for (const auto& [leaf, value] : settled.leaves) differ += in.leaves.count(leaf) && in.leaves.at(leaf) == value ? 0 : 1;
+  std::printf("[streaming] memory update: %d cells collapsed to their node (%d probes back in the pool); %d measures unresolved "
+              "around one room; every cell in: %zu leaves against the whole file's %zu, %d of its leaves differ\n",
+              cells, freed, unresolved, in.leaves.size(), settled.leaves.size(), differ);
+  int grown = 0; // cells that grew a subtree again
+  for (const formats::Cell& cell : v.cells) {
+    const std::string path = cell_path(cell.cell_index, v.cell_depth);
+    grown += !resident.count(cell.cell_index) && std::any_of(in.leaves.begin(), in.leaves.end(),
+                                                             [&](const auto& leaf) { return below(leaf.first, path); });
+  }
+  EXPECT_EQ(grown, cells);
+
+  // Out again: the same cells give their subtrees back.
+  ASSERT_TRUE(streamed.value().stream_around(first->position, 6.0f).ok());
+  auto again = streamed.value().run_frame();
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again.value().memory.cells_collapsed, cells);
+  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
 }
 
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {

@@ -17,6 +17,11 @@ namespace probebake::gpu {
 PB_CONSTANT(uint, MEMORY_WORKGROUP_SIZE, 64u);
 // Changed boxes per frame (FrameInputs::changed_boxes beyond this are merged by the host into their union).
 PB_CONSTANT(int, MEMORY_MAX_BOXES, 64);
+// Streaming cells that drop or arrive per frame (MemoryFrame::cells; more wait for the next frame on the
+// host). An entry is the cell's index in its grid (cells.h: x + n * (y + n * z)), with MEMORY_CELL_ARRIVED
+// set for an arrival.
+PB_CONSTANT(int, MEMORY_MAX_CELL_CHANGES, 1024);
+PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u);
 
 // A queue key: (state_priority << 4) | state, 0 = the node is not in the segment (leaf_rule.h's priority).
 PB_CONSTANT(int, MEMORY_KEY_STATE_MASK, 15);
@@ -61,10 +66,11 @@ struct MemoryFrame {
   int batches_per_probe;         // offset 16: surfel batches of a new probe (0 without a batch pool)
   uint null_leaf;                // offset 20: streaming: the child word of a cell that is out, else 0; a
                                  //   measure whose lattice ray crosses one decides nothing (octree.glsl)
-  int pad1;                      // offset 24
-  int pad2;                      // offset 28
+  int cell_changes;              // offset 24: entries of cells in use (memory_cells)
+  int cell_depth;                // offset 28: the octree depth of the cells (VolumeInfo's octree), 0 = none
   MemoryBox boxes[MEMORY_MAX_BOXES]; // offset 32
-};                               // size 32 + 32 * MEMORY_MAX_BOXES
+  uint cells[MEMORY_MAX_CELL_CHANGES]; // offset 32 + 32 * MEMORY_MAX_BOXES: cells dropped or arrived
+};                               // size 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES
 
 // Device-only state: free-list stack sizes, the frame's pulled counts, and the indirect dispatch sizes that
 // memory_begin derives from them (VkDispatchIndirectCommand, folded into y past LIGHT_LIST_MAX_GROUPS_X).
@@ -119,13 +125,14 @@ struct MemoryCounters {
   int free_probes;                 // offset 80
   int free_batches;                // offset 84
   int unresolved_measures;         // offset 88: streaming: L1/M4 measures that crossed a cell that is out
-  int pad1;                        // offset 92
+  int cells_collapsed;             // offset 92: streaming: dropped cells whose subtree went back to the pools
 };                                 // size 96
 
 #ifdef __cplusplus
 static_assert(sizeof(MemoryPush) == 16);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
-static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, boxes) == 32);
+static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES && offsetof(MemoryFrame, boxes) == 32);
+static_assert(offsetof(MemoryFrame, cells) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, cell_depth) == 28);
 static_assert(offsetof(MemoryFrame, batches_per_probe) == 16 && offsetof(MemoryFrame, null_leaf) == 20);
 static_assert(sizeof(MemoryState) == 80 && offsetof(MemoryState, light_segment) == 28);
 static_assert(offsetof(MemoryState, entry_groups) == 32 && offsetof(MemoryState, entry_thread_groups) == 44 && offsetof(MemoryState, light_groups) == 56);
@@ -133,7 +140,7 @@ static_assert(sizeof(MemoryWork) == 48 && offsetof(MemoryWork, merged) == 32);
 static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred) == 36);
 static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);
 static_assert(offsetof(MemoryCounters, free_clusters) == 76 && offsetof(MemoryCounters, free_batches) == 84);
-static_assert(offsetof(MemoryCounters, unresolved_measures) == 88);
+static_assert(offsetof(MemoryCounters, unresolved_measures) == 88 && offsetof(MemoryCounters, cells_collapsed) == 92);
 } // namespace probebake::gpu
 #endif
 

@@ -352,7 +352,8 @@ struct MemoryUpdateStats {
   int svo_slots_dropped = 0;      // SVO stencil slots whose probe was freed or moved
   int svo_leaves_refilled = 0;    // SVO leaves left empty and given the probe of the octree leaf at their centre
   int unresolved_measures = 0;    // streaming: leaf measures whose lattice crossed a cell that is out; the leaf
-                                  // kept its shape (an L1 leaf is measured again next frame, an M4 parent stays)
+                                  // kept its shape and is measured again when cells arrive
+  int cells_collapsed = 0;        // streaming: dropped cells whose subtree went back to the pools
   int free_clusters = 0, cluster_capacity = 0; // pool use after the frame
   int free_probes = 0, probe_capacity = 0;
   int free_batches = 0, batch_capacity = 0;

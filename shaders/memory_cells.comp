@@ -1,29 +1,35 @@
-// Memory update, streaming cells (one thread per cell change of the frame, after collapse): the probe tree
-// follows the cells' residency through the pools the memory update allocates from.
-//  - A cell that drops gives its subtree back: every probe but one (with its surfel batches) onto the probe
-//    stack, every cluster onto the cluster stack. The cell's node becomes a leaf whose probe holds the mean
-//    irradiance of the probes it replaced: the sampler's answer there until the cell returns, flagged not lit
-//    (the probe lies inside the cell that is out: light_trace leaves it unresolved).
-//  - A cell that arrives has its node measured again (L1; a probe-less leaf asks for a probe, M1): the
-//    memory update then grows the subtree that the cell's geometry asks for, a level a frame, from the pools.
-// A cell whose node is inside a larger leaf (the tree is coarser there) shares that leaf: a drop leaves it,
-// an arrival measures it. Only pushes onto the stacks, as memory_release.
+// Memory update, streaming cells (after collapse): the probe tree follows the cells' residency through the
+// pools the memory update allocates from.
+//  - push.phase 0, one thread per change: a cell that drops gives its subtree back, every probe but one
+//    (with its surfel batches) onto the probe stack, every cluster onto the cluster stack. The cell's node
+//    becomes a leaf whose probe holds the mean irradiance of the probes it replaced: the sampler's answer
+//    there until the cell returns, flagged not lit (the probe lies inside the cell that is out:
+//    light_trace leaves it unresolved). Only pushes onto the stacks.
+//  - push.phase 1, one thread for every arrival in turn (only it pops the stacks): a cell that arrives gets
+//    the file's subtree back under its node (CellSeat: clusters, probes and their surfel batches popped from
+//    the stacks, the probes as the file has them, lit afresh by light_trace). When the pools lack the room,
+//    or the tree is coarser than the cell there, its node is measured again instead (L1; a probe-less leaf
+//    asks for a probe, M1) and the memory update grows what the geometry asks for, a level a frame.
+// A cell whose node is inside a larger leaf shares that leaf: a drop leaves it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/memory_bindings.glsl"
 #include "probebake/memory_update.glsl"
 
 layout(local_size_x = MEMORY_WORKGROUP_SIZE) in;
+layout(push_constant) uniform Push { MemoryPush push; };
 
-// The node of cell `cell` (grid index at memory_frame.cell_depth), or the leaf above it that holds it.
-int cell_node(uint cell) {
+// The node of cell `cell` (grid index at memory_frame.cell_depth), or the leaf above it that holds it;
+// `exact`: the node is the cell's own.
+int cell_node(uint cell, out bool exact) {
   const int depth = memory_frame.cell_depth;
   const uint n = 1u << uint(depth);
   const uint x = cell % n, y = cell / n % n, z = cell / (n * n);
   int node = 0;
+  exact = true;
   for (int level = 0; level < depth; ++level) {
     const int meta = probebake_octree[node];
-    if (meta <= 0) break; // a leaf
+    if (meta <= 0) { exact = false; break; } // a leaf
     const uint bit = uint(depth - 1 - level);
     node = meta + 1 + int(((x >> bit) & 1u) | (((y >> bit) & 1u) << 1) | (((z >> bit) & 1u) << 2));
   }
@@ -68,7 +74,8 @@ int free_subtree(int root, inout float mean[27], inout int count) {
 }
 
 void drop(uint cell) {
-  const int node = cell_node(cell);
+  bool exact;
+  const int node = cell_node(cell, exact);
   if (probebake_octree[node] <= 0) return; // a leaf: nothing below it to give back
   float mean[27];
   for (int k = 0; k < 27; ++k) mean[k] = 0.0;
@@ -91,8 +98,8 @@ void drop(uint cell) {
   queue_push(memory_light_out(), node, LEAF_L2_LIGHT);
 }
 
-void arrive(uint cell) {
-  const int node = cell_node(cell);
+// Without the file's subtree: the node is measured again and the memory update grows it.
+void measure_again(int node) {
   const int v = probebake_octree[node];
   if (v < 0) {
     queue_push(memory_light_out(), node, LEAF_L1_PLACE_SURFELS);
@@ -102,10 +109,90 @@ void arrive(uint cell) {
   }
 }
 
+CellSeat seat_at(uint s) {
+  const int i = 8 * int(s);
+  return CellSeat(uint(seat_data[i]), seat_data[i + 1], seat_data[i + 2], seat_data[i + 3], seat_data[i + 4], seat_data[i + 5], 0, 0);
+}
+
+// Local probe `l` of the seat as the file has it, made the probe of leaf `node` in slot `probe`.
+void seat_file_probe(CellSeat seat, int l, int probe, int node, bool reused, int batch_first) {
+  const int at = seat.first_probe + 36 * l;
+  probebake_probes[probe].position = vec3(intBitsToFloat(seat_data[at]), intBitsToFloat(seat_data[at + 1]), intBitsToFloat(seat_data[at + 2]));
+  probebake_probes[probe].node = node;
+  probebake_probes[probe].depth = seat_data[at + 5];
+  probebake_probes[probe].hit_fraction = intBitsToFloat(seat_data[at + 6]);
+  probebake_probes[probe].backface_fraction = intBitsToFloat(seat_data[at + 7]);
+  for (int k = 0; k < 27; ++k) probebake_probes[probe].irradiance_sh[k] = intBitsToFloat(seat_data[at + 8 + k]);
+  probebake_probes[probe].pad0 = 0.0;
+  if (reused) clear_surfel_chain(probe);
+  else give_surfel_chain(probe, batch_first);
+  atomicAdd(probe_generations[probe], 1u); // a new probe there: the SVO refills from the tree
+  trace_flags[probe] = TRACE_FLAG_RETRACE;
+  probebake_octree[node] = ~probe;
+  queue_push(memory_light_out(), node, LEAF_L2_LIGHT);
+}
+
+// The node of a seat word: a cluster's meta index, ~probe slot, or 0 (the caller has popped the ranges).
+void seat_node(CellSeat seat, int node, int word, int cluster_base, int probe_base, int batch_base, int reused) {
+  if (word > 0) {
+    probebake_octree[node] = cluster_stack[cluster_base + word - 1];
+  } else if (word < 0) {
+    const int l = ~word;
+    const bool reuse = l == 0 && reused >= 0;
+    const int slot = reuse ? reused : probe_stack[probe_base + l - (reused >= 0 ? 1 : 0)];
+    const int batch_first = batch_base + (l - (reused >= 0 ? 1 : 0)) * memory_frame.batches_per_probe;
+    seat_file_probe(seat, l, slot, node, reuse, batch_first);
+  } else {
+    probebake_octree[node] = 0;
+    queue_push(memory_light_out(), node, LEAF_L3_CHECK_BOXES);
+  }
+  node_marks[node] = 0;
+}
+
+void arrive(uint s) {
+  const CellSeat seat = seat_at(s);
+  bool exact;
+  const int node = cell_node(seat.cell, exact);
+  const int v = probebake_octree[node];
+  if (v > 0) return; // its subtree is there (never dropped)
+  const int reused = v < 0 ? ~v : -1;
+  const int new_probes = max(seat.probes - (reused >= 0 ? 1 : 0), 0);
+  const int bpp = memory_frame.batches_per_probe;
+  const bool room = memory_state.cluster_top >= seat.clusters && memory_state.probe_top >= new_probes &&
+                    memory_state.batch_top >= new_probes * bpp;
+  if (!exact || !room) {
+    if (!room) memory_counters.failed_allocations += 1;
+    measure_again(node);
+    return;
+  }
+  if (reused >= 0 && seat.probes == 0) { release_probe(reused); probebake_octree[node] = 0; }
+  memory_state.cluster_top -= seat.clusters;
+  memory_state.probe_top -= new_probes;
+  memory_state.batch_top -= new_probes * bpp;
+  const int cluster_base = memory_state.cluster_top, probe_base = memory_state.probe_top, batch_base = memory_state.batch_top;
+  const int keep = seat.probes > 0 ? reused : -1;
+  seat_node(seat, node, seat.node_word, cluster_base, probe_base, batch_base, keep);
+  for (int c = 0; c < seat.clusters; ++c) {
+    const int at = seat.first_word + 9 * c, parent_slot = seat_data[at];
+    const int meta = cluster_stack[cluster_base + c];
+    const int parent = parent_slot < 0 ? node : cluster_stack[cluster_base + parent_slot / 8] + 1 + parent_slot % 8;
+    probebake_octree[meta] = ~parent;
+    for (int o = 0; o < 8; ++o) seat_node(seat, meta + 1 + o, seat_data[at + 1 + o], cluster_base, probe_base, batch_base, keep);
+  }
+  memory_counters.probes_placed += new_probes;
+}
+
 void main() {
+  if (push.phase == 1) { // one thread: the pops in arrival order
+    if (gl_GlobalInvocationID.x != 0u) return;
+    for (int i = 0; i < memory_frame.cell_changes; ++i) {
+      const uint entry = memory_frame.cells[i];
+      if ((entry & MEMORY_CELL_ARRIVED) != 0u) arrive(entry & ~MEMORY_CELL_ARRIVED);
+    }
+    return;
+  }
   const int i = memory_item(memory_frame.cell_changes);
   if (i < 0) return;
   const uint entry = memory_frame.cells[i];
-  if ((entry & MEMORY_CELL_ARRIVED) != 0u) arrive(entry & ~MEMORY_CELL_ARRIVED);
-  else drop(entry);
+  if ((entry & MEMORY_CELL_ARRIVED) == 0u) drop(entry);
 }

@@ -21,7 +21,6 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
       residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes), lists_probes_(lists_probes) {
   residency_.set_budget(options.budget_bytes);
-  cell_depth_ = volume.cell_depth;
   residency_.set_max_load_bytes(options.max_upload_bytes);
   residency_.set_keep_margin(options.keep_margin);
   for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
@@ -159,7 +158,7 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     if (!lists_probes_) {
       for (std::size_t k : changes.drops) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index));
       for (std::size_t k : changes.loads)
-        if (residency_.resident(k)) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index) | gpu::MEMORY_CELL_ARRIVED);
+        if (residency_.resident(k)) tree_changes_.push_back(std::uint32_t(k) | gpu::MEMORY_CELL_ARRIVED);
     }
     if (loaded > 0) light.retry_unresolved(std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
     timer.end(cmd, slot);

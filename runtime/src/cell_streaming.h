@@ -42,11 +42,10 @@ public:
   std::vector<int> resident_cells() const;
   // Why each refused cell was refused, in the order it happened.
   const std::vector<std::string>& refusals() const { return refusals_; }
-  // Without lists_probes (the memory update): the cells (grid index, gpu::MEMORY_CELL_ARRIVED for an
-  // arrival) that dropped or arrived since the last call, for the probe tree to follow; the first call
+  // Without lists_probes (the memory update): the cells that dropped (grid index) or arrived (their cell
+  // record with gpu::MEMORY_CELL_ARRIVED) since the last call, for the probe tree to follow; the first call
   // lists every cell that is not resident as dropped.
   std::vector<std::uint32_t> take_tree_changes();
-  int cell_depth() const { return cell_depth_; }
 
   // Records this frame's residency changes (between the timer slot's timestamps when there are any) and
   // the light list; ring `ring`'s staging buffer must be free.
@@ -78,7 +77,6 @@ private:
   std::vector<std::string> refusals_;
   std::vector<std::uint32_t> tree_changes_; // take_tree_changes()
   bool tree_seen_ = false;                  // take_tree_changes() was called
-  int cell_depth_ = 0;
   std::uint32_t record_slot_count_ = 0;
   int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;

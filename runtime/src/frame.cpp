@@ -17,7 +17,7 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
     frame.streaming = passes.streaming->record(cmd, timer, kPassStreamUpload, timer.ring(), *passes.light,
                                                frame.ran[kPassStreamUpload]);
     if (passes.memory) { // the probe tree follows the cells (memory_cells), and measures left undecided are made again
-      passes.memory->change_cells(passes.streaming->take_tree_changes(), passes.streaming->cell_depth());
+      passes.memory->change_cells(passes.streaming->take_tree_changes());
       if (frame.streaming.loaded_cells > 0) passes.memory->remeasure_unresolved();
     }
   }

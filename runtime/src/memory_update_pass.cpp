@@ -14,6 +14,7 @@
 
 #include "error.h"
 #include "probebake/dynamic/tree_update.h"
+#include "probebake/formats/cells.h"
 #include "probebake/formats/octree.h"
 #include "probebake/leaf_rule.h"
 
@@ -214,7 +215,7 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   work_ = upload(device, nullptr, capacity * sizeof(gpu::MemoryWork), "memory: work");
   merge_sh_ = upload(device, nullptr, capacity * 27 * sizeof(float), "memory: merge irradiance");
   marks_ = upload(device, nullptr, v.octree.size() * sizeof(int), "memory: node marks");
-  frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame), "memory: frame inputs");
+  frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame) + gpu::MEMORY_SEAT_INTS * sizeof(std::int32_t), "memory: frame inputs");
   probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");
   svo_generations_ = upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
   svo_centres_ = upload(device, svo_leaf_centres(v), "memory: SVO leaf centres");
@@ -281,13 +282,15 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   if (inputs.max_depth) info_.max_depth = *inputs.max_depth;
   if (inputs.split_low) info_.split_low = *inputs.split_low;
   if (inputs.split_high) info_.split_high = *inputs.split_high;
-  const std::size_t cells = std::min(cell_changes_.size(), std::size_t(gpu::MEMORY_MAX_CELL_CHANGES));
-  std::copy_n(cell_changes_.begin(), cells, frame.cells);
-  frame.cell_changes = int(cells);
-  frame.cell_depth = cell_depth_;
-  cell_changes_.erase(cell_changes_.begin(), cell_changes_.begin() + std::ptrdiff_t(cells));
+  std::vector<std::int32_t> seat_data;
+  take_cell_changes(frame, seat_data);
+  const auto cells = std::uint32_t(frame.cell_changes);
   timer.begin(cmd, slot);
   vkCmdUpdateBuffer(cmd, frame_.get(), 0, sizeof(frame), &frame);
+  constexpr std::size_t kChunk = 65536 / sizeof(std::int32_t); // vkCmdUpdateBuffer's limit
+  for (std::size_t i = 0; i < seat_data.size(); i += kChunk)
+    vkCmdUpdateBuffer(cmd, frame_.get(), sizeof(frame) + i * sizeof(std::int32_t),
+                      std::min(kChunk, seat_data.size() - i) * sizeof(std::int32_t), seat_data.data() + i);
   if (thresholds) vkCmdUpdateBuffer(cmd, volume_.buffer(Section::volume_info).get(), 0, sizeof(info_), &info_);
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
@@ -301,7 +304,12 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   dispatch(cmd, p.memory_grant.get(), 1, 1);
   dispatch_indirect(cmd, p.memory_allocate.get(), kPerEntryThreads);
   dispatch_indirect(cmd, p.memory_collapse.get(), kPerEntryThreads);
-  if (cells > 0) dispatch(cmd, p.memory_cells.get(), std::uint32_t(cells), group);
+  if (cells > 0) { // drops in parallel (pushes only), then the arrivals by one thread (the pops)
+    dispatch(cmd, p.memory_cells.get(), cells, group);
+    bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{1, 0, 0, 0});
+    dispatch(cmd, p.memory_cells.get(), 1, group);
+    bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{0, 0, 0, 0});
+  }
   if (std::exchange(remeasure_, false)) dispatch(cmd, p.memory_remeasure.get(), std::uint32_t(info_.octree_elements), group);
   dispatch(cmd, p.memory_svo.get(), std::uint32_t(info_.svo_leaves), group);
   timer.end(cmd, slot);
@@ -332,9 +340,82 @@ void MemoryUpdatePass::record_end_of_frame(VkCommandBuffer cmd, std::uint32_t ri
   counters_.record_end_of_pass_copy(cmd, ring);
 }
 
-void MemoryUpdatePass::change_cells(std::span<const std::uint32_t> changes, int cell_depth) {
-  cell_depth_ = cell_depth;
+void MemoryUpdatePass::change_cells(std::span<const std::uint32_t> changes) {
   cell_changes_.insert(cell_changes_.end(), changes.begin(), changes.end());
+}
+
+void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
+  cell_depth_ = file.cell_depth;
+  seats_.assign(file.cells.size(), {});
+  for (std::size_t k = 0; k < file.cells.size(); ++k) {
+    SeatPayload& out = seats_[k];
+    out.seat.cell = std::uint32_t(file.cells[k].cell_index);
+    const int root = formats::cell_root_node(file, file.cell_depth, file.cells[k].cell_index);
+    if (root < 0) continue; // a leaf above the cell: nothing of its own
+    // Clusters in breadth-first order, so that a cluster's parent is seated before it.
+    std::vector<int> metas; // local cluster -> the file's meta index
+    const auto word_of = [&](int node) {
+      const int v = file.octree[std::size_t(node)];
+      if (v > 0) {
+        metas.push_back(v);
+        return std::int32_t(metas.size());
+      }
+      if (v < 0) {
+        out.probes.push_back(file.probes[std::size_t(~v)]);
+        return ~std::int32_t(out.probes.size() - 1);
+      }
+      return std::int32_t(0);
+    };
+    std::vector<int> parent_slots; // per local cluster
+    out.seat.node_word = word_of(root);
+    if (!metas.empty()) parent_slots.push_back(-1);
+    for (std::size_t c = 0; c < metas.size(); ++c) {
+      out.words.push_back(parent_slots[c]);
+      for (int o = 0; o < 8; ++o) {
+        const std::size_t before = metas.size();
+        out.words.push_back(word_of(metas[c] + 1 + o));
+        if (metas.size() > before) parent_slots.push_back(int(8 * c) + o);
+      }
+    }
+    out.seat.clusters = int(metas.size());
+    out.seat.probes = int(out.probes.size());
+  }
+}
+
+void MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data) {
+  std::vector<gpu::CellSeat> headers;
+  std::vector<std::int32_t> body;
+  std::size_t taken = 0;
+  for (; taken < cell_changes_.size() && taken < std::size_t(gpu::MEMORY_MAX_CELL_CHANGES); ++taken) {
+    std::uint32_t entry = cell_changes_[taken];
+    if ((entry & gpu::MEMORY_CELL_ARRIVED) != 0) {
+      const std::size_t k = entry & ~gpu::MEMORY_CELL_ARRIVED;
+      if (k >= seats_.size()) fail(StatusCode::internal, "memory update: an arrival names no cell record");
+      const SeatPayload& payload = seats_[k];
+      const std::size_t ints = 8 * (headers.size() + 1) + body.size() + payload.words.size() + payload.probes.size() * 36;
+      if (ints > std::size_t(gpu::MEMORY_SEAT_INTS)) {
+        if (headers.empty()) fail(StatusCode::unsupported, "memory update: a cell's subtree exceeds MEMORY_SEAT_INTS");
+        break; // the rest wait for the next frame
+      }
+      gpu::CellSeat seat = payload.seat;
+      seat.first_word = int(body.size());
+      body.insert(body.end(), payload.words.begin(), payload.words.end());
+      seat.first_probe = int(body.size());
+      const auto* probe_ints = reinterpret_cast<const std::int32_t*>(payload.probes.data());
+      body.insert(body.end(), probe_ints, probe_ints + payload.probes.size() * 36);
+      entry = gpu::MEMORY_CELL_ARRIVED | std::uint32_t(headers.size());
+      headers.push_back(seat);
+    }
+    frame.cells[taken] = entry;
+  }
+  frame.cell_changes = int(taken);
+  frame.cell_depth = cell_depth_;
+  cell_changes_.erase(cell_changes_.begin(), cell_changes_.begin() + std::ptrdiff_t(taken));
+  const int offset = int(8 * headers.size()); // the bodies follow the headers
+  for (gpu::CellSeat& seat : headers) seat.first_word += offset, seat.first_probe += offset;
+  seat_data.resize(8 * headers.size());
+  std::memcpy(seat_data.data(), headers.data(), headers.size() * sizeof(gpu::CellSeat));
+  seat_data.insert(seat_data.end(), body.begin(), body.end());
 }
 
 MemoryUpdateStats MemoryUpdatePass::stats(std::uint32_t ring) const {

@@ -59,10 +59,12 @@ public:
   // Streaming: cells arrived; the next memory update queues again the leaves and parents whose measures
   // crossed a cell that was out (memory_remeasure).
   void remeasure_unresolved() { remeasure_ = true; }
-  // Streaming: cells (CellStreaming::take_tree_changes) whose subtrees the next memory updates give back to
-  // the pools (drops) or grow again (arrivals), at most MEMORY_MAX_CELL_CHANGES a frame (memory_cells);
-  // `cell_depth`: the octree depth of the cells.
-  void change_cells(std::span<const std::uint32_t> changes, int cell_depth);
+  // Streaming: the file's subtree of every cell record, which an arriving cell gets back (memory_cells).
+  void set_cell_seats(const formats::ProbeVolume& file);
+  // Streaming: cells (CellStreaming::take_tree_changes: a drop's grid index, or MEMORY_CELL_ARRIVED with
+  // an arrival's cell record) whose subtrees the next memory updates give back to the pools or seat again,
+  // at most MEMORY_MAX_CELL_CHANGES and MEMORY_SEAT_INTS of seats a frame (the rest wait, in order).
+  void change_cells(std::span<const std::uint32_t> changes);
 
 private:
   void dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const;
@@ -78,7 +80,18 @@ private:
   std::uint32_t segment_capacity_ = 0;
   std::uint32_t null_leaf_ = 0; // MemoryFrame::null_leaf
   bool remeasure_ = false;
+  // The file's subtree below a cell's node, as CellSeat describes it (words and probes local to it).
+  struct SeatPayload {
+    gpu::CellSeat seat{};
+    std::vector<std::int32_t> words; // 9 per cluster
+    std::vector<gpu::Probe> probes;
+  };
+  // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
+  // cell_changes_ while they fit.
+  void take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
+
   int cell_depth_ = 0;
+  std::vector<SeatPayload> seats_;          // per cell record
   std::vector<std::uint32_t> cell_changes_; // not yet given to a frame, oldest first
   Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,
       svo_generations_, svo_centres_;

@@ -54,7 +54,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   if (streaming && light) {
     light->walk_light_list(); // the host lists the resident cells' probes, or the memory update its leaves'
     light->set_null_leaf(streaming->tracing().null_leaf());
-    if (memory) memory->set_null_leaf(streaming->tracing().null_leaf());
+    if (memory) memory->set_null_leaf(streaming->tracing().null_leaf()), memory->set_cell_seats(volume);
     sample->set_record_slots(light->record_slots());
   }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);

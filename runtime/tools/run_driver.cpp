@@ -149,9 +149,10 @@ void print_frame(const runtime::FrameStats& f) {
   }
   const runtime::MemoryUpdateStats& m = f.memory;
   if (m.active)
-    std::printf(" | memory: %d splits, %d merges, %d placed, %d freed, %d failed, %d deferred, %d unresolved, free %d/%d probes",
+    std::printf(" | memory: %d splits, %d merges, %d placed, %d freed, %d failed, %d deferred, %d unresolved, %d cells "
+                "collapsed, free %d/%d probes",
                 m.splits, m.collapses, m.probes_placed, m.probes_freed, m.failed_allocations, m.deferred,
-                m.unresolved_measures, m.free_probes, m.probe_capacity);
+                m.unresolved_measures, m.cells_collapsed, m.free_probes, m.probe_capacity);
   std::printf("\n");
 }
 

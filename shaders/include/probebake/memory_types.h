@@ -21,7 +21,10 @@ PB_CONSTANT(int, MEMORY_MAX_BOXES, 64);
 // host). An entry is the cell's index in its grid (cells.h: x + n * (y + n * z)), with MEMORY_CELL_ARRIVED
 // set for an arrival.
 PB_CONSTANT(int, MEMORY_MAX_CELL_CHANGES, 1024);
-PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u);
+PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u); // the rest of an arrival's entry: its CellSeat
+// Ints of seat data behind MemoryFrame in the frame buffer (CellSeat records, their words and probes);
+// arrivals that do not fit wait for the next frame on the host.
+PB_CONSTANT(int, MEMORY_SEAT_INTS, 49152);
 
 // A queue key: (state_priority << 4) | state, 0 = the node is not in the segment (leaf_rule.h's priority).
 PB_CONSTANT(int, MEMORY_KEY_STATE_MASK, 15);
@@ -71,6 +74,21 @@ struct MemoryFrame {
   MemoryBox boxes[MEMORY_MAX_BOXES]; // offset 32
   uint cells[MEMORY_MAX_CELL_CHANGES]; // offset 32 + 32 * MEMORY_MAX_BOXES: cells dropped or arrived
 };                               // size 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES
+
+// Streaming: an arriving cell's subtree as the file has it, in the seat data behind MemoryFrame (ints;
+// memory_cells seats it from the pools). A word is a node's: > 0 an inner node whose cluster is local
+// cluster word - 1, < 0 a leaf with local probe ~word, 0 a leaf without a probe.
+struct CellSeat {
+  uint cell;       // offset  0: grid index (cells.h)
+  int clusters;    // offset  4: clusters below the cell's node
+  int probes;      // offset  8: probes of the subtree
+  int node_word;   // offset 12: the cell's node's word
+  int first_word;  // offset 16: seat-data index of 9 ints per cluster: the parent's slot (8 c + octant of
+                   //   local cluster c, -1 = the cell's node), then its 8 nodes' words
+  int first_probe; // offset 20: seat-data index of the probes (Probe, 36 ints each), local probe order
+  int pad0;        // offset 24
+  int pad1;        // offset 28
+};                 // size 32
 
 // Device-only state: free-list stack sizes, the frame's pulled counts, and the indirect dispatch sizes that
 // memory_begin derives from them (VkDispatchIndirectCommand, folded into y past LIGHT_LIST_MAX_GROUPS_X).
@@ -130,6 +148,7 @@ struct MemoryCounters {
 
 #ifdef __cplusplus
 static_assert(sizeof(MemoryPush) == 16);
+static_assert(sizeof(CellSeat) == 32 && sizeof(MemoryFrame) % 16 == 0 && sizeof(Probe) == 36 * 4);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
 static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES && offsetof(MemoryFrame, boxes) == 32);
 static_assert(offsetof(MemoryFrame, cells) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, cell_depth) == 28);

@@ -176,8 +176,10 @@ struct MemoryPools {
 // device only for the cells around the camera (Volume::stream_around), within a byte budget, and the light
 // update lights only the probes of those cells; the others keep their irradiance (the bake's, or the last
 // one they were lit with). Needs a file whose tracing tree is split by cell (format 1.5: bake with
-// --cell-size or --cell-depth >= 1) and the light update. With the memory update the probe tree stays whole
-// and reshapes itself; measures that cross a cell that is out decide nothing until cells arrive.
+// --cell-size or --cell-depth >= 1) and the light update. With the memory update the probe subtrees of the
+// cells that are out go back to its pools (each cell's node keeps one probe with their mean irradiance) and
+// come back from them as the file has them; measures that cross a cell that is out decide nothing until
+// cells arrive.
 struct StreamingOptions {
   // Device bytes for the resident cells' tracing blocks; 0 = no streaming (the whole tree is uploaded). The
   // top level, the dynamic objects' trees and the per-cell bookkeeping come on top (a few KB).
@@ -227,7 +229,7 @@ struct UploadOptions {
   // measures leaves by tracing the static BVH) and light_update; ignored otherwise. The uploaded volume then
   // differs from the file: pools grown to `pools`, and a volume without a leaf queue, or with one smaller
   // than its octree, gets a fresh queue seeded with every leaf (L2 / L3); the cells' element ranges are
-  // dropped (they describe a fixed tree; read_back() has none), and with streaming only the tracing streams. Off by default until moving
+  // dropped (they describe a fixed tree; read_back() has none). Off by default until moving
   // geometry exists (issue #12): a static tree without FrameInputs never changes.
   bool memory_update = false;
   MemoryPools pools{};

@@ -157,11 +157,12 @@ void arrive(uint s) {
   if (v > 0) return; // its subtree is there (never dropped)
   const int reused = v < 0 ? ~v : -1;
   const int new_probes = max(seat.probes - (reused >= 0 ? 1 : 0), 0);
+  const int clusters = max(seat.clusters, 0);
   const int bpp = memory_frame.batches_per_probe;
-  const bool room = memory_state.cluster_top >= seat.clusters && memory_state.probe_top >= new_probes &&
+  const bool room = memory_state.cluster_top >= clusters && memory_state.probe_top >= new_probes &&
                     memory_state.batch_top >= new_probes * bpp;
-  if (!exact || !room) {
-    if (!room) memory_counters.failed_allocations += 1;
+  if (!exact || !room || seat.clusters < 0) { // clusters < 0: a subtree larger than the seat data
+    if (!room && seat.clusters >= 0) memory_counters.failed_allocations += 1;
     measure_again(node);
     return;
   }

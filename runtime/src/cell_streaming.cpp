@@ -8,8 +8,8 @@
 
 #include "error.h"
 #include "probebake/bindings.h"
-#include "probebake/memory_types.h"
 #include "probebake/formats/cells.h"
+#include "probebake/memory_types.h"
 
 namespace probebake::runtime::detail {
 

@@ -12,8 +12,7 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   barrier(cmd, kAnyCommandBefore, kAnyDeviceAccess);
 
   // 0a. Streaming: the cells around the host's camera (tracing blocks dropped and copied in, the light list).
-  if (passes.streaming && passes.light)
-  {
+  if (passes.streaming && passes.light) {
     frame.streaming = passes.streaming->record(cmd, timer, kPassStreamUpload, timer.ring(), *passes.light,
                                                frame.ran[kPassStreamUpload]);
     if (passes.memory) { // the probe tree follows the cells (memory_cells), and measures left undecided are made again

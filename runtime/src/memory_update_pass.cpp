@@ -185,9 +185,9 @@ Status check_frame_inputs(const FrameInputs& in) {
 }
 
 MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
-                                   VkBuffer light_list, std::uint32_t rings)
+                                   VkBuffer light_list, std::uint32_t rings, bool streams)
     : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
-      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)) {
+      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)), seat_ints_(streams ? gpu::MEMORY_SEAT_INTS : 0) {
   const std::size_t capacity = segment_capacity_;
   std::vector<int> keys(3 * capacity, 0);
   for (int s = 0; s < 3; ++s)
@@ -215,7 +215,7 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   work_ = upload(device, nullptr, capacity * sizeof(gpu::MemoryWork), "memory: work");
   merge_sh_ = upload(device, nullptr, capacity * 27 * sizeof(float), "memory: merge irradiance");
   marks_ = upload(device, nullptr, v.octree.size() * sizeof(int), "memory: node marks");
-  frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame) + gpu::MEMORY_SEAT_INTS * sizeof(std::int32_t), "memory: frame inputs");
+  frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame) + seat_ints_ * sizeof(std::int32_t), "memory: frame inputs");
   probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");
   svo_generations_ = upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
   svo_centres_ = upload(device, svo_leaf_centres(v), "memory: SVO leaf centres");
@@ -392,17 +392,19 @@ void MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::vector<st
       const std::size_t k = entry & ~gpu::MEMORY_CELL_ARRIVED;
       if (k >= seats_.size()) fail(StatusCode::internal, "memory update: an arrival names no cell record");
       const SeatPayload& payload = seats_[k];
-      const std::size_t ints = 8 * (headers.size() + 1) + body.size() + payload.words.size() + payload.probes.size() * 36;
-      if (ints > std::size_t(gpu::MEMORY_SEAT_INTS)) {
-        if (headers.empty()) fail(StatusCode::unsupported, "memory update: a cell's subtree exceeds MEMORY_SEAT_INTS");
-        break; // the rest wait for the next frame
-      }
+      const std::size_t payload_ints = payload.words.size() + payload.probes.size() * 36;
+      const bool fits_alone = 8 + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
+      if (8 * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_) break; // the rest wait
       gpu::CellSeat seat = payload.seat;
+      if (!fits_alone) seat.clusters = -1, seat.probes = 0;
       seat.first_word = int(body.size());
-      body.insert(body.end(), payload.words.begin(), payload.words.end());
       seat.first_probe = int(body.size());
-      const auto* probe_ints = reinterpret_cast<const std::int32_t*>(payload.probes.data());
-      body.insert(body.end(), probe_ints, probe_ints + payload.probes.size() * 36);
+      if (fits_alone) {
+        body.insert(body.end(), payload.words.begin(), payload.words.end());
+        seat.first_probe = int(body.size());
+        const auto* probe_ints = reinterpret_cast<const std::int32_t*>(payload.probes.data());
+        body.insert(body.end(), probe_ints, probe_ints + payload.probes.size() * 36);
+      }
       entry = gpu::MEMORY_CELL_ARRIVED | std::uint32_t(headers.size());
       headers.push_back(seat);
     }

@@ -37,9 +37,10 @@ Status check_frame_inputs(const FrameInputs& inputs);
 class MemoryUpdatePass {
 public:
   // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` and
-  // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list).
+  // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list). `streams`: cells stream
+  // (the frame buffer gets room for the arrivals' seat data).
   MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags,
-                   VkBuffer light_list, std::uint32_t rings);
+                   VkBuffer light_list, std::uint32_t rings, bool streams = false);
 
   // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
   // with the SVO refresh, ending with its writes visible to later compute and transfer work.
@@ -91,6 +92,7 @@ private:
   void take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
 
   int cell_depth_ = 0;
+  std::size_t seat_ints_ = 0;               // room for seat data behind MemoryFrame (streaming)
   std::vector<SeatPayload> seats_;          // per cell record
   std::vector<std::uint32_t> cell_changes_; // not yet given to a frame, oldest first
   Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,

@@ -48,13 +48,17 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {
-    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count);
+    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count,
+                                                streaming != nullptr);
     light->walk_light_list();
   }
   if (streaming && light) {
     light->walk_light_list(); // the host lists the resident cells' probes, or the memory update its leaves'
     light->set_null_leaf(streaming->tracing().null_leaf());
-    if (memory) memory->set_null_leaf(streaming->tracing().null_leaf()), memory->set_cell_seats(volume);
+    if (memory) {
+      memory->set_null_leaf(streaming->tracing().null_leaf());
+      memory->set_cell_seats(volume);
+    }
     sample->set_record_slots(light->record_slots());
   }
   frame_timer = std::make_unique<PassTimer>(*device, kFramePasses, ring_count);

@@ -22,8 +22,9 @@ PB_CONSTANT(int, MEMORY_MAX_BOXES, 64);
 // set for an arrival.
 PB_CONSTANT(int, MEMORY_MAX_CELL_CHANGES, 1024);
 PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u); // the rest of an arrival's entry: its CellSeat
-// Ints of seat data behind MemoryFrame in the frame buffer (CellSeat records, their words and probes);
-// arrivals that do not fit wait for the next frame on the host.
+// Ints of seat data behind MemoryFrame in the frame buffer with streaming (CellSeat records, their words and
+// probes); arrivals that do not fit wait for the next frame on the host, and a cell whose subtree alone
+// exceeds them (about 1,300 probes) grows by measures instead (CellSeat::clusters -1; not tested).
 PB_CONSTANT(int, MEMORY_SEAT_INTS, 49152);
 
 // A queue key: (state_priority << 4) | state, 0 = the node is not in the segment (leaf_rule.h's priority).
@@ -80,7 +81,8 @@ struct MemoryFrame {
 // cluster word - 1, < 0 a leaf with local probe ~word, 0 a leaf without a probe.
 struct CellSeat {
   uint cell;       // offset  0: grid index (cells.h)
-  int clusters;    // offset  4: clusters below the cell's node
+  int clusters;    // offset  4: clusters below the cell's node; -1: too large for the seat data (it grows
+                   //   by measures instead)
   int probes;      // offset  8: probes of the subtree
   int node_word;   // offset 12: the cell's node's word
   int first_word;  // offset 16: seat-data index of 9 ints per cluster: the parent's slot (8 c + octant of

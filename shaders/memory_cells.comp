@@ -5,11 +5,12 @@
 //    becomes a leaf whose probe holds the mean irradiance of the probes it replaced: the sampler's answer
 //    there until the cell returns, flagged not lit (the probe lies inside the cell that is out:
 //    light_trace leaves it unresolved). Only pushes onto the stacks.
-//  - push.phase 1, one thread for every arrival in turn (only it pops the stacks): a cell that arrives gets
-//    the file's subtree back under its node (CellSeat: clusters, probes and their surfel batches popped from
-//    the stacks, the probes as the file has them, lit afresh by light_trace). When the pools lack the room,
-//    or the tree is coarser than the cell there, its node is measured again instead (L1; a probe-less leaf
-//    asks for a probe, M1) and the memory update grows what the geometry asks for, a level a frame.
+//  - push.phase 1, one thread for every arrival in turn (only it pops the stacks), then phase 2, a workgroup
+//    per arrival: a cell that arrives gets the file's subtree back under its node (CellSeat: clusters,
+//    probes and their surfel batches popped from the stacks, the probes as the file has them, lit afresh by
+//    light_trace). When the pools lack the room, or the tree is coarser than the cell there, its node is
+//    measured again instead (L1; a probe-less leaf asks for a probe, M1) and the memory update grows what
+//    the geometry asks for, a level a frame.
 // A cell whose node is inside a larger leaf shares that leaf: a drop leaves it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -149,8 +150,11 @@ void seat_node(CellSeat seat, int node, int word, int cluster_base, int probe_ba
   node_marks[node] = 0;
 }
 
-void arrive(uint s) {
+// Phase 1, one thread, arrivals in order: pops the ranges of each seat (or measures its node again) and
+// leaves them in memory_work[seat] (free after memory_collapse) for phase 2.
+void reserve(uint s) {
   const CellSeat seat = seat_at(s);
+  memory_work[s] = MemoryWork(-1, 0, MEMORY_ACTION_NONE, 0, -1, 0, 0, 0, 0, 0, 0, 0);
   bool exact;
   const int node = cell_node(seat.cell, exact);
   const int v = probebake_octree[node];
@@ -167,20 +171,30 @@ void arrive(uint s) {
     return;
   }
   if (reused >= 0 && seat.probes == 0) { release_probe(reused); probebake_octree[node] = 0; }
-  memory_state.cluster_top -= seat.clusters;
+  memory_state.cluster_top -= clusters;
   memory_state.probe_top -= new_probes;
   memory_state.batch_top -= new_probes * bpp;
-  const int cluster_base = memory_state.cluster_top, probe_base = memory_state.probe_top, batch_base = memory_state.batch_top;
-  const int keep = seat.probes > 0 ? reused : -1;
-  seat_node(seat, node, seat.node_word, cluster_base, probe_base, batch_base, keep);
-  for (int c = 0; c < seat.clusters; ++c) {
-    const int at = seat.first_word + 9 * c, parent_slot = seat_data[at];
-    const int meta = cluster_stack[cluster_base + c];
-    const int parent = parent_slot < 0 ? node : cluster_stack[cluster_base + parent_slot / 8] + 1 + parent_slot % 8;
-    probebake_octree[meta] = ~parent;
-    for (int o = 0; o < 8; ++o) seat_node(seat, meta + 1 + o, seat_data[at + 1 + o], cluster_base, probe_base, batch_base, keep);
+  memory_work[s] = MemoryWork(node, 0, MEMORY_ACTION_SEAT, 0, seat.probes > 0 ? reused : -1, memory_state.cluster_top,
+                              memory_state.probe_top, memory_state.batch_top, new_probes, 0, 0, 0);
+}
+
+// Phase 2, a workgroup per seat: writes the subtree into the ranges phase 1 popped, a cluster per invocation.
+void seat_subtree(uint s) {
+  const MemoryWork w = memory_work[s];
+  if (w.action != MEMORY_ACTION_SEAT) return;
+  const CellSeat seat = seat_at(s);
+  if (gl_LocalInvocationIndex == 0) {
+    seat_node(seat, w.node, seat.node_word, w.cluster_first, w.probe_first, w.batch_first, w.reuse_probe);
+    atomicAdd(memory_counters.probes_placed, w.merged);
   }
-  memory_counters.probes_placed += new_probes;
+  for (int c = int(gl_LocalInvocationIndex); c < seat.clusters; c += int(MEMORY_WORKGROUP_SIZE)) {
+    const int at = seat.first_word + 9 * c, parent_slot = seat_data[at];
+    const int meta = cluster_stack[w.cluster_first + c];
+    const int parent = parent_slot < 0 ? w.node : cluster_stack[w.cluster_first + parent_slot / 8] + 1 + parent_slot % 8;
+    probebake_octree[meta] = ~parent;
+    for (int o = 0; o < 8; ++o)
+      seat_node(seat, meta + 1 + o, seat_data[at + 1 + o], w.cluster_first, w.probe_first, w.batch_first, w.reuse_probe);
+  }
 }
 
 void main() {
@@ -188,8 +202,12 @@ void main() {
     if (gl_GlobalInvocationID.x != 0u) return;
     for (int i = 0; i < memory_frame.cell_changes; ++i) {
       const uint entry = memory_frame.cells[i];
-      if ((entry & MEMORY_CELL_ARRIVED) != 0u) arrive(entry & ~MEMORY_CELL_ARRIVED);
+      if ((entry & MEMORY_CELL_ARRIVED) != 0u) reserve(entry & ~MEMORY_CELL_ARRIVED);
     }
+    return;
+  }
+  if (push.phase == 2) { // uniform per workgroup
+    seat_subtree(probebake_flat_workgroup());
     return;
   }
   const int i = memory_item(memory_frame.cell_changes);

@@ -283,7 +283,7 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   if (inputs.split_low) info_.split_low = *inputs.split_low;
   if (inputs.split_high) info_.split_high = *inputs.split_high;
   std::vector<std::int32_t> seat_data;
-  take_cell_changes(frame, seat_data);
+  const auto seats = std::uint32_t(take_cell_changes(frame, seat_data));
   const auto cells = std::uint32_t(frame.cell_changes);
   timer.begin(cmd, slot);
   vkCmdUpdateBuffer(cmd, frame_.get(), 0, sizeof(frame), &frame);
@@ -304,10 +304,14 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
   dispatch(cmd, p.memory_grant.get(), 1, 1);
   dispatch_indirect(cmd, p.memory_allocate.get(), kPerEntryThreads);
   dispatch_indirect(cmd, p.memory_collapse.get(), kPerEntryThreads);
-  if (cells > 0) { // drops in parallel (pushes only), then the arrivals by one thread (the pops)
+  if (cells > 0) { // drops in parallel (pushes only), the arrivals' pops by one thread, their subtrees in parallel
     dispatch(cmd, p.memory_cells.get(), cells, group);
     bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{1, 0, 0, 0});
     dispatch(cmd, p.memory_cells.get(), 1, group);
+    if (seats > 0) {
+      bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{2, 0, 0, 0});
+      dispatch(cmd, p.memory_cells.get(), seats * group, group); // a workgroup per seat
+    }
     bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{0, 0, 0, 0});
   }
   if (std::exchange(remeasure_, false)) dispatch(cmd, p.memory_remeasure.get(), std::uint32_t(info_.octree_elements), group);
@@ -382,7 +386,7 @@ void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
   }
 }
 
-void MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data) {
+std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data) {
   std::vector<gpu::CellSeat> headers;
   std::vector<std::int32_t> body;
   std::size_t taken = 0;
@@ -394,7 +398,9 @@ void MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::vector<st
       const SeatPayload& payload = seats_[k];
       const std::size_t payload_ints = payload.words.size() + payload.probes.size() * 36;
       const bool fits_alone = 8 + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
-      if (8 * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_) break; // the rest wait
+      if (8 * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_ ||
+          headers.size() >= segment_capacity_) // the seats' work lives in memory_work: one entry each
+        break; // the rest wait
       gpu::CellSeat seat = payload.seat;
       if (!fits_alone) seat.clusters = -1, seat.probes = 0;
       seat.first_word = int(body.size());
@@ -418,6 +424,7 @@ void MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::vector<st
   seat_data.resize(8 * headers.size());
   std::memcpy(seat_data.data(), headers.data(), headers.size() * sizeof(gpu::CellSeat));
   seat_data.insert(seat_data.end(), body.begin(), body.end());
+  return headers.size();
 }
 
 MemoryUpdateStats MemoryUpdatePass::stats(std::uint32_t ring) const {

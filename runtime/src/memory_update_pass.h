@@ -88,8 +88,8 @@ private:
     std::vector<gpu::Probe> probes;
   };
   // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
-  // cell_changes_ while they fit.
-  void take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
+  // cell_changes_ while they fit. Returns the arrivals (seats).
+  std::size_t take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
 
   int cell_depth_ = 0;
   std::size_t seat_ints_ = 0;               // room for seat data behind MemoryFrame (streaming)

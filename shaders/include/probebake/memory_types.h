@@ -40,6 +40,7 @@ PB_CONSTANT(int, MEMORY_ACTION_DEFER, 5);          // M1/M3 over the per-frame l
 PB_CONSTANT(int, MEMORY_ACTION_DRY, 6);            // M1/M3 whose pool ran dry: the node keeps its state
 PB_CONSTANT(int, MEMORY_ACTION_SPLIT_AT_MAX, 7);   // M3 at max depth (a lowered max depth): measured again
 PB_CONSTANT(int, MEMORY_ACTION_STALE, 8);          // the node no longer fits the entry's state
+PB_CONSTANT(int, MEMORY_ACTION_SEAT, 9);           // streaming: memory_cells seats a cell (work indexed by seat)
 
 // Per-node marks of the frame (MemoryState-sized int per octree element), cleared by memory_collapse.
 PB_CONSTANT(int, MEMORY_MARK_FREEING, -1); // an M2 leaf freeing its probe this frame; > 0: 1 + LEAF_VERDICT_* of a merging parent

@@ -402,14 +402,16 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
           headers.size() >= segment_capacity_) // the seats' work lives in memory_work: one entry each
         break; // the rest wait
       gpu::CellSeat seat = payload.seat;
-      if (!fits_alone) seat.clusters = -1, seat.probes = 0;
       seat.first_word = int(body.size());
       seat.first_probe = int(body.size());
       if (fits_alone) {
         body.insert(body.end(), payload.words.begin(), payload.words.end());
         seat.first_probe = int(body.size());
-        const auto* probe_ints = reinterpret_cast<const std::int32_t*>(payload.probes.data());
-        body.insert(body.end(), probe_ints, probe_ints + payload.probes.size() * 36);
+        body.resize(body.size() + payload.probes.size() * 36);
+        std::memcpy(body.data() + seat.first_probe, payload.probes.data(), payload.probes.size() * sizeof(gpu::Probe));
+      } else {
+        seat.clusters = -1;
+        seat.probes = 0;
       }
       entry = gpu::MEMORY_CELL_ARRIVED | std::uint32_t(headers.size());
       headers.push_back(seat);

@@ -28,6 +28,7 @@ layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 shared uint hits_in_cube, hits, backface_hits;
 shared uint front_count, back_count, miss_count;
 shared uint unresolved_records;
+shared bool probe_inside_out_cell;
 shared vec3 lane_emitter[LIGHT_WORKGROUP_SIZE], lane_punctual[LIGHT_WORKGROUP_SIZE], lane_tracked[LIGHT_WORKGROUP_SIZE];
 
 void measure_hit_fraction(int probe) {
@@ -90,18 +91,18 @@ void main() {
   const bool retry = light_slot_unresolved(slot) && in_retry_window(place, slot); // streaming only
   if (push.trace_all == 0u && (flags & TRACE_FLAG_RETRACE) == 0u && !retry) return; // records still valid
   const int probe = int(slot);
+  const vec3 origin = probebake_probes[probe].position;
   if (gl_LocalInvocationIndex == 0) {
     hits_in_cube = 0u; hits = 0u; backface_hits = 0u;
     front_count = 0u; back_count = 0u; miss_count = 0u;
-    unresolved_records = 0u;
+    // Streaming: a probe inside a cell that is out would only find every ray unresolved; it traces nothing
+    // and keeps its records and measure.
+    probe_inside_out_cell = push.null_leaf != 0u && probebake_inside_null_leaf(origin);
+    unresolved_records = probe_inside_out_cell ? 1u : 0u;
   }
   barrier();
   const uint chunk = gl_WorkGroupID.z, chunks = gl_NumWorkGroups.z;
-  const vec3 origin = probebake_probes[probe].position;
-  // Streaming: a probe inside a cell that is out would only find every ray unresolved; it traces nothing
-  // and keeps its records and measure (uniform per workgroup: every invocation finds the same).
-  const bool inside_out_cell = push.null_leaf != 0u && probebake_inside_null_leaf(origin);
-  if (inside_out_cell && gl_LocalInvocationIndex == 0) unresolved_records = 1u;
+  const bool inside_out_cell = probe_inside_out_cell;
   const bool octree_probe = probebake_probes[probe].node >= 0 && !inside_out_cell;
   if (octree_probe && chunk == 0u) measure_hit_fraction(probe);
   const int rays = inside_out_cell ? 0 : probebake_lighting.rays;

@@ -99,17 +99,6 @@ void drop(uint cell) {
   queue_push(memory_light_out(), node, LEAF_L2_LIGHT);
 }
 
-// Without the file's subtree: the node is measured again and the memory update grows it.
-void measure_again(int node) {
-  const int v = probebake_octree[node];
-  if (v < 0) {
-    queue_push(memory_light_out(), node, LEAF_L1_PLACE_SURFELS);
-  } else if (v == 0) {
-    queue_push(memory_memory_out(), node, LEAF_M1_ALLOCATE_PROBE);
-    queue_push_parent(memory_memory_out(), node, LEAF_M0_CHILD_ALLOCATING);
-  }
-}
-
 CellSeat seat_at(uint s) {
   const int i = 8 * int(s);
   return CellSeat(uint(seat_data[i]), seat_data[i + 1], seat_data[i + 2], seat_data[i + 3], seat_data[i + 4], seat_data[i + 5], 0, 0);
@@ -167,7 +156,7 @@ void reserve(uint s) {
                     memory_state.batch_top >= new_probes * bpp;
   if (!exact || !room || seat.clusters < 0) { // clusters < 0: a subtree larger than the seat data
     if (!room && seat.clusters >= 0) memory_counters.failed_allocations += 1;
-    measure_again(node);
+    queue_measure_again(node); // a leaf: the cell's or the coarser one holding it
     return;
   }
   if (reused >= 0 && seat.probes == 0) { release_probe(reused); probebake_octree[node] = 0; }

@@ -14,14 +14,5 @@ void main() {
   const int node = memory_item(probebake_info.octree_elements);
   if (node < 0 || node_marks[node] != MEMORY_MARK_REMEASURE) return;
   node_marks[node] = 0;
-  if (!octree_is_live_node(node)) return; // its cluster was freed since
-  const int v = probebake_octree[node];
-  if (v < 0) {
-    queue_push(memory_light_out(), node, LEAF_L1_PLACE_SURFELS);
-  } else if (v == 0) {
-    queue_push(memory_memory_out(), node, LEAF_M1_ALLOCATE_PROBE);
-    queue_push_parent(memory_memory_out(), node, LEAF_M0_CHILD_ALLOCATING);
-  } else {
-    queue_push(memory_memory_out(), node, LEAF_M4_FREE_CLUSTER);
-  }
+  if (octree_is_live_node(node)) queue_measure_again(node); // else its cluster was freed since
 }

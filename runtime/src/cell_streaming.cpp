@@ -62,14 +62,10 @@ void CellStreaming::find_cells_within_reach(const formats::ProbeVolume& volume, 
 }
 
 std::vector<std::uint32_t> CellStreaming::take_tree_changes() {
-  if (!std::exchange(tree_seen_, true)) { // the tree starts whole: the cells that are out drop first
-    std::vector<std::uint32_t> out;
-    for (std::size_t k = 0; k < residency_.cells().size(); ++k)
-      if (!residency_.resident(k)) out.push_back(std::uint32_t(residency_.cells()[k].cell_index));
-    for (std::uint32_t change : tree_changes_)
-      if ((change & gpu::MEMORY_CELL_ARRIVED) != 0) out.push_back(change);
+  if (!std::exchange(tree_seen_, true)) { // the tree starts whole: the cells that are out drop, those in stay
     tree_changes_.clear();
-    return out;
+    for (std::size_t k = 0; k < residency_.cells().size(); ++k)
+      if (!residency_.resident(k)) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index));
   }
   return std::exchange(tree_changes_, {});
 }

@@ -44,7 +44,7 @@ public:
   const std::vector<std::string>& refusals() const { return refusals_; }
   // Without lists_probes (the memory update): the cells that dropped (grid index) or arrived (their cell
   // record with gpu::MEMORY_CELL_ARRIVED) since the last call, for the probe tree to follow; the first call
-  // lists every cell that is not resident as dropped.
+  // lists every cell that is not resident as dropped (the upload holds the whole tree) and no arrival.
   std::vector<std::uint32_t> take_tree_changes();
 
   // Records this frame's residency changes (between the timer slot's timestamps when there are any) and

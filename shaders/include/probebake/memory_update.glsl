@@ -35,6 +35,21 @@ void queue_push_parent(int segment, int node, int state) {
   if (node != 0) queue_push(segment, octree_parent_of(node), state);
 }
 
+// Streaming (memory_remeasure, memory_cells; after memory_collapse): queues live node `node` to be measured
+// again, as a box touching it would: a leaf with a probe for L1, one without for M1 (its parent M0), a
+// parent for M4.
+void queue_measure_again(int node) {
+  const int v = probebake_octree[node];
+  if (v < 0) {
+    queue_push(memory_light_out(), node, LEAF_L1_PLACE_SURFELS);
+  } else if (v == 0) {
+    queue_push(memory_memory_out(), node, LEAF_M1_ALLOCATE_PROBE);
+    queue_push_parent(memory_memory_out(), node, LEAF_M0_CHILD_ALLOCATING);
+  } else {
+    queue_push(memory_memory_out(), node, LEAF_M4_FREE_CLUSTER);
+  }
+}
+
 // Entry `index` of `segment` as pulled: its node and the state its key holds; the key and entry are cleared.
 LeafEntry queue_take(int segment, int index) {
   const int at = segment * queue_capacity() + index;

@@ -89,15 +89,20 @@ vec2 octree_measure(vec3 cube_min, float size) {
 // Define PROBEBAKE_OCTREE_GROUP_MEASURE as the workgroup size (gl_WorkGroupSize is not known before the
 // shader's layout declaration, which follows the includes).
 shared uint octree_group_counts[4];
+shared bool octree_group_inside_out_cell;
 
 vec2 octree_measure_group(vec3 cube_min, float size) {
-  // Streaming: a centre inside a cell that is out sends every lattice ray through it (uniform: every
-  // invocation finds the same, so no barrier is skipped by some only).
-  octree_measure_unresolved = probebake_inside_null_leaf(cube_min + vec3(0.5 * size));
-  if (octree_measure_unresolved) return vec2(0.0);
-  if (gl_LocalInvocationIndex == 0)
+  if (gl_LocalInvocationIndex == 0) {
     octree_group_counts[0] = octree_group_counts[1] = octree_group_counts[2] = octree_group_counts[3] = 0u;
+    // Streaming: a centre inside a cell that is out sends every lattice ray through it.
+    octree_group_inside_out_cell = probebake_inside_null_leaf(cube_min + vec3(0.5 * size));
+  }
   barrier();
+  octree_measure_unresolved = octree_group_inside_out_cell;
+  if (octree_measure_unresolved) {
+    barrier(); // the flag is read before a later call writes it (uniform: every invocation returns here)
+    return vec2(0.0);
+  }
   precise const vec3 centre = cube_min + vec3(0.5 * size);
   uint in_cube = 0u, hits = 0u, backface = 0u, unresolved = 0u;
   for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.placement_rays; r += int(PROBEBAKE_OCTREE_GROUP_MEASURE))

@@ -21,6 +21,29 @@ std::vector<CellFootprint> cell_footprints(const formats::ProbeVolume& volume) {
   return out;
 }
 
+std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<const std::uint64_t> counts, std::uint64_t budget) {
+  std::uint64_t total = 0;
+  std::vector<std::size_t> paid; // cells that cost bytes, densest first
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    if (counts[k] == 0) continue;
+    if (cells[k].bytes == 0) total += counts[k];
+    else paid.push_back(k);
+  }
+  const auto density = [&](std::size_t k) { return double(counts[k]) / double(cells[k].bytes); };
+  std::sort(paid.begin(), paid.end(), [&](std::size_t a, std::size_t b) { return density(a) > density(b) || (density(a) == density(b) && a < b); });
+  std::uint64_t left = budget;
+  for (std::size_t k : paid) {
+    if (cells[k].bytes <= left) {
+      total += counts[k];
+      left -= cells[k].bytes;
+      continue;
+    }
+    total += std::uint64_t(std::ceil(double(counts[k]) * double(left) / double(cells[k].bytes))); // the fraction that fits
+    break;
+  }
+  return total;
+}
+
 float distance_to_box(glm::vec3 point, glm::vec3 min, glm::vec3 max) {
   const glm::vec3 outside = glm::max(glm::max(min - point, point - max), glm::vec3(0.0f));
   return glm::length(outside);

@@ -202,6 +202,41 @@ TEST(CellResidency, ARefusedCellIsNeverWantedAgainAndGivesItsRoomToTheNext) {
   EXPECT_TRUE(residency.update(glm::vec3(0.5f), 10.0f).loads.empty());
 }
 
+// most_resident: an analytic case, then random sets against every subset within the budget. The fractional
+// knapsack bounds the best whole-cell choice from above, and by less than its largest count.
+TEST(CellResidency, MostResidentBoundsEveryChoiceWithinTheBudget) {
+  const std::vector<CellFootprint> three{{0, {}, {}, 10}, {1, {}, {}, 20}, {2, {}, {}, 30}, {3, {}, {}, 0}};
+  const std::vector<std::uint64_t> counts{5, 30, 9, 7};
+  // Densest first: cell 1 (30 in 20 B), cell 0 (5 in 10 B), then 20 of cell 2's 30 B (6 of 9); cell 3 is free.
+  EXPECT_EQ(streaming::most_resident(three, counts, 50), 30u + 5u + 6u + 7u);
+  EXPECT_EQ(streaming::most_resident(three, counts, 0), 7u);
+  EXPECT_EQ(streaming::most_resident(three, counts, 1000), 51u);
+
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 1 + int(rng() % 12);
+    std::vector<CellFootprint> cells;
+    std::vector<std::uint64_t> c;
+    std::uint64_t largest = 0;
+    for (int k = 0; k < n; ++k) {
+      cells.push_back({k, {}, {}, rng() % 8 == 0 ? 0u : 1u + rng() % 100});
+      c.push_back(rng() % 50);
+      largest = std::max(largest, c.back());
+    }
+    const std::uint64_t budget = rng() % 300;
+    std::uint64_t best = 0;
+    for (std::uint32_t subset = 0; subset < (1u << n); ++subset) {
+      std::uint64_t bytes = 0, count = 0;
+      for (int k = 0; k < n; ++k)
+        if (subset & (1u << k)) bytes += cells[std::size_t(k)].bytes, count += c[std::size_t(k)];
+      if (bytes <= budget) best = std::max(best, count);
+    }
+    const std::uint64_t bound = streaming::most_resident(cells, c, budget);
+    ASSERT_GE(bound, best) << "trial " << trial;
+    ASSERT_LE(bound, best + largest) << "trial " << trial;
+  }
+}
+
 TEST(CameraPath, ParsesRowsAndRefusesHostileText) {
   const auto path = streaming::parse_camera_path("frame,x,y,z\r\n0, 1.5,2,-3\n\n7,0,0,1e3\n", "p.csv");
   ASSERT_EQ(path.size(), 2u);

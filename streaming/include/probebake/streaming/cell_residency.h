@@ -34,6 +34,12 @@ struct CellFootprint {
 // The footprint of every Cell record of a volume, in record order.
 std::vector<CellFootprint> cell_footprints(const formats::ProbeVolume& volume);
 
+// The most of a per-cell quantity (`counts[k]` for cell k: probes, node clusters) that the cells resident at
+// once can hold, whatever the camera does: resident bytes never exceed `budget`, so every cell of zero bytes
+// and, of the others, the fractional knapsack by count per byte (an upper bound of any whole-cell choice),
+// rounded up. Sizes what a GPU pool needs for the resident cells. counts.size() == cells.size().
+std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<const std::uint64_t> counts, std::uint64_t budget);
+
 // Distance from `point` to the box (0 inside).
 float distance_to_box(glm::vec3 point, glm::vec3 min, glm::vec3 max);
 

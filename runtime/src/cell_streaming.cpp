@@ -18,13 +18,14 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
                              bool lists_probes)
     : tracing_(device, volume, tracing, std::move(source), options.budget_bytes,
                options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings, options.read_in_background),
-      residency_(tracing_.footprints(volume.cells)), lit_(volume.cells.size(), 0),
+      residency_(StreamedTracing::footprints(volume)), lit_(volume.cells.size(), 0),
       max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes), lists_probes_(lists_probes) {
   residency_.set_budget(options.budget_bytes);
   residency_.set_max_load_bytes(options.max_upload_bytes);
   residency_.set_keep_margin(options.keep_margin);
   for (const formats::Cell& cell : volume.cells) probe_ranges_.push_back(cell.probes);
-  const std::size_t probes = volume.probes.size();
+  // With the memory update the GPU lists the probes to light: no host list, no host-handed record slots.
+  const std::size_t probes = lists_probes ? volume.probes.size() : 0;
   const std::size_t slots = options.max_lit_probes > 0 ? std::min(probes, std::size_t(options.max_lit_probes)) : probes;
   record_of_probe_.assign(probes, -1);
   if (slots >= std::size_t(gpu::RECORD_SLOT_UNRESOLVED)) fail(StatusCode::unsupported, "streaming: more probes with light records than record slots can number");
@@ -62,11 +63,6 @@ void CellStreaming::find_cells_within_reach(const formats::ProbeVolume& volume, 
 }
 
 std::vector<std::uint32_t> CellStreaming::take_tree_changes() {
-  if (!std::exchange(tree_seen_, true)) { // the tree starts whole: the cells that are out drop, those in stay
-    tree_changes_.clear();
-    for (std::size_t k = 0; k < residency_.cells().size(); ++k)
-      if (!residency_.resident(k)) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index));
-  }
   return std::exchange(tree_changes_, {});
 }
 

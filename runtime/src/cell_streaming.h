@@ -43,8 +43,8 @@ public:
   // Why each refused cell was refused, in the order it happened.
   const std::vector<std::string>& refusals() const { return refusals_; }
   // Without lists_probes (the memory update): the cells that dropped (grid index) or arrived (their cell
-  // record with gpu::MEMORY_CELL_ARRIVED) since the last call, for the probe tree to follow; the first call
-  // lists every cell that is not resident as dropped (the upload holds the whole tree) and no arrival.
+  // record with gpu::MEMORY_CELL_ARRIVED) since the last call, for the probe tree to follow (the upload
+  // holds every cell collapsed: streamed_tree.h).
   std::vector<std::uint32_t> take_tree_changes();
 
   // Records this frame's residency changes (between the timer slot's timestamps when there are any) and
@@ -76,7 +76,6 @@ private:
   std::vector<std::int32_t> free_records_;       // record slots not handed out (taken from the back)
   std::vector<std::string> refusals_;
   std::vector<std::uint32_t> tree_changes_; // take_tree_changes()
-  bool tree_seen_ = false;                  // take_tree_changes() was called
   std::uint32_t record_slot_count_ = 0;
   int max_joining_probes_ = 0;
   std::uint64_t max_budget_ = 0;

@@ -228,10 +228,13 @@ void StreamedTracing::write_block(const CellPart& cell, const formats::CellTraci
   std::memcpy(out + layout.vertices_at, data.vertices.data(), r.trace_vertices.count * kVertexBytes);
 }
 
-std::vector<streaming::CellFootprint> StreamedTracing::footprints(std::span<const formats::Cell> cells) const {
+std::vector<streaming::CellFootprint> StreamedTracing::footprints(const formats::ProbeVolume& volume) {
   std::vector<streaming::CellFootprint> out;
-  for (std::size_t k = 0; k < cells.size(); ++k)
-    out.push_back({cells[k].cell_index, cells[k].bounds_min, cells[k].bounds_max, cells_[k].block_bytes});
+  for (std::size_t k = 0; k < volume.cells.size() && k < volume.cell_tracing.size(); ++k) {
+    const formats::CellTracing& r = volume.cell_tracing[k];
+    const std::uint64_t bytes = r.trace_faces.count > 0 ? Layout(r.trace_nodes.count, r.trace_faces.count, r.trace_vertices.count).bytes : 0;
+    out.push_back({volume.cells[k].cell_index, volume.cells[k].bounds_min, volume.cells[k].bounds_max, bytes});
+  }
   return out;
 }
 

@@ -53,8 +53,8 @@ public:
                   std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background);
 
   // Each Cell record's block size in the arena (0 without faces), in record order: what the residency
-  // policy budgets. `cells`: the volume's Cell records.
-  std::vector<streaming::CellFootprint> footprints(std::span<const formats::Cell> cells) const;
+  // policy budgets. `volume` has its tracing split by cell (as the constructor needs).
+  static std::vector<streaming::CellFootprint> footprints(const formats::ProbeVolume& volume);
   std::uint64_t largest_block() const { return largest_block_; }
   // The child word that stands for a cell that is out: a leaf of the null face (bvh_trace.glsl).
   std::uint32_t null_leaf() const { return null_leaf_; }

@@ -5,14 +5,29 @@
 
 #include "error.h"
 #include "frame.h"
+#include "streamed_tracing.h"
+#include "streamed_tree.h"
 
 namespace probebake::runtime::detail {
+namespace {
+
+// The tree the memory update starts from: the file's, or with streaming its cells collapsed, to arrive
+// through pools sized by the budget (streamed_tree.h).
+formats::ProbeVolume prepare_tree(const formats::ProbeVolume& volume, const UploadOptions& options, bool streams) {
+  if (!streams || volume.cell_tracing.empty()) return prepare_for_memory_update(volume, options.pools);
+  const formats::ProbeVolume collapsed = collapse_cells(volume);
+  const MemoryPools pools = streamed_pools(volume, collapsed, StreamedTracing::footprints(volume), options.streaming.budget_bytes, options.pools);
+  return prepare_for_memory_update(collapsed, pools);
+}
+
+} // namespace
 
 VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume,
                          const UploadOptions& options, std::unique_ptr<CellSource> cells, const formats::TracingView* tracing)
     : device(std::move(shared_device)) {
   const bool dynamic_tree = options.light_update && options.memory_update && memory_update_applies(volume);
-  const formats::ProbeVolume prepared = dynamic_tree ? prepare_for_memory_update(volume, options.pools) : formats::ProbeVolume{};
+  const bool streams = options.streaming.budget_bytes > 0;
+  const formats::ProbeVolume prepared = dynamic_tree ? prepare_tree(volume, options, streams) : formats::ProbeVolume{};
   const formats::ProbeVolume& uploaded = dynamic_tree ? prepared : volume;
   cpu_parts.info = uploaded.info;
   // Streaming cells list element ranges of a fixed tree: a tree that reshapes itself has none.
@@ -24,7 +39,6 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.input_hash = volume.input_hash;
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
-  const bool streams = options.streaming.budget_bytes > 0;
   if (streams && !lit) fail(StatusCode::invalid_argument, "streaming cells needs the light update and the lighting sections");
   // With the memory update the tree's probes are the GPU's: the memory update lists the probes to light.
   if (streams && dynamic_tree && (options.streaming.max_lit_probes > 0 || options.streaming.light_reach > 0.0f))

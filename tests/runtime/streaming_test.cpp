@@ -631,11 +631,32 @@ int node_at(const formats::ProbeVolume& v, const std::string& path) {
 // Whether a tree's leaf at `leaf` lies strictly below `path`.
 bool below(const std::string& leaf, const std::string& path) { return leaf.size() > path.size() && leaf.compare(0, path.size(), path) == 0; }
 
+// Of the cells of `v` that `chosen` picks, how many have the file's subtree in `live` (leaf for leaf, probe
+// for probe); each one that does not is a test failure naming `when`.
+template <class Chosen>
+int cells_with_file_subtrees(const formats::ProbeVolume& live, const formats::ProbeVolume& v, Chosen chosen, const char* when) {
+  const Canonical file = canonical(v), now = canonical(live);
+  int seated = 0;
+  for (const formats::Cell& cell : v.cells) {
+    if (!chosen(cell.cell_index)) continue;
+    const std::string path = cell_path(cell.cell_index, v.cell_depth);
+    std::map<std::string, std::tuple<bool, float, float, float, int>> in_file, in_volume;
+    for (const auto& [leaf, value] : file.leaves)
+      if (below(leaf, path) || leaf == path) in_file.emplace(leaf, value);
+    for (const auto& [leaf, value] : now.leaves)
+      if (below(leaf, path) || leaf == path) in_volume.emplace(leaf, value);
+    EXPECT_EQ(in_volume, in_file) << when << ": cell " << cell.cell_index;
+    seated += in_volume == in_file ? 1 : 0;
+  }
+  return seated;
+}
+
 // The memory update with streaming: the probe tree follows the cells through the memory update's pools. The
-// first frame gives the subtree of every cell that is out back to the pools, leaving the cell's node a leaf
-// whose probe holds the mean irradiance of the probes it replaced. Measures that cross a cell that is out
-// decide nothing (MemoryUpdateStats::unresolved_measures). When every cell is in, each arrived cell gets the
-// file's subtree back from the pools; out and in again, the same.
+// upload holds every cell's subtree collapsed to the cell's node, a leaf whose probe holds the mean irradiance
+// of the probes it replaced; the first frame seats the resident cells' file subtrees from the pools. Measures
+// that cross a cell that is out decide nothing (MemoryUpdateStats::unresolved_measures). When every cell is in,
+// each arrived cell gets the file's subtree from the pools; out (the GPU collapses it as the upload did) and
+// in again, the same.
 TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
   const formats::ProbeVolume& v = streamed_rooms();
   runtime::UploadOptions streamed_options = streaming_options(2 * tracing_bytes_of_cells(v));
@@ -648,7 +669,7 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
   const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
   ASSERT_TRUE(streamed.value().stream_around(first->position, 6.0f).ok());
 
-  // Frame 1: every cell that is out and has a subtree in the file collapses to its node.
+  // Frame 1: every cell that is out and has a subtree in the file is collapsed to its node; those in are seated.
   auto frame = streamed.value().run_frame();
   ASSERT_TRUE(frame.ok()) << frame.status().message;
   std::set<int> resident;
@@ -678,16 +699,11 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
     ++cells, freed += probes - 1;
   }
   ASSERT_GT(cells, 0);
-  EXPECT_EQ(frame.value().memory.cells_collapsed, cells);
-  EXPECT_EQ(frame.value().memory.probes_freed, freed);
+  EXPECT_EQ(frame.value().memory.cells_collapsed, 0); // the upload collapsed them
+  EXPECT_EQ(frame.value().memory.failed_allocations, 0);
   ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
-  const Canonical out = canonical(collapsed);
-  for (const auto& [leaf, value] : file.leaves) { // the resident cells keep the file's probes
-    const glm::vec3 position(std::get<1>(value), std::get<2>(value), std::get<3>(value));
-    if (std::get<0>(value) && resident.count(formats::cell_of_point(v.info, v.cell_depth, position))) {
-      ASSERT_TRUE(out.leaves.count(leaf) && out.leaves.at(leaf) == value) << "leaf " << leaf << " of a resident cell";
-    }
-  }
+  const auto in_cells = [&](int cell) { return resident.count(cell) != 0; };
+  EXPECT_EQ(cells_with_file_subtrees(collapsed, v, in_cells, "first frame"), int(resident.size()));
 
   // A box 12 m wide around the camera measured again until the tree settles: nothing decided through a cell
   // that is out, so the collapsed cells stay single leaves.
@@ -706,31 +722,16 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
 
   // Every cell in: each arrived cell gets the file's subtree back from the pools, leaf for leaf and probe for
   // probe; out and in again, the same.
-  const auto expect_file_subtrees = [&](const char* when) {
-    const Canonical now = canonical(streamed.value().read_back().value());
-    int seated = 0;
-    for (const formats::Cell& cell : v.cells) {
-      if (resident.count(cell.cell_index)) continue;
-      const std::string path = cell_path(cell.cell_index, v.cell_depth);
-      std::map<std::string, std::tuple<bool, float, float, float, int>> in_file, in_volume;
-      for (const auto& [leaf, value] : file.leaves)
-        if (below(leaf, path) || leaf == path) in_file.emplace(leaf, value);
-      for (const auto& [leaf, value] : now.leaves)
-        if (below(leaf, path) || leaf == path) in_volume.emplace(leaf, value);
-      EXPECT_EQ(in_volume, in_file) << when << ": cell " << cell.cell_index;
-      seated += in_volume == in_file ? 1 : 0;
-    }
-    return seated;
-  };
+  const auto out_cells = [&](int cell) { return resident.count(cell) == 0; };
   for (int round = 0; round < 2; ++round) {
     ASSERT_TRUE(streamed.value().stream_around(first->position, 1e6f).ok());
     auto in = streamed.value().run_frame();
     ASSERT_TRUE(in.ok()) << in.status().message;
     EXPECT_EQ(in.value().memory.failed_allocations, 0);
-    const int seated = expect_file_subtrees(round == 0 ? "first return" : "second return");
+    const int seated = cells_with_file_subtrees(streamed.value().read_back().value(), v, out_cells, round == 0 ? "first return" : "second return");
     ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
     if (round == 1) {
-      std::printf("[streaming] memory update: %d cells collapsed to their node (%d probes back in the pool); %d measures "
+      std::printf("[streaming] memory update: %d cells collapsed to their node (%d probes fewer); %d measures "
                   "unresolved around one room; twice out and in, each of the %d cells that were out has the file's subtree\n",
                   cells, freed, unresolved, seated);
       break;
@@ -739,8 +740,66 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
     auto out_again = streamed.value().run_frame();
     ASSERT_TRUE(out_again.ok());
     EXPECT_EQ(out_again.value().memory.cells_collapsed, cells);
+    EXPECT_EQ(out_again.value().memory.probes_freed, freed);
     ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
   }
+}
+
+// The memory update with streaming sizes its pools by the budget: the upload holds every cell collapsed and
+// room for what the budget lets be resident at once (streaming::most_resident), fewer probe slots, and so
+// fewer light records, than the whole file's memory update. Stepping from cell to cell, every arrival is
+// seated from those pools (no failed allocation, the file's subtree leaf for leaf) and the live state is valid.
+TEST_F(StreamingTest, ABudgetSizesTheMemoryUpdatesPoolsAndEveryArrivalSeatsFromThem) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  std::uint64_t largest = 0;
+  for (const formats::CellTracing& t : v.cell_tracing) largest = std::max(largest, formats::cell_tracing_bytes(t));
+  runtime::UploadOptions streamed_options = streaming_options(2 * largest + 4096); // two cells or so at a time
+  streamed_options.memory_update = true;
+  runtime::UploadOptions whole_options;
+  whole_options.memory_update = true;
+  const auto upload = [&](const runtime::UploadOptions& options, std::uint64_t& bytes) {
+    const std::uint64_t before = context().memory_stats().live_bytes;
+    auto volume = runtime::Volume::upload(context(), v, options);
+    EXPECT_TRUE(volume.ok()) << volume.status().message;
+    bytes = context().memory_stats().live_bytes - before;
+    return volume;
+  };
+  std::uint64_t whole_bytes = 0, streamed_bytes = 0;
+  int whole_capacity = 0;
+  {
+    auto whole = upload(whole_options, whole_bytes);
+    ASSERT_TRUE(whole.ok());
+    auto frame = whole.value().run_frame();
+    ASSERT_TRUE(frame.ok()) << frame.status().message;
+    whole_capacity = frame.value().probe_capacity;
+  }
+  auto streamed = upload(streamed_options, streamed_bytes);
+  ASSERT_TRUE(streamed.ok());
+  int steps = 0, capacity = 0, most_live = 0;
+  for (const formats::Cell& cell : v.cells) {
+    if (cell.probes.count == 0) continue;
+    const glm::vec3 centre = 0.5f * (cell.bounds_min + cell.bounds_max);
+    ASSERT_TRUE(streamed.value().stream_around(centre, 0.5f).ok());
+    auto frame = streamed.value().run_frame();
+    ASSERT_TRUE(frame.ok()) << frame.status().message;
+    ASSERT_EQ(frame.value().memory.failed_allocations, 0) << "cell " << cell.cell_index;
+    std::set<int> resident;
+    for (int c : streamed.value().resident_cells()) resident.insert(c);
+    ASSERT_TRUE(resident.count(cell.cell_index)) << "cell " << cell.cell_index;
+    const auto in_cells = [&](int c) { return resident.count(c) != 0; };
+    ASSERT_EQ(cells_with_file_subtrees(streamed.value().read_back().value(), v, in_cells, "walk"), int(resident.size()));
+    ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+    capacity = frame.value().probe_capacity;
+    most_live = std::max(most_live, frame.value().live_probes);
+    ++steps;
+  }
+  ASSERT_GT(steps, 2);
+  std::printf("[streaming] memory update on a budget of %llu bytes: %d probe slots (at most %d live over %d cells) and "
+              "%llu device bytes, against %d slots and %llu bytes for the whole file's (%zu probes)\n",
+              static_cast<unsigned long long>(streamed_options.streaming.budget_bytes), capacity, most_live, steps,
+              static_cast<unsigned long long>(streamed_bytes), whole_capacity, static_cast<unsigned long long>(whole_bytes), v.probes.size());
+  EXPECT_LT(capacity, whole_capacity);
+  EXPECT_LT(streamed_bytes, whole_bytes);
 }
 
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {

@@ -231,6 +231,7 @@ int run_volume(const RunOptions& options) {
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis;
   upload.memory_update = !options.no_memory_update && (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
+  if (options.pool_probes) upload.pools.free_probes = *options.pool_probes;
   std::vector<streaming::PathPoint> path;
   if (options.stream) {
     upload.streaming = {.budget_bytes = options.stream->budget,
@@ -288,6 +289,7 @@ int run_volume(const RunOptions& options) {
   PassSummary cpu;
   std::vector<FrameRow> rows;
   const bool terminal = isatty(fileno(stdout)) != 0;
+  int most_probes_in_use = 0, failed_allocations = 0; // the memory update's probe pool over the run
   for (int frame = 0; frame < frames; ++frame) {
     if (options.stream) {
       const runtime::Status moved = volume->stream_around(path[std::size_t(frame)].position, options.stream->radius);
@@ -318,6 +320,8 @@ int run_volume(const RunOptions& options) {
       std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, frames, stats->live_probes, rows.back().gpu_ms);
     }
     cpu.add(stats->cpu_ms);
+    most_probes_in_use = std::max(most_probes_in_use, stats->memory.probe_capacity - stats->memory.free_probes);
+    failed_allocations += stats->memory.failed_allocations;
     if (options.after_frame) {
       const runtime::Status done = options.after_frame(frame, volume.value());
       if (!done.ok()) return report(options, done);
@@ -340,6 +344,9 @@ int run_volume(const RunOptions& options) {
   std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
               options.validate ? "; live state valid after every frame" : "");
   std::printf("%s", summary_table(rows, options.animate).c_str());
+  if (volume->runs_memory_update())
+    std::printf("memory update pools: at most %d of %d probe slots in use, %d failed allocations\n", most_probes_in_use,
+                volume->info().probe_capacity, failed_allocations);
   if (options.stream) {
     std::printf("%s", stream_summary(rows, options.stream->budget).c_str());
     for (const std::string& refusal : volume->stream_refusals()) std::printf("streaming: refused %s\n", refusal.c_str());

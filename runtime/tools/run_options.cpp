@@ -12,7 +12,7 @@ constexpr const char* kUsage =
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
-    "                     [--no-memory-update] [--max-depth N]\n"
+    "                     [--no-memory-update] [--max-depth N] [--pool-probes N]\n"
     "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
     "                      [--keep-margin M] [--max-lit N] [--light-reach M] [--background-reads]]\n"
@@ -30,6 +30,8 @@ constexpr const char* kUsage =
     "  --memory-update   reshape the octree on the GPU (octree volumes with lighting sections)\n"
     "  --max-depth N     with the memory update: the leaf rule's max depth from frame 0 (0-12)\n"
     "  --limits M:L      with the memory update: at most M allocations and L lit leaves per frame (0 = all)\n"
+    "  --pool-probes N   with the memory update: N free probe slots (and their light records) at upload\n"
+    "                    (default: as many as in use, at least 512; streaming: sized by the budget)\n"
     "  --gather-budget N without the memory update: gather N probes per frame, a window of probe slots\n"
     "                    that moves on every frame (0 = all, the default)\n"
     "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
@@ -182,6 +184,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       int depth = 0;
       if (!has_value || !parse_int(argv[++i], 0, depth) || depth > 12) return usage_error("--max-depth needs a depth in 0-12");
       options.max_depth = depth;
+    } else if (arg == "--pool-probes") {
+      int probes = 0;
+      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--pool-probes needs a whole number of probes >= 0");
+      options.pool_probes = probes;
     } else if (arg == "--limits") {
       if (!has_value || !parse_limits(argv[++i], options.limits)) return usage_error("--limits needs M:L (whole numbers >= 0)");
     } else if (arg == "--gather-budget") {

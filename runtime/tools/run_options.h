@@ -62,6 +62,7 @@ struct RunOptions {
                                      // probes whose rays cross them; light_mark_moved)
   std::vector<int> animated_objects; // --objects LIST: the objects --animate moves (empty: all)
   std::optional<int> max_depth;      // FrameInputs::max_depth in frame 0 (memory update)
+  std::optional<int> pool_probes;    // --pool-probes: runtime::MemoryPools::free_probes (memory update)
   runtime::FrameLimits limits;       // per-frame limits of the memory and light updates
   std::optional<std::string> plots;  // folder for SVG plots of the per-frame table (--animate, --path)
   std::optional<StreamRun> stream;   // --budget and --path (both or neither)

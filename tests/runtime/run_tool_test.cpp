@@ -74,6 +74,26 @@ TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
   EXPECT_NE(header.find(",splits,merges,failed_allocations,free_probes"), std::string::npos) << header;
   // header + per frame: memory_update, probe_index, light_transitions, light_trace, light_gather, light_resolve
   EXPECT_EQ(count_lines(csv), 1 + 6 * 6);
+  // The pool line: the depth cycle's peak use within the default pool (as many free slots as in use, at
+  // least 512); with --pool-probes 3 the pool is that much larger than the tree in use, not 512.
+  const auto pool_line = [](const std::string& out, int& in_use, int& slots, int& failed) {
+    const std::size_t at = out.find("memory update pools: ");
+    return at != std::string::npos &&
+           std::sscanf(out.c_str() + at, "memory update pools: at most %d of %d probe slots in use, %d failed", &in_use, &slots, &failed) == 3;
+  };
+  int in_use = 0, slots = 0, failed = 0;
+  ASSERT_TRUE(pool_line(r.out, in_use, slots, failed)) << r.out;
+  const formats::ProbeVolume file = baked_cornell_full();
+  const int used = int(std::count_if(file.probes.begin(), file.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
+  EXPECT_GE(slots, used + 512);
+  EXPECT_GT(in_use, 0);
+  EXPECT_LE(in_use, slots);
+  const CliResult small = run_cli(shell_path(probes) + " --memory-update --pool-probes 3");
+  ASSERT_EQ(small.exit_code, 0) << small.out << small.err;
+  ASSERT_TRUE(pool_line(small.out, in_use, slots, failed)) << small.out;
+  EXPECT_GE(slots, used + 3);
+  EXPECT_LT(slots, used + 512);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --memory-update --pool-probes -1").exit_code, 1);
   EXPECT_EQ(run_cli(shell_path(probes) + " --depth-cycle 2:3").exit_code, 1);
   EXPECT_EQ(run_cli(shell_path(probes) + " --depth-cycle 2:13:4").exit_code, 1);
 }

@@ -1,8 +1,9 @@
-// Light update L1 (octree thesis §3.2.2, "place surfels"): LIGHT_TRACE_CHUNKS workgroups per probe slot
-// (gl_WorkGroupID.z: chunk c takes the lighting rays r with (r / g) % chunks == c, g = LIGHT_WORKGROUP_SIZE /
-// push.trace_lanes rays per workgroup; chunk 0 also the lattice), every live probe on the first frame, then
-// the probes whose trace flag is set (new probes, re-measured leaves, cells that arrived). The last chunk to
-// finish clears the flag.
+// Light update L1 (octree thesis §3.2.2, "place surfels"): LIGHT_TRACE_CHUNKS workgroups per probe that
+// traces (gl_WorkGroupID.z: chunk c takes the lighting rays r with (r / g) % chunks == c, g =
+// LIGHT_WORKGROUP_SIZE / push.trace_lanes rays per workgroup; chunk 0 also the lattice), every live probe on
+// the first frame, then the probes whose trace flag is set (new probes, re-measured leaves, cells that
+// arrived) or that are retried: light_trace_list.comp lists them first. The last chunk to finish clears
+// the flag.
 //  - Hit fraction: the placement lattice (ray_directions[rays, rays + placement_rays)) traced from the
 //    centre of the probe's octree node, hits counted inside the node cube (bake/src/probe_tracing.cpp);
 //    octree probes only (grid probes keep the bake's value).
@@ -73,23 +74,13 @@ LightRecord trace_hit(vec3 origin, vec3 dir, bool count) {
   return rec;
 }
 
-// Whether list place `place` (or, with push.retry_by_slot, probe slot `slot`) lies in the retry window
-// [retry_first, retry_first + retry_count) modulo the list's count (or the slots'): streaming, a slot left
-// unresolved by its last trace is traced again there.
-bool in_retry_window(uint place, uint slot) {
-  const uint count = push.retry_by_slot != 0u ? push.probe_capacity : light_list_header.count;
-  const uint i = push.retry_by_slot != 0u ? slot : place;
-  return push.retry_count != 0u && count != 0u && (i + count - push.retry_first % count) % count < push.retry_count;
-}
-
 void main() {
-  const uint place = probebake_flat_workgroup();
-  const int listed = light_slot(place);
-  if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
+  const uint index = probebake_flat_workgroup();
+  if (index >= light_list_header.trace_count) return; // uniform per workgroup
+  // The last chunk of a trace resets the flags only after every chunk read them: the same slot for all.
+  const int listed = light_trace_slot(uint(light_list[push.probe_capacity + index]));
+  if (listed < 0) return;
   const uint slot = uint(listed);
-  const uint flags = trace_flags[slot]; // the last chunk of a trace resets them only after every chunk read them
-  const bool retry = light_slot_unresolved(slot) && in_retry_window(place, slot); // streaming only
-  if (push.trace_all == 0u && (flags & TRACE_FLAG_RETRACE) == 0u && !retry) return; // records still valid
   const int probe = int(slot);
   const vec3 origin = probebake_probes[probe].position;
   if (gl_LocalInvocationIndex == 0) {

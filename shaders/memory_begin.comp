@@ -1,7 +1,7 @@
 // Memory update / light transitions, one-thread steps: push.phase 0 moves the pull origin (p <- p + 2 mod 3)
 // and takes the memory update's segment p, with the dispatch sizes of its per-entry steps; phase 1 takes the light update's segment p + 1 (after the memory
 // update pushed into it) and empties the light list; phase 2 (after memory_light) turns the list's count into
-// the indirect dispatch sizes of light_trace, light_gather and light_resolve. Taking = remembering the count
+// the indirect dispatch sizes of light_gather and light_resolve (light_trace_list sizes light_trace). Taking = remembering the count
 // and emptying the segment; the per-entry dispatches read the entries and clear their keys.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -37,9 +37,6 @@ void main() {
     light_list_header.resolve_x = r.x;
     light_list_header.resolve_y = r.y;
     light_list_header.resolve_z = r.z;
-    light_list_header.trace_x = g.x;
-    light_list_header.trace_y = g.y;
-    light_list_header.trace_z = g.x == 0u ? 0u : LIGHT_TRACE_CHUNKS;
   } else {
     light_list_header.count = 0u;
     const int s = light_pull_segment();

@@ -44,7 +44,8 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   create_record_pages(rays);
   next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * 27 * sizeof(float), "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
-  const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
+  // The header, the listed probe slots, the trace places (light_trace_list.comp).
+  const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + 2 * VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
   if (list_bytes > device.info.max_storage_buffer_range)
     fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
@@ -205,6 +206,17 @@ void LightUpdatePass::upload_moved_boxes(VkCommandBuffer cmd) {
   vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, boxes), count * sizeof(gpu::MovedBox), moved_boxes_.data());
 }
 
+void LightUpdatePass::record_trace_list(VkCommandBuffer cmd) {
+  // The trace's dispatch size and count start from zero (after every earlier access to the header).
+  barrier(cmd, kComputeAndIndirect, kTransferWrite);
+  vkCmdFillBuffer(cmd, light_list_.get(), offsetof(gpu::LightListHeader, trace_x), 4 * sizeof(std::uint32_t), 0);
+  barrier(cmd, kTransferWrite, kComputeReadWrite);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_trace_list.get());
+  if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, resolve_x)); // a thread per place
+  else dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+  barrier(cmd, kComputeWrite, kComputeAndIndirect);
+}
+
 void LightUpdatePass::record_mark_moved(VkCommandBuffer cmd) {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_mark_moved.get());
   dispatch_groups(cmd, device_, probe_capacity_);
@@ -261,7 +273,9 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
     timer.begin(cmd, slots.trace);
     if (marked) record_mark_moved(cmd);
-    dispatch(pipelines.light_trace.get(), probe_capacity_, offsetof(gpu::LightListHeader, trace_x), gpu::LIGHT_TRACE_CHUNKS);
+    record_trace_list(cmd);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.light_trace.get());
+    vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, trace_x));
     timer.end(cmd, slots.trace);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
     trace_pending_ = false;
@@ -300,7 +314,6 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
   folded((header.count + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE, resolve);
   header.groups_x = groups[0], header.groups_y = groups[1], header.groups_z = groups[2];
   header.resolve_x = resolve[0], header.resolve_y = resolve[1], header.resolve_z = resolve[2];
-  header.trace_x = groups[0], header.trace_y = groups[1], header.trace_z = groups[0] == 0 ? 0 : gpu::LIGHT_TRACE_CHUNKS;
   vkCmdUpdateBuffer(cmd, light_list_.get(), 0, sizeof(header), &header);
   constexpr std::size_t kChunk = 65536 / sizeof(std::int32_t); // vkCmdUpdateBuffer's limit
   for (std::size_t i = 0; i < slots.size(); i += kChunk)

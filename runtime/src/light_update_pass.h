@@ -110,6 +110,8 @@ private:
   // The pending moved boxes into RelightChanges, and the probes whose rays cross them flagged (light_mark_moved).
   void upload_moved_boxes(VkCommandBuffer cmd);
   void record_mark_moved(VkCommandBuffer cmd);
+  // The places of the probes that trace this frame, and light_trace's dispatch size (light_trace_list.comp).
+  void record_trace_list(VkCommandBuffer cmd);
 
   Device& device_;
   std::uint32_t probe_capacity_ = 0;

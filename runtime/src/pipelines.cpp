@@ -72,6 +72,7 @@ Pipelines::Pipelines(VkDevice device) {
   sample_all_probes = make_pipeline(device, sample_all.layout.get(), "sample_all_probes");
   light = make_pass_layout(device, gpu::LIGHT_BINDING_COUNT, sizeof(gpu::LightPush));
   light_trace = make_pipeline(device, light.layout.get(), "light_trace");
+  light_trace_list = make_pipeline(device, light.layout.get(), "light_trace_list");
   light_gather = make_pipeline(device, light.layout.get(), "light_gather");
   light_resolve = make_pipeline(device, light.layout.get(), "light_resolve");
   light_relight = make_pipeline(device, light.layout.get(), "light_relight");

@@ -30,7 +30,7 @@ public:
   PassLayout sample_all;
   DeviceObject<VkPipeline> sample_all_probes;
   PassLayout light;
-  DeviceObject<VkPipeline> light_trace, light_gather, light_resolve, light_relight, light_mark_stale, light_mark_moved;
+  DeviceObject<VkPipeline> light_trace, light_trace_list, light_gather, light_resolve, light_relight, light_mark_stale, light_mark_moved;
   PassLayout memory;
   DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse, memory_remeasure, memory_cells,
       memory_svo, memory_light, memory_sync;

@@ -37,7 +37,16 @@ layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_3) buffer RecordPage3 { Ligh
 layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuffer { float next_irradiance[]; }; // 27 per probe slot
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
 layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
-layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) readonly buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
+#ifdef PROBEBAKE_LIGHT_LIST_WRITABLE
+#define PROBEBAKE_LIGHT_LIST_ACCESS
+#else
+#define PROBEBAKE_LIGHT_LIST_ACCESS readonly
+#endif
+// The listed probe slots at [0, probe_capacity), the trace places at [probe_capacity, 2 probe_capacity).
+layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) PROBEBAKE_LIGHT_LIST_ACCESS buffer LightListBuffer {
+  LightListHeader light_list_header;
+  int light_list[];
+};
 layout(std430, binding = LIGHT_BINDING_TRACKED_PUNCTUAL) buffer TrackedPunctualBuffer { float tracked_punctual[]; }; // 3 per record
 layout(std430, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer { RelightChanges relight_changes; };
 layout(std430, binding = LIGHT_BINDING_RECORD_SLOTS) buffer RecordSlotBuffer { int light_record_slots[]; };
@@ -76,6 +85,26 @@ bool light_set_unresolved(uint slot, bool unresolved) {
 
 // Whether the light update skips the probe: a free slot, or a probe without records (uniform per workgroup).
 bool light_slot_idle(uint slot) { return probebake_probes[slot].link == 0 || light_record_slot(slot) < 0; }
+
+// Streaming: whether list place `place` (or, with push.retry_by_slot, probe slot `slot`) lies in the retry
+// window [retry_first, retry_first + retry_count) modulo the list's count (or the slots'): a probe left
+// unresolved by its last trace is traced again there.
+bool in_retry_window(uint place, uint slot) {
+  const uint count = push.retry_by_slot != 0u ? push.probe_capacity : light_list_header.count;
+  const uint i = push.retry_by_slot != 0u ? slot : place;
+  return push.retry_count != 0u && count != 0u && (i + count - push.retry_first % count) % count < push.retry_count;
+}
+
+// The probe slot that light_trace traces at list place (or window index) `place` this frame, or -1: a live
+// probe with records that is flagged (TRACE_FLAG_RETRACE), every one in a full trace, or an unresolved one in
+// the retry window.
+int light_trace_slot(uint place) {
+  const int listed = light_slot(place);
+  if (listed < 0 || light_slot_idle(uint(listed))) return -1;
+  const uint slot = uint(listed);
+  const bool retry = light_slot_unresolved(slot) && in_retry_window(place, slot); // streaming only
+  return push.trace_all != 0u || (trace_flags[slot] & TRACE_FLAG_RETRACE) != 0u || retry ? listed : -1;
+}
 
 // Record `ray` of probe slot `slot` (which has records): page r / probes_per_page of its record slot r
 // (uniform per workgroup: one slot each), and the index in that page. The record slot is read once.

@@ -157,7 +157,10 @@ struct LightPush {
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
-// (memory_begin phase 2). Followed in the buffer by int probes[probe_capacity].
+// (memory_begin phase 2); with streaming and no memory update, the host's list. Followed in the buffer by
+// int probes[probe_capacity], then int trace_places[probe_capacity]: the list places (or window indices
+// without a list) of the probes that trace this frame, which light_trace_list appends before light_trace.
+// light_trace runs a workgroup per chunk of those alone: a frame where few trace costs few workgroups.
 struct LightListHeader {
   uint groups_x;  // offset  0: VkDispatchIndirectCommand of gather: one workgroup per listed probe,
   uint groups_y;  // offset  4:   folded into y past LIGHT_LIST_MAX_GROUPS_X
@@ -167,10 +170,10 @@ struct LightListHeader {
   uint resolve_y; // offset 20
   uint resolve_z; // offset 24
   uint pad0;      // offset 28
-  uint trace_x;   // offset 32: VkDispatchIndirectCommand of trace: groups_x, groups_y and LIGHT_TRACE_CHUNKS
-  uint trace_y;   // offset 36
-  uint trace_z;   // offset 40
-  uint pad1;      // offset 44
+  uint trace_x;   // offset 32: VkDispatchIndirectCommand of trace: one workgroup per trace place (folded
+  uint trace_y;   // offset 36:   into y past LIGHT_LIST_MAX_GROUPS_X) and LIGHT_TRACE_CHUNKS, raised by
+  uint trace_z;   // offset 40:   light_trace_list from zero
+  uint trace_count; // offset 44: trace places (light_trace_list)
 };                // size 48
 // light_trace spreads a probe's trace over LIGHT_TRACE_CHUNKS workgroups (gl_WorkGroupID.z) and, when few
 // probes trace (probes arriving with a streamed cell, new leaves, retraces around a moved object: the cost
@@ -233,7 +236,8 @@ static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) 
 static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48 &&
               offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
               offsetof(LightRecord, punctual_b) == 60);
-static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 && offsetof(LightListHeader, trace_x) == 32);
+static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 && offsetof(LightListHeader, trace_x) == 32 &&
+              offsetof(LightListHeader, trace_count) == 44);
 static_assert(sizeof(LightPush) == 64 && offsetof(LightPush, retry_by_slot) == 60 && offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES && offsetof(RelightChanges, changes) == 16 &&

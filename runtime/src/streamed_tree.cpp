@@ -19,20 +19,25 @@ struct Subtree {
   std::array<double, 27> sum{};
 };
 
-// The subtree below `root`, walked with a stack (a validated tree: every cluster is visited once).
+// A tree that names a node twice (an unvalidated upload) would loop: no walk visits more nodes than it has.
+void check_visits(std::size_t visited, const formats::ProbeVolume& file) {
+  if (visited > file.octree.size()) fail(StatusCode::invalid_argument, "octree: a node is reached twice (upload without validation?)");
+}
+
+// The subtree below `root`, walked with a stack.
 Subtree tally(const formats::ProbeVolume& file, int root) {
   Subtree t;
   std::vector<int> stack{root};
-  while (!stack.empty()) {
+  for (std::size_t visited = 0; !stack.empty(); check_visits(++visited, file)) {
     const int node = stack.back();
     stack.pop_back();
-    const int v = file.octree[std::size_t(node)];
+    const int v = file.octree.at(std::size_t(node)); // checked: an unvalidated upload may name any node
     if (v > 0) {
       ++t.clusters;
       for (int o = 0; o < 8; ++o) stack.push_back(formats::child_node(v, o));
     } else if (v < 0) {
       t.probes.push_back(~v);
-      for (int k = 0; k < 27; ++k) t.sum[std::size_t(k)] += file.probes[std::size_t(~v)].irradiance_sh[k];
+      for (int k = 0; k < 27; ++k) t.sum[std::size_t(k)] += file.probes.at(std::size_t(~v)).irradiance_sh[k];
     }
   }
   return t;
@@ -47,7 +52,7 @@ int place_probe(formats::Octree& tree, int leaf) {
 // File probe `from` as the probe of `leaf`, with a copy of its surfel chain.
 int copy_probe(const formats::ProbeVolume& file, int from, formats::Octree& tree, int leaf) {
   const int probe = place_probe(tree, leaf);
-  const gpu::Probe& in = file.probes[std::size_t(from)];
+  const gpu::Probe& in = file.probes.at(std::size_t(from));
   gpu::Probe& out = tree.volume().probes[std::size_t(probe)];
   out.position = in.position;
   out.hit_fraction = in.hit_fraction;
@@ -56,7 +61,7 @@ int copy_probe(const formats::ProbeVolume& file, int from, formats::Octree& tree
   int link = in.link;
   for (std::size_t steps = 0; ~link != gpu::PROBE_NO_SURFELS && link < 0; ++steps) {
     if (steps > file.surfel_batches.size()) fail(StatusCode::internal, "collapse_cells: endless surfel chain");
-    const gpu::SurfelBatch& src = file.surfel_batches[std::size_t(~link)];
+    const gpu::SurfelBatch& src = file.surfel_batches.at(std::size_t(~link));
     const int batch = tree.append_surfel_batch(probe);
     if (batch < 0) fail(StatusCode::internal, "collapse_cells: no surfel batch");
     gpu::SurfelBatch& dst = tree.volume().surfel_batches[std::size_t(batch)];
@@ -103,9 +108,9 @@ formats::ProbeVolume collapse_cells(const formats::ProbeVolume& file) {
     int from, to, depth;
   };
   std::vector<Pending> queue{{gpu::OCTREE_ROOT, gpu::OCTREE_ROOT, 0}};
-  for (std::size_t i = 0; i < queue.size(); ++i) {
+  for (std::size_t i = 0; i < queue.size(); check_visits(++i, file)) {
     const Pending n = queue[i];
-    const int v = file.octree[std::size_t(n.from)];
+    const int v = file.octree.at(std::size_t(n.from));
     if (v < 0) probe_map[std::size_t(~v)] = copy_probe(file, ~v, tree, n.to);
     if (v <= 0) continue;
     if (n.depth < file.cell_depth) {

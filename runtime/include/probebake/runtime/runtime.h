@@ -165,7 +165,10 @@ private:
 // ---- Volume: one probe volume in GPU storage buffers ---------------------------------------------------
 // Free elements the memory update can allocate from (octree thesis §3.2.1): at upload the octree, probe and
 // surfel-batch buffers grow so that at least this many are free; -1 = the default. The pools never grow
-// while running: an allocation that does not fit leaves its node as it was and counts as failed.
+// while running: an allocation that does not fit leaves its node as it was and counts as failed. With
+// streaming, the defaults add room for the file's subtrees of the most cells the budget lets be resident at
+// once, whatever the camera does (docs/RUNTIME.md "With streaming"); a host that knows its radius sets less
+// (FrameStats::memory says how many are free after each frame).
 struct MemoryPools {
   int free_clusters = -1; // node clusters; default max(64, clusters in use)
   int free_probes = -1;   // probes; default max(512, probes in use)

@@ -185,9 +185,9 @@ Status check_frame_inputs(const FrameInputs& in) {
 }
 
 MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
-                                   VkBuffer light_list, std::uint32_t rings, bool streams)
+                                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints)
     : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
-      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)), seat_ints_(streams ? gpu::MEMORY_SEAT_INTS : 0) {
+      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)), seat_ints_(std::min(seat_ints, std::uint32_t(gpu::MEMORY_SEAT_INTS))) {
   const std::size_t capacity = segment_capacity_;
   std::vector<int> keys(3 * capacity, 0);
   for (int s = 0; s < 3; ++s)

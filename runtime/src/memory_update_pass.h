@@ -37,10 +37,10 @@ Status check_frame_inputs(const FrameInputs& inputs);
 class MemoryUpdatePass {
 public:
   // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` and
-  // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list). `streams`: cells stream
-  // (the frame buffer gets room for the arrivals' seat data).
+  // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list). `seat_ints`: with
+  // streaming, the frame buffer's room for the arrivals' seat data (at most MEMORY_SEAT_INTS; 0 without).
   MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags,
-                   VkBuffer light_list, std::uint32_t rings, bool streams = false);
+                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints = 0);
 
   // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
   // with the SVO refresh, ending with its writes visible to later compute and transfer work.

@@ -13,6 +13,7 @@
 #include "probebake/formats/cell_file.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/trace_mesh.h"
+#include "probebake/memory_types.h"
 #include "volume_state.h"
 
 namespace probebake::runtime {
@@ -67,6 +68,10 @@ Status check_options(const UploadOptions& options) {
     return {StatusCode::invalid_argument, "streaming.keep_margin must be finite and >= 0"};
   if (!(options.streaming.light_reach >= 0.0f) || !std::isfinite(options.streaming.light_reach))
     return {StatusCode::invalid_argument, "streaming.light_reach must be finite and >= 0"};
+  const std::uint64_t seat_bytes = options.streaming.max_seat_bytes;
+  if (seat_bytes != 0 && (seat_bytes < sizeof(gpu::CellSeat) || seat_bytes > std::uint64_t(gpu::MEMORY_SEAT_INTS) * 4))
+    return {StatusCode::invalid_argument, "streaming.max_seat_bytes must be 0 or in [" + std::to_string(sizeof(gpu::CellSeat)) +
+                                              ", " + std::to_string(std::uint64_t(gpu::MEMORY_SEAT_INTS) * 4) + "]"};
   if (options.streaming.max_joining_probes < 0 || options.streaming.max_lit_probes < 0)
     return {StatusCode::invalid_argument, "streaming.max_joining_probes and max_lit_probes must be >= 0"};
   if (options.light_headroom < 0)

@@ -62,8 +62,9 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {
+    const std::uint64_t seat_bytes = options.streaming.max_seat_bytes != 0 ? options.streaming.max_seat_bytes : 4u * std::uint64_t(gpu::MEMORY_SEAT_INTS);
     memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count,
-                                                streaming != nullptr);
+                                                streaming ? std::uint32_t(seat_bytes / 4) : 0u);
     light->walk_light_list();
   }
   if (streaming && light) {

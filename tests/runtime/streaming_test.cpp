@@ -24,6 +24,7 @@
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/memory_types.h"
 #include "probebake/runtime_types.h"
 #include "probebake/samples/scenes.h"
 #include "memory_reference.h"
@@ -802,6 +803,82 @@ TEST_F(StreamingTest, ABudgetSizesTheMemoryUpdatesPoolsAndEveryArrivalSeatsFromT
   EXPECT_LT(streamed_bytes, whole_bytes);
 }
 
+// The ints a cell's seat passes behind MemoryFrame: its clusters (9 words each) and probes (36 each), or
+// 0 when its node is a leaf above the cell depth.
+std::uint64_t seat_ints_of(const formats::ProbeVolume& v, int cell_index) {
+  const int root = formats::cell_root_node(v, v.cell_depth, cell_index);
+  if (root < 0) return 0;
+  std::uint64_t ints = 0;
+  std::vector<int> stack{root};
+  while (!stack.empty()) {
+    const int value = v.octree[std::size_t(stack.back())];
+    stack.pop_back();
+    if (value < 0) ints += 36;
+    if (value <= 0) continue;
+    ints += 9;
+    for (int o = 0; o < 8; ++o) stack.push_back(value + 1 + o);
+  }
+  return ints;
+}
+
+// StreamingOptions::max_seat_bytes bounds the file subtrees passed to the GPU per frame. With every cell
+// arriving at once, the arrivals are seated over several frames, each with the file's subtree; the one cell
+// larger than the limit alone grows back by measures instead. The live state is valid after every frame.
+TEST_F(StreamingTest, TheSeatLimitSpreadsArrivalsOverFramesAndALargerCellGrowsByMeasures) {
+  const formats::ProbeVolume& v = streamed_rooms();
+  std::vector<std::pair<std::uint64_t, int>> seats; // (ints, cell index), largest first
+  for (const formats::Cell& cell : v.cells) seats.emplace_back(seat_ints_of(v, cell.cell_index), cell.cell_index);
+  std::sort(seats.rbegin(), seats.rend());
+  ASSERT_GT(seats[0].first, seats[1].first);
+  const int largest = seats[0].second;
+  runtime::UploadOptions options = streaming_options(2 * tracing_bytes_of_cells(v));
+  options.memory_update = true;
+  options.pools.free_probes = 4096;
+  options.streaming.max_seat_bytes = 4 * (8 + seats[0].first) - 4; // one int short of the largest cell's seat
+  auto streamed = runtime::Volume::upload(context(), v, options);
+  ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+  ASSERT_TRUE(streamed.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
+  const auto others = [&](int cell) { return cell != largest; };
+  const int cells = int(v.cells.size()) - 1;
+  std::vector<int> seated_by_frame;
+  for (int frame = 0; frame < 40; ++frame) {
+    auto stats = streamed.value().run_frame();
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    ASSERT_EQ(stats.value().memory.failed_allocations, 0);
+    ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+    const formats::ProbeVolume live = streamed.value().read_back().value();
+    const Canonical now = canonical(live), file = canonical(v);
+    int seated = 0;
+    for (const formats::Cell& cell : v.cells) {
+      if (!others(cell.cell_index)) continue;
+      const std::string path = cell_path(cell.cell_index, v.cell_depth);
+      bool same = true;
+      for (const auto& [leaf, value] : file.leaves)
+        if ((below(leaf, path) || leaf == path) && (!now.leaves.count(leaf) || now.leaves.at(leaf) != value)) same = false;
+      for (const auto& [leaf, value] : now.leaves)
+        if ((below(leaf, path) || leaf == path) && !file.leaves.count(leaf)) same = false;
+      seated += same ? 1 : 0;
+    }
+    seated_by_frame.push_back(seated);
+    if (seated == cells) break;
+  }
+  ASSERT_GT(seated_by_frame.size(), 1u) << "every arrival fitted one frame's seat data";
+  EXPECT_LT(seated_by_frame.front(), cells);
+  ASSERT_EQ(seated_by_frame.back(), cells) << "not every cell seated within 40 frames";
+  EXPECT_EQ(cells_with_file_subtrees(streamed.value().read_back().value(), v, others, "seated"), cells);
+  // The largest cell was measured again instead: its node, a leaf at upload, splits as the geometry asks.
+  ASSERT_GE(settle_streamed(streamed.value(), std::nullopt), 0);
+  const std::string path = cell_path(largest, v.cell_depth);
+  int leaves = 0;
+  for (const auto& [leaf, value] : canonical(streamed.value().read_back().value()).leaves) leaves += below(leaf, path) ? 1 : 0;
+  EXPECT_GT(leaves, 1) << "cell " << largest << " did not grow";
+  ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
+  std::printf("[streaming] seat data of %llu bytes a frame: %d cells seated over %zu frames (%d in the first); cell %d "
+              "(%llu bytes) grew by measures to %d leaves\n",
+              static_cast<unsigned long long>(options.streaming.max_seat_bytes), cells, seated_by_frame.size(), seated_by_frame.front(),
+              largest, static_cast<unsigned long long>(4 * (8 + seats[0].first)), leaves);
+}
+
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {
   formats::ProbeVolume v = streamed_rooms();
   v.cell_tracing.clear();
@@ -816,6 +893,14 @@ TEST_F(StreamingTest, RefusesVolumesItCannotStream) {
   auto plain = runtime::Volume::upload(context(), streamed_rooms());
   ASSERT_TRUE(plain.ok());
   EXPECT_EQ(plain.value().stream_around(glm::vec3(0.0f), 1.0f).code, runtime::StatusCode::invalid_argument);
+  for (std::uint64_t seat_bytes : {std::uint64_t(31), std::uint64_t(4) * gpu::MEMORY_SEAT_INTS + 1}) {
+    runtime::UploadOptions bad_seat = streaming_options(1 << 20);
+    bad_seat.memory_update = true;
+    bad_seat.streaming.max_seat_bytes = seat_bytes;
+    auto refused_seat = runtime::Volume::upload(context(), streamed_rooms(), bad_seat);
+    ASSERT_FALSE(refused_seat.ok()) << seat_bytes;
+    EXPECT_EQ(refused_seat.status().code, runtime::StatusCode::invalid_argument) << refused_seat.status().message;
+  }
 }
 
 } // namespace

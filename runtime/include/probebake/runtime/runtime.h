@@ -213,6 +213,11 @@ struct StreamingOptions {
   // depending on the disk (StreamStats::reading_cells). Off: each frame reads the cells it loads, and the
   // same camera path gives the same frames.
   bool read_in_background = false;
+  // With the memory update: bytes of the arriving cells' file subtrees (their nodes and probes, 144 B a
+  // probe) passed to the GPU per frame at most; 0 = the most, gpu::MEMORY_SEAT_INTS ints (192 KiB), else at
+  // least sizeof(gpu::CellSeat) (32). The other arrivals wait, in order. A cell larger than this alone
+  // grows back by measures instead (a level a frame, as the memory update grows any leaf).
+  std::uint64_t max_seat_bytes = 0;
 };
 
 struct UploadOptions {

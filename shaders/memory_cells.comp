@@ -101,7 +101,8 @@ void drop(uint cell) {
 
 CellSeat seat_at(uint s) {
   const int i = 8 * int(s);
-  return CellSeat(uint(seat_data[i]), seat_data[i + 1], seat_data[i + 2], seat_data[i + 3], seat_data[i + 4], seat_data[i + 5], 0, 0);
+  return CellSeat(uint(seat_data[i]), seat_data[i + 1], seat_data[i + 2], seat_data[i + 3], seat_data[i + 4], seat_data[i + 5],
+                  seat_data[i + 6], seat_data[i + 7]);
 }
 
 // Local probe `l` of the seat as the file has it, made the probe of leaf `node` in slot `probe`.
@@ -122,16 +123,19 @@ void seat_file_probe(CellSeat seat, int l, int probe, int node, bool reused, int
   queue_push(memory_light_out(), node, LEAF_L2_LIGHT);
 }
 
+// The probe slot of the seat's local probe `l`: the reused mean probe for the first, else popped in order.
+int seat_slot(int l, int probe_base, int reused) {
+  return l == 0 && reused >= 0 ? reused : probe_stack[probe_base + l - (reused >= 0 ? 1 : 0)];
+}
+
 // The node of a seat word: a cluster's meta index, ~probe slot, or 0 (the caller has popped the ranges).
 void seat_node(CellSeat seat, int node, int word, int cluster_base, int probe_base, int batch_base, int reused) {
   if (word > 0) {
     probebake_octree[node] = cluster_stack[cluster_base + word - 1];
   } else if (word < 0) {
     const int l = ~word;
-    const bool reuse = l == 0 && reused >= 0;
-    const int slot = reuse ? reused : probe_stack[probe_base + l - (reused >= 0 ? 1 : 0)];
     const int batch_first = batch_base + (l - (reused >= 0 ? 1 : 0)) * memory_frame.batches_per_probe;
-    seat_file_probe(seat, l, slot, node, reuse, batch_first);
+    seat_file_probe(seat, l, seat_slot(l, probe_base, reused), node, l == 0 && reused >= 0, batch_first);
   } else {
     probebake_octree[node] = 0;
     queue_push(memory_light_out(), node, LEAF_L3_CHECK_BOXES);
@@ -183,6 +187,26 @@ void seat_subtree(uint s) {
     probebake_octree[meta] = ~parent;
     for (int o = 0; o < 8; ++o)
       seat_node(seat, meta + 1 + o, seat_data[at + 1 + o], w.cluster_first, w.probe_first, w.batch_first, w.reuse_probe);
+  }
+  // The bake's stencils of the cell's own SVO leaves, once every seated probe's generation moved on (so that
+  // memory_svo keeps them).
+  memoryBarrierBuffer();
+  barrier();
+  for (int e = int(gl_LocalInvocationIndex); e < seat.svo_leaves; e += int(MEMORY_WORKGROUP_SIZE)) {
+    const int at = seat.first_svo + 9 * e, leaf = seat_data[at];
+    ivec4 probes = ivec4(-1);
+    vec4 weights = vec4(0.0);
+    uvec4 generations = uvec4(0u);
+    for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) {
+      if (seat_data[at + 1 + k] < 0) continue;
+      probes[k] = seat_slot(seat_data[at + 1 + k], w.probe_first, w.reuse_probe);
+      weights[k] = intBitsToFloat(seat_data[at + 5 + k]);
+      generations[k] = probe_generations[probes[k]];
+    }
+    probebake_svo_leaves[leaf].probes = probes;
+    probebake_svo_leaves[leaf].weights = weights;
+    svo_generations[leaf] = generations;
+    probebake_svo_nodes[int(svo_centres[leaf].w)] = ~leaf; // attached again if it was a miss
   }
 }
 

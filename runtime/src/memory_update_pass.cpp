@@ -7,6 +7,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -351,8 +352,10 @@ void MemoryUpdatePass::change_cells(std::span<const std::uint32_t> changes) {
 void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
   cell_depth_ = file.cell_depth;
   seats_.assign(file.cells.size(), {});
+  std::vector<std::unordered_map<int, int>> local_of(file.cells.size()); // per cell: file probe -> local probe
   for (std::size_t k = 0; k < file.cells.size(); ++k) {
     SeatPayload& out = seats_[k];
+    std::unordered_map<int, int> local;
     out.seat.cell = std::uint32_t(file.cells[k].cell_index);
     const int root = formats::cell_root_node(file, file.cell_depth, file.cells[k].cell_index);
     if (root < 0) continue; // a leaf above the cell: nothing of its own
@@ -365,6 +368,7 @@ void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
         return std::int32_t(metas.size());
       }
       if (v < 0) {
+        local.emplace(~v, int(out.probes.size()));
         out.probes.push_back(file.probes[std::size_t(~v)]);
         return ~std::int32_t(out.probes.size() - 1);
       }
@@ -383,6 +387,36 @@ void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
     }
     out.seat.clusters = int(metas.size());
     out.seat.probes = int(out.probes.size());
+    local_of[k] = std::move(local);
+  }
+  add_seat_stencils(file, local_of);
+}
+
+// The SVO leaves in a cell whose stencils name only the cell's own probes get the bake's stencil back
+// when the cell is seated (the others keep what memory_svo refills them with).
+void MemoryUpdatePass::add_seat_stencils(const formats::ProbeVolume& file, const std::vector<std::unordered_map<int, int>>& local_of) {
+  std::unordered_map<int, std::size_t> record_of_cell;
+  for (std::size_t k = 0; k < file.cells.size(); ++k) record_of_cell[file.cells[k].cell_index] = k;
+  const std::vector<int> leaf_cells = formats::svo_leaf_cells(file, file.cell_depth);
+  for (std::size_t leaf = 0; leaf < leaf_cells.size(); ++leaf) {
+    const auto record = record_of_cell.find(leaf_cells[leaf]);
+    if (record == record_of_cell.end()) continue;
+    const std::unordered_map<int, int>& local = local_of[record->second];
+    const gpu::SvoLeaf& stencil = file.svo_leaves[leaf];
+    std::array<std::int32_t, 9> entry{std::int32_t(leaf), -1, -1, -1, -1, 0, 0, 0, 0};
+    bool own = stencil.probes[0] >= 0;
+    for (int k = 0; k < 4 && own; ++k) {
+      if (stencil.probes[k] < 0) continue;
+      const auto l = local.find(stencil.probes[k]);
+      own = l != local.end();
+      if (!own) break;
+      entry[std::size_t(1 + k)] = l->second;
+      std::memcpy(&entry[std::size_t(5 + k)], &stencil.weights[k], sizeof(float));
+    }
+    if (!own) continue;
+    SeatPayload& payload = seats_[record->second];
+    payload.svo.insert(payload.svo.end(), entry.begin(), entry.end());
+    ++payload.seat.svo_leaves;
   }
 }
 
@@ -396,22 +430,24 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
       const std::size_t k = entry & ~gpu::MEMORY_CELL_ARRIVED;
       if (k >= seats_.size()) fail(StatusCode::internal, "memory update: an arrival names no cell record");
       const SeatPayload& payload = seats_[k];
-      const std::size_t payload_ints = payload.words.size() + payload.probes.size() * 36;
+      const std::size_t payload_ints = payload.ints();
       const bool fits_alone = 8 + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
       if (8 * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_ ||
           headers.size() >= segment_capacity_) // the seats' work lives in memory_work: one entry each
         break; // the rest wait
       gpu::CellSeat seat = payload.seat;
-      seat.first_word = int(body.size());
-      seat.first_probe = int(body.size());
+      seat.first_word = seat.first_probe = seat.first_svo = int(body.size());
       if (fits_alone) {
         body.insert(body.end(), payload.words.begin(), payload.words.end());
         seat.first_probe = int(body.size());
         body.resize(body.size() + payload.probes.size() * 36);
         std::memcpy(body.data() + seat.first_probe, payload.probes.data(), payload.probes.size() * sizeof(gpu::Probe));
+        seat.first_svo = int(body.size());
+        body.insert(body.end(), payload.svo.begin(), payload.svo.end());
       } else {
         seat.clusters = -1;
         seat.probes = 0;
+        seat.svo_leaves = 0;
       }
       entry = gpu::MEMORY_CELL_ARRIVED | std::uint32_t(headers.size());
       headers.push_back(seat);
@@ -422,7 +458,7 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
   frame.cell_depth = cell_depth_;
   cell_changes_.erase(cell_changes_.begin(), cell_changes_.begin() + std::ptrdiff_t(taken));
   const int offset = int(8 * headers.size()); // the bodies follow the headers
-  for (gpu::CellSeat& seat : headers) seat.first_word += offset, seat.first_probe += offset;
+  for (gpu::CellSeat& seat : headers) seat.first_word += offset, seat.first_probe += offset, seat.first_svo += offset;
   seat_data.resize(8 * headers.size());
   std::memcpy(seat_data.data(), headers.data(), headers.size() * sizeof(gpu::CellSeat));
   seat_data.insert(seat_data.end(), body.begin(), body.end());

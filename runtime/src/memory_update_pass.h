@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <unordered_map>
 #include <vector>
 
 #include <vulkan/vulkan_core.h>
@@ -86,10 +87,13 @@ private:
     gpu::CellSeat seat{};
     std::vector<std::int32_t> words; // 9 per cluster
     std::vector<gpu::Probe> probes;
+    std::vector<std::int32_t> svo;   // 9 per SVO leaf of the cell's own probes: CellSeat::first_svo
+    std::size_t ints() const { return words.size() + probes.size() * 36 + svo.size(); }
   };
   // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
   // cell_changes_ while they fit. Returns the arrivals (seats).
   std::size_t take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
+  void add_seat_stencils(const formats::ProbeVolume& file, const std::vector<std::unordered_map<int, int>>& local_of);
 
   int cell_depth_ = 0;
   std::size_t seat_ints_ = 0;               // room for seat data behind MemoryFrame (streaming)

@@ -632,6 +632,59 @@ int node_at(const formats::ProbeVolume& v, const std::string& path) {
 // Whether a tree's leaf at `leaf` lies strictly below `path`.
 bool below(const std::string& leaf, const std::string& path) { return leaf.size() > path.size() && leaf.compare(0, path.size(), path) == 0; }
 
+// The octant path of every probe's leaf in `v` ("" for a probe in no leaf).
+std::vector<std::string> probe_paths(const formats::ProbeVolume& v) {
+  std::vector<std::string> paths(v.probes.size());
+  std::vector<std::pair<int, std::string>> stack{{0, ""}};
+  while (!stack.empty()) {
+    const auto [node, path] = stack.back();
+    stack.pop_back();
+    const int value = v.octree[std::size_t(node)];
+    if (value < 0) paths[std::size_t(~value)] = path;
+    if (value > 0)
+      for (int o = 0; o < 8; ++o) stack.emplace_back(value + 1 + o, path + char('0' + o));
+  }
+  return paths;
+}
+
+// The SVO leaves whose stencils name only probes of their own cell (a seat restores those), with that cell.
+std::vector<std::pair<std::size_t, int>> own_stencils(const formats::ProbeVolume& v) {
+  const std::vector<int> cells = formats::svo_leaf_cells(v, v.cell_depth);
+  const std::vector<std::string> paths = probe_paths(v);
+  std::vector<std::pair<std::size_t, int>> own;
+  for (std::size_t leaf = 0; leaf < cells.size(); ++leaf) {
+    if (cells[leaf] < 0) continue;
+    const std::string cell = cell_path(cells[leaf], v.cell_depth);
+    const gpu::SvoLeaf& stencil = v.svo_leaves[leaf];
+    bool mine = stencil.probes[0] >= 0;
+    for (int k = 0; k < 4; ++k) // a probe's leaf path is the cell's or longer: "x" makes it strictly longer
+      if (stencil.probes[k] >= 0) mine = mine && below(paths[std::size_t(stencil.probes[k])] + "x", cell);
+    if (mine) own.emplace_back(leaf, cells[leaf]);
+  }
+  return own;
+}
+
+// Of the SVO leaves of their own cell's probes in the cells `chosen` picks, how many hold the bake's stencil
+// in `live`: the same weights, bit for bit, on probes at the file's positions. Returns (those leaves, held).
+template <class Chosen>
+std::pair<int, int> bake_stencils_in(const formats::ProbeVolume& live, const formats::ProbeVolume& v, Chosen chosen) {
+  int own = 0, restored = 0;
+  for (const auto& [leaf, cell] : own_stencils(v)) {
+    if (!chosen(cell)) continue;
+    ++own;
+    const gpu::SvoLeaf& file = v.svo_leaves[leaf];
+    const gpu::SvoLeaf& now = live.svo_leaves[leaf];
+    bool same = std::memcmp(&now.weights, &file.weights, sizeof(file.weights)) == 0;
+    for (int k = 0; k < 4 && same; ++k) {
+      if ((file.probes[k] < 0) != (now.probes[k] < 0)) same = false;
+      else if (file.probes[k] >= 0)
+        same = live.probes[std::size_t(now.probes[k])].position == v.probes[std::size_t(file.probes[k])].position;
+    }
+    restored += same ? 1 : 0;
+  }
+  return {own, restored};
+}
+
 // Of the cells of `v` that `chosen` picks, how many have the file's subtree in `live` (leaf for leaf, probe
 // for probe); each one that does not is a test failure naming `when`.
 template <class Chosen>
@@ -729,12 +782,17 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
     auto in = streamed.value().run_frame();
     ASSERT_TRUE(in.ok()) << in.status().message;
     EXPECT_EQ(in.value().memory.failed_allocations, 0);
-    const int seated = cells_with_file_subtrees(streamed.value().read_back().value(), v, out_cells, round == 0 ? "first return" : "second return");
+    const formats::ProbeVolume live = streamed.value().read_back().value();
+    const int seated = cells_with_file_subtrees(live, v, out_cells, round == 0 ? "first return" : "second return");
+    const auto [own_stencils, restored] = bake_stencils_in(live, v, out_cells); // the SVO leaves of their own probes
+    ASSERT_GT(own_stencils, 0);
+    EXPECT_EQ(restored, own_stencils) << (round == 0 ? "first return" : "second return");
     ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
     if (round == 1) {
       std::printf("[streaming] memory update: %d cells collapsed to their node (%d probes fewer); %d measures "
-                  "unresolved around one room; twice out and in, each of the %d cells that were out has the file's subtree\n",
-                  cells, freed, unresolved, seated);
+                  "unresolved around one room; twice out and in, each of the %d cells that were out has the file's subtree, "
+                  "and their %d SVO leaves of their own probes the bake's stencils\n",
+                  cells, freed, unresolved, seated, own_stencils);
       break;
     }
     ASSERT_TRUE(streamed.value().stream_around(first->position, 6.0f).ok());
@@ -803,12 +861,13 @@ TEST_F(StreamingTest, ABudgetSizesTheMemoryUpdatesPoolsAndEveryArrivalSeatsFromT
   EXPECT_LT(streamed_bytes, whole_bytes);
 }
 
-// The ints a cell's seat passes behind MemoryFrame: its clusters (9 words each) and probes (36 each), or
-// 0 when its node is a leaf above the cell depth.
+// The ints a cell's seat passes behind MemoryFrame: its clusters (9 words each), probes (36 each) and SVO
+// leaves of its own probes (9 each), or 0 when its node is a leaf above the cell depth.
 std::uint64_t seat_ints_of(const formats::ProbeVolume& v, int cell_index) {
   const int root = formats::cell_root_node(v, v.cell_depth, cell_index);
   if (root < 0) return 0;
   std::uint64_t ints = 0;
+  for (const auto& [leaf, cell] : own_stencils(v)) ints += cell == cell_index ? 9 : 0;
   std::vector<int> stack{root};
   while (!stack.empty()) {
     const int value = v.octree[std::size_t(stack.back())];
@@ -865,7 +924,10 @@ TEST_F(StreamingTest, TheSeatLimitSpreadsArrivalsOverFramesAndALargerCellGrowsBy
   ASSERT_GT(seated_by_frame.size(), 1u) << "every arrival fitted one frame's seat data";
   EXPECT_LT(seated_by_frame.front(), cells);
   ASSERT_EQ(seated_by_frame.back(), cells) << "not every cell seated within 40 frames";
-  EXPECT_EQ(cells_with_file_subtrees(streamed.value().read_back().value(), v, others, "seated"), cells);
+  const formats::ProbeVolume live = streamed.value().read_back().value();
+  EXPECT_EQ(cells_with_file_subtrees(live, v, others, "seated"), cells);
+  const auto [own, restored] = bake_stencils_in(live, v, others);
+  EXPECT_EQ(restored, own);
   // The largest cell was measured again instead: its node, a leaf at upload, splits as the geometry asks.
   ASSERT_GE(settle_streamed(streamed.value(), std::nullopt), 0);
   const std::string path = cell_path(largest, v.cell_depth);

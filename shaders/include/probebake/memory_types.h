@@ -22,9 +22,10 @@ PB_CONSTANT(int, MEMORY_MAX_BOXES, 64);
 // set for an arrival.
 PB_CONSTANT(int, MEMORY_MAX_CELL_CHANGES, 1024);
 PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u); // the rest of an arrival's entry: its CellSeat
-// Ints of seat data behind MemoryFrame in the frame buffer with streaming (CellSeat records, their words and
-// probes); arrivals that do not fit wait for the next frame on the host, and a cell whose subtree alone
-// exceeds them (about 1,300 probes) grows by measures instead (CellSeat::clusters -1; not tested).
+// Ints of seat data behind MemoryFrame in the frame buffer with streaming (CellSeat records, their words,
+// probes and stencils), the most StreamingOptions::max_seat_bytes allows; arrivals that do not fit wait for
+// the next frame on the host, and a cell whose seat alone exceeds the limit (about 1,300 probes at this one)
+// grows by measures instead (CellSeat::clusters -1).
 PB_CONSTANT(int, MEMORY_SEAT_INTS, 49152);
 
 // A queue key: (state_priority << 4) | state, 0 = the node is not in the segment (leaf_rule.h's priority).
@@ -89,8 +90,9 @@ struct CellSeat {
   int first_word;  // offset 16: seat-data index of 9 ints per cluster: the parent's slot (8 c + octant of
                    //   local cluster c, -1 = the cell's node), then its 8 nodes' words
   int first_probe; // offset 20: seat-data index of the probes (Probe, 36 ints each), local probe order
-  int pad0;        // offset 24
-  int pad1;        // offset 28
+  int svo_leaves;  // offset 24: SVO leaves of the cell whose stencils name only its probes
+  int first_svo;   // offset 28: seat-data index of 9 ints per such leaf: its index, 4 local probes (-1 =
+                   //   none), 4 weights (float bits): the bake's stencil, restored as the cell is seated
 };                 // size 32
 
 // Device-only state: free-list stack sizes, the frame's pulled counts, and the indirect dispatch sizes that

@@ -8,9 +8,10 @@
 //  - push.phase 1, one thread for every arrival in turn (only it pops the stacks), then phase 2, a workgroup
 //    per arrival: a cell that arrives gets the file's subtree back under its node (CellSeat: clusters,
 //    probes and their surfel batches popped from the stacks, the probes as the file has them, lit afresh by
-//    light_trace). When the pools lack the room, or the tree is coarser than the cell there, its node is
-//    measured again instead (L1; a probe-less leaf asks for a probe, M1) and the memory update grows what
-//    the geometry asks for, a level a frame.
+//    light_trace; the bake's stencils of the SVO leaves that name only the cell's probes). When the pools
+//    lack the room, the seat was too large for the seat data, or the tree is coarser than the cell there,
+//    its node is measured again instead (L1; a probe-less leaf asks for a probe, M1) and the memory update
+//    grows what the geometry asks for, a level a frame.
 // A cell whose node is inside a larger leaf shares that leaf: a drop leaves it.
 #version 450
 #extension GL_GOOGLE_include_directive : require

@@ -77,10 +77,7 @@ LightRecord trace_hit(vec3 origin, vec3 dir, bool count) {
 void main() {
   const uint index = probebake_flat_workgroup();
   if (index >= light_list_header.trace_count) return; // uniform per workgroup
-  // The last chunk of a trace resets the flags only after every chunk read them: the same slot for all.
-  const int listed = light_trace_slot(uint(light_list[push.probe_capacity + index]));
-  if (listed < 0) return;
-  const uint slot = uint(listed);
+  const uint slot = uint(light_list[push.probe_capacity + index]); // light_trace_list chose it
   const int probe = int(slot);
   const vec3 origin = probebake_probes[probe].position;
   if (gl_LocalInvocationIndex == 0) {

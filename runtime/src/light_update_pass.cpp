@@ -44,7 +44,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   create_record_pages(rays);
   next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * 27 * sizeof(float), "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
-  // The header, the listed probe slots, the trace places (light_trace_list.comp).
+  // The header, the listed probe slots, the slots that trace this frame (light_trace_list.comp).
   const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + 2 * VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
   if (list_bytes > device.info.max_storage_buffer_range)
     fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");

@@ -42,7 +42,7 @@ layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uin
 #else
 #define PROBEBAKE_LIGHT_LIST_ACCESS readonly
 #endif
-// The listed probe slots at [0, probe_capacity), the trace places at [probe_capacity, 2 probe_capacity).
+// The listed probe slots at [0, probe_capacity), the slots that trace at [probe_capacity, 2 probe_capacity).
 layout(std430, binding = LIGHT_BINDING_LIGHT_LIST) PROBEBAKE_LIGHT_LIST_ACCESS buffer LightListBuffer {
   LightListHeader light_list_header;
   int light_list[];

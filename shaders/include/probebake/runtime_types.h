@@ -158,8 +158,8 @@ struct LightPush {
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
 // (memory_begin phase 2); with streaming and no memory update, the host's list. Followed in the buffer by
-// int probes[probe_capacity], then int trace_places[probe_capacity]: the list places (or window indices
-// without a list) of the probes that trace this frame, which light_trace_list appends before light_trace.
+// int probes[probe_capacity], then int traced[probe_capacity]: the slots of the probes that trace this
+// frame, which light_trace_list appends before light_trace.
 // light_trace runs a workgroup per chunk of those alone: a frame where few trace costs few workgroups.
 struct LightListHeader {
   uint groups_x;  // offset  0: VkDispatchIndirectCommand of gather: one workgroup per listed probe,
@@ -170,10 +170,10 @@ struct LightListHeader {
   uint resolve_y; // offset 20
   uint resolve_z; // offset 24
   uint pad0;      // offset 28
-  uint trace_x;   // offset 32: VkDispatchIndirectCommand of trace: one workgroup per trace place (folded
+  uint trace_x;   // offset 32: VkDispatchIndirectCommand of trace: one workgroup per probe that traces (folded
   uint trace_y;   // offset 36:   into y past LIGHT_LIST_MAX_GROUPS_X) and LIGHT_TRACE_CHUNKS, raised by
   uint trace_z;   // offset 40:   light_trace_list from zero
-  uint trace_count; // offset 44: trace places (light_trace_list)
+  uint trace_count; // offset 44: probes that trace (light_trace_list)
 };                // size 48
 // light_trace spreads a probe's trace over LIGHT_TRACE_CHUNKS workgroups (gl_WorkGroupID.z) and, when few
 // probes trace (probes arriving with a streamed cell, new leaves, retraces around a moved object: the cost

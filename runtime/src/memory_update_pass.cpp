@@ -143,14 +143,15 @@ bool memory_update_applies(const formats::ProbeVolume& v) {
          v.lighting->placement_rays > 0;
 }
 
-formats::ProbeVolume prepare_for_memory_update(const formats::ProbeVolume& volume, const MemoryPools& pools) {
-  formats::ProbeVolume v = volume;
+formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume v, const MemoryPools& pools, SeatRoom seats) {
   {
     formats::Octree grow(v, formats::Octree::Growth::automatic);
-    const int used_clusters = int(formats::complete_clusters(v.octree.size())) - grow.free_clusters();
-    const int used_probes = int(v.probes.size()) - grow.free_probes();
-    const int free_probes = pools.free_probes >= 0 ? pools.free_probes : std::max(512, used_probes);
-    grow.reserve_clusters(pools.free_clusters >= 0 ? pools.free_clusters : std::max(64, used_clusters));
+    const auto room = [](int requested, std::uint64_t used, std::uint64_t seat, std::uint64_t least) {
+      return requested >= 0 ? requested : int(std::min<std::uint64_t>(seat + std::max(least, used + seat), std::uint64_t(1) << 30));
+    };
+    const int free_probes = room(pools.free_probes, v.probes.size() - std::size_t(grow.free_probes()), seats.probes, 512);
+    grow.reserve_clusters(room(pools.free_clusters, formats::complete_clusters(v.octree.size()) - std::size_t(grow.free_clusters()),
+                               seats.clusters, 64));
     grow.reserve_probes(free_probes);
     if (!v.surfel_batches.empty())
       grow.reserve_batches(pools.free_batches >= 0 ? pools.free_batches : free_probes * batches_per_probe(v));

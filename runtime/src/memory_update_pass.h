@@ -28,9 +28,15 @@ namespace probebake::runtime::detail {
 // Whether `volume` can run the memory update: octree placement with probes, the lighting sections.
 bool memory_update_applies(const formats::ProbeVolume& volume);
 
+// Room in the pools for subtrees that arrive (streaming: the resident cells'), beyond the tree in use.
+struct SeatRoom {
+  std::uint64_t probes = 0, clusters = 0;
+};
+
 // The volume the GPU starts from: pools grown to `pools`' free counts, and a leaf queue holding every node
-// (seeded with every leaf, L2 / L3, when it has none or one too small). Counts and probe index synced.
-formats::ProbeVolume prepare_for_memory_update(const formats::ProbeVolume& volume, const MemoryPools& pools);
+// (seeded with every leaf, L2 / L3, when it has none or one too small). Counts and probe index synced. A
+// default count is `seats` plus as much again as the tree then uses (at least 512 probes, 64 clusters).
+formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume volume, const MemoryPools& pools, SeatRoom seats = {});
 
 // invalid_argument naming the first input out of range; ok otherwise.
 Status check_frame_inputs(const FrameInputs& inputs);

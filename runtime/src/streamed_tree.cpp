@@ -131,8 +131,8 @@ formats::ProbeVolume collapse_cells(const formats::ProbeVolume& file) {
   return out;
 }
 
-MemoryPools streamed_pools(const formats::ProbeVolume& file, const formats::ProbeVolume& collapsed,
-                           std::span<const streaming::CellFootprint> footprints, std::uint64_t budget, MemoryPools requested) {
+SeatRoom resident_seat_room(const formats::ProbeVolume& file, std::span<const streaming::CellFootprint> footprints,
+                            std::uint64_t budget) {
   std::vector<std::uint64_t> probes(footprints.size(), 0), clusters(footprints.size(), 0);
   for (std::size_t k = 0; k < footprints.size(); ++k) {
     const int root = formats::cell_root_node(file, file.cell_depth, footprints[k].cell_index);
@@ -141,20 +141,7 @@ MemoryPools streamed_pools(const formats::ProbeVolume& file, const formats::Prob
     probes[k] = subtree.probes.size();
     clusters[k] = subtree.clusters;
   }
-  // Slots in use: a free probe has link 0, a free cluster a zero meta word (as the GPU's free stacks count them).
-  const std::uint64_t used_probes = std::uint64_t(
-      std::count_if(collapsed.probes.begin(), collapsed.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
-  std::uint64_t used_clusters = 0;
-  const std::size_t cluster = std::size_t(gpu::OCTREE_CLUSTER_SIZE);
-  for (std::size_t meta = 1; meta + cluster <= collapsed.octree.size(); meta += cluster)
-    used_clusters += collapsed.octree[meta] != 0 ? 1 : 0;
-  const auto pool = [](std::uint64_t resident, std::uint64_t used, std::uint64_t least) {
-    return int(std::min<std::uint64_t>(resident + std::max(least, used + resident), std::uint64_t(1) << 30));
-  };
-  MemoryPools pools = requested;
-  if (pools.free_probes < 0) pools.free_probes = pool(streaming::most_resident(footprints, probes, budget), used_probes, 512);
-  if (pools.free_clusters < 0) pools.free_clusters = pool(streaming::most_resident(footprints, clusters, budget), used_clusters, 64);
-  return pools;
+  return {streaming::most_resident(footprints, probes, budget), streaming::most_resident(footprints, clusters, budget)};
 }
 
 } // namespace probebake::runtime::detail

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <span>
 
+#include "memory_update_pass.h"
 #include "probebake/formats/probe_volume.h"
-#include "probebake/runtime/runtime.h"
 #include "probebake/streaming/cell_residency.h"
 
 namespace probebake::runtime::detail {
@@ -21,11 +21,10 @@ namespace probebake::runtime::detail {
 // slots are numbered afresh (no free slot between them); the leaf queue is left empty.
 formats::ProbeVolume collapse_cells(const formats::ProbeVolume& file);
 
-// The pools' free counts for the collapsed tree: room for the file's subtrees of the cells resident at once
-// (streaming::most_resident over `footprints` within `budget`), and the memory update's headroom as
-// prepare_for_memory_update gives a whole tree (as much again as the resident tree uses, at least 512 probes
-// and 64 clusters). A count `requested` sets (>= 0) is kept; surfel batches follow the probes there.
-MemoryPools streamed_pools(const formats::ProbeVolume& file, const formats::ProbeVolume& collapsed,
-                           std::span<const streaming::CellFootprint> footprints, std::uint64_t budget, MemoryPools requested);
+// Room for the file's subtrees of the cells that can be resident at once, whatever the camera does
+// (streaming::most_resident of their probes and clusters over `footprints` within `budget`), for
+// prepare_for_memory_update, which adds the memory update's headroom.
+SeatRoom resident_seat_room(const formats::ProbeVolume& file, std::span<const streaming::CellFootprint> footprints,
+                            std::uint64_t budget);
 
 } // namespace probebake::runtime::detail

@@ -15,9 +15,8 @@ namespace {
 // through pools sized by the budget (streamed_tree.h).
 formats::ProbeVolume prepare_tree(const formats::ProbeVolume& volume, const UploadOptions& options, bool streams) {
   if (!streams || volume.cell_tracing.empty()) return prepare_for_memory_update(volume, options.pools);
-  const formats::ProbeVolume collapsed = collapse_cells(volume);
-  const MemoryPools pools = streamed_pools(volume, collapsed, StreamedTracing::footprints(volume), options.streaming.budget_bytes, options.pools);
-  return prepare_for_memory_update(collapsed, pools);
+  const SeatRoom seats = resident_seat_room(volume, StreamedTracing::footprints(volume), options.streaming.budget_bytes);
+  return prepare_for_memory_update(collapse_cells(volume), options.pools, seats);
 }
 
 } // namespace
@@ -62,9 +61,9 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {
-    const std::uint64_t seat_bytes = options.streaming.max_seat_bytes != 0 ? options.streaming.max_seat_bytes : 4u * std::uint64_t(gpu::MEMORY_SEAT_INTS);
+    const std::uint64_t seat_ints = options.streaming.max_seat_bytes != 0 ? options.streaming.max_seat_bytes / 4 : gpu::MEMORY_SEAT_INTS;
     memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count,
-                                                streaming ? std::uint32_t(seat_bytes / 4) : 0u);
+                                                streaming ? std::uint32_t(seat_ints) : 0u);
     light->walk_light_list();
   }
   if (streaming && light) {

@@ -410,9 +410,7 @@ void MemoryUpdatePass::add_seat_stencils(const formats::ProbeVolume& file, const
       if (stencil.probes[k] < 0) continue;
       const auto l = local.find(stencil.probes[k]);
       own = l != local.end();
-      if (!own) break;
-      entry[std::size_t(1 + k)] = l->second;
-      std::memcpy(&entry[std::size_t(5 + k)], &stencil.weights[k], sizeof(float));
+      if (own) entry[std::size_t(1 + k)] = l->second, std::memcpy(&entry[std::size_t(5 + k)], &stencil.weights[k], sizeof(float));
     }
     if (!own) continue;
     SeatPayload& payload = seats_[record->second];

@@ -8,10 +8,12 @@
 //  - push.phase 1, one thread for every arrival in turn (only it pops the stacks), then phase 2, a workgroup
 //    per arrival: a cell that arrives gets the file's subtree back under its node (CellSeat: clusters,
 //    probes and their surfel batches popped from the stacks, the probes as the file has them, lit afresh by
-//    light_trace; the bake's stencils of the SVO leaves that name only the cell's probes). When the pools
-//    lack the room, the seat was too large for the seat data, or the tree is coarser than the cell there,
-//    its node is measured again instead (L1; a probe-less leaf asks for a probe, M1) and the memory update
-//    grows what the geometry asks for, a level a frame.
+//    light_trace). When the pools lack the room, the seat was too large for the seat data, or the tree is
+//    coarser than the cell there, its node is measured again instead (L1; a probe-less leaf asks for a
+//    probe, M1) and the memory update grows what the geometry asks for, a level a frame.
+//  - push.phase 3, a workgroup per arrival once all are seated: the bake's stencils of the SVO leaves that
+//    name the cell's probes come back wherever each of their probes is a leaf with a probe again, in this
+//    cell or in a neighbour that is resident.
 // A cell whose node is inside a larger leaf shares that leaf: a drop leaves it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -189,25 +191,47 @@ void seat_subtree(uint s) {
     for (int o = 0; o < 8; ++o)
       seat_node(seat, meta + 1 + o, seat_data[at + 1 + o], w.cluster_first, w.probe_first, w.batch_first, w.reuse_probe);
   }
-  // The bake's stencils of the cell's own SVO leaves, once every seated probe's generation moved on (so that
-  // memory_svo keeps them).
-  memoryBarrierBuffer();
-  barrier();
+}
+
+// The tree's probe at the leaf a key names (SEAT_STENCIL_VEC4S), or -1 when that node is not a leaf with a
+// probe now.
+int probe_at_key(int xy, int zd) {
+  const int depth = zd >> 16;
+  if (depth > OCTREE_MAX_DEPTH) return -1;
+  int node = 0;
+  for (int d = depth - 1; d >= 0; --d) {
+    const int v = probebake_octree[node];
+    if (v <= 0) return -1;
+    const int octant = ((xy >> d) & 1) | (((xy >> (16 + d)) & 1) << 1) | (((zd >> d) & 1) << 2);
+    node = v + 1 + octant;
+  }
+  const int v = probebake_octree[node];
+  return v < 0 ? ~v : -1;
+}
+
+// Phase 3, a workgroup per seat, after every seat of the frame: the bake's stencils of the SVO leaves that
+// name the cell's probes, where each of their probes is a leaf with a probe again (so that memory_svo keeps
+// them, with the probes' current generations). Two seats naming one leaf write the same values.
+void restore_stencils(uint s) {
+  const CellSeat seat = seat_at(s);
   for (int e = int(gl_LocalInvocationIndex); e < seat.svo_leaves; e += int(MEMORY_WORKGROUP_SIZE)) {
-    const int at = seat.first_svo + 9 * e, leaf = seat_data[at];
+    const int leaf = seat_data[seat.first_svo + e];
+    const int at = probebake_info.svo_leaves + SEAT_STENCIL_VEC4S * leaf;
+    const ivec4 xy = floatBitsToInt(svo_bake[at]), zd = floatBitsToInt(svo_bake[at + 1]);
     ivec4 probes = ivec4(-1);
-    vec4 weights = vec4(0.0);
     uvec4 generations = uvec4(0u);
+    bool found = true;
     for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) {
-      if (seat_data[at + 1 + k] < 0) continue;
-      probes[k] = seat_slot(seat_data[at + 1 + k], w.probe_first, w.reuse_probe);
-      weights[k] = intBitsToFloat(seat_data[at + 5 + k]);
-      generations[k] = probe_generations[probes[k]];
+      if (xy[k] < 0) continue;
+      probes[k] = probe_at_key(xy[k], zd[k]);
+      found = found && probes[k] >= 0;
+      if (probes[k] >= 0) generations[k] = probe_generations[probes[k]];
     }
+    if (!found) continue;
     probebake_svo_leaves[leaf].probes = probes;
-    probebake_svo_leaves[leaf].weights = weights;
+    probebake_svo_leaves[leaf].weights = svo_bake[at + 2];
     svo_generations[leaf] = generations;
-    probebake_svo_nodes[int(svo_centres[leaf].w)] = ~leaf; // attached again if it was a miss
+    probebake_svo_nodes[int(svo_bake[leaf].w)] = ~leaf; // attached again if it was a miss
   }
 }
 
@@ -222,6 +246,10 @@ void main() {
   }
   if (push.phase == 2) { // uniform per workgroup
     seat_subtree(probebake_flat_workgroup());
+    return;
+  }
+  if (push.phase == 3) { // uniform per workgroup
+    restore_stencils(probebake_flat_workgroup());
     return;
   }
   const int i = memory_item(memory_frame.cell_changes);

@@ -28,6 +28,27 @@ constexpr Access kAnyDeviceAndIndirect{kAnyDeviceAccess.stages | VK_PIPELINE_STA
 constexpr VkBufferUsageFlags kUsage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 
+// Where each probe of `v` sits: its leaf's depth and integer coordinates at that depth (depth -1: a free
+// probe). Walks the tree with an explicit stack, no deeper than OCTREE_MAX_DEPTH.
+std::vector<NodeKey> probe_node_keys(const formats::ProbeVolume& v) {
+  std::vector<NodeKey> keys(v.probes.size(), NodeKey{0, 0, 0, -1});
+  std::vector<NodeKey> stack{NodeKey{0, 0, 0, 0}}; // here .x/.y/.z/.depth of a node, and its index below
+  std::vector<int> nodes{0};
+  while (!nodes.empty()) {
+    const NodeKey at = stack.back();
+    const int node = nodes.back();
+    stack.pop_back(), nodes.pop_back();
+    const int value = v.octree[std::size_t(node)];
+    if (value < 0 && std::size_t(~value) < keys.size()) keys[std::size_t(~value)] = at;
+    if (value <= 0 || at.depth >= gpu::OCTREE_MAX_DEPTH || std::size_t(value) + 9 > v.octree.size()) continue;
+    for (int o = 0; o < 8; ++o) {
+      stack.push_back(NodeKey{2 * at.x + (o & 1), 2 * at.y + ((o >> 1) & 1), 2 * at.z + ((o >> 2) & 1), at.depth + 1});
+      nodes.push_back(value + 1 + o);
+    }
+  }
+  return keys;
+}
+
 int batches_per_probe(const formats::ProbeVolume& v) {
   if (v.surfel_batches.empty()) return 0;
   return (v.info.surfels_per_probe + gpu::SURFELS_PER_BATCH - 1) / gpu::SURFELS_PER_BATCH;
@@ -99,6 +120,24 @@ std::vector<glm::vec4> svo_leaf_centres(const formats::ProbeVolume& v) {
     }
   }
   return centres;
+}
+
+// The bake's stencils of `file`'s SVO leaves with their probes as node keys (SEAT_STENCIL_VEC4S), appended
+// to the leaf centres for the seats to restore.
+void append_bake_stencils(std::vector<glm::vec4>& bake, const formats::ProbeVolume& file, const std::vector<NodeKey>& keys) {
+  for (const gpu::SvoLeaf& stencil : file.svo_leaves) {
+    std::array<std::int32_t, 8> key_words{-1, -1, -1, -1, 0, 0, 0, 0}; // x | y << 16 per probe, then z | depth << 16
+    for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k) {
+      const int probe = stencil.probes[k];
+      if (probe < 0 || std::size_t(probe) >= keys.size() || keys[std::size_t(probe)].depth < 0) continue;
+      const NodeKey& key = keys[std::size_t(probe)];
+      key_words[std::size_t(k)] = key.x | (key.y << 16);
+      key_words[std::size_t(4 + k)] = key.z | (key.depth << 16);
+    }
+    glm::vec4 words[2];
+    std::memcpy(words, key_words.data(), sizeof(words));
+    bake.insert(bake.end(), {words[0], words[1], stencil.weights});
+  }
 }
 
 bool finite_box(const Box& b) {
@@ -187,7 +226,8 @@ Status check_frame_inputs(const FrameInputs& in) {
 }
 
 MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
-                                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints)
+                                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints,
+                                   const formats::ProbeVolume* cells_file)
     : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
       segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)), seat_ints_(std::min(seat_ints, std::uint32_t(gpu::MEMORY_SEAT_INTS))) {
   const std::size_t capacity = segment_capacity_;
@@ -220,7 +260,13 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame) + seat_ints_ * sizeof(std::int32_t), "memory: frame inputs");
   probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");
   svo_generations_ = upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
-  svo_centres_ = upload(device, svo_leaf_centres(v), "memory: SVO leaf centres");
+  std::vector<glm::vec4> svo_bake = svo_leaf_centres(v);
+  if (cells_file) {
+    const std::vector<NodeKey> probe_keys = probe_node_keys(*cells_file);
+    set_cell_seats(*cells_file, probe_keys);
+    append_bake_stencils(svo_bake, *cells_file, probe_keys);
+  }
+  svo_bake_ = upload(device, svo_bake, "memory: SVO leaf centres and bake stencils");
   counters_ = PassCounters<gpu::MemoryCounters>(device, "memory counters", rings);
 
   std::array<VkBuffer, gpu::MEMORY_BINDING_COUNT> buffers{};
@@ -249,7 +295,7 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   buffers[gpu::MEMORY_BINDING_TRACE_FLAGS] = trace_flags;
   buffers[gpu::MEMORY_BINDING_PROBE_GENERATIONS] = probe_generations_.get();
   buffers[gpu::MEMORY_BINDING_SVO_GENERATIONS] = svo_generations_.get();
-  buffers[gpu::MEMORY_BINDING_SVO_CENTRES] = svo_centres_.get();
+  buffers[gpu::MEMORY_BINDING_SVO_BAKE] = svo_bake_.get();
   buffers[gpu::MEMORY_BINDING_LIGHT_LIST] = light_list;
   buffers[gpu::MEMORY_BINDING_DYNAMIC_OBJECTS] = volume.binding(Section::dynamic_objects);
   buffers[gpu::MEMORY_BINDING_OBJECT_INSTANCES] = volume.object_instances();
@@ -313,6 +359,8 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
     if (seats > 0) {
       bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{2, 0, 0, 0});
       dispatch(cmd, p.memory_cells.get(), seats * group, group); // a workgroup per seat
+      bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{3, 0, 0, 0});
+      dispatch(cmd, p.memory_cells.get(), seats * group, group); // their stencils, every seat written
     }
     bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{0, 0, 0, 0});
   }
@@ -350,13 +398,11 @@ void MemoryUpdatePass::change_cells(std::span<const std::uint32_t> changes) {
   cell_changes_.insert(cell_changes_.end(), changes.begin(), changes.end());
 }
 
-void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
+void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys) {
   cell_depth_ = file.cell_depth;
   seats_.assign(file.cells.size(), {});
-  std::vector<std::unordered_map<int, int>> local_of(file.cells.size()); // per cell: file probe -> local probe
   for (std::size_t k = 0; k < file.cells.size(); ++k) {
     SeatPayload& out = seats_[k];
-    std::unordered_map<int, int> local;
     out.seat.cell = std::uint32_t(file.cells[k].cell_index);
     const int root = formats::cell_root_node(file, file.cell_depth, file.cells[k].cell_index);
     if (root < 0) continue; // a leaf above the cell: nothing of its own
@@ -369,7 +415,6 @@ void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
         return std::int32_t(metas.size());
       }
       if (v < 0) {
-        local.emplace(~v, int(out.probes.size()));
         out.probes.push_back(file.probes[std::size_t(~v)]);
         return ~std::int32_t(out.probes.size() - 1);
       }
@@ -388,34 +433,34 @@ void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
     }
     out.seat.clusters = int(metas.size());
     out.seat.probes = int(out.probes.size());
-    local_of[k] = std::move(local);
   }
-  add_seat_stencils(file, local_of);
+  add_seat_stencils(file, keys);
 }
 
-// The SVO leaves in a cell whose stencils name only the cell's own probes get the bake's stencil back
-// when the cell is seated (the others keep what memory_svo refills them with).
-void MemoryUpdatePass::add_seat_stencils(const formats::ProbeVolume& file, const std::vector<std::unordered_map<int, int>>& local_of) {
+// Every SVO leaf whose bake stencil names a probe of a cell is named by that cell's seat: memory_cells
+// restores the stencil once every arrival of the frame is seated, where all its probes are leaves with
+// probes again, whichever cells they lie in (the others keep what memory_svo refills them with).
+void MemoryUpdatePass::add_seat_stencils(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys) {
   std::unordered_map<int, std::size_t> record_of_cell;
   for (std::size_t k = 0; k < file.cells.size(); ++k) record_of_cell[file.cells[k].cell_index] = k;
-  const std::vector<int> leaf_cells = formats::svo_leaf_cells(file, file.cell_depth);
-  for (std::size_t leaf = 0; leaf < leaf_cells.size(); ++leaf) {
-    const auto record = record_of_cell.find(leaf_cells[leaf]);
-    if (record == record_of_cell.end()) continue;
-    const std::unordered_map<int, int>& local = local_of[record->second];
-    const gpu::SvoLeaf& stencil = file.svo_leaves[leaf];
-    std::array<std::int32_t, 9> entry{std::int32_t(leaf), -1, -1, -1, -1, 0, 0, 0, 0};
-    bool own = stencil.probes[0] >= 0;
-    for (int k = 0; k < 4 && own; ++k) {
-      if (stencil.probes[k] < 0) continue;
-      const auto l = local.find(stencil.probes[k]);
-      own = l != local.end();
-      if (own) entry[std::size_t(1 + k)] = l->second, std::memcpy(&entry[std::size_t(5 + k)], &stencil.weights[k], sizeof(float));
+  const int n = 1 << cell_depth_;
+  std::vector<std::size_t> records; // of one leaf
+  for (std::size_t leaf = 0; leaf < file.svo_leaves.size(); ++leaf) {
+    records.clear();
+    for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k) {
+      const int probe = file.svo_leaves[leaf].probes[k];
+      if (probe < 0 || std::size_t(probe) >= keys.size()) continue;
+      const NodeKey& key = keys[std::size_t(probe)];
+      if (key.depth < cell_depth_) continue; // above the cells (or free): never dropped
+      const int shift = key.depth - cell_depth_;
+      const auto record = record_of_cell.find((key.x >> shift) + n * ((key.y >> shift) + n * (key.z >> shift)));
+      if (record != record_of_cell.end() && std::find(records.begin(), records.end(), record->second) == records.end())
+        records.push_back(record->second);
     }
-    if (!own) continue;
-    SeatPayload& payload = seats_[record->second];
-    payload.svo.insert(payload.svo.end(), entry.begin(), entry.end());
-    ++payload.seat.svo_leaves;
+    for (std::size_t record : records) {
+      seats_[record].svo.push_back(std::int32_t(leaf));
+      ++seats_[record].seat.svo_leaves;
+    }
   }
 }
 

@@ -41,13 +41,22 @@ formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume volume, cons
 // invalid_argument naming the first input out of range; ok otherwise.
 Status check_frame_inputs(const FrameInputs& inputs);
 
+// An octree node as its depth and integer coordinates at that depth: how a seat's stencils name probes
+// (SEAT_STENCIL_VEC4S).
+struct NodeKey {
+  int x = 0, y = 0, z = 0, depth = 0;
+};
+
 class MemoryUpdatePass {
 public:
   // `prepared` is what `volume` was uploaded from (prepare_for_memory_update); `trace_flags` and
   // `light_list` are the light update's (LightUpdatePass::trace_flags, light_list). `seat_ints`: with
-  // streaming, the frame buffer's room for the arrivals' seat data (at most MEMORY_SEAT_INTS; 0 without).
+  // streaming, the frame buffer's room for the arrivals' seat data (at most MEMORY_SEAT_INTS; 0 without),
+  // and `cells_file` the file whose subtree of every cell record an arriving cell gets back, with the bake's
+  // SVO stencils that name its probes (memory_cells).
   MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& prepared, VkBuffer trace_flags,
-                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints = 0);
+                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints = 0,
+                   const formats::ProbeVolume* cells_file = nullptr);
 
   // Records the frame's inputs (MemoryFrame, and VolumeInfo when a threshold changes) and the memory update
   // with the SVO refresh, ending with its writes visible to later compute and transfer work.
@@ -67,8 +76,6 @@ public:
   // Streaming: cells arrived; the next memory update queues again the leaves and parents whose measures
   // crossed a cell that was out (memory_remeasure).
   void remeasure_unresolved() { remeasure_ = true; }
-  // Streaming: the file's subtree of every cell record, which an arriving cell gets back (memory_cells).
-  void set_cell_seats(const formats::ProbeVolume& file);
   // Streaming: cells (CellStreaming::take_tree_changes: a drop's grid index, or MEMORY_CELL_ARRIVED with
   // an arrival's cell record) whose subtrees the next memory updates give back to the pools or seat again,
   // at most MEMORY_MAX_CELL_CHANGES and MEMORY_SEAT_INTS of seats a frame (the rest wait, in order).
@@ -93,20 +100,21 @@ private:
     gpu::CellSeat seat{};
     std::vector<std::int32_t> words; // 9 per cluster
     std::vector<gpu::Probe> probes;
-    std::vector<std::int32_t> svo;   // 9 per SVO leaf of the cell's own probes: CellSeat::first_svo
+    std::vector<std::int32_t> svo;   // the SVO leaves whose bake stencils name the cell's probes: CellSeat::first_svo
     std::size_t ints() const { return words.size() + probes.size() * 36 + svo.size(); }
   };
   // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
   // cell_changes_ while they fit. Returns the arrivals (seats).
   std::size_t take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
-  void add_seat_stencils(const formats::ProbeVolume& file, const std::vector<std::unordered_map<int, int>>& local_of);
+  void set_cell_seats(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys);
+  void add_seat_stencils(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys);
 
   int cell_depth_ = 0;
   std::size_t seat_ints_ = 0;               // room for seat data behind MemoryFrame (streaming)
   std::vector<SeatPayload> seats_;          // per cell record
   std::vector<std::uint32_t> cell_changes_; // not yet given to a frame, oldest first
   Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,
-      svo_generations_, svo_centres_;
+      svo_generations_, svo_bake_;
   PassCounters<gpu::MemoryCounters> counters_;
   PassDescriptorSet descriptors_;
 };

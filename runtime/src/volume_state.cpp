@@ -63,7 +63,7 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   if (dynamic_tree && light) {
     const std::uint64_t seat_ints = options.streaming.max_seat_bytes != 0 ? options.streaming.max_seat_bytes / 4 : gpu::MEMORY_SEAT_INTS;
     memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count,
-                                                streaming ? std::uint32_t(seat_ints) : 0u);
+                                                streaming ? std::uint32_t(seat_ints) : 0u, streaming ? &volume : nullptr);
     light->walk_light_list();
   }
   if (streaming && light) {
@@ -71,7 +71,6 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     light->set_null_leaf(streaming->tracing().null_leaf());
     if (memory) {
       memory->set_null_leaf(streaming->tracing().null_leaf());
-      memory->set_cell_seats(volume);
     }
     sample->set_record_slots(light->record_slots());
   }

@@ -201,7 +201,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                             {"TraceFlagBuffer", MEMORY_BINDING_TRACE_FLAGS},
                             {"ProbeGenerationBuffer", MEMORY_BINDING_PROBE_GENERATIONS},
                             {"SvoGenerationBuffer", MEMORY_BINDING_SVO_GENERATIONS},
-                            {"SvoCentreBuffer", MEMORY_BINDING_SVO_CENTRES},
+                            {"SvoBakeBuffer", MEMORY_BINDING_SVO_BAKE},
                             {"LightListBuffer", MEMORY_BINDING_LIGHT_LIST},
                             {"DynamicObjectBuffer", MEMORY_BINDING_DYNAMIC_OBJECTS},
                             {"ObjectInstanceBuffer", MEMORY_BINDING_OBJECT_INSTANCES}};

@@ -27,6 +27,11 @@ PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u); // the rest of an arrival's
 // the next frame on the host, and a cell whose seat alone exceeds the limit (about 1,300 probes at this one)
 // grows by measures instead (CellSeat::clusters -1).
 PB_CONSTANT(int, MEMORY_SEAT_INTS, 49152);
+// With streaming, the bake's stencil of SVO leaf l follows the leaf centres in MEMORY_BINDING_SVO_BAKE, as
+// vec4s [svo_leaves + 3 l, + 3): per stencil probe its leaf's key, x | y << 16 (integer coordinates at its
+// depth; -1: no probe), then z | depth << 16 (int bits), then the 4 weights. A seat names the leaves whose
+// stencils name its cell's probes; the stencil comes back where each key is a leaf with a probe again.
+PB_CONSTANT(int, SEAT_STENCIL_VEC4S, 3);
 
 // A queue key: (state_priority << 4) | state, 0 = the node is not in the segment (leaf_rule.h's priority).
 PB_CONSTANT(int, MEMORY_KEY_STATE_MASK, 15);
@@ -90,9 +95,8 @@ struct CellSeat {
   int first_word;  // offset 16: seat-data index of 9 ints per cluster: the parent's slot (8 c + octant of
                    //   local cluster c, -1 = the cell's node), then its 8 nodes' words
   int first_probe; // offset 20: seat-data index of the probes (Probe, 36 ints each), local probe order
-  int svo_leaves;  // offset 24: SVO leaves of the cell whose stencils name only its probes
-  int first_svo;   // offset 28: seat-data index of 9 ints per such leaf: its index, 4 local probes (-1 =
-                   //   none), 4 weights (float bits): the bake's stencil, restored as the cell is seated
+  int svo_leaves;  // offset 24: SVO leaves whose bake stencils name a probe of the cell (in any cell)
+  int first_svo;   // offset 28: seat-data index of their indices (SEAT_STENCIL_VEC4S)
 };                 // size 32
 
 // Device-only state: free-list stack sizes, the frame's pulled counts, and the indirect dispatch sizes that
@@ -153,6 +157,7 @@ struct MemoryCounters {
 
 #ifdef __cplusplus
 static_assert(sizeof(MemoryPush) == 16);
+static_assert(SVO_PROBES_PER_LEAF == 4 && OCTREE_MAX_DEPTH < 16); // a key per vec4 lane, 16-bit coordinates
 static_assert(sizeof(CellSeat) == 32 && sizeof(MemoryFrame) % 16 == 0 && sizeof(Probe) == 36 * 4);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
 static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES && offsetof(MemoryFrame, boxes) == 32);

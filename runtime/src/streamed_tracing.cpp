@@ -42,20 +42,39 @@ struct StreamedTracing::Layout {
   }
 };
 
+std::uint64_t StreamedTracing::block_bytes(const formats::CellTracing& r) {
+  return r.trace_faces.count > 0 ? Layout(r.trace_nodes.count, r.trace_faces.count, r.trace_vertices.count).bytes : 0;
+}
+
+std::vector<std::uint64_t> slot_bytes(const std::vector<std::uint64_t>& blocks) {
+  std::vector<std::uint64_t> sorted(blocks);
+  std::sort(sorted.begin(), sorted.end());
+  std::map<std::uint64_t, std::uint64_t> slot_of; // block bytes -> its class's largest
+  for (std::size_t first = 0; first < sorted.size();) {
+    std::size_t end = first;
+    while (end < sorted.size() && sorted[end] <= sorted[first] + sorted[first] / kSlotClassWidth) ++end;
+    for (std::size_t i = first; i < end; ++i) slot_of[sorted[i]] = sorted[end - 1];
+    first = end;
+  }
+  std::vector<std::uint64_t> slots;
+  for (std::uint64_t bytes : blocks) slots.push_back(slot_of[bytes]);
+  return slots;
+}
+
 BlockAllocator::BlockAllocator(std::uint64_t bytes, std::uint64_t unit) : unit_(unit) {
   if (bytes / unit > 0) free_[0] = bytes / unit;
 }
 
 std::int64_t BlockAllocator::allocate(std::uint64_t bytes) {
   const std::uint64_t units = (bytes + unit_ - 1) / unit_;
-  for (auto it = free_.begin(); it != free_.end(); ++it) {
-    if (it->second < units) continue;
-    const std::uint64_t at = it->first, left = it->second - units;
-    free_.erase(it);
-    if (left > 0) free_[at + units] = left;
-    return std::int64_t(at * unit_);
-  }
-  return -1;
+  auto best = free_.end();
+  for (auto it = free_.begin(); it != free_.end(); ++it)
+    if (it->second >= units && (best == free_.end() || it->second < best->second)) best = it;
+  if (best == free_.end()) return -1;
+  const std::uint64_t at = best->first, left = best->second - units;
+  free_.erase(best);
+  if (left > 0) free_[at + units] = left;
+  return std::int64_t(at * unit_);
 }
 
 void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
@@ -80,11 +99,12 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
   for (const formats::CellTracing& ranges : volume.cell_tracing) {
     CellPart cell;
     cell.ranges = ranges;
-    if (ranges.trace_faces.count > 0)
-      cell.block_bytes = Layout(ranges.trace_nodes.count, ranges.trace_faces.count, ranges.trace_vertices.count).bytes;
+    cell.block_bytes = block_bytes(ranges);
     largest_block_ = std::max(largest_block_, cell.block_bytes);
     cells_.push_back(cell);
   }
+  const std::vector<streaming::CellFootprint> slots = footprints(volume);
+  for (std::size_t k = 0; k < cells_.size(); ++k) cells_[k].slot_bytes = slots[k].bytes;
   // The top level precedes the first cell's nodes (records without faces may list empty ranges at 0).
   for (const CellPart& cell : cells_)
     if (cell.block_bytes > 0) {
@@ -229,12 +249,12 @@ void StreamedTracing::write_block(const CellPart& cell, const formats::CellTraci
 }
 
 std::vector<streaming::CellFootprint> StreamedTracing::footprints(const formats::ProbeVolume& volume) {
+  std::vector<std::uint64_t> blocks;
+  for (std::size_t k = 0; k < volume.cells.size() && k < volume.cell_tracing.size(); ++k) blocks.push_back(block_bytes(volume.cell_tracing[k]));
+  const std::vector<std::uint64_t> slots = slot_bytes(blocks);
   std::vector<streaming::CellFootprint> out;
-  for (std::size_t k = 0; k < volume.cells.size() && k < volume.cell_tracing.size(); ++k) {
-    const formats::CellTracing& r = volume.cell_tracing[k];
-    const std::uint64_t bytes = r.trace_faces.count > 0 ? Layout(r.trace_nodes.count, r.trace_faces.count, r.trace_vertices.count).bytes : 0;
-    out.push_back({volume.cells[k].cell_index, volume.cells[k].bounds_min, volume.cells[k].bounds_max, bytes});
-  }
+  for (std::size_t k = 0; k < slots.size(); ++k)
+    out.push_back({volume.cells[k].cell_index, volume.cells[k].bounds_min, volume.cells[k].bounds_max, slots[k]});
   return out;
 }
 
@@ -252,7 +272,7 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
   for (std::size_t k : changes.drops) {
     CellPart& cell = cells_[k];
     if (cell.offset < 0) continue;
-    blocks_.release(std::uint64_t(cell.offset), cell.block_bytes);
+    blocks_.release(std::uint64_t(cell.offset), cell.slot_bytes);
     cell.offset = -1;
     set_word(cmd, cell, null_leaf_);
   }
@@ -266,21 +286,25 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
       missed.unplaced.push_back(k);
       continue;
     }
+    // The block is placed before the cell is read: a load that finds no free run in a fragmented arena waits
+    // without reading and checking the cell again every frame.
+    const std::int64_t offset = blocks_.allocate(cell.slot_bytes);
+    if (offset < 0) {
+      missed.unplaced.push_back(k);
+      continue;
+    }
     std::optional<formats::CellTracingData> data;
     try {
       data = reader_ ? reader_->take_or_request(k) : source_->read(k);
     } catch (const Error& e) {
+      blocks_.release(std::uint64_t(offset), cell.slot_bytes);
       if (e.kind() != ErrorKind::input) throw;
       missed.refused.emplace_back(k, e.what());
       continue;
     }
     if (!data) {
+      blocks_.release(std::uint64_t(offset), cell.slot_bytes);
       missed.reading.push_back(k);
-      continue;
-    }
-    const std::int64_t offset = blocks_.allocate(cell.block_bytes);
-    if (offset < 0) { // no free run in a fragmented arena (rare): its bytes are read again next time
-      missed.unplaced.push_back(k);
       continue;
     }
     cell.offset = offset;

@@ -26,8 +26,14 @@
 
 namespace probebake::runtime::detail {
 
-// First-fit allocation of blocks in a byte range, in units of `unit` bytes, freed blocks merged with their
-// neighbours. Offsets are relative to the range.
+// Size classes: blocks within 1/kSlotClassWidth of the smallest in their class take the class's largest size
+// in the arena, so that the run a dropped block frees fits any block of its class (a world's cells are often
+// of a few near-equal sizes: rooms of one kind). Costs at most that fraction of a block.
+constexpr std::uint64_t kSlotClassWidth = 32;
+std::vector<std::uint64_t> slot_bytes(const std::vector<std::uint64_t>& blocks);
+
+// Best-fit allocation of blocks in a byte range, in units of `unit` bytes, freed blocks merged with their
+// neighbours (ties to the lowest offset). Offsets are relative to the range.
 class BlockAllocator {
 public:
   BlockAllocator(std::uint64_t bytes, std::uint64_t unit);
@@ -52,8 +58,8 @@ public:
   StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
                   std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background);
 
-  // Each Cell record's block size in the arena (0 without faces), in record order: what the residency
-  // policy budgets. `volume` has its tracing split by cell (as the constructor needs).
+  // Each Cell record's slot in the arena (its block's size class, slot_bytes; 0 without faces), in record
+  // order: what the residency policy budgets. `volume` has its tracing split by cell (as the constructor needs).
   static std::vector<streaming::CellFootprint> footprints(const formats::ProbeVolume& volume);
   std::uint64_t largest_block() const { return largest_block_; }
   // The child word that stands for a cell that is out: a leaf of the null face (bvh_trace.glsl).
@@ -88,9 +94,11 @@ public:
 
 private:
   struct Layout; // where a cell's nodes, faces and vertices lie in a block
+  static std::uint64_t block_bytes(const formats::CellTracing& ranges); // Layout's bytes; 0 without faces
   struct CellPart {
     formats::CellTracing ranges{};
-    std::uint64_t block_bytes = 0;
+    std::uint64_t block_bytes = 0; // what it holds
+    std::uint64_t slot_bytes = 0;  // what it takes in the arena (slot_bytes())
     std::int64_t offset = -1; // its block in the arena, -1 when not resident
     bool in_tree_root = false; // the word leading to it: trace_trees[0].root, or
     std::uint32_t parent_node = 0, parent_child = 0; // child `parent_child` of top-level node `parent_node`

@@ -184,8 +184,9 @@ struct MemoryPools {
 // come back from them as the file has them; measures that cross a cell that is out decide nothing until
 // cells arrive.
 struct StreamingOptions {
-  // Device bytes for the resident cells' tracing blocks; 0 = no streaming (the whole tree is uploaded). The
-  // top level, the dynamic objects' trees and the per-cell bookkeeping come on top (a few KB).
+  // Device bytes for the resident cells' tracing blocks (each counted at its size class's slot, at most 1/32
+  // above its own bytes); 0 = no streaming (the whole tree is uploaded). The top level, the dynamic objects'
+  // trees and the per-cell bookkeeping come on top (a few KB).
   std::uint64_t budget_bytes = 0;
   // Bytes copied per frame at most (0 = no limit); one cell is always allowed, so a cell larger than this
   // still arrives. Bounds each frame's upload spike; the other cells wait, nearest first.

@@ -163,6 +163,7 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
     stats.unplaced_cells = int(missed.unplaced.size());
     stats.refused_cells = int(missed.refused.size());
     stats.reading_cells = int(missed.reading.size());
+    stats.moved_cells = missed.compacted;
     stats.upload_cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     pending_ = changes.waiting > 0 || !missed.unplaced.empty() || !missed.reading.empty() || !joining_.empty();
     moved_ = false;

@@ -92,6 +92,8 @@ Pipelines::Pipelines(VkDevice device) {
   memory_sync = make_pipeline(device, memory.layout.get(), "memory_sync");
   object = make_pass_layout(device, gpu::OBJECT_BINDING_COUNT, sizeof(gpu::ObjectRefitPush));
   object_refit = make_pipeline(device, object.layout.get(), "object_refit");
+  stream = make_pass_layout(device, gpu::STREAM_BINDING_COUNT, sizeof(gpu::StreamRelocatePush));
+  stream_relocate = make_pipeline(device, stream.layout.get(), "stream_relocate");
 }
 
 DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set) {

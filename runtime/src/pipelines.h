@@ -36,6 +36,8 @@ public:
       memory_svo, memory_light, memory_sync;
   PassLayout object;
   DeviceObject<VkPipeline> object_refit;
+  PassLayout stream;
+  DeviceObject<VkPipeline> stream_relocate;
 };
 
 // A pass's descriptor set in a pool of its own, written once: binding i = the whole of buffers[i].

@@ -1,6 +1,7 @@
 #include "streamed_tracing.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <optional>
 #include <unordered_map>
@@ -9,6 +10,7 @@
 #include "error.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/trace_mesh.h"
+#include "probebake/runtime_types.h"
 
 namespace probebake::runtime::detail {
 namespace {
@@ -61,8 +63,20 @@ std::vector<std::uint64_t> slot_bytes(const std::vector<std::uint64_t>& blocks) 
   return slots;
 }
 
-BlockAllocator::BlockAllocator(std::uint64_t bytes, std::uint64_t unit) : unit_(unit) {
-  if (bytes / unit > 0) free_[0] = bytes / unit;
+BlockAllocator::BlockAllocator(std::uint64_t bytes, std::uint64_t unit) : unit_(unit), units_(bytes / unit) {
+  if (units_ > 0) free_[0] = units_;
+}
+
+std::uint64_t BlockAllocator::free_bytes() const {
+  std::uint64_t units = 0;
+  for (const auto& [at, run] : free_) units += run;
+  return units * unit_;
+}
+
+void BlockAllocator::compacted(std::uint64_t used_bytes) {
+  const std::uint64_t used = (used_bytes + unit_ - 1) / unit_;
+  free_.clear();
+  if (used < units_) free_[used] = units_ - used;
 }
 
 std::int64_t BlockAllocator::allocate(std::uint64_t bytes) {
@@ -125,6 +139,10 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
   arena_ = device.allocator->create_buffer(total, usage, MemoryUse::device, "streamed tracing arena");
   trees_ = device.allocator->create_buffer(volume.trace_trees.size() * sizeof(gpu::TraceTree), usage, MemoryUse::device,
                                            "streamed trace trees");
+  scratch_ = device.allocator->create_buffer(std::max<std::uint64_t>(largest_block_, 16), usage, MemoryUse::device,
+                                             "streamed tracing compaction scratch");
+  const std::array<VkBuffer, gpu::STREAM_BINDING_COUNT> relocate_buffers{arena_.get(), scratch_.get()};
+  relocate_set_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().stream.set_layout.get(), relocate_buffers);
   for (std::uint32_t r = 0; r < rings; ++r)
     staging_.push_back(device.allocator->create_buffer(staging_bytes_, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload,
                                                        "streaming staging"));
@@ -276,6 +294,7 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
     cell.offset = -1;
     set_word(cmd, cell, null_leaf_);
   }
+  if (fragmented_for(changes.loads)) missed.compacted = compact(cmd); // before any of this frame's blocks is placed
   auto* staging = static_cast<std::byte*>(staging_[ring].mapped());
   std::uint64_t used = 0;
   std::vector<VkBufferCopy> copies;
@@ -317,6 +336,52 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
   for (std::size_t k : changes.loads)
     if (cells_[k].offset >= 0) set_word(cmd, cells_[k], cell_root_word(cells_[k]));
   return missed;
+}
+
+bool StreamedTracing::fragmented_for(const std::vector<std::size_t>& loads) const {
+  BlockAllocator trial = blocks_;
+  for (std::size_t k : loads) {
+    const std::uint64_t slot = cells_[k].slot_bytes;
+    if (slot > 0 && trial.allocate(slot) < 0) return trial.free_bytes() >= slot;
+  }
+  return false;
+}
+
+int StreamedTracing::compact(VkCommandBuffer cmd) {
+  std::vector<CellPart*> resident;
+  for (CellPart& cell : cells_)
+    if (cell.offset >= 0) resident.push_back(&cell);
+  std::sort(resident.begin(), resident.end(), [](const CellPart* a, const CellPart* b) { return a->offset < b->offset; });
+  barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess); // this frame's word updates, earlier frames' reads
+  std::uint64_t cursor = 0;
+  int moved = 0;
+  for (CellPart* cell : resident) {
+    if (std::uint64_t(cell->offset) != cursor) relocate(cmd, *cell, cursor), ++moved;
+    cursor += cell->slot_bytes;
+  }
+  blocks_.compacted(cursor);
+  return moved;
+}
+
+// The block's bytes go to the scratch buffer and back at `to` (so that a move onto its own old place reads
+// nothing it wrote), then stream_relocate rewrites its nodes and faces with their indices shifted.
+void StreamedTracing::relocate(VkCommandBuffer cmd, CellPart& cell, std::uint64_t to) {
+  const formats::CellTracing& r = cell.ranges;
+  const std::uint64_t from_byte = pool_start_ + std::uint64_t(cell.offset), to_byte = pool_start_ + to;
+  const VkBufferCopy out{from_byte, 0, cell.block_bytes}, back{0, to_byte, cell.block_bytes};
+  vkCmdCopyBuffer(cmd, arena_.get(), scratch_.get(), 1, &out);
+  barrier(cmd, kTransferWrite, kTransferRead);
+  vkCmdCopyBuffer(cmd, scratch_.get(), arena_.get(), 1, &back);
+  barrier(cmd, kTransferWrite, kComputeReadWrite);
+  Pipelines& p = device_.compute_pipelines();
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.stream_relocate.get());
+  bind_set_and_push(cmd, p.stream.layout.get(), relocate_set_.set,
+                    gpu::StreamRelocatePush{std::uint32_t(from_byte), std::uint32_t(to_byte), r.trace_nodes.count, r.trace_faces.count});
+  const std::uint32_t items = r.trace_nodes.count + r.trace_faces.count;
+  dispatch_groups(cmd, device_, (items + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+  barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess); // the next block's copies reuse the scratch and may overlap
+  cell.offset = std::int64_t(to);
+  set_word(cmd, cell, cell_root_word(cell));
 }
 
 std::vector<std::string> StreamedTracing::verify(const formats::ProbeVolume& file) const {

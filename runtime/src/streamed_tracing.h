@@ -21,6 +21,7 @@
 #include "background_cell_reader.h"
 #include "cell_source.h"
 #include "device.h"
+#include "pipelines.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/streaming/cell_residency.h"
 
@@ -40,9 +41,12 @@ public:
   // The offset of a block of `bytes` (rounded up to the unit), or -1 when no free run is long enough.
   std::int64_t allocate(std::uint64_t bytes);
   void release(std::uint64_t offset, std::uint64_t bytes);
+  std::uint64_t free_bytes() const;
+  // After a compaction: [0, used_bytes) in use, the rest one free run.
+  void compacted(std::uint64_t used_bytes);
 
 private:
-  std::uint64_t unit_;
+  std::uint64_t unit_, units_;
   std::map<std::uint64_t, std::uint64_t> free_; // offset -> units
 };
 
@@ -72,6 +76,7 @@ public:
     std::vector<std::size_t> unplaced;
     std::vector<std::size_t> reading;
     std::vector<std::pair<std::size_t, std::string>> refused;
+    int compacted = 0; // blocks moved to make one free run (compact())
   };
   // Records `changes` into `cmd` (ring `ring`'s staging is free: its last frame finished): drops turn the
   // word that leads to the cell into the null leaf and free the block; loads read the cell from the source,
@@ -108,6 +113,12 @@ private:
   std::uint32_t cell_root_word(const CellPart& cell) const; // where its block is now
   void write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset, std::byte* out) const;
   void set_word(VkCommandBuffer cmd, const CellPart& cell, std::uint32_t word);
+  // Whether placing `loads` in turn finds no free run for one while the free bytes would hold it.
+  bool fragmented_for(const std::vector<std::size_t>& loads) const;
+  // Slides every resident block down to the arena's start, in offset order (stream_relocate.comp), so that
+  // the free bytes are one run. Returns the blocks moved.
+  int compact(VkCommandBuffer cmd);
+  void relocate(VkCommandBuffer cmd, CellPart& cell, std::uint64_t to);
 
   Device& device_;
   std::unique_ptr<CellSource> source_;
@@ -124,6 +135,8 @@ private:
   Buffer arena_;
   Buffer trees_;
   std::vector<Buffer> staging_;
+  Buffer scratch_; // one block, for compaction
+  PassDescriptorSet relocate_set_;
 };
 
 } // namespace probebake::runtime::detail

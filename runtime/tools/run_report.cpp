@@ -230,12 +230,13 @@ std::string stream_frame_line(const FrameRow& r) {
   const runtime::StreamStats& s = r.stream;
   char line[512];
   std::snprintf(line, sizeof(line),
-                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d%s%s, "
+                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d%s%s%s, "
                 "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms (%d traced, %d unresolved)%s\n",
                 r.frame, double(r.camera[0]), double(r.camera[1]), double(r.camera[2]), s.resident_cells,
                 static_cast<unsigned long long>(s.resident_bytes), s.loaded_cells, static_cast<unsigned long long>(s.loaded_bytes),
                 s.dropped_cells, s.waiting_cells, s.reading_cells > 0 ? (" (" + std::to_string(s.reading_cells) + " being read)").c_str() : "",
                 s.unplaced_cells > 0 ? (" (" + std::to_string(s.unplaced_cells) + " without a free run)").c_str() : "",
+                s.moved_cells > 0 ? (" (" + std::to_string(s.moved_cells) + " moved to compact the arena)").c_str() : "",
                 s.joined_probes, s.joining_probes, std::max(0.0, r.pass_ms[kStreamUploadPass]), s.upload_cpu_ms,
                 std::max(0.0, r.pass_ms[kLightTracePass]), r.traced, r.unresolved, s.refused_cells > 0 ? "; REFUSED a cell (below)" : "");
   return line;
@@ -245,10 +246,11 @@ std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budg
   const FrameRow* worst_gpu = nullptr;
   const FrameRow* worst_host = nullptr;
   std::uint64_t most = 0, loaded = 0;
-  int loads = 0, drops = 0, traced = 0, unresolved = 0, most_traced = 0, unplaced_frames = 0;
+  int loads = 0, drops = 0, traced = 0, unresolved = 0, most_traced = 0, unplaced_frames = 0, moved = 0;
   for (const FrameRow& r : rows) {
     traced += r.traced, unresolved += r.unresolved, most_traced = std::max(most_traced, r.traced);
     unplaced_frames += r.stream.unplaced_cells > 0 ? 1 : 0;
+    moved += r.stream.moved_cells;
     if (!worst_gpu || r.pass_ms[kStreamUploadPass] > worst_gpu->pass_ms[kStreamUploadPass]) worst_gpu = &r;
     if (!worst_host || r.stream.upload_cpu_ms > worst_host->stream.upload_cpu_ms) worst_host = &r;
     most = std::max(most, r.stream.resident_bytes);
@@ -259,11 +261,11 @@ std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budg
   std::snprintf(line, sizeof(line),
                 "streaming: worst upload spike %.3f ms GPU (frame %d, %llu bytes), %.3f ms host (frame %d); at most %llu of "
                 "%llu bytes resident; %d loads (%llu bytes), %d drops over %zu frames; %d probe traces (at most %d a frame), "
-                "%d left unresolved; %d frames with a load waiting for a free run\n",
+                "%d left unresolved; %d frames with a load waiting for a free run, %d blocks moved to compact the arena\n",
                 std::max(0.0, worst_gpu->pass_ms[kStreamUploadPass]), worst_gpu->frame, static_cast<unsigned long long>(worst_gpu->stream.loaded_bytes),
                 worst_host->stream.upload_cpu_ms, worst_host->frame, static_cast<unsigned long long>(most),
                 static_cast<unsigned long long>(budget), loads, static_cast<unsigned long long>(loaded), drops, rows.size(),
-                traced, most_traced, unresolved, unplaced_frames);
+                traced, most_traced, unresolved, unplaced_frames, moved);
   return line;
 }
 

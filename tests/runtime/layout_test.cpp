@@ -208,6 +208,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
   for (const char* shader : kMemoryShaders) expect_bindings(shader, memory);
   expect_bindings("object_refit", {{"DynamicObjectBuffer", OBJECT_BINDING_DYNAMIC_OBJECTS},
                                    {"ObjectInstanceBuffer", OBJECT_BINDING_INSTANCES}});
+  expect_bindings("stream_relocate", {{"ArenaBuffer", STREAM_BINDING_ARENA}, {"ScratchBuffer", STREAM_BINDING_SCRATCH}});
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
@@ -334,6 +335,10 @@ TEST(GpuLayout, DynamicObjectTypesMatch) {
   }
   EXPECT_GE(expect_layout("light_trace", "LightingInfo", {{"dynamic_objects", offsetof(LightingInfo, dynamic_objects)}}), 1);
   EXPECT_GE(expect_layout("object_refit", "ObjectRefitPush", {{"objects", offsetof(ObjectRefitPush, objects)}}), 1);
+  EXPECT_GE(expect_layout("stream_relocate", "StreamRelocatePush",
+                          {{"from_byte", offsetof(StreamRelocatePush, from_byte)}, {"to_byte", offsetof(StreamRelocatePush, to_byte)},
+                           {"nodes", offsetof(StreamRelocatePush, nodes)}, {"faces", offsetof(StreamRelocatePush, faces)}}),
+            1);
 }
 
 TEST(GpuLayout, LightUpdateTypesMatch) {

@@ -135,6 +135,11 @@ PB_CONSTANT(uint, OBJECT_BINDING_DYNAMIC_OBJECTS, 0u); // the dynamic_objects se
 PB_CONSTANT(uint, OBJECT_BINDING_INSTANCES, 1u);       // ObjectInstance per object: the host writes world_from_object
 PB_CONSTANT(uint, OBJECT_BINDING_COUNT, 2u);
 
+// ---- Streamed tracing arena compaction (stream_relocate.comp) -----------------------------------------------
+PB_CONSTANT(uint, STREAM_BINDING_ARENA, 0u);   // the streamed tracing arena (uint words)
+PB_CONSTANT(uint, STREAM_BINDING_SCRATCH, 1u); // a copy of the block being moved, from word 0
+PB_CONSTANT(uint, STREAM_BINDING_COUNT, 2u);
+
 #ifdef __cplusplus
 static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES &&
               LIGHT_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES && LIGHT_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);

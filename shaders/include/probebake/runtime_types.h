@@ -223,7 +223,17 @@ struct ObjectRefitPush {
   uint pad2;    // offset 12
 };              // size 16
 
+// One cell's block moved in the streamed tracing arena (stream_relocate.comp): its nodes and faces, read
+// from the scratch copy, written at the new place with their node, face and vertex indices shifted.
+struct StreamRelocatePush {
+  uint from_byte; // offset  0: the block's old arena byte offset (a multiple of 96)
+  uint to_byte;   // offset  4: its new arena byte offset (a multiple of 96)
+  uint nodes;     // offset  8: its inner nodes (32 bytes each, first in the block)
+  uint faces;     // offset 12: its faces (16 bytes each, right after the nodes)
+};                // size 16
+
 #ifdef __cplusplus
+static_assert(sizeof(StreamRelocatePush) == 16);
 static_assert(sizeof(ObjectInstance) == 128 && offsetof(ObjectInstance, object_from_world) == 48 &&
               offsetof(ObjectInstance, world_lower) == 96 && offsetof(ObjectInstance, world_upper) == 112);
 static_assert(sizeof(ObjectRefitPush) == 16);

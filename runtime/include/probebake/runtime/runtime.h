@@ -380,6 +380,7 @@ struct StreamStats {
   std::uint64_t loaded_bytes = 0;
   int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes
   int unplaced_cells = 0;        // loads that found no free run in the fragmented arena (retried next frame)
+  int moved_cells = 0;           // resident cells whose blocks moved to compact the arena for a load (GPU copies)
   int reading_cells = 0;         // wanted cells still being read on the background thread (read_in_background)
   int refused_cells = 0;         // loads whose bytes on disk could not be read or differ from those validated at
                                  // load (never retried; Volume::stream_refusals says why)

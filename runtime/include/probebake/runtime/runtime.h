@@ -375,7 +375,7 @@ struct MemoryUpdateStats {
 struct StreamStats {
   bool active = false;
   int resident_cells = 0;        // cells whose probes are lit (with their tracing block, if they have faces)
-  std::uint64_t resident_bytes = 0; // their blocks' bytes, <= the budget
+  std::uint64_t resident_bytes = 0; // their blocks' slots (StreamingOptions::budget_bytes), <= the budget
   int loaded_cells = 0, dropped_cells = 0;
   std::uint64_t loaded_bytes = 0;
   int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes

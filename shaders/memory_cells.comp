@@ -217,7 +217,7 @@ void restore_stencils(uint s) {
   for (int e = int(gl_LocalInvocationIndex); e < seat.svo_leaves; e += int(MEMORY_WORKGROUP_SIZE)) {
     const int leaf = seat_data[seat.first_svo + e];
     const int at = probebake_info.svo_leaves + SEAT_STENCIL_VEC4S * leaf;
-    const ivec4 xy = floatBitsToInt(svo_bake[at]), zd = floatBitsToInt(svo_bake[at + 1]);
+    const ivec4 xy = svo_bake[at], zd = svo_bake[at + 1];
     ivec4 probes = ivec4(-1);
     uvec4 generations = uvec4(0u);
     bool found = true;
@@ -229,9 +229,9 @@ void restore_stencils(uint s) {
     }
     if (!found) continue;
     probebake_svo_leaves[leaf].probes = probes;
-    probebake_svo_leaves[leaf].weights = svo_bake[at + 2];
+    probebake_svo_leaves[leaf].weights = intBitsToFloat(svo_bake[at + 2]);
     svo_generations[leaf] = generations;
-    probebake_svo_nodes[int(svo_bake[leaf].w)] = ~leaf; // attached again if it was a miss
+    probebake_svo_nodes[int(intBitsToFloat(svo_bake[leaf].w))] = ~leaf; // attached again if it was a miss
   }
 }
 

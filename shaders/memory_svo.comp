@@ -53,8 +53,8 @@ void refill(int leaf, int node, vec3 c) {
 void main() {
   const int leaf = memory_item(probebake_info.svo_leaves);
   if (leaf < 0) return;
-  const vec3 centre = svo_bake[leaf].xyz;
-  const int node = int(svo_bake[leaf].w);
+  const vec3 centre = intBitsToFloat(svo_bake[leaf].xyz);
+  const int node = int(intBitsToFloat(svo_bake[leaf].w));
   if (probebake_svo_nodes[node] != ~leaf) { refill(leaf, node, centre); return; } // detached earlier
   ivec4 probes = ivec4(-1);
   vec4 weights = vec4(0.0);

@@ -120,7 +120,7 @@ PB_CONSTANT(uint, MEMORY_BINDING_COUNTERS, 21u);          // MemoryCounters
 PB_CONSTANT(uint, MEMORY_BINDING_TRACE_FLAGS, 22u);       // = LIGHT_BINDING_TRACE_FLAGS' buffer
 PB_CONSTANT(uint, MEMORY_BINDING_PROBE_GENERATIONS, 23u); // uint per probe slot: +1 each time it is freed
 PB_CONSTANT(uint, MEMORY_BINDING_SVO_GENERATIONS, 24u);   // ivec4 per SVO leaf: generation of each stencil probe
-PB_CONSTANT(uint, MEMORY_BINDING_SVO_BAKE, 25u);          // vec4 per SVO leaf: centre of its voxel, w = its SVO node; with
+PB_CONSTANT(uint, MEMORY_BINDING_SVO_BAKE, 25u);          // 16 B per SVO leaf (float bits): voxel centre, w = its SVO node; with
                                                           //   streaming, then the bake stencils (SEAT_STENCIL_VEC4S) (static)
 PB_CONSTANT(uint, MEMORY_BINDING_LIGHT_LIST, 26u);        // = LIGHT_BINDING_LIGHT_LIST's buffer
 PB_CONSTANT(uint, MEMORY_BINDING_DYNAMIC_OBJECTS, 27u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS

@@ -37,7 +37,7 @@ layout(std430, binding = MEMORY_BINDING_COUNTERS) buffer CounterBuffer { MemoryC
 layout(std430, binding = MEMORY_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
 layout(std430, binding = MEMORY_BINDING_PROBE_GENERATIONS) buffer ProbeGenerationBuffer { uint probe_generations[]; };
 layout(std430, binding = MEMORY_BINDING_SVO_GENERATIONS) buffer SvoGenerationBuffer { uvec4 svo_generations[]; };
-layout(std430, binding = MEMORY_BINDING_SVO_BAKE) readonly buffer SvoBakeBuffer { vec4 svo_bake[]; };
+layout(std430, binding = MEMORY_BINDING_SVO_BAKE) readonly buffer SvoBakeBuffer { ivec4 svo_bake[]; }; // int bits: keys are not floats
 layout(std430, binding = MEMORY_BINDING_LIGHT_LIST) buffer LightListBuffer { LightListHeader light_list_header; int light_list[]; };
 
 #define PROBEBAKE_DECLARE_BUFFERS 0

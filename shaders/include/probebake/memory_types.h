@@ -28,8 +28,9 @@ PB_CONSTANT(uint, MEMORY_CELL_ARRIVED, 0x80000000u); // the rest of an arrival's
 // grows by measures instead (CellSeat::clusters -1).
 PB_CONSTANT(int, MEMORY_SEAT_INTS, 49152);
 // With streaming, the bake's stencil of SVO leaf l follows the leaf centres in MEMORY_BINDING_SVO_BAKE, as
-// vec4s [svo_leaves + 3 l, + 3): per stencil probe its leaf's key, x | y << 16 (integer coordinates at its
-// depth; -1: no probe), then z | depth << 16 (int bits), then the 4 weights. A seat names the leaves whose
+// 16-byte entries [svo_leaves + 3 l, + 3): per stencil probe its leaf's key, x | y << 16 (integer
+// coordinates at its depth; -1: no probe), then z | depth << 16, then the 4 weights (float bits). The
+// shaders read the buffer as ints, so that no key is read as a (denormal, flushable) float. A seat names the leaves whose
 // stencils name its cell's probes; the stencil comes back where each key is a leaf with a probe again.
 PB_CONSTANT(int, SEAT_STENCIL_VEC4S, 3);
 

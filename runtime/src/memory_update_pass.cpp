@@ -263,7 +263,8 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   std::vector<glm::vec4> svo_bake = svo_leaf_centres(v);
   if (cells_file) {
     const std::vector<NodeKey> probe_keys = probe_node_keys(*cells_file);
-    set_cell_seats(*cells_file, probe_keys);
+    set_cell_seats(*cells_file);
+    add_seat_stencils(*cells_file, probe_keys);
     append_bake_stencils(svo_bake, *cells_file, probe_keys);
   }
   svo_bake_ = upload(device, svo_bake, "memory: SVO leaf centres and bake stencils");
@@ -398,7 +399,7 @@ void MemoryUpdatePass::change_cells(std::span<const std::uint32_t> changes) {
   cell_changes_.insert(cell_changes_.end(), changes.begin(), changes.end());
 }
 
-void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys) {
+void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file) {
   cell_depth_ = file.cell_depth;
   seats_.assign(file.cells.size(), {});
   for (std::size_t k = 0; k < file.cells.size(); ++k) {
@@ -434,7 +435,6 @@ void MemoryUpdatePass::set_cell_seats(const formats::ProbeVolume& file, const st
     out.seat.clusters = int(metas.size());
     out.seat.probes = int(out.probes.size());
   }
-  add_seat_stencils(file, keys);
 }
 
 // Every SVO leaf whose bake stencil names a probe of a cell is named by that cell's seat: memory_cells

@@ -106,7 +106,7 @@ private:
   // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
   // cell_changes_ while they fit. Returns the arrivals (seats).
   std::size_t take_cell_changes(gpu::MemoryFrame& frame, std::vector<std::int32_t>& seat_data);
-  void set_cell_seats(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys);
+  void set_cell_seats(const formats::ProbeVolume& file); // each cell record's subtree as the file has it
   void add_seat_stencils(const formats::ProbeVolume& file, const std::vector<NodeKey>& keys);
 
   int cell_depth_ = 0;

@@ -4,6 +4,7 @@
 // the decode may then allocate a few times the image's pixels, no more. An image that cannot be decoded
 // (unknown format, KTX2/Basis, corrupt data, too large) is not an error here: it is recorded, left empty, and
 // its textures fall back to the material's factors (select_texture_images warns once per texture).
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -96,6 +97,8 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
 } // namespace
 
 bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy) {
+  if (std::find(policy.unused_images.begin(), policy.unused_images.end(), index) != policy.unused_images.end())
+    return true; // no texture refers to it: left empty, never decoded
   std::string why;
   const bool ok = size > 0 && (is_webp(bytes, size) ? decode_webp(image, index, bytes, size, policy, why)
                                                     : decode_with_stb(image, index, bytes, size, policy, why));

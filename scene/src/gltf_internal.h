@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -13,6 +14,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "probebake/formats/error.h"
 
@@ -96,6 +98,7 @@ struct InputPolicy {
   const Context& ctx;
   std::vector<std::filesystem::path> files_read; // external files, resolved
   std::map<int, std::string> image_problems;     // images[i] that could not be decoded, and why
+  std::vector<int> unused_images;                // images[i] no texture refers to: never decoded
 };
 
 // Installs the confined file-system callbacks and the size-checking image loader.
@@ -103,14 +106,43 @@ void configure_parser(tinygltf::TinyGLTF& parser, InputPolicy& policy);
 
 constexpr std::size_t kMaxJsonDepth = 64; // real glTF needs about 10; extras get the rest
 
+// The chunks of a GLB (header and chunk lengths checked), with one warning per thing skipped: bytes past the
+// declared length or after the last chunk, chunks of unknown type. `canonical`: nothing was skipped and every
+// chunk is padded as tinygltf 2.7 requires, so the bytes can be parsed as they are.
+struct GlbChunks {
+  std::span<const unsigned char> json;
+  std::optional<std::span<const unsigned char>> bin;
+  std::vector<std::string> warnings;
+  bool canonical = false;
+};
+GlbChunks split_glb(std::span<const unsigned char> bytes, const Context& ctx);
+// The header (length corrected), the JSON chunk and the BIN chunk when it has bytes, each padded to 4 bytes.
+std::vector<unsigned char> canonical_glb(std::span<const unsigned char> bytes, const GlbChunks& chunks);
+
 // The JSON text of a .gltf, or the JSON chunk of a .glb (header and chunk sizes checked).
 std::string_view gltf_json_text(std::span<const unsigned char> bytes, bool is_glb, const Context& ctx);
 // What the preflight saw that tinygltf 2.7 would refuse although the glTF spec allows it.
+// One value of an array element that the preflight noted: `array`[`index`].`key` and what is wrong or unknown.
+struct ElementFact {
+  std::string array;
+  int index = 0;
+  std::string key;
+  std::string text;
+};
 struct PreflightFacts {
   std::vector<int> buffers_without_uri;      // GLB BIN, placeholder/fallback buffers, unused buffers
   std::vector<int> accessors_without_view;   // all zeros (plus sparse values)
   std::vector<int> images_with_other_media;  // data URIs of media types tinygltf does not know (image/webp, image/ktx2)
+  std::vector<ElementFact> bad_data_uris;    // buffers/images whose data URI cannot be decoded; text: why
+  std::vector<ElementFact> unknown_enums;    // accessors type/componentType, cameras type outside glTF 2.0
+  bool integral_floats = false;              // a float with an integer value outside `extras` (1.0 for 1)
 };
+
+// What anything that may be read refers to (gltf_usage.cpp), one flag per element of each array.
+struct UsedObjects {
+  std::vector<bool> buffers, views, accessors, images;
+};
+UsedObjects find_used_objects(const nlohmann::json& gltf);
 // Checks nesting depth, data URIs and external URIs before any tree is built from the JSON.
 PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx);
 
@@ -121,7 +153,17 @@ PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& pol
 struct TinygltfRewrite {
   std::vector<int> placeholder_buffers;                   // emptied after parsing
   std::vector<std::array<int, 3>> hidden_indices;         // {mesh, primitive, accessor}, restored after parsing
+  std::vector<int> unused_images;                         // never decoded (InputPolicy::unused_images)
+  std::vector<int> hidden_image_uris;                     // unused images whose URI became a placeholder
+  std::vector<int> unreadable_accessors;                  // unused, of an unknown type: no reader accepts them
+  std::vector<std::pair<int, std::string>> unknown_cameras; // {camera, its type}, restored after parsing
 };
+// A one-byte buffer: tinygltf 2.7 refuses a zero-length one. Stands in for what is never read.
+inline constexpr const char* kPlaceholderUri = "data:application/octet-stream;base64,AA==";
+// Integral floats to integers, unused buffers and images hidden, unknown enum values accepted or refused
+// (gltf_lenient.cpp). Faults in objects that may be read are refused here with their place and reason.
+void apply_leniency(nlohmann::json& gltf, bool is_glb, const PreflightFacts& facts, const Context& ctx,
+                    TinygltfRewrite& out);
 TinygltfRewrite prepare_for_tinygltf(std::vector<unsigned char>& bytes, bool is_glb, const PreflightFacts& facts,
                                      const Context& ctx);
 // Undoes what prepare_for_tinygltf hid from tinygltf.

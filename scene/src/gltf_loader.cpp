@@ -51,14 +51,25 @@ std::string first_line(const std::string& text) {
   return line.empty() ? "unknown parse error" : line;
 }
 
+// A GLB with skipped content (detail::split_glb) is parsed as the canonical container of its JSON and BIN.
+std::vector<unsigned char> canonical_container(std::vector<unsigned char> bytes, const Context& ctx) {
+  const detail::GlbChunks chunks = detail::split_glb(bytes, ctx);
+  for (const std::string& warning : chunks.warnings) ctx.warn(warning);
+  if (chunks.canonical) return bytes;
+  ctx.charge(bytes.size() + 32, 1, "glb"); // the copy: at most the file and three chunk paddings
+  return detail::canonical_glb(bytes, chunks);
+}
+
 tinygltf::Model parse_gltf(std::vector<unsigned char> bytes, detail::InputPolicy& policy, const Context& ctx) {
   if (bytes.empty()) ctx.fail("parse", "file is empty");
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) ctx.fail("parse", "file is larger than 4 GiB");
   const bool is_glb = bytes.size() >= 4 && bytes[0] == 'g' && bytes[1] == 'l' && bytes[2] == 'T' && bytes[3] == 'F';
+  if (is_glb) bytes = canonical_container(std::move(bytes), ctx);
   const std::string_view json = detail::gltf_json_text(bytes, is_glb, ctx);
   const detail::PreflightFacts facts = detail::preflight_gltf_json(json, policy, ctx);
   ctx.charge(json.size(), kJsonTreeBytesPerChar, "json");
   const detail::TinygltfRewrite rewrite = detail::prepare_for_tinygltf(bytes, is_glb, facts, ctx);
+  policy.unused_images = rewrite.unused_images;
   tinygltf::TinyGLTF parser;
   detail::configure_parser(parser, policy);
   tinygltf::Model model;
@@ -173,10 +184,11 @@ private:
   void add_camera(const tinygltf::Node& node, const glm::mat4& world, const std::string& place) {
     if (std::size_t(node.camera) >= model_.cameras.size()) ctx_.fail(place, fmt::format("camera {} does not exist", node.camera));
     const tinygltf::Camera& camera = model_.cameras[std::size_t(node.camera)];
-    if (camera.type != "perspective") {
+    if (camera.type == "orthographic") {
       ctx_.warn(fmt::format("{}: {} camera not used (eval takes perspective cameras)", place, camera.type));
       return;
     }
+    if (camera.type != "perspective") return; // an unknown type, warned of when the file was parsed
     const glm::vec3 forward = glm::mat3(world) * glm::vec3(0, 0, -1);
     const float yfov = float(camera.perspective.yfov);
     if (!(glm::length(forward) > 0.0f) || !(yfov > 0.0f && yfov < 3.14159f))

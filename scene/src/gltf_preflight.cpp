@@ -2,7 +2,7 @@
 // nesting depth (tinygltf converts `extras` recursively, so deep nesting would overflow the stack), data
 // URIs that are not base64, and external URIs that are absolute, carry a scheme or resolve outside the
 // allowed folders. nlohmann's SAX parser is iterative, so this pass itself is safe at any depth.
-#include <cstring>
+#include <cmath>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -15,12 +15,6 @@
 
 namespace probebake::scene::detail {
 namespace {
-
-std::uint32_t read_u32(const unsigned char* p) {
-  std::uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v; // glTF is little-endian, as is every platform probebake runs on
-}
 
 bool is_base64_char(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' || c == '/';
@@ -41,14 +35,31 @@ bool is_valid_base64(std::string_view text) {
   return end % 4 != 1;
 }
 
-void check_data_uri(const std::string& uri, const Context& ctx, const std::string& place) {
+// Why a data URI cannot be decoded, or empty. Recorded rather than refused here: the rewrite refuses it
+// when a primitive or texture may read the object and hides it otherwise (gltf_rewrite.cpp).
+std::string data_uri_problem(const std::string& uri) {
   const std::size_t comma = uri.find(',');
-  if (comma == std::string::npos) ctx.fail(place, "data URI has no ',' before its payload");
+  if (comma == std::string::npos) return "data URI has no ',' before its payload";
   const std::string_view header(uri.data(), comma);
-  if (!header.ends_with(";base64")) ctx.fail(place, "data URI is not base64 (glTF requires ';base64,')");
-  if (!is_valid_base64(std::string_view(uri).substr(comma + 1)))
-    ctx.fail(place, "data URI payload is not valid base64");
+  if (!header.ends_with(";base64")) return "data URI is not base64 (glTF requires ';base64,')";
+  if (!is_valid_base64(std::string_view(uri).substr(comma + 1))) return "data URI payload is not valid base64";
+  return {};
 }
+
+bool is_accessor_type(const std::string& type) {
+  for (const char* known : {"SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4"})
+    if (type == known) return true;
+  return false;
+}
+
+bool is_component_type(double type) {
+  for (const double known : {5120.0, 5121.0, 5122.0, 5123.0, 5125.0, 5126.0})
+    if (type == known) return true;
+  return false;
+}
+
+// 2^53: beyond it a double no longer holds every integer, so no integer property is written that way.
+constexpr double kLargestExactInteger = 9007199254740992.0;
 
 // The data URI headers tinygltf 2.7 decodes for images (it refuses others, e.g. image/webp, image/ktx2).
 bool is_tinygltf_media_type(const std::string& uri) {
@@ -92,12 +103,18 @@ public:
 
   bool null() override { return value(); }
   bool boolean(bool) override { return value(); }
-  bool number_integer(number_integer_t) override { return value(); }
-  bool number_unsigned(number_unsigned_t) override { return value(); }
-  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool number_integer(number_integer_t v) override { return number(double(v)); }
+  bool number_unsigned(number_unsigned_t v) override { return number(double(v)); }
+  bool number_float(number_float_t v, const string_t&) override {
+    // JSON does not tell 1 from 1.0: an integral float is an integer wherever glTF asks for one.
+    if (std::abs(v) <= kLargestExactInteger && v == std::floor(v) && !inside_extras()) facts.integral_floats = true;
+    return number(v);
+  }
   bool binary(binary_t&) override { return value(); }
   bool string(string_t& text) override {
     if (is_uri_value()) check_uri(text);
+    if (is_element_value("accessors", "type") && !is_accessor_type(text)) record_enum(text);
+    if (is_element_value("cameras", "type") && text != "perspective" && text != "orthographic") record_enum(text);
     return value();
   }
   bool start_object(std::size_t) override { return open(false); }
@@ -156,15 +173,28 @@ private:
     if (frames_[0].key == "buffers" && !element.keys.contains("uri")) facts.buffers_without_uri.push_back(index);
     if (frames_[0].key == "accessors" && !element.keys.contains("bufferView")) facts.accessors_without_view.push_back(index);
   }
-  // Root object -> "buffers"/"images" array -> element object -> "uri".
-  bool is_uri_value() const {
-    return frames_.size() == 3 && frames_[2].key == "uri" && frames_[1].array &&
-           (frames_[0].key == "buffers" || frames_[0].key == "images");
+  // Root object -> `array` -> element object -> `key`.
+  bool is_element_value(const char* array, const char* key) const {
+    return frames_.size() == 3 && frames_[2].key == key && frames_[1].array && frames_[0].key == array;
+  }
+  bool is_uri_value() const { return is_element_value("buffers", "uri") || is_element_value("images", "uri"); }
+  bool inside_extras() const {
+    for (const Frame& frame : frames_)
+      if (!frame.array && frame.key == "extras") return true;
+    return false;
+  }
+  bool number(double v) {
+    if (is_element_value("accessors", "componentType") && !is_component_type(v)) record_enum(fmt::format("{}", v));
+    return value();
+  }
+  void record_enum(const std::string& text) {
+    facts.unknown_enums.push_back({frames_[0].key, int(frames_[1].index), frames_[2].key, text});
   }
   void check_uri(const std::string& uri) {
     const std::string place = fmt::format("{}[{}].uri", frames_[0].key, frames_[1].index);
     if (!uri.starts_with("data:")) return check_file_uri(uri, policy_, ctx_, place);
-    check_data_uri(uri, ctx_, place);
+    if (std::string problem = data_uri_problem(uri); !problem.empty())
+      return facts.bad_data_uris.push_back({frames_[0].key, int(frames_[1].index), "uri", std::move(problem)});
     if (frames_[0].key == "images" && !is_tinygltf_media_type(uri)) facts.images_with_other_media.push_back(int(frames_[1].index));
   }
 
@@ -177,21 +207,9 @@ private:
 
 std::string_view gltf_json_text(std::span<const unsigned char> bytes, bool is_glb, const Context& ctx) {
   if (!is_glb) return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
-  // GLB: 12-byte header, then a JSON chunk and an optional BIN chunk (glTF 2.0 spec §4.4).
-  if (bytes.size() < 20) ctx.fail("glb", "file is shorter than a GLB header");
-  const std::uint32_t json_length = read_u32(&bytes[12]);
-  if (read_u32(&bytes[16]) != 0x4E4F534Au || json_length > bytes.size() - 20)
-    ctx.fail("glb", "first chunk is not a complete JSON chunk");
-  // A BIN chunk must fit with its 8-byte header: tinygltf checks its length without that header and would
-  // read up to 8 bytes past the end of the file.
-  const std::size_t json_end = 20 + std::size_t(json_length);
-  if (bytes.size() > json_end) {
-    if (bytes.size() - json_end < 8) ctx.fail("glb", "second chunk header is truncated");
-    if (read_u32(&bytes[json_end]) > bytes.size() - json_end - 8) ctx.fail("glb", "second chunk is longer than the file");
-  }
-  return {reinterpret_cast<const char*>(&bytes[20]), json_length};
+  const std::span<const unsigned char> json = split_glb(bytes, ctx).json;
+  return {reinterpret_cast<const char*>(json.data()), json.size()};
 }
-
 
 PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& policy, const Context& ctx) {
   Preflight sax(policy, ctx);

@@ -4,10 +4,9 @@
 // - every buffer of a .gltf (and every buffer but the first of a .glb) must have a uri, yet placeholder
 //   buffers (EXT_meshopt_compression fallback) and unused buffers may have none;
 // - image data URIs must be PNG/JPEG/BMP/GIF (EXT_texture_webp and KHR_texture_basisu use others).
-// The JSON is rewritten in memory only when the preflight found one of these; what is hidden from
-// tinygltf is restored on the parsed model.
+// The leniency of gltf_lenient.cpp is applied to the same tree. The JSON is rewritten in memory only when
+// the preflight or the leniency found something; what is hidden from tinygltf is restored on the parsed model.
 #include <algorithm>
-#include <cstring>
 
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -16,8 +15,6 @@
 
 namespace probebake::scene::detail {
 namespace {
-
-constexpr const char* kPlaceholderUri = "data:application/octet-stream;base64,AA=="; // one byte: tinygltf refuses zero
 
 bool contains(const std::vector<int>& list, int value) {
   return std::find(list.begin(), list.end(), value) != list.end();
@@ -73,11 +70,6 @@ void generic_image_uris(nlohmann::json& gltf, const PreflightFacts& facts) {
   }
 }
 
-void append_u32(std::vector<unsigned char>& out, std::uint32_t v) {
-  const auto* p = reinterpret_cast<const unsigned char*>(&v);
-  out.insert(out.end(), p, p + 4);
-}
-
 nlohmann::json parse_json(const char* begin, std::size_t size, const Context& ctx) {
   try {
     return nlohmann::json::parse(begin, begin + size);
@@ -86,22 +78,14 @@ nlohmann::json parse_json(const char* begin, std::size_t size, const Context& ct
   }
 }
 
-void replace_json(std::vector<unsigned char>& bytes, bool is_glb, std::size_t old_json_size, std::string text) {
+void replace_json(std::vector<unsigned char>& bytes, bool is_glb, const std::string& text, const Context& ctx) {
   if (!is_glb) {
     bytes.assign(text.begin(), text.end());
     return;
   }
-  // GLB: the 12-byte header, the rewritten JSON chunk (padded to 4 bytes), then the BIN chunk as it was.
-  while (text.size() % 4 != 0) text.push_back(' ');
-  const std::size_t bin_start = 20 + old_json_size;
-  std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
-  append_u32(out, static_cast<std::uint32_t>(text.size()));
-  append_u32(out, 0x4E4F534Au);
-  out.insert(out.end(), text.begin(), text.end());
-  out.insert(out.end(), bytes.begin() + std::ptrdiff_t(bin_start), bytes.end());
-  const auto total = static_cast<std::uint32_t>(out.size());
-  std::memcpy(&out[8], &total, 4);
-  bytes = std::move(out);
+  GlbChunks chunks = split_glb(bytes, ctx); // the canonical container: header, JSON, BIN
+  chunks.json = {reinterpret_cast<const unsigned char*>(text.data()), text.size()};
+  bytes = canonical_glb(bytes, chunks);
 }
 
 // Draco is searched in the JSON only, never in a GLB's binary chunk.
@@ -109,7 +93,12 @@ bool needs_rewrite(std::string_view json, bool is_glb, const PreflightFacts& fac
   static const char kDraco[] = "KHR_draco_mesh_compression";
   const bool placeholders = facts.buffers_without_uri.size() > (is_glb && contains(facts.buffers_without_uri, 0) ? 1u : 0u);
   return placeholders || !facts.accessors_without_view.empty() || !facts.images_with_other_media.empty() ||
-         json.find(kDraco) != std::string_view::npos;
+         facts.integral_floats || json.find(kDraco) != std::string_view::npos;
+}
+
+bool hides_anything(const TinygltfRewrite& r) {
+  return !r.placeholder_buffers.empty() || !r.hidden_image_uris.empty() || !r.unreadable_accessors.empty() ||
+         !r.unknown_cameras.empty();
 }
 
 } // namespace
@@ -118,17 +107,24 @@ TinygltfRewrite prepare_for_tinygltf(std::vector<unsigned char>& bytes, bool is_
                                      const Context& ctx) {
   TinygltfRewrite out;
   const std::string_view json = gltf_json_text(bytes, is_glb, ctx);
-  if (!needs_rewrite(json, is_glb, facts)) return out;
   nlohmann::json gltf = parse_json(json.data(), json.size(), ctx);
   if (!gltf.is_object()) return out; // tinygltf reports it
+  apply_leniency(gltf, is_glb, facts, ctx, out);
+  if (!needs_rewrite(json, is_glb, facts) && !hides_anything(out)) return out;
   hide_indices(gltf, facts, out);
   fill_placeholders(gltf, is_glb, facts, out);
   generic_image_uris(gltf, facts);
-  replace_json(bytes, is_glb, json.size(), gltf.dump());
+  replace_json(bytes, is_glb, gltf.dump(), ctx);
   return out;
 }
 
 void restore_after_tinygltf(tinygltf::Model& model, const TinygltfRewrite& rewrite) {
+  for (int i : rewrite.hidden_image_uris)
+    if (std::size_t(i) < model.images.size()) model.images[std::size_t(i)].uri.clear();
+  for (int a : rewrite.unreadable_accessors)
+    if (std::size_t(a) < model.accessors.size()) model.accessors[std::size_t(a)].componentType = -1;
+  for (const auto& [c, type] : rewrite.unknown_cameras)
+    if (std::size_t(c) < model.cameras.size()) model.cameras[std::size_t(c)].type = type;
   for (int b : rewrite.placeholder_buffers)
     if (std::size_t(b) < model.buffers.size()) model.buffers[std::size_t(b)].data.clear();
   for (const auto& [m, p, accessor] : rewrite.hidden_indices)

@@ -82,14 +82,21 @@ std::string base64(const std::vector<unsigned char>& in) {
 }
 } // namespace
 
-void MiniGltf::write_gltf(const std::filesystem::path& path, const std::string& bin_name) const {
+std::vector<unsigned char> MiniGltf::gltf_text() const {
   nlohmann::json j = json;
+  j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bin);
+  const std::string text = j.dump(1);
+  return {text.begin(), text.end()};
+}
+
+void MiniGltf::write_gltf(const std::filesystem::path& path, const std::string& bin_name) const {
   if (bin_name.empty()) {
-    j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bin);
-  } else {
-    j["buffers"][0]["uri"] = bin_name;
-    write_bytes(path.parent_path() / bin_name, bin.data(), bin.size());
+    const auto text = gltf_text();
+    return write_bytes(path, text.data(), text.size());
   }
+  nlohmann::json j = json;
+  j["buffers"][0]["uri"] = bin_name;
+  write_bytes(path.parent_path() / bin_name, bin.data(), bin.size());
   const std::string text = j.dump(1);
   write_bytes(path, text.data(), text.size());
 }

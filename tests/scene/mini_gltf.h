@@ -24,6 +24,8 @@ struct MiniGltf {
   int add_accessor(int view, int component_type, std::size_t count, const std::string& type, bool normalized = false);
 
   std::vector<unsigned char> glb() const;
+  // The .gltf text with the buffer as a data URI.
+  std::vector<unsigned char> gltf_text() const;
   // .gltf + external .bin (or the buffer as a data URI when `bin_name` is empty).
   void write_gltf(const std::filesystem::path& path, const std::string& bin_name) const;
   void write_glb(const std::filesystem::path& path) const;

@@ -165,7 +165,11 @@ public:
     if (light != node.extensions.end() && detail::member(light->second, "light").IsInt()) {
       const int li = detail::member(light->second, "light").Get<int>();
       if (li < 0 || std::size_t(li) >= model_.lights.size()) ctx_.fail(place, fmt::format("light {} does not exist", li));
-      scene_.lights.push_back(convert_light(model_.lights[std::size_t(li)], world, ctx_, place));
+      const tinygltf::Light& punctual = model_.lights[std::size_t(li)];
+      if (punctual.type == "point" || punctual.type == "spot" || punctual.type == "directional")
+        scene_.lights.push_back(convert_light(punctual, world, ctx_, place));
+      else // a later version's light type: the validator warns, and so does the loader
+        ctx_.warn(fmt::format("{}: light {} of unknown type '{}' skipped", place, li, punctual.type));
     }
     if (node.camera >= 0) add_camera(node, world, place);
     for (int child : node.children) add_node(child, world, object, depth + 1);
@@ -223,7 +227,10 @@ private:
       ctx_.warn(fmt::format("{}: mode {} skipped (only triangles are baked)", place, kModeNames[primitive.mode]));
       return;
     }
-    if (primitive.mode > 6) ctx_.fail(place, fmt::format("invalid primitive mode {}", primitive.mode));
+    if (primitive.mode > 6) { // a later version's mode: the validator warns, and so does the loader
+      ctx_.warn(fmt::format("{}: unknown mode {} skipped (only triangles are baked)", place, primitive.mode));
+      return;
+    }
     const bool draco = primitive.extensions.count("KHR_draco_mesh_compression") != 0;
     detail::PrimitiveGeometry g = draco ? detail::decode_draco_primitive(model_, primitive, ctx_, place)
                                         : detail::read_plain_primitive(model_, primitive, ctx_, place);

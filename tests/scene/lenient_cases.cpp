@@ -144,6 +144,18 @@ std::vector<LenientCase> unused_data_cases() {
   g.json["scenes"][0]["nodes"].push_back(2);
   cases.push_back(bakes("camera_unknown_type.gltf", "a node's camera of a type from a later version", gltf_bytes(g),
                         {"cameras[0].type: unknown value 'fisheye', camera not used"}));
+  g = room();
+  g.json["extensions"]["KHR_lights_punctual"]["lights"].push_back({{"type", "area"}, {"intensity", 1}});
+  g.json["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  g.json["scenes"][0]["nodes"].push_back(2);
+  cases.push_back(bakes("light_unknown_type.gltf", "a node's light of a type from a later version", gltf_bytes(g),
+                        {"nodes[2]: light 1 of unknown type 'area' skipped"}));
+  g = room();
+  g.json["meshes"].push_back({{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"mode", 7}}}}});
+  g.json["nodes"].push_back({{"mesh", 1}});
+  g.json["scenes"][0]["nodes"].push_back(2);
+  cases.push_back(bakes("primitive_unknown_mode.gltf", "a primitive of a mode from a later version", gltf_bytes(g),
+                        {"meshes[1].primitives[0]: unknown mode 7 skipped"}));
   return cases;
 }
 

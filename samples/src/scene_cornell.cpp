@@ -60,6 +60,14 @@ MeshData block(const std::array<Corners, 5>& faces_mm) {
   return mesh;
 }
 
+// The light's footprint as a closed box 3 cm tall, its top `gap` below the ceiling, every face outward.
+MeshData light_box(float gap) {
+  const glm::vec3 a = from_measured(light_mm[0]), c = from_measured(light_mm[2]);
+  const float top = from_measured(ceiling_mm[0]).y - gap;
+  return box(glm::vec3(std::min(a.x, c.x), top - 0.03f, std::min(a.z, c.z)),
+             glm::vec3(std::max(a.x, c.x), top, std::max(a.z, c.z)), Facing::outward);
+}
+
 NodeId add_object(SceneBuilder& scene, const char* name, MeshData mesh, MaterialId material) {
   return scene.add_mesh_node(name, scene.add_mesh(name, std::move(mesh), material));
 }
@@ -80,6 +88,9 @@ Transform fit_in_box(const Bounds& model) {
 }  // namespace
 
 SceneBuilder cornell(const CornellOptions& options) {
+  if (options.light_box_gap && !(*options.light_box_gap > 0.0f && *options.light_box_gap < 0.5f)) {
+    throw Error(ErrorKind::usage, "cornell: --light-box gap must be in (0, 0.5) metres");
+  }
   if (!std::isfinite(options.light_scale) || options.light_scale < 0.0f) {
     throw Error(ErrorKind::usage, "cornell: --light-scale must be finite and >= 0");
   }
@@ -88,14 +99,17 @@ SceneBuilder cornell(const CornellOptions& options) {
   const MaterialId red = scene.add_material({"red", {0.63f, 0.065f, 0.05f}, {}});
   const MaterialId green = scene.add_material({"green", {0.14f, 0.45f, 0.091f}, {}});
   const glm::vec3 radiance = glm::vec3(cornell_light_radiance[0], cornell_light_radiance[1], cornell_light_radiance[2]);
-  const MaterialId light = scene.add_material({"light", glm::vec3(0.78f), radiance * options.light_scale});
+  // The light box is double-sided, as exporters write it (Blender's default): its inside is then a closed
+  // cavity of emitting walls, open space by the glTF rules.
+  const MaterialId light = scene.add_material({"light", glm::vec3(0.78f), radiance * options.light_scale,
+                                               options.light_box_gap.has_value()});
 
   add_object(scene, "floor", measured_quad(floor_mm, room_centre_mm, Facing::inward), white);
   add_object(scene, "ceiling", measured_quad(ceiling_mm, room_centre_mm, Facing::inward), white);
   add_object(scene, "back_wall", measured_quad(back_mm, room_centre_mm, Facing::inward), white);
   add_object(scene, "red_wall", measured_quad(red_wall_mm, room_centre_mm, Facing::inward), red);
   add_object(scene, "green_wall", measured_quad(green_wall_mm, room_centre_mm, Facing::inward), green);
-  add_object(scene, "light", measured_quad(light_mm, room_centre_mm, Facing::inward), light);
+  add_object(scene, "light", options.light_box_gap ? light_box(*options.light_box_gap) : measured_quad(light_mm, room_centre_mm, Facing::inward), light);
   scene.set_dynamic(add_object(scene, "short_block", block(short_block_mm), white), options.dynamic);
   if (!options.with_model) {
     scene.set_dynamic(add_object(scene, "tall_block", block(tall_block_mm), white), options.dynamic);

@@ -22,6 +22,9 @@ struct CornellOptions {
   // centred on the middle of the floor (it may intersect the short block).
   std::optional<std::filesystem::path> with_model;
   float light_scale = 1.0f;  // multiplies the light's radiance cornell_light_radiance, >= 0
+  // When set, the light is a closed emissive box (the light's footprint, 3 cm tall, every face emitting)
+  // whose top lies this many metres below the ceiling: the stiff case of issue #39 (0.00013 m).
+  std::optional<float> light_box_gap;
   // Marks the blocks (or the short block and the model) dynamic: objects the runtime moves (the octree
   // thesis's animated Cornell test, `probebake run --animate`).
   bool dynamic = false;

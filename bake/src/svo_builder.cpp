@@ -1,7 +1,8 @@
 // SVO probe index (nonuniform-probe-placement-svo §4.1). Every voxel at the leaf depth is evaluated
 // independently (in parallel, results in index order): it is solid when all its sample points are inside
 // geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from the
-// voxel's sample points over squared distance and the best four kept. The tree is then built top-down:
+// sample points of one open region of the voxel (the largest that sees a probe) over squared distance
+// and the best four kept. The tree is then built top-down:
 // a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean weights,
 // which keeps the index sparse.
 #include "svo_builder.h"
@@ -19,6 +20,7 @@ namespace probebake::bake::detail {
 namespace {
 
 constexpr int kCandidates = 12;
+constexpr int kFarCandidates = 48; // when a region of the voxel sees none of the nearest 12
 
 struct VoxelPayload {
   bool solid = false;
@@ -104,33 +106,130 @@ private:
   std::vector<std::vector<int>> buckets_;
 };
 
-VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
-                            glm::vec3 min, float size) {
-  VoxelPayload out;
-  const auto points = voxel_points(min, size);
-  std::array<bool, 9> open{};
-  bool any_open = false;
-  for (std::size_t i = 0; i < points.size(); ++i) any_open |= (open[i] = !inside_geometry(rays, points[i]));
-  if (!any_open) {
-    out.solid = true;
-    return out;
+bool sees(const scene::RayScene& rays, glm::vec3 from, glm::vec3 to) {
+  const glm::vec3 d = to - from;
+  const float dist = glm::length(d);
+  return dist == 0.0f || !rays.occluded(from, d / dist, 0.0f, dist);
+}
+
+using PointSet = std::array<bool, 9>;
+
+// The voxel's open sample points grouped into open regions: points joined by unoccluded segments share a
+// region. Largest region first (ties: the one holding the lowest index, the centre first).
+std::vector<PointSet> open_regions(const scene::RayScene& rays, const std::array<glm::vec3, 9>& points,
+                                   const PointSet& open) {
+  std::array<int, 9> parent{};
+  for (int i = 0; i < 9; ++i) parent[std::size_t(i)] = i;
+  const auto root = [&](int i) {
+    while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)];
+    return i;
+  };
+  for (int i = 0; i < 9; ++i)
+    for (int j = i + 1; j < 9; ++j) {
+      if (!open[std::size_t(i)] || !open[std::size_t(j)] || root(i) == root(j)) continue;
+      if (sees(rays, points[std::size_t(i)], points[std::size_t(j)])) parent[std::size_t(root(j))] = root(i);
+    }
+  std::vector<std::pair<int, int>> order; // (-size, root)
+  for (int r = 0; r < 9; ++r) {
+    int size = 0;
+    for (int i = 0; i < 9; ++i) size += open[std::size_t(i)] && root(i) == r ? 1 : 0;
+    if (size > 0) order.push_back({-size, r});
   }
-  std::vector<std::pair<float, int>> ranked; // (-weight, probe): sorts best first, ties by index
-  for (int probe : buckets.nearest(points[0], kCandidates)) {
+  std::sort(order.begin(), order.end());
+  std::vector<PointSet> regions;
+  for (const auto& [size, r] : order) {
+    PointSet in{};
+    for (int i = 0; i < 9; ++i) in[std::size_t(i)] = open[std::size_t(i)] && root(i) == r;
+    regions.push_back(in);
+  }
+  return regions;
+}
+
+// Candidate probes seen from the region's points, best first: (-weight, probe), weight = the fraction of
+// the points that see the probe over its squared distance from the voxel's centre.
+std::vector<std::pair<float, int>> rank_probes(const scene::RayScene& rays, const formats::ProbeVolume& v,
+                                               const std::vector<int>& candidates,
+                                               const std::array<glm::vec3, 9>& points, const PointSet& region,
+                                               float size) {
+  std::vector<std::pair<float, int>> ranked; // sorts best first, ties by index
+  for (int probe : candidates) {
     const glm::vec3 target = v.probes[std::size_t(probe)].position;
     int visible = 0, tested = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
-      if (!open[i]) continue;
+      if (!region[i]) continue;
       ++tested;
-      const glm::vec3 d = target - points[i];
-      const float dist = glm::length(d);
-      visible += dist == 0.0f || !rays.occluded(points[i], d / dist, 0.0f, dist) ? 1 : 0;
+      visible += sees(rays, points[i], target) ? 1 : 0;
     }
     if (visible == 0) continue;
     const float dist = std::max(glm::length(target - points[0]), 0.5f * size);
     ranked.push_back({-(float(visible) / float(tested)) / (dist * dist), probe});
   }
   std::sort(ranked.begin(), ranked.end());
+  return ranked;
+}
+
+// Probes joined by unoccluded segments to any of their nearest neighbours form a group: the open space
+// players move in is one large group, a sealed cavity (the inside of a double-sided light box) a small one.
+struct ProbeGroups {
+  std::vector<int> group; // per probe: its group's id (the lowest probe index in it), -1 for free slots
+  std::vector<int> size;  // per group id: live probes in it
+};
+
+// A voxel that a surface cuts into open regions whose probes lie in different groups is served by one group
+// alone, the largest (ties: the lowest id), and by the largest region that sees it. Testing visibility from
+// all open points at once let probes seen only from a sliver of the voxel into its stencil by their short
+// distance, and lookups on the other side blended light from a space they cannot see (issue #39: 150x the
+// reference on a ceiling beside a closed emissive box). Within one group (a thin surface in open space, the
+// common case) the stencil is tested from every open point, as it always was.
+std::optional<std::vector<std::pair<float, int>>> rank_by_group(const scene::RayScene& rays,
+                                                                const formats::ProbeVolume& v,
+                                                                const ProbeBuckets& buckets, const ProbeGroups& groups,
+                                                                const std::array<glm::vec3, 9>& points,
+                                                                const std::vector<PointSet>& regions, float size) {
+  // The nearest candidates may all lie in another group (the probes inside a light box next to a ceiling
+  // voxel): a region that sees none of them looks further.
+  const std::vector<int> near = buckets.nearest(points[0], kCandidates);
+  std::vector<int> far;
+  std::vector<std::vector<std::pair<float, int>>> seen;
+  int best = -1;
+  bool several = false;
+  for (const PointSet& region : regions) {
+    seen.push_back(rank_probes(rays, v, near, points, region, size));
+    if (seen.back().empty()) {
+      if (far.empty()) far = buckets.nearest(points[0], kFarCandidates);
+      seen.back() = rank_probes(rays, v, far, points, region, size);
+    }
+    for (const auto& [weight, probe] : seen.back()) {
+      const int g = groups.group[std::size_t(probe)];
+      several |= best >= 0 && g != best;
+      const auto larger = [&](int a, int b) { return groups.size[std::size_t(a)] > groups.size[std::size_t(b)] || (groups.size[std::size_t(a)] == groups.size[std::size_t(b)] && a < b); };
+      if (best < 0 || larger(g, best)) best = g;
+    }
+  }
+  if (!several) return std::nullopt;
+  for (std::vector<std::pair<float, int>>& ranked : seen) {
+    std::erase_if(ranked, [&](const auto& r) { return groups.group[std::size_t(r.second)] != best; });
+    if (!ranked.empty()) return std::move(ranked);
+  }
+  return std::nullopt; // not reached: some region saw the best group
+}
+
+VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
+                            const ProbeGroups& groups, glm::vec3 min, float size) {
+  VoxelPayload out;
+  const auto points = voxel_points(min, size);
+  PointSet open{};
+  bool any_open = false;
+  for (std::size_t i = 0; i < points.size(); ++i) any_open |= (open[i] = !inside_geometry(rays, points[i]));
+  if (!any_open) {
+    out.solid = true;
+    return out;
+  }
+  const std::vector<PointSet> regions = open_regions(rays, points, open);
+  std::optional<std::vector<std::pair<float, int>>> by_group;
+  if (regions.size() > 1) by_group = rank_by_group(rays, v, buckets, groups, points, regions, size);
+  std::vector<std::pair<float, int>> ranked =
+      by_group ? std::move(*by_group) : rank_probes(rays, v, buckets.nearest(points[0], kCandidates), points, open, size);
   ranked.resize(std::min<std::size_t>(ranked.size(), gpu::SVO_PROBES_PER_LEAF));
   // Stored in probe order, not rank order, so that neighbouring voxels that chose the same probes hold
   // the same payload layout and can merge.
@@ -140,6 +239,38 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
   for (std::size_t k = 0; k < ranked.size(); ++k) {
     out.leaf.probes[int(k)] = ranked[k].second;
     out.leaf.weights[int(k)] = -ranked[k].first / total;
+  }
+  return out;
+}
+
+// The probes' groups: probes joined by unoccluded segments to any of their nearest kCandidates neighbours
+// share one. Visibility in parallel, the joins in probe order (deterministic).
+ProbeGroups probe_groups(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
+                         int threads) {
+  const std::size_t count = v.probes.size();
+  std::vector<std::vector<int>> joined(count);
+  parallel_for(count, threads, [&](std::size_t i) {
+    if (v.probes[i].link == 0) return;
+    for (int other : buckets.nearest(v.probes[i].position, kCandidates + 1))
+      if (std::size_t(other) > i && sees(rays, v.probes[i].position, v.probes[std::size_t(other)].position))
+        joined[i].push_back(other);
+  });
+  std::vector<int> parent(count);
+  for (std::size_t i = 0; i < count; ++i) parent[i] = int(i);
+  const auto root = [&](int i) {
+    while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
+    return i;
+  };
+  for (std::size_t i = 0; i < count; ++i)
+    for (int other : joined[i]) {
+      const int a = root(int(i)), b = root(other);
+      parent[std::size_t(std::max(a, b))] = std::min(a, b); // the lowest index names the group
+    }
+  ProbeGroups out{std::vector<int>(count, -1), std::vector<int>(count, 0)};
+  for (std::size_t i = 0; i < count; ++i) {
+    if (v.probes[i].link == 0) continue;
+    out.group[i] = root(int(i));
+    ++out.size[std::size_t(out.group[i])];
   }
   return out;
 }
@@ -196,10 +327,11 @@ SvoStats build_svo(const scene::RayScene& rays, formats::ProbeVolume& volume, in
   // About two probes per bucket: the ring search then touches few empty buckets.
   const int live = int(std::count_if(volume.probes.begin(), volume.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
   const ProbeBuckets buckets(volume, std::clamp(int(std::cbrt(double(live) / 2.0)), 1, 32));
+  const ProbeGroups groups = probe_groups(rays, volume, buckets, threads);
   std::vector<VoxelPayload> voxels(std::size_t(n) * std::size_t(n) * std::size_t(n));
   parallel_for(voxels.size(), threads, [&](std::size_t i) {
     const glm::ivec3 c(int(i % std::size_t(n)), int(i / std::size_t(n) % std::size_t(n)), int(i / std::size_t(n * n)));
-    voxels[i] = evaluate_voxel(rays, volume, buckets, volume.info.root_min + glm::vec3(c) * size, size);
+    voxels[i] = evaluate_voxel(rays, volume, buckets, groups, volume.info.root_min + glm::vec3(c) * size, size);
   });
   SvoStats stats;
   stats.voxels_evaluated = int(voxels.size());

@@ -65,6 +65,7 @@ void add_kinds(CLI::App& app, std::map<CLI::App*, MakeScene>& makers, KindOption
   cornell->add_option("--light-scale", o.cornell.light_scale, "multiply the light's radiance (17, 12, 4)");
   cornell->add_option("--light-box", o.cornell.light_box_gap,
                       "the light as a closed emissive box 3 cm tall whose top is GAP metres below the ceiling");
+  cornell->add_option("--light-albedo", o.cornell.light_albedo, "the light's albedo (0.78)");
   cornell->add_flag("--dynamic", o.cornell.dynamic, "mark the blocks (or the short block and the model) dynamic");
 
   CLI::App* furnace = add_kind(app, makers, "furnace", "closed emitting box: irradiance pi L / (1 - R) inside",

@@ -168,6 +168,18 @@ std::vector<std::pair<float, int>> rank_probes(const scene::RayScene& rays, cons
   return ranked;
 }
 
+// The probes the region's points see among the nearest kCandidates, or, when it sees none of those (they
+// lie behind the light box beside a ceiling voxel, or in the sealed box itself), among the nearest
+// kFarCandidates: a voxel is left empty (a hole in the lookup) only when no probe near it is visible.
+std::vector<std::pair<float, int>> rank_nearby(const scene::RayScene& rays, const formats::ProbeVolume& v,
+                                               const ProbeBuckets& buckets, const std::array<glm::vec3, 9>& points,
+                                               const PointSet& region, float size) {
+  std::vector<std::pair<float, int>> ranked =
+      rank_probes(rays, v, buckets.nearest(points[0], kCandidates), points, region, size);
+  if (ranked.empty()) ranked = rank_probes(rays, v, buckets.nearest(points[0], kFarCandidates), points, region, size);
+  return ranked;
+}
+
 // Probes joined by unoccluded segments to any of their nearest neighbours form a group: the open space
 // players move in is one large group, a sealed cavity (the inside of a double-sided light box) a small one.
 struct ProbeGroups {
@@ -186,23 +198,18 @@ std::optional<std::vector<std::pair<float, int>>> rank_by_group(const scene::Ray
                                                                 const ProbeBuckets& buckets, const ProbeGroups& groups,
                                                                 const std::array<glm::vec3, 9>& points,
                                                                 const std::vector<PointSet>& regions, float size) {
-  // The nearest candidates may all lie in another group (the probes inside a light box next to a ceiling
-  // voxel): a region that sees none of them looks further.
-  const std::vector<int> near = buckets.nearest(points[0], kCandidates);
-  std::vector<int> far;
+  const auto larger = [&](int a, int b) {
+    const int size_a = groups.size[std::size_t(a)], size_b = groups.size[std::size_t(b)];
+    return size_a > size_b || (size_a == size_b && a < b);
+  };
   std::vector<std::vector<std::pair<float, int>>> seen;
   int best = -1;
   bool several = false;
   for (const PointSet& region : regions) {
-    seen.push_back(rank_probes(rays, v, near, points, region, size));
-    if (seen.back().empty()) {
-      if (far.empty()) far = buckets.nearest(points[0], kFarCandidates);
-      seen.back() = rank_probes(rays, v, far, points, region, size);
-    }
+    seen.push_back(rank_nearby(rays, v, buckets, points, region, size));
     for (const auto& [weight, probe] : seen.back()) {
       const int g = groups.group[std::size_t(probe)];
       several |= best >= 0 && g != best;
-      const auto larger = [&](int a, int b) { return groups.size[std::size_t(a)] > groups.size[std::size_t(b)] || (groups.size[std::size_t(a)] == groups.size[std::size_t(b)] && a < b); };
       if (best < 0 || larger(g, best)) best = g;
     }
   }
@@ -229,7 +236,7 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
   std::optional<std::vector<std::pair<float, int>>> by_group;
   if (regions.size() > 1) by_group = rank_by_group(rays, v, buckets, groups, points, regions, size);
   std::vector<std::pair<float, int>> ranked =
-      by_group ? std::move(*by_group) : rank_probes(rays, v, buckets.nearest(points[0], kCandidates), points, open, size);
+      by_group ? std::move(*by_group) : rank_nearby(rays, v, buckets, points, open, size);
   ranked.resize(std::min<std::size_t>(ranked.size(), gpu::SVO_PROBES_PER_LEAF));
   // Stored in probe order, not rank order, so that neighbouring voxels that chose the same probes hold
   // the same payload layout and can merge.

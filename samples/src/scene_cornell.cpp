@@ -101,7 +101,7 @@ SceneBuilder cornell(const CornellOptions& options) {
   const glm::vec3 radiance = glm::vec3(cornell_light_radiance[0], cornell_light_radiance[1], cornell_light_radiance[2]);
   // The light box is double-sided, as exporters write it (Blender's default): its inside is then a closed
   // cavity of emitting walls, open space by the glTF rules.
-  const MaterialId light = scene.add_material({"light", glm::vec3(0.78f), radiance * options.light_scale,
+  const MaterialId light = scene.add_material({"light", glm::vec3(options.light_albedo), radiance * options.light_scale,
                                                options.light_box_gap.has_value()});
 
   add_object(scene, "floor", measured_quad(floor_mm, room_centre_mm, Facing::inward), white);

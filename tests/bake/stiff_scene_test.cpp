@@ -65,5 +65,22 @@ TEST(StiffScenes, ASealedEmissiveBoxUnderTheCeilingDoesNotLightTheRoomThroughThe
   }
 }
 
+// No holes (issue #39): every visible receiver's lookup finds a probe. The octree at depth 5 left 2 % of the
+// light-box scene's receivers (under the box and on the ceiling beside it) in voxels whose 12 nearest
+// probes all lay behind the box; such a voxel now looks among the 48 nearest.
+TEST(StiffScenes, EveryVisibleReceiverFindsAProbe) {
+  samples::CornellOptions options;
+  options.light_box_gap = 0.00013f;
+  const scene::Scene light_box = load_generated(samples::cornell(options), "coverage-light-box");
+  const scene::Scene cornell = load_generated(samples::cornell(), "coverage-cornell");
+  for (const scene::Scene* scene : {&light_box, &cornell})
+    for (const int depth : {2, 5}) {
+      bake::BakeSettings settings;
+      settings.max_depth = depth;
+      const LookupComparison c = compare_lookups(*scene, settings);
+      EXPECT_EQ(c.misses, 0u) << "depth " << depth;
+    }
+}
+
 } // namespace
 } // namespace probebake::test

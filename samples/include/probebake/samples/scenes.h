@@ -25,6 +25,7 @@ struct CornellOptions {
   // When set, the light is a closed emissive box (the light's footprint, 3 cm tall, every face emitting)
   // whose top lies this many metres below the ceiling: the stiff case of issue #39 (0.00013 m).
   std::optional<float> light_box_gap;
+  float light_albedo = 0.78f; // the light's diffuse albedo, in [0, 1]
   // Marks the blocks (or the short block and the model) dynamic: objects the runtime moves (the octree
   // thesis's animated Cornell test, `probebake run --animate`).
   bool dynamic = false;

@@ -39,6 +39,9 @@ struct Settings {
 // Each kind's options, filled by CLI11.
 struct KindOptions {
   samples::CornellOptions cornell;
+  samples::WindowRoomOptions window_room;
+  samples::TinyEmitterOptions tiny_emitter;
+  samples::CavityOptions cavity;
   std::string cornell_with;
   samples::FurnaceOptions furnace;
   samples::LeakOptions leak;
@@ -96,6 +99,19 @@ void add_kinds(CLI::App& app, std::map<CLI::App*, MakeScene>& makers, KindOption
   rooms->add_option("--seed", o.rooms.seed, "layout seed")->capture_default_str();
   rooms->add_option("--light-range", o.rooms.light_range, "range of each room's light in metres, 0 = unbounded")
       ->capture_default_str();
+
+  CLI::App* window = add_kind(app, makers, "window-room", "a closed room lit by the sun through small windows",
+                              [&o] { return samples::window_room(o.window_room); });
+  window->add_option("--windows", o.window_room.windows, "0.5 m windows in the +X wall, 1..4")->capture_default_str();
+  window->add_option("--albedo", o.window_room.albedo, "albedo of every face")->capture_default_str();
+  window->add_option("--sun", o.window_room.sun, "directional light, lux")->capture_default_str();
+  CLI::App* tiny = add_kind(app, makers, "tiny-emitter", "a closed room lit by one tiny, very bright emitter",
+                            [&o] { return samples::tiny_emitter(o.tiny_emitter); });
+  tiny->add_option("--size", o.tiny_emitter.size, "side of the square emitter, metres")->capture_default_str();
+  tiny->add_option("--radiance", o.tiny_emitter.radiance, "its radiance")->capture_default_str();
+  CLI::App* cavity = add_kind(app, makers, "cavity", "a closed box of high albedo with a small emitter inside",
+                              [&o] { return samples::cavity(o.cavity); });
+  cavity->add_option("--albedo", o.cavity.albedo, "albedo of every face")->capture_default_str();
 
   add_kind(app, makers, "triangle", "one triangle and a point light", [] { return samples::triangle(); });
   add_kind(app, makers, "empty", "a valid glTF with no triangles", [] { return samples::empty(); });

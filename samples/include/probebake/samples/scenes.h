@@ -77,6 +77,28 @@ struct RoomsOptions {
 };
 SceneBuilder rooms(const RoomsOptions& options = {});
 
+// Stiff scenes (issue #39, scene_stiff.cpp). A closed 4 x 2.5 x 4 m room (faces inward, x, z in -2..2, y in
+// 0..2.5) lit only by a directional sun (`sun` lux) through `windows` 0.5 x 0.5 m openings in its +X wall.
+struct WindowRoomOptions {
+  int windows = 2;      // 1..4
+  float albedo = 0.7f;  // every face
+  float sun = 10.0f;    // lux
+};
+SceneBuilder window_room(const WindowRoomOptions& options = {});
+// The same room shut, lit only by a square emitter of side `size` and radiance `radiance` facing down 1 cm
+// under the ceiling's centre.
+struct TinyEmitterOptions {
+  float size = 0.01f;         // metres
+  float radiance = 100000.0f; // W/(m^2 sr)
+};
+SceneBuilder tiny_emitter(const TinyEmitterOptions& options = {});
+// A closed 1 m box of albedo `albedo` with a block inside and a 10 cm emitter (radiance 10) under its
+// ceiling: probe irradiance is bounded by pi 10 / (1 - albedo).
+struct CavityOptions {
+  float albedo = 0.95f;
+};
+SceneBuilder cavity(const CavityOptions& options = {});
+
 // One white triangle (0,0,0), (1,0,0), (0,0,-1) facing +Y, lit by a 10 cd point light 1 m above.
 SceneBuilder triangle();
 

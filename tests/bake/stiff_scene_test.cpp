@@ -4,6 +4,7 @@
 // that the box's walls cut used to list those probes for lookups on the room's side: 150x the reference on
 // the ceiling beside the box. Each voxel now serves one group of mutually visible probes.
 #include <algorithm>
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -80,6 +81,58 @@ TEST(StiffScenes, EveryVisibleReceiverFindsAProbe) {
       const LookupComparison c = compare_lookups(*scene, settings);
       EXPECT_EQ(c.misses, 0u) << "depth " << depth;
     }
+}
+
+// Probe irradiance stays physically bounded and the bounce iteration converges quickly on every stiff
+// scene. The bounds are energy arguments: no radiance anywhere exceeds the brightest source over (1 - the
+// largest albedo), and the probes hold reflected light only (emitters and the sun are added per pixel).
+struct StiffCase {
+  const char* name;
+  samples::SceneBuilder builder;
+  float bound; // W/m^2, on any probe's mean irradiance (its DC term) in any channel
+};
+
+std::vector<StiffCase> stiff_cases() {
+  samples::CornellOptions light_box;
+  light_box.light_box_gap = 0.00013f;
+  return {
+      // Inside the sealed double-sided light box (radiance 17 at most, albedo 0.78): pi 17 / (1 - 0.78).
+      {"light box", samples::cornell(light_box), 3.14159f * 17.0f / (1.0f - 0.78f)},
+      // A surface gets at most the sun's 10 lux directly; reflected light: 0.7 * 10 / (1 - 0.7).
+      {"window room", samples::window_room(), 0.7f * 10.0f / (1.0f - 0.7f)},
+      // The 1 cm emitter (radiance 1e5) seen from any surface facing it, 1.99 m away at least: E_direct
+      // <= 1e5 * 1e-4 / 1.99^2 = 2.53; reflected light: 0.7 * 2.53 / (1 - 0.7).
+      {"tiny emitter", samples::tiny_emitter(), 0.7f * 2.53f / (1.0f - 0.7f)},
+      // The 10 cm emitter (radiance 10) seen from any surface facing it, 0.45 m away at least (the walls):
+      // E_direct <= 10 * 0.01 / 0.45^2 = 0.494; reflected light in a box of albedo 0.95: 0.95 * 0.494 / 0.05.
+      {"cavity", samples::cavity(), 0.95f * 0.494f / (1.0f - 0.95f)},
+  };
+}
+
+TEST(StiffScenes, ProbeIrradianceIsBoundedAndTheIterationConverges) {
+  for (const StiffCase& c : stiff_cases()) {
+    const scene::Scene scene = load_generated(c.builder, std::string("stiff-") + c.name);
+    for (const bool grid : {false, true}) {
+      bake::BakeSettings settings;
+      settings.max_depth = 3;
+      settings.placement = grid ? bake::Placement::grid : bake::Placement::octree;
+      settings.grid_resolution = 8;
+      const bake::BakeResult r = bake::bake(scene, settings);
+      float brightest = 0.0f;
+      for (const gpu::Probe& p : r.volume.probes) {
+        if (p.link == 0) continue;
+        for (float v : p.irradiance_sh) ASSERT_TRUE(std::isfinite(v)) << c.name;
+        for (int channel = 0; channel < 3; ++channel)
+          brightest = std::max(brightest, p.irradiance_sh[channel] * bake::kShY0);
+      }
+      std::printf("[stiff] %s, %s: %d probes, brightest mean irradiance %.3g W/m^2 (bound %.3g), %d sweeps\n",
+                  c.name, grid ? "grid 8" : "octree depth 3", r.report.probes, brightest, c.bound,
+                  r.report.lighting.iterations);
+      EXPECT_LE(brightest, c.bound) << c.name;
+      EXPECT_TRUE(r.report.lighting.converged) << c.name;
+      EXPECT_LE(r.report.lighting.iterations, 500) << c.name;
+    }
+  }
 }
 
 } // namespace

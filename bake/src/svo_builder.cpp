@@ -187,33 +187,39 @@ struct ProbeGroups {
   std::vector<int> size;  // per group id: live probes in it
 };
 
-// A voxel that a surface cuts into open regions whose probes lie in different groups is served by one group
-// alone, the largest (ties: the lowest id), and by the largest region that sees it. Testing visibility from
-// all open points at once let probes seen only from a sliver of the voxel into its stencil by their short
-// distance, and lookups on the other side blended light from a space they cannot see (issue #39: 150x the
-// reference on a ceiling beside a closed emissive box). Within one group (a thin surface in open space, the
-// common case) the stencil is tested from every open point, as it always was.
+// A voxel that a surface cuts into open regions whose probes lie in different groups is served by one
+// group alone: the one with the most lookups to serve, estimated as the voxel's points that see it times
+// the group's probes. The points are the share of the voxel's volume on that side; the probe count weighs
+// out spaces no player reaches (the inside of a sealed light box holds a dozen probes against thousands in
+// the room), while two rooms either side of a wall compete by volume. Testing visibility from all open
+// points at once let probes seen only from a sliver of the voxel into its stencil by their short distance,
+// and lookups on the other side blended light from a space they cannot see (issue #39: 150x the reference
+// on a ceiling beside a closed emissive box). Within one group (a thin surface in open space, the common
+// case) the stencil is tested from every open point, as it always was.
 std::optional<std::vector<std::pair<float, int>>> rank_by_group(const scene::RayScene& rays,
                                                                 const formats::ProbeVolume& v,
                                                                 const ProbeBuckets& buckets, const ProbeGroups& groups,
                                                                 const std::array<glm::vec3, 9>& points,
                                                                 const std::vector<PointSet>& regions, float size) {
-  const auto larger = [&](int a, int b) {
-    const int size_a = groups.size[std::size_t(a)], size_b = groups.size[std::size_t(b)];
-    return size_a > size_b || (size_a == size_b && a < b);
-  };
   std::vector<std::vector<std::pair<float, int>>> seen;
-  int best = -1;
-  bool several = false;
+  std::vector<std::pair<int, double>> score; // (group, points seeing it x its probes), in first-seen order
   for (const PointSet& region : regions) {
     seen.push_back(rank_nearby(rays, v, buckets, points, region, size));
+    const double region_points = double(std::count(region.begin(), region.end(), true));
+    std::vector<int> counted;
     for (const auto& [weight, probe] : seen.back()) {
       const int g = groups.group[std::size_t(probe)];
-      several |= best >= 0 && g != best;
-      if (best < 0 || larger(g, best)) best = g;
+      if (std::find(counted.begin(), counted.end(), g) != counted.end()) continue;
+      counted.push_back(g);
+      auto it = std::find_if(score.begin(), score.end(), [g](const auto& e) { return e.first == g; });
+      if (it == score.end()) it = score.insert(score.end(), {g, 0.0});
+      it->second += region_points * double(groups.size[std::size_t(g)]);
     }
   }
-  if (!several) return std::nullopt;
+  if (score.size() < 2) return std::nullopt;
+  const auto best = std::max_element(score.begin(), score.end(), [](const auto& a, const auto& b) {
+                      return a.second < b.second || (a.second == b.second && a.first > b.first);
+                    })->first;
   for (std::vector<std::pair<float, int>>& ranked : seen) {
     std::erase_if(ranked, [&](const auto& r) { return groups.group[std::size_t(r.second)] != best; });
     if (!ranked.empty()) return std::move(ranked);

@@ -47,7 +47,8 @@ nlohmann::json row_json(const bake::EvalRow& r) {
           {"misses", r.misses}, {"coverage", r.coverage}, {"relative_median", r.relative_median},
           {"relative_p95", r.relative_p95}, {"image_relative_rmse", r.image_relative_rmse},
           {"image_mean_error", r.image_mean_error}, {"asked_probes", r.asked_probes}, {"budget_by", r.budget_by},
-          {"indirect_rmse", r.indirect_rmse}, {"indirect_relative_rmse", r.indirect_relative_rmse}};
+          {"indirect_rmse", r.indirect_rmse}, {"indirect_relative_rmse", r.indirect_relative_rmse},
+          {"seam_p99", r.seam_p99}};
 }
 
 nlohmann::json result_json(const bake::EvalResult& r) {

@@ -12,6 +12,7 @@
 #include "probebake/bake/sampler.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
+#include "probebake/eval/seams.h"
 #include "probebake/formats/probes_file.h"
 
 namespace probebake::bake {
@@ -183,12 +184,16 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     EvalRow row = baked_row(config, baked, seconds_since(start));
     const formats::ProbeVolume& v = baked.volume;
     score(row, truth, [&](const SamplePoint& p, SamplerStats& st) { return sample_irradiance(v, p.position, p.normal, &st); });
+    SeamSettings seams;
+    seams.seed = effective.seed;
+    row.seam_p99 = svo_seam_score(v, seams).p99;
     if (maps)
       if (auto path = maps->score(row, v)) result.error_maps.push_back(*path);
     result.rows.push_back(row);
     if (config.label != baseline) continue;
     say("all-probes " + config.label);
     row.sampler = "all-probes";
+    row.seam_p99 = -1.0;
     score(row, truth, [&](const SamplePoint& p, SamplerStats& st) {
       return sample_irradiance_all_probes(v, rays, p.position, p.normal, &st);
     });

@@ -128,6 +128,9 @@ struct EvalRow {
   double indirect_relative_rmse = 0.0;
   double image_mean_error = 0.0;    // camera receivers: mean over pixels and channels of |error| (the error map's mean)
   double image_relative_rmse = 0.0; // camera receivers: RMSE / their mean reference
+  // svo rows: the lookup's seam score (seams.h), 99th percentile of the unexplained jump over the local
+  // irradiance along random lines through open space (-1 for the all-probe loop, not measured)
+  double seam_p99 = -1.0;
 };
 
 struct EvalResult {

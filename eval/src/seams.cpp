@@ -26,7 +26,8 @@ glm::vec3 random_direction(std::mt19937_64& rng) {
 
 float luminance(glm::vec3 e) { return (e.x + e.y + e.z) / 3.0f; }
 
-// One sample's unexplained jump (not yet divided by the local irradiance) and that irradiance.
+// One border's unexplained jump (not yet divided by the local irradiance) and that irradiance: the step
+// of h from x.
 struct Jump {
   double excess = 0.0;
   double local = 0.0;
@@ -53,9 +54,19 @@ Jump jump_at(const SeamLookup& lookup, glm::vec3 x, glm::vec3 d, glm::vec3 n, fl
   return {std::abs(e1 - e0 - predicted), 0.5 * (std::abs(e0) + std::abs(e1))};
 }
 
+// The point where the line leaves the cell it has at `a` for another, between a and b (ids differ).
+glm::vec3 border_between(const SeamCellAt& cell, glm::vec3 a, glm::vec3 b, glm::vec3 n) {
+  const std::int64_t first = cell(a, n).id;
+  for (int i = 0; i < 24; ++i) {
+    const glm::vec3 m = 0.5f * (a + b);
+    (cell(m, n).id == first ? a : b) = m;
+  }
+  return 0.5f * (a + b);
+}
+
 } // namespace
 
-SeamScore seam_score(const SeamLookup& lookup, const SeamCellSize& cell_size, glm::vec3 lo, glm::vec3 hi,
+SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, glm::vec3 lo, glm::vec3 hi,
                      const SeamSettings& settings) {
   std::mt19937_64 rng(settings.seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -66,18 +77,24 @@ SeamScore seam_score(const SeamLookup& lookup, const SeamCellSize& cell_size, gl
     bool found = false;
     for (int t = 0; t < kStartTries && !found; ++t) {
       x = lo + (hi - lo) * glm::vec3(unit(rng), unit(rng), unit(rng));
-      found = cell_size(x, n) > 0.0f;
+      found = cell(x, n).size > 0.0f;
     }
-    for (int s = 0; found && s < settings.samples_per_line; ++s) {
-      const float size = cell_size(x, n);
-      if (!(size > 0.0f)) break;
-      const float h = 0.01f * size;
-      if (cell_size(x + h * d, n) > 0.0f) jumps.push_back(jump_at(lookup, x, d, n, h));
-      x += 0.25f * size * d;
+    for (int s = 0; found && s < settings.steps_per_line; ++s) {
+      const SeamCell here = cell(x, n);
+      const glm::vec3 next = x + 0.25f * here.size * d;
+      const SeamCell there = cell(next, n);
+      if (!(there.size > 0.0f)) break;
+      if (there.id != here.id) {
+        const float h = 0.01f * std::min(here.size, there.size);
+        const glm::vec3 b = border_between(cell, x, next, n);
+        if (cell(b - 0.5f * h * d, n).size > 0.0f && cell(b + 0.5f * h * d, n).size > 0.0f)
+          jumps.push_back(jump_at(lookup, b - 0.5f * h * d, d, n, h));
+      }
+      x = next;
     }
   }
   SeamScore out;
-  out.samples = int(jumps.size());
+  out.borders = int(jumps.size());
   if (jumps.empty()) return out;
   // Dark places would divide by ~0: the local irradiance is floored at 1 % of the mean.
   double mean = 0.0;
@@ -95,8 +112,9 @@ SeamScore svo_seam_score(const formats::ProbeVolume& volume, const SeamSettings&
   const auto lookup = [&](glm::vec3 p, glm::vec3 n) { return sample_irradiance(volume, p, n); };
   const auto cell = [&](glm::vec3 p, glm::vec3 n) {
     int depth = -1;
-    if (find_svo_leaf(volume, p + n * bias, &depth) < 0) return 0.0f;
-    return volume.info.root_size / float(1 << depth);
+    const int leaf = find_svo_leaf(volume, p + n * bias, &depth);
+    if (leaf < 0) return SeamCell{};
+    return SeamCell{volume.info.root_size / float(1 << depth), leaf};
   };
   return seam_score(lookup, cell, volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size), settings);
 }

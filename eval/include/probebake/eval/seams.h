@@ -1,10 +1,11 @@
 // Seam score (issue #39): how far an irradiance lookup jumps where it should be continuous. Along random
-// lines through open space, at each sample x with local cell size s (the SVO leaf holding the lookup),
-// h = 1 % of s: the jump E(x + h) - E(x), minus the jump its slope predicts (the median slope of ten steps
-// of h/10 on either side, so that a seam inside those windows does not hide itself), over the local
-// irradiance. A C0 lookup scores O(h) times its curvature; a step between voxels scores the step's size.
-// E is the mean of the RGB channels. The score is the 99th percentile over all samples: a few percent of
-// the samples straddle a cell border, so seams decide it.
+// lines through open space, wherever the line passes from one cell of the lookup into another (an SVO leaf
+// into the next), the border is found by bisection and the step of h = 1 % of the local cell size across
+// it is scored: the jump E(b + h/2) - E(b - h/2), minus the jump its slope predicts (the median slope of
+// ten steps of h/10 on either side, so that a seam inside those windows does not hide itself), over the
+// local irradiance. A C0 lookup scores O(h) times its curvature; a step between cells scores the step's
+// size. E is the mean of the RGB channels. Scored at borders only: samples at random places along the
+// line straddle a border about 1 % of the time, and their 99th percentile would hide what a player sees.
 #pragma once
 
 #include <cstdint>
@@ -18,26 +19,33 @@ namespace probebake::bake {
 
 struct SeamSettings {
   int lines = 256;
-  int samples_per_line = 64; // spaced a quarter of the local cell size apart
+  int steps_per_line = 64; // a quarter of the local cell size each
   std::uint64_t seed = 1;
 };
 
 struct SeamScore {
-  double p99 = 0.0; // of |jump - predicted jump| / local irradiance
+  double p99 = 0.0; // of |jump - predicted jump| / local irradiance, over the borders crossed
   double max = 0.0;
-  int samples = 0;
+  int borders = 0;
 };
 
-// `lookup(p, n)`: irradiance at p for unit normal n; `cell_size(p, n)`: the size of the cell the lookup
-// reads at p, or <= 0 where it reads nothing (outside open space). Lines start at random points of
-// [lo, hi] where cell_size > 0, with a random direction and a random normal each; same settings, same score.
+// What the lookup reads at a point: the cell's size (<= 0: nothing, outside open space) and an id that
+// differs between cells whose lookups may disagree.
+struct SeamCell {
+  float size = 0.0f;
+  std::int64_t id = -1;
+};
+
+// `lookup(p, n)`: irradiance at p for unit normal n; `cell(p, n)`: the cell it reads there. Lines start at
+// random points of [lo, hi] inside a cell, with a random direction and a random normal each; same
+// settings, same score.
 using SeamLookup = std::function<glm::vec3(glm::vec3, glm::vec3)>;
-using SeamCellSize = std::function<float(glm::vec3, glm::vec3)>;
-SeamScore seam_score(const SeamLookup& lookup, const SeamCellSize& cell_size, glm::vec3 lo, glm::vec3 hi,
+using SeamCellAt = std::function<SeamCell(glm::vec3, glm::vec3)>;
+SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, glm::vec3 lo, glm::vec3 hi,
                      const SeamSettings& settings = {});
 
 // The SVO sampler (sample_irradiance) over the volume's root cube; the cell is the SVO leaf holding the
-// normal-biased lookup point.
+// normal-biased lookup point (merged leaves are one cell: their voxels share a stencil).
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const SeamSettings& settings = {});
 
 } // namespace probebake::bake

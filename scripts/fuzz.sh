@@ -43,7 +43,7 @@ if [ -n "$make_scene" ]; then
   done
 fi
 seed scene_loader "$src"/tests/data/fuzz/scene_loader/* "$src"/tests/data/fuzz-regressions/scene_loader/* \
-  "$generated"/*.glb "$src"/../shared/scenes/*/*.glb "$src"/../shared/scenes/*/*.gltf
+  "$src"/tests/data/gltf-lenient/*.gl* "$generated"/*.glb "$src"/../shared/scenes/*/*.glb "$src"/../shared/scenes/*/*.gltf
 for t in probes_reader validator; do
   seed $t "$src"/tests/data/golden/*.probes "$src"/tests/data/fuzz/$t/* "$src"/tests/data/fuzz-regressions/$t/*
 done

@@ -186,7 +186,7 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     score(row, truth, [&](const SamplePoint& p, SamplerStats& st) { return sample_irradiance(v, p.position, p.normal, &st); });
     SeamSettings seams;
     seams.seed = effective.seed;
-    row.seam_p99 = svo_seam_score(v, seams).p99;
+    row.seam_p99 = svo_seam_score(v, rays, seams).p99;
     if (maps)
       if (auto path = maps->score(row, v)) result.error_maps.push_back(*path);
     result.rows.push_back(row);

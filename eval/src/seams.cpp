@@ -66,8 +66,8 @@ glm::vec3 border_between(const SeamCellAt& cell, glm::vec3 a, glm::vec3 b, glm::
 
 } // namespace
 
-SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, glm::vec3 lo, glm::vec3 hi,
-                     const SeamSettings& settings) {
+SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo,
+                     glm::vec3 hi, const SeamSettings& settings) {
   std::mt19937_64 rng(settings.seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::vector<Jump> jumps;
@@ -83,7 +83,7 @@ SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, glm::vec3
       const SeamCell here = cell(x, n);
       const glm::vec3 next = x + 0.25f * here.size * d;
       const SeamCell there = cell(next, n);
-      if (!(there.size > 0.0f)) break;
+      if (!(there.size > 0.0f) || !open(x, next, n)) break;
       if (there.id != here.id) {
         const float h = 0.01f * std::min(here.size, there.size);
         const glm::vec3 b = border_between(cell, x, next, n);
@@ -107,7 +107,8 @@ SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, glm::vec3
   return out;
 }
 
-SeamScore svo_seam_score(const formats::ProbeVolume& volume, const SeamSettings& settings) {
+SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
+                         const SeamSettings& settings) {
   const float bias = normal_bias(volume.info);
   const auto lookup = [&](glm::vec3 p, glm::vec3 n) { return sample_irradiance(volume, p, n); };
   const auto cell = [&](glm::vec3 p, glm::vec3 n) {
@@ -116,7 +117,16 @@ SeamScore svo_seam_score(const formats::ProbeVolume& volume, const SeamSettings&
     if (leaf < 0) return SeamCell{};
     return SeamCell{volume.info.root_size / float(1 << depth), leaf};
   };
-  return seam_score(lookup, cell, volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size), settings);
+  const auto clear = [&](glm::vec3 a, glm::vec3 b) {
+    const glm::vec3 d = b - a;
+    const float length = glm::length(d);
+    return length == 0.0f || !rays.occluded(a, d / length, 0.0f, length);
+  };
+  const auto open = [&](glm::vec3 a, glm::vec3 b, glm::vec3 n) {
+    return clear(a, a + n * bias) && clear(b, b + n * bias) && clear(a + n * bias, b + n * bias);
+  };
+  return seam_score(lookup, cell, open, volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size),
+                    settings);
 }
 
 } // namespace probebake::bake

@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 
 #include "probebake/formats/probe_volume.h"
+#include "probebake/scene/ray_scene.h"
 
 namespace probebake::bake {
 
@@ -36,16 +37,21 @@ struct SeamCell {
   std::int64_t id = -1;
 };
 
-// `lookup(p, n)`: irradiance at p for unit normal n; `cell(p, n)`: the cell it reads there. Lines start at
-// random points of [lo, hi] inside a cell, with a random direction and a random normal each; same
-// settings, same score.
+// `lookup(p, n)`: irradiance at p for unit normal n; `cell(p, n)`: the cell it reads there; `open(a, b, n)`:
+// whether the lookups from a to b with normal n read open space without crossing a surface (a line ends
+// there: light may jump across a wall, and that is no seam). Lines start at random points of [lo, hi] inside a cell, with a random
+// direction and a random normal each; same settings, same score.
 using SeamLookup = std::function<glm::vec3(glm::vec3, glm::vec3)>;
 using SeamCellAt = std::function<SeamCell(glm::vec3, glm::vec3)>;
-SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, glm::vec3 lo, glm::vec3 hi,
-                     const SeamSettings& settings = {});
+using SeamOpen = std::function<bool(glm::vec3, glm::vec3, glm::vec3)>;
+SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo,
+                     glm::vec3 hi, const SeamSettings& settings = {});
 
 // The SVO sampler (sample_irradiance) over the volume's root cube; the cell is the SVO leaf holding the
-// normal-biased lookup point (merged leaves are one cell: their voxels share a stencil).
-SeamScore svo_seam_score(const formats::ProbeVolume& volume, const SeamSettings& settings = {});
+// normal-biased lookup point (merged leaves are one cell: their voxels share a stencil). A step is open
+// when the biased points' segment and each point's bias cross no surface: a shading point's bias never
+// passes through a wall, so lookups that would are not a game's.
+SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
+                         const SeamSettings& settings = {});
 
 } // namespace probebake::bake

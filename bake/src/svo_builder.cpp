@@ -1,8 +1,8 @@
 // SVO probe index (nonuniform-probe-placement-svo §4.1). Every voxel at the leaf depth is evaluated
 // independently (in parallel, results in index order): it is solid when all its sample points are inside
-// geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from the
-// sample points of one open region of the voxel (the largest that sees a probe) over squared distance
-// and the best four kept. The tree is then built top-down:
+// geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from its open
+// sample points over squared distance and the best four kept. When a surface splits those points into
+// regions that see different groups of probes, one group serves the voxel (rank_by_group). The tree is then built top-down:
 // a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean weights,
 // which keeps the index sparse.
 #include "svo_builder.h"

@@ -114,20 +114,37 @@ bool sees(const scene::RayScene& rays, glm::vec3 from, glm::vec3 to) {
 
 using PointSet = std::array<bool, 9>;
 
+// Disjoint sets over 0..n-1 whose lowest member names each set (so the result is independent of join order
+// within a set).
+class DisjointSets {
+public:
+  explicit DisjointSets(std::size_t n) : parent_(n) {
+    for (std::size_t i = 0; i < n; ++i) parent_[i] = int(i);
+  }
+  int root(int i) {
+    while (parent_[std::size_t(i)] != i) i = parent_[std::size_t(i)] = parent_[std::size_t(parent_[std::size_t(i)])];
+    return i;
+  }
+  void join(int a, int b) {
+    a = root(a);
+    b = root(b);
+    parent_[std::size_t(std::max(a, b))] = std::min(a, b);
+  }
+
+private:
+  std::vector<int> parent_;
+};
+
 // The voxel's open sample points grouped into open regions: points joined by unoccluded segments share a
 // region. Largest region first (ties: the one holding the lowest index, the centre first).
 std::vector<PointSet> open_regions(const scene::RayScene& rays, const std::array<glm::vec3, 9>& points,
                                    const PointSet& open) {
-  std::array<int, 9> parent{};
-  for (int i = 0; i < 9; ++i) parent[std::size_t(i)] = i;
-  const auto root = [&](int i) {
-    while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)];
-    return i;
-  };
+  DisjointSets sets(9);
+  const auto root = [&](int i) { return sets.root(i); };
   for (int i = 0; i < 9; ++i)
     for (int j = i + 1; j < 9; ++j) {
       if (!open[std::size_t(i)] || !open[std::size_t(j)] || root(i) == root(j)) continue;
-      if (sees(rays, points[std::size_t(i)], points[std::size_t(j)])) parent[std::size_t(root(j))] = root(i);
+      if (sees(rays, points[std::size_t(i)], points[std::size_t(j)])) sets.join(i, j);
     }
   std::vector<std::pair<int, int>> order; // (-size, root)
   for (int r = 0; r < 9; ++r) {
@@ -238,11 +255,17 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
     out.solid = true;
     return out;
   }
-  const std::vector<PointSet> regions = open_regions(rays, points, open);
-  std::optional<std::vector<std::pair<float, int>>> by_group;
-  if (regions.size() > 1) by_group = rank_by_group(rays, v, buckets, groups, points, regions, size);
-  std::vector<std::pair<float, int>> ranked =
-      by_group ? std::move(*by_group) : rank_nearby(rays, v, buckets, points, open, size);
+  std::vector<std::pair<float, int>> ranked = rank_nearby(rays, v, buckets, points, open, size);
+  // Regions are looked for only when the open points see more than one group: the common voxel pays
+  // nothing for them.
+  const bool one_group = std::all_of(ranked.begin(), ranked.end(), [&](const auto& r) {
+    return groups.group[std::size_t(r.second)] == groups.group[std::size_t(ranked.front().second)];
+  });
+  if (!one_group) {
+    const std::vector<PointSet> regions = open_regions(rays, points, open);
+    if (regions.size() > 1)
+      if (auto by_group = rank_by_group(rays, v, buckets, groups, points, regions, size)) ranked = std::move(*by_group);
+  }
   ranked.resize(std::min<std::size_t>(ranked.size(), gpu::SVO_PROBES_PER_LEAF));
   // Stored in probe order, not rank order, so that neighbouring voxels that chose the same probes hold
   // the same payload layout and can merge.
@@ -268,21 +291,13 @@ ProbeGroups probe_groups(const scene::RayScene& rays, const formats::ProbeVolume
       if (std::size_t(other) > i && sees(rays, v.probes[i].position, v.probes[std::size_t(other)].position))
         joined[i].push_back(other);
   });
-  std::vector<int> parent(count);
-  for (std::size_t i = 0; i < count; ++i) parent[i] = int(i);
-  const auto root = [&](int i) {
-    while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
-    return i;
-  };
+  DisjointSets sets(count);
   for (std::size_t i = 0; i < count; ++i)
-    for (int other : joined[i]) {
-      const int a = root(int(i)), b = root(other);
-      parent[std::size_t(std::max(a, b))] = std::min(a, b); // the lowest index names the group
-    }
+    for (int other : joined[i]) sets.join(int(i), other);
   ProbeGroups out{std::vector<int>(count, -1), std::vector<int>(count, 0)};
   for (std::size_t i = 0; i < count; ++i) {
     if (v.probes[i].link == 0) continue;
-    out.group[i] = root(int(i));
+    out.group[i] = sets.root(int(i));
     ++out.size[std::size_t(out.group[i])];
   }
   return out;

@@ -97,7 +97,7 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
 } // namespace
 
 bool decode_image(tinygltf::Image* image, int index, const unsigned char* bytes, int size, InputPolicy& policy) {
-  if (std::find(policy.unused_images.begin(), policy.unused_images.end(), index) != policy.unused_images.end())
+  if (std::binary_search(policy.unused_images.begin(), policy.unused_images.end(), index))
     return true; // no texture refers to it: left empty, never decoded
   std::string why;
   const bool ok = size > 0 && (is_webp(bytes, size) ? decode_webp(image, index, bytes, size, policy, why)

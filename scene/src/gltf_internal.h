@@ -98,7 +98,7 @@ struct InputPolicy {
   const Context& ctx;
   std::vector<std::filesystem::path> files_read; // external files, resolved
   std::map<int, std::string> image_problems;     // images[i] that could not be decoded, and why
-  std::vector<int> unused_images;                // images[i] no texture refers to: never decoded
+  std::vector<int> unused_images;                // images[i] no texture refers to, ascending: never decoded
 };
 
 // Installs the confined file-system callbacks and the size-checking image loader.

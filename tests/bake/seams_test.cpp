@@ -54,16 +54,22 @@ TEST(SeamScore, StepsBetweenCellsScoreTheirSize) {
   EXPECT_EQ(bake::seam_score(steps, cells, no_geometry, kLo, kHi).p99, s.p99);
 }
 
-// The SVO lookup of the Cornell box: each voxel blends its own probe set, so its borders are steps a
-// player sees. The score measures them; the goal is 1 %. Printed, and bounded below so that the
-// day the lookup becomes continuous this test is revisited.
-TEST(SeamScore, TheSvoLookupOfTheCornellBoxHasSeams) {
-  const scene::Scene scene = load_generated(samples::cornell(), "seams-cornell");
+// The seam score of a generated scene's SVO lookup, octree depth 3, printed.
+bake::SeamScore octree_seams(const samples::SceneBuilder& builder, const std::string& name) {
+  const scene::Scene scene = load_generated(builder, name);
   bake::BakeSettings settings;
   settings.max_depth = 3;
   const bake::BakeResult baked = bake::bake(scene, settings);
   const bake::SeamScore s = bake::svo_seam_score(baked.volume, scene::RayScene(scene));
-  std::printf("[seams] cornell octree depth 3: p99 %.4f, max %.3f over %d borders\n", s.p99, s.max, s.borders);
+  std::printf("[seams] %s octree depth 3: p99 %.4f, max %.3f over %d borders\n", name.c_str(), s.p99, s.max, s.borders);
+  return s;
+}
+
+// The SVO lookup of the Cornell box: each voxel blends its own probe set, so its borders are steps a
+// player sees. The score measures them; the goal is 1 %. Printed, and bounded below so that the
+// day the lookup becomes continuous this test is revisited.
+TEST(SeamScore, TheSvoLookupOfTheCornellBoxHasSeams) {
+  const bake::SeamScore s = octree_seams(samples::cornell(), "seams-cornell");
   EXPECT_GT(s.borders, 1000);
   EXPECT_GT(s.p99, 0.05);
 }
@@ -72,12 +78,7 @@ TEST(SeamScore, TheSvoLookupOfTheCornellBoxHasSeams) {
 // 2 cm wall; a line (or a lookup's normal bias) that crossed it would score the full step of light, 2x
 // the local irradiance (before lines ended at surfaces: max 2.0; after: 0.105).
 TEST(SeamScore, LinesEndAtSurfaces) {
-  const scene::Scene scene = load_generated(samples::leak(), "seams-leak");
-  bake::BakeSettings settings;
-  settings.max_depth = 3;
-  const bake::BakeResult baked = bake::bake(scene, settings);
-  const bake::SeamScore s = bake::svo_seam_score(baked.volume, scene::RayScene(scene));
-  std::printf("[seams] leak octree depth 3: p99 %.4f, max %.3f over %d borders\n", s.p99, s.max, s.borders);
+  const bake::SeamScore s = octree_seams(samples::leak(), "seams-leak");
   EXPECT_GT(s.borders, 500);
   EXPECT_LT(s.max, 0.5);
 }

@@ -1,4 +1,4 @@
-// What a streamed cell's arrival costs on the host (docs/RESULTS.md "A load that reads only the global part"):
+// What a streamed cell's arrival costs on the host (docs/results/streaming.md "A load that reads only the global part"):
 // for every cell of a 1.7 .probes file, CellFile::read_cell_tracing with the cell's checks (its stored checksum
 // and validate_cell_tracing, as Volume::load sets it up) against the read and checksum alone, median of the runs
 // over all cells; and the load's own part (CellFile::open, validate_without_cells).

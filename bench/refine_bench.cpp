@@ -1,5 +1,6 @@
-// Error against probe count for the octree's split rules and the grid (docs/RESULTS.md, "Error-driven
-// refinement"): `probebake eval` on a chosen sweep, with the same receivers, reference cache and table.
+// Error against probe count for the octree's split rules and the grid (docs/results/placement.md,
+// "Error-driven refinement and a probe budget (issue #13, first bullet)"): `probebake eval` on a chosen
+// sweep, with the same receivers, reference cache and table.
 // Usage: probebake-bench-refine SCENE CONFIG... [--threads N] [--baseline LABEL]
 //   eN[:S]  octree, error rule, --probes N (uniform share S, default 0.5), max depth 6
 //   sN[:S]  the same with the surface rule

@@ -77,7 +77,8 @@ public:
       c.label = fmt::format("{}-{}-p{}", kind_.name, c.bake.grid_resolution, budget);
     } else {
       // The octree (error rule, as `--probes` picks in the CLI) and the skeleton take the budget itself; the
-      // octree's budgeted refinement needs room below the default depth (docs/RESULTS.md ran it at 6).
+      // octree's budgeted refinement needs room below the default depth (docs/results/placement.md, "Error-driven
+      // refinement and a probe budget (issue #13, first bullet)", ran it at 6).
       c.bake.probe_budget = budget;
       if (kind_.uses_max_depth) {
         c.bake.split_rule = SplitRule::error;

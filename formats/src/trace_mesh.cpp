@@ -202,7 +202,8 @@ namespace {
 
 // The top level over cells [first, last): the range halved in the caller's order (Morton: neighbours
 // together), so it is ceil(log2(cells)) deep whatever the boxes; nodes in preorder from `next`. (A SAH top
-// level over the cell boxes traced about 1 % faster on an H100 at depth 3 and was not kept: docs/RESULTS.md.)
+// level over the cell boxes traced about 1 % faster on an H100 at depth 3 and was not kept: docs/results/tracing.md,
+// "The static tracing tree by streaming cell (issue #15, first part)".)
 // Where the top level splits cells [first, last) of its order (TopLevel::build and cell_top_depths).
 std::size_t top_split(std::size_t first, std::size_t last) { return first + (last - first) / 2; }
 

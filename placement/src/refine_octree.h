@@ -3,7 +3,7 @@
 //
 // The hit-fraction rule (octree.cpp, octree thesis §3.2.2) splits where a centre sees much surface
 // nearby, which is not where interpolation loses accuracy (the thesis names it its weak point, §5.2.2;
-// docs/RESULTS.md measures it losing to a grid). Here:
+// docs/results/placement.md, "Where the comparison stands", measures it losing to a grid). Here:
 //  1. Uniform start: every leaf whose cube overlaps (non-sealed) triangles is split, level by level,
 //     while the next level's probe count stays within uniform_share of the budget. A leaf holds a probe
 //     when its cube overlaps triangles and its centre sees surface inside the cube (or is inside a solid,
@@ -14,7 +14,8 @@
 //     probes the split costs. A max-heap pops the best leaves (in fixed batches, ties by node index)
 //     while the budget allows; the new children are scored in turn. SplitRule::surface (and an unlit
 //     scene) takes the difference as 1: each split gives its probes the most visible surface.
-//     Measured (docs/RESULTS.md): surface wins on the Cornell box, error on the leak scene.
+//     Measured (docs/results/placement.md, "Error-driven refinement and a probe budget (issue #13, first
+//     bullet)"): surface wins on the Cornell box, error on the leak scene.
 // Deterministic for any thread count: samples are computed in parallel into their own slots, every
 // decision is sequential.
 #pragma once

@@ -11,8 +11,9 @@
 namespace probebake::placement {
 namespace {
 
-// Measured on the Cornell box (docs/RESULTS.md, "Error-driven refinement"): ranking leaves needs far
-// fewer emitter patches and light rays than lighting probes does.
+// Measured on the Cornell box (docs/results/placement.md, "Error-driven refinement and a probe budget
+// (issue #13, first bullet)"): ranking leaves needs far fewer emitter patches and light rays than lighting
+// probes does.
 constexpr int kEstimateEmitterSamples = 8;
 constexpr int kEstimateRays = 64;
 constexpr float kPi = 3.14159265f;

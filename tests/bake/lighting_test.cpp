@@ -339,7 +339,8 @@ glm::vec3 emitter_quadrature(const scene::Scene& scene, const scene::RayScene& r
   return e;
 }
 
-// The worst point class of `probebake eval` before emitters were area lights (docs/RESULTS.md): the top
+// The worst point class of `probebake eval` before emitters were area lights (docs/results/lighting.md,
+// "Emitters as area lights: before and after"): the top
 // of the tall block, 22 cm below the (17, 12, 4) light. Probes carried the light itself, and an octree
 // probe 1 cm under it (50 W/m^2 facing up) weighted 0.27 gave 16.5 W/m^2 against the reference 4.7.
 // Now (a) direct_irradiance matches independent quadrature of the emitter, on the block top and on the

@@ -109,8 +109,13 @@ SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const Sea
 
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
                          const SeamSettings& settings) {
+  return svo_seam_score(
+      volume, rays, [&](glm::vec3 p, glm::vec3 n) { return sample_irradiance(volume, p, n); }, settings);
+}
+
+SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays, const SeamLookup& lookup,
+                         const SeamSettings& settings) {
   const float bias = normal_bias(volume.info);
-  const auto lookup = [&](glm::vec3 p, glm::vec3 n) { return sample_irradiance(volume, p, n); };
   const auto cell = [&](glm::vec3 p, glm::vec3 n) {
     int depth = -1;
     const int leaf = find_svo_leaf(volume, p + n * bias, &depth);

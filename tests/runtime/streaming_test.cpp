@@ -189,9 +189,12 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
   ASSERT_TRUE(whole.value().sample_irradiance(positions, normals, &whole_sampled, runtime::SampleMethod::svo, &whole_flags).ok());
   std::size_t expected_not_lit = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    const bake::ProbeStencil s = bake::svo_stencil(v, positions[i], normals[i]);
+    const bake::BlendedLookup lookup = bake::blended_lookup(v, positions[i], normals[i]);
     bool out = false;
-    for (int k = 0; k < 4; ++k) out = out || (s.probes[k] >= 0 && not_lit_probe(s.probes[k]));
+    for (int l = 0; l < lookup.count; ++l) {
+      const bake::ProbeStencil s = bake::leaf_stencil(v, lookup.leaves[std::size_t(l)], positions[i], normals[i]);
+      for (int k = 0; k < 4; ++k) out = out || (s.probes[k] >= 0 && not_lit_probe(s.probes[k]));
+    }
     ASSERT_EQ((flags[i] & runtime::kSampleNotLit) != 0, out) << "lookup " << i;
     ASSERT_EQ(whole_flags[i] & runtime::kSampleNotLit, 0u) << "the whole file lights every probe";
     expected_not_lit += out ? 1 : 0;

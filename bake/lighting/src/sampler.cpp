@@ -67,19 +67,17 @@ float normal_bias(const gpu::VolumeInfo& info) {
   return 0.5f * info.root_size / float(1 << std::clamp(info.svo_depth, 0, 30));
 }
 
-// Integer voxel coordinates at svo_depth; the bits of each, from the top, pick the octant per level.
-int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p, int* leaf_depth) {
-  const gpu::VolumeInfo& info = volume.info;
-  if (volume.svo_nodes.empty() || info.svo_depth < 0 || info.svo_depth > 30) return -1;
-  const glm::vec3 t = (p - info.root_min) / info.root_size;
-  if (!(t.x >= 0.0f && t.y >= 0.0f && t.z >= 0.0f && t.x <= 1.0f && t.y <= 1.0f && t.z <= 1.0f)) return -1;
-  const int n = 1 << info.svo_depth;
-  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(t * float(n))), glm::ivec3(0), glm::ivec3(n - 1));
+namespace {
+
+// Descent to the leaf holding finest voxel `c` (svo_depth coordinates, in range): the bits of each
+// coordinate, from the top, pick the octant per level.
+int leaf_of_voxel(const formats::ProbeVolume& volume, glm::ivec3 c, int* leaf_depth) {
+  const int svo_depth = volume.info.svo_depth;
   std::size_t node = 0;
-  for (int level = info.svo_depth - 1; level >= -1; --level) {
+  for (int level = svo_depth - 1; level >= -1; --level) {
     const int v = volume.svo_nodes[node];
     if (v < 0) {
-      if (leaf_depth != nullptr) *leaf_depth = info.svo_depth - 1 - level;
+      if (leaf_depth != nullptr) *leaf_depth = svo_depth - 1 - level;
       return std::size_t(~v) < volume.svo_leaves.size() ? ~v : -1;
     }
     if (v == 0 || level < 0) return -1;
@@ -90,10 +88,79 @@ int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p, int* leaf_dep
   return -1;
 }
 
-ProbeStencil svo_stencil(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal) {
+bool has_svo(const formats::ProbeVolume& volume) {
+  return !volume.svo_nodes.empty() && volume.info.svo_depth >= 0 && volume.info.svo_depth <= 30;
+}
+
+} // namespace
+
+int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p, int* leaf_depth) {
+  const gpu::VolumeInfo& info = volume.info;
+  if (!has_svo(volume)) return -1;
+  const glm::vec3 t = (p - info.root_min) / info.root_size;
+  if (!(t.x >= 0.0f && t.y >= 0.0f && t.z >= 0.0f && t.x <= 1.0f && t.y <= 1.0f && t.z <= 1.0f)) return -1;
+  const int n = 1 << info.svo_depth;
+  return leaf_of_voxel(volume, glm::clamp(glm::ivec3(glm::floor(t * float(n))), glm::ivec3(0), glm::ivec3(n - 1)),
+                       leaf_depth);
+}
+
+void BlendedLookup::add(int leaf, float weight) {
+  for (int i = 0; i < count; ++i)
+    if (leaves[std::size_t(i)] == leaf) {
+      weights[std::size_t(i)] += weight;
+      return;
+    }
+  leaves[std::size_t(count)] = leaf;
+  weights[std::size_t(count++)] = weight;
+}
+
+BlendedLookup BlendedLookup::normalised() const {
+  BlendedLookup out = *this;
+  float sum = 0.0f;
+  for (int i = 0; i < count; ++i) sum += weights[std::size_t(i)];
+  for (int i = 0; i < count; ++i) out.weights[std::size_t(i)] = weights[std::size_t(i)] / sum;
+  return out;
+}
+
+int BlendedLookup::heaviest() const {
+  int best = -1;
+  float best_weight = 0.0f;
+  for (int i = 0; i < count; ++i)
+    if (weights[std::size_t(i)] > best_weight) best = leaves[std::size_t(i)], best_weight = weights[std::size_t(i)];
+  return best;
+}
+
+bool leaves_share_a_probe(const formats::ProbeVolume& volume, int a, int b) {
+  const gpu::SvoLeaf& la = volume.svo_leaves[std::size_t(a)];
+  const gpu::SvoLeaf& lb = volume.svo_leaves[std::size_t(b)];
+  for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
+    for (int j = 0; j < gpu::SVO_PROBES_PER_LEAF; ++j)
+      if (la.probes[k] >= 0 && la.probes[k] == lb.probes[j]) return true;
+  return false;
+}
+
+BlendedLookup connected_to(const formats::ProbeVolume& volume, const BlendedLookup& lookup, int root) {
+  std::array<bool, 8> joined{};
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (int i = 0; i < lookup.count; ++i) {
+      if (joined[std::size_t(i)]) continue;
+      const int leaf = lookup.leaves[std::size_t(i)];
+      bool joins = leaf == root || leaves_share_a_probe(volume, leaf, root);
+      for (int j = 0; j < lookup.count && !joins; ++j)
+        joins = joined[std::size_t(j)] && leaves_share_a_probe(volume, leaf, lookup.leaves[std::size_t(j)]);
+      if (joins) joined[std::size_t(i)] = grew = true;
+    }
+  }
+  BlendedLookup out;
+  for (int i = 0; i < lookup.count; ++i)
+    if (joined[std::size_t(i)]) out.add(lookup.leaves[std::size_t(i)], lookup.weights[std::size_t(i)]);
+  return out;
+}
+
+ProbeStencil leaf_stencil(const formats::ProbeVolume& volume, int leaf, glm::vec3 position, glm::vec3 normal) {
   ProbeStencil s;
-  const int leaf = find_svo_leaf(volume, position + normal * normal_bias(volume.info));
-  if (leaf < 0) return s;
+  if (leaf < 0 || std::size_t(leaf) >= volume.svo_leaves.size()) return s;
   const gpu::SvoLeaf& l = volume.svo_leaves[std::size_t(leaf)];
   glm::vec4 w(0.0f);
   float sum = 0.0f;
@@ -113,6 +180,58 @@ ProbeStencil svo_stencil(const formats::ProbeVolume& volume, glm::vec3 position,
   return s;
 }
 
+ProbeStencil svo_stencil(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal) {
+  return leaf_stencil(volume, find_svo_leaf(volume, position + normal * normal_bias(volume.info)), position, normal);
+}
+
+BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal) {
+  BlendedLookup out;
+  if (!has_svo(volume)) return out;
+  const gpu::VolumeInfo& info = volume.info;
+  const float bias = normal_bias(info);
+  const glm::vec3 biased = position + normal * bias;
+  const glm::vec3 rel = (biased - info.root_min) / info.root_size;
+  if (!(glm::all(glm::greaterThanEqual(rel, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(rel, glm::vec3(1.0f)))))
+    return out; // outside the root cube (or not finite): a miss, as the leaf lookup
+  int depth = 0;
+  const int home = find_svo_leaf(volume, biased, &depth);
+  const int n = 1 << info.svo_depth;
+  const float voxel = info.root_size / float(n);
+  // The eight finest voxel centres around p', clamped to the root cube (centres beyond it repeat the edge).
+  const glm::vec3 g = rel * float(n) - 0.5f;
+  const glm::vec3 floor_g = glm::floor(g);
+  const glm::vec3 f = g - floor_g;
+  const glm::ivec3 lo = glm::clamp(glm::ivec3(floor_g), glm::ivec3(0), glm::ivec3(n - 1));
+  const glm::ivec3 hi = glm::clamp(glm::ivec3(floor_g) + 1, glm::ivec3(0), glm::ivec3(n - 1));
+  if (home >= 0) {
+    // Fast path: all eight centres inside p's own leaf give that leaf's stencil whatever their weights.
+    const int span = 1 << (info.svo_depth - depth);
+    const glm::ivec3 first = glm::clamp(glm::ivec3(glm::floor(rel * float(n))), glm::ivec3(0), glm::ivec3(n - 1)) / span * span;
+    if (glm::all(glm::greaterThanEqual(lo, first)) && glm::all(glm::lessThan(hi, first + span))) {
+      if (!leaf_stencil(volume, home, position, normal).empty()) out.add(home, 1.0f);
+      return out.normalised();
+    }
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::bvec3 up((corner & 1) != 0, (corner & 2) != 0, (corner & 4) != 0);
+    const glm::ivec3 c(up.x ? hi.x : lo.x, up.y ? hi.y : lo.y, up.z ? hi.z : lo.z);
+    const glm::vec3 t(up.x ? f.x : 1.0f - f.x, up.y ? f.y : 1.0f - f.y, up.z ? f.z : 1.0f - f.z);
+    const glm::vec3 centre = info.root_min + (glm::vec3(c) + 0.5f) * voxel;
+    // Centres behind the surface's plane do not blend in: they may lie past a thin wall.
+    const float side = std::clamp(glm::dot(centre - position, normal) / bias, 0.0f, 1.0f);
+    const float weight = t.x * t.y * t.z * side;
+    if (!(weight > 0.0f)) continue;
+    const int leaf = leaf_of_voxel(volume, c, nullptr);
+    if (leaf >= 0 && !leaf_stencil(volume, leaf, position, normal).empty()) out.add(leaf, weight);
+  }
+  const bool home_serves = home >= 0 && !leaf_stencil(volume, home, position, normal).empty();
+  const int root = home_serves ? home : out.heaviest();
+  if (root < 0) return out;
+  out = connected_to(volume, out, root);
+  if (out.count == 0) out.add(root, 1.0f);
+  return out.normalised();
+}
+
 glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& stencil, glm::vec3 normal) {
   return lighting_detail::apply_stencil<float>(stencil, normal,
                                         [&](int probe) { return volume.probes[std::size_t(probe)].irradiance_sh; });
@@ -120,9 +239,13 @@ glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& 
 
 glm::vec3 sample_irradiance(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal,
                             SamplerStats* stats) {
-  const ProbeStencil s = svo_stencil(volume, position, normal);
-  count(stats, s.empty());
-  return apply_stencil(volume, s, normal);
+  const BlendedLookup lookup = blended_lookup(volume, position, normal);
+  count(stats, lookup.count == 0);
+  glm::vec3 e(0.0f);
+  for (int i = 0; i < lookup.count; ++i)
+    e += lookup.weights[std::size_t(i)] *
+         apply_stencil(volume, leaf_stencil(volume, lookup.leaves[std::size_t(i)], position, normal), normal);
+  return e;
 }
 
 glm::vec3 sample_irradiance_all_probes(const formats::ProbeVolume& volume, const scene::RayScene& rays,

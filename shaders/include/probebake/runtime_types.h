@@ -49,7 +49,7 @@ struct SampleQuery {
 
 struct SampleResult {
   vec3 irradiance;  // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/bake/sampler.h)
-  int probes_used;  // offset 12: probes in the stencil, 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
+  int probes_used;  // offset 12: probe reads of the blend (at most 32), 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
 };                  //   left one of them out of the light update (its irradiance is kept, not updated)
 PB_CONSTANT(int, SAMPLE_RESULT_NOT_LIT, 256);
 
@@ -180,7 +180,7 @@ struct LightListHeader {
 // is one probe's latency), each record's shadow rays (emitter patches', lights') over LIGHT_TRACE_LANES
 // threads. The frame that traces every probe fills the GPU anyway and takes one thread per record
 // (LightPush::trace_lanes = 1), since the lanes repeat the record's ray and light choice.
-// docs/RESULTS.md "Streaming cells" measures both.
+// docs/results/streaming.md "Arrivals: chunks and lanes" measures both.
 PB_CONSTANT(uint, LIGHT_TRACE_LANES, 8u);
 PB_CONSTANT(uint, LIGHT_TRACE_CHUNKS, 32u);
 // trace_flags: light_trace's chunks count their completions in the bits from here up; the last clears the word.

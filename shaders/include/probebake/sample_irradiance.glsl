@@ -1,10 +1,13 @@
 // Irradiance lookup from a probebake volume in GLSL: include this in your own shader to sample the same
 // storage buffers the runtime uploads (Volume::buffers() in runtime/include/probebake/runtime/runtime.h).
-// It is the GPU twin of bake::sample_irradiance (bake/include/probebake/bake/sampler.h), step for step:
-//   1. p' = position + normal * (half an SVO voxel);
-//   2. SVO descent to the leaf holding p' (miss: empty node or p' outside the root cube);
-//   3. up to four probes, stored weight * DDGI's smooth back-face weight, normalised;
-//   4. sum of weight * max(0, probe SH irradiance at the normal).
+// It is the GPU twin of bake::sample_irradiance (bake/lighting/include/probebake/bake/sampler.h), step for step:
+//   1. p' = position + normal * (half an SVO voxel); outside the root cube: a miss;
+//   2. a leaf's stencil: up to four probes, stored weight * DDGI's smooth back-face weight, normalised;
+//   3. the blend: the eight finest-voxel centres around p' look up their leaves (SVO descent), weighted
+//      trilinearly and by the side of the surface's plane they lie on; only leaves joined to p''s own by
+//      leaves sharing a probe stay; the result is continuous across leaf borders; one descent when all
+//      eight lie in p''s own leaf;
+//   4. sum over the blend's leaves of weight * sum of stencil weight * max(0, probe SH irradiance).
 //
 // Requires: #version 450 or later, GL_GOOGLE_include_directive, include path shaders/include.
 // Buffers (std430, read-only), declared here unless PROBEBAKE_DECLARE_BUFFERS is defined to 0, in which case
@@ -80,24 +83,53 @@ float probebake_normal_bias() {
   return 0.5 * probebake_info.root_size / float(1 << clamp(probebake_info.svo_depth, 0, 30));
 }
 
-// Step 2: index into probebake_svo_leaves of the leaf containing p, or -1.
-int probebake_find_svo_leaf(vec3 p) {
+// Descent to the leaf holding finest voxel `c` (in range): index into probebake_svo_leaves or -1;
+// `leaf_depth` receives the leaf node's depth (root 0).
+int probebake_leaf_of_voxel(ivec3 c, out int leaf_depth) {
   const int depth = probebake_info.svo_depth;
-  if (probebake_info.svo_nodes <= 0 || depth < 0 || depth > 30) return -1;
-  const vec3 t = (p - probebake_info.root_min) / probebake_info.root_size;
-  if (!(t.x >= 0.0 && t.y >= 0.0 && t.z >= 0.0 && t.x <= 1.0 && t.y <= 1.0 && t.z <= 1.0)) return -1;
-  const int n = 1 << depth;
-  const ivec3 c = clamp(ivec3(floor(t * float(n))), ivec3(0), ivec3(n - 1));
+  leaf_depth = 0;
   int node = 0;
   for (int level = depth - 1; level >= -1; --level) {
     const int v = probebake_svo_nodes[node];
-    if (v < 0) return ~v < probebake_info.svo_leaves ? ~v : -1;
+    if (v < 0) {
+      leaf_depth = depth - 1 - level;
+      return ~v < probebake_info.svo_leaves ? ~v : -1;
+    }
     if (v == 0 || level < 0) return -1;
     const int octant = ((c.x >> level) & 1) | (((c.y >> level) & 1) << 1) | (((c.z >> level) & 1) << 2);
     if (v > probebake_info.svo_nodes - 1 - octant) return -1; // v + octant >= svo_nodes, without overflow
     node = v + octant;
   }
   return -1;
+}
+
+bool probebake_has_svo() {
+  return probebake_info.svo_nodes > 0 && probebake_info.svo_depth >= 0 && probebake_info.svo_depth <= 30;
+}
+
+// p relative to the root cube: true when inside it (max faces included), false outside or not finite.
+bool probebake_root_relative(vec3 p, out vec3 t) {
+  t = (p - probebake_info.root_min) / probebake_info.root_size;
+  return t.x >= 0.0 && t.y >= 0.0 && t.z >= 0.0 && t.x <= 1.0 && t.y <= 1.0 && t.z <= 1.0;
+}
+
+// The finest voxel holding root-relative point t.
+ivec3 probebake_voxel_of(vec3 t) {
+  const int n = 1 << probebake_info.svo_depth;
+  return clamp(ivec3(floor(t * float(n))), ivec3(0), ivec3(n - 1));
+}
+
+// Index into probebake_svo_leaves of the leaf containing p, or -1; `leaf_depth` as above.
+int probebake_find_svo_leaf(vec3 p, out int leaf_depth) {
+  leaf_depth = 0;
+  vec3 t;
+  if (!probebake_has_svo() || !probebake_root_relative(p, t)) return -1;
+  return probebake_leaf_of_voxel(probebake_voxel_of(t), leaf_depth);
+}
+
+int probebake_find_svo_leaf(vec3 p) {
+  int leaf_depth;
+  return probebake_find_svo_leaf(p, leaf_depth);
 }
 
 // ((dot(n, dir) + 1) / 2)^2 + 0.05, dir towards the probe from the shaded point (zero on the probe).
@@ -107,10 +139,9 @@ float probebake_backface_weight(vec3 normal, vec3 to_probe) {
   return c * c + 0.05;
 }
 
-// Steps 1-3.
-ProbebakeStencil probebake_svo_stencil(vec3 position, vec3 normal) {
+// Step 2 for leaf `leaf` (a miss for -1).
+ProbebakeStencil probebake_leaf_stencil(int leaf, vec3 position, vec3 normal) {
   ProbebakeStencil s = ProbebakeStencil(ivec4(-1), vec4(0.0));
-  const int leaf = probebake_find_svo_leaf(position + normal * probebake_normal_bias());
   if (leaf < 0) return s;
   const SvoLeaf l = probebake_svo_leaves[leaf];
   vec4 w = vec4(0.0);
@@ -130,6 +161,133 @@ ProbebakeStencil probebake_svo_stencil(vec3 position, vec3 normal) {
     ++used;
   }
   return s;
+}
+
+// The stencil of p''s own leaf: the lookup of the light update's bounce (bake::svo_stencil).
+ProbebakeStencil probebake_svo_stencil(vec3 position, vec3 normal) {
+  return probebake_leaf_stencil(probebake_find_svo_leaf(position + normal * probebake_normal_bias()), position,
+                                normal);
+}
+
+// Step 3: the leaves of the blend and their normalised weights (count 0: a miss).
+struct ProbebakeBlend {
+  int leaves[8];
+  float weights[8];
+  int count;
+};
+
+// Adds to the entry of the same leaf, else appends.
+void probebake_blend_add(inout ProbebakeBlend b, int leaf, float weight) {
+  for (int i = 0; i < b.count; ++i) {
+    if (b.leaves[i] == leaf) {
+      b.weights[i] += weight;
+      return;
+    }
+  }
+  b.leaves[b.count] = leaf;
+  b.weights[b.count] = weight;
+  ++b.count;
+}
+
+ProbebakeBlend probebake_blend_normalised(ProbebakeBlend b) {
+  float sum = 0.0;
+  for (int i = 0; i < b.count; ++i) sum += b.weights[i];
+  for (int i = 0; i < b.count; ++i) b.weights[i] = b.weights[i] / sum;
+  return b;
+}
+
+bool probebake_leaf_serves(int leaf, vec3 position, vec3 normal) {
+  return leaf >= 0 && probebake_leaf_stencil(leaf, position, normal).probes.x >= 0;
+}
+
+// The leaf of largest weight (the first on ties), -1 when empty.
+int probebake_blend_heaviest(ProbebakeBlend b) {
+  int best = -1;
+  float best_weight = 0.0;
+  for (int i = 0; i < b.count; ++i) {
+    if (b.weights[i] > best_weight) {
+      best = b.leaves[i];
+      best_weight = b.weights[i];
+    }
+  }
+  return best;
+}
+
+bool probebake_leaves_share_a_probe(int a, int b) {
+  const ivec4 pa = probebake_svo_leaves[a].probes, pb = probebake_svo_leaves[b].probes;
+  for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k)
+    for (int j = 0; j < SVO_PROBES_PER_LEAF; ++j)
+      if (pa[k] >= 0 && pa[k] == pb[j]) return true;
+  return false;
+}
+
+// The entries joined to leaf `root` by chains of leaves that share a probe, in their order: leaves across a
+// wall or inside a sealed cavity hold other probes.
+ProbebakeBlend probebake_blend_connected_to(ProbebakeBlend b, int root) {
+  bool joined[8] = bool[8](false, false, false, false, false, false, false, false);
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (int i = 0; i < b.count; ++i) {
+      if (joined[i]) continue;
+      bool joins = b.leaves[i] == root || probebake_leaves_share_a_probe(b.leaves[i], root);
+      for (int j = 0; j < b.count && !joins; ++j) joins = joined[j] && probebake_leaves_share_a_probe(b.leaves[i], b.leaves[j]);
+      if (joins) {
+        joined[i] = true;
+        grew = true;
+      }
+    }
+  }
+  ProbebakeBlend kept;
+  kept.count = 0;
+  for (int i = 0; i < b.count; ++i)
+    if (joined[i]) probebake_blend_add(kept, b.leaves[i], b.weights[i]);
+  return kept;
+}
+
+ProbebakeBlend probebake_blended_lookup(vec3 position, vec3 normal) {
+  ProbebakeBlend b;
+  b.count = 0;
+  const float bias = probebake_normal_bias();
+  const vec3 biased = position + normal * bias;
+  vec3 rel;
+  if (!probebake_has_svo() || !probebake_root_relative(biased, rel)) return b;
+  int depth;
+  const int home = probebake_find_svo_leaf(biased, depth);
+  const int n = 1 << probebake_info.svo_depth;
+  const float voxel = probebake_info.root_size / float(n);
+  // The eight finest voxel centres around p', clamped to the root cube (centres beyond it repeat the edge).
+  const vec3 g = rel * float(n) - 0.5;
+  const vec3 floor_g = floor(g);
+  const vec3 f = g - floor_g;
+  const ivec3 lo = clamp(ivec3(floor_g), ivec3(0), ivec3(n - 1));
+  const ivec3 hi = clamp(ivec3(floor_g) + 1, ivec3(0), ivec3(n - 1));
+  if (home >= 0) {
+    // All eight centres inside p''s own leaf give that leaf's stencil whatever their weights: one descent.
+    const int span = 1 << (probebake_info.svo_depth - depth);
+    const ivec3 first = probebake_voxel_of(rel) / span * span;
+    if (all(greaterThanEqual(lo, first)) && all(lessThan(hi, first + span))) {
+      if (probebake_leaf_serves(home, position, normal)) probebake_blend_add(b, home, 1.0);
+      return probebake_blend_normalised(b);
+    }
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const bvec3 up = bvec3((corner & 1) != 0, (corner & 2) != 0, (corner & 4) != 0);
+    const ivec3 c = ivec3(up.x ? hi.x : lo.x, up.y ? hi.y : lo.y, up.z ? hi.z : lo.z);
+    const vec3 t = vec3(up.x ? f.x : 1.0 - f.x, up.y ? f.y : 1.0 - f.y, up.z ? f.z : 1.0 - f.z);
+    const vec3 centre = probebake_info.root_min + (vec3(c) + 0.5) * voxel;
+    // Centres behind the surface's plane do not blend in: they may lie past a thin wall.
+    const float side = clamp(dot(centre - position, normal) / bias, 0.0, 1.0);
+    const float weight = t.x * t.y * t.z * side;
+    if (!(weight > 0.0)) continue;
+    int leaf_depth;
+    const int leaf = probebake_leaf_of_voxel(c, leaf_depth);
+    if (probebake_leaf_serves(leaf, position, normal)) probebake_blend_add(b, leaf, weight);
+  }
+  const int root = probebake_leaf_serves(home, position, normal) ? home : probebake_blend_heaviest(b);
+  if (root < 0) return b;
+  b = probebake_blend_connected_to(b, root);
+  if (b.count == 0) probebake_blend_add(b, root, 1.0);
+  return probebake_blend_normalised(b);
 }
 
 // Irradiance of probe `probe` at unit normal for basis values y, per channel, not clamped.
@@ -156,8 +314,16 @@ vec3 probebake_apply_stencil(ProbebakeStencil s, vec3 normal) {
   return e;
 }
 
+// Step 4 over a blend.
+vec3 probebake_apply_blend(ProbebakeBlend b, vec3 position, vec3 normal) {
+  vec3 e = vec3(0.0);
+  for (int i = 0; i < b.count; ++i)
+    e += b.weights[i] * probebake_apply_stencil(probebake_leaf_stencil(b.leaves[i], position, normal), normal);
+  return e;
+}
+
 vec3 probebake_sample_irradiance(vec3 position, vec3 normal) {
-  return probebake_apply_stencil(probebake_svo_stencil(position, normal), normal);
+  return probebake_apply_blend(probebake_blended_lookup(position, normal), position, normal);
 }
 
 #ifdef PROBEBAKE_BINDING_RECORD_SLOTS
@@ -178,10 +344,17 @@ bool probebake_stencil_not_lit(ProbebakeStencil s) {
   return not_lit;
 }
 
+bool probebake_blend_not_lit(ProbebakeBlend b, vec3 position, vec3 normal) {
+  bool not_lit = false;
+  for (int i = 0; i < b.count; ++i)
+    not_lit = not_lit || probebake_stencil_not_lit(probebake_leaf_stencil(b.leaves[i], position, normal));
+  return not_lit;
+}
+
 bool probebake_sample_irradiance_not_lit(vec3 position, vec3 normal, out vec3 irradiance) {
-  const ProbebakeStencil s = probebake_svo_stencil(position, normal);
-  irradiance = probebake_apply_stencil(s, normal);
-  return probebake_stencil_not_lit(s);
+  const ProbebakeBlend b = probebake_blended_lookup(position, normal);
+  irradiance = probebake_apply_blend(b, position, normal);
+  return probebake_blend_not_lit(b, position, normal);
 }
 #endif
 

@@ -53,5 +53,9 @@ SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const Sea
 // passes through a wall, so lookups that would are not a game's.
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
                          const SeamSettings& settings = {});
+// The same for another lookup over the volume, e.g. one leaf's stencil alone (svo_stencil), which the
+// blend replaced: its borders are steps.
+SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays, const SeamLookup& lookup,
+                         const SeamSettings& settings = {});
 
 } // namespace probebake::bake

@@ -20,16 +20,33 @@
 // A_2 = pi/4 (Ramamoorthi & Hanrahan 2001). Evaluation is a 9-term dot product per channel.
 //
 // ---- SVO mode (sample_irradiance) --------------------------------------------------------------------
-//  1. p' = position + normal * bias, bias = 0.5 * root_size / 2^svo_depth (half an SVO voxel), so that
-//     points on a surface look up the open voxel in front of it, not one marked solid.
-//  2. Descend the SVO from node 0 over the root cube: v = svo_nodes[node]; v > 0: node = v + octant,
-//     octant bit 0 = (p'.x >= centre.x), bit 1 = y, bit 2 = z; v < 0: leaf ~v; v == 0: miss.
-//     p' outside the root cube (max faces included) or an empty node is a miss: the result is (0,0,0).
-//  3. For each used slot k of the leaf (probes[k] >= 0): d = probe.position - position,
+//  1. p' = position + normal * bias, bias = 0.5 * root_size / 2^svo_depth (half an SVO voxel v), so that
+//     points on a surface look up the open voxel in front of it, not one marked solid. p' outside the root
+//     cube (max faces included) or not finite is a miss: the result is (0,0,0).
+//  2. Leaf stencil of a leaf: for each used slot k (probes[k] >= 0): d = probe.position - position,
 //     dir = d * inversesqrt(max(dot(d, d), 1e-30)) (a zero vector when the probe sits on the point),
-//     w_k = weights[k] * (((dot(normal, dir) + 1) / 2)^2 + 0.05)   (smooth back-face weight).
-//     The stencil holds w_k / sum w (0 when sum w == 0).
-//  4. E = sum_k (w_k / sum w) * max(0, E_k(normal)), E_k = SH evaluation of probe k, clamped per channel.
+//     w_k = weights[k] * (((dot(normal, dir) + 1) / 2)^2 + 0.05)   (smooth back-face weight);
+//     the stencil holds w_k / sum w (empty when sum w == 0). E_leaf = sum_k (w_k / sum w) * max(0, E_k(normal)),
+//     E_k = SH evaluation of probe k, clamped per channel.
+//  3. Blend (issue #39: a leaf's stencil is constant inside it, so leaf borders showed as steps). The eight
+//     finest-voxel centres q_c around p' (g = (p' - root_min) / v - 0.5, lo = floor(g), f = g - lo; indices
+//     clamped to the root cube) each look up their leaf by descent from node 0 (v = svo_nodes[node]; v > 0:
+//     node = v + octant, octant bit 0 = x bit, 1 = y, 2 = z, from the top; v < 0: leaf ~v; v == 0: none).
+//     Corner weight = trilinear weight * side, side = clamp(dot(q_c - position, normal) / bias, 0, 1): a
+//     centre behind the surface's plane may lie past a thin wall and does not blend in. Corners without a
+//     leaf or with an empty leaf stencil drop out; the weights of corners sharing a leaf add up, the leaves
+//     kept in first-corner order (corner = x + 2y + 4z bits). The root is p''s own leaf when its stencil is
+//     not empty, else the corner leaf of largest weight (the first on ties; none: a miss). Only leaves joined
+//     to the root by a chain of leaves that share a stored probe (probes[k] >= 0 equal) stay, in their
+//     order: leaves across a wall or in a sealed cavity hold other probes and do not blend in. The
+//     weights are normalised by their sum; when none stays, the root serves alone.
+//     When all eight centres lie in p''s own leaf the result is that leaf's E_leaf (the fast path: one
+//     descent, the same value the eight would give).
+//  4. E = sum over the blend's leaves of weight * E_leaf. The result is continuous across leaf borders,
+//     octree levels and cells (each corner weight is continuous in position); inside a leaf farther than
+//     half a finest voxel from its faces it equals the leaf's stencil.
+// The bake's light transport (hit_cache.h) and the runtime light update look bounce light up with one
+// leaf stencil (svo_stencil: steps 1-2 at p''s leaf): a seam at a bounce hit averages over the probe's rays.
 //
 // ---- All-probes mode (sample_irradiance_all_probes, the thesis's §3.2.4 baseline) -----------------------
 // Same p' and clamped SH evaluation; every live probe (link != 0) whose segment from p' is not occluded
@@ -82,15 +99,34 @@ struct SamplerStats {
   std::size_t misses = 0; // lookups that found no probe (empty voxel, outside the root cube, none visible)
 };
 
+// The leaves a blended lookup (steps 1 and 3) reads and their normalised weights; count 0 is a miss.
+struct BlendedLookup {
+  std::array<int, 8> leaves{};
+  std::array<float, 8> weights{};
+  int count = 0;
+  void add(int leaf, float weight); // adds to the entry of the same leaf, else appends
+  BlendedLookup normalised() const;
+  int heaviest() const; // the leaf of largest weight (first on ties), -1 when empty
+};
+
+// Leaves `a` and `b` (valid indices) hold a common probe.
+bool leaves_share_a_probe(const formats::ProbeVolume& volume, int a, int b);
+// The entries of `lookup` joined to leaf `root` by chains of leaves that share a probe, in their order.
+BlendedLookup connected_to(const formats::ProbeVolume& volume, const BlendedLookup& lookup, int root);
+
 // Half an SVO voxel: the normal bias of step 1.
 float normal_bias(const gpu::VolumeInfo& info);
 // Step 2: index into volume.svo_leaves of the leaf containing `p`, or -1 (empty node, outside the root
 // cube, no SVO, non-finite point). `leaf_depth`, when given, receives the leaf node's depth (root 0; the
 // SVO merges uniform regions into shallower leaves).
 int find_svo_leaf(const formats::ProbeVolume& volume, glm::vec3 p, int* leaf_depth = nullptr);
-// Steps 1-3.
+// Step 2 for leaf `leaf` (empty for -1 or an index out of range).
+ProbeStencil leaf_stencil(const formats::ProbeVolume& volume, int leaf, glm::vec3 position, glm::vec3 normal);
+// Steps 1-2 at p''s own leaf: the stencil of the bounce transport.
 ProbeStencil svo_stencil(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal);
-// Step 4 with the volume's probes.
+// Steps 1 and 3.
+BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal);
+// E_leaf of step 2 for a stencil, with the volume's probes.
 glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& stencil, glm::vec3 normal);
 
 // ---- Lookups ---------------------------------------------------------------------------------------------

@@ -59,14 +59,16 @@ void row(const std::string& label, const scene::Scene& scene, const bake::BakeSe
       &checksum);
   const double blend = nanoseconds_per_lookup(
       points, [&](glm::vec3 p, glm::vec3 n) { return bake::sample_irradiance(v, p, n); }, &checksum);
-  int one_leaf = 0, leaves = 0;
+  int one_leaf = 0, leaves = 0, probes = 0;
   for (std::size_t i = 0; i < points.positions.size(); ++i) {
     const bake::BlendedLookup b = bake::blended_lookup(v, points.positions[i], points.normals[i]);
     one_leaf += b.count == 1 ? 1 : 0;
     leaves += b.count;
+    probes += bake::probe_blend(v, b, points.positions[i], points.normals[i]).count;
   }
-  fmt::print("| {} | {} | {} | {:.0f} | {:.0f} | {:.2f}x | {:.1f} % | {:.2f} |\n", label, v.probes.size(),
-             v.svo_leaves.size(), leaf, blend, blend / leaf, 100.0 * one_leaf / count, double(leaves) / count);
+  fmt::print("| {} | {} | {} | {:.0f} | {:.0f} | {:.2f}x | {:.1f} % | {:.2f} | {:.2f} |\n", label, v.probes.size(),
+             v.svo_leaves.size(), leaf, blend, blend / leaf, 100.0 * one_leaf / count, double(leaves) / count,
+             double(probes) / count);
   if (!(checksum == checksum)) fmt::print("(non-finite checksum)\n");
 }
 
@@ -82,7 +84,7 @@ int main(int argc, char** argv) {
   samples::cornell().write_glb(path);
   const scene::Scene scene = scene::load_scene(path, {.require_triangles = true});
   fmt::print("| volume | probes | SVO leaves | one leaf ns/lookup | blend ns/lookup | ratio | lookups reading one leaf "
-             "| leaves per lookup |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
+             "| leaves per lookup | probes per lookup |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int depth : {3, 5}) {
     bake::BakeSettings s;
     s.max_depth = depth;

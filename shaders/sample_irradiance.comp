@@ -19,12 +19,7 @@ void main() {
   const uint i = probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex;
   if (i >= push.count) return;
   const SampleQuery q = queries[i];
-  const ProbebakeBlend b = probebake_blended_lookup(q.position, q.normal);
-  int used = 0;
-  for (int l = 0; l < b.count; ++l) {
-    const ProbebakeStencil s = probebake_leaf_stencil(b.leaves[l], q.position, q.normal);
-    for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) used += s.probes[k] >= 0 ? 1 : 0;
-  }
-  const bool not_lit = push.streaming != 0u && probebake_blend_not_lit(b, q.position, q.normal);
-  results[i] = SampleResult(probebake_apply_blend(b, q.position, q.normal), used | (not_lit ? SAMPLE_RESULT_NOT_LIT : 0));
+  const ProbebakeProbeBlend p = probebake_probe_blend(probebake_blended_lookup(q.position, q.normal), q.position, q.normal);
+  const bool not_lit = push.streaming != 0u && probebake_probe_blend_not_lit(p);
+  results[i] = SampleResult(probebake_apply_probe_blend(p, q.normal), p.count | (not_lit ? SAMPLE_RESULT_NOT_LIT : 0));
 }

@@ -4,6 +4,7 @@
 #include "probebake/bake/sampler.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -69,23 +70,36 @@ float normal_bias(const gpu::VolumeInfo& info) {
 
 namespace {
 
-// Descent to the leaf holding finest voxel `c` (svo_depth coordinates, in range): the bits of each
-// coordinate, from the top, pick the octant per level.
+// A walk down the SVO towards finest voxel `c` (svo_depth coordinates, in range): `node`'s children split
+// on bit `level` of the coordinates (the root's on bit svo_depth - 1; a node at level -1 must be a leaf).
+struct Walk {
+  std::size_t node = 0;
+  int level = 0;
+  bool ended = false; // at a leaf (leaf >= 0) or at an empty node or a bad index (leaf -1)
+  int leaf = -1;
+};
+
+// Walks the levels from w.level down to `last` (inclusive), or until the walk ends.
+Walk walk(const formats::ProbeVolume& volume, Walk w, glm::ivec3 c, int last) {
+  for (; w.level >= last; --w.level) {
+    const int v = volume.svo_nodes[w.node];
+    w.ended = v <= 0 || w.level < 0;
+    if (w.ended) {
+      w.leaf = v < 0 && std::size_t(~v) < volume.svo_leaves.size() ? ~v : -1;
+      return w;
+    }
+    const int octant = ((c.x >> w.level) & 1) | (((c.y >> w.level) & 1) << 1) | (((c.z >> w.level) & 1) << 2);
+    w.node = std::size_t(v) + std::size_t(octant);
+    if (w.node >= volume.svo_nodes.size()) return {w.node, w.level, true, -1};
+  }
+  return w;
+}
+
 int leaf_of_voxel(const formats::ProbeVolume& volume, glm::ivec3 c, int* leaf_depth) {
   const int svo_depth = volume.info.svo_depth;
-  std::size_t node = 0;
-  for (int level = svo_depth - 1; level >= -1; --level) {
-    const int v = volume.svo_nodes[node];
-    if (v < 0) {
-      if (leaf_depth != nullptr) *leaf_depth = svo_depth - 1 - level;
-      return std::size_t(~v) < volume.svo_leaves.size() ? ~v : -1;
-    }
-    if (v == 0 || level < 0) return -1;
-    const int octant = ((c.x >> level) & 1) | (((c.y >> level) & 1) << 1) | (((c.z >> level) & 1) << 2);
-    node = std::size_t(v) + std::size_t(octant);
-    if (node >= volume.svo_nodes.size()) return -1;
-  }
-  return -1;
+  const Walk w = walk(volume, {0, svo_depth - 1}, c, -1);
+  if (leaf_depth != nullptr && w.leaf >= 0) *leaf_depth = svo_depth - 1 - w.level;
+  return w.leaf;
 }
 
 bool has_svo(const formats::ProbeVolume& volume) {
@@ -158,6 +172,14 @@ BlendedLookup connected_to(const formats::ProbeVolume& volume, const BlendedLook
   return out;
 }
 
+bool leaf_serves(const formats::ProbeVolume& volume, int leaf) {
+  if (leaf < 0 || std::size_t(leaf) >= volume.svo_leaves.size()) return false;
+  const gpu::SvoLeaf& l = volume.svo_leaves[std::size_t(leaf)];
+  for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
+    if (l.probes[k] >= 0 && std::size_t(l.probes[k]) < volume.probes.size() && l.weights[k] > 0.0f) return true;
+  return false;
+}
+
 ProbeStencil leaf_stencil(const formats::ProbeVolume& volume, int leaf, glm::vec3 position, glm::vec3 normal) {
   ProbeStencil s;
   if (leaf < 0 || std::size_t(leaf) >= volume.svo_leaves.size()) return s;
@@ -193,8 +215,6 @@ BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 posit
   const glm::vec3 rel = (biased - info.root_min) / info.root_size;
   if (!(glm::all(glm::greaterThanEqual(rel, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(rel, glm::vec3(1.0f)))))
     return out; // outside the root cube (or not finite): a miss, as the leaf lookup
-  int depth = 0;
-  const int home = find_svo_leaf(volume, biased, &depth);
   const int n = 1 << info.svo_depth;
   const float voxel = info.root_size / float(n);
   // The eight finest voxel centres around p', clamped to the root cube (centres beyond it repeat the edge).
@@ -203,15 +223,19 @@ BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 posit
   const glm::vec3 f = g - floor_g;
   const glm::ivec3 lo = glm::clamp(glm::ivec3(floor_g), glm::ivec3(0), glm::ivec3(n - 1));
   const glm::ivec3 hi = glm::clamp(glm::ivec3(floor_g) + 1, glm::ivec3(0), glm::ivec3(n - 1));
-  if (home >= 0) {
-    // Fast path: all eight centres inside p's own leaf give that leaf's stencil whatever their weights.
-    const int span = 1 << (info.svo_depth - depth);
-    const glm::ivec3 first = glm::clamp(glm::ivec3(glm::floor(rel * float(n))), glm::ivec3(0), glm::ivec3(n - 1)) / span * span;
-    if (glm::all(glm::greaterThanEqual(lo, first)) && glm::all(glm::lessThan(hi, first + span))) {
-      if (!leaf_stencil(volume, home, position, normal).empty()) out.add(home, 1.0f);
-      return out.normalised();
-    }
+  // The corners share the bits above the highest one in which lo and hi differ: one walk down to there.
+  const glm::ivec3 differ = lo ^ hi;
+  const int spread = std::bit_width(unsigned(differ.x | differ.y | differ.z));
+  const Walk top = walk(volume, {0, info.svo_depth - 1}, lo, spread);
+  const Walk next = walk(volume, top, lo, top.level); // one level more: a leaf there holds every corner
+  if (top.ended || next.ended) {
+    const int leaf = top.ended ? top.leaf : next.leaf;
+    if (leaf_serves(volume, leaf)) out.add(leaf, 1.0f);
+    return out.normalised();
   }
+  // p''s own voxel is one of the corners.
+  const glm::ivec3 own = glm::clamp(glm::ivec3(glm::floor(rel * float(n))), glm::ivec3(0), glm::ivec3(n - 1));
+  int home = -1;
   for (int corner = 0; corner < 8; ++corner) {
     const glm::bvec3 up((corner & 1) != 0, (corner & 2) != 0, (corner & 4) != 0);
     const glm::ivec3 c(up.x ? hi.x : lo.x, up.y ? hi.y : lo.y, up.z ? hi.z : lo.z);
@@ -220,12 +244,13 @@ BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 posit
     // Centres behind the surface's plane do not blend in: they may lie past a thin wall.
     const float side = std::clamp(glm::dot(centre - position, normal) / bias, 0.0f, 1.0f);
     const float weight = t.x * t.y * t.z * side;
-    if (!(weight > 0.0f)) continue;
-    const int leaf = leaf_of_voxel(volume, c, nullptr);
-    if (leaf >= 0 && !leaf_stencil(volume, leaf, position, normal).empty()) out.add(leaf, weight);
+    const bool is_own = c == own && home < 0;
+    if (!(weight > 0.0f) && !is_own) continue;
+    const int leaf = walk(volume, top, c, -1).leaf;
+    if (is_own) home = leaf;
+    if (weight > 0.0f && leaf_serves(volume, leaf)) out.add(leaf, weight);
   }
-  const bool home_serves = home >= 0 && !leaf_stencil(volume, home, position, normal).empty();
-  const int root = home_serves ? home : out.heaviest();
+  const int root = leaf_serves(volume, home) ? home : out.heaviest();
   if (root < 0) return out;
   out = connected_to(volume, out, root);
   if (out.count == 0) out.add(root, 1.0f);
@@ -237,15 +262,53 @@ glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& 
                                         [&](int probe) { return volume.probes[std::size_t(probe)].irradiance_sh; });
 }
 
+ProbeBlend probe_blend(const formats::ProbeVolume& volume, const BlendedLookup& lookup, glm::vec3 position,
+                       glm::vec3 normal) {
+  ProbeBlend out;
+  std::array<float, ProbeBlend::kCapacity> backface{};
+  for (int i = 0; i < lookup.count; ++i) {
+    const gpu::SvoLeaf& l = volume.svo_leaves[std::size_t(lookup.leaves[std::size_t(i)])];
+    std::array<int, gpu::SVO_PROBES_PER_LEAF> slot{-1, -1, -1, -1};
+    glm::vec4 w(0.0f);
+    float sum = 0.0f;
+    for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k) {
+      const int probe = l.probes[k];
+      if (probe < 0 || std::size_t(probe) >= volume.probes.size()) continue;
+      int j = 0;
+      while (j < out.count && out.probes[std::size_t(j)] != probe) ++j;
+      if (j == out.count) {
+        out.probes[std::size_t(j)] = probe;
+        out.weights[std::size_t(j)] = 0.0f;
+        backface[std::size_t(j)] = backface_weight(normal, volume.probes[std::size_t(probe)].position - position);
+        ++out.count;
+      }
+      slot[std::size_t(k)] = j;
+      w[k] = l.weights[k] * backface[std::size_t(j)];
+      sum += w[k];
+    }
+    if (!(sum > 0.0f)) continue;
+    for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
+      if (slot[std::size_t(k)] >= 0) out.weights[std::size_t(slot[std::size_t(k)])] += lookup.weights[std::size_t(i)] * (w[k] / sum);
+  }
+  return out;
+}
+
+glm::vec3 apply_blend(const formats::ProbeVolume& volume, const ProbeBlend& blend, glm::vec3 normal) {
+  glm::vec3 e(0.0f);
+  if (blend.count == 0) return e;
+  const std::array<float, 9> y = sh_basis(normal);
+  for (int j = 0; j < blend.count; ++j) {
+    const gpu::Probe& probe = volume.probes[std::size_t(blend.probes[std::size_t(j)])];
+    e += blend.weights[std::size_t(j)] * glm::max(lighting_detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
+  }
+  return e;
+}
+
 glm::vec3 sample_irradiance(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal,
                             SamplerStats* stats) {
   const BlendedLookup lookup = blended_lookup(volume, position, normal);
   count(stats, lookup.count == 0);
-  glm::vec3 e(0.0f);
-  for (int i = 0; i < lookup.count; ++i)
-    e += lookup.weights[std::size_t(i)] *
-         apply_stencil(volume, leaf_stencil(volume, lookup.leaves[std::size_t(i)], position, normal), normal);
-  return e;
+  return apply_blend(volume, probe_blend(volume, lookup, position, normal), normal);
 }
 
 glm::vec3 sample_irradiance_all_probes(const formats::ProbeVolume& volume, const scene::RayScene& rays,

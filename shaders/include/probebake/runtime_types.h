@@ -49,7 +49,7 @@ struct SampleQuery {
 
 struct SampleResult {
   vec3 irradiance;  // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/bake/sampler.h)
-  int probes_used;  // offset 12: probe reads of the blend (at most 32), 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
+  int probes_used;  // offset 12: distinct probes of the blend (at most 32), 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
 };                  //   left one of them out of the light update (its irradiance is kept, not updated)
 PB_CONSTANT(int, SAMPLE_RESULT_NOT_LIT, 256);
 

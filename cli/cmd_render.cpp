@@ -2,6 +2,8 @@
 // shaded with the probes' irradiance from the runtime on its Vulkan device (or the CPU lookup with --cpu),
 // and the debug views of probebake/render/render.h. The same camera in `probebake reference --image` gives
 // the ground truth and `eval --error-map` the difference.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -33,6 +35,10 @@ struct RenderCommandSettings {
   int frames = 0;
   float probe_radius = 0.0f;
   bool cpu = false;
+  std::string lookup = "blend";
+  float exposure = 0.0f;
+  int reference_samples = 256;
+  int threads = 0;
   bool vk_validation = false;
   std::string device;
   CameraOptions camera;
@@ -45,7 +51,9 @@ std::vector<render::View> parse_views(const std::vector<std::string>& names) {
   for (const std::string& name : names) {
     if (name == "all") return {render::kViews.begin(), render::kViews.end()};
     const auto view = render::view_from_name(name);
-    if (!view) throw Error(ErrorKind::usage, fmt::format("--view: '{}' is not final, indirect, probes, octree, svo, relocation or all", name));
+    if (!view)
+      throw Error(ErrorKind::usage, fmt::format("--view: '{}' is not final, indirect, probes, octree, svo, relocation, reference, "
+                                                "reference-indirect or all", name));
     if (std::find(views.begin(), views.end(), *view) == views.end()) views.push_back(*view);
   }
   return views;
@@ -107,6 +115,10 @@ int render_command(const RenderCommandSettings& s) {
   if (s.frames < 0) throw Error(ErrorKind::usage, "--frames must be >= 0");
   if (s.cpu && (s.frames > 0 || s.vk_validation || !s.device.empty()))
     throw Error(ErrorKind::usage, "--cpu samples the file's probes without a device: --frames, --vk-validation and --device need the runtime");
+  if (s.lookup != "blend" && !(s.lookup == "leaf" && s.cpu))
+    throw Error(ErrorKind::usage, "--lookup: 'blend' (the runtime's), or 'leaf' (one SVO leaf's stencil, the lookup before the blend) with --cpu");
+  if (!(std::isfinite(s.exposure) && s.exposure >= 0.0f)) throw Error(ErrorKind::usage, "--exposure must be a finite number >= 0");
+  if (s.reference_samples < 2) throw Error(ErrorKind::usage, "--reference-samples must be >= 2");
   const std::filesystem::path output = s.output;
   if (output.extension() != ".png" && output.extension() != ".exr") throw Error(ErrorKind::usage, "-o must end in .png or .exr");
   const std::vector<std::filesystem::path> inputs = {s.file, s.scene};
@@ -118,13 +130,16 @@ int render_command(const RenderCommandSettings& s) {
   // much of it when it starts.
   DeviceVolume device;
   render::RenderInputs in;
+  const bool one_leaf = s.lookup == "leaf";
   if (s.cpu) {
-    in.indirect = [&volume](std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
+    in.indirect = [&volume, one_leaf](std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
       std::vector<glm::vec3> out(positions.size());
-      bake::sample_irradiance(volume, positions, normals, out);
+      if (!one_leaf) bake::sample_irradiance(volume, positions, normals, out);
+      for (std::size_t i = 0; one_leaf && i < positions.size(); ++i)
+        out[i] = bake::apply_stencil(volume, bake::svo_stencil(volume, positions[i], normals[i]), normals[i]);
       return out;
     };
-  } else if (std::any_of(views.begin(), views.end(), render::is_irradiance_view)) {
+  } else if (std::any_of(views.begin(), views.end(), render::reads_probes)) {
     device = upload(s, volume);
     in.indirect = runtime_lookup(*device.volume);
   }
@@ -134,11 +149,16 @@ int render_command(const RenderCommandSettings& s) {
   in.camera = s.camera.camera_or_default(scene);
   in.emitters_as_lights = !volume.emitter_patches.empty();
   in.probe_radius = s.probe_radius;
+  in.reference.paths = s.reference_samples;
+  in.reference.threads = s.threads;
   render::Renderer renderer(in);
-  float exposure = 0.0f; // one PNG scale for every irradiance view, from the first
+  float exposure = s.exposure; // one PNG scale for every irradiance view: --exposure, else from the first
   for (render::View view : views) {
     const bake::Image image = renderer.render(view);
-    if (render::is_irradiance_view(view) && exposure == 0.0f) exposure = render::exposure_of(image);
+    if (render::is_irradiance_view(view) && exposure == 0.0f) {
+      exposure = render::exposure_of(image);
+      fmt::print("exposure {} (--exposure {} gives another run's images the same scale)\n", exposure, exposure);
+    }
     const std::filesystem::path path = output_of(output, view, views.size() > 1);
     render::write_image(path, image, render::is_irradiance_view(view) ? exposure : 1.0f);
     const std::string_view legend = render::view_legend(view);
@@ -161,6 +181,10 @@ Command add_render_command(CLI::App& root) {
   app->add_option("--probe-radius", s->probe_radius, "Radius of the probe spheres in metres (default: a tenth of each probe's cell)")
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--cpu", s->cpu, "Sample the probes with the CPU lookup instead of the runtime on a Vulkan device");
+  app->add_option("--lookup", s->lookup, "blend (default: the runtime's lookup) or, with --cpu, leaf: one SVO leaf's stencil, the lookup before the blend");
+  app->add_option("--exposure", s->exposure, "PNG scale of the irradiance views (default 0: 1 / the 99th percentile of the first one's luminance)");
+  app->add_option("--reference-samples", s->reference_samples, "Paths per pixel of the reference views (default 256)");
+  app->add_option("--threads", s->threads, "Threads of the reference views' path tracer (0 = all cores)");
   app->add_flag("--vk-validation", s->vk_validation, "Run the runtime under VK_LAYER_KHRONOS_validation; any message is an error");
   app->add_option("--device", s->device, "Use the first Vulkan device whose name contains this text");
   add_scene_input_options(app, s->input);

@@ -14,7 +14,8 @@
 namespace probebake::render {
 namespace {
 
-constexpr std::array<std::string_view, 6> kViewNames = {"final", "indirect", "probes", "octree", "svo", "relocation"};
+constexpr std::array<std::string_view, 8> kViewNames = {"final", "indirect", "probes",     "octree",
+                                                        "svo",   "relocation", "reference", "reference-indirect"};
 
 float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
@@ -63,17 +64,24 @@ struct Renderer::Canvas : detail::Canvas {};
 std::string_view view_name(View view) { return kViewNames[std::size_t(view)]; }
 
 std::optional<View> view_from_name(std::string_view name) {
-  for (View v : kViews)
+  for (View v : kEveryView)
     if (view_name(v) == name) return v;
   return std::nullopt;
 }
 
-bool is_irradiance_view(View view) { return view == View::final || view == View::indirect || view == View::probes; }
+bool is_irradiance_view(View view) {
+  return view == View::final || view == View::indirect || view == View::probes || view == View::reference ||
+         view == View::reference_indirect;
+}
+
+bool reads_probes(View view) { return view == View::final || view == View::indirect || view == View::probes; }
 
 std::string_view view_legend(View view) {
   switch (view) {
   case View::final:
-  case View::indirect: return "";
+  case View::indirect:
+  case View::reference:
+  case View::reference_indirect: return "";
   case View::probes: return "spheres: each live probe's irradiance in every direction, over the indirect view in grey";
   case View::octree:
     return "colour: depth of the octree leaf (0 grey, 1 blue, 2 orange, 3 green, 4 red, 5 purple, 6 brown, ...); dark lines: leaf borders";
@@ -135,6 +143,8 @@ bake::Image Renderer::render(View view) {
   switch (view) {
   case View::final: return render_irradiance(true);
   case View::indirect: return render_irradiance(false);
+  case View::reference: return render_reference(false);
+  case View::reference_indirect: return render_reference(true);
   case View::probes: return render_probes();
   case View::octree: return render_octree();
   case View::svo: return render_svo();
@@ -150,6 +160,23 @@ bake::Image Renderer::render_irradiance(bool with_direct) {
   lighting.emissive_as_lights = in_.emitters_as_lights;
   const bake::lighting_detail::DirectLighting direct(*in_.scene, *in_.rays, lighting); // the bake's own
   return surfaces([&](std::size_t i) { return probes[i] + direct.irradiance(hits_[i]->position, hits_[i]->normal); }).image;
+}
+
+// The path tracer at every pixel's first hit (the receivers of `probebake reference`, one per pixel).
+bake::Image Renderer::render_reference(bool indirect_only) {
+  if (!reference_) {
+    std::vector<bake::SamplePoint> points;
+    for (const auto& hit : hits_)
+      if (hit) points.push_back(*hit);
+    reference_ = bake::reference_irradiance(*in_.scene, *in_.rays, points, in_.reference);
+  }
+  std::size_t k = 0; // surfaces() visits the hit pixels in order, the order of the points traced
+  return surfaces([&](std::size_t) {
+           const glm::vec3 e = reference_->irradiance[k], direct = reference_->direct[k];
+           ++k;
+           return indirect_only ? e - direct : e;
+         })
+      .image;
 }
 
 bake::Image Renderer::render_probes() {

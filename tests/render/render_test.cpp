@@ -105,6 +105,31 @@ int visible_probe(const Baked& b, bool relocated) {
   return best;
 }
 
+// The reference views are the path tracer at each pixel's hit: in a furnace (albedo R, emission L on every
+// face) irradiance is pi L / (1 - R) everywhere, of which the emission seen directly is pi L.
+TEST(Render, ReferenceViewsOfAFurnaceAreItsAnalyticIrradiance) {
+  Baked b;
+  b.scene = load_generated(samples::furnace({.albedo = 0.5f}), "render-furnace");
+  b.rays = std::make_unique<scene::RayScene>(b.scene);
+  render::RenderInputs in;
+  in.scene = &b.scene, in.rays = b.rays.get();
+  in.camera = {glm::vec3(0.1f, 0.05f, 0.3f), glm::vec3(0.0f, 0.0f, -0.5f), 90.0f, 16, 16};
+  in.reference.paths = 256;
+  render::Renderer renderer(in);
+  const bake::Image total = renderer.render(render::View::reference);
+  const bake::Image indirect = renderer.render(render::View::reference_indirect);
+  const float pi = 3.14159265f;
+  double mean_total = 0.0, mean_indirect = 0.0;
+  for (std::size_t i = 0; i < total.pixels.size(); ++i) {
+    mean_total += total.pixels[i].x / double(total.pixels.size());
+    mean_indirect += indirect.pixels[i].x / double(total.pixels.size());
+  }
+  EXPECT_NEAR(mean_total, pi / (1.0 - 0.5), 0.02 * pi / 0.5);
+  EXPECT_NEAR(mean_indirect, pi * 0.5 / (1.0 - 0.5), 0.02 * pi / 0.5);
+  EXPECT_TRUE(render::is_irradiance_view(render::View::reference));
+  EXPECT_FALSE(render::reads_probes(render::View::reference)); // no probe lookup needed
+}
+
 TEST(Render, ProbeSphereSeenHeadOnShowsTheProbesIrradianceTowardsTheCamera) {
   const Baked& b = cornell();
   const int probe = visible_probe(b, false);

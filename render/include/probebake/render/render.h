@@ -36,13 +36,20 @@ enum class View {
               // and the runtime shows direct light only; SVO voxel borders dark (colour)
   relocation, // probes at their cube's centre (blue-grey), probes the bake moved out of geometry (orange,
               // a line from the centre they left), leaves without a probe (red, at the cube's centre) (colour)
+  reference,  // the path-traced irradiance at the first visible surface, to set beside final (W/m^2)
+  reference_indirect, // the same less its direct part, to set beside indirect (W/m^2)
 };
+// What `--view all` renders: every view but the path-traced ones, which cost minutes.
 inline constexpr std::array<View, 6> kViews = {View::final, View::indirect, View::probes, View::octree, View::svo, View::relocation};
+inline constexpr std::array<View, 8> kEveryView = {View::final, View::indirect, View::probes, View::octree, View::svo,
+                                                   View::relocation, View::reference, View::reference_indirect};
 
 std::string_view view_name(View view);
 std::optional<View> view_from_name(std::string_view name);
 // Whether the view's pixels are irradiance (W/m^2) rather than display colours.
 bool is_irradiance_view(View view);
+// Whether the view needs the probes' lookup (final, indirect, probes).
+bool reads_probes(View view);
 // One line that says what the view's colours mean (empty for the irradiance images).
 std::string_view view_legend(View view);
 
@@ -63,6 +70,7 @@ struct RenderInputs {
   IndirectSampler indirect;                      // for final, indirect and probes
   bool emitters_as_lights = false;               // the volume's emitters are lit as lights (direct light)
   float probe_radius = 0.0f;                     // sphere radius in metres; 0: a tenth of each probe's cell
+  bake::ReferenceSettings reference;             // the path tracer of the reference views (paths per pixel)
 };
 
 // Renders views of one camera; the primary rays are cast once, the probe lookups made once.
@@ -81,6 +89,7 @@ private:
   glm::vec3 shade(std::size_t pixel, glm::vec3 colour) const;
   float border_width(glm::vec3 p) const;
   bake::Image render_irradiance(bool with_direct);
+  bake::Image render_reference(bool indirect_only);
   bake::Image render_probes();
   bake::Image render_octree() const;
   bake::Image render_svo() const;
@@ -93,6 +102,7 @@ private:
   std::vector<float> distances_; // to the first hit on either side, +inf for a miss
   std::vector<glm::vec3> indirect_; // per pixel, sampled on first use
   bool sampled_ = false;
+  std::optional<bake::ReferenceResult> reference_; // per hit pixel, traced on first use
 };
 
 // PNG display scale of an irradiance image: 1 / the 99th percentile of its luminance (1 for a black image).

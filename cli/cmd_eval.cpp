@@ -24,6 +24,7 @@ namespace {
 struct EvalCommandSettings {
   std::string scene;
   bool quick = false;
+  int light_rays = 0; // 0: each configuration's own
   bool no_cache = false;
   std::string csv;
   std::string plot;
@@ -41,6 +42,7 @@ nlohmann::json row_json(const bake::EvalRow& r) {
           {"placement", std::string(formats::placement_name(r.bake.placement))},
           {"max_depth", r.bake.max_depth}, {"grid", r.bake.grid_resolution}, {"surfels", r.bake.surfels_per_probe},
           {"lattice", std::string(lattice_name(r.bake.lattice))}, {"svo_depth", r.bake.svo_depth},
+          {"light_rays", r.bake.lighting.rays},
           {"probes", r.probes}, {"file_bytes", r.file_bytes}, {"bake_seconds", r.bake_seconds},
           {"sample_ns", r.sample_ns}, {"rmse", r.rmse}, {"relative_rmse", r.relative_rmse}, {"bias", r.bias}, {"p95", r.p95},
           {"max_error", r.max_error}, {"leak_rmse", r.leak_rmse}, {"leak_points", r.leak_points},
@@ -73,6 +75,12 @@ int run_eval(EvalCommandSettings& s) {
     s.eval.ladder_base = bake::quick_bake_settings();
     if (s.points_option->count() == 0) s.eval.points = 64;
     if (s.samples_option->count() == 0) s.eval.paths = 64;
+  }
+  if (s.light_rays != 0) { // every bake of the sweep or ladder with this many lighting rays per probe
+    if (s.light_rays < 1) throw Error(ErrorKind::usage, "--light-rays must be >= 1");
+    if (s.eval.configs.empty() && s.eval.probe_ladder.empty()) s.eval.configs = bake::default_sweep();
+    for (bake::EvalConfig& c : s.eval.configs) c.bake.lighting.rays = s.light_rays;
+    s.eval.ladder_base.lighting.rays = s.light_rays;
   }
   s.eval.use_cache = !s.no_cache;
   s.eval.camera = s.camera.camera();
@@ -125,6 +133,7 @@ Command add_eval_command(CLI::App& root) {
   app->add_option("--seed", s->eval.seed, "Seed of the points and the reference");
   app->add_option("--threads", s->eval.threads, "Worker threads for bakes and the reference (0 = all cores)");
   app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests; with --probes, small bakes");
+  app->add_option("--light-rays", s->light_rays, "Lighting rays per probe of every bake (default: the bake's, 256)");
   app->add_option("--probes", s->eval.probe_ladder,
                   "Probe ladder N1,N2,...: every placement method that meets a probe budget, baked to about each "
                   "count (instead of the sweep)")

@@ -314,7 +314,7 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   EXPECT_NE(plot.find("Pareto front"), std::string::npos);
   EXPECT_NE(plot.find("</svg>"), std::string::npos);
 
-  const CliResult second = run("eval " + quoted(scene) + " --quick --json");
+  const CliResult second = run("eval " + quoted(scene) + " --quick --json --light-rays 24");
   ASSERT_EQ(second.exit_code, 0) << second.out;
   const auto j = nlohmann::json::parse(second.out);
   EXPECT_TRUE(j["reference_cached"].get<bool>());
@@ -326,6 +326,7 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
     EXPECT_GT(row["probes"].get<int>(), 0);
     EXPECT_GT(row["file_bytes"].get<long>(), 0);
     EXPECT_TRUE(std::isfinite(row["relative_rmse"].get<double>()));
+    EXPECT_EQ(row["light_rays"].get<int>(), 24); // --light-rays reaches every bake of the sweep
   }
 }
 
@@ -335,6 +336,7 @@ TEST(EvalCli, BadOptionsAreUsageErrors) {
   EXPECT_EQ(run("eval " + quoted(scene) + " --quick --error-map maps").exit_code, 1); // needs a camera
   EXPECT_EQ(run("eval " + quoted(scene) + " --quick --camera 0,0,1").exit_code, 1);   // needs --look-at
   EXPECT_EQ(run("eval " + quoted(scene) + " --quick --receivers surfaces").exit_code, 1);
+  EXPECT_EQ(run("eval " + quoted(scene) + " --quick --light-rays -1").exit_code, 1);
 }
 
 } // namespace

@@ -26,6 +26,12 @@
 namespace probebake::cli {
 namespace {
 
+// Probe noise (median, as LightingReport::noise_median estimates it) above which the lookup shows blotches:
+// the window room's grid gave 0.175 at 256 rays (blotches), 0.043 at 4096 (smooth); the Cornell box 0.04 at
+// 256 (docs/results/lookup.md, "Convergence"). The estimate takes the rays as independent; the Fibonacci
+// lattice's actual error is lower.
+constexpr float kVisibleProbeNoise = 0.08f;
+
 // Payload bytes per section of the file, in type order (formats/volume_sections.h).
 nlohmann::ordered_json section_bytes(const formats::ProbeVolume& v) {
   nlohmann::ordered_json bytes = nlohmann::ordered_json::object();
@@ -78,6 +84,7 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
                    {"rejected_extrapolations", r.lighting.rejected_extrapolations},
                    {"converged", r.lighting.converged}, {"change", r.lighting.change},
                    {"estimated_error", r.lighting.estimated_error}, {"rays", r.lighting.rays},
+                   {"noise_median", r.lighting.noise_median}, {"noise_p95", r.lighting.noise_p95},
                    {"seconds", r.lighting.seconds}};
   j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves}, {"solid_voxels", r.svo_solid_voxels},
               {"uncovered_voxels", r.svo_uncovered_voxels},
@@ -127,6 +134,12 @@ void print_report(const nlohmann::ordered_json& j) {
                lighting["iterations"].get<int>(), lighting["extrapolations"].get<int>(),
                lighting["rejected_extrapolations"].get<int>(),
                lighting["converged"].get<bool>() ? "converged" : "NOT converged", lighting["estimated_error"].get<float>());
+  if (lighting["iterations"].get<int>() > 0) {
+    const float noise = lighting["noise_median"].get<float>();
+    fmt::print("probe noise  {:.3g} median, {:.3g} 95th percentile (standard error of a probe's mean ray radiance){}\n", noise,
+               lighting["noise_p95"].get<float>(),
+               noise > kVisibleProbeNoise ? fmt::format("; above {} the lookup shows blotches: 4x --light-rays halves it", kVisibleProbeNoise) : "");
+  }
   fmt::print("svo          {} nodes, {} leaves, {} bytes ({} solid and {} uncovered voxels left empty)\n",
              j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(), j["svo"]["bytes"].get<std::size_t>(),
              j["svo"]["solid_voxels"].get<int>(), j["svo"]["uncovered_voxels"].get<int>());

@@ -42,6 +42,30 @@ float recent_rate(const std::deque<double>& changes) {
 
 } // namespace
 
+void measure_noise(const HitCache& cache, const ShBuffer& sh, LightingReport& report) {
+  const auto sh_of = [&](int probe) { return sh.data() + 27 * std::size_t(probe); };
+  const std::size_t r = std::size_t(cache.rays_per_probe);
+  std::vector<double> noise;
+  for (std::size_t i = 0; i < cache.probes.size() && r > 1; ++i) {
+    double sum = 0.0, sum_squares = 0.0;
+    for (std::size_t j = 0; j < r; ++j) {
+      const HitRecord& h = cache.records[i * r + j];
+      const glm::dvec3 radiance =
+          glm::dvec3(h.base) + glm::dvec3(h.reflect) * apply_stencil<double>(h.stencil, h.normal, sh_of);
+      const double l = (radiance.x + radiance.y + radiance.z) / 3.0;
+      sum += l;
+      sum_squares += l * l;
+    }
+    const double mean = sum / double(r);
+    const double variance = std::max(0.0, (sum_squares - double(r) * mean * mean) / double(r - 1));
+    if (mean > 0.0) noise.push_back(std::sqrt(variance / double(r)) / mean);
+  }
+  if (noise.empty()) return;
+  std::sort(noise.begin(), noise.end());
+  report.noise_median = float(noise[noise.size() / 2]);
+  report.noise_p95 = float(noise[std::min(noise.size() - 1, noise.size() * 95 / 100)]);
+}
+
 void sweep(const HitCache& cache, const ShBuffer& prev, ShBuffer& next, int threads) {
   parallel_for(cache.probes.size(), threads, [&](std::size_t i) {
     shade_probe(cache, i, prev, next.data() + 27 * std::size_t(cache.probes[i]));

@@ -67,4 +67,9 @@ private:
 // or an extrapolated one kept; fills the iteration fields of `report`.
 void solve(const HitCache& cache, const LightingSettings& settings, ShBuffer& sh, LightingReport& report);
 
+// The probes' Monte Carlo noise with the lighting `sh`: per probe, the standard error of the mean radiance of
+// its rays (RGB mean) over that mean, as if the rays were independent; the median and 95th percentile over
+// the probes whose mean is > 0. Fills report.noise_median and report.noise_p95.
+void measure_noise(const HitCache& cache, const ShBuffer& sh, LightingReport& report);
+
 } // namespace probebake::bake::lighting_detail

@@ -50,6 +50,7 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
   lighting_detail::ShBuffer sh(27 * volume.probes.size(), 0.0);
   if (!cache.probes.empty()) lighting_detail::solve(cache, settings, sh, report);
   else report.converged = true;
+  lighting_detail::measure_noise(cache, sh, report);
   for (int p : cache.probes)
     for (int v = 0; v < 27; ++v) volume.probes[std::size_t(p)].irradiance_sh[v] = float(sh[27 * std::size_t(p) + std::size_t(v)]);
   report.iterate_seconds = seconds_since(iterate_start);

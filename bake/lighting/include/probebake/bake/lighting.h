@@ -63,6 +63,12 @@ struct LightingReport {
   float estimated_error = 0.0f;     // change * rate / (1 - rate): distance to the fixed point, relative;
                                     // -1 while the rate is unknown or >= 1
   bool converged = false;
+  // Monte Carlo noise of the probes: the standard error of a probe's mean ray radiance over that mean
+  // (median and 95th percentile over the lit probes). It falls as 1 / sqrt(rays); a small bright patch (sun
+  // through a window) raises it, and above a few per cent it shows as blotches and stops the error falling
+  // as probes are added (docs/results/lookup.md, "Convergence").
+  float noise_median = 0.0f;
+  float noise_p95 = 0.0f;
   double trace_seconds = 0.0;       // rays, shadow rays and SVO lookups of the hits
   double iterate_seconds = 0.0;
   double seconds = 0.0;             // total

@@ -14,11 +14,11 @@
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
-shared float partial[LIGHT_WORKGROUP_SIZE][27];
+shared float partial[LIGHT_WORKGROUP_SIZE][PROBE_SH_FLOATS];
 shared uint indirect_misses;
 
-const float SH_BAND[9] = float[9](3.14159265, 2.09439510, 2.09439510, 2.09439510, 0.785398163, 0.785398163,
-                                  0.785398163, 0.785398163, 0.785398163);
+const float SH_BAND[9] = float[9](SH_BAND0, SH_BAND1, SH_BAND1, SH_BAND1, SH_BAND2, SH_BAND2, SH_BAND2, SH_BAND2,
+                                  SH_BAND2); // gpu_types.h's A_l per coefficient
 
 vec3 relight(LightRecord rec) {
   if (rec.kind != LIGHT_RECORD_FRONT) return rec.base;
@@ -32,16 +32,16 @@ void main() {
   const int listed = light_slot(probebake_flat_workgroup());
   if (listed < 0 || light_slot_idle(uint(listed))) return; // uniform per workgroup
   const uint slot = uint(listed);
-  const uint next = 27u * uint(light_record_slot(slot)); // streaming: next_irradiance holds the lit probes only
+  const uint next = uint(PROBE_SH_FLOATS) * uint(light_record_slot(slot)); // streaming: next_irradiance holds the lit probes only
   const uint t = gl_LocalInvocationIndex;
   if (light_slot_unresolved(slot)) { // its rays crossed a cell that is out: keep its light
     if (t == 0u)
-      for (int v = 0; v < 27; ++v) next_irradiance[next + uint(v)] = probebake_probes[slot].irradiance_sh[v];
+      for (int v = 0; v < PROBE_SH_FLOATS; ++v) next_irradiance[next + uint(v)] = probebake_probes[slot].irradiance_sh[v];
     return;
   }
   if (t == 0) indirect_misses = 0u;
-  float acc[27];
-  for (int v = 0; v < 27; ++v) acc[v] = 0.0;
+  float acc[PROBE_SH_FLOATS];
+  for (int v = 0; v < PROBE_SH_FLOATS; ++v) acc[v] = 0.0;
   const int rays = probebake_lighting.rays;
   const float weight = 4.0 * 3.14159265 / float(rays);
   barrier();
@@ -56,24 +56,24 @@ void main() {
       acc[3 * k + 2] += radiance.b * w;
     }
   }
-  for (int v = 0; v < 27; ++v) partial[t][v] = acc[v];
+  for (int v = 0; v < PROBE_SH_FLOATS; ++v) partial[t][v] = acc[v];
   barrier();
   // Fixed-order tree reduction: the same sum on every run.
   for (uint stride = LIGHT_WORKGROUP_SIZE / 2u; stride > 0u; stride >>= 1u) {
     if (t < stride)
-      for (int v = 0; v < 27; ++v) partial[t][v] += partial[t + stride][v];
+      for (int v = 0; v < PROBE_SH_FLOATS; ++v) partial[t][v] += partial[t + stride][v];
     barrier();
   }
   if (t != 0u) return;
   bool finite = true;
-  float blended[27];
-  for (int v = 0; v < 27; ++v) {
+  float blended[PROBE_SH_FLOATS];
+  for (int v = 0; v < PROBE_SH_FLOATS; ++v) {
     const float old = probebake_probes[slot].irradiance_sh[v];
     blended[v] = push.hysteresis * old + (1.0 - push.hysteresis) * partial[0][v];
     finite = finite && !isnan(blended[v]) && !isinf(blended[v]);
   }
   // No NaN or Inf leaves the pass: a probe that would overflow keeps its value and is counted.
-  for (int v = 0; v < 27; ++v) next_irradiance[next + uint(v)] = finite ? blended[v] : probebake_probes[slot].irradiance_sh[v];
+  for (int v = 0; v < PROBE_SH_FLOATS; ++v) next_irradiance[next + uint(v)] = finite ? blended[v] : probebake_probes[slot].irradiance_sh[v];
   atomicAdd(light_counters.lit_probes, 1);
   atomicAdd(light_counters.indirect_misses, int(indirect_misses));
   if (!finite) atomicAdd(light_counters.non_finite, 1);

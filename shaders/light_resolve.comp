@@ -14,8 +14,8 @@ void main() {
   const int listed = light_slot(probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex);
   if (listed < 0 || light_slot_idle(uint(listed))) return; // as light_gather: it gathered nothing for it
   const uint slot = uint(listed);
-  const uint next = 27u * uint(light_record_slot(slot));
-  for (int v = 0; v < 27; ++v) probebake_probes[slot].irradiance_sh[v] = next_irradiance[next + uint(v)];
+  const uint next = uint(PROBE_SH_FLOATS) * uint(light_record_slot(slot));
+  for (int v = 0; v < PROBE_SH_FLOATS; ++v) probebake_probes[slot].irradiance_sh[v] = next_irradiance[next + uint(v)];
   if (probebake_probes[slot].node < 0) return; // grid probes belong to no node
   const int verdict = leaf_verdict(probebake_probes[slot].hit_fraction, probebake_probes[slot].backface_fraction,
                                    probebake_probes[slot].depth, probebake_info, LEAF_DEAD_BACKFACE_FRACTION);

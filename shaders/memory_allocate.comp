@@ -41,7 +41,7 @@ void split(MemoryWork w) {
       clear_surfel_chain(probe);
     } else {
       give_surfel_chain(probe, w.batch_first + (o - 1) * memory_frame.batches_per_probe);
-      for (int k = 0; k < 27; ++k) probebake_probes[probe].irradiance_sh[k] = probebake_probes[parent_probe].irradiance_sh[k];
+      for (int k = 0; k < PROBE_SH_FLOATS; ++k) probebake_probes[probe].irradiance_sh[k] = probebake_probes[parent_probe].irradiance_sh[k];
     }
     queue_push(memory_light_out(), child, LEAF_L1_PLACE_SURFELS);
   }

@@ -42,7 +42,7 @@ int cell_node(uint cell, out bool exact) {
 
 // Frees the subtree below `root` (an inner node): its probes but `kept` (the first found, returned) and
 // their surfel batches, its clusters; `mean` gets the sum of the probes' irradiance, `count` their number.
-int free_subtree(int root, inout float mean[27], inout int count) {
+int free_subtree(int root, inout float mean[PROBE_SH_FLOATS], inout int count) {
   int kept = -1;
   // The clusters still to visit (their meta index: a cluster is zeroed as it is visited, the words of its
   // inner nodes with it): at most 7 siblings waiting per level, and one.
@@ -61,7 +61,7 @@ int free_subtree(int root, inout float mean[27], inout int count) {
       }
       if (v >= 0) continue;
       const int probe = ~v;
-      for (int k = 0; k < 27; ++k) mean[k] += probebake_probes[probe].irradiance_sh[k];
+      for (int k = 0; k < PROBE_SH_FLOATS; ++k) mean[k] += probebake_probes[probe].irradiance_sh[k];
       ++count;
       if (kept < 0) {
         kept = probe;
@@ -81,8 +81,8 @@ void drop(uint cell) {
   bool exact;
   const int node = cell_node(cell, exact);
   if (probebake_octree[node] <= 0) return; // a leaf: nothing below it to give back
-  float mean[27];
-  for (int k = 0; k < 27; ++k) mean[k] = 0.0;
+  float mean[PROBE_SH_FLOATS];
+  for (int k = 0; k < PROBE_SH_FLOATS; ++k) mean[k] = 0.0;
   int count = 0;
   const int kept = free_subtree(node, mean, count);
   probebake_octree[node] = 0;
@@ -98,25 +98,25 @@ void drop(uint cell) {
   octree_node_cube(node, cube_min, size, depth);
   seat_probe(kept, node, cube_min, size, depth);
   clear_surfel_chain(kept);
-  for (int k = 0; k < 27; ++k) probebake_probes[kept].irradiance_sh[k] = mean[k] / float(count);
+  for (int k = 0; k < PROBE_SH_FLOATS; ++k) probebake_probes[kept].irradiance_sh[k] = mean[k] / float(count);
   queue_push(memory_light_out(), node, LEAF_L2_LIGHT);
 }
 
 CellSeat seat_at(uint s) {
-  const int i = 8 * int(s);
+  const int i = SEAT_HEADER_INTS * int(s);
   return CellSeat(uint(seat_data[i]), seat_data[i + 1], seat_data[i + 2], seat_data[i + 3], seat_data[i + 4], seat_data[i + 5],
                   seat_data[i + 6], seat_data[i + 7]);
 }
 
 // Local probe `l` of the seat as the file has it, made the probe of leaf `node` in slot `probe`.
 void seat_file_probe(CellSeat seat, int l, int probe, int node, bool reused, int batch_first) {
-  const int at = seat.first_probe + 36 * l;
+  const int at = seat.first_probe + SEAT_PROBE_INTS * l;
   probebake_probes[probe].position = vec3(intBitsToFloat(seat_data[at]), intBitsToFloat(seat_data[at + 1]), intBitsToFloat(seat_data[at + 2]));
   probebake_probes[probe].node = node;
   probebake_probes[probe].depth = seat_data[at + 5];
   probebake_probes[probe].hit_fraction = intBitsToFloat(seat_data[at + 6]);
   probebake_probes[probe].backface_fraction = intBitsToFloat(seat_data[at + 7]);
-  for (int k = 0; k < 27; ++k) probebake_probes[probe].irradiance_sh[k] = intBitsToFloat(seat_data[at + 8 + k]);
+  for (int k = 0; k < PROBE_SH_FLOATS; ++k) probebake_probes[probe].irradiance_sh[k] = intBitsToFloat(seat_data[at + 8 + k]);
   probebake_probes[probe].pad0 = 0.0;
   if (reused) clear_surfel_chain(probe);
   else give_surfel_chain(probe, batch_first);
@@ -184,7 +184,7 @@ void seat_subtree(uint s) {
     atomicAdd(memory_counters.probes_placed, w.merged);
   }
   for (int c = int(gl_LocalInvocationIndex); c < seat.clusters; c += int(MEMORY_WORKGROUP_SIZE)) {
-    const int at = seat.first_word + 9 * c, parent_slot = seat_data[at];
+    const int at = seat.first_word + OCTREE_CLUSTER_SIZE * c, parent_slot = seat_data[at];
     const int meta = cluster_stack[w.cluster_first + c];
     const int parent = parent_slot < 0 ? w.node : cluster_stack[w.cluster_first + parent_slot / 8] + 1 + parent_slot % 8;
     probebake_octree[meta] = ~parent;

@@ -29,7 +29,7 @@ void collapse(int i, MemoryWork w) {
   if (w.reuse_probe >= 0) clear_surfel_chain(probe);
   else give_surfel_chain(probe, w.batch_first);
   if (w.merged > 0) {
-    for (int k = 0; k < 27; ++k) probebake_probes[probe].irradiance_sh[k] = merge_sh[27 * i + k] / float(w.merged);
+    for (int k = 0; k < PROBE_SH_FLOATS; ++k) probebake_probes[probe].irradiance_sh[k] = merge_sh[PROBE_SH_FLOATS * i + k] / float(w.merged);
   } else {
     initial_irradiance(probe, cube_min + vec3(0.5 * size));
   }

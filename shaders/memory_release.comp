@@ -22,14 +22,14 @@ void free_leaf_probe(MemoryWork w) {
 
 void release_children(int i, inout MemoryWork w) {
   const int meta = probebake_octree[w.node];
-  for (int k = 0; k < 27; ++k) merge_sh[27 * i + k] = 0.0;
+  for (int k = 0; k < PROBE_SH_FLOATS; ++k) merge_sh[PROBE_SH_FLOATS * i + k] = 0.0;
   for (int o = 0; o < 8; ++o) {
     const int child = meta + 1 + o;
     queue_push(memory_light_out(), child, LEAF_L0_PARENT_FREED);
     const int v = probebake_octree[child];
     if (v >= 0 || node_marks[child] == MEMORY_MARK_FREEING) continue; // no probe, or M2 frees it
     const int probe = ~v;
-    for (int k = 0; k < 27; ++k) merge_sh[27 * i + k] += probebake_probes[probe].irradiance_sh[k];
+    for (int k = 0; k < PROBE_SH_FLOATS; ++k) merge_sh[PROBE_SH_FLOATS * i + k] += probebake_probes[probe].irradiance_sh[k];
     w.merged += 1;
     atomicAdd(memory_counters.probes_freed, 1);
     probebake_octree[child] = 0;

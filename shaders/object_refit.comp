@@ -1,7 +1,8 @@
-// Dynamic objects (docs/RUNTIME.md "Moving objects"): one thread per object derives, from the pose the host
-// wrote (ObjectInstance::world_from_object), the inverse that rays enter the object with and the world box
-// of the object box's 8 corners that bvh_trace.glsl tests first. The box is padded by a relative 1e-5 (and
-// 1e-6 m) so that rounding of the transformed corners never culls a triangle in a box face.
+// Dynamic objects (docs/RUNTIME_INTERNALS.md "Moving objects: internals"): one thread per object derives,
+// from the pose the host wrote (ObjectInstance::world_from_object), the inverse that rays enter the object
+// with and the world box of the object box's 8 corners that bvh_trace.glsl tests first. The box is padded by
+// a relative 1e-5 (and 1e-6 m) so that rounding of the transformed corners never culls a triangle in a box
+// face.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/bindings.h"

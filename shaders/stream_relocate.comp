@@ -1,7 +1,8 @@
-// Streamed tracing arena compaction (docs/RUNTIME.md "Streaming cells"): one cell's block moves from
-// `from_byte` to `to_byte`. The host copied the block into the scratch buffer and copies its vertices back
-// itself; one thread per inner node or face writes it at the new place, its indices shifted by the move
-// (offsets are multiples of 96, so the byte distance is a whole number of nodes, faces and vertices).
+// Streamed tracing arena compaction (docs/RUNTIME_INTERNALS.md "Streaming cells: internals"): one cell's
+// block moves from `from_byte` to `to_byte`. The host copied the block into the scratch buffer and copies its
+// vertices back itself; one thread per inner node or face writes it at the new place, its indices shifted by
+// the move (offsets are multiples of 96, so the byte distance is a whole number of nodes, faces and
+// vertices).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/bindings.h"

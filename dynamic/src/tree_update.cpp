@@ -184,7 +184,7 @@ void TreeUpdate::split(Frame& frame, int node) {
     push(frame, light_out, node, gpu::LEAF_L1_PLACE_SURFELS);
     return;
   }
-  float parent_sh[27];
+  float parent_sh[gpu::PROBE_SH_FLOATS];
   std::copy(std::begin(parent.irradiance_sh), std::end(parent.irradiance_sh), parent_sh); // split() frees the probe
   const int meta = tree_->split(node); // frees the parent's probe and surfels
   for (int octant = 0; octant < 8; ++octant) {
@@ -226,14 +226,14 @@ void TreeUpdate::collapse(Frame& frame, int node, Verdict becomes) {
   const int light_out = queue_.other_kind_segment(kMemoryPullOffset);
   formats::ProbeVolume& v = tree_->volume();
   const int meta = v.octree[std::size_t(node)];
-  float mean_sh[27] = {};
+  float mean_sh[gpu::PROBE_SH_FLOATS] = {};
   int children_with_probes = 0;
   for (int octant = 0; octant < 8; ++octant) {
     const int child = formats::child_node(meta, octant);
     push(frame, light_out, child, gpu::LEAF_L0_PARENT_FREED);
     const int probe = tree_->probe_of(child);
     if (probe == kNoIndex) continue;
-    for (int k = 0; k < 27; ++k) mean_sh[k] += v.probes[std::size_t(probe)].irradiance_sh[k];
+    for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) mean_sh[k] += v.probes[std::size_t(probe)].irradiance_sh[k];
     ++children_with_probes;
     tree_->free_probe(probe);
     ++frame.stats.probes_freed;
@@ -248,7 +248,7 @@ void TreeUpdate::collapse(Frame& frame, int node, Verdict becomes) {
   // The merged leaf keeps a probe, starting from its children's mean (the eight probes freed above are
   // in the pool again, so this cannot run dry).
   const int probe = tree_->place_probe(node);
-  for (int k = 0; k < 27; ++k) v.probes[std::size_t(probe)].irradiance_sh[k] = children_with_probes > 0 ? mean_sh[k] / float(children_with_probes) : 0.0f;
+  for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) v.probes[std::size_t(probe)].irradiance_sh[k] = children_with_probes > 0 ? mean_sh[k] / float(children_with_probes) : 0.0f;
   if (children_with_probes == 0 && *frame.initial) (*frame.initial)(v.probes[std::size_t(probe)].position, v.probes[std::size_t(probe)].irradiance_sh);
   place_surfels(frame, node);
   ++frame.stats.probes_placed;

@@ -1,4 +1,5 @@
-// Compact tracing sections (trace_mesh.h). The one subtle part is the box quantisation: a shader decodes
+// Compact tracing sections (trace_mesh.h): building them and upgrading a 1.1-1.3 volume to them (reading
+// them back is in trace_mesh_read.cpp). The one subtle part is the box quantisation: a shader decodes
 // q as lower + q * scale, which a compiler may fuse into one fma, so every quantised bound is checked
 // against both roundings and stepped outwards until neither can cut into the exact box, then one more
 // step for devices that flush denormals.
@@ -13,19 +14,14 @@
 #include <utility>
 
 #include <glm/common.hpp>
-#include <glm/geometric.hpp>
 
 #include "probebake/formats/error.h"
+#include "trace_box_decoding.h"
 
 namespace probebake::formats {
 namespace {
 
 constexpr float kSteps = float(gpu::TRACE_BOX_STEPS);
-
-float decoded(float lower, float scale, std::uint32_t q) { return lower + float(q) * scale; }
-float decoded_fused(float lower, float scale, std::uint32_t q) { return std::fma(float(q), scale, lower); }
-float lowest_decoding(float lower, float scale, std::uint32_t q) { return std::min(decoded(lower, scale, q), decoded_fused(lower, scale, q)); }
-float highest_decoding(float lower, float scale, std::uint32_t q) { return std::max(decoded(lower, scale, q), decoded_fused(lower, scale, q)); }
 
 // The step of one axis: the smallest float with lower + TRACE_BOX_STEPS * step >= upper in both roundings.
 float frame_step(float lower, float upper) {
@@ -345,59 +341,6 @@ void upgrade_tracing(ProbeVolume& volume) {
   volume.bvh_nodes.clear();
   volume.trace_triangles.clear();
   sync_info_counts(volume);
-}
-
-namespace {
-
-template <class Decode>
-TraceBox child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child, Decode lower_of, Decode upper_of) {
-  const int shift = child == 0 ? 0 : 16;
-  TraceBox box;
-  for (int a = 0; a < 3; ++a) {
-    box.lower[a] = lower_of(tree.lower[a], tree.scale[a], (node.lower[a] >> shift) & 0xFFFFu);
-    box.upper[a] = upper_of(tree.lower[a], tree.scale[a], (node.upper[a] >> shift) & 0xFFFFu);
-  }
-  return box;
-}
-
-} // namespace
-
-TraceBox decode_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
-  return child_box(tree, node, child, decoded, decoded);
-}
-
-TraceBox narrowest_child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child) {
-  return child_box(tree, node, child, highest_decoding, lowest_decoding);
-}
-
-TraceBox tree_box(const gpu::TraceTree& tree) {
-  TraceBox box;
-  box.lower = tree.lower;
-  for (int a = 0; a < 3; ++a) box.upper[a] = decoded(tree.lower[a], tree.scale[a], gpu::TRACE_BOX_STEPS);
-  return box;
-}
-
-std::size_t tracing_bytes(const ProbeVolume& v) {
-  return v.bvh_nodes.size() * sizeof(gpu::BvhNode) + v.trace_triangles.size() * sizeof(gpu::TraceTriangle) +
-         v.trace_trees.size() * sizeof(gpu::TraceTree) + v.trace_nodes.size() * sizeof(gpu::TraceNode) +
-         v.trace_faces.size() * sizeof(gpu::TraceFace) + v.trace_vertices.size() * sizeof(gpu::TraceVertex) +
-         v.trace_materials.size() * sizeof(gpu::TraceMaterial);
-}
-
-TraceFaceGeometry face_geometry(const ProbeVolume& volume, std::size_t face) {
-  const gpu::TraceFace& f = volume.trace_faces[face];
-  const auto corner = [&](int k) {
-    const gpu::TraceVertex& p = volume.trace_vertices[f.vertex[k]];
-    return glm::vec3(p.x, p.y, p.z);
-  };
-  TraceFaceGeometry g;
-  g.v0 = corner(0);
-  g.edge1 = corner(1) - g.v0;
-  g.edge2 = corner(2) - g.v0;
-  const glm::vec3 n = glm::cross(g.edge1, g.edge2);
-  const float length = glm::length(n);
-  if (length > 0.0f && std::isfinite(length)) g.normal = n / length;
-  return g;
 }
 
 } // namespace probebake::formats

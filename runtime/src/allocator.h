@@ -11,7 +11,7 @@
 
 #include <vulkan/vulkan_core.h>
 
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 

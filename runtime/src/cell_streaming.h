@@ -16,7 +16,7 @@
 #include "commands.h"
 #include "light_update_pass.h"
 #include "streamed_tracing.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 #include "probebake/streaming/cell_residency.h"
 
 namespace probebake::runtime::detail {

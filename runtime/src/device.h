@@ -12,7 +12,7 @@
 #include "allocator.h"
 #include "handles.h"
 #include "instance.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 

@@ -17,7 +17,7 @@
 #include "memory_update_pass.h"
 #include "object_poses.h"
 #include "probe_index_pass.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 

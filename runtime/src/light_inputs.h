@@ -12,7 +12,7 @@
 
 #include "gpu_volume.h"
 #include "probebake/runtime_types.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 

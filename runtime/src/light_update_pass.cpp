@@ -42,7 +42,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   const bool handed_out = records.kind == RecordSlots::Kind::handed_out;
   record_capacity_ = handed_out ? std::min(records.count, probe_capacity_) : probe_capacity_;
   create_record_pages(rays);
-  next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * 27 * sizeof(float), "next irradiance"); // by record slot
+  next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * gpu::PROBE_SH_FLOATS * sizeof(float), "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
   // The header, the listed probe slots, the slots that trace this frame (light_trace_list.comp).
   const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + 2 * VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);

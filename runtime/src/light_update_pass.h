@@ -22,7 +22,7 @@
 #include "pipelines.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/runtime_types.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 

@@ -1,8 +1,8 @@
 // The memory update (octree thesis §3.2.1: M0-M4) and the light update's state transitions (§3.2.2: L0-L3)
 // on the GPU, following dynamic::TreeUpdate (the CPU reference) rule for rule: shaders/memory_*.comp.
-// The leaf queue's three segments are key -> state sets (a key per node and segment); node clusters,
-// probes and surfel batches come from free-list stacks (pushed with atomics, popped in ranges granted by
-// one thread in queue order), never from scans. docs/RUNTIME.md lists the dispatches and barriers.
+// The leaf queue's three segments are key -> state sets (a key per node and segment); node clusters, probes
+// and surfel batches come from free-list stacks (pushed with atomics, popped in ranges granted by one thread
+// in queue order), never from scans. docs/RUNTIME_INTERNALS.md lists the dispatches and barriers.
 #pragma once
 
 #include <cstdint>
@@ -21,7 +21,7 @@
 #include "pipelines.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/memory_types.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 
@@ -101,7 +101,7 @@ private:
     std::vector<std::int32_t> words; // 9 per cluster
     std::vector<gpu::Probe> probes;
     std::vector<std::int32_t> svo;   // the SVO leaves whose bake stencils name the cell's probes: CellSeat::first_svo
-    std::size_t ints() const { return words.size() + probes.size() * 36 + svo.size(); }
+    std::size_t ints() const { return words.size() + probes.size() * gpu::SEAT_PROBE_INTS + svo.size(); }
   };
   // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
   // cell_changes_ while they fit. Returns the arrivals (seats).

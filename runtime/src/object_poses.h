@@ -15,7 +15,7 @@
 #include "gpu_volume.h"
 #include "pipelines.h"
 #include "probebake/gpu_types.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::runtime::detail {
 

@@ -1,3 +1,6 @@
+// The static tracing tree streamed by cell (streamed_tracing.h): the arena's global region, each cell's block
+// renumbered into it, drops, loads, compaction and the read-back check. The arena's size classes and block
+// allocator are in streamed_tracing_blocks.cpp.
 #include "streamed_tracing.h"
 
 #include <algorithm>
@@ -46,60 +49,6 @@ struct StreamedTracing::Layout {
 
 std::uint64_t StreamedTracing::block_bytes(const formats::CellTracing& r) {
   return r.trace_faces.count > 0 ? Layout(r.trace_nodes.count, r.trace_faces.count, r.trace_vertices.count).bytes : 0;
-}
-
-std::vector<std::uint64_t> slot_bytes(const std::vector<std::uint64_t>& blocks) {
-  std::vector<std::uint64_t> sorted(blocks);
-  std::sort(sorted.begin(), sorted.end());
-  std::map<std::uint64_t, std::uint64_t> slot_of; // block bytes -> its class's largest
-  for (std::size_t first = 0; first < sorted.size();) {
-    std::size_t end = first;
-    while (end < sorted.size() && sorted[end] <= sorted[first] + sorted[first] / kSlotClassWidth) ++end;
-    for (std::size_t i = first; i < end; ++i) slot_of[sorted[i]] = sorted[end - 1];
-    first = end;
-  }
-  std::vector<std::uint64_t> slots;
-  for (std::uint64_t bytes : blocks) slots.push_back(slot_of[bytes]);
-  return slots;
-}
-
-BlockAllocator::BlockAllocator(std::uint64_t bytes, std::uint64_t unit) : unit_(unit), units_(bytes / unit) {
-  if (units_ > 0) free_[0] = units_;
-}
-
-std::uint64_t BlockAllocator::free_bytes() const {
-  std::uint64_t units = 0;
-  for (const auto& [at, run] : free_) units += run;
-  return units * unit_;
-}
-
-void BlockAllocator::compacted(std::uint64_t used_bytes) {
-  const std::uint64_t used = (used_bytes + unit_ - 1) / unit_;
-  free_.clear();
-  if (used < units_) free_[used] = units_ - used;
-}
-
-std::int64_t BlockAllocator::allocate(std::uint64_t bytes) {
-  const std::uint64_t units = (bytes + unit_ - 1) / unit_;
-  auto best = free_.end();
-  for (auto it = free_.begin(); it != free_.end(); ++it)
-    if (it->second >= units && (best == free_.end() || it->second < best->second)) best = it;
-  if (best == free_.end()) return -1;
-  const std::uint64_t at = best->first, left = best->second - units;
-  free_.erase(best);
-  if (left > 0) free_[at + units] = left;
-  return std::int64_t(at * unit_);
-}
-
-void BlockAllocator::release(std::uint64_t offset, std::uint64_t bytes) {
-  std::uint64_t at = offset / unit_, units = (bytes + unit_ - 1) / unit_;
-  auto next = free_.lower_bound(at);
-  if (next != free_.end() && next->first == at + units) units += next->second, next = free_.erase(next);
-  if (next != free_.begin()) {
-    auto before = std::prev(next);
-    if (before->first + before->second == at) at = before->first, units += before->second, free_.erase(before);
-  }
-  free_[at] = units;
 }
 
 StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,

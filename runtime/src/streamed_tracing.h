@@ -1,10 +1,10 @@
-// The static tracing tree streamed by cell (issue #15; docs/RUNTIME.md "Streaming cells"). One device buffer,
-// the arena, holds at its start the top level of the file's cell-split tree (format 1.5, docs/FORMAT.md
-// section 6.1), the dynamic objects' trees and one null face; behind them the resident cells' blocks: each
-// cell's nodes, faces and vertices, renumbered on the host to where the block lies. The shaders' three
-// tracing bindings (nodes, faces, vertices) all alias the arena, so one budget covers the three sections. A
-// cell that is not resident is reached through a leaf holding the null face (three equal vertices, which
-// no ray hits): rays cross its box as empty space.
+// The static tracing tree streamed by cell (issue #15; docs/RUNTIME_INTERNALS.md "Streaming cells:
+// internals"). One device buffer, the arena, holds at its start the top level of the file's cell-split tree
+// (format 1.5, docs/FORMAT.md section 6.1), the dynamic objects' trees and one null face; behind them the
+// resident cells' blocks: each cell's nodes, faces and vertices, renumbered on the host to where the block
+// lies. The shaders' three tracing bindings (nodes, faces, vertices) all alias the arena, so one budget
+// covers the three sections. A cell that is not resident is reached through a leaf holding the null face
+// (three equal vertices, which no ray hits): rays cross its box as empty space.
 #pragma once
 
 #include <cstdint>

@@ -16,7 +16,7 @@ namespace {
 struct Subtree {
   std::uint64_t clusters = 0;
   std::vector<int> probes;
-  std::array<double, 27> sum{};
+  std::array<double, gpu::PROBE_SH_FLOATS> sum{};
 };
 
 // A tree that names a node twice (an unvalidated upload) would loop: no walk visits more nodes than it has.
@@ -37,7 +37,7 @@ Subtree tally(const formats::ProbeVolume& file, int root) {
       for (int o = 0; o < 8; ++o) stack.push_back(formats::child_node(v, o));
     } else if (v < 0) {
       t.probes.push_back(~v);
-      for (int k = 0; k < 27; ++k) t.sum[std::size_t(k)] += file.probes.at(std::size_t(~v)).irradiance_sh[k];
+      for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) t.sum[std::size_t(k)] += file.probes.at(std::size_t(~v)).irradiance_sh[k];
     }
   }
   return t;
@@ -122,7 +122,7 @@ formats::ProbeVolume collapse_cells(const formats::ProbeVolume& file) {
     const Subtree subtree = tally(file, n.from); // a cell's node with a subtree: one probe stands for it
     if (subtree.probes.empty()) continue;
     const int probe = place_probe(tree, n.to);
-    for (int k = 0; k < 27; ++k)
+    for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
       out.probes[std::size_t(probe)].irradiance_sh[k] = float(subtree.sum[std::size_t(k)] / double(subtree.probes.size()));
     for (int p : subtree.probes) probe_map[std::size_t(p)] = probe;
   }

@@ -1,7 +1,8 @@
-// The probe tree the memory update starts from when cells stream (docs/RUNTIME.md "With streaming"): the
-// file's tree with every cell's subtree collapsed to the cell's node, and pools sized by what the budget lets
-// be resident at once. Cells then arrive through the pools (memory_cells.comp seats the file's subtree), so
-// the device holds the probes, clusters and light records of the resident cells, not of the whole file.
+// The probe tree the memory update starts from when cells stream (docs/RUNTIME_INTERNALS.md "With
+// streaming"): the file's tree with every cell's subtree collapsed to the cell's node, and pools sized by
+// what the budget lets be resident at once. Cells then arrive through the pools (memory_cells.comp seats the
+// file's subtree), so the device holds the probes, clusters and light records of the resident cells, not of
+// the whole file.
 #pragma once
 
 #include <cstdint>

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "probebake/dynamic/animation.h"
-#include "probebake/runtime/runtime.h"
+#include "probebake/runtime/vocabulary.h"
 
 namespace probebake::run {
 

@@ -405,7 +405,7 @@ TEST(DoubleSided, ReversedCornellBoxHasTheSameBakeLighting) {
   float largest = 0.0f, worst = 0.0f;
   for (const gpu::Probe& p : a.probes) largest = std::max(largest, std::abs(p.irradiance_sh[0]));
   for (std::size_t i = 0; i < a.probes.size(); ++i)
-    for (int v = 0; v < 27; ++v) {
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) {
       const float x = a.probes[i].irradiance_sh[v], y = b.probes[i].irradiance_sh[v];
       worst = std::max(worst, std::abs(x - y) / std::max(std::abs(x), 1e-3f * largest));
     }

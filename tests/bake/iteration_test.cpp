@@ -46,10 +46,10 @@ Solved solve(const HitCache& cache, bool accelerate) {
   settings.threads = 1;
   settings.accelerate = accelerate;
   settings.max_iterations = 2000;
-  bake::lighting_detail::ShBuffer sh(27 * cache.probes.size(), 0.0);
+  bake::lighting_detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * cache.probes.size(), 0.0);
   Solved out;
   bake::lighting_detail::solve(cache, settings, sh, out.report);
-  for (std::size_t i = 0; i < cache.probes.size(); ++i) out.dc.push_back(sh[27 * i]);
+  for (std::size_t i = 0; i < cache.probes.size(); ++i) out.dc.push_back(sh[gpu::PROBE_SH_FLOATS * i]);
   std::printf("[iteration] %zu probes, accelerate %d: %d sweeps, %d extrapolations kept, %d undone, converged %d\n",
               cache.probes.size(), int(accelerate), out.report.iterations, out.report.extrapolations,
               out.report.rejected_extrapolations, int(out.report.converged));

@@ -172,7 +172,7 @@ TEST(HiddenGeometry, SealedCubesLeaveReceiversAndProbeLayoutUnchanged) {
   for (std::size_t i = 0; i < pa.volume.probes.size(); ++i) {
     EXPECT_EQ(pa.volume.probes[i].position, pb.volume.probes[i].position) << i;
     EXPECT_EQ(pa.volume.probes[i].link, pb.volume.probes[i].link) << i;
-    for (int k = 0; k < 27; ++k) EXPECT_EQ(pa.volume.probes[i].irradiance_sh[k], pb.volume.probes[i].irradiance_sh[k]) << i;
+    for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) EXPECT_EQ(pa.volume.probes[i].irradiance_sh[k], pb.volume.probes[i].irradiance_sh[k]) << i;
   }
   EXPECT_EQ(pa.volume.octree, pb.volume.octree);
   EXPECT_EQ(pa.volume.svo_nodes, pb.volume.svo_nodes);

@@ -230,7 +230,7 @@ TEST(TreeUpdate, NewProbesStartFromTheirParentsOrTheSamplersIrradiance) {
   const Box object{{0.5f, 0.5f, 0.5f}, {1.5f, 1.5f, 1.5f}};
   w.objects = {object};
   // Frame 1: the root (no probe, touched) asks for a probe; frame 2 places it from the sampler's answer.
-  const auto sampler = [](glm::vec3 p, float (&sh)[27]) { std::fill(std::begin(sh), std::end(sh), 0.0f); sh[0] = p.x; };
+  const auto sampler = [](glm::vec3 p, float (&sh)[gpu::PROBE_SH_FLOATS]) { std::fill(std::begin(sh), std::end(sh), 0.0f); sh[0] = p.x; };
   const auto trace = [&w](const formats::NodeCube& c, glm::vec3 p) { return w.trace(c, p); };
   w.update.run_frame(std::span<const Box>(&object, 1), trace, sampler);
   w.update.run_frame({}, trace, sampler);

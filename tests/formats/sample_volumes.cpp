@@ -38,7 +38,7 @@ gpu::VolumeInfo sample_settings(int placement) {
 void fill_probe_data(gpu::Probe& probe, int index) {
   probe.hit_fraction = 0.25f + 0.015625f * static_cast<float>(index % 16);
   probe.backface_fraction = 0.0625f * static_cast<float>(index % 4);
-  for (int k = 0; k < 3 * gpu::PROBE_SH_COEFFS; ++k) {
+  for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) {
     probe.irradiance_sh[k] = 0.0078125f * static_cast<float>(k + 1) + 0.001953125f * static_cast<float>(index);
   }
 }

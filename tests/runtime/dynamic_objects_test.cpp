@@ -266,7 +266,7 @@ TEST_F(DynamicObjectsTest, MovedObjectRetracesOnlyTheProbesWhoseRaysCrossItsBox)
   float worst = 0.0f, brightest = 0.0f;
   for (std::size_t i = 0; i < b.value().probes.size(); ++i) {
     if (b.value().probes[i].link == 0) continue;
-    for (int c = 0; c < 27; ++c) worst = std::max(worst, std::abs(a.value().probes[i].irradiance_sh[c] - b.value().probes[i].irradiance_sh[c]));
+    for (int c = 0; c < gpu::PROBE_SH_FLOATS; ++c) worst = std::max(worst, std::abs(a.value().probes[i].irradiance_sh[c] - b.value().probes[i].irradiance_sh[c]));
     brightest = std::max(brightest, std::abs(b.value().probes[i].irradiance_sh[0]));
   }
   std::printf("[dynamic] a room's sphere moved: %d of %d probes re-traced; after 80 frames %.2e of the brightest DC from a "

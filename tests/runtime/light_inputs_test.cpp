@@ -88,7 +88,7 @@ float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolum
   float worst = 0.0f;
   for (std::size_t i = 0; i < b.probes.size(); ++i) {
     if (b.probes[i].link == 0) continue;
-    for (int v = 0; v < 27; ++v) worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
   }
   return worst / std::max(brightest_dc(b), 1e-30f);
 }
@@ -320,7 +320,7 @@ TEST_F(LightInputsTest, RecolouredLightScalesTheProbesExactly) {
   int compared = 0, unequal = 0;
   for (std::size_t i = 0; i < x.probes.size(); ++i) {
     if (x.probes[i].link == 0) continue;
-    for (int v = 0; v < 27; ++v) {
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) {
       ++compared;
       unequal += y.probes[i].irradiance_sh[v] == scale[v % 3] * x.probes[i].irradiance_sh[v] ? 0 : 1;
     }
@@ -521,8 +521,8 @@ TEST_F(LightInputsTest, OrbitingLightLeavesNoDriftInTheCache) {
 // orbit, boxes and depths; in the second a dark headroom light changes too, so every frame has two changes and
 // no light is tracked. Every probe, matched by position (the pools hand out slots in the order threads reach
 // them), must hold the same bits in both, frame after frame, until the two trees first differ. (They can: the
-// memory update is not yet deterministic, docs/RUNTIME.md "Not done yet". From then on the probes that differ
-// light the others through the SVO, so later frames are counted, not compared.)
+// memory update is not yet deterministic, docs/RUNTIME_INTERNALS.md "Not done yet". From then on the probes
+// that differ light the others through the SVO, so later frames are counted, not compared.)
 TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
   runtime::UploadOptions options;
@@ -572,7 +572,7 @@ TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
     ++same_trees;
     for (const auto& [position, p] : x1) {
       const gpu::Probe& other = y1.at(position);
-      for (int v = 0; v < 27; ++v, ++compared) unequal += p.irradiance_sh[v] == other.irradiance_sh[v] ? 0 : 1;
+      for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v, ++compared) unequal += p.irradiance_sh[v] == other.irradiance_sh[v] ? 0 : 1;
     }
     reused_compared = reused;
     traced_compared = traced;
@@ -641,7 +641,7 @@ TEST_F(LightInputsTest, PagedLightRecordsGiveTheSameBits) {
   ASSERT_EQ(x.probes.size(), y.probes.size());
   int unequal = 0;
   for (std::size_t i = 0; i < x.probes.size(); ++i)
-    for (int v = 0; v < 27; ++v) unequal += x.probes[i].irradiance_sh[v] == y.probes[i].irradiance_sh[v] ? 0 : 1;
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) unequal += x.probes[i].irradiance_sh[v] == y.probes[i].irradiance_sh[v] ? 0 : 1;
   EXPECT_EQ(unequal, 0);
   EXPECT_GT(brightest_dc(y), 0.1f);
 

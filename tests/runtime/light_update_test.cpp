@@ -98,14 +98,14 @@ float max_sh_difference(const formats::ProbeVolume& gpu, const formats::ProbeVol
   float worst = 0.0f;
   for (std::size_t i = 0; i < cpu.probes.size(); ++i) {
     if (cpu.probes[i].link == 0) continue;
-    for (int v = 0; v < 27; ++v)
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
       worst = std::max(worst, std::abs(gpu.probes[i].irradiance_sh[v] - cpu.probes[i].irradiance_sh[v]));
   }
   return brightest > 0.0f ? worst / brightest : worst;
 }
 
 // Largest (GPU - CPU) / CPU of a DC term over the live probes lit to at least 1 % of the brightest DC, and
-// that probe's height (docs/RUNTIME.md quotes it for the flipped Cornell box).
+// that probe's height (docs/RUNTIME_INTERNALS.md quotes it for the flipped Cornell box).
 struct DcExcess {
   float relative = 0.0f;
   float y = 0.0f;
@@ -344,7 +344,7 @@ TEST_F(LightUpdateTest, SameInputSameBits) {
   const FrameRun two = run_frames(context(), b.volume, 5, 0.9f);
   ASSERT_EQ(one.volume.probes.size(), two.volume.probes.size());
   for (std::size_t i = 0; i < one.volume.probes.size(); ++i)
-    for (int v = 0; v < 27; ++v) ASSERT_EQ(one.volume.probes[i].irradiance_sh[v], two.volume.probes[i].irradiance_sh[v]);
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) ASSERT_EQ(one.volume.probes[i].irradiance_sh[v], two.volume.probes[i].irradiance_sh[v]);
 }
 
 TEST_F(LightUpdateTest, LiveStateValidAfterEveryFrameOfAHundred) {

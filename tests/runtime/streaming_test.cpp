@@ -603,7 +603,7 @@ TEST_F(StreamingTest, LitProbeCapSizesTheLightRecords) {
     return context().memory_stats().live_bytes - before;
   };
   const std::uint64_t all = device_bytes(0), capped = device_bytes(32);
-  const std::uint64_t per_probe = std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12) + 27 * sizeof(float);
+  const std::uint64_t per_probe = std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12) + gpu::PROBE_SH_FLOATS * sizeof(float);
   std::printf("[streaming] light records for every one of %zu probe slots: %llu bytes on the device; for 32: %llu\n",
               v.probes.size(), static_cast<unsigned long long>(all), static_cast<unsigned long long>(capped));
   EXPECT_EQ(all - capped, (v.probes.size() - 32) * per_probe);
@@ -762,7 +762,8 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
   const formats::ProbeVolume& v = streamed_rooms();
   runtime::UploadOptions streamed_options = streaming_options(2 * tracing_bytes_of_cells(v));
   streamed_options.memory_update = true;
-  // Pools that never run dry: in a dry pool which M1 gets a probe follows thread order (RUNTIME.md, Departures).
+  // Pools that never run dry: in a dry pool which M1 gets a probe follows thread order
+  // (docs/RUNTIME_INTERNALS.md, Departures).
   streamed_options.pools.free_probes = 4096;
   auto streamed = runtime::Volume::upload(context(), v, streamed_options);
   ASSERT_TRUE(streamed.ok()) << streamed.status().message;
@@ -781,12 +782,12 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
   for (const formats::Cell& cell : v.cells) {
     if (resident.count(cell.cell_index)) continue;
     const std::string path = cell_path(cell.cell_index, v.cell_depth);
-    std::array<double, 27> sum{};
+    std::array<double, gpu::PROBE_SH_FLOATS> sum{};
     int probes = 0;
     for (const auto& [leaf, value] : file.leaves) {
       if (!below(leaf, path) || !std::get<0>(value)) continue;
       const gpu::Probe& p = v.probes[std::size_t(~v.octree[std::size_t(node_at(v, leaf))])];
-      for (int k = 0; k < 27; ++k) sum[std::size_t(k)] += p.irradiance_sh[k];
+      for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) sum[std::size_t(k)] += p.irradiance_sh[k];
       ++probes;
     }
     if (probes == 0) continue;
@@ -794,7 +795,7 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
     ASSERT_GE(node, 0) << "cell " << cell.cell_index;
     ASSERT_LT(collapsed.octree[std::size_t(node)], 0) << "cell " << cell.cell_index << " is not a leaf with a probe";
     const gpu::Probe& mean = collapsed.probes[std::size_t(~collapsed.octree[std::size_t(node)])];
-    for (int k = 0; k < 27; ++k)
+    for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
       ASSERT_NEAR(mean.irradiance_sh[k], sum[std::size_t(k)] / probes, 1e-5 * (1.0 + std::abs(sum[std::size_t(k)] / probes)))
           << "cell " << cell.cell_index << " coefficient " << k;
     ++cells, freed += probes - 1;

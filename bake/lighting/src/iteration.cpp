@@ -16,10 +16,10 @@ namespace {
 
 // Radiance of every ray of cached probe i, projected onto the irradiance SH.
 void shade_probe(const HitCache& cache, std::size_t i, const ShBuffer& prev, double* out) {
-  const auto sh_of = [&](int probe) { return prev.data() + 27 * std::size_t(probe); };
+  const auto sh_of = [&](int probe) { return prev.data() + gpu::PROBE_SH_FLOATS * std::size_t(probe); };
   const std::size_t r = std::size_t(cache.rays_per_probe);
   const HitRecord* hits = cache.records.data() + i * r;
-  double acc[27] = {};
+  double acc[gpu::PROBE_SH_FLOATS] = {};
   for (std::size_t j = 0; j < r; ++j) {
     const HitRecord& h = hits[j];
     const glm::dvec3 radiance =
@@ -28,7 +28,7 @@ void shade_probe(const HitCache& cache, std::size_t i, const ShBuffer& prev, dou
     for (std::size_t k = 0; k < 9; ++k)
       for (int c = 0; c < 3; ++c) acc[3 * k + std::size_t(c)] += radiance[c] * double(y[k]);
   }
-  for (int v = 0; v < 27; ++v) out[v] = acc[v];
+  for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) out[v] = acc[v];
 }
 
 // Max of the last three ratios of absolute changes; -1 when fewer than three are known.
@@ -43,7 +43,7 @@ float recent_rate(const std::deque<double>& changes) {
 } // namespace
 
 void measure_noise(const HitCache& cache, const ShBuffer& sh, LightingReport& report) {
-  const auto sh_of = [&](int probe) { return sh.data() + 27 * std::size_t(probe); };
+  const auto sh_of = [&](int probe) { return sh.data() + gpu::PROBE_SH_FLOATS * std::size_t(probe); };
   const std::size_t r = std::size_t(cache.rays_per_probe);
   std::vector<double> noise;
   for (std::size_t i = 0; i < cache.probes.size() && r > 1; ++i) {
@@ -68,20 +68,20 @@ void measure_noise(const HitCache& cache, const ShBuffer& sh, LightingReport& re
 
 void sweep(const HitCache& cache, const ShBuffer& prev, ShBuffer& next, int threads) {
   parallel_for(cache.probes.size(), threads, [&](std::size_t i) {
-    shade_probe(cache, i, prev, next.data() + 27 * std::size_t(cache.probes[i]));
+    shade_probe(cache, i, prev, next.data() + gpu::PROBE_SH_FLOATS * std::size_t(cache.probes[i]));
   });
 }
 
 SweepChange measure_change(const HitCache& cache, const ShBuffer& prev, const ShBuffer& next) {
   double largest = 0.0;
   for (int p : cache.probes)
-    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(next[27 * std::size_t(p) + std::size_t(c)]));
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(next[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(c)]));
   const double floor = std::max(1e-6 * largest, double(FLT_MIN));
   double relative = 0.0;
   SweepChange change;
   for (int p : cache.probes)
     for (int c = 0; c < 3; ++c) {
-      const std::size_t v = 27 * std::size_t(p) + std::size_t(c);
+      const std::size_t v = gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(c);
       const double delta = std::abs(next[v] - prev[v]);
       relative = std::max(relative, delta / std::max(std::abs(next[v]), floor));
       change.absolute += delta;
@@ -92,8 +92,8 @@ SweepChange measure_change(const HitCache& cache, const ShBuffer& prev, const Sh
 
 void check_finite(const HitCache& cache, const ShBuffer& sh, int sweep_number) {
   for (int p : cache.probes)
-    for (int v = 0; v < 27; ++v)
-      if (!std::isfinite(float(sh[27 * std::size_t(p) + std::size_t(v)]))) // must fit the file's floats
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
+      if (!std::isfinite(float(sh[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v)]))) // must fit the file's floats
         throw Error(ErrorKind::input, fmt::format("lighting: probe {}: irradiance is not finite after sweep {} (emission "
                                                   "or light intensity beyond 32-bit float range?)",
                                                   p, sweep_number));
@@ -101,8 +101,8 @@ void check_finite(const HitCache& cache, const ShBuffer& sh, int sweep_number) {
 
 void extrapolate(const HitCache& cache, ShBuffer& current, const ShBuffer& previous, double factor) {
   for (int p : cache.probes)
-    for (int v = 0; v < 27; ++v) {
-      const std::size_t i = 27 * std::size_t(p) + std::size_t(v);
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) {
+      const std::size_t i = gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v);
       current[i] += (current[i] - previous[i]) * factor;
     }
 }

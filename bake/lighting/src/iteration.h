@@ -9,7 +9,7 @@
 
 namespace probebake::bake::lighting_detail {
 
-// SH of every probe slot of the volume (27 per probe index; free probes stay 0), in double so that the
+// SH of every probe slot of the volume (gpu::PROBE_SH_FLOATS per probe index; free probes stay 0), in double so that the
 // changes between sweeps, and the rate estimated from them, are not quantised by float rounding.
 using ShBuffer = std::vector<double>;
 

@@ -47,12 +47,12 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
   report.trace_seconds = seconds_since(start);
 
   const auto iterate_start = Clock::now();
-  lighting_detail::ShBuffer sh(27 * volume.probes.size(), 0.0);
+  lighting_detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * volume.probes.size(), 0.0);
   if (!cache.probes.empty()) lighting_detail::solve(cache, settings, sh, report);
   else report.converged = true;
   lighting_detail::measure_noise(cache, sh, report);
   for (int p : cache.probes)
-    for (int v = 0; v < 27; ++v) volume.probes[std::size_t(p)].irradiance_sh[v] = float(sh[27 * std::size_t(p) + std::size_t(v)]);
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) volume.probes[std::size_t(p)].irradiance_sh[v] = float(sh[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v)]);
   report.iterate_seconds = seconds_since(iterate_start);
   report.seconds = seconds_since(start);
   return report;

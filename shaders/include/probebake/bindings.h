@@ -113,7 +113,7 @@ PB_CONSTANT(uint, MEMORY_BINDING_CLUSTER_STACK, 14u);     // int: free cluster m
 PB_CONSTANT(uint, MEMORY_BINDING_PROBE_STACK, 15u);       // int: free probe slots
 PB_CONSTANT(uint, MEMORY_BINDING_BATCH_STACK, 16u);       // int: free surfel batches
 PB_CONSTANT(uint, MEMORY_BINDING_WORK, 17u);              // MemoryWork per pulled memory entry
-PB_CONSTANT(uint, MEMORY_BINDING_MERGE_SH, 18u);          // float[27] per pulled memory entry
+PB_CONSTANT(uint, MEMORY_BINDING_MERGE_SH, 18u);          // float[PROBE_SH_FLOATS] per pulled memory entry
 PB_CONSTANT(uint, MEMORY_BINDING_MARKS, 19u);             // int per octree element: MEMORY_MARK_*
 PB_CONSTANT(uint, MEMORY_BINDING_FRAME, 20u);             // MemoryFrame
 PB_CONSTANT(uint, MEMORY_BINDING_COUNTERS, 21u);          // MemoryCounters

@@ -34,7 +34,7 @@ layout(std430, binding = LIGHT_BINDING_RECORDS) buffer RecordPage0 { LightRecord
 layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_1) buffer RecordPage1 { LightRecord light_records_1[]; };
 layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_2) buffer RecordPage2 { LightRecord light_records_2[]; };
 layout(std430, binding = LIGHT_BINDING_RECORDS_PAGE_3) buffer RecordPage3 { LightRecord light_records_3[]; };
-layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuffer { float next_irradiance[]; }; // 27 per probe slot
+layout(std430, binding = LIGHT_BINDING_NEXT_IRRADIANCE) buffer NextIrradianceBuffer { float next_irradiance[]; }; // PROBE_SH_FLOATS per probe slot
 layout(std430, binding = LIGHT_BINDING_COUNTERS) buffer CounterBuffer { LightCounters light_counters; };
 layout(std430, binding = LIGHT_BINDING_TRACE_FLAGS) buffer TraceFlagBuffer { uint trace_flags[]; };
 #ifdef PROBEBAKE_LIGHT_LIST_WRITABLE

@@ -1,6 +1,7 @@
 // Structs and constants of the runtime's memory update (octree thesis §3.2.1, M0-M4) and of the light
 // update's state transitions (§3.2.2, L0-L3) on the GPU, shared by C++ and GLSL like gpu_types.h: std430,
-// explicit padding, static_assert on sizes and offsets (C++ side). docs/RUNTIME.md describes the buffers.
+// explicit padding, static_assert on sizes and offsets (C++ side). docs/RUNTIME_INTERNALS.md describes the
+// buffers.
 #ifndef PROBEBAKE_MEMORY_TYPES_H
 #define PROBEBAKE_MEMORY_TYPES_H
 
@@ -87,6 +88,12 @@ struct MemoryFrame {
 // Streaming: an arriving cell's subtree as the file has it, in the seat data behind MemoryFrame (ints;
 // memory_cells seats it from the pools). A word is a node's: > 0 an inner node whose cluster is local
 // cluster word - 1, < 0 a leaf with local probe ~word, 0 a leaf without a probe.
+// The seat data's layout, written by the host (MemoryUpdatePass::take_cell_changes) and read by
+// memory_cells.comp: one CellSeat record of SEAT_HEADER_INTS ints per arrival of the frame, then each
+// arrival's body: its cluster words (OCTREE_CLUSTER_SIZE per cluster), its probes (a Probe's bytes,
+// SEAT_PROBE_INTS ints each) and its SVO leaves.
+PB_CONSTANT(int, SEAT_HEADER_INTS, 8); // ints of one CellSeat record: sizeof(CellSeat) / 4
+PB_CONSTANT(int, SEAT_PROBE_INTS, 36); // ints of one probe: sizeof(Probe) / 4
 struct CellSeat {
   uint cell;       // offset  0: grid index (cells.h)
   int clusters;    // offset  4: clusters below the cell's node; -1: too large for the seat data (it grows
@@ -95,7 +102,7 @@ struct CellSeat {
   int node_word;   // offset 12: the cell's node's word
   int first_word;  // offset 16: seat-data index of 9 ints per cluster: the parent's slot (8 c + octant of
                    //   local cluster c, -1 = the cell's node), then its 8 nodes' words
-  int first_probe; // offset 20: seat-data index of the probes (Probe, 36 ints each), local probe order
+  int first_probe; // offset 20: seat-data index of the probes (Probe, SEAT_PROBE_INTS ints each), local probe order
   int svo_leaves;  // offset 24: SVO leaves whose bake stencils name a probe of the cell (in any cell)
   int first_svo;   // offset 28: seat-data index of their indices (SEAT_STENCIL_VEC4S)
 };                 // size 32
@@ -159,7 +166,8 @@ struct MemoryCounters {
 #ifdef __cplusplus
 static_assert(sizeof(MemoryPush) == 16);
 static_assert(SVO_PROBES_PER_LEAF == 4 && OCTREE_MAX_DEPTH < 16); // a key per vec4 lane, 16-bit coordinates
-static_assert(sizeof(CellSeat) == 32 && sizeof(MemoryFrame) % 16 == 0 && sizeof(Probe) == 36 * 4);
+static_assert(sizeof(CellSeat) == 32 && sizeof(MemoryFrame) % 16 == 0);
+static_assert(sizeof(CellSeat) == SEAT_HEADER_INTS * 4 && sizeof(Probe) == SEAT_PROBE_INTS * 4);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
 static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES && offsetof(MemoryFrame, boxes) == 32);
 static_assert(offsetof(MemoryFrame, cells) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, cell_depth) == 28);

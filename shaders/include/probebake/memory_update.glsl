@@ -86,7 +86,7 @@ void push_free_batch(int batch) { batch_stack[atomicAdd(memory_state.batch_top, 
 void push_free_cluster(int meta) { cluster_stack[atomicAdd(memory_state.cluster_top, 1)] = meta; }
 
 void clear_sh(int probe) {
-  for (int k = 0; k < 27; ++k) probebake_probes[probe].irradiance_sh[k] = 0.0;
+  for (int k = 0; k < PROBE_SH_FLOATS; ++k) probebake_probes[probe].irradiance_sh[k] = 0.0;
 }
 
 // Frees the probe and its surfel chain onto the free lists and zeroes the probe (formats::Octree::free_probe);
@@ -180,11 +180,11 @@ void initial_irradiance(int probe, vec3 position) {
     const int p = probebake_svo_leaves[leaf].probes[k];
     if (!svo_slot_live(leaf, k) || p == probe) continue;
     const float w = probebake_svo_leaves[leaf].weights[k];
-    for (int c = 0; c < 27; ++c) probebake_probes[probe].irradiance_sh[c] += w * probebake_probes[p].irradiance_sh[c];
+    for (int c = 0; c < PROBE_SH_FLOATS; ++c) probebake_probes[probe].irradiance_sh[c] += w * probebake_probes[p].irradiance_sh[c];
     sum += w;
   }
   if (!(sum > 0.0)) { clear_sh(probe); return; }
-  for (int c = 0; c < 27; ++c) probebake_probes[probe].irradiance_sh[c] /= sum;
+  for (int c = 0; c < PROBE_SH_FLOATS; ++c) probebake_probes[probe].irradiance_sh[c] /= sum;
 }
 
 // One thread per work item over `count` items; returns the item or -1.

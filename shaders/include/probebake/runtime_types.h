@@ -62,7 +62,7 @@ struct SamplePush {
 
 // ---- Light update (octree thesis §3.2.2), light_trace.comp / light_gather.comp / light_resolve.comp -------
 // One workgroup per probe slot for trace and gather (threads over the probe's rays), one thread per probe
-// for resolve. docs/RUNTIME.md describes the states and buffers.
+// for resolve. docs/RUNTIME_INTERNALS.md describes the states and buffers.
 PB_CONSTANT(uint, LIGHT_WORKGROUP_SIZE, 64u);
 // light_relight: one workgroup per probe too, but 256 threads (one record each at 256 rays): its shadow rays
 // are the frame's longest chain, and a few hundred probes do not fill a large GPU (latency, not throughput).
@@ -203,7 +203,7 @@ struct LightCounters {
   int unresolved_probes; // offset 44: streaming: traces that left RECORD_SLOT_UNRESOLVED, relights that newly set it
 };                     // size 48
 
-// ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME.md "Moving objects") -------------------------
+// ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME_INTERNALS.md "Moving objects: internals") ---
 // The runtime's pose of one dynamic object: the host writes world_from_object (vkCmdUpdateBuffer, rows of an
 // affine 3x4 matrix), object_refit.comp derives the rest, which bvh_trace.glsl reads: rays enter the object
 // (object_from_world, the same t in both spaces) only where they cross its world box.

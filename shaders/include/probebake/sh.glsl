@@ -1,14 +1,18 @@
-// L2 spherical harmonics of irradiance, the convention of bake/include/probebake/bake/sampler.h (real SH,
-// coefficient k = l^2 + l + m, irradiance_sh[3k + c], cosine lobe already convolved in). The order of the
-// operations follows bake/src/lighting/stencil.h so that GPU and CPU results agree to rounding.
+// L2 spherical harmonics of irradiance, the convention of bake/lighting/include/probebake/bake/sampler.h
+// (real SH, coefficient k = l^2 + l + m, irradiance_sh[3k + c], cosine lobe already convolved in). The
+// basis constants (SH_Y*) are defined once, for C++ and GLSL, in gpu_types.h. The order of the operations
+// follows bake/lighting/src/stencil.h so that GPU and CPU results agree to rounding.
 #ifndef PROBEBAKE_SH_GLSL
 #define PROBEBAKE_SH_GLSL
 
-const float PROBEBAKE_SH_Y0 = 0.282094792;  // 1 / (2 sqrt(pi))
-const float PROBEBAKE_SH_Y1 = 0.488602512;  // sqrt(3 / (4 pi))
-const float PROBEBAKE_SH_Y2 = 1.092548431;  // sqrt(15 / (4 pi))
-const float PROBEBAKE_SH_Y20 = 0.315391565; // sqrt(5 / (16 pi))
-const float PROBEBAKE_SH_Y22 = 0.546274215; // sqrt(15 / (16 pi))
+#include "probebake/gpu_types.h"
+
+// This file's names for them (used below, and by shaders that include it).
+const float PROBEBAKE_SH_Y0 = SH_Y0;
+const float PROBEBAKE_SH_Y1 = SH_Y1;
+const float PROBEBAKE_SH_Y2 = SH_Y2;
+const float PROBEBAKE_SH_Y20 = SH_Y20;
+const float PROBEBAKE_SH_Y22 = SH_Y22;
 
 // The nine basis values at unit direction d.
 void probebake_sh_basis(vec3 d, out float y[9]) {

@@ -78,7 +78,7 @@ public:
   // Probe position, its node cube -> the lattice measure in the current pose.
   using TraceLeaf = std::function<LeafTrace(const formats::NodeCube& cube, glm::vec3 probe_position)>;
   // Fills the SH irradiance a probe placed at `position` starts from (the sampler's answer there).
-  using InitialIrradiance = std::function<void(glm::vec3 position, float (&irradiance_sh)[27])>;
+  using InitialIrradiance = std::function<void(glm::vec3 position, float (&irradiance_sh)[gpu::PROBE_SH_FLOATS])>;
 
   // Seeds the leaf queue with every leaf (L2 with a probe, L3 without) when the volume has no queue yet.
   // The octree must use Growth::fixed to behave like the GPU's fixed pools.

@@ -73,15 +73,16 @@
 namespace probebake::bake {
 
 // ---- Spherical harmonics ----------------------------------------------------------------------------------
-inline constexpr float kShY0 = 0.282094792f;  // 1 / (2 sqrt(pi))
-inline constexpr float kShY1 = 0.488602512f;  // sqrt(3 / (4 pi))
-inline constexpr float kShY2 = 1.092548431f;  // sqrt(15 / (4 pi))
-inline constexpr float kShY20 = 0.315391565f; // sqrt(5 / (16 pi))
-inline constexpr float kShY22 = 0.546274215f; // sqrt(15 / (16 pi))
+// The basis constants, defined once for C++ and GLSL in gpu_types.h (sh.glsl uses the same).
+inline constexpr float kShY0 = gpu::SH_Y0;   // 1 / (2 sqrt(pi))
+inline constexpr float kShY1 = gpu::SH_Y1;   // sqrt(3 / (4 pi))
+inline constexpr float kShY2 = gpu::SH_Y2;   // sqrt(15 / (4 pi))
+inline constexpr float kShY20 = gpu::SH_Y20; // sqrt(5 / (16 pi))
+inline constexpr float kShY22 = gpu::SH_Y22; // sqrt(15 / (16 pi))
 // Clamped-cosine convolution factors A_l per band: irradiance coefficient = A_l * radiance coefficient.
-inline constexpr float kShBand0 = 3.14159265f;  // pi
-inline constexpr float kShBand1 = 2.09439510f;  // 2 pi / 3
-inline constexpr float kShBand2 = 0.785398163f; // pi / 4
+inline constexpr float kShBand0 = gpu::SH_BAND0; // pi
+inline constexpr float kShBand1 = gpu::SH_BAND1; // 2 pi / 3
+inline constexpr float kShBand2 = gpu::SH_BAND2; // pi / 4
 
 // The nine basis values at unit direction `d`, in the order above.
 std::array<float, 9> sh_basis(glm::vec3 d);

@@ -184,8 +184,8 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
       if (k >= seats_.size()) fail(StatusCode::internal, "memory update: an arrival names no cell record");
       const SeatPayload& payload = seats_[k];
       const std::size_t payload_ints = payload.ints();
-      const bool fits_alone = 8 + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
-      if (8 * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_ ||
+      const bool fits_alone = gpu::SEAT_HEADER_INTS + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
+      if (gpu::SEAT_HEADER_INTS * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_ ||
           headers.size() >= segment_capacity_) // the seats' work lives in memory_work: one entry each
         break; // the rest wait
       gpu::CellSeat seat = payload.seat;
@@ -193,7 +193,7 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
       if (fits_alone) {
         body.insert(body.end(), payload.words.begin(), payload.words.end());
         seat.first_probe = int(body.size());
-        body.resize(body.size() + payload.probes.size() * 36);
+        body.resize(body.size() + payload.probes.size() * gpu::SEAT_PROBE_INTS);
         std::memcpy(body.data() + seat.first_probe, payload.probes.data(), payload.probes.size() * sizeof(gpu::Probe));
         seat.first_svo = int(body.size());
         body.insert(body.end(), payload.svo.begin(), payload.svo.end());
@@ -210,9 +210,9 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
   frame.cell_changes = int(taken);
   frame.cell_depth = cell_depth_;
   cell_changes_.erase(cell_changes_.begin(), cell_changes_.begin() + std::ptrdiff_t(taken));
-  const int offset = int(8 * headers.size()); // the bodies follow the headers
+  const int offset = int(gpu::SEAT_HEADER_INTS * headers.size()); // the bodies follow the headers
   for (gpu::CellSeat& seat : headers) seat.first_word += offset, seat.first_probe += offset, seat.first_svo += offset;
-  seat_data.resize(8 * headers.size());
+  seat_data.resize(gpu::SEAT_HEADER_INTS * headers.size());
   std::memcpy(seat_data.data(), headers.data(), headers.size() * sizeof(gpu::CellSeat));
   seat_data.insert(seat_data.end(), body.begin(), body.end());
   return headers.size();

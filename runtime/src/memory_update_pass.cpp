@@ -199,7 +199,7 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   probe_stack_ = upload(device, sized(probes, v.probes.size()), "memory: probe stack");
   batch_stack_ = upload(device, sized(batches, v.surfel_batches.size()), "memory: batch stack");
   work_ = upload(device, nullptr, capacity * sizeof(gpu::MemoryWork), "memory: work");
-  merge_sh_ = upload(device, nullptr, capacity * 27 * sizeof(float), "memory: merge irradiance");
+  merge_sh_ = upload(device, nullptr, capacity * gpu::PROBE_SH_FLOATS * sizeof(float), "memory: merge irradiance");
   marks_ = upload(device, nullptr, v.octree.size() * sizeof(int), "memory: node marks");
   frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame) + seat_ints_ * sizeof(std::int32_t), "memory: frame inputs");
   probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");

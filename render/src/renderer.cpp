@@ -170,11 +170,12 @@ bake::Image Renderer::render_reference(bool indirect_only) {
       if (hit) points.push_back(*hit);
     reference_ = bake::reference_irradiance(*in_.scene, *in_.rays, points, in_.reference);
   }
-  std::size_t k = 0; // surfaces() visits the hit pixels in order, the order of the points traced
-  return surfaces([&](std::size_t) {
-           const glm::vec3 e = reference_->irradiance[k], direct = reference_->direct[k];
-           ++k;
-           return indirect_only ? e - direct : e;
+  std::vector<std::size_t> point_of(hits_.size(), 0); // pixel -> its traced point
+  for (std::size_t i = 0, k = 0; i < hits_.size(); ++i)
+    if (hits_[i]) point_of[i] = k++;
+  return surfaces([&](std::size_t i) {
+           const std::size_t k = point_of[i];
+           return indirect_only ? reference_->irradiance[k] - reference_->direct[k] : reference_->irradiance[k];
          })
       .image;
 }

@@ -14,16 +14,19 @@
 namespace probebake::bake::lighting_detail {
 namespace {
 
+// Radiance a cached ray brings back with the probes' SH `sh`: L = base + reflect * E_indirect.
+glm::dvec3 ray_radiance(const HitRecord& h, const ShBuffer& sh) {
+  const auto sh_of = [&](int probe) { return sh.data() + gpu::PROBE_SH_FLOATS * std::size_t(probe); };
+  return glm::dvec3(h.base) + glm::dvec3(h.reflect) * apply_stencil<double>(h.stencil, h.normal, sh_of);
+}
+
 // Radiance of every ray of cached probe i, projected onto the irradiance SH.
 void shade_probe(const HitCache& cache, std::size_t i, const ShBuffer& prev, double* out) {
-  const auto sh_of = [&](int probe) { return prev.data() + gpu::PROBE_SH_FLOATS * std::size_t(probe); };
   const std::size_t r = std::size_t(cache.rays_per_probe);
   const HitRecord* hits = cache.records.data() + i * r;
   double acc[gpu::PROBE_SH_FLOATS] = {};
   for (std::size_t j = 0; j < r; ++j) {
-    const HitRecord& h = hits[j];
-    const glm::dvec3 radiance =
-        glm::dvec3(h.base) + glm::dvec3(h.reflect) * apply_stencil<double>(h.stencil, h.normal, sh_of);
+    const glm::dvec3 radiance = ray_radiance(hits[j], prev);
     const std::array<float, 9>& y = cache.projection[j];
     for (std::size_t k = 0; k < 9; ++k)
       for (int c = 0; c < 3; ++c) acc[3 * k + std::size_t(c)] += radiance[c] * double(y[k]);
@@ -43,15 +46,12 @@ float recent_rate(const std::deque<double>& changes) {
 } // namespace
 
 void measure_noise(const HitCache& cache, const ShBuffer& sh, LightingReport& report) {
-  const auto sh_of = [&](int probe) { return sh.data() + gpu::PROBE_SH_FLOATS * std::size_t(probe); };
   const std::size_t r = std::size_t(cache.rays_per_probe);
   std::vector<double> noise;
   for (std::size_t i = 0; i < cache.probes.size() && r > 1; ++i) {
     double sum = 0.0, sum_squares = 0.0;
     for (std::size_t j = 0; j < r; ++j) {
-      const HitRecord& h = cache.records[i * r + j];
-      const glm::dvec3 radiance =
-          glm::dvec3(h.base) + glm::dvec3(h.reflect) * apply_stencil<double>(h.stencil, h.normal, sh_of);
+      const glm::dvec3 radiance = ray_radiance(cache.records[i * r + j], sh);
       const double l = (radiance.x + radiance.y + radiance.z) / 3.0;
       sum += l;
       sum_squares += l * l;

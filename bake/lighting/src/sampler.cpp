@@ -102,6 +102,45 @@ int leaf_of_voxel(const formats::ProbeVolume& volume, glm::ivec3 c, int* leaf_de
   return w.leaf;
 }
 
+// The leaf of largest weight (the first on ties), -1 when empty.
+int heaviest(const BlendedLookup& lookup) {
+  int best = -1;
+  float best_weight = 0.0f;
+  for (int i = 0; i < lookup.count; ++i)
+    if (lookup.weights[std::size_t(i)] > best_weight) best = lookup.leaves[std::size_t(i)], best_weight = lookup.weights[std::size_t(i)];
+  return best;
+}
+
+// Leaves `a` and `b` (valid indices) hold a common probe.
+bool leaves_share_a_probe(const formats::ProbeVolume& volume, int a, int b) {
+  const gpu::SvoLeaf& la = volume.svo_leaves[std::size_t(a)];
+  const gpu::SvoLeaf& lb = volume.svo_leaves[std::size_t(b)];
+  for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
+    for (int j = 0; j < gpu::SVO_PROBES_PER_LEAF; ++j)
+      if (la.probes[k] >= 0 && la.probes[k] == lb.probes[j]) return true;
+  return false;
+}
+
+// The entries of `lookup` joined to leaf `root` by chains of leaves that share a probe, in their order.
+BlendedLookup connected_to(const formats::ProbeVolume& volume, const BlendedLookup& lookup, int root) {
+  std::array<bool, 8> joined{};
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (int i = 0; i < lookup.count; ++i) {
+      if (joined[std::size_t(i)]) continue;
+      const int leaf = lookup.leaves[std::size_t(i)];
+      bool joins = leaf == root || leaves_share_a_probe(volume, leaf, root);
+      for (int j = 0; j < lookup.count && !joins; ++j)
+        joins = joined[std::size_t(j)] && leaves_share_a_probe(volume, leaf, lookup.leaves[std::size_t(j)]);
+      if (joins) joined[std::size_t(i)] = grew = true;
+    }
+  }
+  BlendedLookup out;
+  for (int i = 0; i < lookup.count; ++i)
+    if (joined[std::size_t(i)]) out.add(lookup.leaves[std::size_t(i)], lookup.weights[std::size_t(i)]);
+  return out;
+}
+
 bool has_svo(const formats::ProbeVolume& volume) {
   return !volume.svo_nodes.empty() && volume.info.svo_depth >= 0 && volume.info.svo_depth <= 30;
 }
@@ -133,42 +172,6 @@ BlendedLookup BlendedLookup::normalised() const {
   float sum = 0.0f;
   for (int i = 0; i < count; ++i) sum += weights[std::size_t(i)];
   for (int i = 0; i < count; ++i) out.weights[std::size_t(i)] = weights[std::size_t(i)] / sum;
-  return out;
-}
-
-int BlendedLookup::heaviest() const {
-  int best = -1;
-  float best_weight = 0.0f;
-  for (int i = 0; i < count; ++i)
-    if (weights[std::size_t(i)] > best_weight) best = leaves[std::size_t(i)], best_weight = weights[std::size_t(i)];
-  return best;
-}
-
-bool leaves_share_a_probe(const formats::ProbeVolume& volume, int a, int b) {
-  const gpu::SvoLeaf& la = volume.svo_leaves[std::size_t(a)];
-  const gpu::SvoLeaf& lb = volume.svo_leaves[std::size_t(b)];
-  for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
-    for (int j = 0; j < gpu::SVO_PROBES_PER_LEAF; ++j)
-      if (la.probes[k] >= 0 && la.probes[k] == lb.probes[j]) return true;
-  return false;
-}
-
-BlendedLookup connected_to(const formats::ProbeVolume& volume, const BlendedLookup& lookup, int root) {
-  std::array<bool, 8> joined{};
-  for (bool grew = true; grew;) {
-    grew = false;
-    for (int i = 0; i < lookup.count; ++i) {
-      if (joined[std::size_t(i)]) continue;
-      const int leaf = lookup.leaves[std::size_t(i)];
-      bool joins = leaf == root || leaves_share_a_probe(volume, leaf, root);
-      for (int j = 0; j < lookup.count && !joins; ++j)
-        joins = joined[std::size_t(j)] && leaves_share_a_probe(volume, leaf, lookup.leaves[std::size_t(j)]);
-      if (joins) joined[std::size_t(i)] = grew = true;
-    }
-  }
-  BlendedLookup out;
-  for (int i = 0; i < lookup.count; ++i)
-    if (joined[std::size_t(i)]) out.add(lookup.leaves[std::size_t(i)], lookup.weights[std::size_t(i)]);
   return out;
 }
 
@@ -250,7 +253,7 @@ BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 posit
     if (is_own) home = leaf;
     if (weight > 0.0f && leaf_serves(volume, leaf)) out.add(leaf, weight);
   }
-  const int root = leaf_serves(volume, home) ? home : out.heaviest();
+  const int root = leaf_serves(volume, home) ? home : heaviest(out);
   if (root < 0) return out;
   out = connected_to(volume, out, root);
   if (out.count == 0) out.add(root, 1.0f);

@@ -110,7 +110,6 @@ struct BlendedLookup {
   int count = 0;
   void add(int leaf, float weight); // adds to the entry of the same leaf, else appends
   BlendedLookup normalised() const;
-  int heaviest() const; // the leaf of largest weight (first on ties), -1 when empty
 };
 
 // The probes a blended lookup reads, each once, with their final weights (step 4): the sum over the blend's
@@ -126,10 +125,6 @@ struct ProbeBlend {
 // A leaf can serve a lookup: it holds a probe in range with a positive stored weight (its stencil is then
 // not empty, the back-face weight being at least 0.05).
 bool leaf_serves(const formats::ProbeVolume& volume, int leaf);
-// Leaves `a` and `b` (valid indices) hold a common probe.
-bool leaves_share_a_probe(const formats::ProbeVolume& volume, int a, int b);
-// The entries of `lookup` joined to leaf `root` by chains of leaves that share a probe, in their order.
-BlendedLookup connected_to(const formats::ProbeVolume& volume, const BlendedLookup& lookup, int root);
 
 // Half an SVO voxel: the normal bias of step 1.
 float normal_bias(const gpu::VolumeInfo& info);

@@ -77,7 +77,8 @@ dynamic::Box bounds_of(const scene::Scene& s, const Group& g) {
 
 // Sets the group's angle: positions rotated about the pivot from the rest pose.
 void pose(scene::Scene& s, const scene::Scene& rest, Group& g, float angle) {
-  const glm::mat4 m = glm::translate(glm::rotate(glm::translate(glm::mat4(1.0f), g.pivot), angle, glm::vec3(0, 1, 0)), -g.pivot);
+  const glm::mat4 m =
+      glm::translate(glm::rotate(glm::translate(glm::mat4(1.0f), g.pivot), angle, glm::vec3(0, 1, 0)), -g.pivot);
   for (const std::uint32_t v : g.vertices) s.positions[v] = glm::vec3(m * glm::vec4(rest.positions[v], 1.0f));
   g.angle = angle;
 }
@@ -99,7 +100,8 @@ Counts count(const formats::ProbeVolume& v) {
   Counts c;
   for (const gpu::Probe& p : v.probes) c.live += p.link != 0 ? 1 : 0;
   for (int s = 0; s < 3; ++s) {
-    for (int e = 0; e < v.leaf_header.count[s]; ++e) ++c.by_state[v.leaf_entries[std::size_t(s * v.leaf_header.segment_capacity + e)].state];
+    for (int e = 0; e < v.leaf_header.count[s]; ++e)
+      ++c.by_state[v.leaf_entries[std::size_t(s * v.leaf_header.segment_capacity + e)].state];
   }
   return c;
 }
@@ -108,16 +110,33 @@ Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&] { if (i + 1 >= argc) throw std::runtime_error(a + " needs a value"); return std::string(argv[++i]); };
-    if (a == "--move") { std::string list = next(); for (std::size_t at = 0; at <= list.size();) { const std::size_t comma = std::min(list.find(',', at), list.size()); o.move.push_back(list.substr(at, comma - at)); at = comma + 1; } }
-    else if (a == "--motion") o.motion = next();
-    else if (a == "--frames") o.frames = std::stoi(next());
-    else if (a == "--max-depth") o.max_depth = std::stoi(next());
-    else if (a == "--surfels") o.surfels = std::stoi(next());
-    else if (a == "--csv") o.csv = next();
-    else o.scene = a;
+    auto next = [&] {
+      if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
+      return std::string(argv[++i]);
+    };
+    if (a == "--move") {
+      std::string list = next();
+      for (std::size_t at = 0; at <= list.size();) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        o.move.push_back(list.substr(at, comma - at));
+        at = comma + 1;
+      }
+    } else if (a == "--motion")
+      o.motion = next();
+    else if (a == "--frames")
+      o.frames = std::stoi(next());
+    else if (a == "--max-depth")
+      o.max_depth = std::stoi(next());
+    else if (a == "--surfels")
+      o.surfels = std::stoi(next());
+    else if (a == "--csv")
+      o.csv = next();
+    else
+      o.scene = a;
   }
-  if (o.scene.empty() || o.move.empty()) throw std::runtime_error("usage: probebake-bench-animated-tree SCENE --move NAME[,NAME] [--motion thesis|revolution|soak] [--frames N] [--max-depth D] [--surfels N] [--csv FILE]");
+  if (o.scene.empty() || o.move.empty())
+    throw std::runtime_error("usage: probebake-bench-animated-tree SCENE --move NAME[,NAME] [--motion "
+                             "thesis|revolution|soak] [--frames N] [--max-depth D] [--surfels N] [--csv FILE]");
   if (o.frames == 0) o.frames = o.motion == "thesis" ? 600 : o.motion == "revolution" ? 600 : 10000;
   return o;
 }
@@ -149,7 +168,8 @@ int main(int argc, char** argv) try {
   }
   formats::Octree tree(volume, formats::Octree::Growth::fixed);
   dynamic::TreeUpdate update(tree);
-  const int start_clusters = tree.free_clusters(), start_probes = tree.free_probes(), start_batches = tree.free_batches();
+  const int start_clusters = tree.free_clusters(), start_probes = tree.free_probes(),
+            start_batches = tree.free_batches();
 
   std::ofstream csv;
   if (!o.csv.empty()) {
@@ -166,12 +186,14 @@ int main(int argc, char** argv) try {
   for (int frame = 0; frame < o.frames; ++frame) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<dynamic::Box> changed;
-    if (frame == 0) changed.push_back({volume.info.root_min, volume.info.root_min + volume.info.root_size}); // grow from the root
+    if (frame == 0)
+      changed.push_back({volume.info.root_min, volume.info.root_min + volume.info.root_size}); // grow from the root
     const bool last = frame == o.frames - 1;
     for (Group& g : groups) {
       // The soak holds still for 50 frames at each end, in the rest pose at the end, to compare the pools.
       const bool soak_moves = frame >= 50 && frame < o.frames - 50;
-      const float angle = o.motion == "soak" ? (soak_moves ? g.angle + turn(rng) : 0.0f) : scripted_angle(o.motion, frame);
+      const float angle =
+          o.motion == "soak" ? (soak_moves ? g.angle + turn(rng) : 0.0f) : scripted_angle(o.motion, frame);
       if (angle == g.angle) continue;
       const dynamic::Box before = bounds_of(moving, g);
       pose(moving, rest, g, angle);
@@ -195,28 +217,35 @@ int main(int argc, char** argv) try {
     if (last) probes_at[2] = c.live;
     if (frame % 100 == 0 || last) {
       formats::rebuild_probe_index(volume);
-      violations += int(formats::validate(volume).violations.size()) + int(dynamic::check_queue_covers_tree(volume).size());
+      violations +=
+          int(formats::validate(volume).violations.size()) + int(dynamic::check_queue_covers_tree(volume).size());
     }
     violations += st.lost_entries + st.stale_entries;
     if (csv.is_open()) {
-      csv << frame << ',' << std::chrono::duration<double, std::milli>(t2 - t0).count() << ',' << ms_tree << ',' << c.live << ','
-          << st.probes_placed << ',' << st.probes_freed << ',' << st.splits << ',' << st.collapses << ',' << st.failed_allocations << ',' << st.deferred;
+      csv << frame << ',' << std::chrono::duration<double, std::milli>(t2 - t0).count() << ',' << ms_tree << ','
+          << c.live << ',' << st.probes_placed << ',' << st.probes_freed << ',' << st.splits << ',' << st.collapses
+          << ',' << st.failed_allocations << ',' << st.deferred;
       for (const int n : c.by_state) csv << ',' << n;
       csv << "\n";
     }
   }
   // The soak ends in the rest pose: let the tree settle and compare the pools with the first settled state.
-  fmt::print("| scene | motion | frames | max depth | surfels | probes f199 | probes f349 | probes last | max live | tree ms median | tree ms worst | violations |\n");
+  fmt::print("| scene | motion | frames | max depth | surfels | probes f199 | probes f349 | probes last | max live | "
+             "tree ms median | tree ms worst | violations |\n");
   fmt::print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  fmt::print("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {} |\n", std::filesystem::path(o.scene).filename().string(), o.motion,
-             o.frames, o.max_depth, o.surfels, probes_at[0], probes_at[1], probes_at[2], max_live, median(tree_ms),
+  fmt::print("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {} |\n",
+             std::filesystem::path(o.scene).filename().string(), o.motion, o.frames, o.max_depth, o.surfels,
+             probes_at[0], probes_at[1], probes_at[2], max_live, median(tree_ms),
              *std::max_element(tree_ms.begin(), tree_ms.end()), violations);
-  fmt::print("pool use at the end: clusters {}, probes {}, batches {} (of {}, {}, {})\n", start_clusters - tree.free_clusters(),
-             start_probes - tree.free_probes(), start_batches - tree.free_batches(), start_clusters, start_probes, start_batches);
+  fmt::print("pool use at the end: clusters {}, probes {}, batches {} (of {}, {}, {})\n",
+             start_clusters - tree.free_clusters(), start_probes - tree.free_probes(),
+             start_batches - tree.free_batches(), start_clusters, start_probes, start_batches);
   const std::array<int, 3> pools_at_end{tree.free_clusters(), tree.free_probes(), tree.free_batches()};
-  if (o.motion == "soak") fmt::print("pools after returning to the rest pose: {} the settled start (free clusters/probes/batches {}/{}/{} vs {}/{}/{})\n",
-                                     pools_at_end == pools_at_start ? "equal to" : "DIFFERENT from", pools_at_end[0], pools_at_end[1], pools_at_end[2],
-                                     pools_at_start[0], pools_at_start[1], pools_at_start[2]);
+  if (o.motion == "soak")
+    fmt::print("pools after returning to the rest pose: {} the settled start (free clusters/probes/batches {}/{}/{} vs "
+               "{}/{}/{})\n",
+               pools_at_end == pools_at_start ? "equal to" : "DIFFERENT from", pools_at_end[0], pools_at_end[1],
+               pools_at_end[2], pools_at_start[0], pools_at_start[1], pools_at_start[2]);
   return violations == 0 && (o.motion != "soak" || pools_at_end == pools_at_start) ? 0 : 1;
 } catch (const std::exception& e) {
   fmt::print(stderr, "probebake-bench-animated-tree: error: {}\n", e.what());

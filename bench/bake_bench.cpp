@@ -26,7 +26,8 @@ struct Row {
   std::size_t bytes = 0;
 };
 
-Row run(const std::string& name, const std::filesystem::path& path, const std::string& label, const bake::BakeSettings& s) {
+Row run(const std::string& name, const std::filesystem::path& path, const std::string& label,
+        const bake::BakeSettings& s) {
   Row row;
   row.scene = name;
   row.settings = label;
@@ -57,8 +58,10 @@ void print(const std::vector<Row>& rows) {
     fmt::print("| {} | {} | {} | {} | {} / {} / {} | {} | {:.3f} |", r.scene, r.settings, r.triangles, r.report.probes,
                r.report.dead_probes, r.report.moved_probes, r.report.freed_probes, r.bytes, r.load_seconds);
     for (const char* s : stages) {
-      if (t.count(s) != 0) fmt::print(" {:.3f} |", t[s]);
-      else fmt::print(" – |");
+      if (t.count(s) != 0)
+        fmt::print(" {:.3f} |", t[s]);
+      else
+        fmt::print(" – |");
     }
     fmt::print(" {:.3f} |\n", total);
   }

@@ -53,20 +53,33 @@ Options parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool value = i + 1 < argc;
-    if (arg == "--budgets" && value) o.budgets = int_list(argv[++i]);
-    else if (arg == "--after" && value) o.after = int_list(argv[++i]);
-    else if (arg == "--shadow-rays" && value) o.shadow_rays = int_list(argv[++i]);
-    else if (arg == "--light" && value) o.light = std::string(argv[i + 1]) == "all" ? (++i, -1) : std::max(0, std::atoi(argv[++i]));
-    else if (arg == "--radius" && value) o.radius = std::strtof(argv[++i], nullptr);
-    else if (arg == "--period" && value) o.period = std::max(1, std::atoi(argv[++i]));
-    else if (arg == "--motion" && value) o.motion = std::max(0, std::atoi(argv[++i]));
-    else if (arg == "--settle" && value) o.settle = std::max(1, std::atoi(argv[++i]));
-    else if (arg == "--hysteresis" && value) o.hysteresis = std::strtof(argv[++i], nullptr);
-    else if (arg == "--device" && value) o.device = argv[++i];
-    else if (o.file.empty() && !arg.empty() && arg[0] != '-') o.file = arg;
-    else throw std::runtime_error(kUsage);
+    if (arg == "--budgets" && value)
+      o.budgets = int_list(argv[++i]);
+    else if (arg == "--after" && value)
+      o.after = int_list(argv[++i]);
+    else if (arg == "--shadow-rays" && value)
+      o.shadow_rays = int_list(argv[++i]);
+    else if (arg == "--light" && value)
+      o.light = std::string(argv[i + 1]) == "all" ? (++i, -1) : std::max(0, std::atoi(argv[++i]));
+    else if (arg == "--radius" && value)
+      o.radius = std::strtof(argv[++i], nullptr);
+    else if (arg == "--period" && value)
+      o.period = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--motion" && value)
+      o.motion = std::max(0, std::atoi(argv[++i]));
+    else if (arg == "--settle" && value)
+      o.settle = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--hysteresis" && value)
+      o.hysteresis = std::strtof(argv[++i], nullptr);
+    else if (arg == "--device" && value)
+      o.device = argv[++i];
+    else if (o.file.empty() && !arg.empty() && arg[0] != '-')
+      o.file = arg;
+    else
+      throw std::runtime_error(kUsage);
   }
-  if (o.file.empty() || !(o.hysteresis >= 0.0f && o.hysteresis < 1.0f) || !std::isfinite(o.radius)) throw std::runtime_error(kUsage);
+  if (o.file.empty() || !(o.hysteresis >= 0.0f && o.hysteresis < 1.0f) || !std::isfinite(o.radius))
+    throw std::runtime_error(kUsage);
   std::sort(o.after.begin(), o.after.end());
   return o;
 }
@@ -104,18 +117,20 @@ double median(std::vector<double> values) {
 
 struct BudgetRun {
   int budget = 0, shadow_rays = 0;
-  double light_ms = 0.0;                     // median GPU ms per frame of the light passes
-  double moving_ms = 0.0;                    // ... over the frames in which lights moved
+  double light_ms = 0.0;                       // median GPU ms per frame of the light passes
+  double moving_ms = 0.0;                      // ... over the frames in which lights moved
   std::vector<std::vector<float>> checkpoints; // DC terms at each --after frame
-  std::vector<float> settled;                // after the last checkpoint and --settle more frames
+  std::vector<float> settled;                  // after the last checkpoint and --settle more frames
 };
 
-BudgetRun run_budget(runtime::Context& context, const formats::ProbeVolume& file, const Options& o, int budget, int shadow_rays) {
+BudgetRun run_budget(runtime::Context& context, const formats::ProbeVolume& file, const Options& o, int budget,
+                     int shadow_rays) {
   runtime::UploadOptions upload;
   upload.hysteresis = o.hysteresis;
   runtime::Volume volume = value_or_die(runtime::Volume::upload(context, file, upload));
   std::vector<gpu::PunctualLight> lights = file.punctual_lights;
-  if (o.light >= int(lights.size()) || lights.empty()) throw std::runtime_error("the file has no punctual light " + std::to_string(o.light));
+  if (o.light >= int(lights.size()) || lights.empty())
+    throw std::runtime_error("the file has no punctual light " + std::to_string(o.light));
   const std::vector<gpu::PunctualLight> baked = lights;
   BudgetRun out;
   out.budget = budget, out.shadow_rays = shadow_rays;
@@ -128,8 +143,9 @@ BudgetRun run_budget(runtime::Context& context, const formats::ProbeVolume& file
       const float angle = 6.2831853f * float(f) / float(o.period);
       for (std::size_t l = 0; l < lights.size(); ++l)
         if (o.light < 0 || std::size_t(o.light) == l)
-          lights[l].position = f == o.motion ? baked[l].position
-                                             : baked[l].position + o.radius * glm::vec3(std::sin(angle), 0.0f, 1.0f - std::cos(angle));
+          lights[l].position =
+              f == o.motion ? baked[l].position
+                            : baked[l].position + o.radius * glm::vec3(std::sin(angle), 0.0f, 1.0f - std::cos(angle));
       in.lights = lights;
     }
     const runtime::FrameStats stats = value_or_die(volume.run_frame(in));
@@ -164,15 +180,17 @@ int main(int argc, char** argv) {
     std::printf("device: %s\nfile: %s, %zu probe slots, %zu punctual lights; %s orbits %.2f m (period %d) for %d "
                 "frames, then stands at its baked position; hysteresis %.2f\n",
                 context.device_info().name.c_str(), o.file.c_str(), file.probes.size(), file.punctual_lights.size(),
-                o.light < 0 ? "every light" : ("light " + std::to_string(o.light)).c_str(), double(o.radius), o.period, o.motion,
-                double(o.hysteresis));
+                o.light < 0 ? "every light" : ("light " + std::to_string(o.light)).c_str(), double(o.radius), o.period,
+                o.motion, double(o.hysteresis));
     std::vector<BudgetRun> runs;
     for (int budget : o.budgets)
       for (int shadow_rays : o.shadow_rays) runs.push_back(run_budget(context, file, o, budget, shadow_rays));
     // The settled answer: the run without budgets, else the first, after its settle frames.
-    const auto all = std::find_if(runs.begin(), runs.end(), [](const BudgetRun& r) { return r.budget == 0 && r.shadow_rays == 0; });
+    const auto all =
+        std::find_if(runs.begin(), runs.end(), [](const BudgetRun& r) { return r.budget == 0 && r.shadow_rays == 0; });
     const std::vector<float>& settled = (all != runs.end() ? *all : runs.front()).settled;
-    std::printf("\n| gather budget (probes per frame) | shadow rays per record | light passes GPU ms per frame (median) | while lights move |");
+    std::printf("\n| gather budget (probes per frame) | shadow rays per record | light passes GPU ms per frame "
+                "(median) | while lights move |");
     for (int k : o.after) std::printf(" error %d frames after |", k);
     std::printf(" error settled |\n|--:|--:|--:|--:|");
     for (std::size_t k = 0; k <= o.after.size(); ++k) std::printf("--:|");

@@ -21,7 +21,9 @@ namespace {
 using namespace probebake::formats;
 using Clock = std::chrono::steady_clock;
 
-double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 // Milliseconds to read every cell with faces once, the median of `runs`.
 double read_all_ms(const CellFile& file, std::size_t cells, int runs) {
@@ -41,8 +43,10 @@ int main(int argc, char** argv) {
   if (argc < 2) return std::fprintf(stderr, "usage: probebake-bench-cell-read FILE.probes [--runs N]\n"), 1;
   int runs = 5;
   for (int i = 2; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else return std::fprintf(stderr, "usage: probebake-bench-cell-read FILE.probes [--runs N]\n"), 1;
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else
+      return std::fprintf(stderr, "usage: probebake-bench-cell-read FILE.probes [--runs N]\n"), 1;
   }
   try {
     auto start = Clock::now();
@@ -53,7 +57,8 @@ int main(int argc, char** argv) {
     start = Clock::now();
     const ValidationReport report = validate_without_cells(opened.volume, opened.tracing(), entries);
     const double global_ms = ms_since(start);
-    if (!report.valid()) return std::fprintf(stderr, "%s: %s\n", argv[1], format_violation(report.violations.front()).c_str()), 1;
+    if (!report.valid())
+      return std::fprintf(stderr, "%s: %s\n", argv[1], format_violation(report.violations.front()).c_str()), 1;
     std::uint64_t bytes = 0;
     for (const CellTracing& t : opened.volume.cell_tracing) bytes += cell_tracing_bytes(t);
     const std::size_t cells = opened.volume.cells.size();
@@ -61,9 +66,12 @@ int main(int argc, char** argv) {
     const double plain = read_all_ms(opened.file, cells, runs);
     opened.file.expect_unread(opened.volume, entries);
     const double checked = read_all_ms(opened.file, cells, runs);
-    std::printf("open (global part, %.1f MB read): %.1f ms; validate_without_cells: %.1f ms\n", double(opened.bytes_read) / 1e6, open_ms, global_ms);
-    std::printf("| cells | tracing MB | read + checksum, ms per cell | + validate_cell_tracing, ms per cell | ratio |\n|--:|--:|--:|--:|--:|\n");
-    std::printf("| %zu | %.1f | %.3f | %.3f | %.2f |\n", cells, double(bytes) / 1e6, plain / double(cells), checked / double(cells), checked / plain);
+    std::printf("open (global part, %.1f MB read): %.1f ms; validate_without_cells: %.1f ms\n",
+                double(opened.bytes_read) / 1e6, open_ms, global_ms);
+    std::printf("| cells | tracing MB | read + checksum, ms per cell | + validate_cell_tracing, ms per cell | ratio "
+                "|\n|--:|--:|--:|--:|--:|\n");
+    std::printf("| %zu | %.1f | %.3f | %.3f | %.2f |\n", cells, double(bytes) / 1e6, plain / double(cells),
+                checked / double(cells), checked / plain);
   } catch (const probebake::Error& error) {
     return std::fprintf(stderr, "%s\n", error.what()), 2;
   }

@@ -26,14 +26,17 @@ std::vector<unsigned char> encode(int side) {
     for (int x = 0; x < side; ++x) {
       unsigned char* p = &rgba[(std::size_t(y) * std::size_t(side) + std::size_t(x)) * 4];
       const unsigned noise = random() % 16;
-      p[0] = static_cast<unsigned char>(x * 255 / side + noise), p[1] = static_cast<unsigned char>(y * 255 / side + noise);
+      p[0] = static_cast<unsigned char>(x * 255 / side + noise),
+      p[1] = static_cast<unsigned char>(y * 255 / side + noise);
       p[2] = static_cast<unsigned char>(128 + noise), p[3] = 255;
     }
   std::vector<unsigned char> png;
-  stbi_write_png_to_func([](void* out, void* data, int size) {
-    auto* bytes = static_cast<std::vector<unsigned char>*>(out);
-    bytes->insert(bytes->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
-  }, &png, side, side, 4, rgba.data(), side * 4);
+  stbi_write_png_to_func(
+      [](void* out, void* data, int size) {
+        auto* bytes = static_cast<std::vector<unsigned char>*>(out);
+        bytes->insert(bytes->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+      },
+      &png, side, side, 4, rgba.data(), side * 4);
   return png;
 }
 
@@ -54,8 +57,10 @@ double median_ms(int runs, F&& f) {
 int main(int argc, char** argv) {
   int runs = 9;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else return std::fprintf(stderr, "usage: probebake-bench-png [--runs N]\n"), 1;
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else
+      return std::fprintf(stderr, "usage: probebake-bench-png [--runs N]\n"), 1;
   }
   std::printf("| side | PNG bytes | loader's stb, capped, ms | libstb ms | ratio |\n|--:|--:|--:|--:|--:|\n");
   for (int side : {512, 1024, 2048, 4096}) {
@@ -65,8 +70,10 @@ int main(int argc, char** argv) {
       probebake::scene::detail::StbHeader header;
       probebake::scene::detail::StbImage image;
       ok = probebake::scene::detail::read_stb_header(png.data(), int(png.size()), header) &&
-           probebake::scene::detail::decode_capped(png.data(), int(png.size()), header, probebake::scene::detail::stb_decode_cap(header, int(png.size())),
-                                                   image) == probebake::scene::detail::StbDecode::ok && ok;
+           probebake::scene::detail::decode_capped(png.data(), int(png.size()), header,
+                                                   probebake::scene::detail::stb_decode_cap(header, int(png.size())),
+                                                   image) == probebake::scene::detail::StbDecode::ok &&
+           ok;
     });
     const double libstb = median_ms(runs, [&] {
       int w = 0, h = 0, n = 0;

@@ -31,13 +31,21 @@ Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--frames" && i + 1 < argc) o.frames = std::max(1, std::atoi(argv[++i]));
-    else if (arg == "--device" && i + 1 < argc) o.device = argv[++i];
-    else if (arg == "--memory-update") o.memory_update = true;
-    else if (o.file.empty() && arg[0] != '-') o.file = arg;
-    else throw std::runtime_error("usage: probebake-bench-record FILE.probes [--frames N] [--memory-update] [--device NAME]");
+    if (arg == "--frames" && i + 1 < argc)
+      o.frames = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--device" && i + 1 < argc)
+      o.device = argv[++i];
+    else if (arg == "--memory-update")
+      o.memory_update = true;
+    else if (o.file.empty() && arg[0] != '-')
+      o.file = arg;
+    else
+      throw std::runtime_error(
+          "usage: probebake-bench-record FILE.probes [--frames N] [--memory-update] [--device NAME]");
   }
-  if (o.file.empty()) throw std::runtime_error("usage: probebake-bench-record FILE.probes [--frames N] [--memory-update] [--device NAME]");
+  if (o.file.empty())
+    throw std::runtime_error(
+        "usage: probebake-bench-record FILE.probes [--frames N] [--memory-update] [--device NAME]");
   return o;
 }
 
@@ -96,7 +104,9 @@ struct HostFrame {
   }
 };
 
-double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 struct Summary {
   double median = 0, p95 = 0, max = 0;
@@ -152,9 +162,10 @@ int run(const Options& o) {
   std::printf("| host CPU per frame | median ms | p95 ms | max ms |\n|---|--:|--:|--:|\n");
   std::printf("| record_frame (host's command buffer) | %.4f | %.4f | %.4f |\n", record.median, record.p95, record.max);
   std::printf("| poll_frame_stats | %.4f | %.4f | %.4f |\n", poll.median, poll.p95, poll.max);
-  std::printf("| run_frame (record + submit + wait) | %.4f | %.4f | %.4f |\n", submitted.median, submitted.p95, submitted.max);
-  std::printf("GPU ms per frame, median: recorded %.4f, run_frame %.4f; record_frame / run_frame CPU: %.3f\n", gpu_recorded.median,
-              gpu_run.median, record.median / submitted.median);
+  std::printf("| run_frame (record + submit + wait) | %.4f | %.4f | %.4f |\n", submitted.median, submitted.p95,
+              submitted.max);
+  std::printf("GPU ms per frame, median: recorded %.4f, run_frame %.4f; record_frame / run_frame CPU: %.3f\n",
+              gpu_recorded.median, gpu_run.median, record.median / submitted.median);
   return 0;
 }
 

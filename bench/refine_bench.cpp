@@ -49,19 +49,22 @@ bake::EvalConfig parse_config(const std::string& token) {
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 3) throw Error(ErrorKind::usage, "usage: probebake-bench-refine SCENE CONFIG... [--threads N] [--baseline LABEL]");
+    if (argc < 3)
+      throw Error(ErrorKind::usage, "usage: probebake-bench-refine SCENE CONFIG... [--threads N] [--baseline LABEL]");
     bake::EvalSettings settings;
     settings.baseline = std::string("-"); // no all-probes row unless --baseline names a configuration
     for (int i = 2; i < argc; ++i) {
       const std::string arg = argv[i];
-      if (arg == "--threads" && i + 1 < argc) settings.threads = std::atoi(argv[++i]);
-      else if (arg == "--baseline" && i + 1 < argc) settings.baseline = argv[++i];
-      else settings.configs.push_back(parse_config(arg));
+      if (arg == "--threads" && i + 1 < argc)
+        settings.threads = std::atoi(argv[++i]);
+      else if (arg == "--baseline" && i + 1 < argc)
+        settings.baseline = argv[++i];
+      else
+        settings.configs.push_back(parse_config(arg));
     }
     bake::check_eval_settings(settings);
-    const bake::EvalResult result = bake::evaluate(argv[1], settings, [](const std::string& m) {
-      fmt::print(stderr, "{}\n", m);
-    });
+    const bake::EvalResult result =
+        bake::evaluate(argv[1], settings, [](const std::string& m) { fmt::print(stderr, "{}\n", m); });
     std::puts(bake::eval_markdown_table(result).c_str());
     return 0;
   } catch (const std::exception& e) {

@@ -38,8 +38,10 @@ nlohmann::ordered_json section_bytes(const formats::ProbeVolume& v) {
   formats::for_each_section(v, [&](formats::SectionType type, const auto& member) {
     using Member = std::decay_t<decltype(member)>;
     std::size_t size = sizeof(Member);
-    if constexpr (requires { member.data(); }) size = member.size() * sizeof(typename Member::value_type);
-    else if constexpr (requires { member.has_value(); }) size = member ? sizeof(typename Member::value_type) : 0;
+    if constexpr (requires { member.data(); })
+      size = member.size() * sizeof(typename Member::value_type);
+    else if constexpr (requires { member.has_value(); })
+      size = member ? sizeof(typename Member::value_type) : 0;
     if (type == formats::SectionType::leaf_queue_header && v.leaf_entries.empty()) size = 0;
     bytes[formats::section_name(static_cast<std::uint32_t>(type))] = size;
   });
@@ -61,14 +63,14 @@ struct BakeCommandSettings {
   std::string split_rule; // empty: error with --probes, else hit-fraction
   std::vector<float> split_range;
   bool json = false;
-  std::string cells;               // --cells LIST: bake a part
-  std::vector<std::string> parts;  // merge: the parts' files
+  std::string cells;              // --cells LIST: bake a part
+  std::vector<std::string> parts; // merge: the parts' files
   bake::BakeSettings bake;
   SceneInputOptions input;
 };
 
 nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string& output, std::size_t bytes,
-                           const formats::ProbeVolume& v) {
+                                   const formats::ProbeVolume& v) {
   nlohmann::ordered_json j;
   j["output"] = output;
   j["bytes"] = bytes;
@@ -80,13 +82,19 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
   j["moved_probes"] = r.moved_probes;
   j["freed_probes"] = r.freed_probes;
   j["clearance"] = r.clearance;
-  j["lighting"] = {{"iterations", r.lighting.iterations}, {"extrapolations", r.lighting.extrapolations},
+  j["lighting"] = {{"iterations", r.lighting.iterations},
+                   {"extrapolations", r.lighting.extrapolations},
                    {"rejected_extrapolations", r.lighting.rejected_extrapolations},
-                   {"converged", r.lighting.converged}, {"change", r.lighting.change},
-                   {"estimated_error", r.lighting.estimated_error}, {"rays", r.lighting.rays},
-                   {"noise_median", r.lighting.noise_median}, {"noise_p95", r.lighting.noise_p95},
+                   {"converged", r.lighting.converged},
+                   {"change", r.lighting.change},
+                   {"estimated_error", r.lighting.estimated_error},
+                   {"rays", r.lighting.rays},
+                   {"noise_median", r.lighting.noise_median},
+                   {"noise_p95", r.lighting.noise_p95},
                    {"seconds", r.lighting.seconds}};
-  j["svo"] = {{"nodes", r.svo_nodes}, {"leaves", r.svo_leaves}, {"solid_voxels", r.svo_solid_voxels},
+  j["svo"] = {{"nodes", r.svo_nodes},
+              {"leaves", r.svo_leaves},
+              {"solid_voxels", r.svo_solid_voxels},
               {"uncovered_voxels", r.svo_uncovered_voxels},
               {"bytes", v.svo_nodes.size() * 4 + v.svo_leaves.size() * sizeof(gpu::SvoLeaf)}};
   std::uint64_t cell_total = 0, cell_largest = 0;
@@ -94,16 +102,25 @@ nlohmann::ordered_json report_json(const bake::BakeReport& r, const std::string&
     const std::uint64_t cell = formats::cell_bytes(v, k);
     cell_total += cell, cell_largest = std::max(cell_largest, cell);
   }
-  j["cells"] = {{"depth", r.cell_depth}, {"size", r.cell_size}, {"count", v.cells.size()}, {"bytes", cell_total}, {"largest_bytes", cell_largest},
-                {"split_tracing", !v.cell_tracing.empty()}};
+  j["cells"] = {{"depth", r.cell_depth}, {"size", r.cell_size},           {"count", v.cells.size()},
+                {"bytes", cell_total},   {"largest_bytes", cell_largest}, {"split_tracing", !v.cell_tracing.empty()}};
   j["sections"] = section_bytes(v);
   const bake::RuntimeLightingReport& g = r.runtime_lighting;
-  j["runtime_lighting"] = {{"written", g.written}, {"bvh_nodes", g.bvh_nodes}, {"bvh_depth", g.bvh_depth},
-                           {"triangles", g.triangles}, {"left_out_triangles", g.left_out_triangles}, {"lights", g.lights},
-                           {"emitter_patches", g.emitter_patches}, {"dynamic_objects", g.dynamic_objects}, {"vertices", g.vertices},
-                           {"materials", g.materials}, {"bytes", g.bytes}, {"tracing_bytes", g.tracing_bytes},
-                           {"tracing_bytes_per_triangle", g.triangles > 0 ? double(g.tracing_bytes) / g.triangles : 0.0},
-                           {"bvh_seconds", g.bvh_seconds}};
+  j["runtime_lighting"] = {
+      {"written", g.written},
+      {"bvh_nodes", g.bvh_nodes},
+      {"bvh_depth", g.bvh_depth},
+      {"triangles", g.triangles},
+      {"left_out_triangles", g.left_out_triangles},
+      {"lights", g.lights},
+      {"emitter_patches", g.emitter_patches},
+      {"dynamic_objects", g.dynamic_objects},
+      {"vertices", g.vertices},
+      {"materials", g.materials},
+      {"bytes", g.bytes},
+      {"tracing_bytes", g.tracing_bytes},
+      {"tracing_bytes_per_triangle", g.triangles > 0 ? double(g.tracing_bytes) / g.triangles : 0.0},
+      {"bvh_seconds", g.bvh_seconds}};
   j["stages"] = nlohmann::ordered_json::object();
   j["stages_cpu"] = nlohmann::ordered_json::object(); // CPU seconds, all threads: comparable on a loaded machine
   double total = 0.0, total_cpu = 0.0;
@@ -133,27 +150,33 @@ void print_report(const nlohmann::ordered_json& j) {
     fmt::print("lighting     {} iterations ({} extrapolated, {} undone), {}, estimated error {:.2g}\n",
                lighting["iterations"].get<int>(), lighting["extrapolations"].get<int>(),
                lighting["rejected_extrapolations"].get<int>(),
-               lighting["converged"].get<bool>() ? "converged" : "NOT converged", lighting["estimated_error"].get<float>());
+               lighting["converged"].get<bool>() ? "converged" : "NOT converged",
+               lighting["estimated_error"].get<float>());
   if (lighting["iterations"].get<int>() > 0) {
     const float noise = lighting["noise_median"].get<float>();
-    fmt::print("probe noise  {:.3g} median, {:.3g} 95th percentile (standard error of a probe's mean ray radiance){}\n", noise,
-               lighting["noise_p95"].get<float>(),
-               noise > kVisibleProbeNoise ? fmt::format("; above {} the lookup shows blotches: 4x --light-rays halves it", kVisibleProbeNoise) : "");
+    fmt::print("probe noise  {:.3g} median, {:.3g} 95th percentile (standard error of a probe's mean ray radiance){}\n",
+               noise, lighting["noise_p95"].get<float>(),
+               noise > kVisibleProbeNoise
+                   ? fmt::format("; above {} the lookup shows blotches: 4x --light-rays halves it", kVisibleProbeNoise)
+                   : "");
   }
   fmt::print("svo          {} nodes, {} leaves, {} bytes ({} solid and {} uncovered voxels left empty)\n",
              j["svo"]["nodes"].get<int>(), j["svo"]["leaves"].get<int>(), j["svo"]["bytes"].get<std::size_t>(),
              j["svo"]["solid_voxels"].get<int>(), j["svo"]["uncovered_voxels"].get<int>());
   const auto& gpu_scene = j["runtime_lighting"];
   if (gpu_scene["written"].get<bool>())
-    fmt::print("gpu scene    {} triangles ({} vertices, {} materials) in {} BVH nodes (depth {}): {:.1f} B per triangle; {} lights, "
+    fmt::print("gpu scene    {} triangles ({} vertices, {} materials) in {} BVH nodes (depth {}): {:.1f} B per "
+               "triangle; {} lights, "
                "{} emitter patches, {} dynamic objects, {} bytes; BVH {:.1f} ms\n",
                gpu_scene["triangles"].get<int>(), gpu_scene["vertices"].get<int>(), gpu_scene["materials"].get<int>(),
-               gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(), gpu_scene["tracing_bytes_per_triangle"].get<double>(),
-               gpu_scene["lights"].get<int>(), gpu_scene["emitter_patches"].get<int>(), gpu_scene["dynamic_objects"].get<int>(),
+               gpu_scene["bvh_nodes"].get<int>(), gpu_scene["bvh_depth"].get<int>(),
+               gpu_scene["tracing_bytes_per_triangle"].get<double>(), gpu_scene["lights"].get<int>(),
+               gpu_scene["emitter_patches"].get<int>(), gpu_scene["dynamic_objects"].get<int>(),
                gpu_scene["bytes"].get<std::size_t>(), 1e3 * gpu_scene["bvh_seconds"].get<double>());
   const auto& cells = j["cells"];
-  fmt::print("cells        {} of {:.4g} m (depth {}), {} bytes in cells, largest {}{}\n", cells["count"].get<std::size_t>(), cells["size"].get<float>(),
-             cells["depth"].get<int>(), cells["bytes"].get<std::uint64_t>(), cells["largest_bytes"].get<std::uint64_t>(),
+  fmt::print("cells        {} of {:.4g} m (depth {}), {} bytes in cells, largest {}{}\n",
+             cells["count"].get<std::size_t>(), cells["size"].get<float>(), cells["depth"].get<int>(),
+             cells["bytes"].get<std::uint64_t>(), cells["largest_bytes"].get<std::uint64_t>(),
              cells["split_tracing"].get<bool>() ? " (tracing split by cell)" : "");
   fmt::print("sections    ");
   for (const auto& [name, bytes] : j["sections"].items())
@@ -169,8 +192,8 @@ std::string default_output(const std::string& scene) {
 }
 
 // Input errors of the bake (degenerate or out-of-range geometry, no probes) name the scene, like the loader's.
-bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings& s, const bake::ProgressCallback& progress,
-                            const bake::PrecomputedWork* precomputed) {
+bake::BakeResult bake_scene(const scene::Scene& scene, const BakeCommandSettings& s,
+                            const bake::ProgressCallback& progress, const bake::PrecomputedWork* precomputed) {
   try {
     return bake::bake(scene, s.bake, progress, precomputed);
   } catch (const Error& e) {
@@ -184,7 +207,7 @@ void resolve_settings(BakeCommandSettings& s) {
   s.bake.placement = *formats::parse_placement(s.placement); // the option checks the name
   s.bake.lattice = *parse_lattice(s.lattice);
   const bool budget = s.bake.probe_budget != 0 && s.bake.placement == bake::Placement::octree;
-  s.bake.split_rule = s.split_rule == "surface"                           ? bake::SplitRule::surface
+  s.bake.split_rule = s.split_rule == "surface"                                     ? bake::SplitRule::surface
                       : s.split_rule == "error" || (s.split_rule.empty() && budget) ? bake::SplitRule::error
                                                                                     : bake::SplitRule::hit_fraction;
   if (!s.split_range.empty()) {
@@ -229,8 +252,10 @@ int bake_and_write(const BakeCommandSettings& s, const LoadedScene& loaded, cons
   result.report.stages.push_back(write_clock.stop("write"));
   const auto bytes = std::filesystem::file_size(output);
   const nlohmann::ordered_json report = report_json(result.report, output, bytes, result.volume);
-  if (s.json) std::puts(report.dump(2).c_str());
-  else print_report(report);
+  if (s.json)
+    std::puts(report.dump(2).c_str());
+  else
+    print_report(report);
   return 0;
 }
 
@@ -238,7 +263,9 @@ int bake_and_write(const BakeCommandSettings& s, const LoadedScene& loaded, cons
 std::vector<std::int32_t> parse_cell_list(const std::string& text) {
   std::vector<std::int32_t> cells;
   std::size_t at = 0;
-  const auto bad = [&](const std::string& why) { throw Error(ErrorKind::usage, fmt::format("--cells {}: {}", text, why)); };
+  const auto bad = [&](const std::string& why) {
+    throw Error(ErrorKind::usage, fmt::format("--cells {}: {}", text, why));
+  };
   const auto number = [&](std::size_t& i) {
     const std::size_t begin = i;
     long long value = 0;
@@ -269,13 +296,20 @@ int run_bake_part(const BakeCommandSettings& s, const LoadedScene& loaded) {
   const double seconds = clock.stop("part").seconds;
   write_file_atomically(s.output, formats::write_bake_part(part));
   const auto sealed = std::count(part.sealed.begin(), part.sealed.end(), std::uint8_t(1));
-  nlohmann::ordered_json j{{"output", s.output}, {"bytes", std::filesystem::file_size(s.output)}, {"cells", part.cells.size()},
-                           {"cell_depth", part.cell_depth}, {"triangles", part.sealed.size()}, {"sealed_triangles", sealed},
-                           {"load_seconds", loaded.load_time.seconds}, {"seconds", seconds}};
-  if (s.json) std::puts(j.dump(2).c_str());
+  nlohmann::ordered_json j{{"output", s.output},
+                           {"bytes", std::filesystem::file_size(s.output)},
+                           {"cells", part.cells.size()},
+                           {"cell_depth", part.cell_depth},
+                           {"triangles", part.sealed.size()},
+                           {"sealed_triangles", sealed},
+                           {"load_seconds", loaded.load_time.seconds},
+                           {"seconds", seconds}};
+  if (s.json)
+    std::puts(j.dump(2).c_str());
   else
-    fmt::print("wrote        {} ({} bytes): {} cells of the {}^3 grid, {} triangles tested ({} sealed) in {:.3f} s\n", s.output,
-               j["bytes"].get<std::size_t>(), part.cells.size(), formats::cells_per_axis(part.cell_depth), part.sealed.size(), sealed, seconds);
+    fmt::print("wrote        {} ({} bytes): {} cells of the {}^3 grid, {} triangles tested ({} sealed) in {:.3f} s\n",
+               s.output, j["bytes"].get<std::size_t>(), part.cells.size(), formats::cells_per_axis(part.cell_depth),
+               part.sealed.size(), sealed, seconds);
   return 0;
 }
 
@@ -308,33 +342,43 @@ void add_bake_options(CLI::App* app, BakeCommandSettings& settings) {
       ->check(CLI::IsMember(placement_choices()));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
   app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
-  app->add_option("--lattice", s->lattice, "Spherical lattice")->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));
+  app->add_option("--lattice", s->lattice, "Spherical lattice")
+      ->check(CLI::IsMember({"fibonacci", "latlong", "equal-area"}));
   app->add_option("--split-range", s->split_range, "LOW,HIGH hit fractions: free below LOW, split at HIGH")
-      ->delimiter(',')->expected(2);
-  app->add_option("--split-rule", s->split_rule, "Octree: split by hit fraction, estimated error or visible surface "
-                 "(default: error with --probes, else hit-fraction)")
+      ->delimiter(',')
+      ->expected(2);
+  app->add_option("--split-rule", s->split_rule,
+                  "Octree: split by hit fraction, estimated error or visible surface "
+                  "(default: error with --probes, else hit-fraction)")
       ->check(CLI::IsMember({"hit-fraction", "error", "surface"}));
-  app->add_option("--probes", s->bake.probe_budget, "Probe budget: octree (error/surface rule) or skeleton (0: the fewest that see every surface)");
-  app->add_option("--uniform-share", s->bake.uniform_share, "Error/surface rule: share of --probes a uniform start may take");
+  app->add_option("--probes", s->bake.probe_budget,
+                  "Probe budget: octree (error/surface rule) or skeleton (0: the fewest that see every surface)");
+  app->add_option("--uniform-share", s->bake.uniform_share,
+                  "Error/surface rule: share of --probes a uniform start may take");
   app->add_option("--grid", s->bake.grid_resolution, "Grid: N for N^3 probes");
   app->add_option("--svo-depth", s->bake.svo_depth, "Depth of the SVO probe index");
   app->add_option("--clearance", s->bake.clearance, "Minimum probe-to-surface distance (0 = 2% of the scene size)");
   app->add_option("--threads", s->bake.threads, "Worker threads (0 = all cores); output does not depend on it");
   app->add_option("--cell-depth", s->bake.cell_depth, "Streaming cells: (2^N)^3 grid");
-  app->add_option("--cell-size", s->bake.cell_size, "Streaming cells at most S metres wide (the shallowest such grid; overrides --cell-depth)");
+  app->add_option("--cell-size", s->bake.cell_size,
+                  "Streaming cells at most S metres wide (the shallowest such grid; overrides --cell-depth)");
   app->add_option("--light-rays", s->bake.lighting.rays, "Rays per probe for the bake-time lighting");
-  app->add_option("--light-tolerance", s->bake.lighting.tolerance, "Relative error at which the bounce iteration stops");
+  app->add_option("--light-tolerance", s->bake.lighting.tolerance,
+                  "Relative error at which the bounce iteration stops");
   app->add_option("--light-max-iterations", s->bake.lighting.max_iterations, "Bounce iterations at most");
   app->add_flag("!--no-lighting", s->bake.lighting.enabled, "Leave probe irradiance at zero (placement only)");
   app->add_flag("!--emitters-in-probes", s->bake.lighting.emissive_as_lights,
                 "Let probes carry the light of emissive surfaces seen directly (default: emissive triangles are "
                 "area lights added at shading points, like punctual lights)");
-  app->add_option("--emitter-samples", s->bake.lighting.emitter_samples, "Sub-triangles per emitter lookup (area lights)");
+  app->add_option("--emitter-samples", s->bake.lighting.emitter_samples,
+                  "Sub-triangles per emitter lookup (area lights)");
   app->add_flag("--surfels-out", s->bake.store_surfels, "Also store surfel batches (for dynamic runtime updates)");
-  app->add_option("--trace-leaf-cost", s->bake.trace_leaf_cost,
-                  "Runtime tracing trees: SAH cost of a triangle test (lower: smaller files, slower GPU traces; default 0.35)");
-  app->add_flag("!--no-runtime-lighting", s->bake.runtime_lighting,
-                "Leave out the runtime lighting sections (tracing trees and faces, lights, emitter patches, ray directions)");
+  app->add_option(
+      "--trace-leaf-cost", s->bake.trace_leaf_cost,
+      "Runtime tracing trees: SAH cost of a triangle test (lower: smaller files, slower GPU traces; default 0.35)");
+  app->add_flag(
+      "!--no-runtime-lighting", s->bake.runtime_lighting,
+      "Leave out the runtime lighting sections (tracing trees and faces, lights, emitter patches, ray directions)");
   app->add_flag("--json", s->json, "Print the report as JSON");
 }
 
@@ -344,15 +388,17 @@ Command add_bake_command(CLI::App& root) {
   auto s = std::make_shared<BakeCommandSettings>();
   CLI::App* app = root.add_subcommand("bake", "Bake probes for a glTF scene into a .probes file (default command)");
   add_bake_options(app, *s);
-  app->add_option("--cells", s->cells,
-                  "Bake only the per-triangle work of these cells (LIST like 0-7,9) into the part -o PART, for `probebake merge`");
+  app->add_option(
+      "--cells", s->cells,
+      "Bake only the per-triangle work of these cells (LIST like 0-7,9) into the part -o PART, for `probebake merge`");
   return {app, [s] { return run_bake(*s); }};
 }
 
 Command add_merge_command(CLI::App& root) {
   auto s = std::make_shared<BakeCommandSettings>();
-  CLI::App* app = root.add_subcommand("merge", "Join the parts of a split bake (bake --cells) into the .probes file the single bake writes; "
-                                               "give the scene and the options the parts were baked with");
+  CLI::App* app = root.add_subcommand(
+      "merge", "Join the parts of a split bake (bake --cells) into the .probes file the single bake writes; "
+               "give the scene and the options the parts were baked with");
   add_bake_options(app, *s);
   app->add_option("parts", s->parts, "Parts written by `probebake bake SCENE --cells LIST -o PART`")->required();
   return {app, [s] { return run_merge(*s); }};

@@ -38,30 +38,58 @@ struct EvalCommandSettings {
 };
 
 nlohmann::json row_json(const bake::EvalRow& r) {
-  return {{"label", r.label}, {"sampler", r.sampler},
+  return {{"label", r.label},
+          {"sampler", r.sampler},
           {"placement", std::string(formats::placement_name(r.bake.placement))},
-          {"max_depth", r.bake.max_depth}, {"grid", r.bake.grid_resolution}, {"surfels", r.bake.surfels_per_probe},
-          {"lattice", std::string(lattice_name(r.bake.lattice))}, {"svo_depth", r.bake.svo_depth},
+          {"max_depth", r.bake.max_depth},
+          {"grid", r.bake.grid_resolution},
+          {"surfels", r.bake.surfels_per_probe},
+          {"lattice", std::string(lattice_name(r.bake.lattice))},
+          {"svo_depth", r.bake.svo_depth},
           {"light_rays", r.bake.lighting.rays},
-          {"probes", r.probes}, {"file_bytes", r.file_bytes}, {"bake_seconds", r.bake_seconds},
-          {"sample_ns", r.sample_ns}, {"rmse", r.rmse}, {"relative_rmse", r.relative_rmse}, {"bias", r.bias}, {"p95", r.p95},
-          {"max_error", r.max_error}, {"leak_rmse", r.leak_rmse}, {"leak_points", r.leak_points},
-          {"misses", r.misses}, {"coverage", r.coverage}, {"relative_median", r.relative_median},
-          {"relative_p95", r.relative_p95}, {"image_relative_rmse", r.image_relative_rmse},
-          {"image_mean_error", r.image_mean_error}, {"asked_probes", r.asked_probes}, {"budget_by", r.budget_by},
-          {"indirect_rmse", r.indirect_rmse}, {"indirect_relative_rmse", r.indirect_relative_rmse},
+          {"probes", r.probes},
+          {"file_bytes", r.file_bytes},
+          {"bake_seconds", r.bake_seconds},
+          {"sample_ns", r.sample_ns},
+          {"rmse", r.rmse},
+          {"relative_rmse", r.relative_rmse},
+          {"bias", r.bias},
+          {"p95", r.p95},
+          {"max_error", r.max_error},
+          {"leak_rmse", r.leak_rmse},
+          {"leak_points", r.leak_points},
+          {"misses", r.misses},
+          {"coverage", r.coverage},
+          {"relative_median", r.relative_median},
+          {"relative_p95", r.relative_p95},
+          {"image_relative_rmse", r.image_relative_rmse},
+          {"image_mean_error", r.image_mean_error},
+          {"asked_probes", r.asked_probes},
+          {"budget_by", r.budget_by},
+          {"indirect_rmse", r.indirect_rmse},
+          {"indirect_relative_rmse", r.indirect_relative_rmse},
           {"seam_p99", r.seam_p99}};
 }
 
 nlohmann::json result_json(const bake::EvalResult& r) {
-  nlohmann::json j = {{"scene", r.scene.string()}, {"receivers", r.receivers}, {"viewpoints", r.viewpoints},
-                      {"points", r.points}, {"image_pixels", r.image_pixels},
-                      {"image_mean_reference", r.image_mean_reference}, {"paths", r.paths}, {"seed", r.seed},
-                      {"mean_reference", r.mean_reference}, {"reference_noise", r.reference_noise},
-                      {"mean_indirect_reference", r.mean_indirect_reference}, {"indirect_noise", r.indirect_noise},
-                      {"direct_relative_rmse", r.direct_relative_rmse}, {"direct_bias", r.direct_bias},
-                      {"reference_seconds", r.reference_seconds}, {"reference_cached", r.reference_from_cache},
-                      {"cache_file", r.cache_file.string()}, {"cache_written", r.cache_written}};
+  nlohmann::json j = {{"scene", r.scene.string()},
+                      {"receivers", r.receivers},
+                      {"viewpoints", r.viewpoints},
+                      {"points", r.points},
+                      {"image_pixels", r.image_pixels},
+                      {"image_mean_reference", r.image_mean_reference},
+                      {"paths", r.paths},
+                      {"seed", r.seed},
+                      {"mean_reference", r.mean_reference},
+                      {"reference_noise", r.reference_noise},
+                      {"mean_indirect_reference", r.mean_indirect_reference},
+                      {"indirect_noise", r.indirect_noise},
+                      {"direct_relative_rmse", r.direct_relative_rmse},
+                      {"direct_bias", r.direct_bias},
+                      {"reference_seconds", r.reference_seconds},
+                      {"reference_cached", r.reference_from_cache},
+                      {"cache_file", r.cache_file.string()},
+                      {"cache_written", r.cache_written}};
   j["rows"] = nlohmann::json::array();
   for (const bake::EvalRow& row : r.rows) j["rows"].push_back(row_json(row));
   j["error_maps"] = nlohmann::json::array();
@@ -94,7 +122,8 @@ int run_eval(EvalCommandSettings& s) {
       s.eval.outputs.emplace_back(*output);
     }
   std::error_code ec;
-  if (!s.error_map.empty() && std::filesystem::exists(s.error_map, ec) && !std::filesystem::is_directory(s.error_map, ec))
+  if (!s.error_map.empty() && std::filesystem::exists(s.error_map, ec) &&
+      !std::filesystem::is_directory(s.error_map, ec))
     throw Error(ErrorKind::output, s.error_map + ": is not a folder (--error-map names a folder)");
   bake::EvalProgress progress;
   if (isatty(STDERR_FILENO) != 0)
@@ -120,16 +149,20 @@ int run_eval(EvalCommandSettings& s) {
 
 Command add_eval_command(CLI::App& root) {
   auto s = std::make_shared<EvalCommandSettings>();
-  CLI::App* app = root.add_subcommand("eval", "Error against bake time over a sweep of settings, vs. the path-traced reference");
+  CLI::App* app =
+      root.add_subcommand("eval", "Error against bake time over a sweep of settings, vs. the path-traced reference");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   s->points_option = app->add_option("--points", s->eval.points, "Seeded receivers (default 1000, --quick 64)");
-  s->samples_option = app->add_option("--samples", s->eval.paths, "Reference paths per point (default 4096, --quick 64)");
+  s->samples_option =
+      app->add_option("--samples", s->eval.paths, "Reference paths per point (default 4096, --quick 64)");
   app->add_option("--receivers", s->eval.receivers,
                   "visible: surfaces seen from open space (default); volume: open-space points, random normals; "
                   "area: every front face by area")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, bake::ReceiverMode>{
-          {"visible", bake::ReceiverMode::visible}, {"volume", bake::ReceiverMode::volume}, {"area", bake::ReceiverMode::area}}));
+      ->transform(
+          CLI::CheckedTransformer(std::map<std::string, bake::ReceiverMode>{{"visible", bake::ReceiverMode::visible},
+                                                                            {"volume", bake::ReceiverMode::volume},
+                                                                            {"area", bake::ReceiverMode::area}}));
   app->add_option("--seed", s->eval.seed, "Seed of the points and the reference");
   app->add_option("--threads", s->eval.threads, "Worker threads for bakes and the reference (0 = all cores)");
   app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests; with --probes, small bakes");

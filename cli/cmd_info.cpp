@@ -46,19 +46,25 @@ nlohmann::json scene_info_json(const scene::Scene& s) {
                                  : nlohmann::json{{"min", vec_json(s.bounds.min)}, {"max", vec_json(s.bounds.max)}};
   j["materials"] = nlohmann::json::array();
   for (const auto& m : s.materials)
-    j["materials"].push_back({{"name", m.name}, {"base_color", vec_json(m.base_color)},
-                              {"emission", vec_json(m.emission)}, {"textured", m.base_color_texture >= 0}});
+    j["materials"].push_back({{"name", m.name},
+                              {"base_color", vec_json(m.base_color)},
+                              {"emission", vec_json(m.emission)},
+                              {"textured", m.base_color_texture >= 0}});
   j["lights"] = nlohmann::json::array();
   for (const auto& l : s.lights)
-    j["lights"].push_back({{"name", l.name}, {"type", light_type_name(l.type)}, {"intensity", l.intensity},
-                           {"color", vec_json(l.color)}, {"position", vec_json(l.position)},
+    j["lights"].push_back({{"name", l.name},
+                           {"type", light_type_name(l.type)},
+                           {"intensity", l.intensity},
+                           {"color", vec_json(l.color)},
+                           {"position", vec_json(l.position)},
                            {"direction", vec_json(l.direction)}});
   j["emissive_triangles"] = summary.emissive_triangles;
   j["emissive_area"] = summary.emissive_area;
   j["degenerate_triangles"] = summary.degenerate_triangles;
   j["dynamic_nodes"] = nlohmann::json::array();
   for (const auto& i : s.instances)
-    if (i.dynamic) j["dynamic_nodes"].push_back({{"node", i.node}, {"name", i.node_name}, {"triangles", i.triangle_count}});
+    if (i.dynamic)
+      j["dynamic_nodes"].push_back({{"node", i.node}, {"name", i.node_name}, {"triangles", i.triangle_count}});
   j["extensions_used"] = s.extensions_used;
   j["extensions_required"] = s.extensions_required;
   j["warnings"] = s.warnings;
@@ -69,10 +75,13 @@ void print_scene_info(const std::string& path, const scene::Scene& s) {
   const scene::SceneSummary summary = scene::summarize(s);
   fmt::print("scene        {}\n", path);
   fmt::print("triangles    {} ({} degenerate)\n", s.triangle_count(), summary.degenerate_triangles);
-  fmt::print("meshes       {} in {} instances ({} dynamic)\n", s.mesh_count, s.instances.size(), summary.dynamic_instances);
-  if (s.bounds.empty()) fmt::print("bounds       (empty: no triangles, nothing to bake)\n");
-  else fmt::print("bounds       ({:.4g}, {:.4g}, {:.4g}) .. ({:.4g}, {:.4g}, {:.4g})\n", s.bounds.min.x, s.bounds.min.y,
-                  s.bounds.min.z, s.bounds.max.x, s.bounds.max.y, s.bounds.max.z);
+  fmt::print("meshes       {} in {} instances ({} dynamic)\n", s.mesh_count, s.instances.size(),
+             summary.dynamic_instances);
+  if (s.bounds.empty())
+    fmt::print("bounds       (empty: no triangles, nothing to bake)\n");
+  else
+    fmt::print("bounds       ({:.4g}, {:.4g}, {:.4g}) .. ({:.4g}, {:.4g}, {:.4g})\n", s.bounds.min.x, s.bounds.min.y,
+               s.bounds.min.z, s.bounds.max.x, s.bounds.max.y, s.bounds.max.z);
   fmt::print("materials    {}\n", s.materials.size() - 1); // the glTF default material is not counted
   fmt::print("emissive     {} triangles, {:.4g} m^2\n", summary.emissive_triangles, summary.emissive_area);
   fmt::print("lights       {}\n", s.lights.size());
@@ -99,15 +108,20 @@ int run_info_part(const std::string& path, bool json) {
   const auto sealed = std::count(part.sealed.begin(), part.sealed.end(), std::uint8_t(1));
   const int n = formats::cells_per_axis(part.cell_depth);
   if (json) {
-    const nlohmann::json j{{"file", path}, {"kind", "bake part"}, {"input_hash", fmt::format("{:016x}", part.input_hash)},
-                           {"cell_depth", part.cell_depth}, {"cells", part.cells}, {"scene_triangles", part.scene_triangles},
-                           {"tested_triangles", part.sealed.size()}, {"sealed_triangles", sealed}};
+    const nlohmann::json j{{"file", path},
+                           {"kind", "bake part"},
+                           {"input_hash", fmt::format("{:016x}", part.input_hash)},
+                           {"cell_depth", part.cell_depth},
+                           {"cells", part.cells},
+                           {"scene_triangles", part.scene_triangles},
+                           {"tested_triangles", part.sealed.size()},
+                           {"sealed_triangles", sealed}};
     std::puts(j.dump(2).c_str());
     return 0;
   }
   fmt::print("file         {} (bake part, input hash {:016x})\n", path, part.input_hash);
-  fmt::print("cells        {} of the {}^3 grid, {} to {}\n", part.cells.size(), n, part.cells.empty() ? 0 : part.cells.front(),
-             part.cells.empty() ? 0 : part.cells.back());
+  fmt::print("cells        {} of the {}^3 grid, {} to {}\n", part.cells.size(), n,
+             part.cells.empty() ? 0 : part.cells.front(), part.cells.empty() ? 0 : part.cells.back());
   fmt::print("triangles    {} of the scene's {} tested, {} sealed\n", part.sealed.size(), part.scene_triangles, sealed);
   return 0;
 }
@@ -128,7 +142,8 @@ int run_info(const InfoSettings& settings) {
 
 Command add_info_command(CLI::App& root) {
   auto settings = std::make_shared<InfoSettings>();
-  CLI::App* app = root.add_subcommand("info", "Describe a glTF scene (.gltf/.glb), a baked .probes file or a bake part");
+  CLI::App* app =
+      root.add_subcommand("info", "Describe a glTF scene (.gltf/.glb), a baked .probes file or a bake part");
   app->add_option("file", settings->path, "Scene, .probes file or bake part")->required();
   app->add_flag("--json", settings->json, "Print one JSON object instead of text");
   add_scene_input_options(app, settings->input);

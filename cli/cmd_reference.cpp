@@ -26,7 +26,7 @@ namespace {
 struct ReferenceCommandSettings {
   std::string scene;
   int points = 1000;
-  std::string at;  // receivers x,y,z,nx,ny,nz instead of seeded points
+  std::string at; // receivers x,y,z,nx,ny,nz instead of seeded points
   int image_samples = 64;
   std::string csv;
   std::string image;
@@ -82,7 +82,8 @@ void print_report(const nlohmann::json& j) {
                m[1], m[2], 100.0 * p["mean_relative_standard_error"].get<double>());
   }
   if (j.contains("csv")) fmt::print("wrote        {}\n", j["csv"].get<std::string>());
-  if (j.contains("image")) fmt::print("wrote        {} ({:.2f} s)\n", j["image"].get<std::string>(), j["image_seconds"].get<double>());
+  if (j.contains("image"))
+    fmt::print("wrote        {} ({:.2f} s)\n", j["image"].get<std::string>(), j["image_seconds"].get<double>());
 }
 
 int run_reference(ReferenceCommandSettings& s) {
@@ -93,7 +94,8 @@ int run_reference(ReferenceCommandSettings& s) {
   const bool want_points = s.points > 0 || !s.at.empty();
   if (!want_points && s.image.empty()) throw Error(ErrorKind::usage, "nothing to do: --points 0 and no --image");
   // Given receivers are read (and refused when malformed) before the scene is loaded.
-  const std::vector<bake::SamplePoint> given = s.at.empty() ? std::vector<bake::SamplePoint>{} : bake::read_receivers_csv(s.at);
+  const std::vector<bake::SamplePoint> given =
+      s.at.empty() ? std::vector<bake::SamplePoint>{} : bake::read_receivers_csv(s.at);
   const scene::Scene loaded = scene::load_scene(s.scene, load_options(s.input, true));
   const scene::Scene scene = s.animate.empty() ? loaded : animated_scene(loaded, s.animate, s.frame);
   for (const auto& w : scene.warnings) fmt::print(stderr, "probebake: warning: {}\n", w);
@@ -122,8 +124,10 @@ int run_reference(ReferenceCommandSettings& s) {
     j["image"] = s.image;
     j["image_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  if (s.json) std::puts(j.dump(2).c_str());
-  else print_report(j);
+  if (s.json)
+    std::puts(j.dump(2).c_str());
+  else
+    print_report(j);
   return 0;
 }
 
@@ -131,7 +135,8 @@ int run_reference(ReferenceCommandSettings& s) {
 
 Command add_reference_command(CLI::App& root) {
   auto s = std::make_shared<ReferenceCommandSettings>();
-  CLI::App* app = root.add_subcommand("reference", "Path-traced reference irradiance at surface points and/or as an image");
+  CLI::App* app =
+      root.add_subcommand("reference", "Path-traced reference irradiance at surface points and/or as an image");
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   CLI::Option* points = app->add_option("--points", s->points, "Seeded surface points, stratified by area (0 = none)");
@@ -146,7 +151,8 @@ Command add_reference_command(CLI::App& root) {
   app->add_option("--image", s->image, "Write an irradiance image (OpenEXR, float RGB) seen from --camera");
   app->add_option("--image-samples", s->image_samples, "Paths per pixel of --image");
   s->camera.add_to(*app);
-  app->add_option("--animate", s->animate, "Pose the dynamic objects as `probebake run --animate NAME` (thesis, revolution, soak) ...");
+  app->add_option("--animate", s->animate,
+                  "Pose the dynamic objects as `probebake run --animate NAME` (thesis, revolution, soak) ...");
   app->add_option("--frame", s->frame, "... after this frame (0-based)");
   app->add_flag("--json", s->json, "Print the report as JSON");
   return {app, [s] { return run_reference(*s); }};

@@ -53,9 +53,11 @@ int run_command(CLI::App* app, RunCommandSettings& s) {
   options->program = "probebake run";
   std::unique_ptr<RunPictures> pictures;
   if (!s.images.empty() || !s.reference.empty()) {
-    if (s.scene.empty()) throw probebake::Error(probebake::ErrorKind::usage, "--images and --reference need --scene SCENE");
+    if (s.scene.empty())
+      throw probebake::Error(probebake::ErrorKind::usage, "--images and --reference need --scene SCENE");
     if (!s.images.empty() && !s.reference.empty() && s.images != s.reference)
-      throw probebake::Error(probebake::ErrorKind::usage, "--images and --reference write into one folder: give them the same DIR");
+      throw probebake::Error(probebake::ErrorKind::usage,
+                             "--images and --reference write into one folder: give them the same DIR");
     RunPictureOptions picture_options;
     picture_options.scene = s.scene;
     picture_options.folder = s.images.empty() ? s.reference : s.images;
@@ -67,7 +69,9 @@ int run_command(CLI::App* app, RunCommandSettings& s) {
     scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
     picture_options.camera = s.camera.camera_or_default(scene);
     pictures = std::make_unique<RunPictures>(picture_options, std::move(scene));
-    options->after_frame = [&pictures](int frame, runtime::Volume& volume) { return pictures->after_frame(frame, volume); };
+    options->after_frame = [&pictures](int frame, runtime::Volume& volume) {
+      return pictures->after_frame(frame, volume);
+    };
   }
   const int code = run::run_volume(*options);
   if (code == 0 && pictures)
@@ -79,8 +83,9 @@ int run_command(CLI::App* app, RunCommandSettings& s) {
 
 Command add_run_command(CLI::App& root) {
   auto s = std::make_shared<RunCommandSettings>();
-  CLI::App* app = root.add_subcommand("run", "Run a .probes volume in the Vulkan runtime (headless): per-pass GPU timings and "
-                                             "statistics; `probebake run --help` lists the options");
+  CLI::App* app =
+      root.add_subcommand("run", "Run a .probes volume in the Vulkan runtime (headless): per-pass GPU timings and "
+                                 "statistics; `probebake run --help` lists the options");
   // Everything but the options below goes to the run driver's parser (also probebake-run's).
   app->allow_extras();
   app->set_help_flag();

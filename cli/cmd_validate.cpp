@@ -68,7 +68,9 @@ std::vector<ProblemClass> problem_classes(const formats::ValidationReport& repor
   return classes;
 }
 
-std::string plural(std::size_t count, const char* noun) { return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s"); }
+std::string plural(std::size_t count, const char* noun) {
+  return fmt::format("{} {}{}", count, noun, count == 1 ? "" : "s");
+}
 
 // Files that stream (format 1.6) have each cell checked on its own: say how many, and which are damaged.
 void print_cells(const formats::ValidationReport& report) {
@@ -76,11 +78,13 @@ void print_cells(const formats::ValidationReport& report) {
   std::vector<const formats::Violation*> damaged;
   for (const formats::Violation& violation : report.violations)
     if (violation.invariant == "cell_checksum" && violation.index >= 0) damaged.push_back(&violation);
-  fmt::print("{}: {} checked on their own, {} damaged\n", report.name, plural(report.cells_checked, "cell"), damaged.size());
+  fmt::print("{}: {} checked on their own, {} damaged\n", report.name, plural(report.cells_checked, "cell"),
+             damaged.size());
   constexpr std::size_t kNamed = 10;
   for (std::size_t i = 0; i < std::min(damaged.size(), kNamed); ++i)
     fmt::print("{}: damaged: {}: {}\n", report.name, formats::violation_place(*damaged[i]), damaged[i]->message);
-  if (damaged.size() > kNamed) fmt::print("{}: damaged: {} more (--json lists them)\n", report.name, damaged.size() - kNamed);
+  if (damaged.size() > kNamed)
+    fmt::print("{}: damaged: {} more (--json lists them)\n", report.name, damaged.size() - kNamed);
 }
 
 void print_text(const formats::ValidationReport& report, bool verbose) {
@@ -90,7 +94,8 @@ void print_text(const formats::ValidationReport& report, bool verbose) {
     return;
   }
   if (verbose) {
-    for (const formats::Violation& violation : report.violations) fmt::print("{}: {}\n", report.name, formats::format_violation(violation));
+    for (const formats::Violation& violation : report.violations)
+      fmt::print("{}: {}\n", report.name, formats::format_violation(violation));
   }
   const std::vector<ProblemClass> classes = problem_classes(report);
   for (const ProblemClass& c : classes) {
@@ -101,8 +106,8 @@ void print_text(const formats::ValidationReport& report, bool verbose) {
   if (report.valid()) {
     fmt::print("{}: valid\n", report.name);
   } else {
-    fmt::print("{}: invalid: {} of {}{}\n", report.name, plural(report.violations.size(), "violation"), plural(classes.size(), "invariant"),
-               report.truncated ? " (stopped at --max-errors)" : "");
+    fmt::print("{}: invalid: {} of {}{}\n", report.name, plural(report.violations.size(), "violation"),
+               plural(classes.size(), "invariant"), report.truncated ? " (stopped at --max-errors)" : "");
   }
 }
 
@@ -126,7 +131,8 @@ Command add_validate_command(CLI::App& root) {
   app->add_option("file", settings->path, ".probes file")->required();
   app->add_flag("--json", settings->json, "Print the report as one JSON object, with every violation");
   app->add_flag("-v,--verbose", settings->verbose, "Also print every violation, not only one line per invariant");
-  app->add_option("--max-errors", settings->max_errors, "Stop after N violations (0: report all)")->capture_default_str();
+  app->add_option("--max-errors", settings->max_errors, "Stop after N violations (0: report all)")
+      ->capture_default_str();
   return {app, [settings] { return run_validate(*settings); }};
 }
 

@@ -50,11 +50,16 @@ nlohmann::json range_json(const formats::CellRange& r) {
 }
 
 nlohmann::json settings_json(const gpu::VolumeInfo& info) {
-  return {{"placement", placement_name(info.placement)}, {"root_min", vec_json(info.root_min)},
-          {"root_size", info.root_size},                 {"max_depth", info.max_depth},
-          {"svo_depth", info.svo_depth},                 {"lattice", lattice_name(info.lattice)},
-          {"surfels_per_probe", info.surfels_per_probe}, {"split_low", info.split_low},
-          {"split_high", info.split_high},               {"grid_resolution", info.grid_resolution}};
+  return {{"placement", placement_name(info.placement)},
+          {"root_min", vec_json(info.root_min)},
+          {"root_size", info.root_size},
+          {"max_depth", info.max_depth},
+          {"svo_depth", info.svo_depth},
+          {"lattice", lattice_name(info.lattice)},
+          {"surfels_per_probe", info.surfels_per_probe},
+          {"split_low", info.split_low},
+          {"split_high", info.split_high},
+          {"grid_resolution", info.grid_resolution}};
 }
 
 // What the runtime traces: triangles, and the bytes of the tracing sections per triangle (issue #14).
@@ -63,7 +68,9 @@ nlohmann::json tracing_json(const ProbesInfo& in) {
   const std::size_t triangles = v.trace_triangles.size() + in.tracing.faces.size();
   const std::size_t bytes = formats::tracing_bytes(v) + in.tracing.nodes.size_bytes() + in.tracing.faces.size_bytes() +
                             in.tracing.vertices.size_bytes();
-  return {{"triangles", triangles}, {"bytes", bytes}, {"bytes_per_triangle", triangles > 0 ? double(bytes) / double(triangles) : 0.0},
+  return {{"triangles", triangles},
+          {"bytes", bytes},
+          {"bytes_per_triangle", triangles > 0 ? double(bytes) / double(triangles) : 0.0},
           {"layout", formats::has_float_tracing(v) ? "float (1.1-1.3)" : "compact"}};
 }
 
@@ -92,97 +99,114 @@ nlohmann::json info_json(const ProbesInfo& in) {
   const formats::ProbeVolume& v = in.volume;
   nlohmann::json sections = nlohmann::json::array();
   for (const formats::SectionEntry& e : in.container.sections) {
-    sections.push_back({{"name", formats::section_name(e.type)}, {"type", e.type}, {"offset", e.offset}, {"bytes", e.size},
-                        {"element_size", e.element_size}, {"elements", e.element_count},
+    sections.push_back({{"name", formats::section_name(e.type)},
+                        {"type", e.type},
+                        {"offset", e.offset},
+                        {"bytes", e.size},
+                        {"element_size", e.element_size},
+                        {"elements", e.element_count},
                         {"required", (e.flags & formats::kSectionRequired) != 0}});
   }
   nlohmann::json cells = nlohmann::json::array();
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     const formats::Cell& c = v.cells[k];
-    nlohmann::json cell = {{"index", c.cell_index}, {"bounds_min", vec_json(c.bounds_min)}, {"bounds_max", vec_json(c.bounds_max)},
-                           {"root_node", c.root_node}, {"probes", range_json(c.probes)},
-                           {"surfel_batches", range_json(c.surfel_batches)}, {"svo_leaves", range_json(c.svo_leaves)},
+    nlohmann::json cell = {{"index", c.cell_index},
+                           {"bounds_min", vec_json(c.bounds_min)},
+                           {"bounds_max", vec_json(c.bounds_max)},
+                           {"root_node", c.root_node},
+                           {"probes", range_json(c.probes)},
+                           {"surfel_batches", range_json(c.surfel_batches)},
+                           {"svo_leaves", range_json(c.svo_leaves)},
                            {"bytes", formats::cell_bytes(v, k)}};
     if (k < v.cell_tracing.size()) {
       const formats::CellTracing& t = v.cell_tracing[k];
-      cell["trace_nodes"] = range_json(t.trace_nodes), cell["trace_faces"] = range_json(t.trace_faces), cell["trace_vertices"] = range_json(t.trace_vertices);
+      cell["trace_nodes"] = range_json(t.trace_nodes), cell["trace_faces"] = range_json(t.trace_faces),
+      cell["trace_vertices"] = range_json(t.trace_vertices);
     }
     cells.push_back(cell);
   }
   const formats::FileHeader& h = in.container.header;
-  return {{"file", in.path},
-          {"format_version", fmt::format("{}.{}", h.version_major, h.version_minor)},
-          {"file_size", in.file_size},
-          {"input_hash", fmt::format("{:016x}", h.input_hash)},
-          {"settings", settings_json(v.info)},
-          {"probes", in.stats.probes},
-          {"probe_capacity", v.probes.size()},
-          {"nodes", in.stats.nodes},
-          {"leaves", in.stats.leaves},
-          {"clusters", in.stats.clusters},
-          {"octree_elements", v.octree.size()},
-          {"max_depth", in.stats.max_depth},
-          {"depth_histogram", in.stats.probes_per_depth},
-          {"surfel_batches", in.stats.surfel_batches},
-          {"batch_capacity", v.surfel_batches.size()},
-          {"surfels", in.stats.surfels},
-          {"svo", {{"nodes", v.svo_nodes.size()}, {"leaf_voxels", in.stats.svo_leaf_voxels}, {"payloads", v.svo_leaves.size()}}},
-          {"leaf_queue", v.leaf_entries.empty() ? nlohmann::json(nullptr)
-                                                : nlohmann::json{{"segment_capacity", v.leaf_header.segment_capacity},
-                                                                 {"pull_origin", v.leaf_header.pull_origin},
-                                                                 {"counts", v.leaf_header.count}}},
-          {"sections", sections},
-          {"tracing", tracing_json(in)},
-          {"cell_depth", v.cell_depth},
-          {"streaming", streaming_json(in)},
-          {"cells", cells}};
+  return {
+      {"file", in.path},
+      {"format_version", fmt::format("{}.{}", h.version_major, h.version_minor)},
+      {"file_size", in.file_size},
+      {"input_hash", fmt::format("{:016x}", h.input_hash)},
+      {"settings", settings_json(v.info)},
+      {"probes", in.stats.probes},
+      {"probe_capacity", v.probes.size()},
+      {"nodes", in.stats.nodes},
+      {"leaves", in.stats.leaves},
+      {"clusters", in.stats.clusters},
+      {"octree_elements", v.octree.size()},
+      {"max_depth", in.stats.max_depth},
+      {"depth_histogram", in.stats.probes_per_depth},
+      {"surfel_batches", in.stats.surfel_batches},
+      {"batch_capacity", v.surfel_batches.size()},
+      {"surfels", in.stats.surfels},
+      {"svo",
+       {{"nodes", v.svo_nodes.size()}, {"leaf_voxels", in.stats.svo_leaf_voxels}, {"payloads", v.svo_leaves.size()}}},
+      {"leaf_queue", v.leaf_entries.empty() ? nlohmann::json(nullptr)
+                                            : nlohmann::json{{"segment_capacity", v.leaf_header.segment_capacity},
+                                                             {"pull_origin", v.leaf_header.pull_origin},
+                                                             {"counts", v.leaf_header.count}}},
+      {"sections", sections},
+      {"tracing", tracing_json(in)},
+      {"cell_depth", v.cell_depth},
+      {"streaming", streaming_json(in)},
+      {"cells", cells}};
 }
 
 void print_text(const ProbesInfo& in) {
   const formats::ProbeVolume& v = in.volume;
   const gpu::VolumeInfo& s = v.info;
   const formats::FileHeader& h = in.container.header;
-  fmt::print("file         {} (.probes {}.{}, {} bytes, input hash {:016x})\n", in.path, h.version_major, h.version_minor,
-             in.file_size, h.input_hash);
-  fmt::print("placement    {}, root ({:.4g}, {:.4g}, {:.4g}) size {:.4g}, max depth {}, svo depth {}\n", placement_name(s.placement),
-             s.root_min.x, s.root_min.y, s.root_min.z, s.root_size, s.max_depth, s.svo_depth);
+  fmt::print("file         {} (.probes {}.{}, {} bytes, input hash {:016x})\n", in.path, h.version_major,
+             h.version_minor, in.file_size, h.input_hash);
+  fmt::print("placement    {}, root ({:.4g}, {:.4g}, {:.4g}) size {:.4g}, max depth {}, svo depth {}\n",
+             placement_name(s.placement), s.root_min.x, s.root_min.y, s.root_min.z, s.root_size, s.max_depth,
+             s.svo_depth);
   fmt::print("surfels      {} lattice, {} per probe, split below {:.4g} / at {:.4g}\n", lattice_name(s.lattice),
              s.surfels_per_probe, s.split_low, s.split_high);
   fmt::print("probes       {} of {} allocated\n", in.stats.probes, v.probes.size());
-  fmt::print("octree       {} nodes, {} leaves, {} clusters, max depth {}\n", in.stats.nodes, in.stats.leaves, in.stats.clusters,
-             in.stats.max_depth);
+  fmt::print("octree       {} nodes, {} leaves, {} clusters, max depth {}\n", in.stats.nodes, in.stats.leaves,
+             in.stats.clusters, in.stats.max_depth);
   for (std::size_t depth = 0; depth < in.stats.probes_per_depth.size(); ++depth) {
     fmt::print("  depth {:<2}   {} probes\n", depth, in.stats.probes_per_depth[depth]);
   }
-  fmt::print("batches      {} of {} allocated, {} surfels\n", in.stats.surfel_batches, v.surfel_batches.size(), in.stats.surfels);
-  fmt::print("svo          {} nodes, {} leaf voxels, {} payloads\n", v.svo_nodes.size(), in.stats.svo_leaf_voxels, v.svo_leaves.size());
+  fmt::print("batches      {} of {} allocated, {} surfels\n", in.stats.surfel_batches, v.surfel_batches.size(),
+             in.stats.surfels);
+  fmt::print("svo          {} nodes, {} leaf voxels, {} payloads\n", v.svo_nodes.size(), in.stats.svo_leaf_voxels,
+             v.svo_leaves.size());
   fmt::print("sections     {:<18} {:>10} {:>12} {:>10}\n", "name", "offset", "bytes", "elements");
   for (const formats::SectionEntry& e : in.container.sections) {
-    fmt::print("             {:<18} {:>10} {:>12} {:>10}{}\n", formats::section_name(e.type), e.offset, e.size, e.element_count,
-               (e.flags & formats::kSectionRequired) != 0 ? "" : "  (optional)");
+    fmt::print("             {:<18} {:>10} {:>12} {:>10}{}\n", formats::section_name(e.type), e.offset, e.size,
+               e.element_count, (e.flags & formats::kSectionRequired) != 0 ? "" : "  (optional)");
   }
   if (v.lighting) {
     const nlohmann::json tracing = tracing_json(in);
-    fmt::print("tracing      {} triangles, {} bytes, {:.1f} B per triangle ({} layout)\n", tracing["triangles"].get<std::size_t>(),
-               tracing["bytes"].get<std::size_t>(), tracing["bytes_per_triangle"].get<double>(), tracing["layout"].get<std::string>());
+    fmt::print("tracing      {} triangles, {} bytes, {:.1f} B per triangle ({} layout)\n",
+               tracing["triangles"].get<std::size_t>(), tracing["bytes"].get<std::size_t>(),
+               tracing["bytes_per_triangle"].get<double>(), tracing["layout"].get<std::string>());
   }
   fmt::print("cells        {} (depth {})\n", v.cells.size(), v.cell_depth);
   if (const nlohmann::json streaming = streaming_json(in); !streaming.is_null())
-    fmt::print("streaming    {} B load whole; {} B of tracing in {} cells with faces stream (largest {} B, median {} B)\n",
-               streaming["global_bytes"].get<std::uint64_t>(), streaming["cell_tracing_bytes"].get<std::uint64_t>(),
-               streaming["cells_with_faces"].get<std::size_t>(), streaming["largest_cell_tracing_bytes"].get<std::uint64_t>(),
-               streaming["median_cell_tracing_bytes"].get<std::uint64_t>());
+    fmt::print(
+        "streaming    {} B load whole; {} B of tracing in {} cells with faces stream (largest {} B, median {} B)\n",
+        streaming["global_bytes"].get<std::uint64_t>(), streaming["cell_tracing_bytes"].get<std::uint64_t>(),
+        streaming["cells_with_faces"].get<std::size_t>(), streaming["largest_cell_tracing_bytes"].get<std::uint64_t>(),
+        streaming["median_cell_tracing_bytes"].get<std::uint64_t>());
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     const formats::Cell& c = v.cells[k];
     std::string tracing;
     if (k < v.cell_tracing.size()) {
       const formats::CellTracing& t = v.cell_tracing[k];
       tracing = fmt::format(", {} trace faces ({} B with {} nodes and {} vertices)", t.trace_faces.count,
-                            t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size, t.trace_nodes.count, t.trace_vertices.count);
+                            t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size,
+                            t.trace_nodes.count, t.trace_vertices.count);
     }
-    fmt::print("  cell {:<5} {:>10} B  root node {:<5} {} probes ({} B), {} batches ({} B), {} svo leaves ({} B){}\n", c.cell_index,
-               formats::cell_bytes(v, k), c.root_node, c.probes.count, c.probes.byte_size, c.surfel_batches.count, c.surfel_batches.byte_size,
-               c.svo_leaves.count, c.svo_leaves.byte_size, tracing);
+    fmt::print("  cell {:<5} {:>10} B  root node {:<5} {} probes ({} B), {} batches ({} B), {} svo leaves ({} B){}\n",
+               c.cell_index, formats::cell_bytes(v, k), c.root_node, c.probes.count, c.probes.byte_size,
+               c.surfel_batches.count, c.surfel_batches.byte_size, c.svo_leaves.count, c.svo_leaves.byte_size, tracing);
   }
 }
 
@@ -195,9 +219,10 @@ int run_info_probes(const std::string& path, bool json) {
   const formats::MappedReadGuard guard("probebake", path);
   const formats::FileMapping file = formats::FileMapping::of(path);
   in.file_size = file.bytes().size();
-  in.container = formats::parse_container(file.bytes(), path, [&](const std::string& section, long long, const std::string& message) {
-    fmt::print(stderr, "probebake: warning: {}: {}: {} (run probebake validate)\n", path, section, message);
-  });
+  in.container = formats::parse_container(
+      file.bytes(), path, [&](const std::string& section, long long, const std::string& message) {
+        fmt::print(stderr, "probebake: warning: {}: {}: {} (run probebake validate)\n", path, section, message);
+      });
   in.volume = formats::decode_probes(in.container, path, formats::TraceSections::leave_in_bytes);
   in.tracing = formats::tracing_in(in.container, path);
   in.stats = formats::compute_stats(in.volume);

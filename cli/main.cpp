@@ -29,21 +29,17 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   std::vector<cli::Command> commands = {
-      cli::add_bake_command(app),
-      cli::add_merge_command(app),
-      cli::add_info_command(app),
-      cli::add_validate_command(app),
-      cli::add_reference_command(app),
-      cli::add_eval_command(app),
+      cli::add_bake_command(app),     cli::add_merge_command(app),     cli::add_info_command(app),
+      cli::add_validate_command(app), cli::add_reference_command(app), cli::add_eval_command(app),
 #ifdef PROBEBAKE_HAS_RUNTIME
-      cli::add_run_command(app),
-      cli::add_render_command(app),
+      cli::add_run_command(app),      cli::add_render_command(app),
 #endif
   };
 
   // `probebake scene.gltf` is short for `probebake bake scene.gltf`.
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (!args.empty() && !args[0].starts_with("-") && app.get_subcommands([&](CLI::App* s) { return s->get_name() == args[0]; }).empty())
+  if (!args.empty() && !args[0].starts_with("-") &&
+      app.get_subcommands([&](CLI::App* s) { return s->get_name() == args[0]; }).empty())
     args.insert(args.begin(), "bake");
   std::reverse(args.begin(), args.end()); // CLI11 takes the arguments as a reversed vector
   try {

@@ -16,9 +16,9 @@
 namespace probebake::cli {
 
 struct RunPictureOptions {
-  std::string scene;            // the glTF the volume was baked from
-  std::string folder;           // output folder
-  std::vector<int> at_frames;   // 0-based frames
+  std::string scene;          // the glTF the volume was baked from
+  std::string folder;         // output folder
+  std::vector<int> at_frames; // 0-based frames
   bool images = false;
   bool reference = false;
   std::optional<bake::Camera> camera; // checked; default: the scene's first camera, else one facing the bounds from +Z
@@ -37,7 +37,8 @@ public:
 private:
   struct ErrorRow {
     int frame = 0;
-    double relative_rmse = 0, relative_median = 0, reference_noise = 0, mean_reference = 0, mean_runtime = 0, seconds = 0;
+    double relative_rmse = 0, relative_median = 0, reference_noise = 0, mean_reference = 0, mean_runtime = 0,
+           seconds = 0;
   };
   scene::Scene posed_scene(const runtime::Volume& volume) const;
   void write_images(int frame, const scene::Scene& posed, runtime::Volume& volume);

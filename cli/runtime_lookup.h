@@ -10,7 +10,8 @@ namespace probebake::cli {
 inline render::IndirectSampler runtime_lookup(runtime::Volume& volume) {
   return [&volume](std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
     auto values = volume.sample_irradiance(positions, normals);
-    if (!values.ok()) throw Error(ErrorKind::internal, std::string("the runtime's lookup failed: ") + values.status().message);
+    if (!values.ok())
+      throw Error(ErrorKind::internal, std::string("the runtime's lookup failed: ") + values.status().message);
     return std::move(values).value();
   };
 }

@@ -46,11 +46,16 @@ std::uint64_t parse_byte_size(const std::string& text) {
   }
   const std::string suffix = text.substr(used);
   double scale = 1.0;
-  if (suffix == "K" || suffix == "KiB") scale = 1024.0;
-  else if (suffix == "M" || suffix == "MiB") scale = 1024.0 * 1024.0;
-  else if (suffix == "G" || suffix == "GiB") scale = 1024.0 * 1024.0 * 1024.0;
-  else if (suffix == "T" || suffix == "TiB") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
-  else if (!suffix.empty()) used = 0;
+  if (suffix == "K" || suffix == "KiB")
+    scale = 1024.0;
+  else if (suffix == "M" || suffix == "MiB")
+    scale = 1024.0 * 1024.0;
+  else if (suffix == "G" || suffix == "GiB")
+    scale = 1024.0 * 1024.0 * 1024.0;
+  else if (suffix == "T" || suffix == "TiB")
+    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  else if (!suffix.empty())
+    used = 0;
   if (used == 0 || !std::isfinite(value) || value < 0.0 || value * scale > 1.8e19)
     throw Error(ErrorKind::usage, "--max-memory: '" + text + "' is not a size like 512M, 8G or a byte count");
   return static_cast<std::uint64_t>(value * scale);

@@ -14,8 +14,8 @@ namespace probebake::cli {
 
 struct SceneInputOptions {
   std::vector<std::string> allow_paths;
-  std::string max_memory; // "" = the default (3/4 of physical memory); "0" = no limit
-  bool strict = false;    // an undecodable texture is an error, not a warning
+  std::string max_memory;                 // "" = the default (3/4 of physical memory); "0" = no limit
+  bool strict = false;                    // an undecodable texture is an error, not a warning
   std::vector<std::string> dynamic_nodes; // nodes that move at run time, besides those the glTF marks
 };
 

@@ -27,13 +27,13 @@ constexpr int exit_usage = static_cast<int>(probebake::ErrorKind::usage);
 constexpr int exit_internal = static_cast<int>(probebake::ErrorKind::internal);
 
 struct Settings {
-  std::string output;           // empty: KIND.glb in the current folder
+  std::string output; // empty: KIND.glb in the current folder
   float scale = 1.0f;
-  std::vector<float> offset;    // empty or X Y Z
+  std::vector<float> offset; // empty or X Y Z
   bool quiet = false;
-  bool meshopt = false;         // geometry through meshoptimizer's encoder (EXT_meshopt_compression)
-  bool flip = false;            // `convert`: every surface's sides swapped, materials double-sided
-  std::string convert_input;    // `convert`: the glTF to rewrite
+  bool meshopt = false;      // geometry through meshoptimizer's encoder (EXT_meshopt_compression)
+  bool flip = false;         // `convert`: every surface's sides swapped, materials double-sided
+  std::string convert_input; // `convert`: the glTF to rewrite
 };
 
 // Each kind's options, filled by CLI11.
@@ -54,7 +54,7 @@ using MakeScene = std::function<samples::SceneBuilder()>;
 CLI::App* add_kind(CLI::App& app, std::map<CLI::App*, MakeScene>& makers, const std::string& name,
                    const std::string& description, MakeScene make) {
   CLI::App* kind = app.add_subcommand(name, description);
-  kind->fallthrough();  // -o, --scale, --offset may follow the kind
+  kind->fallthrough(); // -o, --scale, --offset may follow the kind
   makers[kind] = std::move(make);
   return kind;
 }
@@ -160,11 +160,12 @@ int convert(const Settings& settings) {
   return exit_ok;
 }
 
-}  // namespace
+} // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Writes a procedural glTF 2.0 test scene (.glb) for probebake. Metres, Y up.\n"
-               "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 output not writable, 4 internal error.", "make-scene"};
+               "Exit codes: 0 ok, 1 usage, 2 unreadable input, 3 output not writable, 4 internal error.",
+               "make-scene"};
   app.set_version_flag("--version", PROBEBAKE_VERSION_STRING);
   app.require_subcommand(1);
   Settings settings;
@@ -188,10 +189,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
     const std::vector<std::string> unparsed = app.remaining();
     const std::string message = app.get_subcommands().empty() && !unparsed.empty()
-                                    ? "unknown kind '" + unparsed.front() + "'"  // clearer than CLI11's
+                                    ? "unknown kind '" + unparsed.front() + "'" // clearer than CLI11's
                                     : std::string(e.what());
     std::fprintf(stderr, "make-scene: error: %s (see make-scene --help)\n", message.c_str());
     return exit_usage;

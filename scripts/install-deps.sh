@@ -6,6 +6,8 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential cmake ninja-build pkg-config git clang libclang-rt-14-dev
+  # formatting (.clang-format is pinned to this version; scripts/check-format.sh)
+  clang-format-14
   # tests and benchmarks
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   # scene input: glTF (tinygltf needs nlohmann-json and stb), Draco, images

@@ -142,7 +142,8 @@ void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
   for (const gpu::Probe& p : v.probes) {
     if (p.link == 0) continue;
     ++report.probes;
-    if (p.depth >= 0 && std::size_t(p.depth) < report.depth_histogram.size()) ++report.depth_histogram[std::size_t(p.depth)];
+    if (p.depth >= 0 && std::size_t(p.depth) < report.depth_histogram.size())
+      ++report.depth_histogram[std::size_t(p.depth)];
   }
   formats::for_each_leaf(v, [&](const formats::NodeCube&) { ++report.leaves; });
   report.svo_nodes = int(v.svo_nodes.size());
@@ -152,10 +153,11 @@ void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
 // Measured (docs/results/bake-scale.md, "Scale range (issue #11)"): the generated Cornell box bakes the same
 // probes from 1e-5 to 1e10 times its size and 1e4 of its size from the origin; beyond that 32-bit positions,
 // Embree's ray epsilons and the SDF lose it. The limits keep a factor of ten from where it breaks.
-constexpr int kMaxProbeBudget = 1 << 20;     // --probes: far above what the optimisation can afford (docs/results/placement.md)
-constexpr float kMinSceneSize = 1e-4f;        // metres across (0.1 mm)
-constexpr float kMaxSceneSize = 1e8f;         // metres across (100,000 km)
-constexpr float kMaxOffsetPerSize = 1e4f;     // distance of the bounds from the origin / size across
+constexpr int kMaxProbeBudget =
+    1 << 20; // --probes: far above what the optimisation can afford (docs/results/placement.md)
+constexpr float kMinSceneSize = 1e-4f;    // metres across (0.1 mm)
+constexpr float kMaxSceneSize = 1e8f;     // metres across (100,000 km)
+constexpr float kMaxOffsetPerSize = 1e4f; // distance of the bounds from the origin / size across
 
 void bake_fail(const std::string& reason) { throw Error(ErrorKind::input, "bake: " + reason); }
 
@@ -163,18 +165,22 @@ void check_scene(const scene::Scene& scene) {
   bool any_area = false;
   for (std::size_t t = 0; t < scene.triangles.size() && !any_area; ++t)
     any_area = scene::triangle_normal(scene, t) != glm::vec3(0.0f);
-  if (!any_area) bake_fail("no triangle has a non-zero area (degenerate geometry): there is nothing to place probes around");
+  if (!any_area)
+    bake_fail("no triangle has a non-zero area (degenerate geometry): there is nothing to place probes around");
   const float size = scene.bounds.largest_extent();
   if (size < kMinSceneSize)
     bake_fail(fmt::format("the scene is {:.3g} m across, below the {:.0e} m the bake resolves in 32-bit floats; scale "
-                          "it up (a glTF node scale)", size, kMinSceneSize));
+                          "it up (a glTF node scale)",
+                          size, kMinSceneSize));
   if (size > kMaxSceneSize)
     bake_fail(fmt::format("the scene is {:.3g} m across, above the {:.0e} m the bake resolves in 32-bit floats; scale "
-                          "it down (a glTF node scale)", size, kMaxSceneSize));
+                          "it down (a glTF node scale)",
+                          size, kMaxSceneSize));
   const float offset = std::max(glm::length(scene.bounds.min), glm::length(scene.bounds.max));
   if (offset > kMaxOffsetPerSize * size)
     bake_fail(fmt::format("the scene is {:.3g} m across but {:.3g} m from the origin: 32-bit positions cannot resolve "
-                          "it there; move it nearer the origin (a glTF node translation)", size, offset));
+                          "it there; move it nearer the origin (a glTF node translation)",
+                          size, offset));
 }
 
 // No probe can be farther than half the scene's size from every surface; a larger clearance would also
@@ -201,7 +207,9 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
   gpu::VolumeInfo info{};
   const formats::PlacementKindInfo& kind = formats::placement_kind_info(s.placement);
   const float largest = scene.bounds.largest_extent();
-  const float pad = kind.root_pad_clearances > 0.0f && largest > 0.0f ? 2.0f * kind.root_pad_clearances * effective_clearance(scene, s) : 0.0f;
+  const float pad = kind.root_pad_clearances > 0.0f && largest > 0.0f
+                        ? 2.0f * kind.root_pad_clearances * effective_clearance(scene, s)
+                        : 0.0f;
   const float size = largest > 0.0f ? largest * 1.002f + pad : 1.0f;
   info.root_min = 0.5f * (scene.bounds.min + scene.bounds.max) - glm::vec3(0.5f * size);
   info.root_size = size;
@@ -217,11 +225,12 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
 }
 
 void check_settings(const BakeSettings& s) {
-  require(s.max_depth >= 0 && s.max_depth <= gpu::OCTREE_MAX_DEPTH, fmt::format("--max-depth must be in [0, {}]", gpu::OCTREE_MAX_DEPTH));
+  require(s.max_depth >= 0 && s.max_depth <= gpu::OCTREE_MAX_DEPTH,
+          fmt::format("--max-depth must be in [0, {}]", gpu::OCTREE_MAX_DEPTH));
   require(s.surfels_per_probe >= 1 && s.surfels_per_probe <= formats::kMaxSurfelsPerProbe,
           fmt::format("--surfels must be in [1, {}]", formats::kMaxSurfelsPerProbe)); // what the validator accepts
-  require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f && s.split_low <= s.split_high &&
-              s.split_high <= 1.0f,
+  require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f &&
+              s.split_low <= s.split_high && s.split_high <= 1.0f,
           "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
   // The octree meets a budget only with the error and surface rules; the skeleton takes one or picks the fewest
   // probes that see every surface sample; the grid's count is its resolution.
@@ -237,8 +246,10 @@ void check_settings(const BakeSettings& s) {
   require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
   require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
   require(s.threads >= 0, "--threads must be >= 0");
-  require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget, fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
-  require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth, fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
+  require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget,
+          fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
+  require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth,
+          fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
   require(std::isfinite(s.cell_size) && s.cell_size >= 0.0f, "--cell-size must be a finite width >= 0");
   require(std::isfinite(s.trace_leaf_cost) && s.trace_leaf_cost >= 0.05f && s.trace_leaf_cost <= 10.0f,
           "--trace-leaf-cost must be in [0.05, 10]");
@@ -254,20 +265,21 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
   add(scene.triangle_albedo.data(), scene.triangle_albedo.size() * sizeof(glm::vec3));
   add(scene.triangle_emission.data(), scene.triangle_emission.size() * sizeof(glm::vec3));
   for (const auto& l : scene.lights) {
-    const float values[] = {float(int(l.type)), l.color.x, l.color.y, l.color.z, l.intensity, l.position.x, l.position.y,
-                            l.position.z, l.direction.x, l.direction.y, l.direction.z, l.range, l.inner_cone_angle,
-                            l.outer_cone_angle};
+    const float values[] = {float(int(l.type)), l.color.x,    l.color.y,          l.color.z,         l.intensity,
+                            l.position.x,       l.position.y, l.position.z,       l.direction.x,     l.direction.y,
+                            l.direction.z,      l.range,      l.inner_cone_angle, l.outer_cone_angle};
     add(values, sizeof(values));
   }
-  const std::int32_t ints[] = {int(s.placement), s.max_depth, s.surfels_per_probe, int(s.lattice), s.grid_resolution,
-                               s.svo_depth, s.store_surfels ? 1 : 0, s.cell_depth, s.runtime_lighting ? 1 : 0,
-                               int(s.split_rule), s.probe_budget};
+  const std::int32_t ints[] = {int(s.placement),           s.max_depth,       s.surfels_per_probe,     int(s.lattice),
+                               s.grid_resolution,          s.svo_depth,       s.store_surfels ? 1 : 0, s.cell_depth,
+                               s.runtime_lighting ? 1 : 0, int(s.split_rule), s.probe_budget};
   const float floats[] = {s.split_low, s.split_high, s.clearance, s.uniform_share, s.trace_leaf_cost};
   add(ints, sizeof(ints));
   add(floats, sizeof(floats));
   const auto& l = s.lighting;
-  const std::int32_t lighting_ints[] = {l.enabled ? 1 : 0, l.rays, l.max_iterations, l.accelerate ? 1 : 0,
-                                       l.emissive_as_lights ? 1 : 0, l.emitter_samples};
+  const std::int32_t lighting_ints[] = {
+      l.enabled ? 1 : 0, l.rays, l.max_iterations, l.accelerate ? 1 : 0, l.emissive_as_lights ? 1 : 0,
+      l.emitter_samples};
   const float lighting_floats[] = {l.tolerance, l.sky_radiance.x, l.sky_radiance.y, l.sky_radiance.z};
   add(lighting_ints, sizeof(lighting_ints));
   add(lighting_floats, sizeof(lighting_floats));
@@ -280,10 +292,11 @@ int cell_depth_for(const BakeSettings& s, float root_size) {
   if (!(s.cell_size > 0.0f)) return s.cell_depth;
   for (int depth = 0; depth <= formats::kMaxCellDepth; ++depth)
     if (root_size / float(formats::cells_per_axis(depth)) <= s.cell_size) return depth;
-  throw Error(ErrorKind::usage, fmt::format("--cell-size {:g}: the root cube is {:g} m wide and at most {} cells per axis are supported "
-                                            "(cells of {:g} m); give a larger size",
-                                            s.cell_size, root_size, formats::cells_per_axis(formats::kMaxCellDepth),
-                                            root_size / float(formats::cells_per_axis(formats::kMaxCellDepth))));
+  throw Error(ErrorKind::usage,
+              fmt::format("--cell-size {:g}: the root cube is {:g} m wide and at most {} cells per axis are supported "
+                          "(cells of {:g} m); give a larger size",
+                          s.cell_size, root_size, formats::cells_per_axis(formats::kMaxCellDepth),
+                          root_size / float(formats::cells_per_axis(formats::kMaxCellDepth))));
 }
 
 BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const ProgressCallback& progress,
@@ -330,7 +343,8 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   // A closed object seen from outside has no open space inside its bounds (placement/refine_root.h): every
   // method then places its probes in the larger root cube around it (the grid over that cube, not the bounds).
   scene::Bounds placement_bounds = scene.bounds;
-  if (!placement::open_space_inside(rays, volume.info, scene.bounds, report.clearance, input.directions, settings.threads)) {
+  if (!placement::open_space_inside(rays, volume.info, scene.bounds, report.clearance, input.directions,
+                                    settings.threads)) {
     placement::surround_root(volume.info);
     report.surrounded_root = true;
     placement_bounds = {volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size)};
@@ -346,8 +360,9 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
 
   report.placed_probes = int(placed.size());
   // The SDF is built only when some probe needs relocating: most clean scenes never pay for it.
-  const bool any_dead = std::any_of(placed.begin(), placed.end(),
-                                    [&](const placement::PlacedProbe& p) { return placement::is_dead(p.rays, report.clearance); });
+  const bool any_dead = std::any_of(placed.begin(), placed.end(), [&](const placement::PlacedProbe& p) {
+    return placement::is_dead(p.rays, report.clearance);
+  });
   if (any_dead) {
     timer.stage("sdf");
     const placement::SceneSdf sdf(visible, sdf_settings(scene, report.clearance));

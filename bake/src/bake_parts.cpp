@@ -27,7 +27,8 @@ std::vector<std::int32_t> triangle_cells(const scene::Scene& scene, const BakeSe
 }
 
 // The triangles whose cell is one of `cells` (ascending), in scene order.
-std::vector<std::uint32_t> triangles_in(const std::vector<std::int32_t>& triangle_cell, std::span<const std::int32_t> cells) {
+std::vector<std::uint32_t> triangles_in(const std::vector<std::int32_t>& triangle_cell,
+                                        std::span<const std::int32_t> cells) {
   std::vector<std::uint32_t> out;
   for (std::size_t t = 0; t < triangle_cell.size(); ++t)
     if (std::binary_search(cells.begin(), cells.end(), triangle_cell[t])) out.push_back(std::uint32_t(t));
@@ -51,7 +52,8 @@ std::uint64_t part_input_hash(const scene::Scene& scene, const BakeSettings& set
   return bake_input_hash(scene, with_part_grid(scene, settings));
 }
 
-formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& settings, std::span<const std::int32_t> cells) {
+formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& settings,
+                            std::span<const std::int32_t> cells) {
   check_settings(settings);
   formats::BakePart part;
   part.cell_depth = part_cell_depth(scene, settings);
@@ -60,7 +62,8 @@ formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& setti
   const int grid = formats::cell_count(part.cell_depth);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     if (cells[k] < 0 || cells[k] >= grid)
-      throw Error(ErrorKind::usage, fmt::format("--cells: cell {} is outside the grid's {} cells ({}^3)", cells[k], grid, formats::cells_per_axis(part.cell_depth)));
+      throw Error(ErrorKind::usage, fmt::format("--cells: cell {} is outside the grid's {} cells ({}^3)", cells[k],
+                                                grid, formats::cells_per_axis(part.cell_depth)));
     if (k > 0 && cells[k] <= cells[k - 1]) throw Error(ErrorKind::internal, "bake_part: cells not ascending");
   }
   part.cells.assign(cells.begin(), cells.end());
@@ -73,17 +76,18 @@ formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& setti
   return part;
 }
 
-PrecomputedWork merge_parts(const scene::Scene& scene, const BakeSettings& settings, std::span<const formats::BakePart> parts,
-                            std::span<const std::string> names) {
+PrecomputedWork merge_parts(const scene::Scene& scene, const BakeSettings& settings,
+                            std::span<const formats::BakePart> parts, std::span<const std::string> names) {
   const int depth = part_cell_depth(scene, settings);
   const std::uint64_t hash = part_input_hash(scene, settings);
   std::map<std::int32_t, std::size_t> baked_by; // cell -> part
   for (std::size_t p = 0; p < parts.size(); ++p) {
     const formats::BakePart& part = parts[p];
     if (part.input_hash != hash || part.cell_depth != depth || part.scene_triangles != scene.triangles.size())
-      throw Error(ErrorKind::input, fmt::format("{}: baked from another scene or with other settings (input hash {:016x}, this merge's "
-                                                "{:016x}): give merge the scene and the options the parts were baked with",
-                                                names[p], part.input_hash, hash));
+      throw Error(ErrorKind::input,
+                  fmt::format("{}: baked from another scene or with other settings (input hash {:016x}, this merge's "
+                              "{:016x}): give merge the scene and the options the parts were baked with",
+                              names[p], part.input_hash, hash));
     for (const std::int32_t cell : part.cells)
       if (const auto [at, added] = baked_by.emplace(cell, p); !added)
         throw Error(ErrorKind::input, fmt::format("{}: cell {} is also in {}", names[p], cell, names[at->second]));
@@ -95,15 +99,18 @@ PrecomputedWork merge_parts(const scene::Scene& scene, const BakeSettings& setti
   for (std::size_t t = 0; t < triangle_cell.size(); ++t) {
     const auto at = baked_by.find(triangle_cell[t]);
     if (at == baked_by.end())
-      throw Error(ErrorKind::input, fmt::format("no part bakes cell {} (triangle {} lies in it): bake it with --cells", triangle_cell[t], t));
+      throw Error(ErrorKind::input, fmt::format("no part bakes cell {} (triangle {} lies in it): bake it with --cells",
+                                                triangle_cell[t], t));
     const std::size_t p = at->second;
     if (next[p] >= parts[p].sealed.size())
-      throw Error(ErrorKind::input, fmt::format("{}: {} sealed flags, fewer than the triangles of its cells", names[p], parts[p].sealed.size()));
+      throw Error(ErrorKind::input, fmt::format("{}: {} sealed flags, fewer than the triangles of its cells", names[p],
+                                                parts[p].sealed.size()));
     work.sealed[t] = char(parts[p].sealed[next[p]++]);
   }
   for (std::size_t p = 0; p < parts.size(); ++p)
     if (next[p] != parts[p].sealed.size())
-      throw Error(ErrorKind::input, fmt::format("{}: {} sealed flags for the {} triangles of its cells", names[p], parts[p].sealed.size(), next[p]));
+      throw Error(ErrorKind::input, fmt::format("{}: {} sealed flags for the {} triangles of its cells", names[p],
+                                                parts[p].sealed.size(), next[p]));
   return work;
 }
 

@@ -23,7 +23,6 @@ namespace {
 // last levels into a small tree of leaves instead of going deeper.
 constexpr unsigned kMaxBuildDepth = 40;
 
-
 // Build nodes live in Embree's thread-local allocator memory: trivially destructible, never deleted.
 struct BuildNode {
   bool leaf = false;
@@ -73,7 +72,8 @@ std::vector<RTCBuildPrimitive> build_primitives(std::span<const formats::TraceIn
   std::vector<RTCBuildPrimitive> primitives(triangles.size());
   for (std::size_t i = 0; i < triangles.size(); ++i) {
     glm::vec3 lower = triangles[i].corners[0], upper = lower;
-    for (int k = 1; k < 3; ++k) lower = glm::min(lower, triangles[i].corners[k]), upper = glm::max(upper, triangles[i].corners[k]);
+    for (int k = 1; k < 3; ++k)
+      lower = glm::min(lower, triangles[i].corners[k]), upper = glm::max(upper, triangles[i].corners[k]);
     primitives[i] = RTCBuildPrimitive{lower.x, lower.y, lower.z, 0u, upper.x, upper.y, upper.z, unsigned(i)};
   }
   return primitives;
@@ -144,8 +144,9 @@ public:
     const BuildNode* root = nullptr;
     run_on_one_thread([&] { root = static_cast<const BuildNode*>(rtcBuildBVH(&args)); });
     if (root == nullptr || state.unexpected || rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
-      throw Error(ErrorKind::internal, fmt::format("gpu_scene: Embree: rtcBuildBVH failed (error {}{})", int(rtcGetDeviceError(device_)),
-                                                   state.unexpected ? ", unexpected node shape" : ""));
+      throw Error(ErrorKind::internal,
+                  fmt::format("gpu_scene: Embree: rtcBuildBVH failed (error {}{})", int(rtcGetDeviceError(device_)),
+                              state.unexpected ? ", unexpected node shape" : ""));
     }
     return root;
   }
@@ -160,13 +161,16 @@ private:
 GpuBvh build_gpu_bvh(std::span<const formats::TraceInputTriangle> triangles, float leaf_cost, int depth_above) {
   if (triangles.empty()) return {};
   if (depth_above < 0 || depth_above >= int(kMaxBuildDepth))
-    throw Error(ErrorKind::internal, fmt::format("gpu_scene: a subtree starts at depth {}, past the build limit {}", depth_above, kMaxBuildDepth));
+    throw Error(ErrorKind::internal, fmt::format("gpu_scene: a subtree starts at depth {}, past the build limit {}",
+                                                 depth_above, kMaxBuildDepth));
   std::vector<RTCBuildPrimitive> primitives = build_primitives(triangles);
   EmbreeBvh embree;
-  GpuBvh bvh = flatten(embree.build(primitives, leaf_cost, kMaxBuildDepth - unsigned(depth_above))); // the build nodes die with `embree`
+  GpuBvh bvh = flatten(
+      embree.build(primitives, leaf_cost, kMaxBuildDepth - unsigned(depth_above))); // the build nodes die with `embree`
   bvh.depth += depth_above;
   if (bvh.depth >= gpu::BVH_MAX_DEPTH) {
-    throw Error(ErrorKind::internal, fmt::format("gpu_scene: BVH depth {} reaches BVH_MAX_DEPTH {}", bvh.depth, gpu::BVH_MAX_DEPTH));
+    throw Error(ErrorKind::internal,
+                fmt::format("gpu_scene: BVH depth {} reaches BVH_MAX_DEPTH {}", bvh.depth, gpu::BVH_MAX_DEPTH));
   }
   return bvh;
 }

@@ -13,10 +13,10 @@
 namespace probebake::bake::detail {
 
 struct GpuBvh {
-  std::vector<gpu::BvhNode> nodes;         // root at 0, depth-first, the two children of a node adjacent;
-                                           // first and count only (boxes are left zero)
-  std::vector<std::uint32_t> leaf_order;   // triangle k of the leaves = input triangle leaf_order[k]
-  int depth = 0;                           // deepest node, counted from the whole tree's root (depth_above)
+  std::vector<gpu::BvhNode> nodes;       // root at 0, depth-first, the two children of a node adjacent;
+                                         // first and count only (boxes are left zero)
+  std::vector<std::uint32_t> leaf_order; // triangle k of the leaves = input triangle leaf_order[k]
+  int depth = 0;                         // deepest node, counted from the whole tree's root (depth_above)
 };
 
 // The tree over `triangles` (their corners are used); `leaf_cost` is the SAH cost of a triangle test

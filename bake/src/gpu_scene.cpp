@@ -38,7 +38,8 @@ std::vector<int> triangle_objects(const scene::Scene& scene) {
   return objects;
 }
 
-formats::TraceInputTriangle trace_triangle(const scene::Scene& scene, std::size_t t, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2) {
+formats::TraceInputTriangle trace_triangle(const scene::Scene& scene, std::size_t t, glm::vec3 v0, glm::vec3 v1,
+                                           glm::vec3 v2) {
   formats::TraceInputTriangle triangle;
   triangle.corners[0] = v0;
   triangle.corners[1] = v1;
@@ -52,15 +53,16 @@ formats::TraceInputTriangle trace_triangle(const scene::Scene& scene, std::size_
 // The triangles of object `object` (-1: the static ones) in scene order; an object's in its own frame
 // (object_from_world). Triangles without area in float (the runtime's normal, the validator's rule) are
 // left out: they are never hit.
-std::vector<formats::TraceInputTriangle> scene_triangles(const scene::Scene& scene, const std::vector<int>& objects, int object,
-                                                         const glm::mat4& object_from_world) {
+std::vector<formats::TraceInputTriangle> scene_triangles(const scene::Scene& scene, const std::vector<int>& objects,
+                                                         int object, const glm::mat4& object_from_world) {
   std::vector<formats::TraceInputTriangle> triangles;
   for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
     if (objects[t] != object) continue;
     const glm::uvec3 corners = scene.triangles[t];
     glm::vec3 v[3];
     for (int k = 0; k < 3; ++k)
-      v[k] = object < 0 ? scene.positions[corners[k]] : glm::vec3(object_from_world * glm::vec4(scene.positions[corners[k]], 1.0f));
+      v[k] = object < 0 ? scene.positions[corners[k]]
+                        : glm::vec3(object_from_world * glm::vec4(scene.positions[corners[k]], 1.0f));
     const float area = glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
     if (!(area > 0.0f) || !std::isfinite(area)) continue;
     triangles.push_back(trace_triangle(scene, t, v[0], v[1], v[2]));
@@ -75,7 +77,8 @@ struct LeafOrderedBvh {
   formats::TraceTreeInput input() const { return formats::TraceTreeInput{bvh.nodes, triangles}; }
 };
 
-LeafOrderedBvh leaf_ordered_bvh(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, int& depth, int depth_above = 0) {
+LeafOrderedBvh leaf_ordered_bvh(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, int& depth,
+                                int depth_above = 0) {
   LeafOrderedBvh out{detail::build_gpu_bvh(triangles, leaf_cost, depth_above), {}};
   out.triangles.reserve(triangles.size());
   for (std::uint32_t k : out.bvh.leaf_order) out.triangles.push_back(triangles[k]);
@@ -84,7 +87,8 @@ LeafOrderedBvh leaf_ordered_bvh(const std::vector<formats::TraceInputTriangle>& 
 }
 
 // Appends a BVH over `triangles` to the volume's compact tracing sections (its faces in leaf order).
-int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost, formats::TraceMeshBuilder& mesh, int& depth) {
+int append_tree(const std::vector<formats::TraceInputTriangle>& triangles, float leaf_cost,
+                formats::TraceMeshBuilder& mesh, int& depth) {
   return mesh.add_tree(leaf_ordered_bvh(triangles, leaf_cost, depth).input());
 }
 
@@ -101,13 +105,14 @@ std::uint32_t morton_code(int cell_index, int cell_depth) {
 // The static tree split by streaming cell (format 1.5, formats::CellTracing): one BVH per cell over the
 // triangles whose centroid lies in it, stored in cell order under a top level over the cells in Morton
 // order (formats::TraceMeshBuilder::add_cell_tree). Rebuilds the volume's cells (arrange_cells) with the tracing ranges.
-void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, const BakeSettings& settings, formats::ProbeVolume& volume,
-                         formats::TraceMeshBuilder& mesh, int& depth) {
+void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, const BakeSettings& settings,
+                         formats::ProbeVolume& volume, formats::TraceMeshBuilder& mesh, int& depth) {
   // One copy of the triangles at a time (a world's triangles are its largest input): the list is freed once
   // sorted into cells, and each cell's list once its tree holds them in leaf order.
   std::map<int, std::vector<formats::TraceInputTriangle>> by_cell; // sorted by cell index
   for (formats::TraceInputTriangle& t : triangles)
-    by_cell[formats::cell_of_triangle(volume.info, settings.cell_depth, t.corners[0], t.corners[1], t.corners[2])].push_back(std::move(t));
+    by_cell[formats::cell_of_triangle(volume.info, settings.cell_depth, t.corners[0], t.corners[1], t.corners[2])]
+        .push_back(std::move(t));
   std::vector<formats::TraceInputTriangle>().swap(triangles);
   std::vector<std::size_t> top_order;
   volume.cells.clear();
@@ -118,7 +123,8 @@ void append_static_cells(std::vector<formats::TraceInputTriangle> triangles, con
     volume.cells.push_back(record);
   }
   std::stable_sort(top_order.begin(), top_order.end(), [&](std::size_t a, std::size_t b) {
-    return morton_code(volume.cells[a].cell_index, settings.cell_depth) < morton_code(volume.cells[b].cell_index, settings.cell_depth);
+    return morton_code(volume.cells[a].cell_index, settings.cell_depth) <
+           morton_code(volume.cells[b].cell_index, settings.cell_depth);
   });
   // Each cell's tree starts where the top level leaves it, so the whole tree stays under BVH_MAX_DEPTH.
   const std::vector<int> depth_above = formats::cell_top_depths(top_order);
@@ -149,13 +155,18 @@ void append_dynamic_objects(const scene::Scene& scene, const std::vector<int>& o
     const scene::DynamicObject& node = scene.dynamic_objects[o];
     const glm::mat4& rest = node.world_from_object;
     if (!(glm::determinant(glm::mat3(rest)) > 0.0f))
-      throw Error(ErrorKind::input, fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]): its transform is singular or mirrored", node.name, node.node));
-    const std::vector<formats::TraceInputTriangle> triangles = scene_triangles(scene, objects, int(o), glm::inverse(rest));
+      throw Error(ErrorKind::input,
+                  fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]): its transform is singular or mirrored",
+                              node.name, node.node));
+    const std::vector<formats::TraceInputTriangle> triangles =
+        scene_triangles(scene, objects, int(o), glm::inverse(rest));
     if (triangles.empty()) continue;
     for (const formats::TraceInputTriangle& t : triangles)
       if (settings.lighting.emissive_as_lights && t.emission != glm::vec3(0.0f))
-        throw Error(ErrorKind::input, fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]) is emissive: emitters are static area "
-                                                  "lights (docs/LIGHTING.md)", node.name, node.node));
+        throw Error(ErrorKind::input,
+                    fmt::format("gpu_scene: dynamic node '{}' (nodes[{}]) is emissive: emitters are static area "
+                                "lights (docs/LIGHTING.md)",
+                                node.name, node.node));
     gpu::DynamicObject record{};
     record.first_triangle = int(volume.trace_faces.size());
     record.bvh_root = append_tree(triangles, settings.trace_leaf_cost, mesh, depth);
@@ -164,9 +175,11 @@ void append_dynamic_objects(const scene::Scene& scene, const std::vector<int>& o
     record.lower = glm::vec3(3.4e38f);
     record.upper = glm::vec3(-3.4e38f);
     for (const formats::TraceInputTriangle& t : triangles)
-      for (const glm::vec3& p : t.corners) record.lower = glm::min(record.lower, p), record.upper = glm::max(record.upper, p);
+      for (const glm::vec3& p : t.corners)
+        record.lower = glm::min(record.lower, p), record.upper = glm::max(record.upper, p);
     record.gltf_node = node.node;
-    for (int row = 0; row < 3; ++row) record.rest_rows[row] = glm::vec4(rest[0][row], rest[1][row], rest[2][row], rest[3][row]);
+    for (int row = 0; row < 3; ++row)
+      record.rest_rows[row] = glm::vec4(rest[0][row], rest[1][row], rest[2][row], rest[3][row]);
     volume.dynamic_objects.push_back(record);
   }
 }
@@ -177,7 +190,8 @@ gpu::PunctualLight punctual_light(const scene::Light& light, std::size_t index) 
   gpu::PunctualLight out{};
   out.intensity = light.color * light.intensity; // as DirectLighting::from_light
   if (!std::isfinite(out.intensity.x) || !std::isfinite(out.intensity.y) || !std::isfinite(out.intensity.z)) {
-    throw Error(ErrorKind::input, fmt::format("gpu_scene: light {} ('{}'): colour x intensity is not finite", index, light.name));
+    throw Error(ErrorKind::input,
+                fmt::format("gpu_scene: light {} ('{}'): colour x intensity is not finite", index, light.name));
   }
   if (light.type == scene::LightType::directional) {
     out.type = gpu::LIGHT_DIRECTIONAL;
@@ -212,8 +226,10 @@ std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const Ligh
 // The lighting rays (ray k of every probe), then the placement lattice (surfel k's direction).
 std::vector<glm::vec4> ray_directions(const BakeSettings& settings) {
   std::vector<glm::vec4> directions;
-  for (const glm::vec3& d : lattice_directions(Lattice::fibonacci, settings.lighting.rays)) directions.emplace_back(d, 0.0f);
-  for (const glm::vec3& d : lattice_directions(settings.lattice, settings.surfels_per_probe)) directions.emplace_back(d, 0.0f);
+  for (const glm::vec3& d : lattice_directions(Lattice::fibonacci, settings.lighting.rays))
+    directions.emplace_back(d, 0.0f);
+  for (const glm::vec3& d : lattice_directions(settings.lattice, settings.surfels_per_probe))
+    directions.emplace_back(d, 0.0f);
   return directions;
 }
 
@@ -228,18 +244,21 @@ gpu::LightingInfo lighting_info(const scene::Scene& scene, const BakeSettings& s
 }
 
 std::size_t section_bytes(const formats::ProbeVolume& v) {
-  return sizeof(gpu::LightingInfo) + v.ray_directions.size() * sizeof(glm::vec4) + v.punctual_lights.size() * sizeof(gpu::PunctualLight) +
-         v.emitter_patches.size() * sizeof(gpu::EmitterPatch) + v.dynamic_objects.size() * sizeof(gpu::DynamicObject) + formats::tracing_bytes(v);
+  return sizeof(gpu::LightingInfo) + v.ray_directions.size() * sizeof(glm::vec4) +
+         v.punctual_lights.size() * sizeof(gpu::PunctualLight) + v.emitter_patches.size() * sizeof(gpu::EmitterPatch) +
+         v.dynamic_objects.size() * sizeof(gpu::DynamicObject) + formats::tracing_bytes(v);
 }
 
 } // namespace
 
-RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const BakeSettings& settings, formats::ProbeVolume& volume) {
+RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const BakeSettings& settings,
+                                           formats::ProbeVolume& volume) {
   RuntimeLightingReport report;
   const std::vector<int> objects = triangle_objects(scene);
   const auto start = Clock::now();
   volume.bvh_nodes.clear(), volume.trace_triangles.clear();
-  volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear(), volume.trace_vertices.clear(), volume.trace_materials.clear();
+  volume.trace_trees.clear(), volume.trace_nodes.clear(), volume.trace_faces.clear(), volume.trace_vertices.clear(),
+      volume.trace_materials.clear();
   int depth = 0;
   formats::TraceMeshBuilder mesh(volume);
   append_static_cells(scene_triangles(scene, objects, -1, glm::mat4(1.0f)), settings, volume, mesh, depth); // tree 0
@@ -247,7 +266,8 @@ RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const Bake
   report.bvh_seconds = std::chrono::duration<double>(Clock::now() - start).count(); // build and compaction
 
   volume.punctual_lights.clear();
-  for (std::size_t i = 0; i < scene.lights.size(); ++i) volume.punctual_lights.push_back(punctual_light(scene.lights[i], i));
+  for (std::size_t i = 0; i < scene.lights.size(); ++i)
+    volume.punctual_lights.push_back(punctual_light(scene.lights[i], i));
   volume.emitter_patches = gpu_patches(scene, settings.lighting);
   volume.ray_directions = ray_directions(settings);
   volume.lighting = lighting_info(scene, settings);

@@ -58,7 +58,8 @@ bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
 // Uniform bucket grid over the root cube for nearest-probe queries.
 class ProbeBuckets {
 public:
-  ProbeBuckets(const formats::ProbeVolume& v, int resolution) : volume_(v), n_(resolution), buckets_(std::size_t(n_ * n_ * n_)) {
+  ProbeBuckets(const formats::ProbeVolume& v, int resolution)
+      : volume_(v), n_(resolution), buckets_(std::size_t(n_ * n_ * n_)) {
     for (std::size_t i = 0; i < v.probes.size(); ++i)
       if (v.probes[i].link != 0) buckets_[std::size_t(bucket_index(cell_of(v.probes[i].position)))].push_back(int(i));
   }
@@ -353,7 +354,8 @@ SvoStats build_svo(const scene::RayScene& rays, formats::ProbeVolume& volume, in
   const int n = 1 << svo_depth;
   const float size = volume.info.root_size / float(n);
   // About two probes per bucket: the ring search then touches few empty buckets.
-  const int live = int(std::count_if(volume.probes.begin(), volume.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
+  const int live =
+      int(std::count_if(volume.probes.begin(), volume.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
   const ProbeBuckets buckets(volume, std::clamp(int(std::cbrt(double(live) / 2.0)), 1, 32));
   const ProbeGroups groups = probe_groups(rays, volume, buckets, threads);
   std::vector<VoxelPayload> voxels(std::size_t(n) * std::size_t(n) * std::size_t(n));

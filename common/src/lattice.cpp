@@ -31,7 +31,7 @@ glm::vec3 from_polar(double theta, double phi) {
 
 glm::vec3 fibonacci_direction(int i, int n) {
   const double golden_angle = pi * (3.0 - std::sqrt(5.0));
-  const double k = static_cast<double>(i) + 0.5;  // the thesis's (i - 1/2) with 1-based i
+  const double k = static_cast<double>(i) + 0.5; // the thesis's (i - 1/2) with 1-based i
   const double z = 1.0 - (2.0 / static_cast<double>(n)) * k;
   const double phi = golden_angle * k;
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
@@ -138,7 +138,7 @@ double circle_offset(int top_count, int bottom_count) {
 std::vector<double> zone_offsets(const std::vector<int>& counts) {
   std::vector<double> offsets(counts.size(), 0.0);
   double turns = 0.0;
-  for (std::size_t z = 1; z + 1 < counts.size(); ++z) {  // collars only; caps have no azimuth
+  for (std::size_t z = 1; z + 1 < counts.size(); ++z) { // collars only; caps have no azimuth
     offsets[z] = 2.0 * pi * turns;
     turns += circle_offset(counts[z], counts[z + 1]);
     turns -= std::floor(turns);
@@ -177,13 +177,13 @@ std::vector<glm::vec3> equal_area_directions(int n) {
   return out;
 }
 
-}  // namespace
+} // namespace
 
 std::string_view lattice_name(Lattice lattice) {
   switch (lattice) {
-    case Lattice::fibonacci: return "fibonacci";
-    case Lattice::latlong: return "latlong";
-    case Lattice::equal_area: return "equal-area";
+  case Lattice::fibonacci: return "fibonacci";
+  case Lattice::latlong: return "latlong";
+  case Lattice::equal_area: return "equal-area";
   }
   return "unknown";
 }
@@ -225,9 +225,9 @@ EqualAreaPartition equal_area_partition(int n) {
 std::vector<glm::vec3> lattice_directions(Lattice lattice, int n) {
   if (n <= 0) return {};
   switch (lattice) {
-    case Lattice::latlong: return latlong_directions(n);
-    case Lattice::equal_area: return equal_area_directions(n);
-    case Lattice::fibonacci: break;
+  case Lattice::latlong: return latlong_directions(n);
+  case Lattice::equal_area: return equal_area_directions(n);
+  case Lattice::fibonacci: break;
   }
   std::vector<glm::vec3> out;
   out.reserve(static_cast<std::size_t>(n));
@@ -238,11 +238,11 @@ std::vector<glm::vec3> lattice_directions(Lattice lattice, int n) {
 glm::vec3 lattice_direction(Lattice lattice, int i, int n) {
   assert(i >= 0 && i < n);
   switch (lattice) {
-    case Lattice::latlong: return latlong_direction(i, n);
-    case Lattice::equal_area: return equal_area_direction(i, n);
-    case Lattice::fibonacci: break;
+  case Lattice::latlong: return latlong_direction(i, n);
+  case Lattice::equal_area: return equal_area_direction(i, n);
+  case Lattice::fibonacci: break;
   }
   return fibonacci_direction(i, n);
 }
 
-}  // namespace probebake
+} // namespace probebake

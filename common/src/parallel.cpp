@@ -27,7 +27,8 @@ void parallel_for(std::size_t count, int threads, const std::function<void(std::
 }
 
 struct ThreadLimit::Impl {
-  explicit Impl(int threads) : control(tbb::global_control::max_allowed_parallelism, std::size_t(clamp_threads(threads))) {}
+  explicit Impl(int threads)
+      : control(tbb::global_control::max_allowed_parallelism, std::size_t(clamp_threads(threads))) {}
   tbb::global_control control;
 };
 

@@ -89,9 +89,10 @@ glm::mat4 animated_pose(Animation animation, int frame, const gpu::DynamicObject
     const float reach = glm::length(object.upper - object.lower) / 3.0f;
     shift = reach * glm::vec3(soak_wave(frame, object.gltf_node, 1), 0.0f, soak_wave(frame, object.gltf_node, 2));
   }
-  const glm::mat4 turn = glm::translate(glm::mat4(1.0f), pivot + shift) *
-                         glm::rotate(glm::mat4(1.0f), animation_angle(animation, frame, object.gltf_node), glm::vec3(0.0f, 1.0f, 0.0f)) *
-                         glm::translate(glm::mat4(1.0f), -pivot);
+  const glm::mat4 turn =
+      glm::translate(glm::mat4(1.0f), pivot + shift) *
+      glm::rotate(glm::mat4(1.0f), animation_angle(animation, frame, object.gltf_node), glm::vec3(0.0f, 1.0f, 0.0f)) *
+      glm::translate(glm::mat4(1.0f), -pivot);
   return turn * rest;
 }
 

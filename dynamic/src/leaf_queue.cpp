@@ -8,9 +8,7 @@
 namespace probebake::dynamic {
 namespace {
 
-[[noreturn]] void malformed(const std::string& reason) {
-  throw Error(ErrorKind::input, "leaf queue: " + reason);
-}
+[[noreturn]] void malformed(const std::string& reason) { throw Error(ErrorKind::input, "leaf queue: " + reason); }
 
 } // namespace
 
@@ -22,13 +20,16 @@ LeafQueue::LeafQueue(formats::ProbeVolume& volume, int segment_capacity) : volum
   if (volume.leaf_entries.empty()) formats::init_leaf_queue(volume, segment_capacity);
   const gpu::LeafQueueHeader& header = volume.leaf_header;
   if (header.pull_origin < 0 || header.pull_origin > 2) malformed("pull origin not in {0, 1, 2}");
-  if (volume.leaf_entries.size() != 3 * static_cast<std::size_t>(header.segment_capacity)) malformed("entries are not three segments");
+  if (volume.leaf_entries.size() != 3 * static_cast<std::size_t>(header.segment_capacity))
+    malformed("entries are not three segments");
   for (int s = 0; s < 3; ++s) {
     if (header.count[s] < 0 || header.count[s] > header.segment_capacity) malformed("segment count out of range");
     for (int e = 0; e < header.count[s]; ++e) {
       const gpu::LeafEntry& entry = volume.leaf_entries[static_cast<std::size_t>(s * header.segment_capacity + e)];
-      if (state_priority(entry.state) == 0) malformed("entry state " + std::to_string(entry.state) + " is not a LEAF_* state");
-      if (!slot_[s].emplace(entry.node, e).second) malformed("node " + std::to_string(entry.node) + " twice in one segment");
+      if (state_priority(entry.state) == 0)
+        malformed("entry state " + std::to_string(entry.state) + " is not a LEAF_* state");
+      if (!slot_[s].emplace(entry.node, e).second)
+        malformed("node " + std::to_string(entry.node) + " twice in one segment");
     }
   }
 }

@@ -49,7 +49,8 @@ int limit_or_all(int limit, std::size_t count) { return limit > 0 ? std::min(lim
 } // namespace
 
 TreeUpdate::TreeUpdate(formats::Octree& tree, const TreeUpdateSettings& settings)
-    : tree_(&tree), settings_(settings),
+    : tree_(&tree),
+      settings_(settings),
       queue_(tree.volume(), int(std::max<std::size_t>(tree.volume().octree.size(), 1))) {
   formats::ProbeVolume& v = tree.volume();
   if (queue_.count(0) + queue_.count(1) + queue_.count(2) > 0) return;
@@ -60,7 +61,8 @@ TreeUpdate::TreeUpdate(formats::Octree& tree, const TreeUpdateSettings& settings
   });
 }
 
-TreeFrameStats TreeUpdate::run_frame(std::span<const Box> changed, const TraceLeaf& trace, const InitialIrradiance& initial) {
+TreeFrameStats TreeUpdate::run_frame(std::span<const Box> changed, const TraceLeaf& trace,
+                                     const InitialIrradiance& initial) {
   Frame frame{changed, &trace, &initial, {}, {}};
   queue_.begin_frame();
   memory_update(frame);
@@ -109,7 +111,10 @@ void TreeUpdate::memory_update(Frame& frame) {
   std::vector<int> free_cluster_requests;
   int allocations = 0;
   for (const gpu::LeafEntry& e : entries) {
-    if (!fits_state(e.node, e.state)) { ++frame.stats.stale_entries; continue; }
+    if (!fits_state(e.node, e.state)) {
+      ++frame.stats.stale_entries;
+      continue;
+    }
     const bool allocates = e.state == gpu::LEAF_M1_ALLOCATE_PROBE || e.state == gpu::LEAF_M3_SPLIT;
     if (allocates && allocations++ >= budget) {
       // Deferred: it keeps its state, and holds its parent in M0 meanwhile. Both end in a fresh L1
@@ -120,8 +125,10 @@ void TreeUpdate::memory_update(Frame& frame) {
       continue;
     }
     ++frame.stats.processed[std::size_t(e.state)];
-    if (e.state == gpu::LEAF_M4_FREE_CLUSTER) free_cluster_requests.push_back(e.node);
-    else if (e.state != gpu::LEAF_M0_CHILD_ALLOCATING) leaf_work.push_back(e); // M0: leave the cluster alone
+    if (e.state == gpu::LEAF_M4_FREE_CLUSTER)
+      free_cluster_requests.push_back(e.node);
+    else if (e.state != gpu::LEAF_M0_CHILD_ALLOCATING)
+      leaf_work.push_back(e); // M0: leave the cluster alone
   }
 
   // M4 is judged on the tree as the frame found it and applied after M1-M3: no collapse meets a child that
@@ -132,12 +139,16 @@ void TreeUpdate::memory_update(Frame& frame) {
     if (const std::optional<Verdict> becomes = collapse_verdict(frame, node)) frame.collapsing.emplace(node, *becomes);
   }
   for (const gpu::LeafEntry& e : leaf_work) {
-    if (e.state == gpu::LEAF_M1_ALLOCATE_PROBE) allocate_probe(frame, e.node);
-    else if (e.state == gpu::LEAF_M2_FREE_PROBE) free_probe(frame, e.node);
-    else split(frame, e.node);
+    if (e.state == gpu::LEAF_M1_ALLOCATE_PROBE)
+      allocate_probe(frame, e.node);
+    else if (e.state == gpu::LEAF_M2_FREE_PROBE)
+      free_probe(frame, e.node);
+    else
+      split(frame, e.node);
   }
   for (const int node : free_cluster_requests) {
-    if (const auto found = frame.collapsing.find(node); found != frame.collapsing.end()) collapse(frame, node, found->second);
+    if (const auto found = frame.collapsing.find(node); found != frame.collapsing.end())
+      collapse(frame, node, found->second);
   }
 }
 
@@ -175,10 +186,13 @@ void TreeUpdate::split(Frame& frame, int node) {
   const int depth = parent.depth;
   // The eight children's probes and batches must exist before the parent's are given back (as on the
   // GPU, where they are taken from the pools first).
-  const bool room = tree_->free_clusters() >= 1 && tree_->free_probes() >= 8 && tree_->free_batches() >= 8 * batches_per_probe();
+  const bool room =
+      tree_->free_clusters() >= 1 && tree_->free_probes() >= 8 && tree_->free_batches() >= 8 * batches_per_probe();
   if (depth >= v.info.max_depth || !room) {
-    if (room) ++frame.stats.stale_entries; // M3 at max depth: L1 never asks for it
-    else ++frame.stats.failed_allocations;
+    if (room)
+      ++frame.stats.stale_entries; // M3 at max depth: L1 never asks for it
+    else
+      ++frame.stats.failed_allocations;
     // L1, not the thesis's L2: it measures again next frame (retrying the split while the pool is dry,
     // and seeing any change that the wait hid).
     push(frame, light_out, node, gpu::LEAF_L1_PLACE_SURFELS);
@@ -215,7 +229,8 @@ std::optional<TreeUpdate::Verdict> TreeUpdate::collapse_verdict(Frame& frame, in
 
 TreeUpdate::Verdict TreeUpdate::judge(const LeafTrace& t, int depth) const {
   // The one leaf rule of C++ and GLSL (probebake/leaf_rule.h): the bake's placement rule.
-  switch (gpu::leaf_verdict(t.hit_fraction, t.backface_fraction, depth, tree_->volume().info, settings_.dead_backface_fraction)) {
+  switch (gpu::leaf_verdict(t.hit_fraction, t.backface_fraction, depth, tree_->volume().info,
+                            settings_.dead_backface_fraction)) {
   case gpu::LEAF_VERDICT_FREE: return Verdict::free;
   case gpu::LEAF_VERDICT_SPLIT: return Verdict::split;
   default: return Verdict::keep;
@@ -248,8 +263,11 @@ void TreeUpdate::collapse(Frame& frame, int node, Verdict becomes) {
   // The merged leaf keeps a probe, starting from its children's mean (the eight probes freed above are
   // in the pool again, so this cannot run dry).
   const int probe = tree_->place_probe(node);
-  for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) v.probes[std::size_t(probe)].irradiance_sh[k] = children_with_probes > 0 ? mean_sh[k] / float(children_with_probes) : 0.0f;
-  if (children_with_probes == 0 && *frame.initial) (*frame.initial)(v.probes[std::size_t(probe)].position, v.probes[std::size_t(probe)].irradiance_sh);
+  for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
+    v.probes[std::size_t(probe)].irradiance_sh[k] =
+        children_with_probes > 0 ? mean_sh[k] / float(children_with_probes) : 0.0f;
+  if (children_with_probes == 0 && *frame.initial)
+    (*frame.initial)(v.probes[std::size_t(probe)].position, v.probes[std::size_t(probe)].irradiance_sh);
   place_surfels(frame, node);
   ++frame.stats.probes_placed;
   push(frame, light_out, node, gpu::LEAF_L1_PLACE_SURFELS);
@@ -280,8 +298,14 @@ void TreeUpdate::light_update(Frame& frame) {
 
   int traced = 0;
   for (const gpu::LeafEntry& e : entries) {
-    if (e.state == gpu::LEAF_L0_PARENT_FREED) { ++frame.stats.processed[std::size_t(e.state)]; continue; }
-    if (!fits_state(e.node, e.state)) { ++frame.stats.stale_entries; continue; }
+    if (e.state == gpu::LEAF_L0_PARENT_FREED) {
+      ++frame.stats.processed[std::size_t(e.state)];
+      continue;
+    }
+    if (!fits_state(e.node, e.state)) {
+      ++frame.stats.stale_entries;
+      continue;
+    }
     const formats::NodeCube cube = formats::node_cube(v, e.node);
     const bool moved = touched(cube, frame.changed);
     const int probe = tree_->probe_of(e.node);
@@ -302,7 +326,10 @@ void TreeUpdate::light_update(Frame& frame) {
       }
       continue;
     }
-    if (e.state == gpu::LEAF_L2_LIGHT && !moved) { push(frame, light_out, e.node, gpu::LEAF_L2_LIGHT); continue; }
+    if (e.state == gpu::LEAF_L2_LIGHT && !moved) {
+      push(frame, light_out, e.node, gpu::LEAF_L2_LIGHT);
+      continue;
+    }
 
     // L1: measure the leaf in the current pose and choose its next state.
     gpu::Probe& p = v.probes[std::size_t(probe)];
@@ -333,15 +360,20 @@ std::vector<std::string> check_queue_covers_tree(const formats::ProbeVolume& v) 
   for (int s = 0; s < 3; ++s) {
     for (int e = 0; e < v.leaf_header.count[s]; ++e) {
       const gpu::LeafEntry& entry = v.leaf_entries[std::size_t(s * capacity + e)];
-      if (!state_of.emplace(entry.node, entry.state).second) problems.push_back("node " + std::to_string(entry.node) + " is queued twice");
+      if (!state_of.emplace(entry.node, entry.state).second)
+        problems.push_back("node " + std::to_string(entry.node) + " is queued twice");
     }
   }
   formats::for_each_leaf(v, [&](const formats::NodeCube& leaf) {
     const auto found = state_of.find(leaf.node);
-    if (found == state_of.end()) { problems.push_back("leaf " + std::to_string(leaf.node) + " is in no segment"); return; }
+    if (found == state_of.end()) {
+      problems.push_back("leaf " + std::to_string(leaf.node) + " is in no segment");
+      return;
+    }
     const bool has_probe = v.octree[std::size_t(leaf.node)] < 0;
     const int s = found->second;
-    const bool fits = has_probe ? (s == gpu::LEAF_M2_FREE_PROBE || s == gpu::LEAF_M3_SPLIT || s == gpu::LEAF_L1_PLACE_SURFELS || s == gpu::LEAF_L2_LIGHT)
+    const bool fits = has_probe ? (s == gpu::LEAF_M2_FREE_PROBE || s == gpu::LEAF_M3_SPLIT ||
+                                   s == gpu::LEAF_L1_PLACE_SURFELS || s == gpu::LEAF_L2_LIGHT)
                                 : (s == gpu::LEAF_M1_ALLOCATE_PROBE || s == gpu::LEAF_L3_CHECK_BOXES);
     if (!fits) problems.push_back("leaf " + std::to_string(leaf.node) + " is queued in state " + std::to_string(s));
     state_of.erase(found);
@@ -349,7 +381,8 @@ std::vector<std::string> check_queue_covers_tree(const formats::ProbeVolume& v) 
   for (const auto& [node, state] : state_of) {
     const bool parent = is_live_node(v, node) && v.octree[std::size_t(node)] > 0;
     if (!parent || (state != gpu::LEAF_M0_CHILD_ALLOCATING && state != gpu::LEAF_M4_FREE_CLUSTER)) {
-      problems.push_back("node " + std::to_string(node) + " queued in state " + std::to_string(state) + " is not a leaf");
+      problems.push_back("node " + std::to_string(node) + " queued in state " + std::to_string(state) +
+                         " is not a leaf");
     }
   }
   return problems;

@@ -28,8 +28,8 @@ struct Truth {
   const scene::RayScene* rays = nullptr;
   std::vector<SamplePoint> points;
   std::vector<glm::vec3> reference;
-  std::vector<glm::vec3> direct;    // direct_irradiance: the runtime adds it per pixel, probes hold none
-  std::vector<glm::vec3> indirect;  // the reference minus the path tracer's own direct part
+  std::vector<glm::vec3> direct;   // direct_irradiance: the runtime adds it per pixel, probes hold none
+  std::vector<glm::vec3> indirect; // the reference minus the path tracer's own direct part
   double mean = 0.0;
   double indirect_mean = 0.0;
 };
@@ -133,9 +133,12 @@ std::vector<EvalConfig> sweep_of(const EvalSettings& s, const scene::Scene& scen
 
 } // namespace
 
-EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings& settings, const EvalProgress& progress) {
+EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings& settings,
+                    const EvalProgress& progress) {
   check_eval_settings(settings);
-  auto say = [&](const std::string& m) { if (progress) progress(m); };
+  auto say = [&](const std::string& m) {
+    if (progress) progress(m);
+  };
   scene::LoadOptions load = settings.scene_input;
   load.require_triangles = true;
   const scene::Scene scene = scene::load_scene(scene_path, load);
@@ -183,7 +186,8 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     const BakeResult baked = bake(scene, bs);
     EvalRow row = baked_row(config, baked, seconds_since(start));
     const formats::ProbeVolume& v = baked.volume;
-    score(row, truth, [&](const SamplePoint& p, SamplerStats& st) { return sample_irradiance(v, p.position, p.normal, &st); });
+    score(row, truth,
+          [&](const SamplePoint& p, SamplerStats& st) { return sample_irradiance(v, p.position, p.normal, &st); });
     SeamSettings seams;
     seams.seed = effective.seed;
     row.seam_p99 = svo_seam_score(v, rays, seams).p99;

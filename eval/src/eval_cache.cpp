@@ -18,11 +18,15 @@ public:
   Hasher(const Hasher&) = delete;
   Hasher& operator=(const Hasher&) = delete;
 
-  template <class T> void add(const std::vector<T>& v) {
+  template <class T>
+  void add(const std::vector<T>& v) {
     add_value(v.size());
     if (!v.empty()) XXH3_64bits_update(state_, v.data(), v.size() * sizeof(T));
   }
-  template <class T> void add_value(const T& value) { XXH3_64bits_update(state_, &value, sizeof(T)); }
+  template <class T>
+  void add_value(const T& value) {
+    XXH3_64bits_update(state_, &value, sizeof(T));
+  }
   std::uint64_t digest() const { return XXH3_64bits_digest(state_); }
 
 private:
@@ -79,7 +83,8 @@ ReferencePoints cached_reference(const std::filesystem::path& scene_path, const 
                                  const scene::RayScene& rays, const EvalSettings& s) {
   ReferencePoints r;
   const std::vector<glm::vec3> anchors = receiver_anchors(s);
-  r.cache_file = reference_cache_path(scene_path, reference_hash(scene, s.points, s.seed, s.paths, s.receivers, anchors));
+  r.cache_file =
+      reference_cache_path(scene_path, reference_hash(scene, s.points, s.seed, s.paths, s.receivers, anchors));
   if (s.use_cache && read_reference_csv(r.cache_file, r.points, r.values) && !r.points.empty()) {
     r.from_cache = true;
     return r;

@@ -40,7 +40,8 @@ double nice_step(double max); // a round step (1, 2 or 5 times a power of ten), 
 
 // The plots' frame (eval_plot.cpp: error against bake time; eval_plot_ladder.cpp: against probe count): a
 // log x axis over whole decades and a linear error axis from 0, in a fixed SVG canvas.
-inline constexpr double kPlotWidth = 760, kPlotHeight = 480, kPlotLeft = 70, kPlotRight = 20, kPlotTop = 40, kPlotBottom = 60;
+inline constexpr double kPlotWidth = 760, kPlotHeight = 480, kPlotLeft = 70, kPlotRight = 20, kPlotTop = 40,
+                        kPlotBottom = 60;
 struct PlotAxes {
   double log_lo = -1, log_hi = 1, y_max = 1; // decades of x; the largest error shown
   double x(double value) const;              // values below 1e-6 are drawn at 1e-6

@@ -72,7 +72,8 @@ public:
     if (kind_.uses_grid_resolution) {
       // N^3 cells: start from the N whose cube is nearest, the walk adds what dead probes take away.
       const int guess = int(std::lround(std::cbrt(double(budget))));
-      c.bake.grid_resolution = nearest_parameter(guess, 1, kMaxGridResolution, budget, counter(&BakeSettings::grid_resolution));
+      c.bake.grid_resolution =
+          nearest_parameter(guess, 1, kMaxGridResolution, budget, counter(&BakeSettings::grid_resolution));
       c.budget_by = "grid resolution";
       c.label = fmt::format("{}-{}-p{}", kind_.name, c.bake.grid_resolution, budget);
     } else {

@@ -23,7 +23,9 @@ ErrorMaps::ErrorMaps(const scene::Scene& scene, const scene::RayScene& rays, con
     points_.push_back(*hits[i]);
     direct_.push_back(direct_irradiance(scene, rays, hits[i]->position, hits[i]->normal));
   }
-  reference_ = reference_irradiance(scene, rays, points_, {.paths = s.image_paths, .seed = s.seed, .threads = s.threads}).irradiance;
+  reference_ =
+      reference_irradiance(scene, rays, points_, {.paths = s.image_paths, .seed = s.seed, .threads = s.threads})
+          .irradiance;
   mean_ = mean_irradiance(reference_);
   if (!writes()) return;
   Image image{camera_.width, camera_.height, std::vector<glm::vec3>(hits.size(), glm::vec3(0.0f))};

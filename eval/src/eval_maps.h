@@ -28,7 +28,7 @@ public:
 private:
   std::filesystem::path dir_;
   Camera camera_;
-  std::vector<std::size_t> pixels_;  // pixel index of each visible point
+  std::vector<std::size_t> pixels_; // pixel index of each visible point
   std::vector<SamplePoint> points_;
   std::vector<glm::vec3> reference_;
   std::vector<glm::vec3> direct_;

@@ -13,11 +13,16 @@ namespace probebake::bake {
 std::string detail::escape_xml(const std::string& s) {
   std::string out;
   for (char c : s) {
-    if (c == '&') out += "&amp;";
-    else if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
+    if (c == '&')
+      out += "&amp;";
+    else if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
   }
   return out;
 }
@@ -41,7 +46,8 @@ double detail::PlotAxes::y(double error) const {
 std::string detail::plot_axes_svg(const PlotAxes& a, const char* x_title) {
   std::string s;
   const double x0 = kPlotLeft, x1 = kPlotWidth - kPlotRight, y0 = kPlotHeight - kPlotBottom, y1 = kPlotTop;
-  s += fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='#444'/>\n", x0, y1, x1 - x0, y0 - y1);
+  s +=
+      fmt::format("<rect x='{}' y='{}' width='{}' height='{}' fill='none' stroke='#444'/>\n", x0, y1, x1 - x0, y0 - y1);
   for (int d = int(a.log_lo); d <= int(a.log_hi); ++d)
     for (double m : {1.0, 2.0, 5.0}) {
       const double v = m * std::pow(10.0, d);
@@ -55,9 +61,11 @@ std::string detail::plot_axes_svg(const PlotAxes& a, const char* x_title) {
     s += fmt::format("<line x1='{}' y1='{:.1f}' x2='{}' y2='{:.1f}' stroke='#ddd'/>\n", x0, a.y(v), x1, a.y(v));
     s += fmt::format("<text x='{}' y='{:.1f}' font-size='11' text-anchor='end'>{:g}</text>\n", x0 - 6, a.y(v) + 4, v);
   }
-  s += fmt::format("<text x='{}' y='{}' font-size='13' text-anchor='middle'>{}</text>\n", (x0 + x1) / 2, kPlotHeight - 18, x_title);
+  s += fmt::format("<text x='{}' y='{}' font-size='13' text-anchor='middle'>{}</text>\n", (x0 + x1) / 2,
+                   kPlotHeight - 18, x_title);
   s += fmt::format("<text x='16' y='{}' font-size='13' text-anchor='middle' transform='rotate(-90 16 {})'>"
-                   "relative RMSE of irradiance</text>\n", (y0 + y1) / 2, (y0 + y1) / 2);
+                   "relative RMSE of irradiance</text>\n",
+                   (y0 + y1) / 2, (y0 + y1) / 2);
   return s;
 }
 
@@ -68,7 +76,8 @@ using detail::nice_step;
 
 using detail::plot_axes_svg;
 using Axes = detail::PlotAxes;
-constexpr double kWidth = detail::kPlotWidth, kHeight = detail::kPlotHeight, kRight = detail::kPlotRight, kTop = detail::kPlotTop;
+constexpr double kWidth = detail::kPlotWidth, kHeight = detail::kPlotHeight, kRight = detail::kPlotRight,
+                 kTop = detail::kPlotTop;
 
 Axes make_axes(const std::vector<EvalRow>& rows) {
   Axes a;
@@ -108,7 +117,8 @@ std::vector<std::size_t> pareto_front(const std::vector<EvalRow>& rows) {
 
 std::string front_svg(const Axes& a, const std::vector<EvalRow>& rows, const std::vector<std::size_t>& front) {
   if (front.empty()) return {};
-  std::string path = fmt::format("M {:.1f} {:.1f}", a.x(rows[front[0]].bake_seconds), a.y(rows[front[0]].relative_rmse));
+  std::string path =
+      fmt::format("M {:.1f} {:.1f}", a.x(rows[front[0]].bake_seconds), a.y(rows[front[0]].relative_rmse));
   for (std::size_t k = 1; k < front.size(); ++k) // staircase: the front is flat until the next better point
     path += fmt::format(" H {:.1f} V {:.1f}", a.x(rows[front[k]].bake_seconds), a.y(rows[front[k]].relative_rmse));
   return fmt::format("<path d='{}' fill='none' stroke='#d62728' stroke-width='1.5' stroke-dasharray='5 3'/>\n", path);
@@ -122,8 +132,9 @@ std::string points_svg(const Axes& a, const std::vector<EvalRow>& rows, const st
     const bool on_front = std::find(front.begin(), front.end(), i) != front.end();
     const std::string label = escape_xml(r.sampler == "svo" ? r.label : r.label + " (all probes)");
     if (r.sampler != "svo")
-      s += fmt::format("<rect x='{:.1f}' y='{:.1f}' width='9' height='9' fill='none' stroke='#2ca02c' stroke-width='2'/>\n",
-                       x - 4.5, y - 4.5);
+      s += fmt::format(
+          "<rect x='{:.1f}' y='{:.1f}' width='9' height='9' fill='none' stroke='#2ca02c' stroke-width='2'/>\n", x - 4.5,
+          y - 4.5);
     else
       s += fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='{}' fill='{}'/>\n", x, y, on_front ? 5 : 4,
                        on_front ? "#d62728" : "#1f77b4");
@@ -149,13 +160,15 @@ std::string eval_svg_plot(const EvalResult& result) {
     return detail::ladder_svg_plot(result);
   const Axes axes = make_axes(result.rows);
   const std::vector<std::size_t> front = pareto_front(result.rows);
-  std::string svg = fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' viewBox='0 0 {0} {1}' "
-                                "font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n",
-                                kWidth, kHeight);
+  std::string svg =
+      fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' viewBox='0 0 {0} {1}' "
+                  "font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n",
+                  kWidth, kHeight);
   svg += fmt::format("<text x='{}' y='22' font-size='14' text-anchor='middle'>{}: error against bake time ({} points, "
                      "{} paths/point)</text>\n",
                      kWidth / 2, escape_xml(result.scene.filename().string()), result.points, result.paths);
-  svg += plot_axes_svg(axes, "bake time (s, log scale)") + front_svg(axes, result.rows, front) + points_svg(axes, result.rows, front) + legend_svg();
+  svg += plot_axes_svg(axes, "bake time (s, log scale)") + front_svg(axes, result.rows, front) +
+         points_svg(axes, result.rows, front) + legend_svg();
   return svg + "</svg>\n";
 }
 

@@ -20,9 +20,11 @@ using Axes = PlotAxes;
 std::map<std::string, std::vector<const EvalRow*>> curves(const EvalResult& result) {
   std::map<std::string, std::vector<const EvalRow*>> out;
   for (const EvalRow& r : result.rows)
-    if (r.asked_probes > 0 && r.sampler == "svo") out[std::string(formats::placement_name(r.bake.placement))].push_back(&r);
+    if (r.asked_probes > 0 && r.sampler == "svo")
+      out[std::string(formats::placement_name(r.bake.placement))].push_back(&r);
   for (auto& [name, rows] : out)
-    std::stable_sort(rows.begin(), rows.end(), [](const EvalRow* a, const EvalRow* b) { return a->probes < b->probes; });
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const EvalRow* a, const EvalRow* b) { return a->probes < b->probes; });
   return out;
 }
 
@@ -56,7 +58,8 @@ std::string curve_svg(const Axes& a, const std::vector<const EvalRow*>& rows, co
                           indirect ? "white" : colour, colour);
   }
   return fmt::format("<path d='{}' fill='none' stroke='{}' stroke-width='1.5'{}/>\n", path, colour,
-                     indirect ? " stroke-dasharray='5 3'" : "") + points;
+                     indirect ? " stroke-dasharray='5 3'" : "") +
+         points;
 }
 
 std::string legend_svg(const std::map<std::string, std::vector<const EvalRow*>>& lines) {
@@ -67,10 +70,12 @@ std::string legend_svg(const std::map<std::string, std::vector<const EvalRow*>>&
   for (const auto& [name, rows] : lines) {
     const char* colour = kColours[i++ % std::size(kColours)];
     s += fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='{}' stroke-width='2'/>"
-                     "<text x='{}' y='{}' font-size='11'>{} total</text>\n", x, y, x + 24, y, colour, x + 30, y + 4, escape_xml(name));
+                     "<text x='{}' y='{}' font-size='11'>{} total</text>\n",
+                     x, y, x + 24, y, colour, x + 30, y + 4, escape_xml(name));
     y += 16;
     s += fmt::format("<line x1='{}' y1='{}' x2='{}' y2='{}' stroke='{}' stroke-width='2' stroke-dasharray='5 3'/>"
-                     "<text x='{}' y='{}' font-size='11'>{} indirect</text>\n", x, y, x + 24, y, colour, x + 30, y + 4, escape_xml(name));
+                     "<text x='{}' y='{}' font-size='11'>{} indirect</text>\n",
+                     x, y, x + 24, y, colour, x + 30, y + 4, escape_xml(name));
     y += 16;
   }
   return s;
@@ -81,12 +86,14 @@ std::string legend_svg(const std::map<std::string, std::vector<const EvalRow*>>&
 std::string ladder_svg_plot(const EvalResult& result) {
   const auto lines = curves(result);
   const Axes axes = make_axes(lines);
-  std::string svg = fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' viewBox='0 0 {0} {1}' "
-                                "font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n",
-                                kWidth, kHeight);
-  svg += fmt::format("<text x='{}' y='22' font-size='14' text-anchor='middle'>{}: error against probe count ({} points, "
-                     "{} paths/point)</text>\n",
-                     kWidth / 2, escape_xml(result.scene.filename().string()), result.points, result.paths);
+  std::string svg =
+      fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{0}' height='{1}' viewBox='0 0 {0} {1}' "
+                  "font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n",
+                  kWidth, kHeight);
+  svg +=
+      fmt::format("<text x='{}' y='22' font-size='14' text-anchor='middle'>{}: error against probe count ({} points, "
+                  "{} paths/point)</text>\n",
+                  kWidth / 2, escape_xml(result.scene.filename().string()), result.points, result.paths);
   svg += plot_axes_svg(axes, "live probes (log scale)");
   std::size_t i = 0;
   for (const auto& [name, rows] : lines) {

@@ -41,7 +41,8 @@ void check_ladder(const EvalSettings& s) {
   if (s.probe_ladder.empty()) return;
   if (!s.configs.empty()) throw Error(ErrorKind::usage, "--probes replaces the sweep: it cannot be combined with one");
   if (s.probe_ladder.size() > kMaxLadderRungs)
-    throw Error(ErrorKind::usage, fmt::format("--probes takes at most {} rungs (got {})", kMaxLadderRungs, s.probe_ladder.size()));
+    throw Error(ErrorKind::usage,
+                fmt::format("--probes takes at most {} rungs (got {})", kMaxLadderRungs, s.probe_ladder.size()));
   for (std::size_t i = 0; i < s.probe_ladder.size(); ++i) {
     const int n = s.probe_ladder[i];
     if (n < 1 || n > kMaxLadderProbes)
@@ -55,11 +56,24 @@ void check_ladder(const EvalSettings& s) {
 } // namespace
 
 std::vector<EvalConfig> default_sweep() {
-  return {octree(2), octree(3), octree(4), octree(5),
-          grid(5), grid(8), grid(12), grid(16), grid(21),
-          skeleton(29), skeleton(64), skeleton(92), skeleton(124), skeleton(498),
-          octree(4, 64), octree(4, 256),
-          octree(4, 128, Lattice::latlong), octree(4, 128, Lattice::equal_area)};
+  return {octree(2),
+          octree(3),
+          octree(4),
+          octree(5),
+          grid(5),
+          grid(8),
+          grid(12),
+          grid(16),
+          grid(21),
+          skeleton(29),
+          skeleton(64),
+          skeleton(92),
+          skeleton(124),
+          skeleton(498),
+          octree(4, 64),
+          octree(4, 256),
+          octree(4, 128, Lattice::latlong),
+          octree(4, 128, Lattice::equal_area)};
 }
 
 BakeSettings quick_bake_settings() {
@@ -88,7 +102,8 @@ void check_eval_settings(const EvalSettings& s) {
   require(s.threads >= 0, "--threads must be >= 0");
   require(s.image_paths >= 2, "--image-samples must be at least 2");
   require(s.error_map_dir.empty() || s.camera.has_value(), "--error-map needs --camera and --look-at");
-  require(parse_receiver_mode(receiver_mode_name(s.receivers)) == s.receivers, "--receivers must be visible, volume or area");
+  require(parse_receiver_mode(receiver_mode_name(s.receivers)) == s.receivers,
+          "--receivers must be visible, volume or area");
   if (s.camera) check_camera(*s.camera);
   for (const EvalConfig& c : s.configs) check_settings(c.bake);
   check_ladder(s);

@@ -22,8 +22,8 @@
 namespace probebake::bake {
 namespace {
 
-constexpr int kOpenRays = 64;   // directions of the open-space test (the bake's dead-probe test)
-constexpr int kMaxRounds = 64;  // rounds of `count` candidates before giving up on rare hits
+constexpr int kOpenRays = 64;    // directions of the open-space test (the bake's dead-probe test)
+constexpr int kMaxRounds = 64;   // rounds of `count` candidates before giving up on rare hits
 constexpr int kKeepFraction = 4; // open regions of at least 1/4 of the largest one are the player's
 
 // The viewpoint grid over the scene bounds; a flat axis is widened to 10% of the largest extent so
@@ -33,9 +33,12 @@ struct Grid {
   glm::ivec3 n{1};
   std::size_t size() const { return std::size_t(n.x) * std::size_t(n.y) * std::size_t(n.z); }
   glm::ivec3 cell(std::size_t i) const {
-    return {int(i % std::size_t(n.x)), int((i / std::size_t(n.x)) % std::size_t(n.y)), int(i / (std::size_t(n.x) * std::size_t(n.y)))};
+    return {int(i % std::size_t(n.x)), int((i / std::size_t(n.x)) % std::size_t(n.y)),
+            int(i / (std::size_t(n.x) * std::size_t(n.y)))};
   }
-  std::size_t index(glm::ivec3 c) const { return (std::size_t(c.z) * std::size_t(n.y) + std::size_t(c.y)) * std::size_t(n.x) + std::size_t(c.x); }
+  std::size_t index(glm::ivec3 c) const {
+    return (std::size_t(c.z) * std::size_t(n.y) + std::size_t(c.y)) * std::size_t(n.x) + std::size_t(c.x);
+  }
   glm::vec3 centre(std::size_t i) const { return min + (glm::vec3(cell(i)) + 0.5f) * step; }
 };
 
@@ -72,7 +75,8 @@ struct OpenSpace {
 };
 
 // Open cells joined to their +x/+y/+z neighbours when the segment between the centres is clear.
-std::vector<std::size_t> open_regions(const scene::RayScene& rays, const Grid& g, const std::vector<char>& open, int threads) {
+std::vector<std::size_t> open_regions(const scene::RayScene& rays, const Grid& g, const std::vector<char>& open,
+                                      int threads) {
   std::vector<std::array<char, 3>> link(g.size(), {0, 0, 0});
   parallel_for(g.size(), threads, [&](std::size_t i) {
     if (open[i] == 0) return;
@@ -117,11 +121,13 @@ std::vector<char> player_regions(const Grid& g, const std::vector<char>& open, c
   return keep;
 }
 
-OpenSpace open_space(const scene::Scene& scene, const scene::RayScene& rays, const ReceiverSettings& s, float clearance) {
+OpenSpace open_space(const scene::Scene& scene, const scene::RayScene& rays, const ReceiverSettings& s,
+                     float clearance) {
   const Grid g = make_grid(scene.bounds, s.cells);
   const std::vector<glm::vec3> dirs = lattice_directions(Lattice::fibonacci, kOpenRays);
   std::vector<char> open(g.size(), 0);
-  parallel_for(g.size(), s.threads, [&](std::size_t i) { open[i] = placement::is_open(rays, g.centre(i), clearance, dirs) ? 1 : 0; });
+  parallel_for(g.size(), s.threads,
+               [&](std::size_t i) { open[i] = placement::is_open(rays, g.centre(i), clearance, dirs) ? 1 : 0; });
   const std::vector<std::size_t> root = open_regions(rays, g, open, s.threads);
   const std::vector<char> keep = player_regions(g, open, root, s.anchors);
   OpenSpace space;
@@ -148,7 +154,8 @@ using Candidate = std::function<std::optional<SamplePoint>(detail::Pcg32& rng, c
 
 // Rounds of `count` candidates (candidate j draws from its own stream, so any thread count gives the same
 // set) until `count` are accepted; the first `count` in candidate order are kept.
-std::vector<SamplePoint> collect(const OpenSpace& space, const ReceiverSettings& s, std::uint64_t key, const Candidate& make) {
+std::vector<SamplePoint> collect(const OpenSpace& space, const ReceiverSettings& s, std::uint64_t key,
+                                 const Candidate& make) {
   std::vector<SamplePoint> points;
   for (int round = 0; round < kMaxRounds && int(points.size()) < s.count && !space.viewpoints.empty(); ++round) {
     std::vector<std::optional<SamplePoint>> found(std::size_t(s.count));
@@ -169,34 +176,37 @@ std::vector<SamplePoint> visible_points(const scene::Scene& scene, const scene::
   // Open space in front of a receiver: nothing within a quarter of the clearance along its normal, which
   // drops sub-millimetre gaps (a light fixture just below a ceiling) that a grazing ray can still enter.
   const float gap = 0.25f * clearance;
-  return collect(space, s, 0x7669736900000000ull, [&](detail::Pcg32& rng, const glm::vec3& viewpoint) -> std::optional<SamplePoint> {
-    const auto hit = rays.intersect(viewpoint, uniform_sphere(rng));
-    if (!hit || hit->inside()) return std::nullopt; // the sky, or the back of a single-sided surface
-    // The side the viewpoint sees: either side of a double-sided surface is a receiver with its own normal.
-    const SamplePoint p{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->facing_normal()};
-    if (rays.occluded(p.position + epsilon * p.normal, p.normal, 0.0f, gap)) return std::nullopt;
-    return p;
-  });
+  return collect(
+      space, s, 0x7669736900000000ull,
+      [&](detail::Pcg32& rng, const glm::vec3& viewpoint) -> std::optional<SamplePoint> {
+        const auto hit = rays.intersect(viewpoint, uniform_sphere(rng));
+        if (!hit || hit->inside()) return std::nullopt; // the sky, or the back of a single-sided surface
+        // The side the viewpoint sees: either side of a double-sided surface is a receiver with its own normal.
+        const SamplePoint p{detail::triangle_point(scene, hit->triangle, hit->u, hit->v), hit->facing_normal()};
+        if (rays.occluded(p.position + epsilon * p.normal, p.normal, 0.0f, gap)) return std::nullopt;
+        return p;
+      });
 }
 
 std::vector<SamplePoint> volume_points(const scene::RayScene& rays, const OpenSpace& space, const ReceiverSettings& s,
                                        float clearance) {
   const std::vector<glm::vec3> dirs = lattice_directions(Lattice::fibonacci, kOpenRays);
-  return collect(space, s, 0x766f6c7500000000ull, [&](detail::Pcg32& rng, const glm::vec3& viewpoint) -> std::optional<SamplePoint> {
-    const glm::vec3 jitter(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
-    const glm::vec3 p = viewpoint + jitter * space.step;
-    if (!placement::is_open(rays, p, clearance, dirs)) return std::nullopt;
-    return SamplePoint{p, uniform_sphere(rng)};
-  });
+  return collect(space, s, 0x766f6c7500000000ull,
+                 [&](detail::Pcg32& rng, const glm::vec3& viewpoint) -> std::optional<SamplePoint> {
+                   const glm::vec3 jitter(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+                   const glm::vec3 p = viewpoint + jitter * space.step;
+                   if (!placement::is_open(rays, p, clearance, dirs)) return std::nullopt;
+                   return SamplePoint{p, uniform_sphere(rng)};
+                 });
 }
 
 } // namespace
 
 std::string_view receiver_mode_name(ReceiverMode mode) {
   switch (mode) {
-    case ReceiverMode::visible: return "visible";
-    case ReceiverMode::volume: return "volume";
-    case ReceiverMode::area: return "area";
+  case ReceiverMode::visible: return "visible";
+  case ReceiverMode::volume: return "volume";
+  case ReceiverMode::area: return "area";
   }
   return "visible";
 }
@@ -209,7 +219,8 @@ std::optional<ReceiverMode> parse_receiver_mode(std::string_view name) {
 
 Receivers make_receivers(const scene::Scene& scene, const scene::RayScene& rays, const ReceiverSettings& s) {
   if (s.count < 1) throw Error(ErrorKind::usage, fmt::format("--points must be at least 1 (got {})", s.count));
-  if (s.cells < 1 || s.cells > 1024) throw Error(ErrorKind::usage, fmt::format("receiver cells must be in 1..1024 (got {})", s.cells));
+  if (s.cells < 1 || s.cells > 1024)
+    throw Error(ErrorKind::usage, fmt::format("receiver cells must be in 1..1024 (got {})", s.cells));
   Receivers r;
   if (s.mode == ReceiverMode::area) {
     r.points = surface_sample_points(scene, rays, s.count, s.seed);

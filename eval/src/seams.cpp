@@ -66,8 +66,8 @@ glm::vec3 border_between(const SeamCellAt& cell, glm::vec3 a, glm::vec3 b, glm::
 
 } // namespace
 
-SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo,
-                     glm::vec3 hi, const SeamSettings& settings) {
+SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo, glm::vec3 hi,
+                     const SeamSettings& settings) {
   std::mt19937_64 rng(settings.seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::vector<Jump> jumps;

@@ -127,7 +127,8 @@ const char* file_type_name(mode_t mode) {
 
 void refuse_non_regular(const fs::path& path, const fs::path& target) {
   struct stat st {};
-  if (::stat(target.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return; // missing: created; other errors: reported by the write
+  if (::stat(target.c_str(), &st) != 0 || S_ISREG(st.st_mode))
+    return; // missing: created; other errors: reported by the write
   refuse(path, std::string("is ") + file_type_name(st.st_mode) + ", not a regular file; not replaced");
 }
 
@@ -165,7 +166,8 @@ void remove_stale_temporaries(const fs::path& target) {
     const int fd = ::open(it->path().c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
     if (fd < 0) continue;
     struct stat st {};
-    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && ::flock(fd, LOCK_EX | LOCK_NB) == 0) ::unlink(it->path().c_str());
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && ::flock(fd, LOCK_EX | LOCK_NB) == 0)
+      ::unlink(it->path().c_str());
     ::close(fd);
   }
 }

@@ -16,13 +16,17 @@ namespace {
 
 template <class T>
 SectionPayload payload(PartSectionType type, std::span<const T> elements) {
-  return {static_cast<std::uint32_t>(type), kSectionRequired, sizeof(T), elements.size(),
+  return {static_cast<std::uint32_t>(type),
+          kSectionRequired,
+          sizeof(T),
+          elements.size(),
           {reinterpret_cast<const std::uint8_t*>(elements.data()), elements.size_bytes()}};
 }
 
 class PartReader {
 public:
-  PartReader(std::span<const std::uint8_t> bytes, std::string_view name) : name_(name), view_(parse_container(bytes, name, {}, kPartContainer)) {}
+  PartReader(std::span<const std::uint8_t> bytes, std::string_view name)
+      : name_(name), view_(parse_container(bytes, name, {}, kPartContainer)) {}
 
   BakePart read() {
     BakePart part;
@@ -52,7 +56,8 @@ private:
     for (std::size_t i = 0; i < view_.sections.size(); ++i) {
       if (view_.sections[i].type != wanted) continue;
       if (view_.sections[i].element_size != sizeof(T))
-        fail(part_section_name(wanted), detail::concat("element size ", view_.sections[i].element_size, ", expected ", sizeof(T)));
+        fail(part_section_name(wanted),
+             detail::concat("element size ", view_.sections[i].element_size, ", expected ", sizeof(T)));
       std::vector<T> out(view_.sections[i].element_count); // checked against the file's size by parse_container
       if (!out.empty()) std::memcpy(out.data(), view_.payloads[i].data(), view_.payloads[i].size());
       return out;
@@ -61,7 +66,8 @@ private:
   }
 
   void check(const BakePart& part, const PartInfo& info) const {
-    if (part.cells.size() != info.cell_count) fail("part_cells", detail::concat(part.cells.size(), " cells, part_info says ", info.cell_count));
+    if (part.cells.size() != info.cell_count)
+      fail("part_cells", detail::concat(part.cells.size(), " cells, part_info says ", info.cell_count));
     if (part.sealed.size() != info.tested_triangles)
       fail("part_sealed", detail::concat(part.sealed.size(), " flags, part_info says ", info.tested_triangles));
     if (info.tested_triangles > info.scene_triangles)
@@ -70,11 +76,13 @@ private:
     for (std::size_t k = 0; k < part.cells.size(); ++k) {
       if (part.cells[k] < 0 || part.cells[k] >= grid)
         fail(detail::concat("part_cells[", k, "]"), detail::concat("cell ", part.cells[k], " outside [0, ", grid, ")"));
-      if (k > 0 && part.cells[k] <= part.cells[k - 1]) fail(detail::concat("part_cells[", k, "]"), "cells do not ascend");
+      if (k > 0 && part.cells[k] <= part.cells[k - 1])
+        fail(detail::concat("part_cells[", k, "]"), "cells do not ascend");
     }
     const auto bad = std::find_if(part.sealed.begin(), part.sealed.end(), [](std::uint8_t f) { return f > 1; });
     if (bad != part.sealed.end())
-      fail(detail::concat("part_sealed[", bad - part.sealed.begin(), "]"), detail::concat("flag ", int(*bad), " is neither 0 nor 1"));
+      fail(detail::concat("part_sealed[", bad - part.sealed.begin(), "]"),
+           detail::concat("flag ", int(*bad), " is neither 0 nor 1"));
   }
 
   std::string_view name_;
@@ -98,8 +106,12 @@ std::vector<std::uint8_t> write_bake_part(const BakePart& part) {
   return write_container({std::uint32_t(part.cell_depth), part.input_hash}, sections, kPartContainer);
 }
 
-BakePart read_bake_part(std::span<const std::uint8_t> bytes, std::string_view name) { return PartReader(bytes, name).read(); }
+BakePart read_bake_part(std::span<const std::uint8_t> bytes, std::string_view name) {
+  return PartReader(bytes, name).read();
+}
 
-BakePart read_bake_part_file(const std::filesystem::path& path) { return read_bake_part(read_file_bytes(path), path.string()); }
+BakePart read_bake_part_file(const std::filesystem::path& path) {
+  return read_bake_part(read_file_bytes(path), path.string());
+}
 
 } // namespace probebake::formats

@@ -13,7 +13,9 @@ namespace probebake::formats::detail {
 
 static_assert(std::endian::native == std::endian::little, ".probes I/O assumes a little-endian host");
 
-inline std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment) { return (value + alignment - 1) / alignment * alignment; }
+inline std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment) {
+  return (value + alignment - 1) / alignment * alignment;
+}
 
 template <typename T>
 std::span<const std::uint8_t> as_bytes(const std::vector<T>& elements) {

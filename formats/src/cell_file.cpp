@@ -35,12 +35,14 @@ using ByteRanges = std::vector<std::pair<std::uint64_t, std::uint64_t>>; // [beg
 
 // The payload ranges of the three trace sections as the raw table gives them (unchecked, clamped to the
 // file), and whether it lists cell_global_checksums. The table lies inside `table_bytes`.
-std::pair<ByteRanges, bool> trace_payloads(std::span<const std::uint8_t> table_bytes, const FileHeader& header, std::uint64_t size) {
+std::pair<ByteRanges, bool> trace_payloads(std::span<const std::uint8_t> table_bytes, const FileHeader& header,
+                                           std::uint64_t size) {
   ByteRanges ranges;
   bool global = false;
   for (std::uint32_t i = 0; i < header.section_count; ++i) {
     SectionEntry entry;
-    std::memcpy(&entry, table_bytes.data() + header.header_size + std::uint64_t(i) * header.section_entry_size, sizeof(entry));
+    std::memcpy(&entry, table_bytes.data() + header.header_size + std::uint64_t(i) * header.section_entry_size,
+                sizeof(entry));
     global = global || entry.type == static_cast<std::uint32_t>(SectionType::cell_global_checksums);
     if (!is_in_place_trace_section(entry.type)) continue;
     const std::uint64_t begin = std::min(entry.offset, size);
@@ -56,7 +58,8 @@ ByteRanges cell_byte_ranges(const SectionEntry& entry, const std::vector<CellTra
     const CellRange& r = entry.type == static_cast<std::uint32_t>(SectionType::trace_nodes)   ? t.trace_nodes
                          : entry.type == static_cast<std::uint32_t>(SectionType::trace_faces) ? t.trace_faces
                                                                                               : t.trace_vertices;
-    const std::uint64_t from = std::uint64_t(r.first) * entry.element_size, bytes = std::uint64_t(r.count) * entry.element_size;
+    const std::uint64_t from = std::uint64_t(r.first) * entry.element_size,
+                        bytes = std::uint64_t(r.count) * entry.element_size;
     ranges.emplace_back(entry.offset + std::min(from, entry.size), entry.offset + std::min(from + bytes, entry.size));
   }
   return ranges;
@@ -71,12 +74,13 @@ void check_global_checksums(const std::string& name, const ProbeVolume& volume, 
     throw_input_error(name, "cells: the cells' ranges do not ascend inside their sections");
   }
   if (volume.cell_global_checksums.size() != computed.size())
-    throw_input_error(name, "cell_global_checksums: " + std::to_string(volume.cell_global_checksums.size()) + " checksums, expected " +
-                                std::to_string(computed.size()));
+    throw_input_error(name, "cell_global_checksums: " + std::to_string(volume.cell_global_checksums.size()) +
+                                " checksums, expected " + std::to_string(computed.size()));
   for (std::size_t s = 0; s < computed.size(); ++s)
     if (computed[s] != volume.cell_global_checksums[s])
       throw_input_error(name, "cell_global_checksums[" + std::to_string(s) + "]: the bytes of " +
-                                  section_name(static_cast<std::uint32_t>(kCellSplitSections[s])) + " outside the cells differ from their checksum");
+                                  section_name(static_cast<std::uint32_t>(kCellSplitSections[s])) +
+                                  " outside the cells differ from their checksum");
 }
 
 } // namespace
@@ -100,11 +104,15 @@ OpenedCellFile CellFile::open(const std::filesystem::path& path) {
   opened.bytes_read = std::uint64_t(info.st_size);
   const ContainerView container = parse_container(opened.mapping.bytes(), file.name_);
   // Only files that can stream keep their tracing in the mapping; a 1.1-1.3 file is upgraded in memory.
-  const bool in_place = has_section(container, SectionType::cell_tracing) && !has_section(container, SectionType::bvh_nodes) &&
+  const bool in_place = has_section(container, SectionType::cell_tracing) &&
+                        !has_section(container, SectionType::bvh_nodes) &&
                         !has_section(container, SectionType::trace_triangles);
-  opened.volume = decode_probes(container, file.name_, in_place ? TraceSections::leave_in_bytes : TraceSections::decode);
-  if (in_place) opened.in_mapping = tracing_in(container, file.name_);
-  else opened.mapping.reset();
+  opened.volume =
+      decode_probes(container, file.name_, in_place ? TraceSections::leave_in_bytes : TraceSections::decode);
+  if (in_place)
+    opened.in_mapping = tracing_in(container, file.name_);
+  else
+    opened.mapping.reset();
   file.keep_sections(container);
   return opened;
 }
@@ -118,8 +126,8 @@ void CellFile::keep_sections(const ContainerView& container) {
 }
 
 // [begin, end) of the file into the image, but the `skipped` ranges.
-void CellFile::read_global_ranges(std::span<std::uint8_t> image, std::uint64_t begin, std::uint64_t end, ByteRanges skipped,
-                                  std::uint64_t& bytes_read) const {
+void CellFile::read_global_ranges(std::span<std::uint8_t> image, std::uint64_t begin, std::uint64_t end,
+                                  ByteRanges skipped, std::uint64_t& bytes_read) const {
   std::sort(skipped.begin(), skipped.end());
   std::uint64_t cursor = begin;
   const auto read_to = [&](std::uint64_t to) {
@@ -136,9 +144,10 @@ bool CellFile::read_global_part(OpenedCellFile& opened, std::uint64_t size) {
   FileHeader header{};
   if (size < sizeof(header)) return false;
   read_into(&header, 0, sizeof(header), "header");
-  const std::uint64_t table_end = std::uint64_t(header.header_size) + std::uint64_t(header.section_count) * header.section_entry_size;
-  if (header.header_size < sizeof(FileHeader) || header.section_entry_size < sizeof(SectionEntry) || header.section_entry_size > 1024 ||
-      header.section_count > kMaxSections || table_end > size)
+  const std::uint64_t table_end =
+      std::uint64_t(header.header_size) + std::uint64_t(header.section_count) * header.section_entry_size;
+  if (header.header_size < sizeof(FileHeader) || header.section_entry_size < sizeof(SectionEntry) ||
+      header.section_entry_size > 1024 || header.section_count > kMaxSections || table_end > size)
     return false; // the whole read's parse_container says what is wrong
   std::vector<std::uint8_t> table(table_end);
   read_into(table.data(), 0, table_end, "section_table");
@@ -154,7 +163,8 @@ bool CellFile::read_global_part(OpenedCellFile& opened, std::uint64_t size) {
   if (volume.cell_tracing.empty()) throw_input_error(name_, "cell_global_checksums: the file has no cell_tracing");
   for (const SectionEntry& entry : container.sections)
     if (is_in_place_trace_section(entry.type))
-      read_global_ranges(image.writable(), entry.offset, entry.offset + entry.size, cell_byte_ranges(entry, volume.cell_tracing), bytes_read);
+      read_global_ranges(image.writable(), entry.offset, entry.offset + entry.size,
+                         cell_byte_ranges(entry, volume.cell_tracing), bytes_read);
   const TracingView view = tracing_in(container, name_);
   check_global_checksums(name_, volume, view);
   keep_sections(container);
@@ -172,7 +182,8 @@ CellFile::Descriptor::~Descriptor() {
 
 void CellFile::keep_ranges(const ProbeVolume& volume) {
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
-    throw Error(ErrorKind::usage, name_ + ": reading cells from disk needs the tracing split by cell (format 1.5 cell_tracing)");
+    throw Error(ErrorKind::usage,
+                name_ + ": reading cells from disk needs the tracing split by cell (format 1.5 cell_tracing)");
   cells_ = volume.cells;
   tracing_ = volume.cell_tracing;
   bytes_.clear();
@@ -207,14 +218,16 @@ void CellFile::read_into(void* out, std::uint64_t offset, std::uint64_t size, co
     const ssize_t n = ::pread(fd_.get(), bytes + done, std::size_t(size - done), off_t(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw_input_error(name_, place + ": read error: " + errno_text());
-    if (n == 0) throw_input_error(name_, place + ": the file ends at byte " + std::to_string(offset + done) + ", " +
-                                             std::to_string(size - done) + " bytes early (changed since it was opened?)");
+    if (n == 0)
+      throw_input_error(name_, place + ": the file ends at byte " + std::to_string(offset + done) + ", " +
+                                   std::to_string(size - done) + " bytes early (changed since it was opened?)");
     done += std::uint64_t(n);
   }
 }
 
 template <class T, class Hash>
-std::vector<T> CellFile::read_range(std::uint32_t type, const CellRange& range, const std::string& place, Hash& hash) const {
+std::vector<T> CellFile::read_range(std::uint32_t type, const CellRange& range, const std::string& place,
+                                    Hash& hash) const {
   std::vector<T> out(range.count);
   if (range.count == 0) return out;
   const std::uint64_t bytes = std::uint64_t(range.count) * sizeof(T), start = std::uint64_t(range.first) * sizeof(T);
@@ -226,7 +239,8 @@ std::vector<T> CellFile::read_range(std::uint32_t type, const CellRange& range, 
 }
 
 CellTracingData CellFile::read_cell_tracing(std::size_t k) const {
-  if (k >= cells_.size()) throw Error(ErrorKind::internal, name_ + ": read_cell_tracing before expect(), or a cell out of range");
+  if (k >= cells_.size())
+    throw Error(ErrorKind::internal, name_ + ": read_cell_tracing before expect(), or a cell out of range");
   const std::string place = "cells[" + std::to_string(k) + "] (cell " + std::to_string(cells_[k].cell_index) + ")";
   const Cell& cell = cells_[k];
   const CellTracing& t = tracing_[k];
@@ -242,11 +256,14 @@ CellTracingData CellFile::read_cell_tracing(std::size_t k) const {
   data.faces = read_range<gpu::TraceFace>(type(SectionType::trace_faces), t.trace_faces, place, hash);
   data.vertices = read_range<gpu::TraceVertex>(type(SectionType::trace_vertices), t.trace_vertices, place, hash);
   if (XXH3_64bits_digest(&hash) != checksums_[k])
-    throw_input_error(name_, place + ": its " + std::to_string(bytes_[k]) +
-                                 (stored_checksums_ ? " bytes on disk differ from their checksum"
-                                                    : " bytes on disk differ from those validated when the file was opened (changed since?)"));
+    throw_input_error(
+        name_, place + ": its " + std::to_string(bytes_[k]) +
+                   (stored_checksums_
+                        ? " bytes on disk differ from their checksum"
+                        : " bytes on disk differ from those validated when the file was opened (changed since?)"));
   if (!entries_.empty()) {
-    const ValidationReport report = validate_cell_tracing(cell_context_, entries_, k, {data.nodes, data.faces, data.vertices});
+    const ValidationReport report =
+        validate_cell_tracing(cell_context_, entries_, k, {data.nodes, data.faces, data.vertices});
     if (!report.valid()) throw_input_error(name_, place + ": " + format_violation(report.violations.front()));
   }
   return data;

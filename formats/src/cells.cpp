@@ -21,7 +21,7 @@ namespace probebake::formats {
 namespace {
 
 constexpr int kNoCell = std::numeric_limits<int>::max(); // sorts after every cell
-constexpr int kMaxSvoDepth = 30;                          // voxel coordinates must fit in an int
+constexpr int kMaxSvoDepth = 30;                         // voxel coordinates must fit in an int
 
 struct Voxel {
   int node;
@@ -32,7 +32,8 @@ struct Voxel {
 int voxel_cell(const Voxel& voxel, int cell_depth) {
   const int n = cells_per_axis(cell_depth);
   auto to_cell = [&](int coordinate) {
-    return voxel.depth >= cell_depth ? coordinate >> (voxel.depth - cell_depth) : coordinate << (cell_depth - voxel.depth);
+    return voxel.depth >= cell_depth ? coordinate >> (voxel.depth - cell_depth)
+                                     : coordinate << (cell_depth - voxel.depth);
   };
   return to_cell(voxel.x) + n * (to_cell(voxel.y) + n * to_cell(voxel.z));
 }
@@ -47,7 +48,8 @@ std::vector<int> order_by_key(const std::vector<int>& key) {
 
 std::vector<int> invert(const std::vector<int>& order) {
   std::vector<int> new_of_old(order.size());
-  for (std::size_t position = 0; position < order.size(); ++position) new_of_old[order[position]] = static_cast<int>(position);
+  for (std::size_t position = 0; position < order.size(); ++position)
+    new_of_old[order[position]] = static_cast<int>(position);
   return new_of_old;
 }
 
@@ -72,8 +74,8 @@ std::vector<int> probe_cells(const ProbeVolume& volume, int cell_depth) {
 }
 
 // Batch order: each probe's chain in chain order, probes in their new order, then unowned batches.
-std::vector<int> batch_order(const ProbeVolume& volume, const std::vector<int>& probe_order, std::vector<int>& batch_cell,
-                             const std::vector<int>& cell_of_probe) {
+std::vector<int> batch_order(const ProbeVolume& volume, const std::vector<int>& probe_order,
+                             std::vector<int>& batch_cell, const std::vector<int>& cell_of_probe) {
   const std::size_t count = volume.surfel_batches.size();
   std::vector<int> order;
   std::vector<bool> placed(count, false);
@@ -195,8 +197,8 @@ std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth) {
         fail("node " + std::to_string(voxel.node) + " has a bad child index");
       }
       for (int octant = 7; octant >= 0; --octant) {
-        stack.push_back(Voxel{value + octant, voxel.depth + 1, 2 * voxel.x + (octant & 1), 2 * voxel.y + ((octant >> 1) & 1),
-                              2 * voxel.z + ((octant >> 2) & 1)});
+        stack.push_back(Voxel{value + octant, voxel.depth + 1, 2 * voxel.x + (octant & 1),
+                              2 * voxel.y + ((octant >> 1) & 1), 2 * voxel.z + ((octant >> 2) & 1)});
       }
     }
   }
@@ -227,7 +229,8 @@ CellTracing empty_tracing(const CellTracing& previous) {
 
 void arrange_cells(ProbeVolume& volume, int cell_depth) {
   if (cell_depth < 0 || cell_depth > kMaxCellDepth) {
-    throw Error(ErrorKind::usage, "cell depth " + std::to_string(cell_depth) + " outside [0, " + std::to_string(kMaxCellDepth) + "]");
+    throw Error(ErrorKind::usage,
+                "cell depth " + std::to_string(cell_depth) + " outside [0, " + std::to_string(kMaxCellDepth) + "]");
   }
   const std::map<int, CellTracing> tracing = tracing_by_cell(volume, cell_depth);
   const std::vector<int> cell_of_probe = probe_cells(volume, cell_depth);
@@ -291,13 +294,16 @@ namespace {
 
 template <class T>
 void hash_range(XXH3_state_t& state, std::span<const T> section, const CellRange& range) {
-  if (std::uint64_t(range.first) + range.count > section.size()) throw Error(ErrorKind::internal, "cell_checksum: a range outside its section");
+  if (std::uint64_t(range.first) + range.count > section.size())
+    throw Error(ErrorKind::internal, "cell_checksum: a range outside its section");
   if (range.count > 0) XXH3_64bits_update(&state, section.data() + range.first, std::size_t(range.count) * sizeof(T));
 }
 
 } // namespace
 
-std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k) { return cell_checksum(volume, tracing_view(volume), k); }
+std::uint64_t cell_checksum(const ProbeVolume& volume, std::size_t k) {
+  return cell_checksum(volume, tracing_view(volume), k);
+}
 
 std::uint64_t cell_checksum(const ProbeVolume& volume, const TracingView& tracing, std::size_t k) {
   const Cell& cell = volume.cells.at(k);
@@ -326,12 +332,14 @@ namespace {
 
 // The bytes of `section` between and after the ranges (ascending, inside it).
 template <class T, class Record>
-std::uint64_t global_checksum(std::span<const T> section, const std::vector<Record>& records, CellRange Record::*member) {
+std::uint64_t global_checksum(std::span<const T> section, const std::vector<Record>& records,
+                              CellRange Record::*member) {
   XXH3_state_t state;
   XXH3_64bits_reset(&state);
   std::uint64_t cursor = 0;
   const auto hash_to = [&](std::uint64_t end) {
-    if (end < cursor || end > section.size()) throw Error(ErrorKind::internal, "cell_global_checksums: the cells' ranges do not ascend inside their section");
+    if (end < cursor || end > section.size())
+      throw Error(ErrorKind::internal, "cell_global_checksums: the cells' ranges do not ascend inside their section");
     if (end > cursor) XXH3_64bits_update(&state, section.data() + cursor, std::size_t(end - cursor) * sizeof(T));
     cursor = end;
   };
@@ -348,12 +356,13 @@ std::uint64_t global_checksum(std::span<const T> section, const std::vector<Reco
 
 std::vector<std::uint64_t> cell_global_checksums_of(const ProbeVolume& volume, const TracingView& tracing) {
   if (volume.cell_tracing.empty()) return {};
-  return {global_checksum(std::span<const gpu::Probe>(volume.probes), volume.cells, &Cell::probes),
-          global_checksum(std::span<const gpu::SurfelBatch>(volume.surfel_batches), volume.cells, &Cell::surfel_batches),
-          global_checksum(std::span<const gpu::SvoLeaf>(volume.svo_leaves), volume.cells, &Cell::svo_leaves),
-          global_checksum(tracing.nodes, volume.cell_tracing, &CellTracing::trace_nodes),
-          global_checksum(tracing.faces, volume.cell_tracing, &CellTracing::trace_faces),
-          global_checksum(tracing.vertices, volume.cell_tracing, &CellTracing::trace_vertices)};
+  return {
+      global_checksum(std::span<const gpu::Probe>(volume.probes), volume.cells, &Cell::probes),
+      global_checksum(std::span<const gpu::SurfelBatch>(volume.surfel_batches), volume.cells, &Cell::surfel_batches),
+      global_checksum(std::span<const gpu::SvoLeaf>(volume.svo_leaves), volume.cells, &Cell::svo_leaves),
+      global_checksum(tracing.nodes, volume.cell_tracing, &CellTracing::trace_nodes),
+      global_checksum(tracing.faces, volume.cell_tracing, &CellTracing::trace_faces),
+      global_checksum(tracing.vertices, volume.cell_tracing, &CellTracing::trace_vertices)};
 }
 
 void clear_cells(ProbeVolume& volume) {

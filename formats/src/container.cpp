@@ -59,7 +59,8 @@ private:
       fail("header", detail::concat("not ", kind_.description, " (bad magic)"));
     }
     if (bytes_.size() < sizeof(FileHeader)) {
-      fail("header", detail::concat("truncated: ", bytes_.size(), " bytes, the header alone needs ", sizeof(FileHeader)));
+      fail("header",
+           detail::concat("truncated: ", bytes_.size(), " bytes, the header alone needs ", sizeof(FileHeader)));
     }
     FileHeader& h = view_.header;
     h = detail::value_from<FileHeader>(bytes_);
@@ -74,13 +75,15 @@ private:
       fail("header", "unknown required feature bits 0x" + detail::hex64(h.required_features & ~kKnownRequiredFeatures));
     }
     if (h.file_size != bytes_.size()) {
-      fail("header", detail::concat("file size ", bytes_.size(), " but the header says ", h.file_size, " (truncated or extended)"));
+      fail("header", detail::concat("file size ", bytes_.size(), " but the header says ", h.file_size,
+                                    " (truncated or extended)"));
     }
     if (h.reserved != 0) fail("header", "reserved field is not zero");
     if (h.section_entry_size < sizeof(SectionEntry) || h.section_entry_size % 8 != 0 || h.section_entry_size > 1024) {
       fail("header", detail::concat("bad section entry size ", h.section_entry_size));
     }
-    if (h.section_count > kMaxSections) fail("header", detail::concat(h.section_count, " sections (at most ", kMaxSections, ")"));
+    if (h.section_count > kMaxSections)
+      fail("header", detail::concat(h.section_count, " sections (at most ", kMaxSections, ")"));
   }
 
   void check_table_bounds() {
@@ -99,14 +102,20 @@ private:
     if (!kind_.is_known_section_type(entry.type) && (entry.flags & kSectionRequired) != 0) {
       fail(place, "unknown required section (written by a newer probebake?)");
     }
-    if (!is_power_of_two(entry.alignment) || entry.alignment < kSectionAlignment || entry.alignment > kMaxSectionAlignment) {
+    if (!is_power_of_two(entry.alignment) || entry.alignment < kSectionAlignment ||
+        entry.alignment > kMaxSectionAlignment) {
       fail(place, detail::concat("bad alignment ", entry.alignment));
     }
-    if (entry.offset % entry.alignment != 0) fail(place, detail::concat("offset ", entry.offset, " not aligned to ", entry.alignment));
-    if (entry.offset < previous_end_) fail(place, "overlaps the table or the previous section (sections must be in file order)");
-    if (entry.offset > bytes_.size() || entry.size > bytes_.size() - entry.offset) fail(place, "extends past the end of the file");
-    if (entry.element_size == 0 || entry.size % entry.element_size != 0 || entry.size / entry.element_size != entry.element_count) {
-      fail(place, detail::concat("size ", entry.size, " is not element size ", entry.element_size, " x count ", entry.element_count));
+    if (entry.offset % entry.alignment != 0)
+      fail(place, detail::concat("offset ", entry.offset, " not aligned to ", entry.alignment));
+    if (entry.offset < previous_end_)
+      fail(place, "overlaps the table or the previous section (sections must be in file order)");
+    if (entry.offset > bytes_.size() || entry.size > bytes_.size() - entry.offset)
+      fail(place, "extends past the end of the file");
+    if (entry.element_size == 0 || entry.size % entry.element_size != 0 ||
+        entry.size / entry.element_size != entry.element_count) {
+      fail(place, detail::concat("size ", entry.size, " is not element size ", entry.element_size, " x count ",
+                                 entry.element_count));
     }
     for (const SectionEntry& earlier : view_.sections) {
       if (earlier.type == entry.type) fail(place, "duplicate section type");
@@ -134,18 +143,22 @@ private:
   }
 
   void check_checksums() {
-    const std::uint64_t expected = header_checksum(bytes_.first(view_.header.header_size),
-                                                   bytes_.subspan(view_.header.header_size, table_end_ - view_.header.header_size));
+    const std::uint64_t expected =
+        header_checksum(bytes_.first(view_.header.header_size),
+                        bytes_.subspan(view_.header.header_size, table_end_ - view_.header.header_size));
     if (expected != view_.header.header_checksum) {
-      mismatch("header", -1, "header checksum " + detail::hex64(view_.header.header_checksum) + ", computed " + detail::hex64(expected));
+      mismatch("header", -1,
+               "header checksum " + detail::hex64(view_.header.header_checksum) + ", computed " +
+                   detail::hex64(expected));
     }
     for (std::size_t i = 0; i < view_.sections.size(); ++i) {
-      if (std::find(unread_.begin(), unread_.end(), static_cast<SectionType>(view_.sections[i].type)) != unread_.end()) continue;
+      if (std::find(unread_.begin(), unread_.end(), static_cast<SectionType>(view_.sections[i].type)) != unread_.end())
+        continue;
       const std::uint64_t computed = checksum64(view_.payloads[i]);
       if (computed != view_.sections[i].checksum) {
         mismatch(kind_.section_name(view_.sections[i].type), static_cast<long long>(i),
-                 detail::concat("checksum ", detail::hex64(view_.sections[i].checksum), ", computed ", detail::hex64(computed),
-                                " (section table entry ", i, ")"));
+                 detail::concat("checksum ", detail::hex64(view_.sections[i].checksum), ", computed ",
+                                detail::hex64(computed), " (section table entry ", i, ")"));
       }
     }
   }
@@ -168,19 +181,19 @@ private:
 } // namespace
 
 std::string section_name(std::uint32_t type) {
-  static constexpr const char* kNames[] = {"volume_info",   "octree",         "probes",          "surfel_batches",
-                                           "leaf_queue_header", "leaf_entries", "probe_index",  "svo_nodes",
-                                           "svo_leaves",    "cells",          "lighting_info",   "ray_directions",
-                                           "bvh_nodes",     "trace_triangles", "punctual_lights", "emitter_patches",
-                                           "dynamic_objects", "trace_trees", "trace_nodes", "trace_faces", "trace_vertices",
-                                           "trace_materials", "cell_tracing", "cell_checksums",
-                                           "cell_global_checksums"};
+  static constexpr const char* kNames[] = {
+      "volume_info",     "octree",          "probes",       "surfel_batches",  "leaf_queue_header",
+      "leaf_entries",    "probe_index",     "svo_nodes",    "svo_leaves",      "cells",
+      "lighting_info",   "ray_directions",  "bvh_nodes",    "trace_triangles", "punctual_lights",
+      "emitter_patches", "dynamic_objects", "trace_trees",  "trace_nodes",     "trace_faces",
+      "trace_vertices",  "trace_materials", "cell_tracing", "cell_checksums",  "cell_global_checksums"};
   static_assert(std::size(kNames) == kSectionTypeCount);
   if (is_known_section_type(type)) return kNames[type - 1];
   return "section_" + std::to_string(type);
 }
 
-ContainerView parse_container_without(std::span<const std::uint8_t> bytes, std::string_view name, std::span<const SectionType> unread) {
+ContainerView parse_container_without(std::span<const std::uint8_t> bytes, std::string_view name,
+                                      std::span<const SectionType> unread) {
   return ContainerParser(bytes, name, {}, kProbesContainer, unread).parse();
 }
 
@@ -207,7 +220,8 @@ std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, s
   std::uint64_t cursor = sizeof(FileHeader) + sections.size() * sizeof(SectionEntry);
   for (const SectionPayload& section : sections) {
     if (section.element_size == 0 || section.bytes.size() != section.element_size * section.element_count) {
-      throw Error(ErrorKind::internal, "write_container: " + kind.section_name(section.type) + ": size disagrees with element count");
+      throw Error(ErrorKind::internal,
+                  "write_container: " + kind.section_name(section.type) + ": size disagrees with element count");
     }
     SectionEntry entry{};
     entry.type = section.type;
@@ -226,16 +240,17 @@ std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, s
   std::vector<std::uint8_t> bytes(cursor, 0);
   std::memcpy(bytes.data() + sizeof(FileHeader), table.data(), table.size() * sizeof(SectionEntry));
   for (std::size_t i = 0; i < sections.size(); ++i) {
-    if (!sections[i].bytes.empty()) std::memcpy(bytes.data() + table[i].offset, sections[i].bytes.data(), sections[i].bytes.size());
+    if (!sections[i].bytes.empty())
+      std::memcpy(bytes.data() + table[i].offset, sections[i].bytes.data(), sections[i].bytes.size());
   }
-  header.header_checksum = header_checksum(detail::as_bytes(header),
-                                           std::span(bytes).subspan(sizeof(FileHeader), table.size() * sizeof(SectionEntry)));
+  header.header_checksum = header_checksum(
+      detail::as_bytes(header), std::span(bytes).subspan(sizeof(FileHeader), table.size() * sizeof(SectionEntry)));
   std::memcpy(bytes.data(), &header, sizeof(FileHeader));
   return bytes;
 }
 
-ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_view name, const ChecksumMismatch& on_checksum_mismatch,
-                              const ContainerKind& kind) {
+ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_view name,
+                              const ChecksumMismatch& on_checksum_mismatch, const ContainerKind& kind) {
   return ContainerParser(bytes, name, on_checksum_mismatch, kind).parse();
 }
 

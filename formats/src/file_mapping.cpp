@@ -28,7 +28,8 @@ void exit_on_sigbus(int) {
 } // namespace
 
 MappedReadGuard::MappedReadGuard(const char* program, const std::string& path) {
-  const std::string message = std::string(program) + ": error: " + path + ": the file was cut short while it was read\n";
+  const std::string message =
+      std::string(program) + ": error: " + path + ": the file was cut short while it was read\n";
   g_sigbus_length = std::min(message.size(), sizeof(g_sigbus_message));
   std::memcpy(g_sigbus_message, message.data(), g_sigbus_length);
   struct sigaction action {};
@@ -41,7 +42,8 @@ MappedReadGuard::~MappedReadGuard() { ::sigaction(SIGBUS, &previous_, nullptr); 
 
 FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
   if (size == 0) return;
-  if (size > std::numeric_limits<std::size_t>::max()) throw_input_error(name, "cannot map: larger than the address space");
+  if (size > std::numeric_limits<std::size_t>::max())
+    throw_input_error(name, "cannot map: larger than the address space");
   void* data = ::mmap(nullptr, std::size_t(size), PROT_READ, MAP_PRIVATE, fd, 0);
   if (data == MAP_FAILED) throw_input_error(name, std::string("cannot map: ") + std::strerror(errno));
   data_ = data, size_ = std::size_t(size);
@@ -50,15 +52,18 @@ FileMapping::FileMapping(int fd, std::uint64_t size, const std::string& name) {
 FileMapping FileMapping::anonymous(std::uint64_t size, const std::string& name) {
   FileMapping mapping;
   if (size == 0) return mapping;
-  if (size > std::numeric_limits<std::size_t>::max()) throw_input_error(name, "cannot map: larger than the address space");
-  void* data = ::mmap(nullptr, std::size_t(size), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (size > std::numeric_limits<std::size_t>::max())
+    throw_input_error(name, "cannot map: larger than the address space");
+  void* data =
+      ::mmap(nullptr, std::size_t(size), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
   if (data == MAP_FAILED) throw_input_error(name, std::string("cannot map: ") + std::strerror(errno));
   mapping.data_ = data, mapping.size_ = std::size_t(size), mapping.writable_ = true;
   return mapping;
 }
 
 std::span<std::uint8_t> FileMapping::writable() {
-  if (!writable_ && size_ != 0) throw Error(ErrorKind::internal, "FileMapping::writable: a file's mapping is read-only");
+  if (!writable_ && size_ != 0)
+    throw Error(ErrorKind::internal, "FileMapping::writable: a file's mapping is read-only");
   return {static_cast<std::uint8_t*>(data_), size_};
 }
 
@@ -81,7 +86,9 @@ FileMapping FileMapping::of(const std::filesystem::path& path) {
 }
 
 FileMapping::FileMapping(FileMapping&& other) noexcept
-    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)), writable_(std::exchange(other.writable_, false)) {}
+    : data_(std::exchange(other.data_, nullptr)),
+      size_(std::exchange(other.size_, 0)),
+      writable_(std::exchange(other.writable_, false)) {}
 
 FileMapping& FileMapping::operator=(FileMapping&& other) noexcept {
   std::swap(data_, other.data_);

@@ -26,7 +26,8 @@ void add_fresh(std::vector<int>& free_list, int first, int last, int step) {
 
 int grown_size(std::size_t current, int count, std::size_t element_units, const char* what) {
   const std::size_t wanted = current + static_cast<std::size_t>(count) * element_units;
-  if (count < 0 || wanted > kMaxElements) throw Error(ErrorKind::internal, std::string(what) + ": capacity exceeds INT32_MAX");
+  if (count < 0 || wanted > kMaxElements)
+    throw Error(ErrorKind::internal, std::string(what) + ": capacity exceeds INT32_MAX");
   return static_cast<int>(wanted);
 }
 
@@ -136,7 +137,8 @@ void Octree::free_probe(int probe) {
   const int node = volume_->probes[probe].node;
   if (node >= 0) { // grid probes (node -1) have no leaf
     check_node(node, "free_probe");
-    if (volume_->octree[node] != ~probe) throw_misuse("free_probe: node " + std::to_string(node) + " does not link back");
+    if (volume_->octree[node] != ~probe)
+      throw_misuse("free_probe: node " + std::to_string(node) + " does not link back");
     volume_->octree[node] = 0;
   }
   volume_->probes[probe] = gpu::Probe{};

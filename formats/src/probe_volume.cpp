@@ -38,7 +38,8 @@ void sync_info_counts(ProbeVolume& volume) {
   gpu::LightingInfo& lighting = *volume.lighting;
   const bool float_layout = has_float_tracing(volume); // a 1.1-1.3 file
   lighting.bvh_nodes = checked_count(float_layout ? volume.bvh_nodes.size() : volume.trace_nodes.size(), "bvh_nodes");
-  lighting.triangles = checked_count(float_layout ? volume.trace_triangles.size() : volume.trace_faces.size(), "trace_triangles");
+  lighting.triangles =
+      checked_count(float_layout ? volume.trace_triangles.size() : volume.trace_faces.size(), "trace_triangles");
   lighting.lights = checked_count(volume.punctual_lights.size(), "punctual_lights");
   lighting.emitter_patches = checked_count(volume.emitter_patches.size(), "emitter_patches");
   lighting.dynamic_objects = checked_count(volume.dynamic_objects.size(), "dynamic_objects");

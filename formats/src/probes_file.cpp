@@ -30,22 +30,31 @@ namespace probebake::formats {
 namespace {
 
 template <typename T>
-void add_section(std::vector<SectionPayload>& sections, SectionType type, std::uint32_t flags, const std::vector<T>& elements) {
+void add_section(std::vector<SectionPayload>& sections, SectionType type, std::uint32_t flags,
+                 const std::vector<T>& elements) {
   if (elements.empty()) return; // only sections with data are written
-  sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), flags, sizeof(T), elements.size(), detail::as_bytes(elements)});
+  sections.push_back(
+      SectionPayload{static_cast<std::uint32_t>(type), flags, sizeof(T), elements.size(), detail::as_bytes(elements)});
 }
 
 template <typename T>
-void add_single(std::vector<SectionPayload>& sections, SectionType type, const T& value, std::uint32_t flags = kSectionRequired) {
+void add_single(std::vector<SectionPayload>& sections, SectionType type, const T& value,
+                std::uint32_t flags = kSectionRequired) {
   sections.push_back(SectionPayload{static_cast<std::uint32_t>(type), flags, sizeof(T), 1, detail::as_bytes(value)});
 }
 
-template <class T> struct is_vector : std::false_type {};
-template <class T> struct is_vector<std::vector<T>> : std::true_type {};
-template <class T> struct is_optional : std::false_type {};
-template <class T> struct is_optional<std::optional<T>> : std::true_type {};
+template <class T>
+struct is_vector : std::false_type {};
+template <class T>
+struct is_vector<std::vector<T>> : std::true_type {};
+template <class T>
+struct is_optional : std::false_type {};
+template <class T>
+struct is_optional<std::optional<T>> : std::true_type {};
 
-std::uint32_t section_flags(SectionType type) { return is_required_section_type(static_cast<std::uint32_t>(type)) ? kSectionRequired : 0u; }
+std::uint32_t section_flags(SectionType type) {
+  return is_required_section_type(static_cast<std::uint32_t>(type)) ? kSectionRequired : 0u;
+}
 
 // Every section of the volume with data, in type order (volume_sections.h); the leaf header only with
 // leaf entries (docs/FORMAT.md); `cell_checksums` and `global_checksums` in place of the volume's: like the section checksums
@@ -55,9 +64,12 @@ std::vector<SectionPayload> sections_of(const ProbeVolume& volume, const std::ve
   std::vector<SectionPayload> sections;
   for_each_section(volume, [&](SectionType type, const auto& member) {
     using Member = std::decay_t<decltype(member)>;
-    if (type == SectionType::cell_checksums) add_section(sections, type, section_flags(type), cell_checksums);
-    else if (type == SectionType::cell_global_checksums) add_section(sections, type, section_flags(type), global_checksums);
-    else if constexpr (is_vector<Member>::value) add_section(sections, type, section_flags(type), member);
+    if (type == SectionType::cell_checksums)
+      add_section(sections, type, section_flags(type), cell_checksums);
+    else if (type == SectionType::cell_global_checksums)
+      add_section(sections, type, section_flags(type), global_checksums);
+    else if constexpr (is_vector<Member>::value)
+      add_section(sections, type, section_flags(type), member);
     else if constexpr (is_optional<Member>::value) {
       if (member) add_single(sections, type, *member, section_flags(type));
     } else if (type != SectionType::leaf_queue_header || !volume.leaf_entries.empty()) {
@@ -95,7 +107,8 @@ public:
   std::span<const T> in_place() const {
     check_elements<T>();
     static_assert(std::is_trivially_copyable_v<T> && alignof(T) <= kSectionAlignment);
-    if (reinterpret_cast<std::uintptr_t>(payload_.data()) % alignof(T) != 0) fail("the bytes are not aligned for reading in place");
+    if (reinterpret_cast<std::uintptr_t>(payload_.data()) % alignof(T) != 0)
+      fail("the bytes are not aligned for reading in place");
     return {reinterpret_cast<const T*>(payload_.data()), payload_.size() / sizeof(T)};
   }
 
@@ -115,7 +128,8 @@ private:
     }
   }
   void check_element_size(std::size_t expected) const {
-    if (entry_.element_size != expected) fail(detail::concat("element size ", entry_.element_size, ", expected ", expected));
+    if (entry_.element_size != expected)
+      fail(detail::concat("element size ", entry_.element_size, ", expected ", expected));
   }
   [[noreturn]] void fail(const std::string& reason) const {
     throw Error(ErrorKind::input, detail::concat(name_, ": section '", section_name(entry_.type), "': ", reason));
@@ -131,9 +145,12 @@ void decode_section(ProbeVolume& volume, const SectionDecoder& section, std::uin
   for_each_section(volume, [&](SectionType member_type, auto& member) {
     if (static_cast<std::uint32_t>(member_type) != type) return;
     using Member = std::decay_t<decltype(member)>;
-    if constexpr (is_vector<Member>::value) member = section.elements<typename Member::value_type>();
-    else if constexpr (is_optional<Member>::value) member = section.single<typename Member::value_type>();
-    else member = section.single<Member>();
+    if constexpr (is_vector<Member>::value)
+      member = section.elements<typename Member::value_type>();
+    else if constexpr (is_optional<Member>::value)
+      member = section.single<typename Member::value_type>();
+    else
+      member = section.single<Member>();
   });
 }
 
@@ -151,9 +168,11 @@ std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume) {
   const std::vector<std::uint64_t> cell_checksums = cell_checksums_of(volume);
   const bool read_as_1_6 = !volume.cell_checksums.empty() && volume.cell_global_checksums.empty();
-  const std::vector<std::uint64_t> global_checksums = read_as_1_6 ? std::vector<std::uint64_t>{} : cell_global_checksums_of(volume, tracing_view(volume));
+  const std::vector<std::uint64_t> global_checksums =
+      read_as_1_6 ? std::vector<std::uint64_t>{} : cell_global_checksums_of(volume, tracing_view(volume));
   const std::vector<SectionPayload> sections = sections_of(volume, cell_checksums, global_checksums);
-  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash, minor_version_for(sections, volume)};
+  const ContainerHeaderFields fields{static_cast<std::uint32_t>(volume.cell_depth), volume.input_hash,
+                                     minor_version_for(sections, volume)};
   return write_container(fields, sections);
 }
 
@@ -181,9 +200,12 @@ TracingView tracing_in(const ContainerView& container, std::string_view name) {
   for (std::size_t i = 0; i < container.sections.size(); ++i) {
     const SectionEntry& entry = container.sections[i];
     const SectionDecoder section(name, entry, container.payloads[i]);
-    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_nodes)) view.nodes = section.in_place<gpu::TraceNode>();
-    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_faces)) view.faces = section.in_place<gpu::TraceFace>();
-    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_vertices)) view.vertices = section.in_place<gpu::TraceVertex>();
+    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_nodes))
+      view.nodes = section.in_place<gpu::TraceNode>();
+    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_faces))
+      view.faces = section.in_place<gpu::TraceFace>();
+    if (entry.type == static_cast<std::uint32_t>(SectionType::trace_vertices))
+      view.vertices = section.in_place<gpu::TraceVertex>();
   }
   return view;
 }

@@ -11,7 +11,11 @@ namespace probebake::formats {
 
 inline float decoded(float lower, float scale, std::uint32_t q) { return lower + float(q) * scale; }
 inline float decoded_fused(float lower, float scale, std::uint32_t q) { return std::fma(float(q), scale, lower); }
-inline float lowest_decoding(float lower, float scale, std::uint32_t q) { return std::min(decoded(lower, scale, q), decoded_fused(lower, scale, q)); }
-inline float highest_decoding(float lower, float scale, std::uint32_t q) { return std::max(decoded(lower, scale, q), decoded_fused(lower, scale, q)); }
+inline float lowest_decoding(float lower, float scale, std::uint32_t q) {
+  return std::min(decoded(lower, scale, q), decoded_fused(lower, scale, q));
+}
+inline float highest_decoding(float lower, float scale, std::uint32_t q) {
+  return std::max(decoded(lower, scale, q), decoded_fused(lower, scale, q));
+}
 
 } // namespace probebake::formats

@@ -27,7 +27,8 @@ constexpr float kSteps = float(gpu::TRACE_BOX_STEPS);
 float frame_step(float lower, float upper) {
   if (!(upper > lower)) return 0.0f;
   float step = (upper - lower) / kSteps;
-  while (lowest_decoding(lower, step, gpu::TRACE_BOX_STEPS) < upper) step = std::nextafter(step, std::numeric_limits<float>::infinity());
+  while (lowest_decoding(lower, step, gpu::TRACE_BOX_STEPS) < upper)
+    step = std::nextafter(step, std::numeric_limits<float>::infinity());
   return step;
 }
 
@@ -73,13 +74,15 @@ std::vector<Box> node_boxes(const TraceTreeInput& tree) {
   for (std::size_t n = tree.nodes.size(); n-- > 0;) {
     const gpu::BvhNode& node = tree.nodes[n];
     if (node.count > 0) {
-      if (node.count > gpu::TRACE_MAX_LEAF_FACES || node.first < 0 || std::size_t(node.first) + std::size_t(node.count) > tree.triangles.size())
+      if (node.count > gpu::TRACE_MAX_LEAF_FACES || node.first < 0 ||
+          std::size_t(node.first) + std::size_t(node.count) > tree.triangles.size())
         malformed("leaf " + std::to_string(n) + " is out of range");
       for (int k = node.first; k < node.first + node.count; ++k)
         for (const glm::vec3& p : tree.triangles[std::size_t(k)].corners) boxes[n].grow(p);
       continue;
     }
-    if (node.first <= int(n) || std::size_t(node.first) + 1 >= tree.nodes.size()) malformed("inner node " + std::to_string(n) + " has bad children");
+    if (node.first <= int(n) || std::size_t(node.first) + 1 >= tree.nodes.size())
+      malformed("inner node " + std::to_string(n) + " has bad children");
     boxes[n].grow(boxes[std::size_t(node.first)]);
     boxes[n].grow(boxes[std::size_t(node.first) + 1]);
   }
@@ -103,8 +106,8 @@ void set_child_box(gpu::TraceNode& node, int child, const gpu::TraceTree& frame,
 
 // Appends the tree's inner nodes (children after parents, as in the input) with faces numbered from
 // face_base; returns the root's child word.
-std::uint32_t append_inner_nodes(std::vector<gpu::TraceNode>& nodes, const TraceTreeInput& tree, const std::vector<Box>& boxes,
-                                 const gpu::TraceTree& frame, std::size_t face_base) {
+std::uint32_t append_inner_nodes(std::vector<gpu::TraceNode>& nodes, const TraceTreeInput& tree,
+                                 const std::vector<Box>& boxes, const gpu::TraceTree& frame, std::size_t face_base) {
   const std::size_t node_base = nodes.size();
   // Inner input nodes become compact nodes in index order, so children keep larger indices than parents.
   std::vector<std::uint32_t> compact(tree.nodes.size(), 0);
@@ -114,7 +117,8 @@ std::uint32_t append_inner_nodes(std::vector<gpu::TraceNode>& nodes, const Trace
   const auto word = [&](std::size_t n) {
     const gpu::BvhNode& node = tree.nodes[n];
     if (node.count == 0) return compact[n];
-    return gpu::TRACE_CHILD_LEAF | (std::uint32_t(node.count - 1) << gpu::TRACE_LEAF_COUNT_SHIFT) | std::uint32_t(face_base + std::size_t(node.first));
+    return gpu::TRACE_CHILD_LEAF | (std::uint32_t(node.count - 1) << gpu::TRACE_LEAF_COUNT_SHIFT) |
+           std::uint32_t(face_base + std::size_t(node.first));
   };
   for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
     if (tree.nodes[n].count != 0) continue;
@@ -179,7 +183,8 @@ gpu::TraceFace TraceMeshBuilder::face(const TraceInputTriangle& t, VertexMap& ve
 }
 
 void TraceMeshBuilder::check_face_room(std::size_t faces) const {
-  if (volume_.trace_faces.size() + faces > std::size_t(gpu::TRACE_LEAF_FIRST_MASK)) malformed("more faces than a child word holds");
+  if (volume_.trace_faces.size() + faces > std::size_t(gpu::TRACE_LEAF_FIRST_MASK))
+    malformed("more faces than a child word holds");
 }
 
 int TraceMeshBuilder::add_tree(const TraceTreeInput& tree) {
@@ -241,7 +246,8 @@ CellRange cell_range(std::size_t first, std::size_t end, std::size_t element_siz
 
 std::vector<int> cell_top_depths(std::span<const std::size_t> top_order) {
   std::vector<int> depths(top_order.size(), 0);
-  const auto descend = [&](const auto& self, std::size_t first, std::size_t last, int depth) -> void { // depth ceil(log2(cells))
+  const auto descend = [&](const auto& self, std::size_t first, std::size_t last,
+                           int depth) -> void { // depth ceil(log2(cells))
     if (last - first == 1) {
       depths.at(top_order[first]) = depth;
       return;
@@ -253,7 +259,8 @@ std::vector<int> cell_top_depths(std::span<const std::size_t> top_order) {
   return depths;
 }
 
-int TraceMeshBuilder::add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order, std::vector<CellTracing>& ranges) {
+int TraceMeshBuilder::add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order,
+                                    std::vector<CellTracing>& ranges) {
   if (top_order.size() != cells.size()) malformed("the top-level order does not list every cell");
   std::size_t total_faces = 0;
   for (const TraceTreeInput& cell : cells) {
@@ -276,7 +283,8 @@ int TraceMeshBuilder::add_cell_tree(std::span<const TraceTreeInput> cells, std::
   ranges.assign(cells.size(), CellTracing{});
   std::vector<std::uint32_t> cell_words;
   for (std::size_t k = 0; k < cells.size(); ++k) {
-    const std::size_t face_base = volume_.trace_faces.size(), vertex_base = volume_.trace_vertices.size(), cell_node_base = volume_.trace_nodes.size();
+    const std::size_t face_base = volume_.trace_faces.size(), vertex_base = volume_.trace_vertices.size(),
+                      cell_node_base = volume_.trace_nodes.size();
     VertexMap cell_vertices; // a cell shares no vertex with another
     for (const TraceInputTriangle& t : cells[k].triangles) volume_.trace_faces.push_back(face(t, cell_vertices));
     cell_words.push_back(append_inner_nodes(volume_.trace_nodes, cells[k], boxes[k], frame, face_base));
@@ -308,15 +316,17 @@ TraceInputTriangle input_triangle(const gpu::TraceTriangle& t) {
 
 // Nodes [first, first + count) and triangles [first_triangle, first_triangle + triangle_count) of a legacy
 // tree as a tree-local input.
-void add_legacy_tree(const ProbeVolume& v, int first, int count, int first_triangle, int triangle_count, TraceMeshBuilder& builder) {
-  if (first < 0 || count < 0 || std::size_t(first) + std::size_t(count) > v.bvh_nodes.size() || first_triangle < 0 || triangle_count < 0 ||
-      std::size_t(first_triangle) + std::size_t(triangle_count) > v.trace_triangles.size())
+void add_legacy_tree(const ProbeVolume& v, int first, int count, int first_triangle, int triangle_count,
+                     TraceMeshBuilder& builder) {
+  if (first < 0 || count < 0 || std::size_t(first) + std::size_t(count) > v.bvh_nodes.size() || first_triangle < 0 ||
+      triangle_count < 0 || std::size_t(first_triangle) + std::size_t(triangle_count) > v.trace_triangles.size())
     malformed("a tree's nodes or triangles are out of range");
   std::vector<gpu::BvhNode> nodes(v.bvh_nodes.begin() + first, v.bvh_nodes.begin() + first + count);
   for (gpu::BvhNode& node : nodes) node.first -= node.count == 0 ? first : first_triangle;
   std::vector<TraceInputTriangle> triangles;
   triangles.reserve(std::size_t(triangle_count));
-  for (int t = first_triangle; t < first_triangle + triangle_count; ++t) triangles.push_back(input_triangle(v.trace_triangles[std::size_t(t)]));
+  for (int t = first_triangle; t < first_triangle + triangle_count; ++t)
+    triangles.push_back(input_triangle(v.trace_triangles[std::size_t(t)]));
   builder.add_tree(TraceTreeInput{nodes, triangles});
 }
 
@@ -333,7 +343,8 @@ void upgrade_tracing(ProbeVolume& volume) {
   add_legacy_tree(volume, 0, static_nodes, 0, static_triangles, builder);
   for (gpu::DynamicObject& object : volume.dynamic_objects) {
     const auto first_face = int(volume.trace_faces.size());
-    add_legacy_tree(volume, object.bvh_root, object.bvh_node_count, object.first_triangle, object.triangle_count, builder);
+    add_legacy_tree(volume, object.bvh_root, object.bvh_node_count, object.first_triangle, object.triangle_count,
+                    builder);
     object.bvh_root = int(volume.trace_trees.size()) - 1;
     object.bvh_node_count = volume.trace_trees.back().node_count;
     object.first_triangle = first_face;

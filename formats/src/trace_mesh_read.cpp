@@ -13,7 +13,8 @@ namespace probebake::formats {
 namespace {
 
 template <class Decode>
-TraceBox child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child, Decode lower_of, Decode upper_of) {
+TraceBox child_box(const gpu::TraceTree& tree, const gpu::TraceNode& node, int child, Decode lower_of,
+                   Decode upper_of) {
   const int shift = child == 0 ? 0 : 16;
   TraceBox box;
   for (int a = 0; a < 3; ++a) {

@@ -17,7 +17,8 @@
 namespace probebake::formats {
 namespace {
 
-void run_phases(const ProbeVolume& volume, const TracingView& tracing, const detail::DeferredCells* deferred, detail::Reporter& out) {
+void run_phases(const ProbeVolume& volume, const TracingView& tracing, const detail::DeferredCells* deferred,
+                detail::Reporter& out) {
   try {
     detail::check_volume_info(volume, out);
     detail::check_counts(volume, out);
@@ -39,15 +40,21 @@ void run_phases(const ProbeVolume& volume, const TracingView& tracing, const det
 constexpr InvariantInfo kInvariants[] = {
     {"container", "the bytes are not a readable .probes container (magic, version, sizes, table)"},
     {"checksum", "a section's or the header's XXH3-64 checksum does not match"},
-    {"format_version", "the minor version covers the file's section types and flags; a known minor has a 64-byte header and 48-byte table entries"},
-    {"section_flags", "a known section's REQUIRED flag is the one docs/FORMAT.md gives its type; reserved flag bits are zero"},
-    {"section_layout", "no empty known section; each payload starts at the first multiple of its alignment after the previous one"},
+    {"format_version", "the minor version covers the file's section types and flags; a known minor has a 64-byte "
+                       "header and 48-byte table entries"},
+    {"section_flags",
+     "a known section's REQUIRED flag is the one docs/FORMAT.md gives its type; reserved flag bits are zero"},
+    {"section_layout",
+     "no empty known section; each payload starts at the first multiple of its alignment after the previous one"},
     {"trailing_bytes", "the file ends right after the last payload"},
-    {"section_dependency", "no section without the one it needs: surfel batches need probes, SVO leaves SVO nodes, leaf header <-> entries"},
+    {"section_dependency",
+     "no section without the one it needs: surfel batches need probes, SVO leaves SVO nodes, leaf header <-> entries"},
     {"volume_info", "VolumeInfo settings in range (root size, placement, depths, lattice, thresholds, padding)"},
     {"cell_depth", "the cell grid depth is within [0, kMaxCellDepth], and 0 when allocated probes have no cells"},
-    {"grid_resolution", "grid placement: 1 <= N <= kMaxGridResolution and at most N^3 allocated probes; octree placement: 0"},
-    {"count_mismatch", "VolumeInfo counts equal the buffer sizes; probe index = capacity + 1; leaf buffer = 3 segments"},
+    {"grid_resolution",
+     "grid placement: 1 <= N <= kMaxGridResolution and at most N^3 allocated probes; octree placement: 0"},
+    {"count_mismatch",
+     "VolumeInfo counts equal the buffer sizes; probe index = capacity + 1; leaf buffer = 3 segments"},
     {"non_finite", "every float is finite"},
     {"octree_root", "the octree buffer holds the root at index 0"},
     {"incomplete_cluster_used", "the incomplete trailing cluster is all zero and never a child"},
@@ -60,7 +67,8 @@ constexpr InvariantInfo kInvariants[] = {
     {"octree_cycle", "no cluster is a descendant of itself"},
     {"octree_unreachable", "every allocated cluster is reachable from the root"},
     {"octree_too_deep", "no node is deeper than info.max_depth"},
-    {"probe_leaf_link", "probe <-> leaf links are one-to-one and the probe's node field links back (-1 for grid probes)"},
+    {"probe_leaf_link",
+     "probe <-> leaf links are one-to-one and the probe's node field links back (-1 for grid probes)"},
     {"probe_depth_mismatch", "a probe's depth equals its node's depth (0 for grid probes)"},
     {"probe_outside_node", "a probe lies inside its node's cube (relative epsilon)"},
     {"probe_values", "hit and back-face fractions in [0, 1], padding zero"},
@@ -71,10 +79,12 @@ constexpr InvariantInfo kInvariants[] = {
     {"batch_count", "a batch holds 1..SURFELS_PER_BATCH surfels"},
     {"batch_orphan", "every allocated batch is in its owner's chain"},
     {"batch_lattice", "a batch's lattice range [first, first + count) lies inside [0, surfels_per_probe)"},
-    {"surfel_values", "surfels in use: known flags, distance >= 0, unit normal on hits, colours >= 0, padding zero; unused surfels zero"},
+    {"surfel_values", "surfels in use: known flags, distance >= 0, unit normal on hits, colours >= 0, padding zero; "
+                      "unused surfels zero"},
     {"probe_index_list", "the probe index list is the allocated probes ascending, then negative values"},
     {"leaf_queue_header", "pull origin in {0,1,2}, segment counts within capacity, padding zero"},
-    {"leaf_entry_node", "leaf buffer entries in use name reachable nodes: parents in M0/M4, leaves in every other state"},
+    {"leaf_entry_node",
+     "leaf buffer entries in use name reachable nodes: parents in M0/M4, leaves in every other state"},
     {"leaf_entry_state", "leaf buffer entries in use hold a LEAF_* state"},
     {"leaf_entry_duplicate", "no node appears twice in one segment"},
     {"svo_index_range", "SVO child blocks, payload indices and probe slots are in range"},
@@ -88,15 +98,24 @@ constexpr InvariantInfo kInvariants[] = {
     {"cell_root_node", "a cell's root node is the octree node covering exactly the cell, or -1"},
     {"cell_range", "cell ranges lie inside their sections, ascend without overlap, bytes = elements x size"},
     {"cell_membership", "each allocated element is in the range of its own cell; free elements in none"},
-    {"cell_tracing", "one cell_tracing record per cell; its ranges cover the static tree's faces, nodes and vertices without gaps, dynamic faces use no cell's vertex, and each cell's trace nodes, faces and vertices refer only to each other, its faces' centroids inside it"},
+    {"cell_tracing", "one cell_tracing record per cell; its ranges cover the static tree's faces, nodes and vertices "
+                     "without gaps, dynamic faces use no cell's vertex, and each cell's trace nodes, faces and "
+                     "vertices refer only to each other, its faces' centroids inside it"},
     {"cell_checksum", "one checksum per cell; each equals the XXH3-64 of its cell's byte ranges, checked cell by cell"},
-    {"cell_global_checksum", "with cell_tracing, one checksum per cell-split section; each equals the XXH3-64 of the section's bytes outside every cell's range"},
-    {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; placement_rays = surfels_per_probe"},
-    {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, padding zero; 1.4 faces: indices in range, non-zero area"},
+    {"cell_global_checksum", "with cell_tracing, one checksum per cell-split section; each equals the XXH3-64 of the "
+                             "section's bytes outside every cell's range"},
+    {"lighting_sections", "lighting sections present iff lighting_info is; its counts equal the sections; rays >= 1; "
+                          "placement_rays = surfels_per_probe"},
+    {"lighting_values", "unit directions and normals, colours >= 0, light types and unused fields, shadow offset > 0, "
+                        "padding zero; 1.4 faces: indices in range, non-zero area"},
     {"lighting_flags", "trace triangle and emitter patch flags set no bit but bit 0 (double-sided)"},
-    {"bvh_tree", "BVH: children after their node, each node reached once, leaves of 1..4 triangles covering each once, depth, boxes"},
-    {"trace_tree", "1.4 trees: roots and children in their tree's nodes and after their node, each node reached once, leaves of 1..8 faces covering each once, depth, every face inside every box above it as the GPU decodes it"},
-    {"dynamic_ranges", "dynamic objects' node and triangle ranges contiguous after the static ones, each tree inside its ranges"},
+    {"bvh_tree", "BVH: children after their node, each node reached once, leaves of 1..4 triangles covering each once, "
+                 "depth, boxes"},
+    {"trace_tree",
+     "1.4 trees: roots and children in their tree's nodes and after their node, each node reached once, leaves of 1..8 "
+     "faces covering each once, depth, every face inside every box above it as the GPU decodes it"},
+    {"dynamic_ranges",
+     "dynamic objects' node and triangle ranges contiguous after the static ones, each tree inside its ranges"},
     {"dynamic_values", "dynamic objects: finite boxes holding their triangles, rest poses finite with determinant > 0"},
 };
 
@@ -116,8 +135,8 @@ ValidationReport validate(const ProbeVolume& volume, const TracingView& tracing,
   return report;
 }
 
-ValidationReport validate_without_cells(const ProbeVolume& volume, const TracingView& tracing, std::vector<CellEntry>& entries,
-                                        const ValidateOptions& options) {
+ValidationReport validate_without_cells(const ProbeVolume& volume, const TracingView& tracing,
+                                        std::vector<CellEntry>& entries, const ValidateOptions& options) {
   ValidationReport report;
   report.name = "volume";
   detail::Reporter out(report, options);
@@ -137,20 +156,24 @@ ValidationReport validate_cell_tracing(const ProbeVolume& volume, std::span<cons
   report.name = "cell_tracing[" + std::to_string(k) + "]";
   detail::Reporter out(report, options);
   if (k >= volume.cell_tracing.size() || k >= volume.cells.size() || entries.size() != volume.cell_tracing.size())
-    throw Error(ErrorKind::internal, "validate_cell_tracing: no cell record " + std::to_string(k) + " or no entries for it");
+    throw Error(ErrorKind::internal,
+                "validate_cell_tracing: no cell record " + std::to_string(k) + " or no entries for it");
   const CellTracing& r = volume.cell_tracing[k];
-  if (cell.nodes.size() != r.trace_nodes.count || cell.faces.size() != r.trace_faces.count || cell.vertices.size() != r.trace_vertices.count)
+  if (cell.nodes.size() != r.trace_nodes.count || cell.faces.size() != r.trace_faces.count ||
+      cell.vertices.size() != r.trace_vertices.count)
     throw Error(ErrorKind::internal, "validate_cell_tracing: the cell's elements are not its records' ranges");
   const detail::TracingWindow window{cell, r.trace_nodes.first, r.trace_faces.first, r.trace_vertices.first};
   try {
     detail::check_cell_self_contained(volume, k, window, out);
-    if (out.count() == 0) detail::check_cell_trace_mesh(volume, entries[k], k, window, out); // indexes what the first checked
+    if (out.count() == 0)
+      detail::check_cell_trace_mesh(volume, entries[k], k, window, out); // indexes what the first checked
   } catch (const detail::StopValidation&) {
   }
   return report;
 }
 
-ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name, const ValidateOptions& options) {
+ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_view name,
+                               const ValidateOptions& options) {
   ValidationReport report;
   report.name = std::string(name);
   detail::Reporter out(report, options);
@@ -160,9 +183,10 @@ ValidationReport validate_file(std::span<const std::uint8_t> bytes, std::string_
   try {
     // Checksum mismatches are collected, not reported, until the file has decoded: whether it is readable
     // at all (exit 2 against 1) must not depend on --max-errors.
-    const ContainerView container = parse_container(bytes, name, [&](const std::string& section, long long, const std::string& message) {
-      checksums.emplace_back(section, message);
-    });
+    const ContainerView container =
+        parse_container(bytes, name, [&](const std::string& section, long long, const std::string& message) {
+          checksums.emplace_back(section, message);
+        });
     // The trace nodes, faces and vertices are checked where they lie in `bytes`, not copied: in a file's
     // mapping (probebake validate) the world is then the kernel's pages, not the process's memory. Bytes not
     // aligned for that (a caller's buffer) are decoded whole.
@@ -206,7 +230,8 @@ std::string format_violation(const Violation& violation) {
 nlohmann::json report_to_json(const ValidationReport& report) {
   nlohmann::json violations = nlohmann::json::array();
   for (const Violation& v : report.violations) {
-    violations.push_back({{"invariant", v.invariant}, {"section", v.section}, {"index", v.index}, {"message", v.message}});
+    violations.push_back(
+        {{"invariant", v.invariant}, {"section", v.section}, {"index", v.index}, {"message", v.message}});
   }
   return {{"file", report.name},
           {"valid", report.valid()},

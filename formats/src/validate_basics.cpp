@@ -35,7 +35,8 @@ void check_grid_resolution(const ProbeVolume& volume, Reporter& out) {
   const PlacementKindInfo* kind = placement_kind_for_code(info.placement);
   if (kind == nullptr || !kind->uses_grid_resolution) {
     const std::string_view name = kind != nullptr ? kind->name : "unknown";
-    if (info.grid_resolution != 0) bad(concat("grid_resolution ", info.grid_resolution, " with ", name, " placement (must be 0)"));
+    if (info.grid_resolution != 0)
+      bad(concat("grid_resolution ", info.grid_resolution, " with ", name, " placement (must be 0)"));
     return;
   }
   if (info.grid_resolution < 1 || info.grid_resolution > kMaxGridResolution) {
@@ -51,13 +52,14 @@ void check_cell_depth(const ProbeVolume& volume, Reporter& out) {
   if (volume.cell_depth < 0 || volume.cell_depth > kMaxCellDepth) {
     out.add("cell_depth", "cells", -1, concat("cell depth ", volume.cell_depth, " outside [0, ", kMaxCellDepth, "]"));
   } else if (volume.cell_depth != 0 && volume.cells.empty() && allocated_probes(volume) > 0) {
-    out.add("cell_depth", "cells", -1, concat("cell depth ", volume.cell_depth, " but no cells section (a file without cells has depth 0)"));
+    out.add("cell_depth", "cells", -1,
+            concat("cell depth ", volume.cell_depth, " but no cells section (a file without cells has depth 0)"));
   }
 }
 
 bool is_zero(const gpu::LeafQueueHeader& h) {
-  return h.pull_origin == 0 && h.segment_capacity == 0 && h.count[0] == 0 && h.count[1] == 0 && h.count[2] == 0 && h.pad0 == 0 &&
-         h.pad1 == 0 && h.pad2 == 0;
+  return h.pull_origin == 0 && h.segment_capacity == 0 && h.count[0] == 0 && h.count[1] == 0 && h.count[2] == 0 &&
+         h.pad0 == 0 && h.pad1 == 0 && h.pad2 == 0;
 }
 
 void check_count(Reporter& out, const char* section, long long expected, std::size_t actual, const char* what) {
@@ -71,15 +73,20 @@ void check_count(Reporter& out, const char* section, long long expected, std::si
 void check_volume_info(const ProbeVolume& volume, Reporter& out) {
   const gpu::VolumeInfo& info = volume.info;
   auto bad = [&](const std::string& message) { out.add("volume_info", "volume_info", 0, message); };
-  if (std::isfinite(info.root_size) && !(info.root_size > 0.0f)) bad(concat("root_size ", info.root_size, " is not positive"));
+  if (std::isfinite(info.root_size) && !(info.root_size > 0.0f))
+    bad(concat("root_size ", info.root_size, " is not positive"));
   if (placement_kind_for_code(info.placement) == nullptr) bad(concat("unknown placement ", info.placement));
-  if (info.max_depth < 0 || info.max_depth > gpu::OCTREE_MAX_DEPTH) bad(concat("max_depth ", info.max_depth, " outside [0, OCTREE_MAX_DEPTH]"));
-  if (info.svo_depth < 0 || info.svo_depth > kMaxSvoDepth) bad(concat("svo_depth ", info.svo_depth, " outside [0, ", kMaxSvoDepth, "]"));
-  if (info.lattice < gpu::LATTICE_FIBONACCI || info.lattice > gpu::LATTICE_EQUAL_AREA) bad(concat("unknown lattice ", info.lattice));
+  if (info.max_depth < 0 || info.max_depth > gpu::OCTREE_MAX_DEPTH)
+    bad(concat("max_depth ", info.max_depth, " outside [0, OCTREE_MAX_DEPTH]"));
+  if (info.svo_depth < 0 || info.svo_depth > kMaxSvoDepth)
+    bad(concat("svo_depth ", info.svo_depth, " outside [0, ", kMaxSvoDepth, "]"));
+  if (info.lattice < gpu::LATTICE_FIBONACCI || info.lattice > gpu::LATTICE_EQUAL_AREA)
+    bad(concat("unknown lattice ", info.lattice));
   if (info.surfels_per_probe < 1 || info.surfels_per_probe > kMaxSurfelsPerProbe) {
     bad(concat("surfels_per_probe ", info.surfels_per_probe, " outside [1, ", kMaxSurfelsPerProbe, "]"));
   }
-  if (all_finite({info.split_low, info.split_high}) && !(info.split_low >= 0.0f && info.split_low <= info.split_high && info.split_high <= 1.0f)) {
+  if (all_finite({info.split_low, info.split_high}) &&
+      !(info.split_low >= 0.0f && info.split_low <= info.split_high && info.split_high <= 1.0f)) {
     bad(concat("split thresholds ", info.split_low, ", ", info.split_high, " not 0 <= low <= high <= 1"));
   }
   if (info.pad0 != 0 || info.pad1 != 0 || info.pad2 != 0) bad("padding is not zero");
@@ -94,9 +101,11 @@ void check_counts(const ProbeVolume& volume, Reporter& out) {
   check_count(out, "surfel_batches", info.batch_capacity, volume.surfel_batches.size(), "batch_capacity");
   check_count(out, "svo_nodes", info.svo_nodes, volume.svo_nodes.size(), "svo_nodes");
   check_count(out, "svo_leaves", info.svo_leaves, volume.svo_leaves.size(), "svo_leaves");
-  check_count(out, "probe_index", static_cast<long long>(volume.probes.size()) + 1, volume.probe_index.size(), "probe capacity + 1");
+  check_count(out, "probe_index", static_cast<long long>(volume.probes.size()) + 1, volume.probe_index.size(),
+              "probe capacity + 1");
   if (!volume.leaf_entries.empty() || volume.leaf_header.segment_capacity != 0) {
-    check_count(out, "leaf_entries", 3LL * volume.leaf_header.segment_capacity, volume.leaf_entries.size(), "3 x segment_capacity");
+    check_count(out, "leaf_entries", 3LL * volume.leaf_header.segment_capacity, volume.leaf_entries.size(),
+                "3 x segment_capacity");
   }
 }
 
@@ -106,9 +115,12 @@ void check_dependencies(const ProbeVolume& volume, Reporter& out) {
   auto needs = [&](bool present, const char* section, bool dependency_present, const char* why) {
     if (present && !dependency_present) out.add("section_dependency", section, -1, why);
   };
-  needs(!volume.surfel_batches.empty(), "surfel_batches", !volume.probes.empty(), "surfel batches without probes to own them");
-  needs(!volume.svo_leaves.empty(), "svo_leaves", !volume.svo_nodes.empty(), "SVO leaf payloads without SVO nodes to reference them");
-  needs(!is_zero(volume.leaf_header), "leaf_queue_header", !volume.leaf_entries.empty(), "a leaf queue header without leaf entries");
+  needs(!volume.surfel_batches.empty(), "surfel_batches", !volume.probes.empty(),
+        "surfel batches without probes to own them");
+  needs(!volume.svo_leaves.empty(), "svo_leaves", !volume.svo_nodes.empty(),
+        "SVO leaf payloads without SVO nodes to reference them");
+  needs(!is_zero(volume.leaf_header), "leaf_queue_header", !volume.leaf_entries.empty(),
+        "a leaf queue header without leaf entries");
 }
 
 void check_finite(const ProbeVolume& volume, Reporter& out) {
@@ -117,19 +129,22 @@ void check_finite(const ProbeVolume& volume, Reporter& out) {
     out.add("non_finite", "volume_info", 0, "a float is NaN or infinite");
   }
   for (std::size_t i = 0; i < volume.probes.size(); ++i) {
-    if (!probe_finite(volume.probes[i])) out.add("non_finite", "probes", static_cast<long long>(i), "a float is NaN or infinite");
+    if (!probe_finite(volume.probes[i]))
+      out.add("non_finite", "probes", static_cast<long long>(i), "a float is NaN or infinite");
   }
   for (std::size_t b = 0; b < volume.surfel_batches.size(); ++b) {
     for (int s = 0; s < gpu::SURFELS_PER_BATCH; ++s) {
       if (!surfel_finite(volume.surfel_batches[b].surfels[s])) {
-        out.add("non_finite", "surfel_batches", static_cast<long long>(b), concat("surfel ", s, " has a NaN or infinite float"));
+        out.add("non_finite", "surfel_batches", static_cast<long long>(b),
+                concat("surfel ", s, " has a NaN or infinite float"));
         break;
       }
     }
   }
   for (std::size_t i = 0; i < volume.svo_leaves.size(); ++i) {
     const glm::vec4& w = volume.svo_leaves[i].weights;
-    if (!all_finite({w.x, w.y, w.z, w.w})) out.add("non_finite", "svo_leaves", static_cast<long long>(i), "a weight is NaN or infinite");
+    if (!all_finite({w.x, w.y, w.z, w.w}))
+      out.add("non_finite", "svo_leaves", static_cast<long long>(i), "a weight is NaN or infinite");
   }
   for (std::size_t i = 0; i < volume.cells.size(); ++i) {
     if (!finite3(volume.cells[i].bounds_min) || !finite3(volume.cells[i].bounds_max)) {
@@ -150,9 +165,11 @@ void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Repo
     header_ok = false;
     out.add("leaf_queue_header", "leaf_queue_header", 0, message);
   };
-  if (header.pull_origin < 0 || header.pull_origin > 2) bad_header(concat("pull origin ", header.pull_origin, " not in {0, 1, 2}"));
+  if (header.pull_origin < 0 || header.pull_origin > 2)
+    bad_header(concat("pull origin ", header.pull_origin, " not in {0, 1, 2}"));
   for (int s = 0; s < 3; ++s) {
-    if (header.count[s] < 0 || header.count[s] > capacity) bad_header(concat("segment ", s, " count ", header.count[s], " outside [0, ", capacity, "]"));
+    if (header.count[s] < 0 || header.count[s] > capacity)
+      bad_header(concat("segment ", s, " count ", header.count[s], " outside [0, ", capacity, "]"));
   }
   if (header.pad0 != 0 || header.pad1 != 0 || header.pad2 != 0) bad_header("padding is not zero");
   if (!header_ok || volume.leaf_entries.size() != 3 * static_cast<std::size_t>(capacity)) return;
@@ -163,16 +180,19 @@ void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Repo
       const long long index = static_cast<long long>(s) * capacity + e;
       const gpu::LeafEntry& entry = volume.leaf_entries[static_cast<std::size_t>(index)];
       // M0 and M4 address a parent (a child allocates; free the children); every other state a leaf.
-      const bool parent_state = entry.state == gpu::LEAF_M0_CHILD_ALLOCATING || entry.state == gpu::LEAF_M4_FREE_CLUSTER;
+      const bool parent_state =
+          entry.state == gpu::LEAF_M0_CHILD_ALLOCATING || entry.state == gpu::LEAF_M4_FREE_CLUSTER;
       if (!octree.reachable(entry.node) || (volume.octree[entry.node] > 0) != parent_state) {
         out.add("leaf_entry_node", "leaf_entries", index,
-                concat("node ", entry.node, parent_state ? " is not a parent of the octree" : " is not a leaf of the octree"));
+                concat("node ", entry.node,
+                       parent_state ? " is not a parent of the octree" : " is not a leaf of the octree"));
       }
       if (entry.state < 0 || entry.state >= gpu::LEAF_STATE_COUNT) {
         out.add("leaf_entry_state", "leaf_entries", index, concat("state ", entry.state, " is not a LEAF_* state"));
       }
       if (!seen.insert(entry.node).second) {
-        out.add("leaf_entry_duplicate", "leaf_entries", index, concat("node ", entry.node, " appears twice in segment ", s));
+        out.add("leaf_entry_duplicate", "leaf_entries", index,
+                concat("node ", entry.node, " appears twice in segment ", s));
       }
     }
   }

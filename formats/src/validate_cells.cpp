@@ -26,7 +26,8 @@ bool check_range(const CellRange& range, RangeCursor& cursor, long long cell, Re
   } else if (first < cursor.end) {
     problem = concat(cursor.section, " range starts at ", first, ", before the previous cell's end ", cursor.end);
   } else if (range.byte_offset != first * cursor.element_size || range.byte_size != count * cursor.element_size) {
-    problem = concat(cursor.section, " byte range ", range.byte_offset, "+", range.byte_size, " disagrees with the element range");
+    problem = concat(cursor.section, " byte range ", range.byte_offset, "+", range.byte_size,
+                     " disagrees with the element range");
   }
   if (!problem.empty()) {
     out.add("cell_range", "cells", cell, problem);
@@ -47,7 +48,8 @@ std::vector<int> range_owners(const std::vector<Cell>& cells, std::size_t count,
 }
 
 // `expected` is the cell an element belongs to, -1 for an element that belongs to no cell (free).
-void check_membership(const char* section, const std::vector<int>& owners, const std::vector<int>& expected, Reporter& out) {
+void check_membership(const char* section, const std::vector<int>& owners, const std::vector<int>& expected,
+                      Reporter& out) {
   for (std::size_t i = 0; i < owners.size(); ++i) {
     if (owners[i] == expected[i]) continue;
     const long long index = static_cast<long long>(i);
@@ -56,7 +58,8 @@ void check_membership(const char* section, const std::vector<int>& owners, const
     } else if (owners[i] < 0) {
       out.add("cell_membership", section, index, concat("belongs to cell ", expected[i], " but is in no cell's range"));
     } else {
-      out.add("cell_membership", section, index, concat("belongs to cell ", expected[i], " but is in the range of cell ", owners[i]));
+      out.add("cell_membership", section, index,
+              concat("belongs to cell ", expected[i], " but is in the range of cell ", owners[i]));
     }
   }
 }
@@ -78,13 +81,16 @@ void check_records(const ProbeVolume& volume, const OctreeFacts& octree, bool& r
       out.add("cell_bounds", "cells", index, concat("cell index ", cell.cell_index, " outside [0, ", total, ")"));
       continue;
     }
-    if (cell.cell_index <= previous) out.add("cell_order", "cells", index, concat("cell index ", cell.cell_index, " does not increase"));
+    if (cell.cell_index <= previous)
+      out.add("cell_order", "cells", index, concat("cell index ", cell.cell_index, " does not increase"));
     previous = cell.cell_index;
     glm::vec3 min, max;
     cell_bounds(volume.info, volume.cell_depth, cell.cell_index, min, max);
-    if (cell.bounds_min != min || cell.bounds_max != max) out.add("cell_bounds", "cells", index, "bounds differ from the cell grid");
+    if (cell.bounds_min != min || cell.bounds_max != max)
+      out.add("cell_bounds", "cells", index, "bounds differ from the cell grid");
     if (octree.clean && cell.root_node != cell_root_node(volume, volume.cell_depth, cell.cell_index)) {
-      out.add("cell_root_node", "cells", index, concat("root node ", cell.root_node, " is not the node covering the cell"));
+      out.add("cell_root_node", "cells", index,
+              concat("root node ", cell.root_node, " is not the node covering the cell"));
     }
   }
 }
@@ -92,7 +98,8 @@ void check_records(const ProbeVolume& volume, const OctreeFacts& octree, bool& r
 std::vector<int> expected_probe_cells(const ProbeVolume& volume) {
   std::vector<int> expected(volume.probes.size(), -1);
   for (std::size_t i = 0; i < volume.probes.size(); ++i) {
-    if (volume.probes[i].link != 0) expected[i] = cell_of_point(volume.info, volume.cell_depth, volume.probes[i].position);
+    if (volume.probes[i].link != 0)
+      expected[i] = cell_of_point(volume.info, volume.cell_depth, volume.probes[i].position);
   }
   return expected;
 }
@@ -111,18 +118,23 @@ std::vector<int> expected_batch_cells(const ProbeVolume& volume, const std::vect
 // The static tree's faces: those before the first dynamic object's (format 1.3 objects follow tree 0).
 std::size_t static_faces(const ProbeVolume& volume, const TracingView& tracing) {
   if (volume.dynamic_objects.empty()) return tracing.faces.size();
-  return std::min<std::size_t>(tracing.faces.size(), std::size_t(std::max(0, volume.dynamic_objects[0].first_triangle)));
+  return std::min<std::size_t>(tracing.faces.size(),
+                               std::size_t(std::max(0, volume.dynamic_objects[0].first_triangle)));
 }
 
-bool in_range(std::uint64_t index, const CellRange& range) { return index >= range.first && index < std::uint64_t(range.first) + range.count; }
+bool in_range(std::uint64_t index, const CellRange& range) {
+  return index >= range.first && index < std::uint64_t(range.first) + range.count;
+}
 
 // The first way cell k's part of the static tree reaches outside its own nodes, faces and vertices, or a
 // face whose centroid lies in another cell; empty when it is self-contained. `w` holds the cell's ranges.
-std::string tracing_leak(const ProbeVolume& volume, const TracingWindow& w, const Cell& cell, const CellTracing& ranges) {
+std::string tracing_leak(const ProbeVolume& volume, const TracingWindow& w, const Cell& cell,
+                         const CellTracing& ranges) {
   for (std::uint32_t n = ranges.trace_nodes.first; n < ranges.trace_nodes.first + ranges.trace_nodes.count; ++n) {
     for (const std::uint32_t word : w.node(n).child) {
       if (is_leaf_word(word)) {
-        if (!in_range(leaf_first(word), ranges.trace_faces) || !in_range(leaf_first(word) + leaf_count(word) - 1, ranges.trace_faces))
+        if (!in_range(leaf_first(word), ranges.trace_faces) ||
+            !in_range(leaf_first(word) + leaf_count(word) - 1, ranges.trace_faces))
           return concat("trace node ", n, " has faces outside the cell's");
       } else if (!in_range(word, ranges.trace_nodes) || word <= n) {
         return concat("trace node ", n, " has child ", word, " outside the cell's nodes after it");
@@ -134,7 +146,8 @@ std::string tracing_leak(const ProbeVolume& volume, const TracingWindow& w, cons
     const gpu::TraceFace& face = w.face(f);
     glm::vec3 corners[3];
     for (int k = 0; k < 3; ++k) {
-      if (!in_range(face.vertex[k], ranges.trace_vertices)) return concat("trace face ", f, " uses vertex ", face.vertex[k], " outside the cell's");
+      if (!in_range(face.vertex[k], ranges.trace_vertices))
+        return concat("trace face ", f, " uses vertex ", face.vertex[k], " outside the cell's");
       const gpu::TraceVertex& v = w.vertex(face.vertex[k]);
       corners[k] = glm::vec3(v.x, v.y, v.z);
     }
@@ -154,16 +167,21 @@ std::string layout_problem(const ProbeVolume& volume, const TracingView& tracing
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
     const CellTracing& r = volume.cell_tracing[k];
     if (r.trace_nodes.count > 0) {
-      if (any_nodes && r.trace_nodes.first != node_end) return concat("cell record ", k, "'s nodes start at ", r.trace_nodes.first, ", not at ", node_end, " where the previous cell's end");
+      if (any_nodes && r.trace_nodes.first != node_end)
+        return concat("cell record ", k, "'s nodes start at ", r.trace_nodes.first, ", not at ", node_end,
+                      " where the previous cell's end");
       any_nodes = true, node_end = std::uint64_t(r.trace_nodes.first) + r.trace_nodes.count;
     }
     if (r.trace_vertices.count > 0) {
-      if (r.trace_vertices.first != vertex_end) return concat("cell record ", k, "'s vertices start at ", r.trace_vertices.first, ", not at ", vertex_end);
+      if (r.trace_vertices.first != vertex_end)
+        return concat("cell record ", k, "'s vertices start at ", r.trace_vertices.first, ", not at ", vertex_end);
       vertex_end = std::uint64_t(r.trace_vertices.first) + r.trace_vertices.count;
     }
   }
-  const std::uint64_t static_nodes = volume.trace_trees.empty() ? 0 : std::uint64_t(std::max(0, volume.trace_trees[0].node_count));
-  if (any_nodes && node_end != static_nodes) return concat("the cells' nodes end at ", node_end, ", the static tree's at ", static_nodes);
+  const std::uint64_t static_nodes =
+      volume.trace_trees.empty() ? 0 : std::uint64_t(std::max(0, volume.trace_trees[0].node_count));
+  if (any_nodes && node_end != static_nodes)
+    return concat("the cells' nodes end at ", node_end, ", the static tree's at ", static_nodes);
   for (std::uint64_t f = static_faces; f < tracing.faces.size(); ++f)
     for (std::uint32_t k : tracing.faces[f].vertex)
       if (k < vertex_end) return concat("trace face ", f, " of the dynamic objects uses vertex ", k, " of a cell");
@@ -173,10 +191,12 @@ std::string layout_problem(const ProbeVolume& volume, const TracingView& tracing
 // cell_tracing: one record per cell, ranges inside their sections and ascending, the static tree's faces
 // all in some cell's range, the layout above, and (unless the cells are left for later) each cell's nodes,
 // faces and vertices referring only to each other.
-void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out) {
+void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred,
+                        Reporter& out) {
   if (volume.cell_tracing.empty()) return;
   if (volume.cell_tracing.size() != volume.cells.size()) {
-    out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records for ", volume.cells.size(), " cells"));
+    out.add("cell_tracing", "cell_tracing", -1,
+            concat(volume.cell_tracing.size(), " records for ", volume.cells.size(), " cells"));
     return;
   }
   RangeCursor nodes{"trace_nodes", tracing.nodes.size(), sizeof(gpu::TraceNode)};
@@ -195,8 +215,11 @@ void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, c
   if (!ranges_ok) return;
   const std::size_t first_face = volume.cell_tracing.front().trace_faces.first;
   if (first_face != 0 || covered_faces != static_faces(volume, tracing) || faces.end != covered_faces)
-    out.add("cell_tracing", "cell_tracing", -1, concat("the cells' faces are ", first_face, "+", covered_faces, ", the static tree's 0+", static_faces(volume, tracing)));
-  if (const std::string problem = layout_problem(volume, tracing, covered_faces); !problem.empty()) out.add("cell_tracing", "cell_tracing", -1, problem);
+    out.add("cell_tracing", "cell_tracing", -1,
+            concat("the cells' faces are ", first_face, "+", covered_faces, ", the static tree's 0+",
+                   static_faces(volume, tracing)));
+  if (const std::string problem = layout_problem(volume, tracing, covered_faces); !problem.empty())
+    out.add("cell_tracing", "cell_tracing", -1, problem);
   if (deferred) return;
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
     const std::string leak = tracing_leak(volume, TracingWindow{tracing}, volume.cells[k], volume.cell_tracing[k]);
@@ -212,7 +235,8 @@ void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, c
 void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
   if (volume.cell_checksums.empty()) return;
   if (volume.cell_checksums.size() != volume.cells.size()) {
-    out.add("cell_checksum", "cell_checksums", -1, concat(volume.cell_checksums.size(), " checksums for ", volume.cells.size(), " cells"));
+    out.add("cell_checksum", "cell_checksums", -1,
+            concat(volume.cell_checksums.size(), " checksums for ", volume.cells.size(), " cells"));
     return;
   }
   out.cells_checked(volume.cells.size());
@@ -225,7 +249,8 @@ void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing,
     }
     if (sum == volume.cell_checksums[k]) continue;
     out.add("cell_checksum", "cells", static_cast<long long>(k),
-            concat("the ", cell_bytes(volume, k), " bytes of cell ", volume.cells[k].cell_index, " differ from its checksum"));
+            concat("the ", cell_bytes(volume, k), " bytes of cell ", volume.cells[k].cell_index,
+                   " differ from its checksum"));
   }
 }
 
@@ -234,9 +259,11 @@ void check_cell_checksums(const ProbeVolume& volume, const TracingView& tracing,
 void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& tracing, Reporter& out) {
   const std::vector<std::uint64_t>& stored = volume.cell_global_checksums;
   if (stored.empty()) return;
-  if (volume.cell_tracing.empty()) return out.add("cell_global_checksum", "cell_global_checksums", -1, "a file without cell_tracing");
+  if (volume.cell_tracing.empty())
+    return out.add("cell_global_checksum", "cell_global_checksums", -1, "a file without cell_tracing");
   if (stored.size() != std::size(kCellSplitSections))
-    return out.add("cell_global_checksum", "cell_global_checksums", -1, concat(stored.size(), " checksums, expected ", std::size(kCellSplitSections)));
+    return out.add("cell_global_checksum", "cell_global_checksums", -1,
+                   concat(stored.size(), " checksums, expected ", std::size(kCellSplitSections)));
   std::vector<std::uint64_t> computed;
   try {
     computed = cell_global_checksums_of(volume, tracing);
@@ -246,7 +273,8 @@ void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& t
   for (std::size_t s = 0; s < computed.size(); ++s)
     if (computed[s] != stored[s])
       out.add("cell_global_checksum", "cell_global_checksums", static_cast<long long>(s),
-              concat("the bytes of ", section_name(static_cast<std::uint32_t>(kCellSplitSections[s])), " outside the cells differ from their checksum"));
+              concat("the bytes of ", section_name(static_cast<std::uint32_t>(kCellSplitSections[s])),
+                     " outside the cells differ from their checksum"));
 }
 
 void check_cell_self_contained(const ProbeVolume& volume, std::size_t k, const TracingWindow& cell, Reporter& out) {
@@ -254,7 +282,8 @@ void check_cell_self_contained(const ProbeVolume& volume, std::size_t k, const T
   if (!leak.empty()) out.add("cell_tracing", "cell_tracing", static_cast<long long>(k), leak);
 }
 
-void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, const DeferredCells* deferred, Reporter& out) {
+void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree,
+                 const DeferredCells* deferred, Reporter& out) {
   if (volume.cells.empty() && !volume.cell_tracing.empty())
     out.add("cell_tracing", "cell_tracing", -1, concat(volume.cell_tracing.size(), " records without cells"));
   if (volume.cells.empty() || volume.cell_depth < 0 || volume.cell_depth > kMaxCellDepth) return;
@@ -272,7 +301,8 @@ void check_cells(const ProbeVolume& volume, const TracingView& tracing, const Oc
   } catch (const Error&) {
     return; // the SVO is not a tree; check_svo reported why
   }
-  check_membership("svo_leaves", range_owners(volume.cells, volume.svo_leaves.size(), &Cell::svo_leaves), leaf_cells, out);
+  check_membership("svo_leaves", range_owners(volume.cells, volume.svo_leaves.size(), &Cell::svo_leaves), leaf_cells,
+                   out);
 }
 
 } // namespace probebake::formats::detail

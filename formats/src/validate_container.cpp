@@ -15,7 +15,6 @@
 namespace probebake::formats::detail {
 namespace {
 
-
 // Sections of the 1.0 model (1-9) are REQUIRED; cells and the 1.1 lighting sections are optional, so that
 // a reader without them still reads the file.
 std::uint32_t expected_flags(std::uint32_t type) { return is_required_section_type(type) ? kSectionRequired : 0u; }
@@ -33,16 +32,18 @@ void check_version(const ContainerView& container, const ProbeVolume& volume, Re
   const FileHeader& header = container.header;
   const std::uint16_t needed = minor_needed(container, volume);
   if (header.version_minor < needed) {
-    out.add("format_version", "header", -1, concat("version ", header.version_major, ".", header.version_minor,
-                                                   " but its sections and flags need ", header.version_major, ".", needed));
+    out.add("format_version", "header", -1,
+            concat("version ", header.version_major, ".", header.version_minor, " but its sections and flags need ",
+                   header.version_major, ".", needed));
   }
   // Later minors may append header fields and grow table entries; the minors known here did neither,
   // so longer ones would hold bytes that no version defines.
   if (header.version_minor <= kFormatVersionMinor &&
       (header.header_size != sizeof(FileHeader) || header.section_entry_size != sizeof(SectionEntry))) {
     out.add("format_version", "header", -1,
-            concat("header size ", header.header_size, " and entry size ", header.section_entry_size, " in a ", header.version_major, ".",
-                   header.version_minor, " file (", sizeof(FileHeader), " and ", sizeof(SectionEntry), " in this version)"));
+            concat("header size ", header.header_size, " and entry size ", header.section_entry_size, " in a ",
+                   header.version_major, ".", header.version_minor, " file (", sizeof(FileHeader), " and ",
+                   sizeof(SectionEntry), " in this version)"));
   }
 }
 
@@ -55,8 +56,9 @@ void check_flags(const ContainerView& container, Reporter& out) {
       out.add("section_flags", "section_table", index, concat(name, ": flags ", entry.flags, " set reserved bits"));
     } else if (is_known_section_type(entry.type) && (entry.flags & kSectionRequired) != expected_flags(entry.type)) {
       out.add("section_flags", "section_table", index,
-              expected_flags(entry.type) != 0 ? concat(name, " is not marked REQUIRED")
-                                              : concat(name, " is marked REQUIRED (readers without it would refuse the file)"));
+              expected_flags(entry.type) != 0
+                  ? concat(name, " is not marked REQUIRED")
+                  : concat(name, " is marked REQUIRED (readers without it would refuse the file)"));
     }
   }
 }
@@ -70,19 +72,21 @@ void check_layout(const ContainerView& container, Reporter& out) {
     const SectionEntry& entry = container.sections[i];
     const long long index = static_cast<long long>(i);
     if (is_known_section_type(entry.type) && entry.element_count == 0) {
-      out.add("section_layout", "section_table", index, concat(section_name(entry.type), " has no elements (an empty buffer has no section)"));
+      out.add("section_layout", "section_table", index,
+              concat(section_name(entry.type), " has no elements (an empty buffer has no section)"));
     }
     const std::uint64_t packed = align_up(cursor, entry.alignment);
     if (entry.offset != packed) {
       out.add("section_layout", "section_table", index,
-              concat(section_name(entry.type), " starts at ", entry.offset, ", not at ", packed, " (the first multiple of its alignment ",
-                     entry.alignment, " after the previous payload)"));
+              concat(section_name(entry.type), " starts at ", entry.offset, ", not at ", packed,
+                     " (the first multiple of its alignment ", entry.alignment, " after the previous payload)"));
     }
     cursor = entry.offset + entry.size;
   }
   if (header.file_size > cursor) {
     out.add("trailing_bytes", "container", -1,
-            concat(header.file_size - cursor, " bytes after the last payload (it ends at byte ", cursor, ", the file at ", header.file_size, ")"));
+            concat(header.file_size - cursor, " bytes after the last payload (it ends at byte ", cursor,
+                   ", the file at ", header.file_size, ")"));
   }
 }
 
@@ -91,8 +95,10 @@ void check_layout(const ContainerView& container, Reporter& out) {
 void check_presence(const ContainerView& container, Reporter& out) {
   const bool header = has_section(container, SectionType::leaf_queue_header);
   const bool entries = has_section(container, SectionType::leaf_entries);
-  if (header && !entries) out.add("section_dependency", "leaf_queue_header", -1, "a leaf_queue_header section without leaf_entries");
-  if (entries && !header) out.add("section_dependency", "leaf_entries", -1, "a leaf_entries section without leaf_queue_header");
+  if (header && !entries)
+    out.add("section_dependency", "leaf_queue_header", -1, "a leaf_queue_header section without leaf_entries");
+  if (entries && !header)
+    out.add("section_dependency", "leaf_entries", -1, "a leaf_entries section without leaf_queue_header");
 }
 
 } // namespace

@@ -66,7 +66,8 @@ inline bool negative(const glm::vec3& v) { return v.x < 0.0f || v.y < 0.0f || v.
 
 // Every float of a surfel, padding included (non_finite in check_finite; surfel_values skips such surfels).
 inline bool surfel_finite(const gpu::Surfel& s) {
-  return finite3(s.position) && finite3(s.normal) && finite3(s.albedo) && finite3(s.radiance) && all_finite({s.distance, s.pad0, s.pad1});
+  return finite3(s.position) && finite3(s.normal) && finite3(s.albedo) && finite3(s.radiance) &&
+         all_finite({s.distance, s.pad0, s.pad1});
 }
 
 // What the octree phase learned: the cube of every node reachable from the root (node == -1 when the
@@ -114,7 +115,8 @@ struct DeferredCells {
   std::vector<CellEntry>& entries;
 };
 
-void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree, const DeferredCells* deferred, Reporter& out);
+void check_cells(const ProbeVolume& volume, const TracingView& tracing, const OctreeFacts& octree,
+                 const DeferredCells* deferred, Reporter& out);
 // Cell record k read alone: its tracing refers only to itself and its faces' centroids lie in it (cell_tracing).
 void check_cell_self_contained(const ProbeVolume& volume, std::size_t k, const TracingWindow& cell, Reporter& out);
 // Files only (validate_file): a volume edited in memory keeps the checksums it was read with.
@@ -123,12 +125,16 @@ void check_cell_global_checksums(const ProbeVolume& volume, const TracingView& t
 // Runtime lighting sections (validate_lighting.cpp): their floats, called by check_finite; then the
 // sections, values and BVH, run last.
 void check_lighting_finite(const ProbeVolume& volume, Reporter& out);
-void check_lighting(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out);
-void check_dynamic_objects(const ProbeVolume& volume, const TracingView& tracing, Reporter& out); // format 1.3 (validate_dynamic.cpp)
+void check_lighting(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred,
+                    Reporter& out);
+void check_dynamic_objects(const ProbeVolume& volume, const TracingView& tracing,
+                           Reporter& out); // format 1.3 (validate_dynamic.cpp)
 // Format 1.4 (validate_tracing.cpp): the compact tracing sections, and the dynamic objects' ranges in them.
 bool uses_compact_tracing(const ProbeVolume& volume, const TracingView& tracing);
-void check_trace_mesh(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out);
+void check_trace_mesh(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred,
+                      Reporter& out);
 // Cell record k read alone: its vertices and faces' values, and its subtree from `entry` (trace_tree).
-void check_cell_trace_mesh(const ProbeVolume& volume, const CellEntry& entry, std::size_t k, const TracingWindow& cell, Reporter& out);
+void check_cell_trace_mesh(const ProbeVolume& volume, const CellEntry& entry, std::size_t k, const TracingWindow& cell,
+                           Reporter& out);
 
 } // namespace probebake::formats::detail

@@ -51,17 +51,16 @@ void report_non_finite(const std::vector<T>& elements, const char* section, Fini
 
 void check_count(Reporter& out, const char* section, long long expected, std::size_t actual, const char* what) {
   if (static_cast<long long>(actual) != expected) {
-    out.add("lighting_sections", section, -1, concat(what, " is ", expected, " but the section has ", actual, " elements"));
+    out.add("lighting_sections", section, -1,
+            concat(what, " is ", expected, " but the section has ", actual, " elements"));
   }
 }
 
 void check_no_lighting_data(const ProbeVolume& v, const TracingView& tracing, Reporter& out) {
-  const std::pair<const char*, bool> sections[] = {{"ray_directions", v.ray_directions.empty()},
-                                                   {"bvh_nodes", v.bvh_nodes.empty()},
-                                                   {"trace_triangles", v.trace_triangles.empty()},
-                                                   {"punctual_lights", v.punctual_lights.empty()},
-                                                   {"emitter_patches", v.emitter_patches.empty()},
-                                                   {"trace_trees", !uses_compact_tracing(v, tracing)}};
+  const std::pair<const char*, bool> sections[] = {
+      {"ray_directions", v.ray_directions.empty()},   {"bvh_nodes", v.bvh_nodes.empty()},
+      {"trace_triangles", v.trace_triangles.empty()}, {"punctual_lights", v.punctual_lights.empty()},
+      {"emitter_patches", v.emitter_patches.empty()}, {"trace_trees", !uses_compact_tracing(v, tracing)}};
   for (const auto& [section, empty] : sections) {
     if (!empty) out.add("lighting_sections", section, -1, "lighting data without a lighting_info section");
   }
@@ -71,8 +70,10 @@ void check_lighting_sections(const ProbeVolume& v, const TracingView& tracing, R
   if (!v.lighting) return check_no_lighting_data(v, tracing, out);
   const gpu::LightingInfo& info = *v.lighting;
   const bool compact = uses_compact_tracing(v, tracing); // format 1.4
-  check_count(out, compact ? "trace_nodes" : "bvh_nodes", info.bvh_nodes, compact ? tracing.nodes.size() : v.bvh_nodes.size(), "bvh_nodes");
-  check_count(out, compact ? "trace_faces" : "trace_triangles", info.triangles, compact ? tracing.faces.size() : v.trace_triangles.size(), "triangles");
+  check_count(out, compact ? "trace_nodes" : "bvh_nodes", info.bvh_nodes,
+              compact ? tracing.nodes.size() : v.bvh_nodes.size(), "bvh_nodes");
+  check_count(out, compact ? "trace_faces" : "trace_triangles", info.triangles,
+              compact ? tracing.faces.size() : v.trace_triangles.size(), "triangles");
   check_count(out, "punctual_lights", info.lights, v.punctual_lights.size(), "lights");
   check_count(out, "emitter_patches", info.emitter_patches, v.emitter_patches.size(), "emitter_patches");
   check_count(out, "ray_directions", static_cast<long long>(info.rays) + info.placement_rays, v.ray_directions.size(),
@@ -91,8 +92,10 @@ void check_lighting_sections(const ProbeVolume& v, const TracingView& tracing, R
 
 void check_info_values(const gpu::LightingInfo& info, Reporter& out) {
   auto bad = [&](const std::string& message) { out.add("lighting_values", "lighting_info", 0, message); };
-  if (std::isfinite(info.shadow_offset) && !(info.shadow_offset > 0.0f)) bad(concat("shadow_offset ", info.shadow_offset, " is not positive"));
-  if (info.emissive_as_lights != 0 && info.emissive_as_lights != 1) bad(concat("emissive_as_lights ", info.emissive_as_lights, " not 0 or 1"));
+  if (std::isfinite(info.shadow_offset) && !(info.shadow_offset > 0.0f))
+    bad(concat("shadow_offset ", info.shadow_offset, " is not positive"));
+  if (info.emissive_as_lights != 0 && info.emissive_as_lights != 1)
+    bad(concat("emissive_as_lights ", info.emissive_as_lights, " not 0 or 1"));
   if (negative(info.sky_radiance)) bad("sky_radiance is negative");
   if (info.dynamic_objects < 0) bad("dynamic_objects is negative");
 }
@@ -114,7 +117,8 @@ std::string triangle_problem(const gpu::TraceTriangle& t) {
   const glm::vec3 cross = glm::cross(t.edge1, t.edge2);
   const float length = glm::length(cross);
   if (!(length > 0.0f)) return "zero area (such triangles are left out)";
-  if (!unit(t.normal) || glm::length(t.normal - cross / length) > kUnitTolerance) return "normal is not the unit normal of edge1 x edge2";
+  if (!unit(t.normal) || glm::length(t.normal - cross / length) > kUnitTolerance)
+    return "normal is not the unit normal of edge1 x edge2";
   if (negative(t.albedo) || negative(t.emission)) return "negative albedo or emission";
   if (!zero_bits({t.pad1, t.pad2, t.pad3, t.pad4})) return "padding is not zero";
   return "";
@@ -123,7 +127,8 @@ std::string triangle_problem(const gpu::TraceTriangle& t) {
 // Fields a light type does not use are zero (point: direction and cone; directional: position, range
 // and cone), so every light has one byte representation.
 std::string light_problem(const gpu::PunctualLight& l) {
-  if (l.type != gpu::LIGHT_POINT && l.type != gpu::LIGHT_SPOT && l.type != gpu::LIGHT_DIRECTIONAL) return concat("unknown type ", l.type);
+  if (l.type != gpu::LIGHT_POINT && l.type != gpu::LIGHT_SPOT && l.type != gpu::LIGHT_DIRECTIONAL)
+    return concat("unknown type ", l.type);
   if (negative(l.intensity)) return "negative intensity";
   if (l.range < 0.0f) return concat("range ", l.range, " is negative");
   if (!zero_bits({l.pad0, l.pad1, l.pad2})) return "padding is not zero";
@@ -133,9 +138,11 @@ std::string light_problem(const gpu::PunctualLight& l) {
   if (l.type == gpu::LIGHT_DIRECTIONAL && !(is_zero(l.position) && zero_bits({l.range}))) {
     return "a directional light's position and range are not zero";
   }
-  if (!spot) return zero_bits({l.cos_outer, l.spot_scale}) ? "" : "cone fields of a light that is not a spot are not zero";
+  if (!spot)
+    return zero_bits({l.cos_outer, l.spot_scale}) ? "" : "cone fields of a light that is not a spot are not zero";
   if (!(l.cos_outer >= -1.0f && l.cos_outer <= 1.0f)) return concat("cos_outer ", l.cos_outer, " outside [-1, 1]");
-  if (!(l.spot_scale > 0.0f && l.spot_scale <= kMaxSpotScale)) return concat("spot_scale ", l.spot_scale, " outside (0, 1000]");
+  if (!(l.spot_scale > 0.0f && l.spot_scale <= kMaxSpotScale))
+    return concat("spot_scale ", l.spot_scale, " outside (0, 1000]");
   return "";
 }
 
@@ -154,7 +161,9 @@ template <typename T>
 void check_flag_bits(const std::vector<T>& elements, const char* section, std::uint32_t known, Reporter& out) {
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const std::uint32_t unknown = elements[i].flags & ~known;
-    if (unknown != 0) out.add("lighting_flags", section, static_cast<long long>(i), concat("flags ", elements[i].flags, " set unknown bits (bit 0, double-sided, is the only one)"));
+    if (unknown != 0)
+      out.add("lighting_flags", section, static_cast<long long>(i),
+              concat("flags ", elements[i].flags, " set unknown bits (bit 0, double-sided, is the only one)"));
   }
 }
 
@@ -164,7 +173,8 @@ void check_lighting_flags(const ProbeVolume& v, Reporter& out) {
 }
 
 template <typename T, typename Finite, typename Problem>
-void report_problems(const std::vector<T>& elements, const char* section, Finite finite, Problem problem, Reporter& out) {
+void report_problems(const std::vector<T>& elements, const char* section, Finite finite, Problem problem,
+                     Reporter& out) {
   for (std::size_t i = 0; i < elements.size(); ++i) {
     if (!finite(elements[i])) continue;
     const std::string message = problem(elements[i]);
@@ -187,7 +197,11 @@ void check_lighting_values(const ProbeVolume& v, Reporter& out) {
 class BvhChecker {
 public:
   BvhChecker(const ProbeVolume& v, Reporter& out)
-      : nodes_(v.bvh_nodes), triangles_(v.trace_triangles), out_(out), reached_(nodes_.size(), 0), covered_(triangles_.size(), 0) {
+      : nodes_(v.bvh_nodes),
+        triangles_(v.trace_triangles),
+        out_(out),
+        reached_(nodes_.size(), 0),
+        covered_(triangles_.size(), 0) {
     // Format 1.3: the static tree at 0 (unless the first object's nodes start there), then each object's.
     if (v.dynamic_objects.empty() || v.dynamic_objects[0].bvh_root > 0) roots_.push_back(0);
     for (const gpu::DynamicObject& o : v.dynamic_objects)
@@ -234,7 +248,8 @@ private:
   }
 
   bool contains(const gpu::BvhNode& box, const glm::vec3& p) const {
-    return glm::all(glm::greaterThanEqual(p, box.lower - tolerance_)) && glm::all(glm::lessThanEqual(p, box.upper + tolerance_));
+    return glm::all(glm::greaterThanEqual(p, box.lower - tolerance_)) &&
+           glm::all(glm::lessThanEqual(p, box.upper + tolerance_));
   }
 
   void visit(std::size_t index, int depth, std::vector<std::pair<std::size_t, int>>& stack) {
@@ -244,14 +259,17 @@ private:
       bad("bvh_nodes", index, "lower corner above the upper corner");
     }
     if (node.count == 0) return visit_inner(index, node, depth, stack);
-    if (node.count < 0 || node.count > gpu::BVH_MAX_LEAF_TRIANGLES) return bad("bvh_nodes", index, concat("leaf count ", node.count, " outside [1, 4]"));
+    if (node.count < 0 || node.count > gpu::BVH_MAX_LEAF_TRIANGLES)
+      return bad("bvh_nodes", index, concat("leaf count ", node.count, " outside [1, 4]"));
     visit_leaf(index, node);
   }
 
-  void visit_inner(std::size_t index, const gpu::BvhNode& node, int depth, std::vector<std::pair<std::size_t, int>>& stack) {
+  void visit_inner(std::size_t index, const gpu::BvhNode& node, int depth,
+                   std::vector<std::pair<std::size_t, int>>& stack) {
     const long long first = node.first;
     if (first <= static_cast<long long>(index) || first + 1 >= static_cast<long long>(nodes_.size())) {
-      return bad("bvh_nodes", index, concat("children ", first, ", ", first + 1, " not after the node and inside the buffer"));
+      return bad("bvh_nodes", index,
+                 concat("children ", first, ", ", first + 1, " not after the node and inside the buffer"));
     }
     for (std::size_t child = static_cast<std::size_t>(first); child <= static_cast<std::size_t>(first) + 1; ++child) {
       if (reached_[child]++ != 0) {
@@ -268,7 +286,8 @@ private:
   void visit_leaf(std::size_t index, const gpu::BvhNode& node) {
     const long long first = node.first;
     if (first < 0 || first + node.count > static_cast<long long>(triangles_.size())) {
-      return bad("bvh_nodes", index, concat("triangles [", first, ", ", first + node.count, ") outside trace_triangles"));
+      return bad("bvh_nodes", index,
+                 concat("triangles [", first, ", ", first + node.count, ") outside trace_triangles"));
     }
     for (std::size_t t = static_cast<std::size_t>(first); t < static_cast<std::size_t>(first + node.count); ++t) {
       if (covered_[t]++ != 0) bad("trace_triangles", t, concat("in two leaves (again in node ", index, ")"));
@@ -293,14 +312,21 @@ void check_lighting_finite(const ProbeVolume& v, Reporter& out) {
   if (v.lighting && !(finite3(v.lighting->sky_radiance) && std::isfinite(v.lighting->shadow_offset))) {
     out.add("non_finite", "lighting_info", 0, "a float is NaN or infinite");
   }
-  report_non_finite(v.ray_directions, "ray_directions", [](const glm::vec4& d) { return all_finite({d.x, d.y, d.z, d.w}); }, out);
-  report_non_finite(v.bvh_nodes, "bvh_nodes", [](const gpu::BvhNode& n) { return finite3(n.lower) && finite3(n.upper); }, out);
+  report_non_finite(
+      v.ray_directions, "ray_directions",
+      [](const glm::vec4& d) {
+        return all_finite({d.x, d.y, d.z, d.w});
+      },
+      out);
+  report_non_finite(
+      v.bvh_nodes, "bvh_nodes", [](const gpu::BvhNode& n) { return finite3(n.lower) && finite3(n.upper); }, out);
   report_non_finite(v.trace_triangles, "trace_triangles", triangle_finite, out);
   report_non_finite(v.punctual_lights, "punctual_lights", light_finite, out);
   report_non_finite(v.emitter_patches, "emitter_patches", patch_finite, out);
 }
 
-void check_lighting(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred, Reporter& out) {
+void check_lighting(const ProbeVolume& volume, const TracingView& tracing, const DeferredCells* deferred,
+                    Reporter& out) {
   check_lighting_sections(volume, tracing, out);
   check_lighting_values(volume, out);
   check_lighting_flags(volume, out);

@@ -17,7 +17,10 @@ constexpr int kTraversalDepthCap = 64;
 class OctreeChecker {
 public:
   OctreeChecker(const ProbeVolume& volume, Reporter& out)
-      : volume_(volume), octree_(volume.octree), out_(out), clusters_(complete_clusters(octree_.size())),
+      : volume_(volume),
+        octree_(volume.octree),
+        out_(out),
+        clusters_(complete_clusters(octree_.size())),
         usable_end_(static_cast<int>(1 + 9 * clusters_)) {}
 
   OctreeFacts run() {
@@ -49,7 +52,8 @@ private:
   void check_incomplete_tail() {
     for (std::size_t i = static_cast<std::size_t>(usable_end_); i < octree_.size(); ++i) {
       if (octree_[i] != 0) {
-        out_.add("incomplete_cluster_used", "octree", static_cast<long long>(i), "element of the incomplete trailing cluster is not zero");
+        out_.add("incomplete_cluster_used", "octree", static_cast<long long>(i),
+                 "element of the incomplete trailing cluster is not zero");
         return;
       }
     }
@@ -76,16 +80,19 @@ private:
       if (value == 0) {
         for (int octant = 0; octant < 8; ++octant) {
           if (octree_[child_node(meta, octant)] != 0) {
-            out_.add("free_not_zeroed", "octree", child_node(meta, octant), concat("node of free cluster ", meta, " is not zero"));
+            out_.add("free_not_zeroed", "octree", child_node(meta, octant),
+                     concat("node of free cluster ", meta, " is not zero"));
             break;
           }
         }
       } else if (value > 0) {
         bad_parent_[cluster] = true;
-        out_.add("node_sign", "octree", meta, concat("meta element is positive (", value, "); it must be 0 or ~parent"));
+        out_.add("node_sign", "octree", meta,
+                 concat("meta element is positive (", value, "); it must be 0 or ~parent"));
       } else if (!is_usable_node(~value)) {
         bad_parent_[cluster] = true;
-        out_.add("meta_parent_mismatch", "octree", meta, concat("meta names parent ", ~value, ", which is not a node index"));
+        out_.add("meta_parent_mismatch", "octree", meta,
+                 concat("meta names parent ", ~value, ", which is not a node index"));
       }
     }
   }
@@ -105,9 +112,11 @@ private:
     const int child = octree_[node];
     if (child <= 0) return;
     if (is_meta_index(child) && child < static_cast<int>(octree_.size()) && child >= usable_end_) {
-      out_.add("incomplete_cluster_used", "octree", node, concat("child cluster ", child, " is the incomplete trailing cluster"));
+      out_.add("incomplete_cluster_used", "octree", node,
+               concat("child cluster ", child, " is the incomplete trailing cluster"));
     } else if (!is_meta_index(child) || child >= static_cast<int>(octree_.size())) {
-      out_.add("octree_child_range", "octree", node, concat("child index ", child, " is not the meta index of a cluster"));
+      out_.add("octree_child_range", "octree", node,
+               concat("child index ", child, " is not the meta index of a cluster"));
     } else if (octree_[child] == 0) {
       out_.add("meta_parent_mismatch", "octree", node, concat("child cluster ", child, " is free"));
     } else if (octree_[child] < 0) {
@@ -134,11 +143,13 @@ private:
         report_shared_cluster(meta, referrer, more->second);
       } else if (referrer >= 0 && referrer != parent) {
         reported_[cluster] = true;
-        out_.add("meta_parent_mismatch", "octree", meta, concat("meta names parent ", parent, " but node ", referrer, " points here"));
+        out_.add("meta_parent_mismatch", "octree", meta,
+                 concat("meta names parent ", parent, " but node ", referrer, " points here"));
       } else if (referrer < 0) {
         reported_[cluster] = true;
-        out_.add("octree_unreachable", "octree", meta,
-                 concat("allocated cluster: its parent ", parent, " does not point to it (value ", octree_[parent], ")"));
+        out_.add(
+            "octree_unreachable", "octree", meta,
+            concat("allocated cluster: its parent ", parent, " does not point to it (value ", octree_[parent], ")"));
       }
     }
   }
@@ -149,7 +160,8 @@ private:
     if (cycle) {
       out_.add("octree_cycle", "octree", meta, concat("cluster is a child of a node in its own subtree"));
     } else {
-      out_.add("octree_two_parents", "octree", meta, concat("nodes ", referrer, " and ", more.front(), " both point at this cluster"));
+      out_.add("octree_two_parents", "octree", meta,
+               concat("nodes ", referrer, " and ", more.front(), " both point at this cluster"));
     }
   }
 
@@ -179,7 +191,8 @@ private:
       if (visited_[cluster]) continue; // a second parent, reported in pass 3
       visited_[cluster] = true;
       if (cube.depth >= volume_.info.max_depth) {
-        out_.add("octree_too_deep", "octree", cube.node, concat("parent at depth ", cube.depth, ", max_depth is ", volume_.info.max_depth));
+        out_.add("octree_too_deep", "octree", cube.node,
+                 concat("parent at depth ", cube.depth, ", max_depth is ", volume_.info.max_depth));
       }
       if (cube.depth >= kTraversalDepthCap) continue;
       for (int octant = 7; octant >= 0; --octant) {

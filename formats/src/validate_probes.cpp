@@ -31,7 +31,8 @@ bool finite_position(const gpu::Probe& probe) {
 
 // For every probe, the reachable leaf that links it (-1: none); links from leaves to missing or free
 // probes and second links are reported here.
-std::vector<int> leaf_links(const ProbeVolume& volume, const OctreeFacts& octree, std::vector<bool>& reported, Reporter& out) {
+std::vector<int> leaf_links(const ProbeVolume& volume, const OctreeFacts& octree, std::vector<bool>& reported,
+                            Reporter& out) {
   const std::size_t probe_count = volume.probes.size();
   std::vector<int> linked_from(probe_count, -1);
   for (std::size_t node = 0; node < volume.octree.size(); ++node) {
@@ -39,12 +40,15 @@ std::vector<int> leaf_links(const ProbeVolume& volume, const OctreeFacts& octree
     if (value >= 0 || !octree.reachable(static_cast<int>(node))) continue;
     const int probe = ~value;
     if (static_cast<std::size_t>(probe) >= probe_count) {
-      out.add("probe_leaf_link", "octree", static_cast<long long>(node), concat("links probe ", probe, ", out of range"));
+      out.add("probe_leaf_link", "octree", static_cast<long long>(node),
+              concat("links probe ", probe, ", out of range"));
     } else if (volume.probes[probe].link == 0) {
-      out.add("probe_leaf_link", "octree", static_cast<long long>(node), concat("links probe ", probe, ", which is free"));
+      out.add("probe_leaf_link", "octree", static_cast<long long>(node),
+              concat("links probe ", probe, ", which is free"));
     } else if (linked_from[probe] >= 0) {
       reported[probe] = true;
-      out.add("probe_leaf_link", "probes", probe, concat("linked from two leaves, ", linked_from[probe], " and ", node));
+      out.add("probe_leaf_link", "probes", probe,
+              concat("linked from two leaves, ", linked_from[probe], " and ", node));
     } else {
       linked_from[probe] = static_cast<int>(node);
     }
@@ -62,7 +66,8 @@ void check_probe_values(const ProbeVolume& volume, Reporter& out) {
     if (!all_finite({probe.hit_fraction, probe.backface_fraction, probe.pad0})) continue;
     const long long index = static_cast<long long>(i);
     if (!fraction(probe.hit_fraction) || !fraction(probe.backface_fraction)) {
-      out.add("probe_values", "probes", index, concat("fractions ", probe.hit_fraction, ", ", probe.backface_fraction, " not in [0, 1]"));
+      out.add("probe_values", "probes", index,
+              concat("fractions ", probe.hit_fraction, ", ", probe.backface_fraction, " not in [0, 1]"));
     } else if (!zero_bits({probe.pad0})) {
       out.add("probe_values", "probes", index, "padding is not zero");
     }
@@ -70,7 +75,8 @@ void check_probe_values(const ProbeVolume& volume, Reporter& out) {
 }
 
 std::string surfel_problem(const gpu::Surfel& s) {
-  if ((s.flags & ~(gpu::SURFEL_FLAG_HIT | gpu::SURFEL_FLAG_BACKFACE)) != 0) return concat("unknown flag bits ", s.flags);
+  if ((s.flags & ~(gpu::SURFEL_FLAG_HIT | gpu::SURFEL_FLAG_BACKFACE)) != 0)
+    return concat("unknown flag bits ", s.flags);
   const bool hit = (s.flags & gpu::SURFEL_FLAG_HIT) != 0;
   if (!hit && (s.flags & gpu::SURFEL_FLAG_BACKFACE) != 0) return "back-face flag without the hit flag";
   if (s.distance < 0.0f) return concat("distance ", s.distance, " is negative");
@@ -88,7 +94,8 @@ void check_surfels(const gpu::SurfelBatch& batch, long long index, Reporter& out
     const gpu::Surfel& surfel = batch.surfels[k];
     std::string problem;
     if (k >= batch.count) {
-      if (std::memcmp(&surfel, &kZero, sizeof(gpu::Surfel)) != 0) problem = concat("surfel ", k, " is past count ", batch.count, " but not zero");
+      if (std::memcmp(&surfel, &kZero, sizeof(gpu::Surfel)) != 0)
+        problem = concat("surfel ", k, " is past count ", batch.count, " but not zero");
     } else if (surfel_finite(surfel)) {
       if (const std::string what = surfel_problem(surfel); !what.empty()) problem = concat("surfel ", k, ": ", what);
     }
@@ -100,13 +107,16 @@ void check_surfels(const gpu::SurfelBatch& batch, long long index, Reporter& out
 void check_batch_lattice(const gpu::SurfelBatch& batch, long long index, int surfels_per_probe, Reporter& out) {
   const long long first = batch.first, end = first + batch.count;
   if (first < 0 || end > surfels_per_probe) {
-    out.add("batch_lattice", "surfel_batches", index, concat("lattice range [", first, ", ", end, ") outside [0, ", surfels_per_probe, ")"));
+    out.add("batch_lattice", "surfel_batches", index,
+            concat("lattice range [", first, ", ", end, ") outside [0, ", surfels_per_probe, ")"));
   }
 }
 
 void check_grid_probe(const gpu::Probe& probe, long long index, const ProbeVolume& volume, Reporter& out) {
-  if (probe.node != -1) out.add("probe_leaf_link", "probes", index, concat("grid probe has node ", probe.node, ", expected -1"));
-  if (probe.depth != 0) out.add("probe_depth_mismatch", "probes", index, concat("grid probe has depth ", probe.depth, ", expected 0"));
+  if (probe.node != -1)
+    out.add("probe_leaf_link", "probes", index, concat("grid probe has node ", probe.node, ", expected -1"));
+  if (probe.depth != 0)
+    out.add("probe_depth_mismatch", "probes", index, concat("grid probe has depth ", probe.depth, ", expected 0"));
   if (finite_position(probe) && !inside(probe, root_cube(volume.info), out.options().position_epsilon)) {
     out.add("probe_outside_node", "probes", index, "grid probe lies outside the root cube");
   }
@@ -120,12 +130,14 @@ void check_probes(const ProbeVolume& volume, const OctreeFacts& octree, Reporter
   const PlacementKindInfo* kind = placement_kind_for_code(volume.info.placement);
   const bool grid = kind != nullptr && !kind->has_octree; // probes without leaves (node -1)
   std::vector<bool> reported(volume.probes.size(), false);
-  const std::vector<int> linked_from = grid ? std::vector<int>(volume.probes.size(), -1) : leaf_links(volume, octree, reported, out);
+  const std::vector<int> linked_from =
+      grid ? std::vector<int>(volume.probes.size(), -1) : leaf_links(volume, octree, reported, out);
   for (std::size_t i = 0; i < volume.probes.size(); ++i) {
     const gpu::Probe& probe = volume.probes[i];
     const long long index = static_cast<long long>(i);
     if (probe.link == 0) {
-      if (probe.node != 0 || probe.depth != 0) out.add("free_not_zeroed", "probes", index, "free probe has a node link or depth");
+      if (probe.node != 0 || probe.depth != 0)
+        out.add("free_not_zeroed", "probes", index, "free probe has a node link or depth");
       continue;
     }
     if (grid) {
@@ -134,16 +146,19 @@ void check_probes(const ProbeVolume& volume, const OctreeFacts& octree, Reporter
     }
     if (reported[i]) continue;
     if (linked_from[i] < 0) {
-      out.add("probe_leaf_link", "probes", index, concat("allocated, but no reachable leaf links it (node back link ", probe.node, ")"));
+      out.add("probe_leaf_link", "probes", index,
+              concat("allocated, but no reachable leaf links it (node back link ", probe.node, ")"));
       continue;
     }
     if (linked_from[i] != probe.node) {
-      out.add("probe_leaf_link", "probes", index, concat("node back link is ", probe.node, " but leaf ", linked_from[i], " links it"));
+      out.add("probe_leaf_link", "probes", index,
+              concat("node back link is ", probe.node, " but leaf ", linked_from[i], " links it"));
       continue;
     }
     const NodeCube& cube = octree.cubes[probe.node];
     if (probe.depth != cube.depth) {
-      out.add("probe_depth_mismatch", "probes", index, concat("depth ", probe.depth, ", its node is at depth ", cube.depth));
+      out.add("probe_depth_mismatch", "probes", index,
+              concat("depth ", probe.depth, ", its node is at depth ", cube.depth));
     }
     if (finite_position(probe) && !inside(probe, cube, out.options().position_epsilon)) {
       out.add("probe_outside_node", "probes", index, concat("position lies outside the cube of node ", probe.node));
@@ -161,7 +176,8 @@ void check_surfel_batches(const ProbeVolume& volume, Reporter& out) {
     int batch = ~link;
     for (std::size_t length = 0;; ++length) {
       if (batch < 0 || static_cast<std::size_t>(batch) >= batches.size() || batches[batch].link == 0) {
-        out.add("batch_link", "probes", probe, concat("chain reaches batch ", batch, ", which is out of range or free"));
+        out.add("batch_link", "probes", probe,
+                concat("chain reaches batch ", batch, ", which is out of range or free"));
         break;
       }
       if (owner[batch] == probe || length > batches.size()) {
@@ -169,17 +185,21 @@ void check_surfel_batches(const ProbeVolume& volume, Reporter& out) {
         break;
       }
       if (owner[batch] >= 0) {
-        out.add("batch_shared", "surfel_batches", batch, concat("in the chains of probes ", owner[batch], " and ", probe));
+        out.add("batch_shared", "surfel_batches", batch,
+                concat("in the chains of probes ", owner[batch], " and ", probe));
         break;
       }
       owner[batch] = probe;
       const gpu::SurfelBatch& b = batches[batch];
-      if (b.probe != probe) out.add("batch_owner", "surfel_batches", batch, concat("probe field is ", b.probe, ", owner is ", probe));
+      if (b.probe != probe)
+        out.add("batch_owner", "surfel_batches", batch, concat("probe field is ", b.probe, ", owner is ", probe));
       if (b.count < 1 || b.count > gpu::SURFELS_PER_BATCH) {
         out.add("batch_count", "surfel_batches", batch, concat("count ", b.count, " outside [1, SURFELS_PER_BATCH]"));
       }
       if (b.link > 0) {
-        if (b.link - 1 != probe) out.add("batch_owner", "surfel_batches", batch, concat("last link names probe ", b.link - 1, ", owner is ", probe));
+        if (b.link - 1 != probe)
+          out.add("batch_owner", "surfel_batches", batch,
+                  concat("last link names probe ", b.link - 1, ", owner is ", probe));
         break;
       }
       batch = ~b.link;
@@ -189,7 +209,8 @@ void check_surfel_batches(const ProbeVolume& volume, Reporter& out) {
     const gpu::SurfelBatch& batch = batches[b];
     const long long index = static_cast<long long>(b);
     if (batch.link == 0) {
-      if (batch.probe != 0 || batch.count != 0) out.add("free_not_zeroed", "surfel_batches", index, "free batch has an owner or count");
+      if (batch.probe != 0 || batch.count != 0)
+        out.add("free_not_zeroed", "surfel_batches", index, "free batch has an owner or count");
       continue;
     }
     if (owner[b] < 0) out.add("batch_orphan", "surfel_batches", index, "allocated, but in no probe's chain");

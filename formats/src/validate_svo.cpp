@@ -26,7 +26,8 @@ public:
     if (!nodes_.empty()) traverse();
     for (std::size_t node = 1; node < nodes_.size(); ++node) {
       if (!reached_[node] && nodes_[node] != 0) {
-        out_.add("svo_tree", "svo_nodes", static_cast<long long>(node), "non-empty node is not reachable from the root");
+        out_.add("svo_tree", "svo_nodes", static_cast<long long>(node),
+                 "non-empty node is not reachable from the root");
       }
     }
     for (std::size_t leaf = 0; leaf < volume_.svo_leaves.size(); ++leaf) {
@@ -66,7 +67,8 @@ private:
 
   void visit_children(const SvoVisit& visit, int first, std::vector<SvoVisit>& stack) {
     if (static_cast<std::size_t>(first) + 8 > nodes_.size()) {
-      out_.add("svo_index_range", "svo_nodes", visit.node, concat("children ", first, "..", static_cast<long long>(first) + 7, " out of range"));
+      out_.add("svo_index_range", "svo_nodes", visit.node,
+               concat("children ", first, "..", static_cast<long long>(first) + 7, " out of range"));
       return;
     }
     if (first <= visit.node) {
@@ -99,16 +101,21 @@ private:
       const float weight = leaf.weights[slot];
       if (probe == -1) {
         seen_unused = true;
-        if (weight != 0.0f) out_.add("svo_weights", "svo_leaves", index, concat("unused slot ", slot, " has weight ", weight));
+        if (weight != 0.0f)
+          out_.add("svo_weights", "svo_leaves", index, concat("unused slot ", slot, " has weight ", weight));
         continue;
       }
       if (probe < -1 || static_cast<std::size_t>(probe) >= volume_.probes.size()) {
-        out_.add("svo_index_range", "svo_leaves", index, concat("slot ", slot, " names probe ", probe, ", out of range"));
+        out_.add("svo_index_range", "svo_leaves", index,
+                 concat("slot ", slot, " names probe ", probe, ", out of range"));
       } else if (volume_.probes[probe].link == 0) {
-        out_.add("svo_freed_probe", "svo_leaves", index, concat("slot ", slot, " names probe ", probe, ", which is free"));
+        out_.add("svo_freed_probe", "svo_leaves", index,
+                 concat("slot ", slot, " names probe ", probe, ", which is free"));
       }
-      if (seen_unused) out_.add("svo_weights", "svo_leaves", index, concat("used slot ", slot, " follows an unused one"));
-      if (!(weight >= 0.0f)) out_.add("svo_weights", "svo_leaves", index, concat("slot ", slot, " has negative weight ", weight));
+      if (seen_unused)
+        out_.add("svo_weights", "svo_leaves", index, concat("used slot ", slot, " follows an unused one"));
+      if (!(weight >= 0.0f))
+        out_.add("svo_weights", "svo_leaves", index, concat("slot ", slot, " has negative weight ", weight));
       ++used;
       sum += weight;
     }

@@ -21,14 +21,16 @@ VolumeStats compute_stats(const ProbeVolume& volume) {
     if (probe.link == 0) continue;
     ++stats.probes;
     // Depths are untrusted here (info runs on unvalidated files): only in-range ones are counted.
-    if (probe.depth >= 0 && probe.depth <= stats.max_depth) ++stats.probes_per_depth[static_cast<std::size_t>(probe.depth)];
+    if (probe.depth >= 0 && probe.depth <= stats.max_depth)
+      ++stats.probes_per_depth[static_cast<std::size_t>(probe.depth)];
   }
   for (const gpu::SurfelBatch& batch : volume.surfel_batches) {
     if (batch.link == 0) continue;
     ++stats.surfel_batches;
     stats.surfels += batch.count;
   }
-  stats.svo_leaf_voxels = static_cast<int>(std::count_if(volume.svo_nodes.begin(), volume.svo_nodes.end(), [](int n) { return n < 0; }));
+  stats.svo_leaf_voxels =
+      static_cast<int>(std::count_if(volume.svo_nodes.begin(), volume.svo_nodes.end(), [](int n) { return n < 0; }));
   return stats;
 }
 

@@ -16,6 +16,7 @@ namespace probebake::placement::detail {
 bool box_overlaps_cube(const scene::Scene& s, std::uint32_t t, const formats::NodeCube& cube);
 
 // Traces the lattice from positions[i] within cubes[i], in parallel (in.settings.threads), in index order.
-std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cube>& cubes, const std::vector<glm::vec3>& positions);
+std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cube>& cubes,
+                                 const std::vector<glm::vec3>& positions);
 
 } // namespace probebake::placement::detail

@@ -25,7 +25,8 @@ std::vector<PlacedProbe> place(formats::PlacementKind kind, const PlacementInput
 
 namespace detail {
 
-std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cube>& cubes, const std::vector<glm::vec3>& positions) {
+std::vector<ProbeRays> trace_all(const PlacementInput& in, const std::vector<Cube>& cubes,
+                                 const std::vector<glm::vec3>& positions) {
   std::vector<ProbeRays> results(cubes.size());
   parallel_for(cubes.size(), in.settings.threads,
                [&](std::size_t i) { results[i] = trace_probe(*in.rays, positions[i], cubes[i], in.directions); });

@@ -71,9 +71,11 @@ std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree&
       // rays end at once whichever side the node's content is on. The rule is the runtime's
       // (leaf_rule.h), with the bake's knowledge of the cube's triangles and its relocation step.
       const bool on_double_sided = results[i].nearest_double_sided && results[i].nearest < in.clearance;
-      const bool blind = gpu::leaf_centre_blind(f, results[i].backface_fraction(), s.split_low, gpu::LEAF_DEAD_BACKFACE_FRACTION) ||
-                         on_double_sided;
-      const int verdict = gpu::leaf_verdict_with(f, blind, !pending_triangles[i].empty(), true, node.depth, tree.volume().info);
+      const bool blind =
+          gpu::leaf_centre_blind(f, results[i].backface_fraction(), s.split_low, gpu::LEAF_DEAD_BACKFACE_FRACTION) ||
+          on_double_sided;
+      const int verdict =
+          gpu::leaf_verdict_with(f, blind, !pending_triangles[i].empty(), true, node.depth, tree.volume().info);
       if (verdict == gpu::LEAF_VERDICT_FREE) continue; // M2: the leaf stays without a probe
       if (verdict == gpu::LEAF_VERDICT_SPLIT) {
         const int meta = tree.split(node.node); // M3

@@ -14,8 +14,10 @@ bool Cube::contains(glm::vec3 p) const {
 float Cube::exit_distance(glm::vec3 inside, glm::vec3 direction) const {
   float t = std::numeric_limits<float>::infinity();
   for (int a = 0; a < 3; ++a) {
-    if (direction[a] > 0.0f) t = std::min(t, (min[a] + size - inside[a]) / direction[a]);
-    else if (direction[a] < 0.0f) t = std::min(t, (min[a] - inside[a]) / direction[a]);
+    if (direction[a] > 0.0f)
+      t = std::min(t, (min[a] + size - inside[a]) / direction[a]);
+    else if (direction[a] < 0.0f)
+      t = std::min(t, (min[a] - inside[a]) / direction[a]);
   }
   return std::max(t, 0.0f);
 }
@@ -58,9 +60,7 @@ ProbeRays trace_probe(const scene::RayScene& rays, glm::vec3 position, const Cub
   return r;
 }
 
-bool is_dead(const ProbeRays& r, float clearance) {
-  return r.backface_fraction() > 0.5f || r.nearest < clearance;
-}
+bool is_dead(const ProbeRays& r, float clearance) { return r.backface_fraction() > 0.5f || r.nearest < clearance; }
 
 bool mostly_back_faces(const scene::RayScene& rays, glm::vec3 p, std::span<const glm::vec3> directions) {
   // 2 * back - hits decides (> 0: dead); each ray left moves it by at most one either way.
@@ -75,9 +75,7 @@ bool mostly_back_faces(const scene::RayScene& rays, glm::vec3 p, std::span<const
   return margin > 0;
 }
 
-float default_clearance(const scene::Scene& scene) {
-  return 0.02f * std::max(scene.bounds.largest_extent(), 1e-6f);
-}
+float default_clearance(const scene::Scene& scene) { return 0.02f * std::max(scene.bounds.largest_extent(), 1e-6f); }
 
 bool is_open(const scene::RayScene& rays, glm::vec3 p, float clearance, std::span<const glm::vec3> directions) {
   return !is_dead(trace_probe(rays, p, Cube{p, 0.0f}, directions), clearance);

@@ -23,12 +23,12 @@ constexpr float kRelocationRoom = 2.0f;
 using TriangleList = std::vector<std::uint32_t>;
 
 struct Leaf {
-  formats::NodeCube cube;  // .node is valid once in_tree
+  formats::NodeCube cube; // .node is valid once in_tree
   TriangleList triangles;
   CandidateSample sample;
   bool in_tree = false;
   bool split = false;
-  int first_child = -1;    // index of its eight sampled children in the pool, -1 while unsampled
+  int first_child = -1; // index of its eight sampled children in the pool, -1 while unsampled
 
   bool holds_geometry() const { return !triangles.empty(); }
   // A probe where there is surface to light: the centre sees some inside the cube (or lies inside a
@@ -51,8 +51,12 @@ struct Ranked {
 class Refiner {
 public:
   Refiner(const PlacementInput& in, formats::Octree& tree)
-      : in_(in), tree_(tree), by_error_(in.refine.rank_by_error), sampler_(in, by_error_),
-        budget_(in.refine.probe_budget), max_depth_(in.settings.max_depth) {}
+      : in_(in),
+        tree_(tree),
+        by_error_(in.refine.rank_by_error),
+        sampler_(in, by_error_),
+        budget_(in.refine.probe_budget),
+        max_depth_(in.settings.max_depth) {}
 
   std::vector<PlacedProbe> run() {
     add_root();
@@ -75,7 +79,9 @@ private:
 
   static Cube to_cube(const formats::NodeCube& c) { return {c.min, c.size}; }
 
-  bool splittable(int i) const { return leaves_[std::size_t(i)].holds_geometry() && leaves_[std::size_t(i)].cube.depth < max_depth_; }
+  bool splittable(int i) const {
+    return leaves_[std::size_t(i)].holds_geometry() && leaves_[std::size_t(i)].cube.depth < max_depth_;
+  }
 
   // Creates and samples the eight children of every leaf in `parents` (one parallel loop).
   void sample_children(const std::vector<int>& parents) {
@@ -159,7 +165,8 @@ private:
       const Leaf& child = leaves_[std::size_t(leaf.first_child + c)];
       if (!child.has_probe(in_.clearance) || child.sample.inside()) continue;
       // Surface rule, or an unlit scene (nothing to estimate): where a probe serves the most surface.
-      const double difference = by_error_ && sampler_.lit() ? double(sh_distance2(child.sample.sh, leaf.sample.sh)) : 1.0;
+      const double difference =
+          by_error_ && sampler_.lit() ? double(sh_distance2(child.sample.sh, leaf.sample.sh)) : 1.0;
       error += double(child.sample.visible_area) * difference;
     }
     return error / double(std::max(split_cost(i), 1));
@@ -222,7 +229,7 @@ private:
 
   const PlacementInput& in_;
   formats::Octree& tree_;
-  bool by_error_;            // SplitRule::error: rank by estimated error, else (surface) by visible surface
+  bool by_error_; // SplitRule::error: rank by estimated error, else (surface) by visible surface
   CandidateSampler sampler_;
   int budget_;
   int max_depth_;

@@ -12,9 +12,9 @@
 namespace probebake::placement {
 namespace {
 
-constexpr int kOpenProbeCells = 8;    // 512 points: any room-scale open space holds several
+constexpr int kOpenProbeCells = 8; // 512 points: any room-scale open space holds several
 constexpr float kSurroundScale = 3.0f;
-constexpr int kSurfaceSamples = 512;  // points on the surfaces, spread by area: a room's floor and walls get many
+constexpr int kSurfaceSamples = 512;      // points on the surfaces, spread by area: a room's floor and walls get many
 constexpr std::uint64_t kSurfaceSeed = 1; // the same points every bake
 
 // Whether any centre of a kOpenProbeCells^3 grid over the box is open space.
@@ -39,16 +39,18 @@ bool inside(const scene::Bounds& bounds, glm::vec3 p) {
 // mid-height in the room, however flat the world and wherever the grids' points fall (on a table, in a wall).
 // The bounds, not the root cube: the root of a closed object may have a margin around it (the skeleton's
 // root_pad_clearances), and that margin is the outside the object is seen from.
-bool open_in_front_of(const scene::RayScene& rays, const Cube& root, const scene::Bounds& bounds, const SurfaceSample& sample,
-                      float clearance, const std::vector<glm::vec3>& directions) {
+bool open_in_front_of(const scene::RayScene& rays, const Cube& root, const scene::Bounds& bounds,
+                      const SurfaceSample& sample, float clearance, const std::vector<glm::vec3>& directions) {
   float reach = root.exit_distance(sample.position, sample.normal);
-  if (const auto hit = rays.intersect(sample.position, sample.normal, scene::ray_epsilon(rays.scene()), reach)) reach = hit->distance;
+  if (const auto hit = rays.intersect(sample.position, sample.normal, scene::ray_epsilon(rays.scene()), reach))
+    reach = hit->distance;
   const glm::vec3 middle = sample.position + sample.normal * (0.5f * reach);
   return inside(bounds, middle) && is_open(rays, middle, clearance, directions);
 }
 
-bool open_point_in_front_of_surfaces(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds,
-                                     float clearance, const std::vector<glm::vec3>& directions, int threads) {
+bool open_point_in_front_of_surfaces(const scene::RayScene& rays, const gpu::VolumeInfo& info,
+                                     const scene::Bounds& bounds, float clearance,
+                                     const std::vector<glm::vec3>& directions, int threads) {
   const std::vector<SurfaceSample> samples = sample_surface(rays.scene(), kSurfaceSamples, kSurfaceSeed);
   const Cube root{info.root_min, info.root_size};
   std::vector<char> open(samples.size(), 0);
@@ -60,8 +62,8 @@ bool open_point_in_front_of_surfaces(const scene::RayScene& rays, const gpu::Vol
 
 } // namespace
 
-bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds, float clearance,
-                       const std::vector<glm::vec3>& directions, int threads) {
+bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds,
+                       float clearance, const std::vector<glm::vec3>& directions, int threads) {
   if (open_point_in_grid(rays, info.root_min, glm::vec3(info.root_size), clearance, directions, threads)) return true;
   if (bounds.empty()) return false;
   if (open_point_in_grid(rays, bounds.min, bounds.max - bounds.min, clearance, directions, threads)) return true;

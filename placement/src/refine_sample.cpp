@@ -28,7 +28,8 @@ bake::LightingSettings estimate_settings(const RefineSettings& s) {
 } // namespace
 
 CandidateSampler::CandidateSampler(const PlacementInput& in, bool estimate)
-    : in_(in), direct_(in.rays->scene(), *in.rays, estimate_settings(in.refine)),
+    : in_(in),
+      direct_(in.rays->scene(), *in.rays, estimate_settings(in.refine)),
       lighting_(estimate_settings(in.refine)),
       light_directions_(lattice_directions(Lattice::fibonacci, kEstimateRays)) {
   const scene::Scene& scene = in.rays->scene();
@@ -55,7 +56,8 @@ CandidateSample CandidateSampler::sample(glm::vec3 position, const Cube& cube) c
   for (const glm::vec3& d : light_directions_) {
     const auto hit = in_.rays->intersect(position, d);
     glm::vec3 radiance = lighting_.sky_radiance;
-    if (hit && hit->inside()) radiance = glm::vec3(0.0f);
+    if (hit && hit->inside())
+      radiance = glm::vec3(0.0f);
     else if (hit) {
       const glm::vec3 n = hit->facing_normal();
       const glm::vec3 reflect = scene.triangle_albedo[hit->triangle] / kPi;

@@ -13,12 +13,12 @@
 namespace probebake::placement {
 
 struct CandidateSample {
-  ProbeRays rays;                  // the placement's measurements (hit fraction, dead-probe test)
+  ProbeRays rays; // the placement's measurements (hit fraction, dead-probe test)
   // L1 SH of the irradiance E(n) = sum_k sh[k] Y_k(n) (sampler.h's basis, k < 4) from one bounce of the
   // direct light (the lighting stage's first sweep), RGB. Probes hold reflected light only: punctual
   // lights and emitters are added per pixel and would only hide the part probes carry.
   std::array<glm::vec3, 4> sh{};
-  float visible_area = 0.0f;       // surface area inside the cube seen from its centre (m^2)
+  float visible_area = 0.0f; // surface area inside the cube seen from its centre (m^2)
 
   bool inside() const { return rays.backface_fraction() > 0.5f; }
 };

@@ -53,16 +53,17 @@ namespace {
 using FloatGrid = openvdb::FloatGrid;
 using IndexGrid = openvdb::Int32Grid;
 
-constexpr float auto_voxel_divisions = 256.0f;   // voxels along the bounding-box diagonal
+constexpr float auto_voxel_divisions = 256.0f; // voxels along the bounding-box diagonal
 constexpr double max_auto_voxels = 16.0 * 1024 * 1024;
-constexpr float flat_gradient = 1e-3f;           // |grad| below this (per unit length) counts as flat
+constexpr float flat_gradient = 1e-3f; // |grad| below this (per unit length) counts as flat
 
 void initialize_openvdb() {
   static std::once_flag once;
   std::call_once(once, [] { openvdb::initialize(); });
 }
 
-template <typename Vec> bool all_finite(const Vec& v) {
+template <typename Vec>
+bool all_finite(const Vec& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
@@ -132,8 +133,8 @@ scene::Bounds set_bounds(const TriangleSet& set) {
 // ---- building ----
 
 // `flags`: extra meshToVolume flags (UNSIGNED_DISTANCE_FIELD for the double-sided shells).
-FloatGrid::Ptr mesh_to_volume(const TriangleSet& set, float voxel, float exterior, float interior,
-                              IndexGrid& closest, int flags = 0) {
+FloatGrid::Ptr mesh_to_volume(const TriangleSet& set, float voxel, float exterior, float interior, IndexGrid& closest,
+                              int flags = 0) {
   std::vector<openvdb::Vec3s> points;
   points.reserve(set.positions->size());
   for (const glm::vec3& p : *set.positions) points.emplace_back(p.x / voxel, p.y / voxel, p.z / voxel);
@@ -235,8 +236,8 @@ SceneSdf::SceneSdf(const scene::Scene& scene, const SdfSettings& settings) : imp
   }
   if (!both.empty()) {
     IndexGrid closest(openvdb::Int32(openvdb::util::INVALID_IDX));
-    impl_->shells = mesh_to_volume(both, voxel, settings.band_voxels, 0.0f, closest,
-                                   openvdb::tools::UNSIGNED_DISTANCE_FIELD);
+    impl_->shells =
+        mesh_to_volume(both, voxel, settings.band_voxels, 0.0f, closest, openvdb::tools::UNSIGNED_DISTANCE_FIELD);
   }
 }
 

@@ -79,7 +79,8 @@ void Pseudonormals::weld(const TriangleSet& set) {
   tbb::parallel_sort(keyed.begin(), keyed.end());
   std::vector<std::uint32_t> remap(positions.size());
   for (std::size_t i = 0; i < keyed.size(); ++i) {
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) pos_.push_back(glm::dvec3(positions[keyed[i].second] + glm::vec3(0.0f)));
+    if (i == 0 || keyed[i].first != keyed[i - 1].first)
+      pos_.push_back(glm::dvec3(positions[keyed[i].second] + glm::vec3(0.0f)));
     remap[keyed[i].second] = std::uint32_t(pos_.size() - 1);
   }
   tris_.reserve(set.triangles.size());
@@ -117,13 +118,13 @@ void Pseudonormals::accumulate() {
 glm::dvec3 Pseudonormals::normal_of(std::size_t triangle, Feature feature) const {
   const std::array<std::uint32_t, 3>& t = tris_[triangle];
   switch (feature) {
-    case Feature::vertex0: return vertex_normal_[t[0]];
-    case Feature::vertex1: return vertex_normal_[t[1]];
-    case Feature::vertex2: return vertex_normal_[t[2]];
-    case Feature::edge01: return edge_normal_[edge_of_[3 * triangle]];
-    case Feature::edge12: return edge_normal_[edge_of_[3 * triangle + 1]];
-    case Feature::edge20: return edge_normal_[edge_of_[3 * triangle + 2]];
-    case Feature::face: break;
+  case Feature::vertex0: return vertex_normal_[t[0]];
+  case Feature::vertex1: return vertex_normal_[t[1]];
+  case Feature::vertex2: return vertex_normal_[t[2]];
+  case Feature::edge01: return edge_normal_[edge_of_[3 * triangle]];
+  case Feature::edge12: return edge_normal_[edge_of_[3 * triangle + 1]];
+  case Feature::edge20: return edge_normal_[edge_of_[3 * triangle + 2]];
+  case Feature::face: break;
   }
   return face_normal_[triangle];
 }

@@ -25,14 +25,14 @@ struct TriangleSet {
 };
 
 class Pseudonormals {
- public:
+public:
   explicit Pseudonormals(const TriangleSet& set);
 
   // > 0: x is on the front (free) side of its closest triangle, < 0: behind it, 0: undecidable
   // (degenerate triangle, x on the surface).
   double side(std::size_t triangle, glm::dvec3 x) const;
 
- private:
+private:
   static std::uint64_t edge_key(std::uint32_t a, std::uint32_t b);
 
   void weld(const TriangleSet& set);
@@ -43,8 +43,8 @@ class Pseudonormals {
   std::vector<std::array<std::uint32_t, 3>> tris_;
   std::vector<glm::dvec3> face_normal_;
   std::vector<glm::dvec3> vertex_normal_;
-  std::vector<glm::dvec3> edge_normal_;  // one per welded edge
-  std::vector<std::uint32_t> edge_of_;    // 3 * triangle + k: the edge from vertex k to k + 1 (mod 3)
+  std::vector<glm::dvec3> edge_normal_; // one per welded edge
+  std::vector<std::uint32_t> edge_of_;  // 3 * triangle + k: the edge from vertex k to k + 1 (mod 3)
 };
 
 } // namespace probebake::placement

@@ -14,7 +14,7 @@
 namespace probebake::placement {
 namespace {
 
-constexpr int kSealRays = 64; // per sample point, over the front hemisphere
+constexpr int kSealRays = 64;        // per sample point, over the front hemisphere
 constexpr int kSealScreenStride = 8; // 8 of the 64 directions screen first
 
 // Fibonacci directions flipped into the hemisphere around `n` (the sphere lattice is symmetric enough).
@@ -22,7 +22,8 @@ glm::vec3 into_front(glm::vec3 d, glm::vec3 n) { return glm::dot(d, n) < 0.0f ? 
 
 // Sealed on the side `n` faces: every sample point lifted off that side sees mostly back faces of
 // single-sided surfaces (trace_probe counts only RayHit::inside() hits).
-bool side_sealed(const scene::RayScene& rays, std::uint32_t t, glm::vec3 n, const std::vector<glm::vec3>& sphere, float lift) {
+bool side_sealed(const scene::RayScene& rays, std::uint32_t t, glm::vec3 n, const std::vector<glm::vec3>& sphere,
+                 float lift) {
   const scene::Scene& s = rays.scene();
   const glm::uvec3 tri = s.triangles[t];
   const glm::vec3 a = s.positions[tri.x], b = s.positions[tri.y], c = s.positions[tri.z];
@@ -65,7 +66,8 @@ std::vector<char> sealed_triangles(const scene::RayScene& rays, std::span<const 
   const std::vector<glm::vec3> sphere = lattice_directions(Lattice::fibonacci, kSealRays);
   const float lift = scene::ray_epsilon(rays.scene()); // off the surface as the reference's rays are
   std::vector<char> sealed(triangles.size(), 0);
-  parallel_for(sealed.size(), threads, [&](std::size_t k) { sealed[k] = triangle_sealed(rays, triangles[k], sphere, lift) ? 1 : 0; });
+  parallel_for(sealed.size(), threads,
+               [&](std::size_t k) { sealed[k] = triangle_sealed(rays, triangles[k], sphere, lift) ? 1 : 0; });
   return sealed;
 }
 

@@ -15,7 +15,7 @@
 namespace probebake::placement {
 namespace {
 
-constexpr float kGridDivisions = 64.0f;         // voxels along the domain's largest extent, by default
+constexpr float kGridDivisions = 64.0f; // voxels along the domain's largest extent, by default
 constexpr double kMaxGridVoxels = 16.0 * 1024 * 1024;
 constexpr int kMaxSurfaceSamples = 1 << 20;
 constexpr int kMaxCandidates = 1 << 16;
@@ -31,8 +31,10 @@ void check_options(const SkeletonOptions& o) {
   require(std::isfinite(o.voxel_size) && o.voxel_size >= 0.0f, "the voxel size must be finite and >= 0");
   require(o.surface_samples >= 1 && o.surface_samples <= kMaxSurfaceSamples,
           fmt::format("surface samples must be in [1, {}]", kMaxSurfaceSamples));
-  require(o.max_candidates >= 1 && o.max_candidates <= kMaxCandidates, fmt::format("candidates must be in [1, {}]", kMaxCandidates));
-  require(o.iterations >= 0 && o.iterations <= kMaxIterations, fmt::format("iterations must be in [0, {}]", kMaxIterations));
+  require(o.max_candidates >= 1 && o.max_candidates <= kMaxCandidates,
+          fmt::format("candidates must be in [1, {}]", kMaxCandidates));
+  require(o.iterations >= 0 && o.iterations <= kMaxIterations,
+          fmt::format("iterations must be in [0, {}]", kMaxIterations));
   require(o.threads >= 0, "--threads must be >= 0");
   require(std::isfinite(o.falloff_scale) && o.falloff_scale > 0.0f, "the falloff scale must be finite and > 0");
 }
@@ -83,7 +85,8 @@ SkeletonResult skeleton_probes(const scene::RayScene& rays, const SceneSdf& sdf,
   if (domain.empty() || !(domain.largest_extent() > 0.0f)) return result;
 
   const DistanceGrid grid = sample_distance(sdf, domain, grid_voxel(options, domain), options.threads);
-  report.free_voxels = int(std::count_if(grid.distance.begin(), grid.distance.end(), [&](float d) { return d >= options.clearance; }));
+  report.free_voxels =
+      int(std::count_if(grid.distance.begin(), grid.distance.end(), [&](float d) { return d >= options.clearance; }));
   const std::vector<std::size_t> skeleton = skeleton_voxels(grid, options.clearance);
   report.skeleton_voxels = int(skeleton.size());
   const int max_candidates = std::max(options.max_candidates, 4 * options.probes);
@@ -94,7 +97,8 @@ SkeletonResult skeleton_probes(const scene::RayScene& rays, const SceneSdf& sdf,
   const std::vector<SurfaceSample> samples = sample_surface(scene, options.surface_samples, options.seed);
   ObjectiveContext ctx{&rays, &sdf, &samples, domain.largest_extent(), options.clearance, domain, options.threads};
   // The budget's probe spacing over the surface: a sample is served well from about that far.
-  if (options.probes > 0) ctx.falloff = options.falloff_scale * float(std::sqrt(seen_area(scene) / double(options.probes)));
+  if (options.probes > 0)
+    ctx.falloff = options.falloff_scale * float(std::sqrt(seen_area(scene) / double(options.probes)));
   const QualityMatrix all = quality_matrix(ctx, candidates);
   const std::vector<std::size_t> chosen = select_greedy(all, options.probes, options.threads);
   if (chosen.empty()) { // no candidate sees any sample (e.g. no surface faces the free space): keep the deepest
@@ -111,7 +115,8 @@ SkeletonResult skeleton_probes(const scene::RayScene& rays, const SceneSdf& sdf,
     rows.q.insert(rows.q.end(), all.row(r), all.row(r) + all.cols);
   }
   const float first_step = 0.5f * std::min(ctx.falloff, 0.125f * domain.largest_extent());
-  const OptimiseResult opt = optimise_positions(ctx, result.probes, std::move(rows), first_step, options.iterations, options.seed);
+  const OptimiseResult opt =
+      optimise_positions(ctx, result.probes, std::move(rows), first_step, options.iterations, options.seed);
   report.objective_final = opt.after;
   report.moves = opt.moves;
   report.coverage = coverage(rays, result.probes, candidates, samples, options.threads);

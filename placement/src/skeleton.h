@@ -36,21 +36,21 @@
 namespace probebake::placement {
 
 struct SkeletonOptions {
-  int probes = 0;               // budget; 0 = the fewest that see every sample any candidate sees
-  float clearance = 0.0f;       // minimum probe-to-surface distance (> 0)
+  int probes = 0;         // budget; 0 = the fewest that see every sample any candidate sees
+  float clearance = 0.0f; // minimum probe-to-surface distance (> 0)
   // Probes stay inside it (the root cube). Empty = the scene's bounds padded by 3 x clearance on every
   // side, so that a solid filling its own bounds (box_draco) still has free space around it.
   scene::Bounds domain;
-  float voxel_size = 0.0f;      // distance grid; 0 = the domain's largest extent / 64
-  int surface_samples = 2048;   // objective samples over the surface area
-  int max_candidates = 1024;    // skeleton candidates kept for the greedy selection (at least 4x the budget)
-  int iterations = 4;           // optimisation rounds (0 = none)
+  float voxel_size = 0.0f;    // distance grid; 0 = the domain's largest extent / 64
+  int surface_samples = 2048; // objective samples over the surface area
+  int max_candidates = 1024;  // skeleton candidates kept for the greedy selection (at least 4x the budget)
+  int iterations = 4;         // optimisation rounds (0 = none)
   // With a budget, l = falloff_scale * sqrt(surface area / probes). Measured on the Cornell box at 124
   // probes (probebake eval, relative RMSE): 0.3 -> 0.080, 0.4 -> 0.100, 0.5 -> 0.068, 0.6 -> 0.068,
   // 0.7 -> 0.069, 1 -> 0.095, 2 -> 0.095, 3 -> 0.124 (noisy below 0.5: one bad probe sets the RMSE).
   float falloff_scale = 0.6f;
   std::uint64_t seed = 1;
-  int threads = 0;              // 0 = all cores
+  int threads = 0; // 0 = all cores
 };
 
 struct SkeletonReport {
@@ -87,7 +87,9 @@ struct DistanceGrid {
   glm::ivec3 dims{0};
   std::vector<float> distance; // x fastest
   glm::vec3 centre(glm::ivec3 v) const { return origin + glm::vec3(v) * voxel; }
-  std::size_t index(glm::ivec3 v) const { return (std::size_t(v.z) * std::size_t(dims.y) + std::size_t(v.y)) * std::size_t(dims.x) + std::size_t(v.x); }
+  std::size_t index(glm::ivec3 v) const {
+    return (std::size_t(v.z) * std::size_t(dims.y) + std::size_t(v.y)) * std::size_t(dims.x) + std::size_t(v.x);
+  }
   glm::ivec3 voxel_of(std::size_t i) const;
 };
 
@@ -109,7 +111,7 @@ std::vector<SurfaceSample> sample_surface(const scene::Scene& scene, int count, 
 float sample_quality(const scene::RayScene& rays, glm::vec3 probe, const SurfaceSample& s, float falloff);
 
 // Fraction of the samples seen (q > 0) by some probe, among those seen by some point of `reference`.
-float coverage(const scene::RayScene& rays, const std::vector<glm::vec3>& probes, const std::vector<glm::vec3>& reference,
-               const std::vector<SurfaceSample>& samples, int threads);
+float coverage(const scene::RayScene& rays, const std::vector<glm::vec3>& probes,
+               const std::vector<glm::vec3>& reference, const std::vector<SurfaceSample>& samples, int threads);
 
 } // namespace probebake::placement

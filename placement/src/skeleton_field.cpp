@@ -30,16 +30,26 @@ DistanceGrid sample_distance(const SceneSdf& sdf, const scene::Bounds& domain, f
   grid.origin = domain.min + 0.5f * (extent - span);
   grid.distance.resize(std::size_t(grid.dims.x) * std::size_t(grid.dims.y) * std::size_t(grid.dims.z));
   parallel_for(grid.distance.size(), threads,
-                             [&](std::size_t i) { grid.distance[i] = sdf.distance(grid.centre(grid.voxel_of(i))); });
+               [&](std::size_t i) { grid.distance[i] = sdf.distance(grid.centre(grid.voxel_of(i))); });
   return grid;
 }
 
 namespace {
 
 // Half of the 26-neighbourhood: one of each opposite pair.
-constexpr std::array<glm::ivec3, 13> kAxes = {{{1, 0, 0},  {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0},
-                                                {1, 0, 1},  {1, 0, -1}, {0, 1, 1},  {0, 1, -1}, {1, 1, 1},
-                                                {1, 1, -1}, {1, -1, 1}, {1, -1, -1}}};
+constexpr std::array<glm::ivec3, 13> kAxes = {{{1, 0, 0},
+                                               {0, 1, 0},
+                                               {0, 0, 1},
+                                               {1, 1, 0},
+                                               {1, -1, 0},
+                                               {1, 0, 1},
+                                               {1, 0, -1},
+                                               {0, 1, 1},
+                                               {0, 1, -1},
+                                               {1, 1, 1},
+                                               {1, 1, -1},
+                                               {1, -1, 1},
+                                               {1, -1, -1}}};
 
 bool inside(const DistanceGrid& g, glm::ivec3 v) {
   return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < g.dims.x && v.y < g.dims.y && v.z < g.dims.z;
@@ -66,7 +76,8 @@ std::vector<std::size_t> skeleton_voxels(const DistanceGrid& grid, float clearan
     const float d = grid.distance[i];
     if (!(d >= clearance)) continue;
     const glm::ivec3 v = grid.voxel_of(i);
-    if (std::any_of(kAxes.begin(), kAxes.end(), [&](glm::ivec3 axis) { return ridge_along(grid, v, axis, d); })) out.push_back(i);
+    if (std::any_of(kAxes.begin(), kAxes.end(), [&](glm::ivec3 axis) { return ridge_along(grid, v, axis, d); }))
+      out.push_back(i);
   }
   return out;
 }
@@ -112,7 +123,8 @@ std::vector<glm::vec3> skeleton_candidates(const DistanceGrid& grid, const std::
     for (std::size_t i = 0; i < grid.distance.size(); ++i)
       if (grid.distance[i] >= clearance) order.push_back(i);
   // Deepest first, index on ties: the centres of rooms before the sheets running into their corners.
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return grid.distance[a] > grid.distance[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return grid.distance[a] > grid.distance[b]; });
   float radius = 0.99f * grid.voxel; // keeps every voxel
   std::vector<std::size_t> kept = poisson_subset(grid, order, radius);
   while (int(kept.size()) > max_candidates) {

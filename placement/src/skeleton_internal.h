@@ -25,7 +25,7 @@ struct ObjectiveContext {
   const scene::RayScene* rays = nullptr;
   const SceneSdf* sdf = nullptr;
   const std::vector<SurfaceSample>* samples = nullptr;
-  float falloff = 1.0f;  // l in q's l^2 / (l^2 + d^2)
+  float falloff = 1.0f; // l in q's l^2 / (l^2 + d^2)
   float clearance = 0.0f;
   scene::Bounds domain;
   int threads = 0;

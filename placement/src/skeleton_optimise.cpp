@@ -41,7 +41,7 @@ Column column(const QualityMatrix& m, std::size_t s) {
 }
 
 struct Delta {
-  double gain = 0.0; // R after replacing probe k's row, minus R now
+  double gain = 0.0;         // R after replacing probe k's row, minus R now
   bool loses_sample = false; // a sample that some probe sees would be seen by none
 };
 
@@ -59,7 +59,8 @@ Delta delta(const std::vector<Column>& cols, std::size_t k, const float* q) {
 
 // A uniformly random rotation from three uniforms (Shoemake).
 glm::quat random_rotation(std::uint64_t seed, std::uint64_t stream) {
-  const float u1 = hash_uniform(seed, stream, 0), u2 = hash_uniform(seed, stream, 1), u3 = hash_uniform(seed, stream, 2);
+  const float u1 = hash_uniform(seed, stream, 0), u2 = hash_uniform(seed, stream, 1),
+              u3 = hash_uniform(seed, stream, 2);
   const float a = std::sqrt(1.0f - u1), b = std::sqrt(u1), t2 = 6.2831853f * u2, t3 = 6.2831853f * u3;
   return glm::normalize(glm::quat(b * std::cos(t3), a * std::sin(t2), a * std::cos(t2), b * std::sin(t3)));
 }

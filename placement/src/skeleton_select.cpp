@@ -50,10 +50,14 @@ std::vector<std::size_t> select_greedy(const QualityMatrix& m, int budget, int t
     for (std::size_t r = 0; r < m.rows; ++r) {
       if (taken[r]) continue;
       const Gain& g = gains[r];
-      if (pick == m.rows) { pick = r; continue; }
+      if (pick == m.rows) {
+        pick = r;
+        continue;
+      }
       const Gain& b = gains[pick];
-      const bool better = budget > 0 ? g.objective > b.objective
-                                     : (g.newly_seen > b.newly_seen || (g.newly_seen == b.newly_seen && g.objective > b.objective));
+      const bool better =
+          budget > 0 ? g.objective > b.objective
+                     : (g.newly_seen > b.newly_seen || (g.newly_seen == b.newly_seen && g.objective > b.objective));
       if (better) pick = r;
     }
     if (pick == m.rows) break;

@@ -38,7 +38,8 @@ std::vector<SurfaceSample> sample_surface(const scene::Scene& scene, int count, 
   for (int i = 0; i < count; ++i) {
     // Stratified along the cumulative area: sample i takes the side at (i + u) / count.
     const double u = (double(i) + double(hash_uniform(seed, 0, std::uint64_t(i)))) / double(count) * total;
-    const std::size_t k = std::min(std::size_t(std::lower_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), sides.size() - 1);
+    const std::size_t k =
+        std::min(std::size_t(std::lower_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), sides.size() - 1);
     const glm::uvec3 tri = scene.triangles[sides[k].triangle];
     const float r1 = std::sqrt(hash_uniform(seed, 1, std::uint64_t(i))), r2 = hash_uniform(seed, 2, std::uint64_t(i));
     const glm::vec3 p = (1.0f - r1) * scene.positions[tri.x] + r1 * (1.0f - r2) * scene.positions[tri.y] +
@@ -66,7 +67,7 @@ float sample_quality(const scene::RayScene& rays, glm::vec3 probe, const Surface
 void quality_row(const ObjectiveContext& ctx, glm::vec3 position, float* out) {
   const std::vector<SurfaceSample>& samples = *ctx.samples;
   parallel_for(samples.size(), ctx.threads,
-                             [&](std::size_t s) { out[s] = sample_quality(*ctx.rays, position, samples[s], ctx.falloff); });
+               [&](std::size_t s) { out[s] = sample_quality(*ctx.rays, position, samples[s], ctx.falloff); });
 }
 
 QualityMatrix quality_matrix(const ObjectiveContext& ctx, const std::vector<glm::vec3>& positions) {
@@ -81,8 +82,8 @@ QualityMatrix quality_matrix(const ObjectiveContext& ctx, const std::vector<glm:
   return m;
 }
 
-float coverage(const scene::RayScene& rays, const std::vector<glm::vec3>& probes, const std::vector<glm::vec3>& reference,
-               const std::vector<SurfaceSample>& samples, int threads) {
+float coverage(const scene::RayScene& rays, const std::vector<glm::vec3>& probes,
+               const std::vector<glm::vec3>& reference, const std::vector<SurfaceSample>& samples, int threads) {
   std::vector<char> seen(samples.size(), 0), reachable(samples.size(), 0);
   parallel_for(samples.size(), threads, [&](std::size_t s) {
     const auto sees = [&](glm::vec3 p) { return sample_quality(rays, p, samples[s], 1.0f) > 0.0f; };

@@ -7,14 +7,17 @@
 
 namespace probebake::render::detail {
 
-void Canvas::sphere(const bake::CameraFrame& frame, glm::vec3 centre, float radius, const std::function<glm::vec3(glm::vec3)>& colour) {
+void Canvas::sphere(const bake::CameraFrame& frame, glm::vec3 centre, float radius,
+                    const std::function<glm::vec3(glm::vec3)>& colour) {
   const auto at = frame.project(centre);
   if (!at || !(at->z > radius)) return;
   // The sphere's outline is an ellipse that grows towards the image's edges; 1.6x its on-axis radius plus
   // two pixels holds it for fields of view up to about 100 degrees.
   const float pixels = 1.6f * radius / (at->z * frame.tan_half_y) * 0.5f * float(frame.height) + 2.0f;
-  const int x0 = std::max(0, int(std::floor(at->x - pixels))), x1 = std::min(frame.width - 1, int(std::ceil(at->x + pixels)));
-  const int y0 = std::max(0, int(std::floor(at->y - pixels))), y1 = std::min(frame.height - 1, int(std::ceil(at->y + pixels)));
+  const int x0 = std::max(0, int(std::floor(at->x - pixels))),
+            x1 = std::min(frame.width - 1, int(std::ceil(at->x + pixels)));
+  const int y0 = std::max(0, int(std::floor(at->y - pixels))),
+            y1 = std::min(frame.height - 1, int(std::ceil(at->y + pixels)));
   const glm::vec3 to_camera = frame.position - centre;
   const float c = glm::dot(to_camera, to_camera) - radius * radius;
   for (int y = y0; y <= y1; ++y)

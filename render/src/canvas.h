@@ -19,7 +19,8 @@ struct Canvas {
 
   // Draws the sphere (centre, radius) where it is nearer than what the canvas holds; `colour` gets the
   // sphere's unit outward normal at the visible point. Spheres the camera is inside or behind are skipped.
-  void sphere(const bake::CameraFrame& frame, glm::vec3 centre, float radius, const std::function<glm::vec3(glm::vec3)>& colour);
+  void sphere(const bake::CameraFrame& frame, glm::vec3 centre, float radius,
+              const std::function<glm::vec3(glm::vec3)>& colour);
   // A segment from a to b, one pixel wide, in front of what the canvas holds.
   void line(const bake::CameraFrame& frame, glm::vec3 a, glm::vec3 b, glm::vec3 colour);
 };

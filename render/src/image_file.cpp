@@ -39,8 +39,10 @@ float exposure_of(const bake::Image& image) {
 void write_image(const std::filesystem::path& path, const bake::Image& image, float exposure) {
   const std::string extension = path.extension().string();
   if (extension == ".exr") return bake::write_exr(path, image);
-  if (extension != ".png") throw Error(ErrorKind::usage, fmt::format("{}: images are written as .png or .exr", path.string()));
-  if (image.width < 1 || image.height < 1 || image.pixels.size() != std::size_t(image.width) * std::size_t(image.height))
+  if (extension != ".png")
+    throw Error(ErrorKind::usage, fmt::format("{}: images are written as .png or .exr", path.string()));
+  if (image.width < 1 || image.height < 1 ||
+      image.pixels.size() != std::size_t(image.width) * std::size_t(image.height))
     throw Error(ErrorKind::internal, fmt::format("{}: image size does not match its pixels", path.string()));
   std::vector<std::uint8_t> rgb;
   rgb.reserve(image.pixels.size() * 3);

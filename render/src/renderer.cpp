@@ -14,7 +14,7 @@
 namespace probebake::render {
 namespace {
 
-constexpr std::array<std::string_view, 8> kViewNames = {"final", "indirect", "probes",     "octree",
+constexpr std::array<std::string_view, 8> kViewNames = {"final", "indirect",   "probes",    "octree",
                                                         "svo",   "relocation", "reference", "reference-indirect"};
 
 float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
@@ -22,9 +22,19 @@ float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * 
 // One hue per octree depth (0-12), distinct neighbours.
 glm::vec3 depth_colour(int depth) {
   static constexpr std::array<glm::vec3, 13> kPalette = {{
-      {0.60f, 0.60f, 0.60f}, {0.12f, 0.47f, 0.71f}, {1.00f, 0.50f, 0.05f}, {0.17f, 0.63f, 0.17f}, {0.84f, 0.15f, 0.16f},
-      {0.58f, 0.40f, 0.74f}, {0.55f, 0.34f, 0.29f}, {0.89f, 0.47f, 0.76f}, {0.74f, 0.74f, 0.13f}, {0.09f, 0.75f, 0.81f},
-      {0.20f, 0.20f, 0.55f}, {0.55f, 0.80f, 0.30f}, {0.95f, 0.85f, 0.55f},
+      {0.60f, 0.60f, 0.60f},
+      {0.12f, 0.47f, 0.71f},
+      {1.00f, 0.50f, 0.05f},
+      {0.17f, 0.63f, 0.17f},
+      {0.84f, 0.15f, 0.16f},
+      {0.58f, 0.40f, 0.74f},
+      {0.55f, 0.34f, 0.29f},
+      {0.89f, 0.47f, 0.76f},
+      {0.74f, 0.74f, 0.13f},
+      {0.09f, 0.75f, 0.81f},
+      {0.20f, 0.20f, 0.55f},
+      {0.55f, 0.80f, 0.30f},
+      {0.95f, 0.85f, 0.55f},
   }};
   return kPalette[std::size_t(std::clamp(depth, 0, 12))];
 }
@@ -32,7 +42,11 @@ glm::vec3 depth_colour(int depth) {
 // Lookups that blend 1, 2, 3 or 4 probes: dark blue to yellow; none: magenta.
 glm::vec3 stencil_colour(int probes) {
   static constexpr std::array<glm::vec3, 5> kRamp = {{
-      {1.0f, 0.0f, 1.0f}, {0.15f, 0.20f, 0.65f}, {0.10f, 0.60f, 0.60f}, {0.45f, 0.80f, 0.25f}, {0.98f, 0.90f, 0.15f},
+      {1.0f, 0.0f, 1.0f},
+      {0.15f, 0.20f, 0.65f},
+      {0.10f, 0.60f, 0.60f},
+      {0.45f, 0.80f, 0.25f},
+      {0.98f, 0.90f, 0.15f},
   }};
   return kRamp[std::size_t(std::clamp(probes, 0, 4))];
 }
@@ -48,7 +62,9 @@ bool on_cube_border(glm::vec3 p, glm::vec3 n, glm::vec3 min, float size, float w
   return false;
 }
 
-float cube_size(const gpu::VolumeInfo& info, int depth) { return info.root_size / float(1 << std::clamp(depth, 0, 30)); }
+float cube_size(const gpu::VolumeInfo& info, int depth) {
+  return info.root_size / float(1 << std::clamp(depth, 0, 30));
+}
 
 // A tenth of the probe's cell: its octree cube, the grid's cell, or (skeleton) a quarter of an SVO voxel.
 float default_radius(const gpu::VolumeInfo& info, const gpu::Probe& probe) {
@@ -84,17 +100,21 @@ std::string_view view_legend(View view) {
   case View::reference_indirect: return "";
   case View::probes: return "spheres: each live probe's irradiance in every direction, over the indirect view in grey";
   case View::octree:
-    return "colour: depth of the octree leaf (0 grey, 1 blue, 2 orange, 3 green, 4 red, 5 purple, 6 brown, ...); dark lines: leaf borders";
+    return "colour: depth of the octree leaf (0 grey, 1 blue, 2 orange, 3 green, 4 red, 5 purple, 6 brown, ...); dark "
+           "lines: leaf borders";
   case View::svo:
-    return "colour: probes the lookup blends (1 dark blue, 2 teal, 3 green, 4 yellow); magenta: none (direct light only); dark lines: SVO voxels";
+    return "colour: probes the lookup blends (1 dark blue, 2 teal, 3 green, 4 yellow); magenta: none (direct light "
+           "only); dark lines: SVO voxels";
   case View::relocation:
-    return "blue-grey: probe at its cube's centre; orange: moved out of geometry (line from the centre); red: leaf without a probe";
+    return "blue-grey: probe at its cube's centre; orange: moved out of geometry (line from the centre); red: leaf "
+           "without a probe";
   }
   return "";
 }
 
 Renderer::Renderer(RenderInputs inputs) : in_(std::move(inputs)), frame_((bake::check_camera(in_.camera), in_.camera)) {
-  if (in_.scene == nullptr || in_.rays == nullptr) throw Error(ErrorKind::internal, "Renderer: scene and rays are required");
+  if (in_.scene == nullptr || in_.rays == nullptr)
+    throw Error(ErrorKind::internal, "Renderer: scene and rays are required");
   hits_ = bake::camera_surface_points(*in_.rays, in_.camera, &distances_);
 }
 
@@ -106,7 +126,8 @@ const std::vector<glm::vec3>& Renderer::indirect() {
     if (hit) positions.push_back(hit->position), normals.push_back(hit->normal);
   const std::vector<glm::vec3> values = in_.indirect(positions, normals);
   if (values.size() != positions.size())
-    throw Error(ErrorKind::internal, fmt::format("the lookup returned {} values for {} points", values.size(), positions.size()));
+    throw Error(ErrorKind::internal,
+                fmt::format("the lookup returned {} values for {} points", values.size(), positions.size()));
   indirect_.assign(hits_.size(), glm::vec3(0.0f));
   for (std::size_t i = 0, k = 0; i < hits_.size(); ++i)
     if (hits_[i]) indirect_[i] = values[k++];
@@ -159,7 +180,8 @@ bake::Image Renderer::render_irradiance(bool with_direct) {
   bake::LightingSettings lighting;
   lighting.emissive_as_lights = in_.emitters_as_lights;
   const bake::lighting_detail::DirectLighting direct(*in_.scene, *in_.rays, lighting); // the bake's own
-  return surfaces([&](std::size_t i) { return probes[i] + direct.irradiance(hits_[i]->position, hits_[i]->normal); }).image;
+  return surfaces([&](std::size_t i) { return probes[i] + direct.irradiance(hits_[i]->position, hits_[i]->normal); })
+      .image;
 }
 
 // The path tracer at every pixel's first hit (the receivers of `probebake reference`, one per pixel).
@@ -195,13 +217,16 @@ bake::Image Renderer::render_probes() {
 
 bake::Image Renderer::render_octree() const {
   const formats::ProbeVolume& v = volume();
-  if (v.info.placement != gpu::PLACEMENT_OCTREE) throw Error(ErrorKind::usage, "the octree view needs a volume with octree placement");
+  if (v.info.placement != gpu::PLACEMENT_OCTREE)
+    throw Error(ErrorKind::usage, "the octree view needs a volume with octree placement");
   return surfaces([&](std::size_t i) {
            const bake::SamplePoint& hit = *hits_[i];
            const auto leaf = formats::find_leaf(v, hit.position);
            if (!leaf) return shade(i, glm::vec3(0.25f));
            const glm::vec3 colour = depth_colour(leaf->depth);
-           return shade(i, on_cube_border(hit.position, hit.normal, leaf->min, leaf->size, border_width(hit.position)) ? 0.25f * colour : colour);
+           return shade(i, on_cube_border(hit.position, hit.normal, leaf->min, leaf->size, border_width(hit.position))
+                               ? 0.25f * colour
+                               : colour);
          })
       .image;
 }
@@ -213,7 +238,8 @@ bake::Image Renderer::render_svo() const {
            const bake::SamplePoint& hit = *hits_[i];
            const bake::ProbeStencil stencil = bake::svo_stencil(v, hit.position, hit.normal);
            int used = 0;
-           for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k) used += stencil.probes[k] >= 0 && stencil.weights[k] > 0.0f;
+           for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
+             used += stencil.probes[k] >= 0 && stencil.weights[k] > 0.0f;
            glm::vec3 colour = stencil_colour(used);
            int depth = 0;
            const glm::vec3 p = hit.position + hit.normal * bake::normal_bias(v.info); // where the lookup looks
@@ -230,13 +256,15 @@ bake::Image Renderer::render_svo() const {
 bake::Image Renderer::render_relocation() const {
   const formats::ProbeVolume& v = volume();
   if (v.info.placement != gpu::PLACEMENT_OCTREE)
-    throw Error(ErrorKind::usage, "the relocation view needs a volume with octree placement (probes start at their cube's centre)");
+    throw Error(ErrorKind::usage,
+                "the relocation view needs a volume with octree placement (probes start at their cube's centre)");
   Canvas canvas = surfaces([&](std::size_t i) { return shade(i, glm::vec3(0.5f)); });
   formats::for_each_leaf(v, [&](const formats::NodeCube& leaf) {
     const int element = v.octree[std::size_t(leaf.node)];
     const float cell_radius = in_.probe_radius > 0.0f ? in_.probe_radius : 0.1f * leaf.size;
     if (element == 0) {
-      canvas.sphere(frame_, leaf.centre(), 0.6f * cell_radius, [&](glm::vec3 n) { return kLeafWithoutProbeColour * (0.6f + 0.4f * std::abs(n.y)); });
+      canvas.sphere(frame_, leaf.centre(), 0.6f * cell_radius,
+                    [&](glm::vec3 n) { return kLeafWithoutProbeColour * (0.6f + 0.4f * std::abs(n.y)); });
       return;
     }
     if (element > 0 || std::size_t(~element) >= v.probes.size()) return; // a parent, or a link validate() refuses

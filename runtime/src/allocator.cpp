@@ -62,7 +62,8 @@ void Buffer::release() {
 // ---- Allocator -------------------------------------------------------------------------------------------
 Allocator::Allocator(VkPhysicalDevice physical_device, VkDevice device) : device_(device) {
   vkGetPhysicalDeviceMemoryProperties(physical_device, &memory_);
-  auto maintenance3 = vk_struct<VkPhysicalDeviceMaintenance3Properties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES);
+  auto maintenance3 =
+      vk_struct<VkPhysicalDeviceMaintenance3Properties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES);
   auto properties = vk_struct<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2);
   properties.pNext = &maintenance3;
   vkGetPhysicalDeviceProperties2(physical_device, &properties);
@@ -114,7 +115,8 @@ Buffer Allocator::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, Mem
   DeviceObject<VkDeviceMemory> memory(device_, raw_memory, vkFreeMemory);
   check_vk(vkBindBufferMemory(device_, buffer.get(), memory.get(), 0), "vkBindBufferMemory");
   void* mapped = nullptr;
-  if (use != MemoryUse::device) check_vk(vkMapMemory(device_, memory.get(), 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
+  if (use != MemoryUse::device)
+    check_vk(vkMapMemory(device_, memory.get(), 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
 
   live_.emplace(buffer.get(), Live{name, requirements.size});
   live_bytes_ += requirements.size;
@@ -138,9 +140,7 @@ void Allocator::destroy(VkBuffer buffer, VkDeviceMemory memory) {
   live_.erase(it);
 }
 
-MemoryStats Allocator::stats() const {
-  return {live_.size(), live_bytes_, peak_bytes_, allocations_};
-}
+MemoryStats Allocator::stats() const { return {live_.size(), live_bytes_, peak_bytes_, allocations_}; }
 
 std::string Allocator::live_report() const {
   std::string report;

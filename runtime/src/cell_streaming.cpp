@@ -17,9 +17,13 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
                              std::unique_ptr<CellSource> source, const StreamingOptions& options, std::uint32_t rings,
                              bool lists_probes)
     : tracing_(device, volume, tracing, std::move(source), options.budget_bytes,
-               options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings, options.read_in_background),
-      residency_(StreamedTracing::footprints(volume)), lit_(volume.cells.size(), 0),
-      max_joining_probes_(options.max_joining_probes), max_budget_(options.budget_bytes), lists_probes_(lists_probes) {
+               options.max_upload_bytes != 0 ? options.max_upload_bytes : options.budget_bytes, rings,
+               options.read_in_background),
+      residency_(StreamedTracing::footprints(volume)),
+      lit_(volume.cells.size(), 0),
+      max_joining_probes_(options.max_joining_probes),
+      max_budget_(options.budget_bytes),
+      lists_probes_(lists_probes) {
   residency_.set_budget(options.budget_bytes);
   residency_.set_max_load_bytes(options.max_upload_bytes);
   residency_.set_keep_margin(options.keep_margin);
@@ -28,7 +32,8 @@ CellStreaming::CellStreaming(Device& device, const formats::ProbeVolume& volume,
   const std::size_t probes = lists_probes ? volume.probes.size() : 0;
   const std::size_t slots = options.max_lit_probes > 0 ? std::min(probes, std::size_t(options.max_lit_probes)) : probes;
   record_of_probe_.assign(probes, -1);
-  if (slots >= std::size_t(gpu::RECORD_SLOT_UNRESOLVED)) fail(StatusCode::unsupported, "streaming: more probes with light records than record slots can number");
+  if (slots >= std::size_t(gpu::RECORD_SLOT_UNRESOLVED))
+    fail(StatusCode::unsupported, "streaming: more probes with light records than record slots can number");
   record_slot_count_ = std::uint32_t(slots);
   free_records_.reserve(slots);
   for (std::size_t r = slots; r-- > 0;) free_records_.push_back(std::int32_t(r)); // slot 0 handed out first
@@ -44,7 +49,8 @@ void CellStreaming::find_cells_within_reach(const formats::ProbeVolume& volume, 
   const float width = volume.info.root_size / float(n);
   const int span = int(std::min(float(n), std::ceil(reach / width)));
   std::vector<std::int32_t> record_of_cell(std::size_t(n) * std::size_t(n) * std::size_t(n), -1);
-  for (std::size_t k = 0; k < volume.cells.size(); ++k) record_of_cell[std::size_t(volume.cells[k].cell_index)] = std::int32_t(k);
+  for (std::size_t k = 0; k < volume.cells.size(); ++k)
+    record_of_cell[std::size_t(volume.cells[k].cell_index)] = std::int32_t(k);
   const auto gap = [](int d) { return float(std::max(0, std::abs(d) - 1)); };
   for (std::size_t k = 0; k < volume.cells.size(); ++k) {
     const int c = volume.cells[k].cell_index, x = c % n, y = c / n % n, z = c / (n * n);
@@ -62,9 +68,7 @@ void CellStreaming::find_cells_within_reach(const formats::ProbeVolume& volume, 
   }
 }
 
-std::vector<std::uint32_t> CellStreaming::take_tree_changes() {
-  return std::exchange(tree_changes_, {});
-}
+std::vector<std::uint32_t> CellStreaming::take_tree_changes() { return std::exchange(tree_changes_, {}); }
 
 std::vector<int> CellStreaming::resident_cells() const {
   std::vector<int> out;
@@ -78,7 +82,8 @@ bool CellStreaming::lightable(std::size_t k) const {
   return std::all_of(reach_[k].begin(), reach_[k].end(), [&](std::uint32_t n) { return residency_.resident(n); });
 }
 
-bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes, std::vector<formats::CellRange>& retrace,
+bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes,
+                                     std::vector<formats::CellRange>& retrace,
                                      std::vector<formats::CellRange>& reassigned, StreamStats& stats) {
   bool changed = false;
   // Cells dropped, or with a cell within light_reach dropped: their probes leave the light list. Only a drop
@@ -86,7 +91,8 @@ bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes,
   for (std::size_t k = 0; k < lit_.size() && !changes.drops.empty(); ++k) {
     if (lit_[k] == 0 || lightable(k)) continue;
     const formats::CellRange& probes = probe_ranges_[k];
-    for (std::uint32_t i = 0; i < lit_[k]; ++i) free_records_.push_back(std::exchange(record_of_probe_[probes.first + i], -1));
+    for (std::uint32_t i = 0; i < lit_[k]; ++i)
+      free_records_.push_back(std::exchange(record_of_probe_[probes.first + i], -1));
     reassigned.push_back({probes.first, lit_[k], 0, 0});
     lit_[k] = 0;
     changed = true;
@@ -119,7 +125,8 @@ bool CellStreaming::update_lit_cells(const streaming::ResidencyChanges& changes,
     stats.joined_probes += int(take);
     changed = true;
   }
-  std::erase_if(joining_, [&](std::size_t k) { return lit_[k] == probe_ranges_[k].count ? (queued_[k] = 0, true) : false; });
+  std::erase_if(joining_,
+                [&](std::size_t k) { return lit_[k] == probe_ranges_[k].count ? (queued_[k] = 0, true) : false; });
   for (std::size_t k : joining_) stats.joining_probes += int(probe_ranges_[k].count - lit_[k]);
   return changed;
 }
@@ -146,13 +153,16 @@ StreamStats CellStreaming::record(VkCommandBuffer cmd, PassTimer& timer, std::ui
       light.record_record_slots(cmd, reassigned, record_of_probe_);
       light.record_host_list(cmd, slots, retrace);
     }
-    const int loaded = int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
+    const int loaded =
+        int(changes.loads.size() - missed.unplaced.size() - missed.reading.size() - missed.refused.size());
     if (!lists_probes_) {
       for (std::size_t k : changes.drops) tree_changes_.push_back(std::uint32_t(residency_.cells()[k].cell_index));
       for (std::size_t k : changes.loads)
         if (residency_.resident(k)) tree_changes_.push_back(std::uint32_t(k) | gpu::MEMORY_CELL_ARRIVED);
     }
-    if (loaded > 0) light.retry_unresolved(std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
+    if (loaded > 0)
+      light.retry_unresolved(
+          std::uint32_t(std::max(0, max_joining_probes_))); // geometry arrived: retry, as many a frame as join
     timer.end(cmd, slot);
     timed = true;
     barrier(cmd, kTransferWrite, kComputeAndIndirect); // the light update dispatches by the list's sizes

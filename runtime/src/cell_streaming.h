@@ -31,7 +31,8 @@ public:
                 bool lists_probes = true);
   // How the light update finds a probe's records (light_update_pass.h).
   RecordSlots record_slots() const {
-    return lists_probes_ ? RecordSlots{RecordSlots::Kind::handed_out, record_slot_count_} : RecordSlots{RecordSlots::Kind::own_marked, 0};
+    return lists_probes_ ? RecordSlots{RecordSlots::Kind::handed_out, record_slot_count_}
+                         : RecordSlots{RecordSlots::Kind::own_marked, 0};
   }
 
   StreamedTracing& tracing() { return tracing_; }
@@ -50,8 +51,8 @@ public:
   // Records this frame's residency changes (between the timer slot's timestamps when there are any) and
   // the light list; ring `ring`'s staging buffer must be free.
   // `timed`: set when the slot's timestamps were written.
-  StreamStats record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, std::uint32_t ring, LightUpdatePass& light,
-                     bool& timed);
+  StreamStats record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, std::uint32_t ring,
+                     LightUpdatePass& light, bool& timed);
 
 private:
   StreamedTracing tracing_;
@@ -66,14 +67,14 @@ private:
   // Resident, and so is every cell within light_reach: its probes may be lit.
   bool lightable(std::size_t k) const;
 
-  std::vector<formats::CellRange> probe_ranges_; // per Cell record: its probe slots
-  std::vector<std::uint32_t> lit_;               // per Cell record: its first lit_[k] probes are in the light list
-  std::vector<std::size_t> joining_;             // lightable cells with probes not lit yet, in arrival order
-  std::vector<std::uint8_t> queued_;             // per Cell record: in joining_
+  std::vector<formats::CellRange> probe_ranges_;  // per Cell record: its probe slots
+  std::vector<std::uint32_t> lit_;                // per Cell record: its first lit_[k] probes are in the light list
+  std::vector<std::size_t> joining_;              // lightable cells with probes not lit yet, in arrival order
+  std::vector<std::uint8_t> queued_;              // per Cell record: in joining_
   std::vector<std::vector<std::uint32_t>> reach_; // per Cell record: the cells within light_reach (with faces)
-  std::vector<std::size_t> reach_cells_;         // the records with probes and a non-empty reach_
-  std::vector<std::int32_t> record_of_probe_;    // per probe slot: its record slot, -1 when not lit
-  std::vector<std::int32_t> free_records_;       // record slots not handed out (taken from the back)
+  std::vector<std::size_t> reach_cells_;          // the records with probes and a non-empty reach_
+  std::vector<std::int32_t> record_of_probe_;     // per probe slot: its record slot, -1 when not lit
+  std::vector<std::int32_t> free_records_;        // record slots not handed out (taken from the back)
   std::vector<std::string> refusals_;
   std::vector<std::uint32_t> tree_changes_; // take_tree_changes()
   std::uint32_t record_slot_count_ = 0;

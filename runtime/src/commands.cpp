@@ -97,8 +97,8 @@ std::vector<double> PassTimer::read_ms(std::uint32_t passes) const {
 double PassTimer::read_pass_ms(std::uint32_t pass, std::uint32_t ring) const {
   if (!pool_) return -1.0;
   std::uint64_t ticks[2] = {0, 0};
-  check_vk(vkGetQueryPoolResults(device_.vk(), pool_.get(), query(ring, pass), 2, sizeof(ticks), ticks, sizeof(std::uint64_t),
-                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+  check_vk(vkGetQueryPoolResults(device_.vk(), pool_.get(), query(ring, pass), 2, sizeof(ticks), ticks,
+                                 sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
            "vkGetQueryPoolResults");
   const std::uint32_t bits = device_.timestamp_valid_bits;
   const std::uint64_t mask = bits >= 64 ? ~0ull : (1ull << bits) - 1;

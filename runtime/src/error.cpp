@@ -50,8 +50,8 @@ const char* vk_result_name(VkResult result) {
 
 void check_vk(VkResult result, const char* what) {
   if (result >= 0) return;
-  const std::string message = std::string(what) + ": " + vk_result_name(result) + " (" +
-                              std::to_string(static_cast<int>(result)) + ")";
+  const std::string message =
+      std::string(what) + ": " + vk_result_name(result) + " (" + std::to_string(static_cast<int>(result)) + ")";
   switch (result) {
   case VK_ERROR_OUT_OF_HOST_MEMORY:
   case VK_ERROR_OUT_OF_DEVICE_MEMORY:
@@ -70,7 +70,7 @@ Status status_from_current_exception() {
     return {e.code(), e.what()};
   } catch (const Error& e) {
     // formats' errors: bad input is a file problem, the rest are bugs on one side or the other.
-    const StatusCode code = e.kind() == ErrorKind::input ? StatusCode::file_error
+    const StatusCode code = e.kind() == ErrorKind::input   ? StatusCode::file_error
                             : e.kind() == ErrorKind::usage ? StatusCode::invalid_argument
                                                            : StatusCode::internal;
     return {code, e.what()};

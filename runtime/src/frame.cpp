@@ -4,7 +4,8 @@ namespace probebake::runtime::detail {
 
 static_assert(kFramePassNames.size() == kFramePasses); // the public names, in the timer slots' order
 
-RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes, const FrameInputs& inputs) {
+RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePasses& passes,
+                           const FrameInputs& inputs) {
   RecordedFrame frame;
   // Everything earlier on the queue (upload, last frame, sampling, and the host's own commands reading the
   // volume's buffers in any stage) before this frame's passes (thesis §3.2: a barrier between every two

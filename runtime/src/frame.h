@@ -42,7 +42,7 @@ struct FramePasses {
   MemoryUpdatePass* memory = nullptr;
   LightInputs* light_inputs = nullptr; // with `light`: the host's punctual lights, uploaded into `volume`
   GpuVolume* volume = nullptr;
-  ObjectPoses* objects = nullptr; // volumes with dynamic objects: the host's poses
+  ObjectPoses* objects = nullptr;     // volumes with dynamic objects: the host's poses
   CellStreaming* streaming = nullptr; // with `light`, UploadOptions::streaming: the cells around the camera
 };
 

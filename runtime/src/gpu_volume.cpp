@@ -58,7 +58,8 @@ bool is_streamed_section(Section section) {
 
 } // namespace
 
-GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom, bool streamed_tracing)
+GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom,
+                     bool streamed_tracing)
     : device_(device) {
   auto sections = sections_of(volume);
   if (streamed_tracing)
@@ -78,8 +79,8 @@ GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::si
   }
   placeholder_ = device.allocator->create_buffer(16, kSectionUsage, MemoryUse::device, "placeholder");
   if (!volume.dynamic_objects.empty()) // written by ObjectPoses before anything traces
-    object_instances_ = device.allocator->create_buffer(volume.dynamic_objects.size() * sizeof(gpu::ObjectInstance), kSectionUsage,
-                                                        MemoryUse::device, "object instances");
+    object_instances_ = device.allocator->create_buffer(volume.dynamic_objects.size() * sizeof(gpu::ObjectInstance),
+                                                        kSectionUsage, MemoryUse::device, "object instances");
   Buffer staging = device.allocator->create_buffer(std::max<std::size_t>(total, 4), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                                    MemoryUse::upload, "upload staging");
   Submission submission(device);
@@ -87,7 +88,8 @@ GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::si
   for (std::size_t i = 0; i < kSectionCount; ++i) {
     const std::size_t capacity_bytes = capacity_[i] * sections[i].element_size;
     if (capacity_bytes == 0) continue;
-    buffers_[i] = device.allocator->create_buffer(capacity_bytes, kSectionUsage, MemoryUse::device, name_of(Section(i)));
+    buffers_[i] =
+        device.allocator->create_buffer(capacity_bytes, kSectionUsage, MemoryUse::device, name_of(Section(i)));
     const std::size_t bytes = sections[i].bytes();
     // Headroom records stay zero (a zero intensity lights nothing) until the host fills them.
     if (capacity_bytes > bytes) vkCmdFillBuffer(submission.cmd(), buffers_[i].get(), bytes, capacity_bytes - bytes, 0);
@@ -104,8 +106,8 @@ GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::si
 void GpuVolume::set_live_elements(Section section, std::size_t count) {
   const auto i = static_cast<std::size_t>(section);
   if (count > capacity_[i])
-    fail(StatusCode::internal, name_of(section) + ": " + std::to_string(count) +
-                                   " live elements exceed the capacity " + std::to_string(capacity_[i]));
+    fail(StatusCode::internal, name_of(section) + ": " + std::to_string(count) + " live elements exceed the capacity " +
+                                   std::to_string(capacity_[i]));
   elements_[i] = count;
 }
 

@@ -27,7 +27,8 @@ public:
   // maxStorageBufferRange, naming the section and both sizes.
   // `streamed_tracing`: the static tree's sections (trees, nodes, faces, vertices) get no buffer here; the
   // streaming arena (streamed_tracing.h) takes their bindings through set_streamed_tracing().
-  GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom = 0, bool streamed_tracing = false);
+  GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom = 0,
+            bool streamed_tracing = false);
 
   // A copy of every buffer; the CPU-only members (cells, cell_depth, input_hash) come from `cpu_parts`.
   formats::ProbeVolume read_back(const formats::ProbeVolume& cpu_parts) const;

@@ -30,7 +30,8 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT
 
 VkDebugUtilsMessengerCreateInfoEXT messenger_info(MessageLog* log) {
   auto info = vk_struct<VkDebugUtilsMessengerCreateInfoEXT>(VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
-  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
   info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   info.pfnUserCallback = on_message;
@@ -121,8 +122,10 @@ Instance Instance::borrow(VkInstance handle) {
 }
 
 Instance::Instance(Instance&& other) noexcept
-    : instance_(std::exchange(other.instance_, VK_NULL_HANDLE)), owned_(std::exchange(other.owned_, false)),
-      messenger_(std::exchange(other.messenger_, VK_NULL_HANDLE)), log_(std::move(other.log_)) {}
+    : instance_(std::exchange(other.instance_, VK_NULL_HANDLE)),
+      owned_(std::exchange(other.owned_, false)),
+      messenger_(std::exchange(other.messenger_, VK_NULL_HANDLE)),
+      log_(std::move(other.log_)) {}
 
 Instance& Instance::operator=(Instance&& other) noexcept {
   if (this != &other) {

@@ -23,11 +23,14 @@ const char* broken_field(const gpu::PunctualLight& l) {
   if (!(std::isfinite(l.range) && l.range >= 0.0f)) return "range (not finite or negative)";
   if (l.type == gpu::LIGHT_POINT) return nullptr;
   // The shaders take direction as unit (dot products for cosines).
-  const float length = std::sqrt(l.direction.x * l.direction.x + l.direction.y * l.direction.y + l.direction.z * l.direction.z);
-  if (!(std::abs(length - 1.0f) <= 1e-4f)) return "direction (not a unit vector within 1e-4)"; // formats::validate's tolerance
+  const float length =
+      std::sqrt(l.direction.x * l.direction.x + l.direction.y * l.direction.y + l.direction.z * l.direction.z);
+  if (!(std::abs(length - 1.0f) <= 1e-4f))
+    return "direction (not a unit vector within 1e-4)"; // formats::validate's tolerance
   if (l.type != gpu::LIGHT_SPOT) return nullptr;
   if (!(l.cos_outer >= -1.0f && l.cos_outer <= 1.0f)) return "cos_outer (outside [-1, 1])";
-  if (!(l.spot_scale > 0.0f && l.spot_scale <= 1000.0f)) return "spot_scale (outside (0, 1000])"; // 1 / 0.001: bake's floor
+  if (!(l.spot_scale > 0.0f && l.spot_scale <= 1000.0f))
+    return "spot_scale (outside (0, 1000])"; // 1 / 0.001: bake's floor
   return nullptr;
 }
 
@@ -46,20 +49,21 @@ gpu::PunctualLight canonical(gpu::PunctualLight l) {
 
 bool same_bytes(const gpu::PunctualLight& a, const gpu::PunctualLight& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-
 // vkCmdUpdateBuffer takes at most 65536 bytes per call.
 void update_buffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, const void* data, std::size_t bytes) {
   constexpr std::size_t kPiece = 65536;
   for (std::size_t done = 0; done < bytes; done += kPiece)
-    vkCmdUpdateBuffer(cmd, buffer, offset + done, std::min(kPiece, bytes - done), static_cast<const std::byte*>(data) + done);
+    vkCmdUpdateBuffer(cmd, buffer, offset + done, std::min(kPiece, bytes - done),
+                      static_cast<const std::byte*>(data) + done);
 }
 
 } // namespace
 
 Status check_lights(std::span<const gpu::PunctualLight> lights, std::size_t capacity) {
   if (lights.size() > capacity)
-    return {StatusCode::invalid_argument, "run_frame: " + std::to_string(lights.size()) + " punctual lights exceed the capacity " +
-                                              std::to_string(capacity) + " (the file's lights + UploadOptions::light_headroom)"};
+    return {StatusCode::invalid_argument, "run_frame: " + std::to_string(lights.size()) +
+                                              " punctual lights exceed the capacity " + std::to_string(capacity) +
+                                              " (the file's lights + UploadOptions::light_headroom)"};
   for (std::size_t i = 0; i < lights.size(); ++i)
     if (const char* field = broken_field(lights[i]))
       return {StatusCode::invalid_argument, "run_frame: punctual light " + std::to_string(i) + ": " + field};
@@ -99,11 +103,12 @@ int LightInputs::record(VkCommandBuffer cmd, GpuVolume& volume, std::span<const 
   // Last frame's passes read the records and the count before they are overwritten.
   barrier(cmd, kAnyDeviceAccess, kTransferWrite);
   if (last > first)
-    update_buffer(cmd, volume.buffer(Section::punctual_lights).get(), first * sizeof(gpu::PunctualLight), &lights[first],
-                  (last - first) * sizeof(gpu::PunctualLight));
+    update_buffer(cmd, volume.buffer(Section::punctual_lights).get(), first * sizeof(gpu::PunctualLight),
+                  &lights[first], (last - first) * sizeof(gpu::PunctualLight));
   if (count_changed) {
     const auto count = static_cast<std::int32_t>(lights.size());
-    vkCmdUpdateBuffer(cmd, volume.buffer(Section::lighting_info).get(), offsetof(gpu::LightingInfo, lights), sizeof count, &count);
+    vkCmdUpdateBuffer(cmd, volume.buffer(Section::lighting_info).get(), offsetof(gpu::LightingInfo, lights),
+                      sizeof count, &count);
   }
   barrier(cmd, kTransferWrite, kAnyDeviceAccess);
   current_.swap(staged_); // both reserved to the capacity: no allocation

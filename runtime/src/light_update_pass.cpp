@@ -20,10 +20,10 @@ constexpr VkBufferUsageFlags kScratchUsage =
 
 Buffer create_scratch(Device& device, VkDeviceSize bytes, const char* name) {
   if (bytes > device.info.max_storage_buffer_range)
-    fail(StatusCode::unsupported, std::string(name) + ": " + std::to_string(bytes) +
-                                      " bytes exceed maxStorageBufferRange (" +
-                                      std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name +
-                                      "; bake with fewer probes or lighting rays, or load with light_update = false");
+    fail(StatusCode::unsupported,
+         std::string(name) + ": " + std::to_string(bytes) + " bytes exceed maxStorageBufferRange (" +
+             std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name +
+             "; bake with fewer probes or lighting rays, or load with light_update = false");
   return device.allocator->create_buffer(bytes, kScratchUsage, MemoryUse::device, name);
 }
 
@@ -33,8 +33,8 @@ bool LightUpdatePass::applies(const GpuVolume& volume) {
   return volume.elements(Section::lighting_info) == 1 && volume.elements(Section::probes) > 0;
 }
 
-LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
-                                 RecordSlots records)
+LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis,
+                                 std::uint32_t rings, RecordSlots records)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
   indirect_records_ = records.kind != RecordSlots::Kind::own;
@@ -42,23 +42,26 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   const bool handed_out = records.kind == RecordSlots::Kind::handed_out;
   record_capacity_ = handed_out ? std::min(records.count, probe_capacity_) : probe_capacity_;
   create_record_pages(rays);
-  next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * gpu::PROBE_SH_FLOATS * sizeof(float), "next irradiance"); // by record slot
+  next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * gpu::PROBE_SH_FLOATS * sizeof(float),
+                                    "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
   // The header, the listed probe slots, the slots that trace this frame (light_trace_list.comp).
-  const VkDeviceSize list_bytes = sizeof(gpu::LightListHeader) + 2 * VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
+  const VkDeviceSize list_bytes =
+      sizeof(gpu::LightListHeader) + 2 * VkDeviceSize(probe_capacity_) * sizeof(std::int32_t);
   if (list_bytes > device.info.max_storage_buffer_range)
     fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                                 MemoryUse::device, "light list");
   relight_changes_ = create_scratch(device, sizeof(gpu::RelightChanges), "relight changes");
   const VkDeviceSize tracked_bytes = VkDeviceSize(record_capacity_) * VkDeviceSize(rays) * 3 * sizeof(float);
-  if (indirect_records_) record_slots_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::int32_t), "record slots");
+  if (indirect_records_)
+    record_slots_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::int32_t), "record slots");
   tracking_ = tracked_bytes <= device.info.max_storage_buffer_range;
   tracked_punctual_ = create_scratch(device, tracking_ ? tracked_bytes : 16, "tracked punctual");
   Buffer own_slots; // own_marked: record slot s for probe slot s, none marked unresolved
   if (retry_by_slot_) {
-    own_slots = device.allocator->create_buffer(record_slots_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload,
-                                                "record slots staging");
+    own_slots = device.allocator->create_buffer(record_slots_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                MemoryUse::upload, "record slots staging");
     auto* slots = static_cast<std::int32_t*>(own_slots.mapped());
     for (std::uint32_t s = 0; s < probe_capacity_; ++s) slots[s] = std::int32_t(s);
   }
@@ -90,12 +93,14 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_OCTREE] = volume.binding(Section::octree);
   buffers[gpu::LIGHT_BINDING_LIGHTING_INFO] = volume.binding(Section::lighting_info);
   buffers[gpu::LIGHT_BINDING_RAY_DIRECTIONS] = volume.binding(Section::ray_directions);
-  volume.bind_tracing(buffers, gpu::LIGHT_BINDING_TRACE_TREES, gpu::LIGHT_BINDING_TRACE_NODES, gpu::LIGHT_BINDING_TRACE_FACES,
-                      gpu::LIGHT_BINDING_TRACE_VERTICES, gpu::LIGHT_BINDING_TRACE_MATERIALS);
+  volume.bind_tracing(buffers, gpu::LIGHT_BINDING_TRACE_TREES, gpu::LIGHT_BINDING_TRACE_NODES,
+                      gpu::LIGHT_BINDING_TRACE_FACES, gpu::LIGHT_BINDING_TRACE_VERTICES,
+                      gpu::LIGHT_BINDING_TRACE_MATERIALS);
   buffers[gpu::LIGHT_BINDING_PUNCTUAL_LIGHTS] = volume.binding(Section::punctual_lights);
   buffers[gpu::LIGHT_BINDING_EMITTER_PATCHES] = volume.binding(Section::emitter_patches);
-  const std::uint32_t record_bindings[gpu::LIGHT_RECORD_PAGES] = {gpu::LIGHT_BINDING_RECORDS, gpu::LIGHT_BINDING_RECORDS_PAGE_1,
-                                                                   gpu::LIGHT_BINDING_RECORDS_PAGE_2, gpu::LIGHT_BINDING_RECORDS_PAGE_3};
+  const std::uint32_t record_bindings[gpu::LIGHT_RECORD_PAGES] = {
+      gpu::LIGHT_BINDING_RECORDS, gpu::LIGHT_BINDING_RECORDS_PAGE_1, gpu::LIGHT_BINDING_RECORDS_PAGE_2,
+      gpu::LIGHT_BINDING_RECORDS_PAGE_3};
   for (std::uint32_t page = 0; page < gpu::LIGHT_RECORD_PAGES; ++page) // unused pages repeat page 0
     buffers[record_bindings[page]] = record_pages_[page < record_pages_.size() ? page : 0].get();
   buffers[gpu::LIGHT_BINDING_NEXT_IRRADIANCE] = next_irradiance_.get();
@@ -112,15 +117,17 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
 }
 
 void LightUpdatePass::create_record_pages(int rays) {
-  if (rays < 1) fail(StatusCode::invalid_volume, "lighting_info: rays " + std::to_string(rays) + " < 1"); // unvalidated upload
+  if (rays < 1)
+    fail(StatusCode::invalid_volume, "lighting_info: rays " + std::to_string(rays) + " < 1"); // unvalidated upload
   const VkDeviceSize probe_bytes = VkDeviceSize(rays) * sizeof(gpu::LightRecord);
   const VkDeviceSize fit = device_.info.max_storage_buffer_range / probe_bytes; // whole probes per page
   const VkDeviceSize pages = fit == 0 ? gpu::LIGHT_RECORD_PAGES + 1 : (VkDeviceSize(record_capacity_) + fit - 1) / fit;
   if (pages > gpu::LIGHT_RECORD_PAGES)
-    fail(StatusCode::unsupported, "light records: " + std::to_string(VkDeviceSize(record_capacity_) * probe_bytes) + " bytes need " +
-                                      std::to_string(pages) + " pages of at most maxStorageBufferRange (" +
-                                      std::to_string(device_.info.max_storage_buffer_range) + ") of " + device_.info.name +
-                                      ", more than " + std::to_string(gpu::LIGHT_RECORD_PAGES) +
+    fail(StatusCode::unsupported, "light records: " + std::to_string(VkDeviceSize(record_capacity_) * probe_bytes) +
+                                      " bytes need " + std::to_string(pages) +
+                                      " pages of at most maxStorageBufferRange (" +
+                                      std::to_string(device_.info.max_storage_buffer_range) + ") of " +
+                                      device_.info.name + ", more than " + std::to_string(gpu::LIGHT_RECORD_PAGES) +
                                       "; bake with fewer probes or lighting rays, or load with light_update = false");
   probes_per_page_ = static_cast<std::uint32_t>(std::min<VkDeviceSize>(fit, record_capacity_)); // applies(): >= 1 probe
   for (std::uint32_t first = 0; first < record_capacity_; first += probes_per_page_) {
@@ -140,7 +147,8 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
   }
 }
 
-void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window) {
+void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot,
+                                     const gpu::LightPush& window) {
   const bool changed = relight_everything_ || changes_.count > 0;
   // A frame that recomputes whole sums everywhere (an object moved, or more than RELIGHT_MAX_CHANGES changes)
   // spends them on the gather window's probes; the others only note the change (stale) and catch up when the
@@ -151,7 +159,8 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   const std::uint32_t period = (probe_capacity_ + window.slot_count - 1) / std::max(window.slot_count, 1u);
   if (windowed && changed) stale_frames_left_ = period; // this frame and the next period - 1 windows
   // A budget changed while probes wait: a whole period of the new windows from here covers every slot.
-  if (stale_frames_left_ > 0 && window.slot_count != last_window_) stale_frames_left_ = std::max(stale_frames_left_, period);
+  if (stale_frames_left_ > 0 && window.slot_count != last_window_)
+    stale_frames_left_ = std::max(stale_frames_left_, period);
   last_window_ = window.slot_count;
   const bool catching_up = stale_frames_left_ > 0;
   if (catching_up) --stale_frames_left_;
@@ -203,7 +212,8 @@ void LightUpdatePass::retrace_crossing(std::span<const Box> boxes) {
 void LightUpdatePass::upload_moved_boxes(VkCommandBuffer cmd) {
   const std::uint32_t count = std::uint32_t(moved_boxes_.size());
   vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, moved_boxes), sizeof(count), &count);
-  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, boxes), count * sizeof(gpu::MovedBox), moved_boxes_.data());
+  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, boxes), count * sizeof(gpu::MovedBox),
+                    moved_boxes_.data());
 }
 
 void LightUpdatePass::record_trace_list(VkCommandBuffer cmd) {
@@ -212,8 +222,10 @@ void LightUpdatePass::record_trace_list(VkCommandBuffer cmd) {
   vkCmdFillBuffer(cmd, light_list_.get(), offsetof(gpu::LightListHeader, trace_x), 4 * sizeof(std::uint32_t), 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().light_trace_list.get());
-  if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, resolve_x)); // a thread per place
-  else dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+  if (queue_driven_)
+    vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, resolve_x)); // a thread per place
+  else
+    dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
   barrier(cmd, kComputeWrite, kComputeAndIndirect);
 }
 
@@ -224,7 +236,8 @@ void LightUpdatePass::record_mark_moved(VkCommandBuffer cmd) {
   moved_boxes_.clear();
 }
 
-bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits) {
+bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots,
+                             const FrameLimits& limits) {
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.light.layout.get();
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
@@ -235,11 +248,26 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
   const auto max_gathered = std::uint32_t(limits.max_gathered_probes);
-  const std::uint32_t window = max_gathered == 0 || queue_driven_ ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
+  const std::uint32_t window =
+      max_gathered == 0 || queue_driven_ ? probe_capacity_ : std::min(max_gathered, probe_capacity_);
   const std::uint32_t first = window == probe_capacity_ ? 0u : gather_cursor_;
   if (!queue_driven_ && probe_capacity_ > 0) gather_cursor_ = (first + window) % probe_capacity_;
-  gpu::LightPush push{probe_capacity_, hysteresis_, 0u, 0u, first, window, probes_per_page_, tracked_light_,
-                      limits.shadow_rays_per_record, frames_recorded_++, indirect_records_ ? 1u : 0u, 0u, null_leaf_, 0u, 0u, 0u};
+  gpu::LightPush push{probe_capacity_,
+                      hysteresis_,
+                      0u,
+                      0u,
+                      first,
+                      window,
+                      probes_per_page_,
+                      tracked_light_,
+                      limits.shadow_rays_per_record,
+                      frames_recorded_++,
+                      indirect_records_ ? 1u : 0u,
+                      0u,
+                      null_leaf_,
+                      0u,
+                      0u,
+                      0u};
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
   // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
@@ -253,10 +281,13 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   push.tracked_light = tracked_light_;
   push.first_slot = 0u, push.slot_count = probe_capacity_; // light_trace: every slot (its flags decide)
   // One workgroup per probe slot, or per listed probe (the list's indirect sizes, offset 0 or 16).
-  const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset, std::uint32_t z = 1) {
+  const auto dispatch = [&](VkPipeline pipeline, std::uint32_t slot_groups, VkDeviceSize list_offset,
+                            std::uint32_t z = 1) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    if (queue_driven_) vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
-    else dispatch_groups(cmd, device_, slot_groups, z);
+    if (queue_driven_)
+      vkCmdDispatchIndirect(cmd, light_list_.get(), list_offset);
+    else
+      dispatch_groups(cmd, device_, slot_groups, z);
   };
   const std::uint32_t retry_span = retry_by_slot_ ? probe_capacity_ : listed_; // list places or probe slots
   const bool retrying = retry_left_ > 0 && retry_span > 0;
@@ -324,7 +355,8 @@ void LightUpdatePass::record_host_list(VkCommandBuffer cmd, std::span<const std:
   if (retry_left_ > 0) retry_left_ = listed_; // places moved: a whole pass over the new list
   for (const formats::CellRange& range : retrace) {
     if (range.count == 0) continue;
-    vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4, gpu::TRACE_FLAG_RETRACE);
+    vkCmdFillBuffer(cmd, trace_flags_.get(), VkDeviceSize(range.first) * 4, VkDeviceSize(range.count) * 4,
+                    gpu::TRACE_FLAG_RETRACE);
     host_retrace_ = true;
   }
 }

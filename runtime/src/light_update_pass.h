@@ -91,7 +91,8 @@ public:
   void record_host_list(VkCommandBuffer cmd, std::span<const std::int32_t> slots,
                         std::span<const formats::CellRange> retrace);
   // Streaming: uploads the record slot (-1: none) of the probes in `ranges` from `slots` (one per probe slot).
-  void record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges, std::span<const std::int32_t> slots);
+  void record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges,
+                           std::span<const std::int32_t> slots);
   // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
   VkBuffer trace_flags() const { return trace_flags_.get(); }
   // Streaming: int per probe slot, its record slot (-1: not lit); VK_NULL_HANDLE otherwise.
@@ -122,21 +123,21 @@ private:
   float hysteresis_ = 0.0f;
   bool trace_pending_ = true;
   bool queue_driven_ = false;
-  bool host_listed_ = false;   // the host writes the light list (streaming): trace only when it asks
-  bool host_retrace_ = false;  // record_host_list flagged probes since the last trace
-  std::uint32_t listed_ = 0;        // entries of the host's light list
-  std::uint32_t retry_cursor_ = 0;  // first list place of the next retry window
-  std::uint32_t retry_window_ = 0;  // list places per frame
-  std::uint32_t retry_left_ = 0;    // list places still to retry since cells last arrived
+  bool host_listed_ = false;       // the host writes the light list (streaming): trace only when it asks
+  bool host_retrace_ = false;      // record_host_list flagged probes since the last trace
+  std::uint32_t listed_ = 0;       // entries of the host's light list
+  std::uint32_t retry_cursor_ = 0; // first list place of the next retry window
+  std::uint32_t retry_window_ = 0; // list places per frame
+  std::uint32_t retry_left_ = 0;   // list places still to retry since cells last arrived
   bool relight_everything_ = false;
   bool relit_ = false;
-  std::uint32_t gather_cursor_ = 0; // first slot of the next frame's gather window
-  std::uint32_t frames_recorded_ = 0; // the light sampling's seed: the same frames, the same draws
-  std::uint32_t stale_frames_left_ = 0; // frames until every window has caught up with the last change
-  std::uint32_t last_window_ = 0;       // the last frame's window size
+  std::uint32_t gather_cursor_ = 0;        // first slot of the next frame's gather window
+  std::uint32_t frames_recorded_ = 0;      // the light sampling's seed: the same frames, the same draws
+  std::uint32_t stale_frames_left_ = 0;    // frames until every window has caught up with the last change
+  std::uint32_t last_window_ = 0;          // the last frame's window size
   std::vector<gpu::MovedBox> moved_boxes_; // pending retrace_crossing boxes (empty: none)
-  gpu::RelightChanges changes_{};   // pending changes (changes_.count), uploaded by record()
-  std::size_t first_change_ = 0;    // light index of changes_.changes[0]
+  gpu::RelightChanges changes_{};          // pending changes (changes_.count), uploaded by record()
+  std::size_t first_change_ = 0;           // light index of changes_.changes[0]
   Buffer relight_changes_;
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.

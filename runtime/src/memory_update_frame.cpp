@@ -32,7 +32,8 @@ bool finite_box(const Box& b) {
 bool unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
 
 // The frame's boxes as the shaders take them: beyond MEMORY_MAX_BOXES, the rest are merged into the last.
-gpu::MemoryFrame to_frame(const FrameInputs& in, std::span<const Box> moved_boxes, int batches, std::uint32_t null_leaf) {
+gpu::MemoryFrame to_frame(const FrameInputs& in, std::span<const Box> moved_boxes, int batches,
+                          std::uint32_t null_leaf) {
   gpu::MemoryFrame f{};
   f.null_leaf = null_leaf;
   f.max_memory_entries = in.limits.max_memory_entries;
@@ -63,21 +64,25 @@ gpu::MemoryFrame to_frame(const FrameInputs& in, std::span<const Box> moved_boxe
 Status check_frame_inputs(const FrameInputs& in) {
   auto bad = [](const std::string& what) { return Status{StatusCode::invalid_argument, "run_frame: " + what}; };
   for (std::size_t b = 0; b < in.changed_boxes.size(); ++b)
-    if (!finite_box(in.changed_boxes[b])) return bad("changed box " + std::to_string(b) + " is not finite with min <= max");
+    if (!finite_box(in.changed_boxes[b]))
+      return bad("changed box " + std::to_string(b) + " is not finite with min <= max");
   if (in.max_depth && (*in.max_depth < 0 || *in.max_depth > gpu::OCTREE_MAX_DEPTH))
-    return bad("max_depth " + std::to_string(*in.max_depth) + " outside [0, " + std::to_string(gpu::OCTREE_MAX_DEPTH) + "]");
+    return bad("max_depth " + std::to_string(*in.max_depth) + " outside [0, " + std::to_string(gpu::OCTREE_MAX_DEPTH) +
+               "]");
   if (in.split_low && !unit_interval(*in.split_low)) return bad("split_low outside [0, 1]");
   if (in.split_high && !unit_interval(*in.split_high)) return bad("split_high outside [0, 1]");
   if (in.split_low && in.split_high && *in.split_low > *in.split_high) return bad("split_low above split_high");
   if (!unit_interval(in.dead_backface_fraction)) return bad("dead_backface_fraction outside [0, 1]");
   if (in.limits.max_memory_entries < 0 || in.limits.max_light_entries < 0 || in.limits.max_gathered_probes < 0)
     return bad("negative per-frame limit");
-  if (in.limits.shadow_rays_per_record < 0 || in.limits.shadow_rays_per_record == 1 || in.limits.shadow_rays_per_record > 9)
+  if (in.limits.shadow_rays_per_record < 0 || in.limits.shadow_rays_per_record == 1 ||
+      in.limits.shadow_rays_per_record > 9)
     return bad("shadow_rays_per_record " + std::to_string(in.limits.shadow_rays_per_record) + " is not 0 or in [2, 9]");
   return {};
 }
 
-void MemoryUpdatePass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads, std::uint32_t group_size) const {
+void MemoryUpdatePass::dispatch(VkCommandBuffer cmd, VkPipeline pipeline, std::uint32_t threads,
+                                std::uint32_t group_size) const {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   dispatch_groups(cmd, device_, std::max<std::uint32_t>(1, (threads + group_size - 1) / group_size));
   // Every step reads what the one before wrote, and may overwrite what it read; the state buffer (written
@@ -97,8 +102,8 @@ void MemoryUpdatePass::begin(VkCommandBuffer cmd, VkPipeline pipeline) const {
   barrier(cmd, kComputeReadWrite, kComputeAndIndirect);
 }
 
-void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const FrameInputs& inputs,
-                                            std::span<const Box> moved_boxes) {
+void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot,
+                                            const FrameInputs& inputs, std::span<const Box> moved_boxes) {
   Pipelines& p = device_.compute_pipelines();
   gpu::MemoryFrame frame = to_frame(inputs, moved_boxes, batches_per_probe_, null_leaf_);
   const bool thresholds = inputs.max_depth || inputs.split_low || inputs.split_high;
@@ -139,7 +144,8 @@ void MemoryUpdatePass::record_memory_update(VkCommandBuffer cmd, PassTimer& time
     }
     bind_set_and_push(cmd, p.memory.layout.get(), descriptors_.set, gpu::MemoryPush{0, 0, 0, 0});
   }
-  if (std::exchange(remeasure_, false)) dispatch(cmd, p.memory_remeasure.get(), std::uint32_t(info_.octree_elements), group);
+  if (std::exchange(remeasure_, false))
+    dispatch(cmd, p.memory_remeasure.get(), std::uint32_t(info_.octree_elements), group);
   dispatch(cmd, p.memory_svo.get(), std::uint32_t(info_.svo_leaves), group);
   timer.end(cmd, slot);
   // The probe index build and the light update read the tree, probes and SVO (compute, transfer).
@@ -184,10 +190,11 @@ std::size_t MemoryUpdatePass::take_cell_changes(gpu::MemoryFrame& frame, std::ve
       if (k >= seats_.size()) fail(StatusCode::internal, "memory update: an arrival names no cell record");
       const SeatPayload& payload = seats_[k];
       const std::size_t payload_ints = payload.ints();
-      const bool fits_alone = gpu::SEAT_HEADER_INTS + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
+      const bool fits_alone =
+          gpu::SEAT_HEADER_INTS + payload_ints <= seat_ints_; // else it grows by measures (CellSeat::clusters -1)
       if (gpu::SEAT_HEADER_INTS * (headers.size() + 1) + body.size() + (fits_alone ? payload_ints : 0) > seat_ints_ ||
           headers.size() >= segment_capacity_) // the seats' work lives in memory_work: one entry each
-        break; // the rest wait
+        break;                                 // the rest wait
       gpu::CellSeat seat = payload.seat;
       seat.first_word = seat.first_probe = seat.first_svo = int(body.size());
       if (fits_alone) {

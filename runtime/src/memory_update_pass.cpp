@@ -51,13 +51,16 @@ int batches_per_probe(const formats::ProbeVolume& v) {
 }
 
 // A device buffer holding `bytes` of `data` (at least 16 bytes, zero-padded), uploaded and waited for.
-Buffer upload(Device& device, const void* data, std::size_t bytes, const std::string& name, VkBufferUsageFlags extra = 0) {
+Buffer upload(Device& device, const void* data, std::size_t bytes, const std::string& name,
+              VkBufferUsageFlags extra = 0) {
   const std::size_t size = std::max<std::size_t>(bytes, 16);
   if (size > device.info.max_storage_buffer_range)
     fail(StatusCode::unsupported, name + ": " + std::to_string(size) + " bytes exceed maxStorageBufferRange (" +
-                                      std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name);
+                                      std::to_string(device.info.max_storage_buffer_range) + ") of " +
+                                      device.info.name);
   Buffer buffer = device.allocator->create_buffer(size, kUsage | extra, MemoryUse::device, name);
-  Buffer staging = device.allocator->create_buffer(size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload, name + " staging");
+  Buffer staging =
+      device.allocator->create_buffer(size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload, name + " staging");
   std::memset(staging.mapped(), 0, size);
   if (data && bytes > 0) std::memcpy(staging.mapped(), data, bytes);
   Submission submission(device);
@@ -107,12 +110,14 @@ std::vector<glm::vec4> svo_leaf_centres(const formats::ProbeVolume& v) {
     stack.pop_back();
     const int value = v.svo_nodes[std::size_t(item.node)];
     if (value < 0 && std::size_t(~value) < centres.size())
-      centres[std::size_t(~value)] = glm::vec4(item.min + glm::vec3(0.5f * item.size), float(item.node)); // exact below 2^24
+      centres[std::size_t(~value)] =
+          glm::vec4(item.min + glm::vec3(0.5f * item.size), float(item.node)); // exact below 2^24
     if (value <= 0 || item.depth >= 30) continue;
     for (int o = 0; o < 8; ++o) {
       if (std::size_t(value + o) >= v.svo_nodes.size()) break;
       const float half = 0.5f * item.size;
-      stack.push_back({value + o, item.min + glm::vec3(float(o & 1), float((o >> 1) & 1), float((o >> 2) & 1)) * half, half, item.depth + 1});
+      stack.push_back({value + o, item.min + glm::vec3(float(o & 1), float((o >> 1) & 1), float((o >> 2) & 1)) * half,
+                       half, item.depth + 1});
     }
   }
   return centres;
@@ -120,7 +125,8 @@ std::vector<glm::vec4> svo_leaf_centres(const formats::ProbeVolume& v) {
 
 // The bake's stencils of `file`'s SVO leaves with their probes as node keys (SEAT_STENCIL_VEC4S), appended
 // to the leaf centres for the seats to restore.
-void append_bake_stencils(std::vector<glm::vec4>& bake, const formats::ProbeVolume& file, const std::vector<NodeKey>& keys) {
+void append_bake_stencils(std::vector<glm::vec4>& bake, const formats::ProbeVolume& file,
+                          const std::vector<NodeKey>& keys) {
   for (const gpu::SvoLeaf& stencil : file.svo_leaves) {
     std::array<std::int32_t, 8> key_words{-1, -1, -1, -1, 0, 0, 0, 0}; // x | y << 16 per probe, then z | depth << 16
     for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k) {
@@ -147,10 +153,13 @@ formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume v, const Mem
   {
     formats::Octree grow(v, formats::Octree::Growth::automatic);
     const auto room = [](int requested, std::uint64_t used, std::uint64_t seat, std::uint64_t least) {
-      return requested >= 0 ? requested : int(std::min<std::uint64_t>(seat + std::max(least, used + seat), std::uint64_t(1) << 30));
+      return requested >= 0 ? requested
+                            : int(std::min<std::uint64_t>(seat + std::max(least, used + seat), std::uint64_t(1) << 30));
     };
-    const int free_probes = room(pools.free_probes, v.probes.size() - std::size_t(grow.free_probes()), seats.probes, 512);
-    grow.reserve_clusters(room(pools.free_clusters, formats::complete_clusters(v.octree.size()) - std::size_t(grow.free_clusters()),
+    const int free_probes =
+        room(pools.free_probes, v.probes.size() - std::size_t(grow.free_probes()), seats.probes, 512);
+    grow.reserve_clusters(room(pools.free_clusters,
+                               formats::complete_clusters(v.octree.size()) - std::size_t(grow.free_clusters()),
                                seats.clusters, 64));
     grow.reserve_probes(free_probes);
     if (!v.surfel_batches.empty())
@@ -169,22 +178,28 @@ formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume v, const Mem
   return v;
 }
 
-MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v, VkBuffer trace_flags,
-                                   VkBuffer light_list, std::uint32_t rings, std::uint32_t seat_ints,
-                                   const formats::ProbeVolume* cells_file)
-    : device_(device), volume_(volume), info_(v.info), batches_per_probe_(batches_per_probe(v)),
-      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)), seat_ints_(std::min(seat_ints, std::uint32_t(gpu::MEMORY_SEAT_INTS))) {
+MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, const formats::ProbeVolume& v,
+                                   VkBuffer trace_flags, VkBuffer light_list, std::uint32_t rings,
+                                   std::uint32_t seat_ints, const formats::ProbeVolume* cells_file)
+    : device_(device),
+      volume_(volume),
+      info_(v.info),
+      batches_per_probe_(batches_per_probe(v)),
+      segment_capacity_(std::uint32_t(v.leaf_header.segment_capacity)),
+      seat_ints_(std::min(seat_ints, std::uint32_t(gpu::MEMORY_SEAT_INTS))) {
   const std::size_t capacity = segment_capacity_;
   std::vector<int> keys(3 * capacity, 0);
   for (int s = 0; s < 3; ++s)
     for (int e = 0; e < v.leaf_header.count[s]; ++e) {
       const gpu::LeafEntry& entry = v.leaf_entries[std::size_t(s) * capacity + std::size_t(e)];
       if (entry.node < 0 || std::size_t(entry.node) >= capacity) continue; // the validator refuses such entries
-      keys[std::size_t(s) * capacity + std::size_t(entry.node)] = (gpu::leaf_state_priority(entry.state) << 4) | entry.state;
+      keys[std::size_t(s) * capacity + std::size_t(entry.node)] =
+          (gpu::leaf_state_priority(entry.state) << 4) | entry.state;
     }
   const std::vector<int> clusters = free_stack(formats::complete_clusters(v.octree.size()), 1, gpu::OCTREE_CLUSTER_SIZE,
                                                [&](int meta) { return v.octree[std::size_t(meta)] == 0; });
-  const std::vector<int> probes = free_stack(v.probes.size(), 0, 1, [&](int p) { return v.probes[std::size_t(p)].link == 0; });
+  const std::vector<int> probes =
+      free_stack(v.probes.size(), 0, 1, [&](int p) { return v.probes[std::size_t(p)].link == 0; });
   const std::vector<int> batches =
       free_stack(v.surfel_batches.size(), 0, 1, [&](int b) { return v.surfel_batches[std::size_t(b)].link == 0; });
   gpu::MemoryState state{};
@@ -195,15 +210,18 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   keys_ = upload(device, keys, "memory: queue keys");
   state_ = upload(device, &state, sizeof(state), "memory: state", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
   // Each stack holds its whole pool: every element may be free at once.
-  cluster_stack_ = upload(device, sized(clusters, formats::complete_clusters(v.octree.size())), "memory: cluster stack");
+  cluster_stack_ =
+      upload(device, sized(clusters, formats::complete_clusters(v.octree.size())), "memory: cluster stack");
   probe_stack_ = upload(device, sized(probes, v.probes.size()), "memory: probe stack");
   batch_stack_ = upload(device, sized(batches, v.surfel_batches.size()), "memory: batch stack");
   work_ = upload(device, nullptr, capacity * sizeof(gpu::MemoryWork), "memory: work");
   merge_sh_ = upload(device, nullptr, capacity * gpu::PROBE_SH_FLOATS * sizeof(float), "memory: merge irradiance");
   marks_ = upload(device, nullptr, v.octree.size() * sizeof(int), "memory: node marks");
-  frame_ = upload(device, nullptr, sizeof(gpu::MemoryFrame) + seat_ints_ * sizeof(std::int32_t), "memory: frame inputs");
+  frame_ =
+      upload(device, nullptr, sizeof(gpu::MemoryFrame) + seat_ints_ * sizeof(std::int32_t), "memory: frame inputs");
   probe_generations_ = upload(device, nullptr, v.probes.size() * sizeof(std::uint32_t), "memory: probe generations");
-  svo_generations_ = upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
+  svo_generations_ =
+      upload(device, nullptr, v.svo_leaves.size() * 4 * sizeof(std::uint32_t), "memory: SVO generations");
   std::vector<glm::vec4> svo_bake = svo_leaf_centres(v);
   if (cells_file) {
     const std::vector<NodeKey> probe_keys = probe_node_keys(*cells_file);
@@ -222,8 +240,9 @@ MemoryUpdatePass::MemoryUpdatePass(Device& device, const GpuVolume& volume, cons
   buffers[gpu::MEMORY_BINDING_OCTREE] = volume.binding(Section::octree);
   buffers[gpu::MEMORY_BINDING_LIGHTING_INFO] = volume.binding(Section::lighting_info);
   buffers[gpu::MEMORY_BINDING_RAY_DIRECTIONS] = volume.binding(Section::ray_directions);
-  volume.bind_tracing(buffers, gpu::MEMORY_BINDING_TRACE_TREES, gpu::MEMORY_BINDING_TRACE_NODES, gpu::MEMORY_BINDING_TRACE_FACES,
-                      gpu::MEMORY_BINDING_TRACE_VERTICES, gpu::MEMORY_BINDING_TRACE_MATERIALS);
+  volume.bind_tracing(buffers, gpu::MEMORY_BINDING_TRACE_TREES, gpu::MEMORY_BINDING_TRACE_NODES,
+                      gpu::MEMORY_BINDING_TRACE_FACES, gpu::MEMORY_BINDING_TRACE_VERTICES,
+                      gpu::MEMORY_BINDING_TRACE_MATERIALS);
   buffers[gpu::MEMORY_BINDING_SURFEL_BATCHES] = volume.binding(Section::surfel_batches);
   buffers[gpu::MEMORY_BINDING_LEAF_HEADER] = volume.binding(Section::leaf_queue_header);
   buffers[gpu::MEMORY_BINDING_LEAF_ENTRIES] = volume.binding(Section::leaf_entries);

@@ -36,7 +36,8 @@ struct SeatRoom {
 // The volume the GPU starts from: pools grown to `pools`' free counts, and a leaf queue holding every node
 // (seeded with every leaf, L2 / L3, when it has none or one too small). Counts and probe index synced. A
 // default count is `seats` plus as much again as the tree then uses (at least 512 probes, 64 clusters).
-formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume volume, const MemoryPools& pools, SeatRoom seats = {});
+formats::ProbeVolume prepare_for_memory_update(formats::ProbeVolume volume, const MemoryPools& pools,
+                                               SeatRoom seats = {});
 
 // invalid_argument naming the first input out of range; ok otherwise.
 Status check_frame_inputs(const FrameInputs& inputs);
@@ -100,7 +101,7 @@ private:
     gpu::CellSeat seat{};
     std::vector<std::int32_t> words; // 9 per cluster
     std::vector<gpu::Probe> probes;
-    std::vector<std::int32_t> svo;   // the SVO leaves whose bake stencils name the cell's probes: CellSeat::first_svo
+    std::vector<std::int32_t> svo; // the SVO leaves whose bake stencils name the cell's probes: CellSeat::first_svo
     std::size_t ints() const { return words.size() + probes.size() * gpu::SEAT_PROBE_INTS + svo.size(); }
   };
   // This frame's cell changes into `frame` and the seat data (ints behind MemoryFrame); takes them from
@@ -113,8 +114,8 @@ private:
   std::size_t seat_ints_ = 0;               // room for seat data behind MemoryFrame (streaming)
   std::vector<SeatPayload> seats_;          // per cell record
   std::vector<std::uint32_t> cell_changes_; // not yet given to a frame, oldest first
-  Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_, probe_generations_,
-      svo_generations_, svo_bake_;
+  Buffer keys_, state_, cluster_stack_, probe_stack_, batch_stack_, work_, merge_sh_, marks_, frame_,
+      probe_generations_, svo_generations_, svo_bake_;
   PassCounters<gpu::MemoryCounters> counters_;
   PassDescriptorSet descriptors_;
 };

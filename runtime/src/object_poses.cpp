@@ -21,7 +21,8 @@ const char* broken_pose(const glm::mat4& m) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       if (!std::isfinite(m[c][r])) return "not finite";
-  if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) return "not affine (last row must be 0 0 0 1)";
+  if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
+    return "not affine (last row must be 0 0 0 1)";
   const double det = double(m[0][0]) * (double(m[1][1]) * m[2][2] - double(m[2][1]) * m[1][2]) -
                      double(m[1][0]) * (double(m[0][1]) * m[2][2] - double(m[2][1]) * m[0][2]) +
                      double(m[2][0]) * (double(m[0][1]) * m[1][2] - double(m[1][1]) * m[0][2]);
@@ -50,12 +51,15 @@ Status check_object_poses(std::span<const ObjectPose> poses, std::size_t objects
   std::vector<bool> seen(objects, false);
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const int object = poses[i].object;
-    const std::string name = "run_frame: object pose " + std::to_string(i) + " (object " + std::to_string(object) + "): ";
+    const std::string name =
+        "run_frame: object pose " + std::to_string(i) + " (object " + std::to_string(object) + "): ";
     if (object < 0 || std::size_t(object) >= objects)
-      return {StatusCode::invalid_argument, name + "no such dynamic object (the volume has " + std::to_string(objects) + ")"};
+      return {StatusCode::invalid_argument,
+              name + "no such dynamic object (the volume has " + std::to_string(objects) + ")"};
     if (seen[std::size_t(object)]) return {StatusCode::invalid_argument, name + "listed twice"};
     seen[std::size_t(object)] = true;
-    if (const char* reason = broken_pose(poses[i].world_from_object)) return {StatusCode::invalid_argument, name + reason};
+    if (const char* reason = broken_pose(poses[i].world_from_object))
+      return {StatusCode::invalid_argument, name + reason};
   }
   return {};
 }
@@ -107,7 +111,8 @@ int ObjectPoses::record(VkCommandBuffer cmd, std::span<const ObjectPose> poses) 
     if (moved++ == 0) barrier(cmd, kAnyDeviceAccess, kTransferWrite); // last frame's traces read the rows
     const std::array<glm::vec4, 3> rows = rows_of(pose.world_from_object);
     vkCmdUpdateBuffer(cmd, volume_.object_instances(), o * sizeof(gpu::ObjectInstance), sizeof rows, rows.data());
-    moved_boxes_.push_back(box_union(world_box(objects_[o], poses_[o]), world_box(objects_[o], pose.world_from_object)));
+    moved_boxes_.push_back(
+        box_union(world_box(objects_[o], poses_[o]), world_box(objects_[o], pose.world_from_object)));
     poses_[o] = pose.world_from_object;
   }
   if (moved == 0) return 0;

@@ -25,8 +25,8 @@ public:
   PassCounters(Device& device, const std::string& name, std::uint32_t rings)
       : device_(device.allocator->create_buffer(sizeof(Counters), kUsage, MemoryUse::device, name)) {
     for (std::uint32_t r = 0; r < rings; ++r)
-      host_.push_back(device.allocator->create_buffer(sizeof(Counters), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::readback,
-                                                      name + " (host " + std::to_string(r) + ")"));
+      host_.push_back(device.allocator->create_buffer(sizeof(Counters), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                                      MemoryUse::readback, name + " (host " + std::to_string(r) + ")"));
   }
 
   VkBuffer buffer() const { return device_.get(); }
@@ -34,8 +34,9 @@ public:
   // Records the end of the pass: its compute writes before later passes' compute reads and the copy, then
   // the copy to the host buffer, visible to the host once the submission completed.
   void record_end_of_pass_copy(VkCommandBuffer cmd, std::uint32_t ring) const {
-    barrier(cmd, kComputeWrite, Access{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT});
+    barrier(cmd, kComputeWrite,
+            Access{VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT});
     const VkBufferCopy region{0, 0, sizeof(Counters)};
     vkCmdCopyBuffer(cmd, device_.get(), host_.at(ring).get(), 1, &region);
     barrier(cmd, kTransferWrite, kHostRead);

@@ -96,7 +96,8 @@ Pipelines::Pipelines(VkDevice device) {
   stream_relocate = make_pipeline(device, stream.layout.get(), "stream_relocate");
 }
 
-DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets, std::uint32_t buffers_per_set) {
+DeviceObject<VkDescriptorPool> make_descriptor_pool(VkDevice device, std::uint32_t sets,
+                                                    std::uint32_t buffers_per_set) {
   const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sets * buffers_per_set};
   auto info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
   info.maxSets = sets;
@@ -117,7 +118,8 @@ VkDescriptorSet allocate_set(VkDevice device, VkDescriptorPool pool, VkDescripto
   return set;
 }
 
-PassDescriptorSet make_pass_descriptor_set(VkDevice device, VkDescriptorSetLayout layout, std::span<const VkBuffer> buffers) {
+PassDescriptorSet make_pass_descriptor_set(VkDevice device, VkDescriptorSetLayout layout,
+                                           std::span<const VkBuffer> buffers) {
   PassDescriptorSet out;
   out.pool = make_descriptor_pool(device, 1, static_cast<std::uint32_t>(buffers.size()));
   out.set = allocate_set(device, out.pool.get(), layout);

@@ -30,10 +30,11 @@ public:
   PassLayout sample_all;
   DeviceObject<VkPipeline> sample_all_probes;
   PassLayout light;
-  DeviceObject<VkPipeline> light_trace, light_trace_list, light_gather, light_resolve, light_relight, light_mark_stale, light_mark_moved;
+  DeviceObject<VkPipeline> light_trace, light_trace_list, light_gather, light_resolve, light_relight, light_mark_stale,
+      light_mark_moved;
   PassLayout memory;
-  DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse, memory_remeasure, memory_cells,
-      memory_svo, memory_light, memory_sync;
+  DeviceObject<VkPipeline> memory_begin, memory_decide, memory_release, memory_grant, memory_allocate, memory_collapse,
+      memory_remeasure, memory_cells, memory_svo, memory_light, memory_sync;
   PassLayout object;
   DeviceObject<VkPipeline> object_refit;
   PassLayout stream;
@@ -45,7 +46,8 @@ struct PassDescriptorSet {
   DeviceObject<VkDescriptorPool> pool;
   VkDescriptorSet set = VK_NULL_HANDLE;
 };
-PassDescriptorSet make_pass_descriptor_set(VkDevice device, VkDescriptorSetLayout layout, std::span<const VkBuffer> buffers);
+PassDescriptorSet make_pass_descriptor_set(VkDevice device, VkDescriptorSetLayout layout,
+                                           std::span<const VkBuffer> buffers);
 
 // Binds `set` as set 0 and the pass's push constants (every layout here has one 16-byte range).
 template <class Push>

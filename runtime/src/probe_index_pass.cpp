@@ -23,11 +23,13 @@ constexpr Access kFillOrComputeWrite{VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELIN
 
 } // namespace
 
-ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume, std::uint32_t rings) : device_(device), volume_(volume) {
+ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume, std::uint32_t rings)
+    : device_(device), volume_(volume) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
   if (volume.elements(Section::probe_index) != std::size_t(probe_capacity_) + 1)
-    fail(StatusCode::invalid_volume, "probe_index: " + std::to_string(volume.elements(Section::probe_index)) +
-                                         " elements, expected probe capacity + 1 = " + std::to_string(probe_capacity_ + 1ull));
+    fail(StatusCode::invalid_volume,
+         "probe_index: " + std::to_string(volume.elements(Section::probe_index)) +
+             " elements, expected probe capacity + 1 = " + std::to_string(probe_capacity_ + 1ull));
   block_count_ = (probe_capacity_ + gpu::PROBE_INDEX_BLOCK - 1) / gpu::PROBE_INDEX_BLOCK;
   const VkDeviceSize sums_bytes = VkDeviceSize(std::max<std::uint32_t>(block_count_, 1)) * sizeof(std::uint32_t);
   block_sums_ = device.allocator->create_buffer(sums_bytes, kScratchUsage, MemoryUse::device, "probe index block sums");
@@ -37,7 +39,8 @@ ProbeIndexPass::ProbeIndexPass(Device& device, const GpuVolume& volume, std::uin
   buffers[gpu::PROBE_INDEX_BINDING_LIST] = volume.binding(Section::probe_index);
   buffers[gpu::PROBE_INDEX_BINDING_BLOCK_SUMS] = block_sums_.get();
   buffers[gpu::PROBE_INDEX_BINDING_COUNTERS] = counters_.buffer();
-  descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().probe_index.set_layout.get(), buffers);
+  descriptors_ =
+      make_pass_descriptor_set(device.vk(), device.compute_pipelines().probe_index.set_layout.get(), buffers);
 }
 
 void ProbeIndexPass::record(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t timer_slot) const {

@@ -25,14 +25,15 @@ using detail::Section;
 // invalid_volume naming the first violations, or ok.
 Status status_of(const formats::ValidationReport& report) {
   if (report.valid()) return {};
-  std::string message = report.name + ": " + std::to_string(report.violations.size()) +
-                        (report.truncated ? "+" : "") + " violation(s)";
+  std::string message =
+      report.name + ": " + std::to_string(report.violations.size()) + (report.truncated ? "+" : "") + " violation(s)";
   for (std::size_t i = 0; i < report.violations.size() && i < 3; ++i)
     message += (i == 0 ? ": " : "; ") + formats::format_violation(report.violations[i]);
   return {StatusCode::invalid_volume, message};
 }
 
-Status validated(const formats::ProbeVolume& volume, const formats::TracingView& tracing, const std::filesystem::path& path) {
+Status validated(const formats::ProbeVolume& volume, const formats::TracingView& tracing,
+                 const std::filesystem::path& path) {
   formats::ValidationReport report = formats::validate(volume, tracing);
   report.name = path.string();
   return status_of(report);
@@ -63,15 +64,17 @@ Status check_options(const UploadOptions& options) {
   if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
     return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
   if (options.frames_in_flight < 1 || options.frames_in_flight > 16)
-    return {StatusCode::invalid_argument, "frames_in_flight must be in [1, 16], got " + std::to_string(options.frames_in_flight)};
+    return {StatusCode::invalid_argument,
+            "frames_in_flight must be in [1, 16], got " + std::to_string(options.frames_in_flight)};
   if (!(options.streaming.keep_margin >= 0.0f) || !std::isfinite(options.streaming.keep_margin))
     return {StatusCode::invalid_argument, "streaming.keep_margin must be finite and >= 0"};
   if (!(options.streaming.light_reach >= 0.0f) || !std::isfinite(options.streaming.light_reach))
     return {StatusCode::invalid_argument, "streaming.light_reach must be finite and >= 0"};
   const std::uint64_t seat_bytes = options.streaming.max_seat_bytes;
   if (seat_bytes != 0 && (seat_bytes < sizeof(gpu::CellSeat) || seat_bytes > std::uint64_t(gpu::MEMORY_SEAT_INTS) * 4))
-    return {StatusCode::invalid_argument, "streaming.max_seat_bytes must be 0 or in [" + std::to_string(sizeof(gpu::CellSeat)) +
-                                              ", " + std::to_string(std::uint64_t(gpu::MEMORY_SEAT_INTS) * 4) + "]"};
+    return {StatusCode::invalid_argument, "streaming.max_seat_bytes must be 0 or in [" +
+                                              std::to_string(sizeof(gpu::CellSeat)) + ", " +
+                                              std::to_string(std::uint64_t(gpu::MEMORY_SEAT_INTS) * 4) + "]"};
   if (options.streaming.max_joining_probes < 0 || options.streaming.max_lit_probes < 0)
     return {StatusCode::invalid_argument, "streaming.max_joining_probes and max_lit_probes must be >= 0"};
   if (options.light_headroom < 0)
@@ -80,7 +83,8 @@ Status check_options(const UploadOptions& options) {
 }
 
 BufferView view(const detail::VolumeState& state, Section section) {
-  if (state.streaming && (section == Section::trace_nodes || section == Section::trace_faces || section == Section::trace_vertices))
+  if (state.streaming &&
+      (section == Section::trace_nodes || section == Section::trace_faces || section == Section::trace_vertices))
     return {state.streaming->tracing().arena(), state.streaming->tracing().arena_size()};
   if (state.streaming && section == Section::trace_trees)
     return {state.streaming->tracing().trees(), state.streaming->tracing().trees_size()};
@@ -105,18 +109,23 @@ Status check_inputs_for(const detail::VolumeState& state, const FrameInputs& inp
   if (const Status checked = detail::check_frame_inputs(inputs); !checked.ok()) return checked;
   const bool reshapes = !inputs.changed_boxes.empty() || inputs.max_depth || inputs.split_low || inputs.split_high;
   if (reshapes && !state.memory)
-    return Status{StatusCode::invalid_argument, "run_frame: changed boxes and thresholds need the memory update "
-                                                "(UploadOptions::memory_update, an octree volume with lighting sections)"};
+    return Status{StatusCode::invalid_argument,
+                  "run_frame: changed boxes and thresholds need the memory update "
+                  "(UploadOptions::memory_update, an octree volume with lighting sections)"};
   if (inputs.lights) {
     if (!state.light_inputs)
-      return Status{StatusCode::invalid_argument, "run_frame: punctual lights need the light update (UploadOptions::light_update, "
-                                                  "a volume with the runtime lighting sections)"};
-    if (const Status lights = detail::check_lights(*inputs.lights, state.light_inputs->capacity()); !lights.ok()) return lights;
+      return Status{StatusCode::invalid_argument,
+                    "run_frame: punctual lights need the light update (UploadOptions::light_update, "
+                    "a volume with the runtime lighting sections)"};
+    if (const Status lights = detail::check_lights(*inputs.lights, state.light_inputs->capacity()); !lights.ok())
+      return lights;
   }
   if (!inputs.object_poses.empty()) {
     if (!state.light)
-      return Status{StatusCode::invalid_argument, "run_frame: object poses need the light update (UploadOptions::light_update)"};
-    if (const Status poses = detail::check_object_poses(inputs.object_poses, state.cpu_parts.dynamic_objects.size()); !poses.ok())
+      return Status{StatusCode::invalid_argument,
+                    "run_frame: object poses need the light update (UploadOptions::light_update)"};
+    if (const Status poses = detail::check_object_poses(inputs.object_poses, state.cpu_parts.dynamic_objects.size());
+        !poses.ok())
       return poses;
   }
   return {};
@@ -210,7 +219,6 @@ std::optional<FrameStats> Volume::poll_frame_stats() {
   return polled.ok() ? std::move(polled.value()) : std::nullopt;
 }
 
-
 Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::vec3> positions,
                                                          std::span<const glm::vec3> normals, SampleStats* stats,
                                                          SampleMethod method, std::vector<std::uint32_t>* flags) {
@@ -221,7 +229,8 @@ Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::ve
     std::vector<glm::vec3> out(positions.size());
     SampleStats local;
     if (flags) flags->assign(positions.size(), 0u);
-    state_->sample->run(positions, normals, out, local, method, flags ? std::span<std::uint32_t>(*flags) : std::span<std::uint32_t>());
+    state_->sample->run(positions, normals, out, local, method,
+                        flags ? std::span<std::uint32_t>(*flags) : std::span<std::uint32_t>());
     if (stats) *stats = local;
     return out;
   });
@@ -237,10 +246,12 @@ Result<formats::ProbeVolume> Volume::read_back() {
 
 Status Volume::stream_around(glm::vec3 position, float radius) {
   return guarded([&]() -> Status {
-    if (!state_->streaming) return {StatusCode::invalid_argument, "stream_around: the volume was loaded without streaming"};
-    if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z) || !std::isfinite(radius) ||
-        radius < 0.0f)
-      return {StatusCode::invalid_argument, "stream_around: the position must be finite and the radius finite and >= 0"};
+    if (!state_->streaming)
+      return {StatusCode::invalid_argument, "stream_around: the volume was loaded without streaming"};
+    if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z) ||
+        !std::isfinite(radius) || radius < 0.0f)
+      return {StatusCode::invalid_argument,
+              "stream_around: the position must be finite and the radius finite and >= 0"};
     state_->streaming->set_camera(position, radius);
     return {};
   });
@@ -256,10 +267,12 @@ std::vector<std::string> Volume::stream_refusals() const {
 
 Status Volume::set_stream_budget(std::uint64_t bytes) {
   return guarded([&]() -> Status {
-    if (!state_->streaming) return {StatusCode::invalid_argument, "set_stream_budget: the volume was loaded without streaming"};
+    if (!state_->streaming)
+      return {StatusCode::invalid_argument, "set_stream_budget: the volume was loaded without streaming"};
     if (bytes > state_->streaming->max_budget())
       return {StatusCode::invalid_argument, "set_stream_budget: " + std::to_string(bytes) + " bytes exceed the " +
-                                                std::to_string(state_->streaming->max_budget()) + " allocated at upload"};
+                                                std::to_string(state_->streaming->max_budget()) +
+                                                " allocated at upload"};
     state_->streaming->set_budget(bytes);
     return {};
   });
@@ -268,7 +281,8 @@ Status Volume::set_stream_budget(std::uint64_t bytes) {
 Status Volume::validate_live(formats::ValidationReport* report) {
   return guarded([&]() -> Status {
     formats::ProbeVolume live = state_->gpu->read_back(state_->cpu_parts);
-    const formats::ProbeVolume file = state_->streaming ? state_->streaming->tracing().file_tracing() : formats::ProbeVolume{};
+    const formats::ProbeVolume file =
+        state_->streaming ? state_->streaming->tracing().file_tracing() : formats::ProbeVolume{};
     if (state_->streaming) with_file_tracing(live, file);
     formats::ValidationReport checked = formats::validate(live);
     checked.name = "live volume";
@@ -283,12 +297,24 @@ Status Volume::validate_live(formats::ValidationReport* report) {
 
 VolumeBuffers Volume::buffers() const {
   const detail::VolumeState& s = *state_;
-  return {view(s, Section::volume_info), view(s, Section::octree),       view(s, Section::probes),
-          view(s, Section::surfel_batches), view(s, Section::leaf_queue_header), view(s, Section::leaf_entries),
-          view(s, Section::probe_index), view(s, Section::svo_nodes),    view(s, Section::svo_leaves),
-          view(s, Section::lighting_info), view(s, Section::ray_directions), view(s, Section::punctual_lights),
-          view(s, Section::emitter_patches), view(s, Section::trace_trees), view(s, Section::trace_nodes),
-          view(s, Section::trace_faces), view(s, Section::trace_vertices), view(s, Section::trace_materials),
+  return {view(s, Section::volume_info),
+          view(s, Section::octree),
+          view(s, Section::probes),
+          view(s, Section::surfel_batches),
+          view(s, Section::leaf_queue_header),
+          view(s, Section::leaf_entries),
+          view(s, Section::probe_index),
+          view(s, Section::svo_nodes),
+          view(s, Section::svo_leaves),
+          view(s, Section::lighting_info),
+          view(s, Section::ray_directions),
+          view(s, Section::punctual_lights),
+          view(s, Section::emitter_patches),
+          view(s, Section::trace_trees),
+          view(s, Section::trace_nodes),
+          view(s, Section::trace_faces),
+          view(s, Section::trace_vertices),
+          view(s, Section::trace_materials),
           record_slots_view(s)};
 }
 

@@ -21,8 +21,10 @@ constexpr VkBufferUsageFlags kResultUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
 struct BatchBuffers {
   Buffer queries, results, queries_host, results_host;
   BatchBuffers(Allocator& allocator, std::size_t batch)
-      : queries(allocator.create_buffer(batch * sizeof(gpu::SampleQuery), kQueryUsage, MemoryUse::device, "sample queries")),
-        results(allocator.create_buffer(batch * sizeof(gpu::SampleResult), kResultUsage, MemoryUse::device, "sample results")),
+      : queries(allocator.create_buffer(batch * sizeof(gpu::SampleQuery), kQueryUsage, MemoryUse::device,
+                                        "sample queries")),
+        results(allocator.create_buffer(batch * sizeof(gpu::SampleResult), kResultUsage, MemoryUse::device,
+                                        "sample results")),
         queries_host(allocator.create_buffer(batch * sizeof(gpu::SampleQuery), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                              MemoryUse::upload, "sample queries (host)")),
         results_host(allocator.create_buffer(batch * sizeof(gpu::SampleResult), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -82,8 +84,9 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     bindings[gpu::SAMPLE_ALL_BINDING_SVO_LEAVES] = volume_.binding(Section::svo_leaves);
     bindings[gpu::SAMPLE_ALL_BINDING_PROBE_INDEX] = volume_.binding(Section::probe_index);
     bindings[gpu::SAMPLE_ALL_BINDING_LIGHTING_INFO] = volume_.binding(Section::lighting_info);
-    volume_.bind_tracing(bindings, gpu::SAMPLE_ALL_BINDING_TRACE_TREES, gpu::SAMPLE_ALL_BINDING_TRACE_NODES, gpu::SAMPLE_ALL_BINDING_TRACE_FACES,
-                        gpu::SAMPLE_ALL_BINDING_TRACE_VERTICES, gpu::SAMPLE_ALL_BINDING_TRACE_MATERIALS);
+    volume_.bind_tracing(bindings, gpu::SAMPLE_ALL_BINDING_TRACE_TREES, gpu::SAMPLE_ALL_BINDING_TRACE_NODES,
+                         gpu::SAMPLE_ALL_BINDING_TRACE_FACES, gpu::SAMPLE_ALL_BINDING_TRACE_VERTICES,
+                         gpu::SAMPLE_ALL_BINDING_TRACE_MATERIALS);
     bindings[gpu::SAMPLE_ALL_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_ALL_BINDING_RESULTS] = buffers.results.get();
     bindings[gpu::SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS] = volume_.binding(Section::dynamic_objects);
@@ -98,7 +101,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     bindings[gpu::SAMPLE_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_BINDING_RESULTS] = buffers.results.get();
     // Read only with SamplePush.streaming; otherwise any buffer satisfies the binding.
-    bindings[gpu::SAMPLE_BINDING_RECORD_SLOTS] = record_slots_ != VK_NULL_HANDLE ? record_slots_ : buffers.results.get();
+    bindings[gpu::SAMPLE_BINDING_RECORD_SLOTS] =
+        record_slots_ != VK_NULL_HANDLE ? record_slots_ : buffers.results.get();
     write_storage_buffers(device_.vk(), set, bindings);
   }
   PassTimer timer(device_, 1);
@@ -113,12 +117,14 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     const VkBufferCopy queries{0, 0, count * sizeof(gpu::SampleQuery)};
     vkCmdCopyBuffer(cmd, buffers.queries_host.get(), buffers.queries.get(), 1, &queries);
     barrier(cmd, kTransferWrite, kComputeRead);
-    const gpu::SamplePush push{static_cast<std::uint32_t>(count), record_slots_ != VK_NULL_HANDLE && !all_probes ? 1u : 0u, 0, 0};
+    const gpu::SamplePush push{static_cast<std::uint32_t>(count),
+                               record_slots_ != VK_NULL_HANDLE && !all_probes ? 1u : 0u, 0, 0};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     bind_set_and_push(cmd, layout, set, push);
     timer.begin(cmd, 0);
-    dispatch_groups(cmd, device_, static_cast<std::uint32_t>((count + gpu::RUNTIME_WORKGROUP_SIZE - 1) /
-                                                             gpu::RUNTIME_WORKGROUP_SIZE));
+    dispatch_groups(
+        cmd, device_,
+        static_cast<std::uint32_t>((count + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE));
     timer.end(cmd, 0);
     barrier(cmd, kComputeWrite, kTransferRead);
     const VkBufferCopy results{0, 0, count * sizeof(gpu::SampleResult)};
@@ -126,7 +132,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     barrier(cmd, kTransferWrite, kHostRead);
     submission.submit_and_wait();
 
-    read_results(buffers.results_host.mapped(), out.subspan(first, count), flags.empty() ? flags : flags.subspan(first, count), stats);
+    read_results(buffers.results_host.mapped(), out.subspan(first, count),
+                 flags.empty() ? flags : flags.subspan(first, count), stats);
     const double ms = timer.read_ms(1)[0];
     if (ms >= 0.0) stats.gpu_ms = (stats.gpu_ms < 0.0 ? 0.0 : stats.gpu_ms) + ms;
     ++stats.dispatches;

@@ -51,9 +51,10 @@ std::uint64_t StreamedTracing::block_bytes(const formats::CellTracing& r) {
   return r.trace_faces.count > 0 ? Layout(r.trace_nodes.count, r.trace_faces.count, r.trace_vertices.count).bytes : 0;
 }
 
-StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
-                                 std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes,
-                                 std::uint32_t rings, bool background)
+StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& volume,
+                                 const formats::TracingView& tracing, std::unique_ptr<CellSource> source,
+                                 std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings,
+                                 bool background)
     : device_(device), source_(std::move(source)), blocks_(cell_bytes, kBlockUnit) {
   if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
     fail(StatusCode::unsupported, "streaming needs the static tracing tree split by cell (format 1.5 cell_tracing); "
@@ -80,8 +81,9 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
   const std::uint64_t total = pool_start_ + cell_bytes;
   const std::uint64_t limit = std::min<std::uint64_t>(device.info.max_storage_buffer_range, std::uint64_t(1) << 31);
   if (total > limit)
-    fail(StatusCode::unsupported, "streamed tracing arena: " + std::to_string(total) + " bytes exceed " + std::to_string(limit) +
-                                      " (maxStorageBufferRange of " + device.info.name + ", or 2 GiB); lower the budget");
+    fail(StatusCode::unsupported, "streamed tracing arena: " + std::to_string(total) + " bytes exceed " +
+                                      std::to_string(limit) + " (maxStorageBufferRange of " + device.info.name +
+                                      ", or 2 GiB); lower the budget");
   staging_bytes_ = std::max(staging_bytes, largest_block_);
   constexpr VkBufferUsageFlags usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -91,22 +93,26 @@ StreamedTracing::StreamedTracing(Device& device, const formats::ProbeVolume& vol
   scratch_ = device.allocator->create_buffer(std::max<std::uint64_t>(largest_block_, 16), usage, MemoryUse::device,
                                              "streamed tracing compaction scratch");
   const std::array<VkBuffer, gpu::STREAM_BINDING_COUNT> relocate_buffers{arena_.get(), scratch_.get()};
-  relocate_set_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().stream.set_layout.get(), relocate_buffers);
+  relocate_set_ =
+      make_pass_descriptor_set(device.vk(), device.compute_pipelines().stream.set_layout.get(), relocate_buffers);
   for (std::uint32_t r = 0; r < rings; ++r)
-    staging_.push_back(device.allocator->create_buffer(staging_bytes_, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::upload,
-                                                       "streaming staging"));
+    staging_.push_back(device.allocator->create_buffer(staging_bytes_, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                       MemoryUse::upload, "streaming staging"));
   // The global region and the trees, once: no cell resident, every cell word the null leaf.
   std::vector<gpu::TraceTree> trees = volume.trace_trees;
   const std::uint64_t tree_bytes = trees.size() * sizeof(gpu::TraceTree);
   Buffer upload = device.allocator->create_buffer(global.size() + tree_bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                                   MemoryUse::upload, "upload staging");
   for (std::size_t t = 1; t < trees.size(); ++t)
-    if (trees[t].root != gpu::TRACE_NO_ROOT) trees[t].root = moved_word(trees[t].root, dyn_node_shift_, dyn_face_shift_);
+    if (trees[t].root != gpu::TRACE_NO_ROOT)
+      trees[t].root = moved_word(trees[t].root, dyn_node_shift_, dyn_face_shift_);
   auto* top = reinterpret_cast<gpu::TraceNode*>(global.data());
   for (const CellPart& cell : cells_) {
     if (cell.block_bytes == 0) continue;
-    if (cell.in_tree_root) trees[0].root = null_leaf_;
-    else top[cell.parent_node].child[cell.parent_child] = null_leaf_;
+    if (cell.in_tree_root)
+      trees[0].root = null_leaf_;
+    else
+      top[cell.parent_node].child[cell.parent_child] = null_leaf_;
   }
   std::memcpy(upload.mapped(), global.data(), global.size());
   std::memcpy(static_cast<std::byte*>(upload.mapped()) + global.size(), trees.data(), tree_bytes);
@@ -156,7 +162,8 @@ void StreamedTracing::build_global_region(const formats::TracingView& tracing, s
     faces[i] = f;
   }
   faces[dyn_faces] = {{vertex_base + dyn_vertices, vertex_base + dyn_vertices, vertex_base + dyn_vertices}, 0u};
-  std::memcpy(bytes.data() + layout.vertices_at, tracing.vertices.data() + dyn_vertices_from, dyn_vertices * kVertexBytes);
+  std::memcpy(bytes.data() + layout.vertices_at, tracing.vertices.data() + dyn_vertices_from,
+              dyn_vertices * kVertexBytes);
 }
 
 std::uint32_t StreamedTracing::cell_root_word(const CellPart& cell) const {
@@ -173,14 +180,16 @@ void StreamedTracing::find_parent_words(const formats::ProbeVolume& volume, cons
   for (std::size_t k = 0; k < cells_.size(); ++k) {
     const formats::CellTracing& r = cells_[k].ranges;
     if (r.trace_faces.count == 0) continue;
-    by_file_word[r.trace_nodes.count > 0 ? r.trace_nodes.first : leaf_word(r.trace_faces.first, r.trace_faces.count)] = k;
+    by_file_word[r.trace_nodes.count > 0 ? r.trace_nodes.first : leaf_word(r.trace_faces.first, r.trace_faces.count)] =
+        k;
   }
   const auto claim = [&](std::uint32_t word, auto&& set) {
     if (!formats::is_leaf_word(word) && word < top_nodes_) return; // another top-level node
     const auto it = by_file_word.find(word);
     if (it == by_file_word.end())
-      fail(StatusCode::invalid_volume, "cell_tracing: top-level word " + std::to_string(word) + " leads to no cell's root (" +
-                                           std::to_string(top_nodes_) + " top-level nodes)");
+      fail(StatusCode::invalid_volume, "cell_tracing: top-level word " + std::to_string(word) +
+                                           " leads to no cell's root (" + std::to_string(top_nodes_) +
+                                           " top-level nodes)");
     set(cells_[it->second]);
   };
   if (top_nodes_ == 0 && volume.trace_trees[0].root != gpu::TRACE_NO_ROOT)
@@ -189,7 +198,6 @@ void StreamedTracing::find_parent_words(const formats::ProbeVolume& volume, cons
     for (std::uint32_t c = 0; c < 2; ++c)
       claim(tracing.nodes[n].child[c], [&](CellPart& cell) { cell.parent_node = n, cell.parent_child = c; });
 }
-
 
 void StreamedTracing::write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset,
                                   std::byte* out) const {
@@ -217,7 +225,8 @@ void StreamedTracing::write_block(const CellPart& cell, const formats::CellTraci
 
 std::vector<streaming::CellFootprint> StreamedTracing::footprints(const formats::ProbeVolume& volume) {
   std::vector<std::uint64_t> blocks;
-  for (std::size_t k = 0; k < volume.cells.size() && k < volume.cell_tracing.size(); ++k) blocks.push_back(block_bytes(volume.cell_tracing[k]));
+  for (std::size_t k = 0; k < volume.cells.size() && k < volume.cell_tracing.size(); ++k)
+    blocks.push_back(block_bytes(volume.cell_tracing[k]));
   const std::vector<std::uint64_t> slots = slot_bytes(blocks);
   std::vector<streaming::CellFootprint> out;
   for (std::size_t k = 0; k < slots.size(); ++k)
@@ -230,11 +239,13 @@ void StreamedTracing::set_word(VkCommandBuffer cmd, const CellPart& cell, std::u
     vkCmdUpdateBuffer(cmd, trees_.get(), offsetof(gpu::TraceTree, root), sizeof(word), &word);
     return;
   }
-  const VkDeviceSize at = VkDeviceSize(cell.parent_node) * kNodeBytes + offsetof(gpu::TraceNode, child) + cell.parent_child * sizeof(word);
+  const VkDeviceSize at =
+      VkDeviceSize(cell.parent_node) * kNodeBytes + offsetof(gpu::TraceNode, child) + cell.parent_child * sizeof(word);
   vkCmdUpdateBuffer(cmd, arena_.get(), at, sizeof(word), &word);
 }
 
-StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32_t ring, const streaming::ResidencyChanges& changes) {
+StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32_t ring,
+                                                const streaming::ResidencyChanges& changes) {
   Missed missed;
   for (std::size_t k : changes.drops) {
     CellPart& cell = cells_[k];
@@ -249,7 +260,7 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
   std::vector<VkBufferCopy> copies;
   for (std::size_t k : changes.loads) {
     CellPart& cell = cells_[k];
-    if (cell.block_bytes == 0) continue; // a cell without faces: nothing to trace
+    if (cell.block_bytes == 0) continue;            // a cell without faces: nothing to trace
     if (used + cell.block_bytes > staging_bytes_) { // this frame's staging is full
       missed.unplaced.push_back(k);
       continue;
@@ -281,7 +292,8 @@ StreamedTracing::Missed StreamedTracing::record(VkCommandBuffer cmd, std::uint32
     used += cell.block_bytes;
   }
   if (reader_) reader_->keep_only(missed.reading); // the others were taken or are no longer wanted
-  if (!copies.empty()) vkCmdCopyBuffer(cmd, staging_[ring].get(), arena_.get(), std::uint32_t(copies.size()), copies.data());
+  if (!copies.empty())
+    vkCmdCopyBuffer(cmd, staging_[ring].get(), arena_.get(), std::uint32_t(copies.size()), copies.data());
   for (std::size_t k : changes.loads)
     if (cells_[k].offset >= 0) set_word(cmd, cells_[k], cell_root_word(cells_[k]));
   return missed;
@@ -300,7 +312,8 @@ int StreamedTracing::compact(VkCommandBuffer cmd) {
   std::vector<CellPart*> resident;
   for (CellPart& cell : cells_)
     if (cell.offset >= 0) resident.push_back(&cell);
-  std::sort(resident.begin(), resident.end(), [](const CellPart* a, const CellPart* b) { return a->offset < b->offset; });
+  std::sort(resident.begin(), resident.end(),
+            [](const CellPart* a, const CellPart* b) { return a->offset < b->offset; });
   barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess); // this frame's word updates, earlier frames' reads
   std::uint64_t cursor = 0;
   int moved = 0;
@@ -325,7 +338,8 @@ void StreamedTracing::relocate(VkCommandBuffer cmd, CellPart& cell, std::uint64_
   Pipelines& p = device_.compute_pipelines();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.stream_relocate.get());
   bind_set_and_push(cmd, p.stream.layout.get(), relocate_set_.set,
-                    gpu::StreamRelocatePush{std::uint32_t(from_byte), std::uint32_t(to_byte), r.trace_nodes.count, r.trace_faces.count});
+                    gpu::StreamRelocatePush{std::uint32_t(from_byte), std::uint32_t(to_byte), r.trace_nodes.count,
+                                            r.trace_faces.count});
   const std::uint32_t items = r.trace_nodes.count + r.trace_faces.count;
   dispatch_groups(cmd, device_, (items + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
   barrier(cmd, kAnyDeviceAccess, kAnyDeviceAccess); // the next block's copies reuse the scratch and may overlap
@@ -335,8 +349,8 @@ void StreamedTracing::relocate(VkCommandBuffer cmd, CellPart& cell, std::uint64_
 
 std::vector<std::string> StreamedTracing::verify(const formats::ProbeVolume& file) const {
   const VkDeviceSize arena_bytes = arena_.size(), tree_bytes = trees_.size();
-  Buffer back = device_.allocator->create_buffer(arena_bytes + tree_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::readback,
-                                                 "read-back staging");
+  Buffer back = device_.allocator->create_buffer(arena_bytes + tree_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                                 MemoryUse::readback, "read-back staging");
   {
     Submission submission(device_);
     barrier(submission.cmd(), kAnyDeviceAccess, kTransferRead);
@@ -353,11 +367,15 @@ std::vector<std::string> StreamedTracing::verify(const formats::ProbeVolume& fil
     const CellPart& cell = cells_[k];
     if (cell.block_bytes == 0) continue;
     std::uint32_t word = 0;
-    if (cell.in_tree_root) std::memcpy(&word, bytes + arena_bytes + offsetof(gpu::TraceTree, root), sizeof(word));
-    else std::memcpy(&word, bytes + cell.parent_node * kNodeBytes + offsetof(gpu::TraceNode, child) + cell.parent_child * 4, sizeof(word));
+    if (cell.in_tree_root)
+      std::memcpy(&word, bytes + arena_bytes + offsetof(gpu::TraceTree, root), sizeof(word));
+    else
+      std::memcpy(&word,
+                  bytes + cell.parent_node * kNodeBytes + offsetof(gpu::TraceNode, child) + cell.parent_child * 4,
+                  sizeof(word));
     if (word != cell_root_word(cell)) {
-      problems.push_back("cell record " + std::to_string(k) + ": the word leading to it is " + std::to_string(word) + ", not " +
-                         std::to_string(cell_root_word(cell)) + (cell.offset < 0 ? " (the null leaf)" : ""));
+      problems.push_back("cell record " + std::to_string(k) + ": the word leading to it is " + std::to_string(word) +
+                         ", not " + std::to_string(cell_root_word(cell)) + (cell.offset < 0 ? " (the null leaf)" : ""));
       continue;
     }
     if (cell.offset < 0) continue;

@@ -60,7 +60,8 @@ public:
   // maxStorageBufferRange or 2 GiB.
   // `background`: read cells on a thread of their own (background_cell_reader.h).
   StreamedTracing(Device& device, const formats::ProbeVolume& volume, const formats::TracingView& tracing,
-                  std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes, std::uint32_t rings, bool background);
+                  std::unique_ptr<CellSource> source, std::uint64_t cell_bytes, std::uint64_t staging_bytes,
+                  std::uint32_t rings, bool background);
 
   // Each Cell record's slot in the arena (its block's size class, slot_bytes; 0 without faces), in record
   // order: what the residency policy budgets. `volume` has its tracing split by cell (as the constructor needs).
@@ -102,16 +103,17 @@ private:
   static std::uint64_t block_bytes(const formats::CellTracing& ranges); // Layout's bytes; 0 without faces
   struct CellPart {
     formats::CellTracing ranges{};
-    std::uint64_t block_bytes = 0; // what it holds
-    std::uint64_t slot_bytes = 0;  // what it takes in the arena (slot_bytes())
-    std::int64_t offset = -1; // its block in the arena, -1 when not resident
-    bool in_tree_root = false; // the word leading to it: trace_trees[0].root, or
+    std::uint64_t block_bytes = 0;                   // what it holds
+    std::uint64_t slot_bytes = 0;                    // what it takes in the arena (slot_bytes())
+    std::int64_t offset = -1;                        // its block in the arena, -1 when not resident
+    bool in_tree_root = false;                       // the word leading to it: trace_trees[0].root, or
     std::uint32_t parent_node = 0, parent_child = 0; // child `parent_child` of top-level node `parent_node`
   };
   void build_global_region(const formats::TracingView& tracing, std::vector<std::byte>& bytes);
   void find_parent_words(const formats::ProbeVolume& volume, const formats::TracingView& tracing);
   std::uint32_t cell_root_word(const CellPart& cell) const; // where its block is now
-  void write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset, std::byte* out) const;
+  void write_block(const CellPart& cell, const formats::CellTracingData& data, std::uint64_t offset,
+                   std::byte* out) const;
   void set_word(VkCommandBuffer cmd, const CellPart& cell, std::uint32_t word);
   // Whether placing `loads` in turn finds no free run for one while the free bytes would hold it.
   bool fragmented_for(const std::vector<std::size_t>& loads) const;

@@ -21,7 +21,8 @@ struct Subtree {
 
 // A tree that names a node twice (an unvalidated upload) would loop: no walk visits more nodes than it has.
 void check_visits(std::size_t visited, const formats::ProbeVolume& file) {
-  if (visited > file.octree.size()) fail(StatusCode::invalid_argument, "octree: a node is reached twice (upload without validation?)");
+  if (visited > file.octree.size())
+    fail(StatusCode::invalid_argument, "octree: a node is reached twice (upload without validation?)");
 }
 
 // The subtree below `root`, walked with a stack.
@@ -37,7 +38,8 @@ Subtree tally(const formats::ProbeVolume& file, int root) {
       for (int o = 0; o < 8; ++o) stack.push_back(formats::child_node(v, o));
     } else if (v < 0) {
       t.probes.push_back(~v);
-      for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) t.sum[std::size_t(k)] += file.probes.at(std::size_t(~v)).irradiance_sh[k];
+      for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
+        t.sum[std::size_t(k)] += file.probes.at(std::size_t(~v)).irradiance_sh[k];
     }
   }
   return t;
@@ -116,14 +118,16 @@ formats::ProbeVolume collapse_cells(const formats::ProbeVolume& file) {
     if (n.depth < file.cell_depth) {
       const int meta = tree.split(n.to);
       if (meta < 0) fail(StatusCode::internal, "collapse_cells: no cluster for node " + std::to_string(n.to));
-      for (int o = 0; o < 8; ++o) queue.push_back({formats::child_node(v, o), formats::child_node(meta, o), n.depth + 1});
+      for (int o = 0; o < 8; ++o)
+        queue.push_back({formats::child_node(v, o), formats::child_node(meta, o), n.depth + 1});
       continue;
     }
     const Subtree subtree = tally(file, n.from); // a cell's node with a subtree: one probe stands for it
     if (subtree.probes.empty()) continue;
     const int probe = place_probe(tree, n.to);
     for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
-      out.probes[std::size_t(probe)].irradiance_sh[k] = float(subtree.sum[std::size_t(k)] / double(subtree.probes.size()));
+      out.probes[std::size_t(probe)].irradiance_sh[k] =
+          float(subtree.sum[std::size_t(k)] / double(subtree.probes.size()));
     for (int p : subtree.probes) probe_map[std::size_t(p)] = probe;
   }
   for (gpu::SvoLeaf& leaf : out.svo_leaves) leaf = remap_stencil(leaf, probe_map);

@@ -15,14 +15,16 @@ namespace {
 // through pools sized by the budget (streamed_tree.h).
 formats::ProbeVolume prepare_tree(const formats::ProbeVolume& volume, const UploadOptions& options, bool streams) {
   if (!streams || volume.cell_tracing.empty()) return prepare_for_memory_update(volume, options.pools);
-  const SeatRoom seats = resident_seat_room(volume, StreamedTracing::footprints(volume), options.streaming.budget_bytes);
+  const SeatRoom seats =
+      resident_seat_room(volume, StreamedTracing::footprints(volume), options.streaming.budget_bytes);
   return prepare_for_memory_update(collapse_cells(volume), options.pools, seats);
 }
 
 } // namespace
 
 VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::ProbeVolume& volume,
-                         const UploadOptions& options, std::unique_ptr<CellSource> cells, const formats::TracingView* tracing)
+                         const UploadOptions& options, std::unique_ptr<CellSource> cells,
+                         const formats::TracingView* tracing)
     : device(std::move(shared_device)) {
   const bool dynamic_tree = options.light_update && options.memory_update && memory_update_applies(volume);
   const bool streams = options.streaming.budget_bytes > 0;
@@ -38,7 +40,8 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   cpu_parts.input_hash = volume.input_hash;
   cpu_parts.dynamic_objects = volume.dynamic_objects;
   const bool lit = options.light_update && uploaded.lighting.has_value();
-  if (streams && !lit) fail(StatusCode::invalid_argument, "streaming cells needs the light update and the lighting sections");
+  if (streams && !lit)
+    fail(StatusCode::invalid_argument, "streaming cells needs the light update and the lighting sections");
   // With the memory update the tree's probes are the GPU's: the memory update lists the probes to light.
   if (streams && dynamic_tree && (options.streaming.max_lit_probes > 0 || options.streaming.light_reach > 0.0f))
     fail(StatusCode::invalid_argument, "streaming.max_lit_probes and light_reach need a fixed tree: the memory update "
@@ -51,7 +54,8 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
                                                 std::uint32_t(options.frames_in_flight), !dynamic_tree);
     gpu->set_streamed_tracing(streaming->tracing().trees(), streaming->tracing().arena());
   }
-  if (!uploaded.dynamic_objects.empty()) objects = std::make_unique<ObjectPoses>(*device, *gpu, uploaded.dynamic_objects);
+  if (!uploaded.dynamic_objects.empty())
+    objects = std::make_unique<ObjectPoses>(*device, *gpu, uploaded.dynamic_objects);
   const auto ring_count = static_cast<std::uint32_t>(options.frames_in_flight);
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu, ring_count);
   sample = std::make_unique<SamplePass>(*device, *gpu);
@@ -61,9 +65,11 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {
-    const std::uint64_t seat_ints = options.streaming.max_seat_bytes != 0 ? options.streaming.max_seat_bytes / 4 : gpu::MEMORY_SEAT_INTS;
-    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(), ring_count,
-                                                streaming ? std::uint32_t(seat_ints) : 0u, streaming ? &volume : nullptr);
+    const std::uint64_t seat_ints =
+        options.streaming.max_seat_bytes != 0 ? options.streaming.max_seat_bytes / 4 : gpu::MEMORY_SEAT_INTS;
+    memory = std::make_unique<MemoryUpdatePass>(*device, *gpu, prepared, light->trace_flags(), light->light_list(),
+                                                ring_count, streaming ? std::uint32_t(seat_ints) : 0u,
+                                                streaming ? &volume : nullptr);
     light->walk_light_list();
   }
   if (streaming && light) {
@@ -90,14 +96,16 @@ std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs
   FrameRing& ring = rings[index];
   if (ring.pending) {
     if (vkGetEventStatus(device->vk(), ring.done.get()) != VK_EVENT_SET)
-      fail(StatusCode::invalid_argument, "frame " + std::to_string(frames + 1) + ": frame " + std::to_string(ring.frame) +
-                                             " has not finished; at most " + std::to_string(rings.size()) +
+      fail(StatusCode::invalid_argument, "frame " + std::to_string(frames + 1) + ": frame " +
+                                             std::to_string(ring.frame) + " has not finished; at most " +
+                                             std::to_string(rings.size()) +
                                              " frames may be in flight (UploadOptions::frames_in_flight)");
     ring.pending = false; // finished but never polled: its statistics are dropped
   }
   check_vk(vkResetEvent(device->vk(), ring.done.get()), "vkResetEvent");
   frame_timer->reset(cmd, index);
-  const FramePasses passes{*probe_index, light.get(), memory.get(), light_inputs.get(), gpu.get(), objects.get(), streaming.get()};
+  const FramePasses passes{*probe_index, light.get(),   memory.get(),   light_inputs.get(),
+                           gpu.get(),    objects.get(), streaming.get()};
   ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
   vkCmdSetEvent(cmd, ring.done.get(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   if (memory) cpu_parts.info = memory->info();

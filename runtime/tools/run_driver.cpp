@@ -44,7 +44,8 @@ int exit_code_of(runtime::StatusCode code) {
 }
 
 int report(const RunOptions& options, const runtime::Status& status) {
-  std::fprintf(stderr, "%s: %s: %s\n", options.program.c_str(), runtime::to_string(status.code), status.message.c_str());
+  std::fprintf(stderr, "%s: %s: %s\n", options.program.c_str(), runtime::to_string(status.code),
+               status.message.c_str());
   return exit_code_of(status.code);
 }
 
@@ -106,8 +107,8 @@ std::vector<runtime::ObjectPose> animated_poses(const RunOptions& options, const
 // The frame's inputs: the --orbit-light pose, the --animate poses, the limits and --max-depth, and the
 // --depth-cycle schedule (at frames 0, P, 2P, ... the max depth becomes HIGH, LOW, HIGH, ... and the whole
 // root cube is marked changed).
-runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volume& volume, std::span<const gpu::PunctualLight> baked_lights,
-                                  int frame) {
+runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volume& volume,
+                                  std::span<const gpu::PunctualLight> baked_lights, int frame) {
   const gpu::VolumeInfo& info = volume.info();
   runtime::FrameInputs in;
   in.object_poses = animated_poses(options, volume, frame);
@@ -143,7 +144,8 @@ void print_frame(const runtime::FrameStats& f) {
     std::printf(" | lit %d, lights %d (%d uploaded), relit records %d (%d with one shadow ray)", l.lit_probes, l.lights,
                 l.uploaded_lights, l.relit_records, l.reused_records);
     if (l.traced_probes > 0)
-      std::printf(", traced %d (rays: %d front, %d back, %d miss)", l.traced_probes, l.front_hits, l.backface_hits, l.misses);
+      std::printf(", traced %d (rays: %d front, %d back, %d miss)", l.traced_probes, l.front_hits, l.backface_hits,
+                  l.misses);
     std::printf(", indirect misses %d, non-finite %d, L3 split %d free %d", l.indirect_misses, l.non_finite,
                 l.want_split, l.want_free);
   }
@@ -185,8 +187,8 @@ runtime::Result<std::vector<glm::vec3>> time_sampler(runtime::Volume& volume, co
   std::printf("samples (%s): %zu lookups, %zu misses, %zu dispatch(es), gpu %.3f ms (%.2f ns per lookup), "
               "cpu %.3f ms (with copies)\n",
               method == runtime::SampleMethod::svo ? "SVO probe index" : "all probes, thesis 3.2.4", stats.samples,
-              stats.misses, stats.dispatches, stats.gpu_ms, 1e6 * stats.gpu_ms / double(std::max<std::size_t>(stats.samples, 1)),
-              stats.cpu_ms);
+              stats.misses, stats.dispatches, stats.gpu_ms,
+              1e6 * stats.gpu_ms / double(std::max<std::size_t>(stats.samples, 1)), stats.cpu_ms);
   return result;
 }
 
@@ -230,7 +232,8 @@ int run_volume(const RunOptions& options) {
   runtime::UploadOptions upload;
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis;
-  upload.memory_update = !options.no_memory_update && (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
+  upload.memory_update = !options.no_memory_update &&
+                         (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
   if (options.pool_probes) upload.pools.free_probes = *options.pool_probes;
   std::vector<streaming::PathPoint> path;
   if (options.stream) {
@@ -254,25 +257,30 @@ int run_volume(const RunOptions& options) {
   auto volume = runtime::Volume::load(context.value(), options.input, upload);
   guard.reset();
   if (!volume.ok()) return report(options, volume.status());
-  const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
+  const double load_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
   const HostMemory after_load = host_memory();
   const gpu::VolumeInfo& info = volume->info();
-  std::printf("volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %d punctual lights, %llu bytes "
-              "on the GPU, loaded in %.1f ms\n",
-              options.input.c_str(), info.probe_capacity, info.octree_elements, info.svo_nodes, info.svo_leaves,
-              int(volume->lights().size()), static_cast<unsigned long long>(context->memory_stats().live_bytes), load_ms);
+  std::printf(
+      "volume: %s: %d probe slots, %d octree elements, %d SVO nodes, %d SVO leaves, %d punctual lights, %llu bytes "
+      "on the GPU, loaded in %.1f ms\n",
+      options.input.c_str(), info.probe_capacity, info.octree_elements, info.svo_nodes, info.svo_leaves,
+      int(volume->lights().size()), static_cast<unsigned long long>(context->memory_stats().live_bytes), load_ms);
   const std::vector<gpu::PunctualLight> baked_lights(volume->lights().begin(), volume->lights().end());
   if (options.orbit_light && options.orbit_light->light >= int(baked_lights.size()))
-    return report(options, {runtime::StatusCode::invalid_argument,
-                            "--orbit-light " + std::to_string(options.orbit_light->light) + ": the volume has " +
-                                std::to_string(baked_lights.size()) + " punctual light(s)" +
-                                (volume->light_capacity() == 0 && options.light_update ? " (no runtime lighting sections)" : "")});
+    return report(
+        options,
+        {runtime::StatusCode::invalid_argument,
+         "--orbit-light " + std::to_string(options.orbit_light->light) + ": the volume has " +
+             std::to_string(baked_lights.size()) + " punctual light(s)" +
+             (volume->light_capacity() == 0 && options.light_update ? " (no runtime lighting sections)" : "")});
 
   if (options.animate)
-    std::printf("animation: %s over %d frames, %zu dynamic object(s), memory update %s\n", dynamic::to_string(*options.animate),
-                options.frames, volume->dynamic_objects().size(), volume->runs_memory_update() ? "on"
-                : options.no_memory_update ? "off (--no-memory-update)"
-                                           : "off (needs octree placement and lighting)");
+    std::printf("animation: %s over %d frames, %zu dynamic object(s), memory update %s\n",
+                dynamic::to_string(*options.animate), options.frames, volume->dynamic_objects().size(),
+                volume->runs_memory_update() ? "on"
+                : options.no_memory_update   ? "off (--no-memory-update)"
+                                             : "off (needs octree placement and lighting)");
   std::ofstream csv;
   if (options.csv) {
     csv.open(*options.csv);
@@ -280,7 +288,8 @@ int run_volume(const RunOptions& options) {
       std::fprintf(stderr, "%s: %s: cannot be written\n", options.program.c_str(), options.csv->c_str());
       return 3;
     }
-    if (options.animate || options.stream) write_frame_header(csv);
+    if (options.animate || options.stream)
+      write_frame_header(csv);
     else
       csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
              "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z\n";
@@ -317,7 +326,8 @@ int run_volume(const RunOptions& options) {
       if (frame + 1 == frames) std::printf("\n");
       std::fflush(stdout);
     } else if ((frame + 1) % 100 == 0 || frame + 1 == frames) {
-      std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, frames, stats->live_probes, rows.back().gpu_ms);
+      std::printf("frame %d/%d: live probes %d, gpu %.3f ms\n", frame + 1, frames, stats->live_probes,
+                  rows.back().gpu_ms);
     }
     cpu.add(stats->cpu_ms);
     most_probes_in_use = std::max(most_probes_in_use, stats->memory.probe_capacity - stats->memory.free_probes);
@@ -349,12 +359,14 @@ int run_volume(const RunOptions& options) {
                 volume->info().probe_capacity, failed_allocations);
   if (options.stream) {
     std::printf("%s", stream_summary(rows, options.stream->budget).c_str());
-    for (const std::string& refusal : volume->stream_refusals()) std::printf("streaming: refused %s\n", refusal.c_str());
+    for (const std::string& refusal : volume->stream_refusals())
+      std::printf("streaming: refused %s\n", refusal.c_str());
     std::printf("%s", host_memory_line(after_load, host_memory()).c_str());
   }
   if (options.plots && (options.animate || options.stream)) {
     try {
-      const auto written = options.animate ? write_plots(*options.plots, rows, *options.animate) : write_stream_plots(*options.plots, rows);
+      const auto written = options.animate ? write_plots(*options.plots, rows, *options.animate)
+                                           : write_stream_plots(*options.plots, rows);
       for (const std::string& file : written) std::printf("wrote %s\n", file.c_str());
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s: %s\n", options.program.c_str(), e.what());
@@ -376,6 +388,5 @@ int run_volume(const RunOptions& options) {
   }
   return 0;
 }
-
 
 } // namespace probebake::run

@@ -61,7 +61,8 @@ constexpr const char* kUsage =
     "  --depth-cycle LOW:HIGH:PERIOD  run the memory update (octree volumes with lighting sections);\n"
     "                    every PERIOD frames the max depth alternates HIGH, LOW, ... and every leaf is\n"
     "                    measured again\n"
-    "  --orbit-light I:RADIUS:PERIOD  move the file's punctual light I (from 0; `all`: every light) on a horizontal circle of\n"
+    "  --orbit-light I:RADIUS:PERIOD  move the file's punctual light I (from 0; `all`: every light) on a horizontal "
+    "circle of\n"
     "                    RADIUS metres through its baked position, one turn every PERIOD frames (a\n"
     "                    directional light turns its direction about Y); light_x/y/z in the CSV\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
@@ -112,10 +113,12 @@ bool parse_light_orbit(std::string_view text, LightOrbit& out) {
   if (b == std::string_view::npos) return false;
   const std::string_view radius = text.substr(a + 1, b - a - 1);
   const auto [end, error] = std::from_chars(radius.data(), radius.data() + radius.size(), out.radius);
-  const bool radius_ok = error == std::errc() && end == radius.data() + radius.size() && std::isfinite(out.radius) && out.radius >= 0.0f;
+  const bool radius_ok =
+      error == std::errc() && end == radius.data() + radius.size() && std::isfinite(out.radius) && out.radius >= 0.0f;
   const bool every_light = text.substr(0, a) == "all";
   if (every_light) out.light = LightOrbit::kEveryLight;
-  return radius_ok && (every_light || parse_int(text.substr(0, a), 0, out.light)) && parse_int(text.substr(b + 1), 1, out.period);
+  return radius_ok && (every_light || parse_int(text.substr(0, a), 0, out.light)) &&
+         parse_int(text.substr(b + 1), 1, out.period);
 }
 
 } // namespace
@@ -149,15 +152,18 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--no-light-update") {
       options.light_update = false;
     } else if (arg == "--hysteresis") {
-      if (!has_value || !parse_fraction(argv[++i], options.hysteresis)) return usage_error("--hysteresis needs a number in [0, 1)");
+      if (!has_value || !parse_fraction(argv[++i], options.hysteresis))
+        return usage_error("--hysteresis needs a number in [0, 1)");
     } else if (arg == "--depth-cycle") {
       DepthCycle cycle;
-      if (!has_value || !parse_depth_cycle(argv[++i], cycle)) return usage_error("--depth-cycle needs LOW:HIGH:PERIOD (depths 0-12, period >= 1)");
+      if (!has_value || !parse_depth_cycle(argv[++i], cycle))
+        return usage_error("--depth-cycle needs LOW:HIGH:PERIOD (depths 0-12, period >= 1)");
       options.depth_cycle = cycle;
     } else if (arg == "--orbit-light") {
       LightOrbit orbit;
       if (!has_value || !parse_light_orbit(argv[++i], orbit))
-        return usage_error("--orbit-light needs I:RADIUS:PERIOD (light index >= 0 or all, radius >= 0 metres, period >= 1 frames)");
+        return usage_error(
+            "--orbit-light needs I:RADIUS:PERIOD (light index >= 0 or all, radius >= 0 metres, period >= 1 frames)");
       options.orbit_light = orbit;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
@@ -171,7 +177,8 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       while (!list.empty()) {
         const std::size_t comma = std::min(list.find(','), list.size());
         int object = 0;
-        if (!parse_int(list.substr(0, comma), 0, object)) return usage_error("--objects needs a comma-separated list of object indices >= 0");
+        if (!parse_int(list.substr(0, comma), 0, object))
+          return usage_error("--objects needs a comma-separated list of object indices >= 0");
         options.animated_objects.push_back(object);
         list.remove_prefix(std::min(comma + 1, list.size()));
       }
@@ -182,29 +189,37 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
         return usage_error("--animate needs thesis, revolution or soak");
     } else if (arg == "--max-depth") {
       int depth = 0;
-      if (!has_value || !parse_int(argv[++i], 0, depth) || depth > 12) return usage_error("--max-depth needs a depth in 0-12");
+      if (!has_value || !parse_int(argv[++i], 0, depth) || depth > 12)
+        return usage_error("--max-depth needs a depth in 0-12");
       options.max_depth = depth;
     } else if (arg == "--pool-probes") {
       int probes = 0;
-      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error("--pool-probes needs a whole number of probes >= 0");
+      if (!has_value || !parse_int(argv[++i], 0, probes))
+        return usage_error("--pool-probes needs a whole number of probes >= 0");
       options.pool_probes = probes;
     } else if (arg == "--limits") {
-      if (!has_value || !parse_limits(argv[++i], options.limits)) return usage_error("--limits needs M:L (whole numbers >= 0)");
+      if (!has_value || !parse_limits(argv[++i], options.limits))
+        return usage_error("--limits needs M:L (whole numbers >= 0)");
     } else if (arg == "--gather-budget") {
       if (!has_value || !parse_int(argv[++i], 0, options.limits.max_gathered_probes))
         return usage_error("--gather-budget needs a whole number of probes >= 0");
     } else if (arg == "--shadow-rays") {
       int& rays = options.limits.shadow_rays_per_record;
-      if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9) return usage_error("--shadow-rays needs 0 or a number in 2-9");
+      if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9)
+        return usage_error("--shadow-rays needs 0 or a number in 2-9");
     } else if (arg == "--budget" || arg == "--max-upload") {
       std::uint64_t& bytes = arg == "--budget" ? stream().budget : stream().max_upload;
       if (!has_value || !parse_bytes(argv[++i], bytes) || (arg == "--budget" && bytes == 0))
-        return usage_error(std::string(arg) + " needs a byte count like 65536, 512K or 64M" + (arg == "--budget" ? " (> 0)" : ""));
+        return usage_error(std::string(arg) + " needs a byte count like 65536, 512K or 64M" +
+                           (arg == "--budget" ? " (> 0)" : ""));
     } else if (arg == "--max-joining" || arg == "--max-lit") {
       int& probes = arg == "--max-joining" ? stream().max_joining : stream().max_lit;
-      if (!has_value || !parse_int(argv[++i], 0, probes)) return usage_error(std::string(arg) + " needs a whole number of probes >= 0");
+      if (!has_value || !parse_int(argv[++i], 0, probes))
+        return usage_error(std::string(arg) + " needs a whole number of probes >= 0");
     } else if (arg == "--keep-margin" || arg == "--radius" || arg == "--light-reach") {
-      float& metres = arg == "--radius" ? stream().radius : arg == "--keep-margin" ? stream().keep_margin : stream().light_reach;
+      float& metres = arg == "--radius"        ? stream().radius
+                      : arg == "--keep-margin" ? stream().keep_margin
+                                               : stream().light_reach;
       if (!has_value || !parse_number(argv[++i], metres) || !(metres >= 0.0f) || !std::isfinite(metres))
         return usage_error(std::string(arg) + " needs a finite number of metres >= 0");
     } else if (arg == "--background-reads") {
@@ -235,10 +250,12 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
   if (options.input.empty()) return usage_error("no input file");
   if (options.stream && (options.stream->budget == 0 || options.stream->path.empty()))
     return usage_error("--budget and --path go together (and --radius, --max-upload need them)");
-  const bool memory_update = !options.no_memory_update && (options.animate || options.depth_cycle || options.memory_update);
+  const bool memory_update =
+      !options.no_memory_update && (options.animate || options.depth_cycle || options.memory_update);
   if (options.stream && memory_update && (options.stream->max_lit > 0 || options.stream->light_reach > 0.0f))
-    return usage_error("--max-lit and --light-reach describe a fixed tree: the memory update (--memory-update, --animate, "
-                       "--depth-cycle) lights every probe of its tree");
+    return usage_error(
+        "--max-lit and --light-reach describe a fixed tree: the memory update (--memory-update, --animate, "
+        "--depth-cycle) lights every probe of its tree");
   if (options.animate && !frames_given) options.frames = dynamic::default_frames(*options.animate);
   return options;
 }

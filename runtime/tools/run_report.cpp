@@ -40,7 +40,8 @@ Stat stat_of(std::vector<std::pair<double, int>> values) {
 
 // ---- SVG line plots --------------------------------------------------------------------------------------
 constexpr double kWidth = 900, kHeight = 420, kLeft = 70, kRight = 170, kTop = 36, kBottom = 50;
-constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f", "#17becf"};
+constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
+                                    "#8c564b", "#e377c2", "#7f7f7f", "#17becf"};
 
 struct Series {
   std::string name;
@@ -56,7 +57,8 @@ double nice_step(double max) {
 
 std::string line_plot(const std::string& title, const std::string& y_title, const std::vector<FrameRow>& rows,
                       const std::vector<Series>& series, std::optional<dynamic::Animation> animation) {
-  const double x_max = std::max(1, rows.back().frame), x0 = kLeft, x1 = kWidth - kRight, y0 = kHeight - kBottom, y1 = kTop;
+  const double x_max = std::max(1, rows.back().frame), x0 = kLeft, x1 = kWidth - kRight, y0 = kHeight - kBottom,
+               y1 = kTop;
   double y_max = 0.0;
   for (const Series& s : series)
     for (double v : s.values) y_max = std::max(y_max, std::isfinite(v) ? v : 0.0);
@@ -64,51 +66,60 @@ std::string line_plot(const std::string& title, const std::string& y_title, cons
   y_max = std::ceil((y_max > 0.0 ? y_max * 1.05 : 1.0) / step) * step;
   const auto x = [&](double f) { return x0 + (x1 - x0) * f / x_max; };
   const auto y = [&](double v) { return y0 - (y0 - y1) * std::clamp(v, 0.0, y_max) / y_max; };
-  std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='" + number(kWidth) + "' height='" + number(kHeight) +
-                    "' font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n";
+  std::string svg = "<svg xmlns='http://www.w3.org/2000/svg' width='" + number(kWidth) + "' height='" +
+                    number(kHeight) + "' font-family='sans-serif'>\n<rect width='100%' height='100%' fill='white'/>\n";
   // Frames in motion, shaded (the phases that are not still).
   for (std::size_t i = 0; animation && i < rows.size();) {
     const std::string phase = motion_phase(*animation, rows[i].frame);
     std::size_t j = i;
     while (j < rows.size() && motion_phase(*animation, rows[j].frame) == phase) ++j;
     if (phase == "during" || phase == "turning" || phase == "moving")
-      svg += "<rect x='" + number(x(rows[i].frame), 6) + "' y='" + number(y1) + "' width='" + number(x(rows[j - 1].frame) - x(rows[i].frame), 6) +
-             "' height='" + number(y0 - y1) + "' fill='#f2efe6'/>\n";
+      svg += "<rect x='" + number(x(rows[i].frame), 6) + "' y='" + number(y1) + "' width='" +
+             number(x(rows[j - 1].frame) - x(rows[i].frame), 6) + "' height='" + number(y0 - y1) +
+             "' fill='#f2efe6'/>\n";
     i = j;
   }
-  svg += "<rect x='" + number(x0) + "' y='" + number(y1) + "' width='" + number(x1 - x0) + "' height='" + number(y0 - y1) +
-         "' fill='none' stroke='#444'/>\n";
+  svg += "<rect x='" + number(x0) + "' y='" + number(y1) + "' width='" + number(x1 - x0) + "' height='" +
+         number(y0 - y1) + "' fill='none' stroke='#444'/>\n";
   for (double v = 0.0; v <= y_max + step * 1e-6; v += step) {
-    svg += "<line x1='" + number(x0) + "' x2='" + number(x1) + "' y1='" + number(y(v), 6) + "' y2='" + number(y(v), 6) + "' stroke='#ddd'/>\n";
-    svg += "<text x='" + number(x0 - 6) + "' y='" + number(y(v) + 4, 6) + "' font-size='11' text-anchor='end'>" + number(v) + "</text>\n";
+    svg += "<line x1='" + number(x0) + "' x2='" + number(x1) + "' y1='" + number(y(v), 6) + "' y2='" + number(y(v), 6) +
+           "' stroke='#ddd'/>\n";
+    svg += "<text x='" + number(x0 - 6) + "' y='" + number(y(v) + 4, 6) + "' font-size='11' text-anchor='end'>" +
+           number(v) + "</text>\n";
   }
   const double x_step = nice_step(x_max);
   for (double f = 0.0; f <= x_max + 1e-9; f += x_step)
-    svg += "<text x='" + number(x(f), 6) + "' y='" + number(y0 + 16) + "' font-size='11' text-anchor='middle'>" + number(f) + "</text>\n";
-  svg += "<text x='" + number((x0 + x1) / 2) + "' y='" + number(kHeight - 12) + "' font-size='13' text-anchor='middle'>frame</text>\n";
-  svg += "<text x='16' y='" + number((y0 + y1) / 2) + "' font-size='13' text-anchor='middle' transform='rotate(-90 16 " + number((y0 + y1) / 2) + ")'>" +
-         y_title + "</text>\n";
+    svg += "<text x='" + number(x(f), 6) + "' y='" + number(y0 + 16) + "' font-size='11' text-anchor='middle'>" +
+           number(f) + "</text>\n";
+  svg += "<text x='" + number((x0 + x1) / 2) + "' y='" + number(kHeight - 12) +
+         "' font-size='13' text-anchor='middle'>frame</text>\n";
+  svg += "<text x='16' y='" + number((y0 + y1) / 2) +
+         "' font-size='13' text-anchor='middle' transform='rotate(-90 16 " + number((y0 + y1) / 2) + ")'>" + y_title +
+         "</text>\n";
   svg += "<text x='" + number(kWidth / 2) + "' y='22' font-size='14' text-anchor='middle'>" + title + "</text>\n";
   for (std::size_t k = 0; k < series.size(); ++k) {
     std::string points;
     for (std::size_t i = 0; i < rows.size(); ++i)
-      if (std::isfinite(series[k].values[i])) points += number(x(rows[i].frame), 6) + "," + number(y(series[k].values[i]), 6) + " ";
+      if (std::isfinite(series[k].values[i]))
+        points += number(x(rows[i].frame), 6) + "," + number(y(series[k].values[i]), 6) + " ";
     const char* colour = kColours[k % std::size(kColours)];
     svg += "<polyline fill='none' stroke='" + std::string(colour) + "' stroke-width='1.2' points='" + points + "'/>\n";
-    svg += "<text x='" + number(x1 + 10) + "' y='" + number(y1 + 14 + 16 * double(k)) + "' font-size='12' fill='" + colour + "'>" +
-           series[k].name + "</text>\n";
+    svg += "<text x='" + number(x1 + 10) + "' y='" + number(y1 + 14 + 16 * double(k)) + "' font-size='12' fill='" +
+           colour + "'>" + series[k].name + "</text>\n";
   }
   return svg + "</svg>\n";
 }
 
-Series series_of(const std::string& name, const std::vector<FrameRow>& rows, const std::function<double(const FrameRow&)>& value) {
+Series series_of(const std::string& name, const std::vector<FrameRow>& rows,
+                 const std::function<double(const FrameRow&)>& value) {
   Series s{name, {}};
   for (const FrameRow& r : rows) s.values.push_back(value(r));
   return s;
 }
 
 // Each (file name, SVG text) into `folder` (created); the paths written, or std::runtime_error naming the file.
-std::vector<std::string> write_svgs(const std::string& folder, std::span<const std::pair<std::string, std::string>> plots) {
+std::vector<std::string> write_svgs(const std::string& folder,
+                                    std::span<const std::pair<std::string, std::string>> plots) {
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);
   std::vector<std::string> written;
@@ -153,8 +164,10 @@ void write_frame_header(std::ostream& out) {
   out << ",gpu_ms,cpu_ms,live_probes";
   for (const char* state : kStateNames) out << ',' << state;
   out << ",surfel_hit_fraction,probes_placed,probes_freed,splits,merges,failed_allocations,deferred,moved_objects,"
-         "clusters_used,cluster_capacity,probes_used,probe_capacity,batches_used,batch_capacity,camera_x,camera_y,camera_z,"
-         "resident_cells,resident_bytes,loaded_cells,loaded_bytes,dropped_cells,waiting_cells,reading_cells,refused_cells,"
+         "clusters_used,cluster_capacity,probes_used,probe_capacity,batches_used,batch_capacity,camera_x,camera_y,"
+         "camera_z,"
+         "resident_cells,resident_bytes,loaded_cells,loaded_bytes,dropped_cells,waiting_cells,reading_cells,refused_"
+         "cells,"
          "upload_cpu_ms\n";
 }
 
@@ -164,9 +177,9 @@ void write_frame_row(std::ostream& out, const FrameRow& r) {
   out << ',' << number(r.gpu_ms, 6) << ',' << number(r.cpu_ms, 6) << ',' << r.live_probes;
   for (int n : r.processed) out << ',' << n;
   out << ',' << (r.hit_fraction ? number(*r.hit_fraction, 6) : std::string());
-  out << ',' << r.placed << ',' << r.freed << ',' << r.splits << ',' << r.collapses << ',' << r.failed << ',' << r.deferred << ','
-      << r.moved_objects << ',' << r.clusters_used << ',' << r.cluster_capacity << ',' << r.probes_used << ',' << r.probe_capacity << ','
-      << r.batches_used << ',' << r.batch_capacity;
+  out << ',' << r.placed << ',' << r.freed << ',' << r.splits << ',' << r.collapses << ',' << r.failed << ','
+      << r.deferred << ',' << r.moved_objects << ',' << r.clusters_used << ',' << r.cluster_capacity << ','
+      << r.probes_used << ',' << r.probe_capacity << ',' << r.batches_used << ',' << r.batch_capacity;
   for (float c : r.camera) out << ',' << number(c, 6);
   const runtime::StreamStats& s = r.stream;
   out << ',' << s.resident_cells << ',' << s.resident_bytes << ',' << s.loaded_cells << ',' << s.loaded_bytes << ','
@@ -198,7 +211,8 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
     if (it == phases.end()) it = phases.insert(phases.end(), {phase, {}});
     it->second.push_back(&r);
   }
-  std::string table = "| pass | phase | frames | median ms | p95 ms | worst ms (frame) | worst / median |\n|---|---|--:|--:|--:|--:|--:|\n";
+  std::string table = "| pass | phase | frames | median ms | p95 ms | worst ms (frame) | worst / median "
+                      "|\n|---|---|--:|--:|--:|--:|--:|\n";
   // A pass counts in the frames that ran it (0 ms: not run, e.g. light_trace in most frames).
   const auto add = [&](const std::string& name, const std::function<double(const FrameRow&)>& value, bool every_frame) {
     for (const auto& [phase, members] : phases) {
@@ -207,17 +221,21 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
         if (every_frame || value(*r) != 0.0) values.push_back({value(*r), r->frame});
       if (values.empty() || (phase != "all" && phases.size() == 2)) continue; // one phase: "all" says it
       const Stat s = stat_of(values);
-      table += "| " + name + " | " + phase + " | " + std::to_string(values.size()) + " | " + number(s.median) + " | " + number(s.p95) +
-               " | " + number(s.worst) + " (" + std::to_string(s.worst_frame) + ") | " + (s.median > 0 ? number(s.worst / s.median, 3) : "-") +
-               " |\n";
+      table += "| " + name + " | " + phase + " | " + std::to_string(values.size()) + " | " + number(s.median) + " | " +
+               number(s.p95) + " | " + number(s.worst) + " (" + std::to_string(s.worst_frame) + ") | " +
+               (s.median > 0 ? number(s.worst / s.median, 3) : "-") + " |\n";
     }
   };
   for (std::size_t k = 0; k < kFramePassNames.size(); ++k) {
     const bool ran = std::any_of(rows.begin(), rows.end(), [&](const FrameRow& r) { return r.pass_ms[k] != 0.0; });
-    if (ran) add(kFramePassNames[k], [k](const FrameRow& r) { return r.pass_ms[k]; }, false);
+    if (ran)
+      add(
+          kFramePassNames[k], [k](const FrameRow& r) { return r.pass_ms[k]; }, false);
   }
-  add("gpu total", [](const FrameRow& r) { return r.gpu_ms; }, true);
-  add("host cpu", [](const FrameRow& r) { return r.cpu_ms; }, true);
+  add(
+      "gpu total", [](const FrameRow& r) { return r.gpu_ms; }, true);
+  add(
+      "host cpu", [](const FrameRow& r) { return r.cpu_ms; }, true);
   return table;
 }
 
@@ -230,15 +248,20 @@ std::string stream_frame_line(const FrameRow& r) {
   const runtime::StreamStats& s = r.stream;
   char line[512];
   std::snprintf(line, sizeof(line),
-                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, waiting %d%s%s%s, "
-                "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms (%d traced, %d unresolved)%s\n",
+                "frame %d at (%.2f, %.2f, %.2f): %d cells resident, %llu bytes; loaded %d (%llu bytes), dropped %d, "
+                "waiting %d%s%s%s, "
+                "%d probes joined (%d waiting); upload gpu %.3f ms, host %.3f ms; light_trace %.3f ms (%d traced, %d "
+                "unresolved)%s\n",
                 r.frame, double(r.camera[0]), double(r.camera[1]), double(r.camera[2]), s.resident_cells,
-                static_cast<unsigned long long>(s.resident_bytes), s.loaded_cells, static_cast<unsigned long long>(s.loaded_bytes),
-                s.dropped_cells, s.waiting_cells, s.reading_cells > 0 ? (" (" + std::to_string(s.reading_cells) + " being read)").c_str() : "",
+                static_cast<unsigned long long>(s.resident_bytes), s.loaded_cells,
+                static_cast<unsigned long long>(s.loaded_bytes), s.dropped_cells, s.waiting_cells,
+                s.reading_cells > 0 ? (" (" + std::to_string(s.reading_cells) + " being read)").c_str() : "",
                 s.unplaced_cells > 0 ? (" (" + std::to_string(s.unplaced_cells) + " without a free run)").c_str() : "",
-                s.moved_cells > 0 ? (" (" + std::to_string(s.moved_cells) + " moved to compact the arena)").c_str() : "",
+                s.moved_cells > 0 ? (" (" + std::to_string(s.moved_cells) + " moved to compact the arena)").c_str()
+                                  : "",
                 s.joined_probes, s.joining_probes, std::max(0.0, r.pass_ms[kStreamUploadPass]), s.upload_cpu_ms,
-                std::max(0.0, r.pass_ms[kLightTracePass]), r.traced, r.unresolved, s.refused_cells > 0 ? "; REFUSED a cell (below)" : "");
+                std::max(0.0, r.pass_ms[kLightTracePass]), r.traced, r.unresolved,
+                s.refused_cells > 0 ? "; REFUSED a cell (below)" : "");
   return line;
 }
 
@@ -258,14 +281,16 @@ std::string stream_summary(const std::vector<FrameRow>& rows, std::uint64_t budg
   }
   if (!worst_gpu) return "";
   char line[512];
-  std::snprintf(line, sizeof(line),
-                "streaming: worst upload spike %.3f ms GPU (frame %d, %llu bytes), %.3f ms host (frame %d); at most %llu of "
-                "%llu bytes resident; %d loads (%llu bytes), %d drops over %zu frames; %d probe traces (at most %d a frame), "
-                "%d left unresolved; %d frames with a load waiting for a free run, %d blocks moved to compact the arena\n",
-                std::max(0.0, worst_gpu->pass_ms[kStreamUploadPass]), worst_gpu->frame, static_cast<unsigned long long>(worst_gpu->stream.loaded_bytes),
-                worst_host->stream.upload_cpu_ms, worst_host->frame, static_cast<unsigned long long>(most),
-                static_cast<unsigned long long>(budget), loads, static_cast<unsigned long long>(loaded), drops, rows.size(),
-                traced, most_traced, unresolved, unplaced_frames, moved);
+  std::snprintf(
+      line, sizeof(line),
+      "streaming: worst upload spike %.3f ms GPU (frame %d, %llu bytes), %.3f ms host (frame %d); at most %llu of "
+      "%llu bytes resident; %d loads (%llu bytes), %d drops over %zu frames; %d probe traces (at most %d a frame), "
+      "%d left unresolved; %d frames with a load waiting for a free run, %d blocks moved to compact the arena\n",
+      std::max(0.0, worst_gpu->pass_ms[kStreamUploadPass]), worst_gpu->frame,
+      static_cast<unsigned long long>(worst_gpu->stream.loaded_bytes), worst_host->stream.upload_cpu_ms,
+      worst_host->frame, static_cast<unsigned long long>(most), static_cast<unsigned long long>(budget), loads,
+      static_cast<unsigned long long>(loaded), drops, rows.size(), traced, most_traced, unresolved, unplaced_frames,
+      moved);
   return line;
 }
 
@@ -297,8 +322,10 @@ std::vector<std::string> write_stream_plots(const std::string& folder, const std
   const std::vector<Series> bytes = {
       series_of("resident KB", rows, [](const FrameRow& r) { return double(r.stream.resident_bytes) / 1024.0; }),
       series_of("loaded KB", rows, [](const FrameRow& r) { return double(r.stream.loaded_bytes) / 1024.0; })};
-  const std::vector<Series> times = {series_of("stream_upload GPU", rows, [](const FrameRow& r) { return std::max(0.0, r.pass_ms[kStreamUploadPass]); }),
-                                     series_of("host numbering", rows, [](const FrameRow& r) { return r.stream.upload_cpu_ms; })};
+  const std::vector<Series> times = {
+      series_of("stream_upload GPU", rows,
+                [](const FrameRow& r) { return std::max(0.0, r.pass_ms[kStreamUploadPass]); }),
+      series_of("host numbering", rows, [](const FrameRow& r) { return r.stream.upload_cpu_ms; })};
   const std::pair<std::string, std::string> plots[] = {
       {"streaming.svg", line_plot("streaming: resident and loaded bytes per frame", "KB", rows, bytes, std::nullopt)},
       {"upload_times.svg", line_plot("streaming: upload time per frame", "ms", rows, times, std::nullopt)}};
@@ -307,19 +334,21 @@ std::vector<std::string> write_stream_plots(const std::string& folder, const std
 
 std::string progress_bar(int done, int total, int width) {
   const int filled = total > 0 ? int(std::int64_t(width) * std::clamp(done, 0, total) / total) : width;
-  return "[" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '-') + "] " + std::to_string(done) +
-         "/" + std::to_string(total) + " frames";
+  return "[" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '-') + "] " +
+         std::to_string(done) + "/" + std::to_string(total) + " frames";
 }
 
-std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows, dynamic::Animation animation) {
+std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows,
+                                     dynamic::Animation animation) {
   std::vector<Series> times;
   for (std::size_t k = 0; k < kFramePassNames.size(); ++k)
     if (std::any_of(rows.begin(), rows.end(), [&](const FrameRow& r) { return r.pass_ms[k] > 0.0; }))
       times.push_back(series_of(kFramePassNames[k], rows, [k](const FrameRow& r) { return r.pass_ms[k]; }));
   times.push_back(series_of("gpu total", rows, [](const FrameRow& r) { return r.gpu_ms; }));
-  const std::vector<Series> probes = {series_of("live probes", rows, [](const FrameRow& r) { return double(r.live_probes); }),
-                                      series_of("probe slots used", rows, [](const FrameRow& r) { return double(r.probes_used); }),
-                                      series_of("clusters used", rows, [](const FrameRow& r) { return double(r.clusters_used); })};
+  const std::vector<Series> probes = {
+      series_of("live probes", rows, [](const FrameRow& r) { return double(r.live_probes); }),
+      series_of("probe slots used", rows, [](const FrameRow& r) { return double(r.probes_used); }),
+      series_of("clusters used", rows, [](const FrameRow& r) { return double(r.clusters_used); })};
   std::vector<Series> states;
   for (std::size_t s = 0; s < 9; ++s)
     states.push_back(series_of(kStateNames[s], rows, [s](const FrameRow& r) { return double(r.processed[s]); }));
@@ -327,7 +356,8 @@ std::vector<std::string> write_plots(const std::string& folder, const std::vecto
   const std::pair<std::string, std::string> plots[] = {
       {"frame_times.svg", line_plot(name + ": GPU time per pass and frame", "GPU ms", rows, times, animation)},
       {"probes.svg", line_plot(name + ": live probes and pool use", "count", rows, probes, animation)},
-      {"leaf_states.svg", line_plot(name + ": leaf-queue entries processed per state", "entries", rows, states, animation)}};
+      {"leaf_states.svg",
+       line_plot(name + ": leaf-queue entries processed per state", "entries", rows, states, animation)}};
   return write_svgs(folder, plots);
 }
 

@@ -21,15 +21,16 @@ struct FrameRow {
   int frame = 0;
   double angle_deg = 0.0;
   std::array<double, kFramePassNames.size()> pass_ms{}; // 0 for passes the frame did not run, -1 without timestamps
-  double gpu_ms = 0.0; // sum of the passes
+  double gpu_ms = 0.0;                                  // sum of the passes
   double cpu_ms = 0.0;
   int live_probes = 0;
-  std::array<int, 9> processed{}; // leaf-queue entries by state, M0..M4, L0..L3
+  std::array<int, 9> processed{};     // leaf-queue entries by state, M0..M4, L0..L3
   std::optional<double> hit_fraction; // front hits / rays of the probes traced this frame
   int placed = 0, freed = 0, splits = 0, collapses = 0, failed = 0, deferred = 0, moved_objects = 0;
-  int clusters_used = 0, cluster_capacity = 0, probes_used = 0, probe_capacity = 0, batches_used = 0, batch_capacity = 0;
-  std::array<float, 3> camera{}; // --path: where the frame streamed around
-  runtime::StreamStats stream;   // --path: the frame's cell streaming
+  int clusters_used = 0, cluster_capacity = 0, probes_used = 0, probe_capacity = 0, batches_used = 0,
+      batch_capacity = 0;
+  std::array<float, 3> camera{};  // --path: where the frame streamed around
+  runtime::StreamStats stream;    // --path: the frame's cell streaming
   int traced = 0, unresolved = 0; // probes light_trace traced, and of them those left unresolved (streaming)
 };
 
@@ -67,6 +68,7 @@ std::string progress_bar(int done, int total, int width = 30);
 // frame_times.svg (GPU ms per pass and total), probes.svg (live probes and pool use), leaf_states.svg
 // (entries processed per state) in `folder`; the frames of motion shaded. Returns the files written, or
 // throws std::runtime_error naming the file that could not be written.
-std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows, dynamic::Animation animation);
+std::vector<std::string> write_plots(const std::string& folder, const std::vector<FrameRow>& rows,
+                                     dynamic::Animation animation);
 
 } // namespace probebake::run

@@ -10,11 +10,11 @@ namespace {
   throw Error(ErrorKind::output, "cannot write '" + path.string() + "': " + why);
 }
 
-}  // namespace
+} // namespace
 
 void write_file_atomically(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
   if (path.empty()) unwritable(path, "empty path");
   probebake::write_file_atomically(path, std::span<const std::uint8_t>(bytes));
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

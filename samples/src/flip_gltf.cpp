@@ -25,7 +25,7 @@ constexpr int kUnsignedInt = 5125, kFloat = 5126;
 [[noreturn]] void fail(const std::string& message) { detail::fail(kTool, message); }
 
 class Flipper {
- public:
+public:
   Flipper(detail::GltfInput& in, std::filesystem::path base_dir) : in_(in), base_dir_(std::move(base_dir)) {}
 
   Bytes run() {
@@ -47,7 +47,7 @@ class Flipper {
     return detail::glb_bytes(gltf, bin_);
   }
 
- private:
+private:
   // Every buffer into the BIN chunk (16-byte aligned starts keep every view's alignment); views follow.
   void merge_buffers() {
     std::vector<std::size_t> base;
@@ -104,12 +104,12 @@ class Flipper {
       return v;
     };
     switch (type) {
-      case 5120: return normalized ? std::max(read(std::int8_t()) / 127.0, -1.0) : read(std::int8_t());
-      case 5121: return normalized ? read(std::uint8_t()) / 255.0 : read(std::uint8_t());
-      case 5122: return normalized ? std::max(read(std::int16_t()) / 32767.0, -1.0) : read(std::int16_t());
-      case 5123: return normalized ? read(std::uint16_t()) / 65535.0 : read(std::uint16_t());
-      case kUnsignedInt: return read(std::uint32_t());
-      default: return read(float());
+    case 5120: return normalized ? std::max(read(std::int8_t()) / 127.0, -1.0) : read(std::int8_t());
+    case 5121: return normalized ? read(std::uint8_t()) / 255.0 : read(std::uint8_t());
+    case 5122: return normalized ? std::max(read(std::int16_t()) / 32767.0, -1.0) : read(std::int16_t());
+    case 5123: return normalized ? read(std::uint16_t()) / 65535.0 : read(std::uint16_t());
+    case kUnsignedInt: return read(std::uint32_t());
+    default: return read(float());
     }
   }
 
@@ -121,7 +121,8 @@ class Flipper {
     const std::size_t view_index = in_.gltf["bufferViews"].size() + views_.size();
     views_.push_back(view);
     json& accessors = in_.gltf["accessors"];
-    accessors.push_back({{"bufferView", view_index}, {"componentType", component_type}, {"count", count}, {"type", type}});
+    accessors.push_back(
+        {{"bufferView", view_index}, {"componentType", component_type}, {"count", count}, {"type", type}});
     return int(accessors.size()) - 1;
   }
 
@@ -143,21 +144,21 @@ class Flipper {
     const std::size_t n = vertices.size();
     if (mode == kTriangles)
       for (std::size_t i = 0; i + 2 < n; i += 3) add(vertices[i], vertices[i + 1], vertices[i + 2]);
-    else if (mode == kStrip)  // glTF: triangle i is {v_i, v_(i+1+i%2), v_(i+2-i%2)}
+    else if (mode == kStrip) // glTF: triangle i is {v_i, v_(i+1+i%2), v_(i+2-i%2)}
       for (std::size_t i = 0; i + 2 < n; ++i) add(vertices[i], vertices[i + 1 + i % 2], vertices[i + 2 - i % 2]);
-    else  // fan: triangle i is {v_(i+1), v_(i+2), v_0}
+    else // fan: triangle i is {v_(i+1), v_(i+2), v_0}
       for (std::size_t i = 0; i + 2 < n; ++i) add(vertices[i + 1], vertices[i + 2], vertices[0]);
     return out;
   }
 
   int flipped_indices(const json& primitive, int mode) {
     const std::pair<int, int> key{primitive.contains("indices") ? primitive["indices"].get<int>()
-                                                                  : -1 - primitive["attributes"].value("POSITION", 0),
+                                                                : -1 - primitive["attributes"].value("POSITION", 0),
                                   mode};
     if (const auto it = indices_.find(key); it != indices_.end()) return it->second;
     const std::vector<std::uint32_t> triangles = reversed_triangles(primitive, mode);
-    return indices_[key] = add_accessor(triangles.data(), triangles.size() * 4, triangles.size(), kUnsignedInt,
-                                        "SCALAR", false);
+    return indices_[key] =
+               add_accessor(triangles.data(), triangles.size() * 4, triangles.size(), kUnsignedInt, "SCALAR", false);
   }
 
   int negated_normals(int index) {
@@ -172,7 +173,7 @@ class Flipper {
 
   void flip_primitive(json& primitive) {
     const int mode = primitive.value("mode", kTriangles);
-    if (mode != kTriangles && mode != kStrip && mode != kFan) return;  // points and lines have no sides
+    if (mode != kTriangles && mode != kStrip && mode != kFan) return; // points and lines have no sides
     primitive["indices"] = flipped_indices(primitive, mode);
     primitive["mode"] = kTriangles;
     if (primitive.contains("attributes") && primitive["attributes"].contains("NORMAL"))
@@ -196,15 +197,16 @@ class Flipper {
   detail::GltfInput& in_;
   std::filesystem::path base_dir_;
   Bytes bin_;
-  json views_ = json::array();               // bufferViews of the new accessors
+  json views_ = json::array();                 // bufferViews of the new accessors
   std::map<std::pair<int, int>, int> indices_; // (indices accessor or -1 - POSITION, mode) -> flipped
-  std::map<int, int> normals_;               // NORMAL accessor -> negated
+  std::map<int, int> normals_;                 // NORMAL accessor -> negated
   int default_material_ = -1;
 };
 
 } // namespace
 
-std::vector<std::uint8_t> flip_sides_gltf(const std::vector<std::uint8_t>& input, const std::filesystem::path& base_dir) {
+std::vector<std::uint8_t> flip_sides_gltf(const std::vector<std::uint8_t>& input,
+                                          const std::filesystem::path& base_dir) {
   try {
     detail::GltfInput parsed = detail::parse_gltf_input(input, base_dir, kTool);
     return Flipper(parsed, base_dir).run();

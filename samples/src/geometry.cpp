@@ -43,7 +43,7 @@ float grid_coordinate(float lo, float hi, int i, int cells) {
 
 // One face of a box: the face with normal +/- axis `normal_axis`, front face outside the box.
 MeshData box_face(glm::vec3 lo, glm::vec3 hi, int normal_axis, bool positive, int cells) {
-  const int a = (normal_axis + 1) % 3;  // e_a x e_b = e_normal for cyclic axes
+  const int a = (normal_axis + 1) % 3; // e_a x e_b = e_normal for cyclic axes
   const int b = (normal_axis + 2) % 3;
   glm::vec3 normal(0.0f);
   normal[normal_axis] = positive ? 1.0f : -1.0f;
@@ -63,7 +63,7 @@ MeshData box_face(glm::vec3 lo, glm::vec3 hi, int normal_axis, bool positive, in
   return face;
 }
 
-}  // namespace
+} // namespace
 
 void MeshData::append(const MeshData& other) {
   const std::uint32_t base = vertex_count(*this);
@@ -158,4 +158,4 @@ Bounds bounds_of(const MeshData& mesh) {
   return bounds;
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

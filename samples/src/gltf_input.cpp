@@ -41,10 +41,12 @@ GltfInput parse_gltf_input(const Bytes& bytes, const std::filesystem::path& base
   if (json_start + json_length > bytes.size()) fail(tool, "truncated GLB");
   if (glb && json_start + json_length + 8 <= bytes.size()) {
     const std::size_t bin_start = json_start + json_length + 8;
-    const std::size_t bin_length = std::min<std::size_t>(read_u32(bytes, json_start + json_length), bytes.size() - bin_start);
+    const std::size_t bin_length =
+        std::min<std::size_t>(read_u32(bytes, json_start + json_length), bytes.size() - bin_start);
     bin.assign(bytes.begin() + std::ptrdiff_t(bin_start), bytes.begin() + std::ptrdiff_t(bin_start + bin_length));
   }
-  in.gltf = json::parse(bytes.begin() + std::ptrdiff_t(json_start), bytes.begin() + std::ptrdiff_t(json_start + json_length));
+  in.gltf =
+      json::parse(bytes.begin() + std::ptrdiff_t(json_start), bytes.begin() + std::ptrdiff_t(json_start + json_length));
   const std::vector<std::string> used = in.gltf.value("extensionsUsed", std::vector<std::string>{});
   for (const std::string& name : used)
     if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression")
@@ -53,11 +55,13 @@ GltfInput parse_gltf_input(const Bytes& bytes, const std::filesystem::path& base
   for (const json& buffer : buffers) {
     const std::string uri = buffer.value("uri", "");
     Bytes data;
-    if (uri.empty()) data = in.buffers.empty() ? bin : Bytes();
+    if (uri.empty())
+      data = in.buffers.empty() ? bin : Bytes();
     else if (tinygltf::IsDataURI(uri)) {
       std::string mime;
       if (!tinygltf::DecodeDataURI(&data, mime, uri, 0, false)) fail(tool, "bad data URI in a buffer");
-    } else data = read_file(base_dir / scene::percent_decode(uri), tool);
+    } else
+      data = read_file(base_dir / scene::percent_decode(uri), tool);
     in.buffers.push_back(std::move(data));
   }
   return in;
@@ -90,7 +94,8 @@ void embed_images(json& gltf, json& views, Bytes& bin, const std::filesystem::pa
     if (uri.rfind("data:", 0) == 0) {
       mime = uri.substr(5, uri.find(';') - 5);
       std::string ignored;
-      if (!tinygltf::DecodeDataURI(&data, ignored, "data:application/octet-stream;base64," + uri.substr(uri.find(',') + 1), 0, false))
+      if (!tinygltf::DecodeDataURI(&data, ignored,
+                                   "data:application/octet-stream;base64," + uri.substr(uri.find(',') + 1), 0, false))
         fail(tool, "bad image data URI");
     } else {
       data = read_file(base_dir / scene::percent_decode(uri), tool);
@@ -100,7 +105,8 @@ void embed_images(json& gltf, json& views, Bytes& bin, const std::filesystem::pa
     image.erase("uri");
     image["mimeType"] = mime;
     image["bufferView"] = views.size();
-    views.push_back({{"buffer", 0}, {"byteOffset", append_aligned(bin, data.data(), data.size())}, {"byteLength", data.size()}});
+    views.push_back(
+        {{"buffer", 0}, {"byteOffset", append_aligned(bin, data.data(), data.size())}, {"byteLength", data.size()}});
   }
 }
 

@@ -12,8 +12,8 @@
 namespace probebake::samples {
 namespace {
 
-constexpr int array_buffer = 34962;          // bufferView.target for vertex attributes
-constexpr int element_array_buffer = 34963;  // bufferView.target for indices
+constexpr int array_buffer = 34962;         // bufferView.target for vertex attributes
+constexpr int element_array_buffer = 34963; // bufferView.target for indices
 
 // The shortest decimal that reads back as the same float (0.556, not 0.5559999942779541) so the JSON is
 // readable; the float value is unchanged.
@@ -28,12 +28,12 @@ double tidy(float value) {
 std::vector<double> tidy3(glm::vec3 v) { return {tidy(v.x), tidy(v.y), tidy(v.z)}; }
 
 class BufferWriter {
- public:
+public:
   explicit BufferWriter(tinygltf::Model& model) : model_(model) {}
 
   int add_view(const void* data, std::size_t bytes, int target) {
     std::vector<unsigned char>& buffer = model_.buffers.at(0).data;
-    buffer.resize((buffer.size() + 3) & ~std::size_t{3}, 0);  // accessors need 4-byte alignment
+    buffer.resize((buffer.size() + 3) & ~std::size_t{3}, 0); // accessors need 4-byte alignment
     tinygltf::BufferView view;
     view.buffer = 0;
     view.byteOffset = buffer.size();
@@ -55,7 +55,7 @@ class BufferWriter {
     return static_cast<int>(model_.accessors.size()) - 1;
   }
 
- private:
+private:
   tinygltf::Model& model_;
 };
 
@@ -66,7 +66,7 @@ int add_vec3_accessor(BufferWriter& writer, const std::vector<glm::vec3>& values
 
 int add_positions(tinygltf::Model& model, BufferWriter& writer, const MeshData& mesh) {
   const int accessor = add_vec3_accessor(writer, mesh.positions);
-  const Bounds bounds = bounds_of(mesh);  // min/max exact (required for POSITION)
+  const Bounds bounds = bounds_of(mesh); // min/max exact (required for POSITION)
   model.accessors[static_cast<std::size_t>(accessor)].minValues = {bounds.min.x, bounds.min.y, bounds.min.z};
   model.accessors[static_cast<std::size_t>(accessor)].maxValues = {bounds.max.x, bounds.max.y, bounds.max.z};
   return accessor;
@@ -79,7 +79,8 @@ int add_indices(BufferWriter& writer, const MeshData& mesh) {
     const int view = writer.add_view(small.data(), small.size() * sizeof(std::uint16_t), element_array_buffer);
     return writer.add_accessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, small.size());
   }
-  const int view = writer.add_view(mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t), element_array_buffer);
+  const int view =
+      writer.add_view(mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t), element_array_buffer);
   return writer.add_accessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, mesh.indices.size());
 }
 
@@ -103,8 +104,9 @@ tinygltf::Mesh encode_mesh(tinygltf::Model& model, BufferWriter& writer, const S
 tinygltf::Material encode_material(const Material& source, bool& uses_strength) {
   tinygltf::Material material;
   material.name = source.name;
-  material.pbrMetallicRoughness.baseColorFactor = {tidy(source.albedo.r), tidy(source.albedo.g), tidy(source.albedo.b), 1.0};
-  material.pbrMetallicRoughness.metallicFactor = 0.0;   // purely diffuse
+  material.pbrMetallicRoughness.baseColorFactor = {tidy(source.albedo.r), tidy(source.albedo.g), tidy(source.albedo.b),
+                                                   1.0};
+  material.pbrMetallicRoughness.metallicFactor = 0.0; // purely diffuse
   material.pbrMetallicRoughness.roughnessFactor = 1.0;
   material.doubleSided = source.double_sided;
   const float strength = std::max({source.emission.r, source.emission.g, source.emission.b});
@@ -122,9 +124,9 @@ tinygltf::Material encode_material(const Material& source, bool& uses_strength) 
 
 const char* light_type_name(LightType type) {
   switch (type) {
-    case LightType::spot: return "spot";
-    case LightType::directional: return "directional";
-    case LightType::point: break;
+  case LightType::spot: return "spot";
+  case LightType::directional: return "directional";
+  case LightType::point: break;
   }
   return "point";
 }
@@ -155,7 +157,7 @@ tinygltf::Node encode_node(const SceneBuilder::NodeEntry& source, tinygltf::Mode
   const Transform& t = source.transform;
   if (t.translation != glm::vec3(0.0f)) node.translation = tidy3(t.translation);
   if (t.rotation != glm::quat(1.0f, 0.0f, 0.0f, 0.0f)) {
-    node.rotation = {t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w};  // glTF order: x, y, z, w
+    node.rotation = {t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w}; // glTF order: x, y, z, w
   }
   if (t.scale != glm::vec3(1.0f)) node.scale = tidy3(t.scale);
   if (source.mesh) node.mesh = source.mesh->index;
@@ -181,13 +183,14 @@ tinygltf::Model encode_model(const SceneBuilder& scene) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "probebake make-scene";
-  if (!scene.meshes().empty()) model.buffers.emplace_back();  // an empty buffer would be invalid glTF
+  if (!scene.meshes().empty()) model.buffers.emplace_back(); // an empty buffer would be invalid glTF
   BufferWriter writer(model);
   for (const auto& mesh : scene.meshes()) model.meshes.push_back(encode_mesh(model, writer, mesh));
   bool uses_strength = false;
-  for (const Material& material : scene.materials()) model.materials.push_back(encode_material(material, uses_strength));
+  for (const Material& material : scene.materials())
+    model.materials.push_back(encode_material(material, uses_strength));
   if (uses_strength) model.extensionsUsed.push_back("KHR_materials_emissive_strength");
-  for (const Light& light : scene.lights()) model.lights.push_back(encode_light(light));  // adds KHR_lights_punctual
+  for (const Light& light : scene.lights()) model.lights.push_back(encode_light(light)); // adds KHR_lights_punctual
   for (const auto& node : scene.nodes()) model.nodes.push_back(encode_node(node, model));
   tinygltf::Scene gltf_scene;
   gltf_scene.name = scene.scene_name();
@@ -197,7 +200,7 @@ tinygltf::Model encode_model(const SceneBuilder& scene) {
   return model;
 }
 
-}  // namespace
+} // namespace
 
 std::vector<std::uint8_t> encode_glb(const SceneBuilder& scene) {
   const tinygltf::Model model = encode_model(scene);
@@ -210,4 +213,4 @@ std::vector<std::uint8_t> encode_glb(const SceneBuilder& scene) {
   return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -10,4 +10,4 @@ namespace probebake::samples {
 
 std::vector<std::uint8_t> encode_glb(const SceneBuilder& scene);
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -27,7 +27,7 @@ using detail::component_count;
 using detail::component_size;
 
 class Writer {
- public:
+public:
   Writer(detail::GltfInput& in, std::filesystem::path base_dir) : in_(in), base_dir_(std::move(base_dir)) {}
 
   Bytes run() {
@@ -48,7 +48,7 @@ class Writer {
     return detail::glb_bytes(gltf, bin_);
   }
 
- private:
+private:
   enum class Role { attribute, normal, triangles, indices };
 
   void collect_geometry_accessors() {
@@ -60,13 +60,14 @@ class Writer {
           for (const auto& [name, accessor] : primitive["attributes"].items())
             add_geometry(accessor.get<int>(), name == "NORMAL" ? Role::normal : Role::attribute);
         if (primitive.contains("indices"))
-          add_geometry(primitive["indices"].get<int>(), primitive.value("mode", 4) == 4 ? Role::triangles : Role::indices);
+          add_geometry(primitive["indices"].get<int>(),
+                       primitive.value("mode", 4) == 4 ? Role::triangles : Role::indices);
       }
     }
   }
   void add_geometry(int accessor, Role role) {
     const json& a = in_.gltf["accessors"].at(std::size_t(accessor));
-    if (!a.contains("bufferView") || a.contains("sparse")) return;  // left as it is
+    if (!a.contains("bufferView") || a.contains("sparse")) return; // left as it is
     if (role == Role::triangles && a.value("count", 0) % 3 != 0) role = Role::indices;
     geometry_.emplace(accessor, role);
   }
@@ -120,13 +121,16 @@ class Writer {
     const Bytes& data = view_bytes(source_view, offset);
     const std::size_t src_stride = source_view.value("byteStride", element);
     offset += a.value("byteOffset", std::size_t(0));
-    if (count > 0 && offset + (count - 1) * src_stride + element > data.size()) fail("an accessor reaches past its buffer");
+    if (count > 0 && offset + (count - 1) * src_stride + element > data.size())
+      fail("an accessor reaches past its buffer");
     const bool index_data = role == Role::triangles || role == Role::indices;
     std::size_t stride = index_data ? std::max<std::size_t>(element, 2) : (element + 3) & ~std::size_t{3};
     Bytes packed(count * stride, 0);
     for (std::size_t i = 0; i < count; ++i) {
-      if (index_data && element == 1) packed[i * 2] = data[offset + i * src_stride];  // uint8 -> uint16
-      else std::memcpy(&packed[i * stride], &data[offset + i * src_stride], element);
+      if (index_data && element == 1)
+        packed[i * 2] = data[offset + i * src_stride]; // uint8 -> uint16
+      else
+        std::memcpy(&packed[i * stride], &data[offset + i * src_stride], element);
     }
     if (index_data && element == 1) a["componentType"] = type = 5123;
     std::string filter = "NONE";
@@ -145,8 +149,12 @@ class Writer {
     if (!index_data) view["byteStride"] = stride;
     fallback_size_ = (fallback_size_ + packed.size() + 3) & ~std::size_t{3};
     const char* mode = role == Role::triangles ? "TRIANGLES" : role == Role::indices ? "INDICES" : "ATTRIBUTES";
-    json ext = {{"buffer", 0}, {"byteOffset", append(encoded.data(), encoded.size())}, {"byteLength", encoded.size()},
-                {"byteStride", stride}, {"count", count}, {"mode", mode}};
+    json ext = {{"buffer", 0},
+                {"byteOffset", append(encoded.data(), encoded.size())},
+                {"byteLength", encoded.size()},
+                {"byteStride", stride},
+                {"count", count},
+                {"mode", mode}};
     if (filter != "NONE") ext["filter"] = filter;
     view["extensions"] = {{"EXT_meshopt_compression", ext}};
     a["bufferView"] = views.size();
@@ -202,7 +210,7 @@ class Writer {
   const json empty_ = json::array();
 };
 
-}  // namespace
+} // namespace
 
 std::vector<std::uint8_t> meshopt_compress_gltf(const std::vector<std::uint8_t>& input,
                                                 const std::filesystem::path& base_dir) {
@@ -218,4 +226,4 @@ std::vector<std::uint8_t> meshopt_compress_file(const std::filesystem::path& pat
   return meshopt_compress_gltf(detail::read_file(path, kTool), path.parent_path());
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

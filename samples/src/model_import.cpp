@@ -24,7 +24,7 @@ void add_triangle(const scene::Scene& model, std::size_t t, MaterialTotals& tota
   const auto base = static_cast<std::uint32_t>(totals.geometry.positions.size());
   for (int k = 0; k < 3; ++k) {
     totals.geometry.positions.push_back(model.positions[corners[k]]);
-    totals.geometry.normals.push_back(normal);  // flat: the bake uses geometric normals
+    totals.geometry.normals.push_back(normal); // flat: the bake uses geometric normals
   }
   totals.geometry.indices.insert(totals.geometry.indices.end(), {base, base + 1, base + 2});
   totals.albedo_sum += glm::dvec3(model.triangle_albedo[t]);
@@ -41,14 +41,15 @@ Material averaged_material(const scene::Material& source, const MaterialTotals& 
   return material;
 }
 
-}  // namespace
+} // namespace
 
 ImportedModel import_model(const std::filesystem::path& path) {
   scene::LoadOptions options;
   options.require_triangles = true;
-  const scene::Scene model = scene::load_scene(path, options);  // throws Error(input)
-  std::map<std::uint32_t, MaterialTotals> by_material;  // ordered: deterministic output
-  for (std::size_t t = 0; t < model.triangle_count(); ++t) add_triangle(model, t, by_material[model.triangle_material[t]]);
+  const scene::Scene model = scene::load_scene(path, options); // throws Error(input)
+  std::map<std::uint32_t, MaterialTotals> by_material;         // ordered: deterministic output
+  for (std::size_t t = 0; t < model.triangle_count(); ++t)
+    add_triangle(model, t, by_material[model.triangle_material[t]]);
   ImportedModel result;
   for (const auto& [index, totals] : by_material) {
     result.parts.push_back(ImportedPart{averaged_material(model.materials.at(index), totals), totals.geometry});
@@ -57,4 +58,4 @@ ImportedModel import_model(const std::filesystem::path& path) {
   return result;
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -15,7 +15,7 @@ void require(bool ok, const std::string& message) {
 
 bool positive(float v) { return std::isfinite(v) && v > 0.0f; }
 bool non_negative(float v) { return std::isfinite(v) && v >= 0.0f; }
-bool in_unit_range(float v) { return v >= 0.0f && v <= 1.0f; }  // false for NaN
+bool in_unit_range(float v) { return v >= 0.0f && v <= 1.0f; } // false for NaN
 bool valid_subdivisions(int s) { return s >= 1 && s <= 1024; }
 
 Light white_point_light(float intensity_candela) {
@@ -26,7 +26,7 @@ Light white_point_light(float intensity_candela) {
   return light;
 }
 
-}  // namespace
+} // namespace
 
 SceneBuilder furnace(const FurnaceOptions& options) {
   require(in_unit_range(options.albedo), "furnace: --albedo must be in [0, 1]");
@@ -42,16 +42,19 @@ SceneBuilder furnace(const FurnaceOptions& options) {
 }
 
 SceneBuilder leak(const LeakOptions& options) {
-  require(positive(options.wall_thickness) && options.wall_thickness < 1.0f, "leak: --wall-thickness must be in (0, 1) m");
+  require(positive(options.wall_thickness) && options.wall_thickness < 1.0f,
+          "leak: --wall-thickness must be in (0, 1) m");
   require(non_negative(options.intensity), "leak: --intensity must be finite and >= 0");
   require(valid_subdivisions(options.subdivisions), "leak: --subdivisions must be in 1..1024");
   SceneBuilder scene("leak");
   const MaterialId white = scene.add_material({"white", glm::vec3(0.8f), {}});
-  const float gap = options.wall_thickness / 2.0f;  // the rooms' inner faces are the wall's two sides
-  const glm::vec3 lit_min(-gap - 3.0f, 0.0f, -1.5f), lit_max(-gap, 2.5f, 1.5f);  // 3 x 2.5 x 3 m rooms
+  const float gap = options.wall_thickness / 2.0f; // the rooms' inner faces are the wall's two sides
+  const glm::vec3 lit_min(-gap - 3.0f, 0.0f, -1.5f), lit_max(-gap, 2.5f, 1.5f); // 3 x 2.5 x 3 m rooms
   const glm::vec3 dark_min(gap, 0.0f, -1.5f), dark_max(gap + 3.0f, 2.5f, 1.5f);
-  scene.add_mesh_node("room_lit", scene.add_mesh("room_lit", box(lit_min, lit_max, Facing::inward, options.subdivisions), white));
-  scene.add_mesh_node("room_dark", scene.add_mesh("room_dark", box(dark_min, dark_max, Facing::inward, options.subdivisions), white));
+  scene.add_mesh_node("room_lit",
+                      scene.add_mesh("room_lit", box(lit_min, lit_max, Facing::inward, options.subdivisions), white));
+  scene.add_mesh_node(
+      "room_dark", scene.add_mesh("room_dark", box(dark_min, dark_max, Facing::inward, options.subdivisions), white));
   scene.add_light_node("light", scene.add_light(white_point_light(options.intensity)), (lit_min + lit_max) / 2.0f);
   return scene;
 }
@@ -66,9 +69,11 @@ SceneBuilder plane_light(const PlaneLightOptions& options) {
   const MaterialId material = scene.add_material({"plane", glm::vec3(options.albedo), {}});
   const float s = options.size;
   // Edges +Z then +X: cross((0,0,s), (s,0,0)) points along +Y.
-  const MeshData plane = quad(glm::vec3(-s / 2.0f, 0.0f, -s / 2.0f), glm::vec3(0.0f, 0.0f, s), glm::vec3(s, 0.0f, 0.0f), options.subdivisions);
+  const MeshData plane = quad(glm::vec3(-s / 2.0f, 0.0f, -s / 2.0f), glm::vec3(0.0f, 0.0f, s), glm::vec3(s, 0.0f, 0.0f),
+                              options.subdivisions);
   scene.add_mesh_node("plane", scene.add_mesh("plane", plane, material));
-  scene.add_light_node("light", scene.add_light(white_point_light(options.intensity)), glm::vec3(0.0f, options.height, 0.0f));
+  scene.add_light_node("light", scene.add_light(white_point_light(options.intensity)),
+                       glm::vec3(0.0f, options.height, 0.0f));
   return scene;
 }
 
@@ -76,7 +81,7 @@ SceneBuilder triangle() {
   SceneBuilder scene("triangle");
   const MaterialId white = scene.add_material({"white", glm::vec3(0.8f), {}});
   MeshData mesh;
-  mesh.positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}};  // counter-clockwise seen from +Y
+  mesh.positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}}; // counter-clockwise seen from +Y
   mesh.normals.assign(3, glm::vec3(0.0f, 1.0f, 0.0f));
   mesh.indices = {0, 1, 2};
   scene.add_mesh_node("triangle", scene.add_mesh("triangle", mesh, white));
@@ -86,4 +91,4 @@ SceneBuilder triangle() {
 
 SceneBuilder empty() { return SceneBuilder("empty"); }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -18,7 +18,9 @@ namespace {
 [[noreturn]] void invalid(const std::string& message) { throw Error(ErrorKind::usage, message); }
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-bool in_unit_range(glm::vec3 v) { return glm::all(glm::greaterThanEqual(v, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(v, glm::vec3(1.0f))); }
+bool in_unit_range(glm::vec3 v) {
+  return glm::all(glm::greaterThanEqual(v, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(v, glm::vec3(1.0f)));
+}
 
 void check_material(const Material& m) {
   if (!finite(m.albedo) || !in_unit_range(m.albedo)) invalid("material '" + m.name + "': albedo must be in [0, 1]");
@@ -29,10 +31,11 @@ void check_material(const Material& m) {
 
 void check_light(const Light& l) {
   if (!finite(l.color) || !in_unit_range(l.color)) invalid("light '" + l.name + "': color must be in [0, 1]");
-  if (!std::isfinite(l.intensity) || l.intensity < 0.0f) invalid("light '" + l.name + "': intensity must be finite and >= 0");
+  if (!std::isfinite(l.intensity) || l.intensity < 0.0f)
+    invalid("light '" + l.name + "': intensity must be finite and >= 0");
   if (!std::isfinite(l.range) || l.range < 0.0f) invalid("light '" + l.name + "': range must be >= 0");
-  const bool cones_ok = l.inner_cone_angle >= 0.0f && l.inner_cone_angle < l.outer_cone_angle &&
-                        l.outer_cone_angle <= 1.5707964f;
+  const bool cones_ok =
+      l.inner_cone_angle >= 0.0f && l.inner_cone_angle < l.outer_cone_angle && l.outer_cone_angle <= 1.5707964f;
   if (l.type == LightType::spot && !cones_ok) invalid("light '" + l.name + "': need 0 <= inner < outer <= pi/2");
 }
 
@@ -41,7 +44,7 @@ void check_id(Id id, std::size_t count, const char* what) {
   if (id.index < 0 || static_cast<std::size_t>(id.index) >= count) invalid(std::string("unknown ") + what + " id");
 }
 
-}  // namespace
+} // namespace
 
 glm::mat4 Transform::matrix() const {
   return glm::translate(glm::mat4(1.0f), translation) * glm::mat4_cast(rotation) * glm::scale(glm::mat4(1.0f), scale);
@@ -111,11 +114,13 @@ NodeId SceneBuilder::add_mesh_node(std::string name, MeshId mesh, const Transfor
 NodeId SceneBuilder::add_light_node(std::string name, LightId light, glm::vec3 position, glm::vec3 direction,
                                     std::optional<NodeId> parent) {
   check_id(light, lights_.size(), "light");
-  if (!finite(position) || !finite(direction) || glm::length(direction) == 0.0f) invalid("light node '" + name + "': bad position or direction");
+  if (!finite(position) || !finite(direction) || glm::length(direction) == 0.0f)
+    invalid("light node '" + name + "': bad position or direction");
   Transform transform;
   transform.translation = position;
   if (lights_[static_cast<std::size_t>(light.index)].type != LightType::point) {
-    transform.rotation = glm::quat(glm::vec3(0.0f, 0.0f, -1.0f), glm::normalize(direction));  // glTF lights shine along -Z
+    transform.rotation =
+        glm::quat(glm::vec3(0.0f, 0.0f, -1.0f), glm::normalize(direction)); // glTF lights shine along -Z
   }
   const NodeId node = add_node(std::move(name), transform, parent);
   nodes_[static_cast<std::size_t>(node.index)].light = light;
@@ -183,7 +188,8 @@ Bounds SceneBuilder::bounds() const {
 Bounds SceneBuilder::mesh_bounds(MeshId mesh) const {
   check_id(mesh, meshes_.size(), "mesh");
   Bounds bounds;
-  for (const Primitive& p : meshes_[static_cast<std::size_t>(mesh.index)].primitives) bounds.extend(bounds_of(p.geometry));
+  for (const Primitive& p : meshes_[static_cast<std::size_t>(mesh.index)].primitives)
+    bounds.extend(bounds_of(p.geometry));
   return bounds;
 }
 
@@ -191,4 +197,4 @@ std::vector<std::uint8_t> SceneBuilder::to_glb() const { return encode_glb(*this
 
 void SceneBuilder::write_glb(const std::filesystem::path& path) const { write_file_atomically(path, to_glb()); }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -28,12 +28,15 @@ MeshData measured_quad(const Corners& mm, glm::vec3 reference_mm, Facing facing)
 constexpr glm::vec3 room_centre_mm{278.0f, 274.4f, 279.6f};
 
 const Corners floor_mm{{{552.8f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 559.2f}, {549.6f, 0.0f, 559.2f}}};
-const Corners ceiling_mm{{{556.0f, 548.8f, 0.0f}, {556.0f, 548.8f, 559.2f}, {0.0f, 548.8f, 559.2f}, {0.0f, 548.8f, 0.0f}}};
+const Corners ceiling_mm{
+    {{556.0f, 548.8f, 0.0f}, {556.0f, 548.8f, 559.2f}, {0.0f, 548.8f, 559.2f}, {0.0f, 548.8f, 0.0f}}};
 const Corners back_mm{{{549.6f, 0.0f, 559.2f}, {0.0f, 0.0f, 559.2f}, {0.0f, 548.8f, 559.2f}, {556.0f, 548.8f, 559.2f}}};
 const Corners green_wall_mm{{{0.0f, 0.0f, 559.2f}, {0.0f, 0.0f, 0.0f}, {0.0f, 548.8f, 0.0f}, {0.0f, 548.8f, 559.2f}}};
-const Corners red_wall_mm{{{552.8f, 0.0f, 0.0f}, {549.6f, 0.0f, 559.2f}, {556.0f, 548.8f, 559.2f}, {556.0f, 548.8f, 0.0f}}};
+const Corners red_wall_mm{
+    {{552.8f, 0.0f, 0.0f}, {549.6f, 0.0f, 559.2f}, {556.0f, 548.8f, 559.2f}, {556.0f, 548.8f, 0.0f}}};
 // The measured light sits at the ceiling (548.8); 0.5 mm lower keeps it from coinciding with the ceiling.
-const Corners light_mm{{{343.0f, 548.3f, 227.0f}, {343.0f, 548.3f, 332.0f}, {213.0f, 548.3f, 332.0f}, {213.0f, 548.3f, 227.0f}}};
+const Corners light_mm{
+    {{343.0f, 548.3f, 227.0f}, {343.0f, 548.3f, 332.0f}, {213.0f, 548.3f, 332.0f}, {213.0f, 548.3f, 227.0f}}};
 
 // Blocks: top face then four sides (no bottom, as in the measured data).
 const std::array<Corners, 5> short_block_mm{{
@@ -52,7 +55,7 @@ const std::array<Corners, 5> tall_block_mm{{
 }};
 
 MeshData block(const std::array<Corners, 5>& faces_mm) {
-  glm::vec3 centre(0.0f);  // middle of the top face, at half height: inside the block
+  glm::vec3 centre(0.0f); // middle of the top face, at half height: inside the block
   for (const glm::vec3& corner : faces_mm[0]) centre += corner * 0.25f;
   centre.y *= 0.5f;
   MeshData mesh;
@@ -74,7 +77,7 @@ NodeId add_object(SceneBuilder& scene, const char* name, MeshData mesh, Material
 
 // The model's uniform scale and translation so that it fits 60% of the box and stands centred on the floor.
 Transform fit_in_box(const Bounds& model) {
-  const glm::vec3 box_extent(0.5496f, 0.5488f, 0.5592f);  // the smallest inner extents of the measured box
+  const glm::vec3 box_extent(0.5496f, 0.5488f, 0.5592f); // the smallest inner extents of the measured box
   float scale = std::numeric_limits<float>::infinity();
   for (int axis = 0; axis < 3; ++axis) {
     if (model.extent()[axis] > 0.0f) scale = std::min(scale, 0.6f * box_extent[axis] / model.extent()[axis]);
@@ -85,7 +88,7 @@ Transform fit_in_box(const Bounds& model) {
   return fit;
 }
 
-}  // namespace
+} // namespace
 
 SceneBuilder cornell(const CornellOptions& options) {
   if (options.light_box_gap && !(*options.light_box_gap > 0.0f && *options.light_box_gap < 0.5f)) {
@@ -101,15 +104,18 @@ SceneBuilder cornell(const CornellOptions& options) {
   const glm::vec3 radiance = glm::vec3(cornell_light_radiance[0], cornell_light_radiance[1], cornell_light_radiance[2]);
   // The light box is double-sided, as exporters write it (Blender's default): its inside is then a closed
   // cavity of emitting walls, open space by the glTF rules.
-  const MaterialId light = scene.add_material({"light", glm::vec3(options.light_albedo), radiance * options.light_scale,
-                                               options.light_box_gap.has_value()});
+  const MaterialId light = scene.add_material(
+      {"light", glm::vec3(options.light_albedo), radiance * options.light_scale, options.light_box_gap.has_value()});
 
   add_object(scene, "floor", measured_quad(floor_mm, room_centre_mm, Facing::inward), white);
   add_object(scene, "ceiling", measured_quad(ceiling_mm, room_centre_mm, Facing::inward), white);
   add_object(scene, "back_wall", measured_quad(back_mm, room_centre_mm, Facing::inward), white);
   add_object(scene, "red_wall", measured_quad(red_wall_mm, room_centre_mm, Facing::inward), red);
   add_object(scene, "green_wall", measured_quad(green_wall_mm, room_centre_mm, Facing::inward), green);
-  add_object(scene, "light", options.light_box_gap ? light_box(*options.light_box_gap) : measured_quad(light_mm, room_centre_mm, Facing::inward), light);
+  add_object(scene, "light",
+             options.light_box_gap ? light_box(*options.light_box_gap)
+                                   : measured_quad(light_mm, room_centre_mm, Facing::inward),
+             light);
   scene.set_dynamic(add_object(scene, "short_block", block(short_block_mm), white), options.dynamic);
   if (!options.with_model) {
     scene.set_dynamic(add_object(scene, "tall_block", block(tall_block_mm), white), options.dynamic);
@@ -124,4 +130,4 @@ SceneBuilder cornell(const CornellOptions& options) {
   return scene;
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

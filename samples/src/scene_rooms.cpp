@@ -12,7 +12,7 @@
 namespace probebake::samples {
 namespace {
 
-constexpr glm::vec3 room_size{6.0f, 3.0f, 6.0f};  // inside; rooms span x, z in [-3, 3], y in [0, 3]
+constexpr glm::vec3 room_size{6.0f, 3.0f, 6.0f}; // inside; rooms span x, z in [-3, 3], y in [0, 3]
 constexpr float wall_thickness = 0.2f;
 constexpr int shell_subdivisions = 24;
 constexpr int rug_subdivisions = 16;
@@ -20,21 +20,21 @@ constexpr int spheres_per_room = 6;
 constexpr int sphere_colours = 4;
 
 class Random {
- public:
+public:
   explicit Random(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {  // SplitMix64 (Steele, Lea, Flood 2014)
+  std::uint64_t next() { // SplitMix64 (Steele, Lea, Flood 2014)
     std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   }
   float uniform(float lo, float hi) {
-    const float unit = static_cast<float>(next() >> 40) / 16777216.0f;  // 24 random bits in [0, 1)
+    const float unit = static_cast<float>(next() >> 40) / 16777216.0f; // 24 random bits in [0, 1)
     return lo + (hi - lo) * unit;
   }
   int below(int n) { return static_cast<int>(next() % static_cast<std::uint64_t>(n)); }
 
- private:
+private:
   std::uint64_t state_;
 };
 
@@ -54,9 +54,11 @@ Palette add_palette(SceneBuilder& scene) {
   p.wood = scene.add_material({"wood", {0.45f, 0.3f, 0.18f}, {}});
   p.fabric = scene.add_material({"fabric", {0.5f, 0.1f, 0.1f}, {}});
   p.panel = scene.add_material({"panel", glm::vec3(0.8f), glm::vec3(10.0f)});
-  const std::array<glm::vec3, sphere_colours> colours{{{0.9f, 0.9f, 0.9f}, {0.2f, 0.4f, 0.8f}, {0.8f, 0.6f, 0.1f}, {0.2f, 0.6f, 0.3f}}};
+  const std::array<glm::vec3, sphere_colours> colours{
+      {{0.9f, 0.9f, 0.9f}, {0.2f, 0.4f, 0.8f}, {0.8f, 0.6f, 0.1f}, {0.2f, 0.6f, 0.3f}}};
   for (int c = 0; c < sphere_colours; ++c) {
-    p.spheres[static_cast<std::size_t>(c)] = scene.add_material({"sphere_" + std::to_string(c), colours[static_cast<std::size_t>(c)], {}});
+    p.spheres[static_cast<std::size_t>(c)] =
+        scene.add_material({"sphere_" + std::to_string(c), colours[static_cast<std::size_t>(c)], {}});
   }
   return p;
 }
@@ -66,11 +68,13 @@ SharedMeshes add_shared_meshes(SceneBuilder& scene, const Palette& palette, int 
   const glm::vec3 lo(-room_size.x / 2.0f, 0.0f, -room_size.z / 2.0f);
   m.shell = scene.add_mesh("room_shell", box(lo, lo + room_size, Facing::inward, shell_subdivisions), palette.wall);
   // 0.8 m square 1 cm under the ceiling, facing down: cross(+X, +Z) = -Y.
-  const MeshData panel = quad(glm::vec3(-0.4f, room_size.y - 0.01f, -0.4f), glm::vec3(0.8f, 0.0f, 0.0f), glm::vec3(0.0f, 0.0f, 0.8f));
+  const MeshData panel =
+      quad(glm::vec3(-0.4f, room_size.y - 0.01f, -0.4f), glm::vec3(0.8f, 0.0f, 0.0f), glm::vec3(0.0f, 0.0f, 0.8f));
   m.panel = scene.add_mesh("ceiling_panel", panel, palette.panel);
   const MeshData sphere = cube_sphere(detail);
   for (int c = 0; c < sphere_colours; ++c) {
-    m.spheres[static_cast<std::size_t>(c)] = scene.add_mesh("sphere_" + std::to_string(c), sphere, palette.spheres[static_cast<std::size_t>(c)]);
+    m.spheres[static_cast<std::size_t>(c)] =
+        scene.add_mesh("sphere_" + std::to_string(c), sphere, palette.spheres[static_cast<std::size_t>(c)]);
   }
   return m;
 }
@@ -114,12 +118,13 @@ MeshData shelf(float x) {
 
 MeshId add_furniture(SceneBuilder& scene, const Palette& palette, Random& random, int room) {
   const glm::vec3 jitter(random.uniform(-0.2f, 0.2f), 0.0f, random.uniform(-0.2f, 0.2f));
-  const glm::mat4 table_frame = glm::rotate(glm::translate(glm::mat4(1.0f), jitter), random.uniform(-0.4f, 0.4f),
-                                            glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::mat4 table_frame =
+      glm::rotate(glm::translate(glm::mat4(1.0f), jitter), random.uniform(-0.4f, 0.4f), glm::vec3(0.0f, 1.0f, 0.0f));
   MeshData wood = transformed(dining_set(), table_frame);
   wood.append(shelf(random.uniform(-0.5f, 0.5f)));
   // A 3 x 2 m rug 5 mm above the floor, facing up: cross(+Z, +X) = +Y.
-  const MeshData rug = transformed(quad({-1.5f, 0.005f, -1.0f}, {0.0f, 0.0f, 2.0f}, {3.0f, 0.0f, 0.0f}, rug_subdivisions), table_frame);
+  const MeshData rug =
+      transformed(quad({-1.5f, 0.005f, -1.0f}, {0.0f, 0.0f, 2.0f}, {3.0f, 0.0f, 0.0f}, rug_subdivisions), table_frame);
   std::vector<Primitive> primitives;
   primitives.push_back(Primitive{std::move(wood), palette.wood});
   primitives.push_back(Primitive{rug, palette.fabric});
@@ -136,8 +141,9 @@ void add_spheres(SceneBuilder& scene, const SharedMeshes& meshes, Random& random
     t.scale = glm::vec3(radius);
     t.translation = glm::vec3(side * 2.3f + random.uniform(-0.1f, 0.1f), radius, z + random.uniform(-0.15f, 0.15f));
     const MeshId mesh = meshes.spheres[static_cast<std::size_t>(random.below(sphere_colours))];
-    const NodeId node = scene.add_mesh_node("room_" + std::to_string(room) + "_sphere_" + std::to_string(s), mesh, t, parent);
-    if (s == 0) scene.set_dynamic(node);  // one moving object per room
+    const NodeId node =
+        scene.add_mesh_node("room_" + std::to_string(room) + "_sphere_" + std::to_string(s), mesh, t, parent);
+    if (s == 0) scene.set_dynamic(node); // one moving object per room
   }
 }
 
@@ -148,7 +154,8 @@ void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& m
   const float pitch_x = room_size.x + wall_thickness;
   const float pitch_z = room_size.z + wall_thickness;
   Transform placement;
-  placement.translation = glm::vec3(static_cast<float>(room % columns) * pitch_x, 0.0f, static_cast<float>(room / columns) * pitch_z);
+  placement.translation =
+      glm::vec3(static_cast<float>(room % columns) * pitch_x, 0.0f, static_cast<float>(room / columns) * pitch_z);
   const NodeId node = scene.add_node(prefix, placement);
   scene.add_mesh_node(prefix + "_shell", meshes.shell, {}, node);
   scene.add_mesh_node(prefix + "_furniture", add_furniture(scene, palette, random, room), {}, node);
@@ -167,7 +174,7 @@ void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& m
   }
 }
 
-}  // namespace
+} // namespace
 
 SceneBuilder rooms(const RoomsOptions& options) {
   if (options.count < 1 || options.count > 4096) throw Error(ErrorKind::usage, "rooms: --count must be in 1..4096");
@@ -182,4 +189,4 @@ SceneBuilder rooms(const RoomsOptions& options) {
   return scene;
 }
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -27,7 +27,8 @@ MeshData wall_with_windows(int windows, float cell) {
     for (int c = 0; c < columns; ++c) {
       const float y = kRoomMin.y + float(r) * cell, z = kRoomMin.z + float(c) * cell;
       bool window = false;
-      for (int w = 0; w < windows; ++w) window |= c == kWindowColumns[w] && y + 0.5f * cell > 1.0f && y + 0.5f * cell < 1.5f;
+      for (int w = 0; w < windows; ++w)
+        window |= c == kWindowColumns[w] && y + 0.5f * cell > 1.0f && y + 0.5f * cell < 1.5f;
       if (window) continue;
       // Edges +Z then +Y: cross((0,0,1), (0,1,0)) = -X, into the room.
       wall.append(quad(glm::vec3(kRoomMax.x, y, z), glm::vec3(0.0f, 0.0f, cell), glm::vec3(0.0f, cell, 0.0f)));
@@ -75,15 +76,18 @@ SceneBuilder window_room(const WindowRoomOptions& options) {
 
 SceneBuilder tiny_emitter(const TinyEmitterOptions& options) {
   require(options.size > 0.0f && options.size < 1.0f, "tiny-emitter: --size must be in (0, 1) m");
-  require(std::isfinite(options.radiance) && options.radiance >= 0.0f, "tiny-emitter: --radiance must be finite and >= 0");
+  require(std::isfinite(options.radiance) && options.radiance >= 0.0f,
+          "tiny-emitter: --radiance must be finite and >= 0");
   SceneBuilder scene("tiny-emitter");
   const MaterialId white = scene.add_material({"white", glm::vec3(0.7f), {}});
   const MaterialId light = scene.add_material({"light", glm::vec3(0.0f), glm::vec3(options.radiance)});
   scene.add_mesh_node("room", scene.add_mesh("room", box(kRoomMin, kRoomMax, Facing::inward), white));
   // A square of side `size` facing down, 1 cm under the ceiling's centre (edges +X then +Z: -Y).
   const float s = options.size;
-  scene.add_mesh_node("emitter", scene.add_mesh("emitter", quad(glm::vec3(-s / 2, kRoomMax.y - 0.01f, -s / 2),
-                                                                    glm::vec3(s, 0, 0), glm::vec3(0, 0, s)), light));
+  scene.add_mesh_node("emitter", scene.add_mesh("emitter",
+                                                quad(glm::vec3(-s / 2, kRoomMax.y - 0.01f, -s / 2), glm::vec3(s, 0, 0),
+                                                     glm::vec3(0, 0, s)),
+                                                light));
   return scene;
 }
 
@@ -95,10 +99,15 @@ SceneBuilder cavity(const CavityOptions& options) {
   // A closed 1 m box with a block inside and a 10 x 10 cm emitter on the ceiling: all light stays inside,
   // so probe irradiance is bounded by pi L / (1 - albedo) and the bounce iteration contracts by about
   // the albedo per sweep.
-  scene.add_mesh_node("box", scene.add_mesh("box", box(glm::vec3(-0.5f, 0, -0.5f), glm::vec3(0.5f, 1, 0.5f), Facing::inward), white));
-  scene.add_mesh_node("block", scene.add_mesh("block", box(glm::vec3(-0.3f, 0, -0.1f), glm::vec3(0.0f, 0.4f, 0.2f), Facing::outward), white));
-  scene.add_mesh_node("emitter", scene.add_mesh("emitter", quad(glm::vec3(-0.05f, 0.999f, -0.05f),
-                                                                    glm::vec3(0.1f, 0, 0), glm::vec3(0, 0, 0.1f)), light));
+  scene.add_mesh_node(
+      "box", scene.add_mesh("box", box(glm::vec3(-0.5f, 0, -0.5f), glm::vec3(0.5f, 1, 0.5f), Facing::inward), white));
+  scene.add_mesh_node(
+      "block",
+      scene.add_mesh("block", box(glm::vec3(-0.3f, 0, -0.1f), glm::vec3(0.0f, 0.4f, 0.2f), Facing::outward), white));
+  scene.add_mesh_node(
+      "emitter",
+      scene.add_mesh("emitter", quad(glm::vec3(-0.05f, 0.999f, -0.05f), glm::vec3(0.1f, 0, 0), glm::vec3(0, 0, 0.1f)),
+                     light));
   return scene;
 }
 

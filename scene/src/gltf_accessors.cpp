@@ -32,27 +32,33 @@ ComponentInfo component_info(int component_type) {
 double read_component(const unsigned char* p, int component_type, bool normalized) {
   switch (component_type) {
   case TINYGLTF_COMPONENT_TYPE_BYTE: {
-    std::int8_t v; std::memcpy(&v, p, 1);
+    std::int8_t v;
+    std::memcpy(&v, p, 1);
     return normalized ? std::max(double(v) / 127.0, -1.0) : double(v);
   }
   case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-    std::uint8_t v; std::memcpy(&v, p, 1);
+    std::uint8_t v;
+    std::memcpy(&v, p, 1);
     return normalized ? double(v) / 255.0 : double(v);
   }
   case TINYGLTF_COMPONENT_TYPE_SHORT: {
-    std::int16_t v; std::memcpy(&v, p, 2);
+    std::int16_t v;
+    std::memcpy(&v, p, 2);
     return normalized ? std::max(double(v) / 32767.0, -1.0) : double(v);
   }
   case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-    std::uint16_t v; std::memcpy(&v, p, 2);
+    std::uint16_t v;
+    std::memcpy(&v, p, 2);
     return normalized ? double(v) / 65535.0 : double(v);
   }
   case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-    std::uint32_t v; std::memcpy(&v, p, 4);
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
     return normalized ? double(v) / 4294967295.0 : double(v);
   }
   default: {
-    float v; std::memcpy(&v, p, 4);
+    float v;
+    std::memcpy(&v, p, 4);
     return double(v);
   }
   }
@@ -73,8 +79,8 @@ ElementView checked_view(const tinygltf::Model& model, int buffer_view, std::siz
     ctx.fail(place, fmt::format("bufferView {} references missing buffer {}", buffer_view, view.buffer));
   const std::vector<unsigned char>& data = model.buffers[std::size_t(view.buffer)].data;
   if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
-    ctx.fail(place, fmt::format("bufferView {} (offset {}, length {}) reaches past its buffer of {} bytes",
-                                buffer_view, view.byteOffset, view.byteLength, data.size()));
+    ctx.fail(place, fmt::format("bufferView {} (offset {}, length {}) reaches past its buffer of {} bytes", buffer_view,
+                                view.byteOffset, view.byteLength, data.size()));
   std::size_t stride = (allow_stride && view.byteStride != 0) ? view.byteStride : element_size;
   if (stride < element_size) ctx.fail(place, fmt::format("byteStride {} is smaller than an element", stride));
   if (count == 0) return {data.data() + view.byteOffset, stride};
@@ -108,14 +114,15 @@ std::vector<double> read_accessor(const tinygltf::Model& model, const tinygltf::
   // accessor without bufferView is all zeros (spec) and only the memory budget bounds it.
   ElementView view;
   if (acc.bufferView >= 0)
-    view = checked_view(model, acc.bufferView, acc.byteOffset, acc.count, nc * std::size_t(info.size), true, ctx, place);
+    view =
+        checked_view(model, acc.bufferView, acc.byteOffset, acc.count, nc * std::size_t(info.size), true, ctx, place);
   ctx.charge(acc.count * nc, sizeof(double) + sizeof(float), place);
   std::vector<double> out(acc.count * nc, 0.0);
   if (acc.bufferView >= 0) {
     for (std::size_t i = 0; i < acc.count; ++i)
       for (std::size_t c = 0; c < nc; ++c)
-        out[i * nc + c] = read_component(view.base + i * view.stride + c * std::size_t(info.size), acc.componentType,
-                                         acc.normalized);
+        out[i * nc + c] =
+            read_component(view.base + i * view.stride + c * std::size_t(info.size), acc.componentType, acc.normalized);
   }
   if (acc.sparse.isSparse) {
     const auto& sparse = acc.sparse;

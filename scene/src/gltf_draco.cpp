@@ -65,8 +65,7 @@ PrimitiveGeometry decode_draco_primitive(const tinygltf::Model& model, const tin
   buffer.Init(reinterpret_cast<const char*>(bytes), size);
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
-  if (!decoded.ok())
-    ctx.fail(place, fmt::format("corrupted Draco payload: {}", decoded.status().error_msg_string()));
+  if (!decoded.ok()) ctx.fail(place, fmt::format("corrupted Draco payload: {}", decoded.status().error_msg_string()));
   const draco::Mesh& mesh = *decoded.value();
 
   PrimitiveGeometry geometry;

@@ -118,7 +118,8 @@ bool InputPolicy::allows(const std::filesystem::path& path) const {
 
 InputPolicy::InputPolicy(const std::filesystem::path& scene_folder, const std::vector<std::filesystem::path>& allowed,
                          MemoryBudget& memory, const Context& context)
-    : base_dir(resolve(scene_folder.empty() ? std::filesystem::path(".") : scene_folder)), budget(&memory),
+    : base_dir(resolve(scene_folder.empty() ? std::filesystem::path(".") : scene_folder)),
+      budget(&memory),
       ctx(context) {
   roots.push_back(base_dir);
   for (const auto& folder : allowed) roots.push_back(resolve(folder));
@@ -127,8 +128,8 @@ InputPolicy::InputPolicy(const std::filesystem::path& scene_folder, const std::v
 void MemoryBudget::charge(std::uint64_t bytes, const Context& ctx, const std::string& place) {
   if (limit_ == 0) return;
   if (bytes > limit_ - std::min(used_, limit_))
-    ctx.fail(place, fmt::format("needs more than the memory budget of {} MiB (raise it with --max-memory)",
-                                limit_ >> 20));
+    ctx.fail(place,
+             fmt::format("needs more than the memory budget of {} MiB (raise it with --max-memory)", limit_ >> 20));
   used_ += bytes;
 }
 

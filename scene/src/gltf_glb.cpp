@@ -56,7 +56,8 @@ GlbChunks split_glb(std::span<const unsigned char> bytes, const Context& ctx) {
   if (declared > bytes.size())
     ctx.fail("glb", fmt::format("header declares {} bytes but the file has {} (truncated)", declared, bytes.size()));
   if (declared < bytes.size())
-    out.warnings.push_back(fmt::format("glb: {} bytes after the declared length {} ignored", bytes.size() - declared, declared));
+    out.warnings.push_back(
+        fmt::format("glb: {} bytes after the declared length {} ignored", bytes.size() - declared, declared));
   const std::span<const unsigned char> glb = bytes.first(declared);
 
   std::size_t offset = kHeaderBytes;
@@ -79,7 +80,8 @@ GlbChunks split_glb(std::span<const unsigned char> bytes, const Context& ctx) {
     } else if (type == kBinChunk || type == kJsonChunk) {
       ctx.fail(place, fmt::format("a second {} chunk (a GLB has at most one of each)", chunk_type_name(type)));
     } else {
-      out.warnings.push_back(fmt::format("{}: unknown type '{}' skipped ({} bytes)", place, chunk_type_name(type), length));
+      out.warnings.push_back(
+          fmt::format("{}: unknown type '{}' skipped ({} bytes)", place, chunk_type_name(type), length));
     }
     offset = data + length;
   }

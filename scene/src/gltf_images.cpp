@@ -80,8 +80,8 @@ bool decode_with_stb(tinygltf::Image* image, int index, const unsigned char* byt
   StbImage decoded;
   switch (decode_capped(bytes, size, header, cap, decoded)) {
   case StbDecode::over_cap:
-    why = fmt::format("corrupt image data: decoding asks for more than {} bytes, more than its {}x{} pixels need", cap, header.width,
-                      header.height);
+    why = fmt::format("corrupt image data: decoding asks for more than {} bytes, more than its {}x{} pixels need", cap,
+                      header.width, header.height);
     return false;
   case StbDecode::failed: why = "corrupt image data"; return false;
   case StbDecode::ok: break;
@@ -120,9 +120,9 @@ void decode_buffer_view_images(tinygltf::Model& model, InputPolicy& policy) {
     const std::vector<unsigned char>& data = model.buffers[std::size_t(view.buffer)].data;
     if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset ||
         view.byteLength > std::size_t(std::numeric_limits<int>::max())) {
-      policy.image_problems[index] = fmt::format("bufferView {} (bytes {}..+{}) lies outside buffer {} ({} bytes)",
-                                                 image.bufferView, view.byteOffset, view.byteLength, view.buffer,
-                                                 data.size());
+      policy.image_problems[index] =
+          fmt::format("bufferView {} (bytes {}..+{}) lies outside buffer {} ({} bytes)", image.bufferView,
+                      view.byteOffset, view.byteLength, view.buffer, data.size());
       continue;
     }
     decode_image(&image, index, data.data() + view.byteOffset, int(view.byteLength), policy);

@@ -92,8 +92,8 @@ struct InputPolicy {
   // True when `path`, with symlinks and ".." resolved, lies inside one of the roots.
   bool allows(const std::filesystem::path& path) const;
 
-  std::filesystem::path base_dir;            // the scene's folder, resolved
-  std::vector<std::filesystem::path> roots;  // base_dir first
+  std::filesystem::path base_dir;           // the scene's folder, resolved
+  std::vector<std::filesystem::path> roots; // base_dir first
   MemoryBudget* budget;
   const Context& ctx;
   std::vector<std::filesystem::path> files_read; // external files, resolved
@@ -130,12 +130,12 @@ struct ElementFact {
   std::string text;
 };
 struct PreflightFacts {
-  std::vector<int> buffers_without_uri;      // GLB BIN, placeholder/fallback buffers, unused buffers
-  std::vector<int> accessors_without_view;   // all zeros (plus sparse values)
-  std::vector<int> images_with_other_media;  // data URIs of media types tinygltf does not know (image/webp, image/ktx2)
-  std::vector<ElementFact> bad_data_uris;    // buffers/images whose data URI cannot be decoded; text: why
-  std::vector<ElementFact> unknown_enums;    // accessors type/componentType, cameras type outside glTF 2.0
-  bool integral_floats = false;              // a float with an integer value outside `extras` (1.0 for 1)
+  std::vector<int> buffers_without_uri;     // GLB BIN, placeholder/fallback buffers, unused buffers
+  std::vector<int> accessors_without_view;  // all zeros (plus sparse values)
+  std::vector<int> images_with_other_media; // data URIs of media types tinygltf does not know (image/webp, image/ktx2)
+  std::vector<ElementFact> bad_data_uris;   // buffers/images whose data URI cannot be decoded; text: why
+  std::vector<ElementFact> unknown_enums;   // accessors type/componentType, cameras type outside glTF 2.0
+  bool integral_floats = false;             // a float with an integer value outside `extras` (1.0 for 1)
 };
 
 // What anything that may be read refers to (gltf_usage.cpp), one flag per element of each array.
@@ -151,11 +151,11 @@ PreflightFacts preflight_gltf_json(std::string_view json, const InputPolicy& pol
 // tinygltf's check, uri-less buffers other than the GLB BIN become one-byte placeholders, and image data
 // URIs of other media types become application/octet-stream (the image decoder sniffs the bytes).
 struct TinygltfRewrite {
-  std::vector<int> placeholder_buffers;                   // emptied after parsing
-  std::vector<std::array<int, 3>> hidden_indices;         // {mesh, primitive, accessor}, restored after parsing
-  std::vector<int> unused_images;                         // never decoded (InputPolicy::unused_images)
-  std::vector<int> hidden_image_uris;                     // unused images whose URI became a placeholder
-  std::vector<int> unreadable_accessors;                  // unused, of an unknown type: no reader accepts them
+  std::vector<int> placeholder_buffers;                     // emptied after parsing
+  std::vector<std::array<int, 3>> hidden_indices;           // {mesh, primitive, accessor}, restored after parsing
+  std::vector<int> unused_images;                           // never decoded (InputPolicy::unused_images)
+  std::vector<int> hidden_image_uris;                       // unused images whose URI became a placeholder
+  std::vector<int> unreadable_accessors;                    // unused, of an unknown type: no reader accepts them
   std::vector<std::pair<int, std::string>> unknown_cameras; // {camera, its type}, restored after parsing
 };
 // A one-byte buffer: tinygltf 2.7 refuses a zero-length one. Stands in for what is never read.
@@ -174,9 +174,8 @@ void restore_after_tinygltf(tinygltf::Model& model, const TinygltfRewrite& rewri
 void decode_meshopt_buffer_views(tinygltf::Model& model, const Context& ctx);
 // One compressed stream: `count` elements of `stride` bytes (mode/filter as in the extension's JSON).
 std::vector<unsigned char> decode_meshopt_stream(std::span<const unsigned char> source, std::size_t count,
-                                                 std::size_t stride, const std::string& mode,
-                                                 const std::string& filter, const Context& ctx,
-                                                 const std::string& place);
+                                                 std::size_t stride, const std::string& mode, const std::string& filter,
+                                                 const Context& ctx, const std::string& place);
 
 // Image decoding for tinygltf's callback: WebP through libwebp, PNG/JPEG/... through stb, sizes checked and
 // charged before pixels are allocated. An image that cannot be decoded is recorded in
@@ -195,8 +194,8 @@ struct PrimitiveGeometry {
 
 // Reads an accessor as `components` floats per element (normalized integers mapped to [0,1] / [-1,1]),
 // sparse substitution applied. Every offset, stride and count is checked against its buffer.
-std::vector<float> read_accessor_floats(const tinygltf::Model& model, int accessor, int components,
-                                        const Context& ctx, const std::string& place);
+std::vector<float> read_accessor_floats(const tinygltf::Model& model, int accessor, int components, const Context& ctx,
+                                        const std::string& place);
 // Reads an index accessor (unsigned byte/short/int scalars).
 std::vector<std::uint32_t> read_accessor_indices(const tinygltf::Model& model, int accessor, const Context& ctx,
                                                  const std::string& place);

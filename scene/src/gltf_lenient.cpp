@@ -24,8 +24,10 @@ void integers_from_integral_floats(json& value) {
   if (value.is_number_float()) {
     const double v = value.get<double>();
     if (std::abs(v) <= kLargestExactInteger && v == std::floor(v)) {
-      if (v < 0) value = std::int64_t(v);
-      else value = std::uint64_t(v);
+      if (v < 0)
+        value = std::int64_t(v);
+      else
+        value = std::uint64_t(v);
     }
     return;
   }
@@ -55,8 +57,8 @@ std::string place_of(const ElementFact& fact) { return fmt::format("{}[{}].{}", 
 
 // Unused buffers (other than a GLB's BIN chunk) become placeholders and unused images lose their URI, so
 // neither is read, decoded or charged; a URI fault in a used one is refused.
-void hide_unused_data(json& gltf, bool is_glb, const UsedObjects& used, const PreflightFacts& facts,
-                      const Context& ctx, TinygltfRewrite& out) {
+void hide_unused_data(json& gltf, bool is_glb, const UsedObjects& used, const PreflightFacts& facts, const Context& ctx,
+                      TinygltfRewrite& out) {
   for (const ElementFact& fact : facts.bad_data_uris)
     if (is_used(used, fact.array, fact.index)) ctx.fail(place_of(fact), fact.text);
   for (std::size_t b = 0; b < used.buffers.size(); ++b) {

@@ -101,12 +101,15 @@ glm::mat4 local_transform(const tinygltf::Node& node, const Context& ctx, const 
   if (!node.matrix.empty()) ctx.fail(place, "matrix must have 16 elements");
   glm::mat4 m(1.0f);
   if (node.translation.size() == 3)
-    m = glm::translate(m, glm::vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2])));
+    m = glm::translate(m,
+                       glm::vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2])));
   if (node.rotation.size() == 4) {
-    const glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]));
+    const glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
+                      float(node.rotation[2]));
     m = m * glm::mat4_cast(glm::normalize(q));
   }
-  if (node.scale.size() == 3) m = glm::scale(m, glm::vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
+  if (node.scale.size() == 3)
+    m = glm::scale(m, glm::vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2])));
   return m;
 }
 
@@ -118,10 +121,14 @@ bool is_dynamic(const tinygltf::Node& node) {
 Light convert_light(const tinygltf::Light& in, const glm::mat4& world, const Context& ctx, const std::string& place) {
   Light light;
   light.name = in.name;
-  if (in.type == "point") light.type = LightType::point;
-  else if (in.type == "spot") light.type = LightType::spot;
-  else if (in.type == "directional") light.type = LightType::directional;
-  else ctx.fail(place, fmt::format("unknown light type '{}'", in.type));
+  if (in.type == "point")
+    light.type = LightType::point;
+  else if (in.type == "spot")
+    light.type = LightType::spot;
+  else if (in.type == "directional")
+    light.type = LightType::directional;
+  else
+    ctx.fail(place, fmt::format("unknown light type '{}'", in.type));
   if (in.color.size() == 3) light.color = {float(in.color[0]), float(in.color[1]), float(in.color[2])};
   light.intensity = float(in.intensity);
   light.range = light.type == LightType::directional ? 0.0f : float(in.range); // range is ignored for sun lights
@@ -130,8 +137,8 @@ Light convert_light(const tinygltf::Light& in, const glm::mat4& world, const Con
   light.position = glm::vec3(world * glm::vec4(0, 0, 0, 1));
   const glm::vec3 dir = glm::mat3(world) * glm::vec3(0, 0, -1);
   light.direction = glm::length(dir) > 0.0f ? glm::normalize(dir) : glm::vec3(0, 0, -1);
-  const bool finite = std::isfinite(light.intensity) && std::isfinite(light.range) &&
-                      detail::all_finite(light.color) && detail::all_finite(light.position);
+  const bool finite = std::isfinite(light.intensity) && std::isfinite(light.range) && detail::all_finite(light.color) &&
+                      detail::all_finite(light.position);
   if (!finite || light.intensity < 0.0f || glm::any(glm::lessThan(light.color, glm::vec3(0.0f))))
     ctx.fail(place, "light colour, intensity and position must be finite and non-negative");
   return light;
@@ -152,8 +159,8 @@ public:
     if (!visited_.insert(index).second) ctx_.fail(place, "node is reached twice (cycle or shared child)");
     const tinygltf::Node& node = model_.nodes[std::size_t(index)];
     const glm::mat4 world = parent * local_transform(node, ctx_, place);
-    if (!detail::all_finite(world[0]) || !detail::all_finite(world[1]) ||
-        !detail::all_finite(world[2]) || !detail::all_finite(world[3]))
+    if (!detail::all_finite(world[0]) || !detail::all_finite(world[1]) || !detail::all_finite(world[2]) ||
+        !detail::all_finite(world[3]))
       ctx_.fail(place, "transform is not finite");
     int object = parent_object;
     if (object < 0 && (is_dynamic(node) || named_dynamic(node.name))) {
@@ -164,7 +171,8 @@ public:
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end() && detail::member(light->second, "light").IsInt()) {
       const int li = detail::member(light->second, "light").Get<int>();
-      if (li < 0 || std::size_t(li) >= model_.lights.size()) ctx_.fail(place, fmt::format("light {} does not exist", li));
+      if (li < 0 || std::size_t(li) >= model_.lights.size())
+        ctx_.fail(place, fmt::format("light {} does not exist", li));
       const tinygltf::Light& punctual = model_.lights[std::size_t(li)];
       if (punctual.type == "point" || punctual.type == "spot" || punctual.type == "directional")
         scene_.lights.push_back(convert_light(punctual, world, ctx_, place));
@@ -178,7 +186,8 @@ public:
   // Nodes named dynamic by the caller (LoadOptions::dynamic_nodes); each name must name a node.
   void set_dynamic_names(const std::vector<std::string>& names) {
     for (const std::string& name : names) {
-      const bool found = std::any_of(model_.nodes.begin(), model_.nodes.end(), [&](const tinygltf::Node& n) { return n.name == name; });
+      const bool found = std::any_of(model_.nodes.begin(), model_.nodes.end(),
+                                     [&](const tinygltf::Node& n) { return n.name == name; });
       if (!found) ctx_.fail("nodes", fmt::format("no node is named '{}' (--dynamic)", name));
       dynamic_names_.insert(name);
     }
@@ -186,7 +195,8 @@ public:
 
 private:
   void add_camera(const tinygltf::Node& node, const glm::mat4& world, const std::string& place) {
-    if (std::size_t(node.camera) >= model_.cameras.size()) ctx_.fail(place, fmt::format("camera {} does not exist", node.camera));
+    if (std::size_t(node.camera) >= model_.cameras.size())
+      ctx_.fail(place, fmt::format("camera {} does not exist", node.camera));
     const tinygltf::Camera& camera = model_.cameras[std::size_t(node.camera)];
     if (camera.type == "orthographic") {
       ctx_.warn(fmt::format("{}: {} camera not used (eval takes perspective cameras)", place, camera.type));
@@ -204,7 +214,8 @@ private:
 
   void add_mesh_instance(const tinygltf::Node& node, int index, const glm::mat4& world, int object,
                          const std::string& place) {
-    if (std::size_t(node.mesh) >= model_.meshes.size()) ctx_.fail(place, fmt::format("mesh {} does not exist", node.mesh));
+    if (std::size_t(node.mesh) >= model_.meshes.size())
+      ctx_.fail(place, fmt::format("mesh {} does not exist", node.mesh));
     Instance instance;
     instance.node_name = node.name;
     instance.node = index;
@@ -276,9 +287,12 @@ private:
     std::vector<std::uint32_t> v = std::move(g.indices);
     g.indices.clear();
     for (std::size_t i = 0; i + 2 < v.size(); ++i) {
-      if (mode == TINYGLTF_MODE_TRIANGLE_FAN) g.indices.insert(g.indices.end(), {v[i + 1], v[i + 2], v[0]});
-      else if (i % 2 == 0) g.indices.insert(g.indices.end(), {v[i], v[i + 1], v[i + 2]});
-      else g.indices.insert(g.indices.end(), {v[i + 1], v[i], v[i + 2]});
+      if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        g.indices.insert(g.indices.end(), {v[i + 1], v[i + 2], v[0]});
+      else if (i % 2 == 0)
+        g.indices.insert(g.indices.end(), {v[i], v[i + 1], v[i + 2]});
+      else
+        g.indices.insert(g.indices.end(), {v[i + 1], v[i], v[i + 2]});
     }
   }
 
@@ -310,8 +324,8 @@ std::vector<int> root_nodes(const tinygltf::Model& model, const Context& ctx) {
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
   const Context ctx{path.string()};
-  Scene scene =
-      load_scene_from_memory(read_file_bytes(path, options.max_memory, ctx), path.string(), path.parent_path(), options);
+  Scene scene = load_scene_from_memory(read_file_bytes(path, options.max_memory, ctx), path.string(),
+                                       path.parent_path(), options);
   std::error_code ec;
   scene.input_files.insert(scene.input_files.begin(), std::filesystem::weakly_canonical(path, ec));
   return scene;
@@ -343,8 +357,9 @@ Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string
   for (int root : root_nodes(model, ctx)) builder.add_node(root, glm::mat4(1.0f), -1, 0);
   for (const glm::vec3& p : scene.positions) scene.bounds.extend(p);
   if (options.require_triangles && scene.triangles.empty())
-    ctx.fail("meshes", fmt::format("scene has no triangles to bake ({} meshes, {} lights; `probebake info` describes it)",
-                                   scene.mesh_count, scene.lights.size()));
+    ctx.fail("meshes",
+             fmt::format("scene has no triangles to bake ({} meshes, {} lights; `probebake info` describes it)",
+                         scene.mesh_count, scene.lights.size()));
   return scene;
 }
 

@@ -18,9 +18,7 @@ namespace {
 
 constexpr int kSubdivision = 3; // 9 samples per triangle
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 glm::vec3 factor3(const std::vector<double>& v, glm::vec3 fallback) {
   if (v.size() < 3) return fallback;
@@ -58,7 +56,8 @@ glm::vec3 fetch_texel(const tinygltf::Image& image, glm::vec2 uv, int wrap_s, in
   const int x = std::min(int(u * float(image.width)), image.width - 1);
   const int y = std::min(int(v * float(image.height)), image.height - 1);
   const std::size_t bytes = image.bits == 16 ? 2 : 1;
-  const std::size_t base = (std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * std::size_t(image.component) * bytes;
+  const std::size_t base =
+      (std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * std::size_t(image.component) * bytes;
   auto channel = [&](int c) {
     const std::size_t at = base + std::size_t(c) * bytes;
     if (bytes == 2) return float(image.image[at] | (image.image[at + 1] << 8)) / 65535.0f;
@@ -71,8 +70,8 @@ glm::vec3 fetch_texel(const tinygltf::Image& image, glm::vec2 uv, int wrap_s, in
 bool image_is_usable(const tinygltf::Image& image) {
   if (image.width <= 0 || image.height <= 0 || image.component <= 0 || image.component > 4) return false;
   if (image.bits != 8 && image.bits != 16) return false;
-  const std::size_t need = std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.component) *
-                           std::size_t(image.bits / 8);
+  const std::size_t need =
+      std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.component) * std::size_t(image.bits / 8);
   return image.image.size() >= need;
 }
 
@@ -209,8 +208,7 @@ std::vector<int> select_texture_images(const tinygltf::Model& model, const std::
     if (!used[t]) continue; // not sampled by the bake (normal maps, ...): never a reason to warn
     std::string why;
     images[t] = usable_image(model, model.textures[t], why, problems);
-    if (images[t] < 0)
-      ctx.degrade(fmt::format("textures[{}]", t), why + "; its materials use their factors instead");
+    if (images[t] < 0) ctx.degrade(fmt::format("textures[{}]", t), why + "; its materials use their factors instead");
   }
   return images;
 }
@@ -228,7 +226,8 @@ TriangleColors average_triangle_colors(const tinygltf::Model& model, const std::
   colors.albedo.assign(triangles, material.base_color);
   colors.emission.assign(triangles, material.emission);
   for (std::size_t t = 0; t < triangles; ++t) {
-    if (base.image != nullptr) colors.albedo[t] = glm::min(material.base_color * average_texture(base, geometry, t), glm::vec3(1.0f));
+    if (base.image != nullptr)
+      colors.albedo[t] = glm::min(material.base_color * average_texture(base, geometry, t), glm::vec3(1.0f));
     if (emissive.image != nullptr) colors.emission[t] = material.emission * average_texture(emissive, geometry, t);
   }
   return colors;

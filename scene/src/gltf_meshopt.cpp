@@ -39,8 +39,10 @@ MeshoptView read_extension(const tinygltf::Value& json, const Context& ctx, cons
   v.count = size_property(json, "count", true, ctx, place);
   if (!member(json, "mode").IsString()) ctx.fail(place, "mode must be ATTRIBUTES, TRIANGLES or INDICES");
   v.mode = member(json, "mode").Get<std::string>();
-  if (member(json, "filter").IsString()) v.filter = member(json, "filter").Get<std::string>();
-  else if (member(json, "filter").Type() != tinygltf::NULL_TYPE) ctx.fail(place, "filter must be a string");
+  if (member(json, "filter").IsString())
+    v.filter = member(json, "filter").Get<std::string>();
+  else if (member(json, "filter").Type() != tinygltf::NULL_TYPE)
+    ctx.fail(place, "filter must be a string");
   return v;
 }
 
@@ -53,9 +55,11 @@ void check_layout(const std::string& mode, const std::string& filter, std::size_
     ctx.fail(place, fmt::format("unknown filter '{}'", filter));
   if (mode == "ATTRIBUTES" && (stride == 0 || stride % 4 != 0 || stride > 256))
     ctx.fail(place, fmt::format("ATTRIBUTES byteStride {} must be a multiple of 4 up to 256", stride));
-  if (indices && stride != 2 && stride != 4) ctx.fail(place, fmt::format("{} byteStride {} must be 2 or 4", mode, stride));
+  if (indices && stride != 2 && stride != 4)
+    ctx.fail(place, fmt::format("{} byteStride {} must be 2 or 4", mode, stride));
   if (indices && filter != "NONE") ctx.fail(place, fmt::format("{} data cannot have filter {}", mode, filter));
-  if (mode == "TRIANGLES" && count % 3 != 0) ctx.fail(place, fmt::format("TRIANGLES count {} is not a multiple of 3", count));
+  if (mode == "TRIANGLES" && count % 3 != 0)
+    ctx.fail(place, fmt::format("TRIANGLES count {} is not a multiple of 3", count));
   if (filter == "OCTAHEDRAL" && stride != 4 && stride != 8)
     ctx.fail(place, fmt::format("OCTAHEDRAL byteStride {} must be 4 or 8", stride));
   if (filter == "QUATERNION" && stride != 8) ctx.fail(place, fmt::format("QUATERNION byteStride {} must be 8", stride));
@@ -63,14 +67,17 @@ void check_layout(const std::string& mode, const std::string& filter, std::size_
 
 void apply_filter(std::vector<unsigned char>& data, std::size_t count, std::size_t stride, const std::string& filter) {
   if (count == 0) return;
-  if (filter == "OCTAHEDRAL") meshopt_decodeFilterOct(data.data(), count, stride);
-  else if (filter == "QUATERNION") meshopt_decodeFilterQuat(data.data(), count, stride);
-  else if (filter == "EXPONENTIAL") meshopt_decodeFilterExp(data.data(), count, stride);
+  if (filter == "OCTAHEDRAL")
+    meshopt_decodeFilterOct(data.data(), count, stride);
+  else if (filter == "QUATERNION")
+    meshopt_decodeFilterQuat(data.data(), count, stride);
+  else if (filter == "EXPONENTIAL")
+    meshopt_decodeFilterExp(data.data(), count, stride);
 }
 
 // `file_buffers`: the buffers the file declares (decoded ones are appended after them).
-std::span<const unsigned char> source_bytes(const tinygltf::Model& model, std::size_t file_buffers, const MeshoptView& v,
-                                            const Context& ctx, const std::string& place) {
+std::span<const unsigned char> source_bytes(const tinygltf::Model& model, std::size_t file_buffers,
+                                            const MeshoptView& v, const Context& ctx, const std::string& place) {
   if (v.buffer < 0 || std::size_t(v.buffer) >= file_buffers)
     ctx.fail(place, fmt::format("buffer {} does not exist", v.buffer));
   const std::vector<unsigned char>& data = model.buffers[std::size_t(v.buffer)].data;
@@ -83,18 +90,20 @@ std::span<const unsigned char> source_bytes(const tinygltf::Model& model, std::s
 } // namespace
 
 std::vector<unsigned char> decode_meshopt_stream(std::span<const unsigned char> source, std::size_t count,
-                                                 std::size_t stride, const std::string& mode,
-                                                 const std::string& filter, const Context& ctx,
-                                                 const std::string& place) {
+                                                 std::size_t stride, const std::string& mode, const std::string& filter,
+                                                 const Context& ctx, const std::string& place) {
   check_layout(mode, filter, count, stride, ctx, place);
   if (count > (std::size_t(1) << 31)) ctx.fail(place, fmt::format("count {} is too large", count));
   ctx.charge(count, stride, place);
   std::vector<unsigned char> out(count * stride);
   if (count == 0) return out;
   int rc = 0;
-  if (mode == "ATTRIBUTES") rc = meshopt_decodeVertexBuffer(out.data(), count, stride, source.data(), source.size());
-  else if (mode == "TRIANGLES") rc = meshopt_decodeIndexBuffer(out.data(), count, stride, source.data(), source.size());
-  else rc = meshopt_decodeIndexSequence(out.data(), count, stride, source.data(), source.size());
+  if (mode == "ATTRIBUTES")
+    rc = meshopt_decodeVertexBuffer(out.data(), count, stride, source.data(), source.size());
+  else if (mode == "TRIANGLES")
+    rc = meshopt_decodeIndexBuffer(out.data(), count, stride, source.data(), source.size());
+  else
+    rc = meshopt_decodeIndexSequence(out.data(), count, stride, source.data(), source.size());
   if (rc != 0) ctx.fail(place, fmt::format("corrupted meshopt {} data (decoder error {})", mode, rc));
   apply_filter(out, count, stride, filter);
   return out;
@@ -110,11 +119,12 @@ void decode_meshopt_buffer_views(tinygltf::Model& model, const Context& ctx) {
     tinygltf::BufferView& view = model.bufferViews[i];
     if (view.byteStride != 0 && view.byteStride != v.byte_stride)
       ctx.fail(place, fmt::format("byteStride {} differs from the bufferView's {}", v.byte_stride, view.byteStride));
-    if (v.count > view.byteLength / std::max<std::size_t>(v.byte_stride, 1) || v.count * v.byte_stride != view.byteLength)
+    if (v.count > view.byteLength / std::max<std::size_t>(v.byte_stride, 1) ||
+        v.count * v.byte_stride != view.byteLength)
       ctx.fail(place, fmt::format("count {} x byteStride {} is not the bufferView's byteLength {}", v.count,
                                   v.byte_stride, view.byteLength));
-    std::vector<unsigned char> decoded = decode_meshopt_stream(source_bytes(model, file_buffers, v, ctx, place), v.count,
-                                                               v.byte_stride, v.mode, v.filter, ctx, place);
+    std::vector<unsigned char> decoded = decode_meshopt_stream(source_bytes(model, file_buffers, v, ctx, place),
+                                                               v.count, v.byte_stride, v.mode, v.filter, ctx, place);
     tinygltf::Buffer buffer;
     buffer.data = std::move(decoded);
     model.buffers.push_back(std::move(buffer));

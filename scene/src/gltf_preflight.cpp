@@ -89,7 +89,8 @@ void check_file_uri(const std::string& uri, const InputPolicy& policy, const Con
   if (path.find('\0') != std::string::npos) ctx.fail(place, fmt::format("URI {} holds a NUL character", quoted));
   if (path.front() == '/' || path.front() == '\\' || has_scheme(uri))
     ctx.fail(place, fmt::format("URI {} is absolute or has a scheme; external files must be relative paths "
-                                "inside the scene's folder", quoted));
+                                "inside the scene's folder",
+                                quoted));
   if (!policy.allows(policy.base_dir / path))
     ctx.fail(place, fmt::format("URI {} resolves outside the scene's folder {} (allow a folder with --allow-path)",
                                 quoted, policy.base_dir.string()));
@@ -141,8 +142,8 @@ public:
 private:
   struct Frame {
     bool array = false;
-    std::size_t index = 0; // arrays: index of the next element
-    std::string key;       // objects: the key of the value being read
+    std::size_t index = 0;                // arrays: index of the next element
+    std::string key;                      // objects: the key of the value being read
     std::unordered_set<std::string> keys; // objects: every key seen so far
   };
 
@@ -171,7 +172,8 @@ private:
   void record_element(const Frame& element) {
     const int index = int(frames_[1].index);
     if (frames_[0].key == "buffers" && !element.keys.contains("uri")) facts.buffers_without_uri.push_back(index);
-    if (frames_[0].key == "accessors" && !element.keys.contains("bufferView")) facts.accessors_without_view.push_back(index);
+    if (frames_[0].key == "accessors" && !element.keys.contains("bufferView"))
+      facts.accessors_without_view.push_back(index);
   }
   // Root object -> `array` -> element object -> `key`.
   bool is_element_value(const char* array, const char* key) const {
@@ -195,7 +197,8 @@ private:
     if (!uri.starts_with("data:")) return check_file_uri(uri, policy_, ctx_, place);
     if (std::string problem = data_uri_problem(uri); !problem.empty())
       return facts.bad_data_uris.push_back({frames_[0].key, int(frames_[1].index), "uri", std::move(problem)});
-    if (frames_[0].key == "images" && !is_tinygltf_media_type(uri)) facts.images_with_other_media.push_back(int(frames_[1].index));
+    if (frames_[0].key == "images" && !is_tinygltf_media_type(uri))
+      facts.images_with_other_media.push_back(int(frames_[1].index));
   }
 
   const InputPolicy& policy_;

@@ -91,7 +91,8 @@ void replace_json(std::vector<unsigned char>& bytes, bool is_glb, const std::str
 // Draco is searched in the JSON only, never in a GLB's binary chunk.
 bool needs_rewrite(std::string_view json, bool is_glb, const PreflightFacts& facts) {
   static const char kDraco[] = "KHR_draco_mesh_compression";
-  const bool placeholders = facts.buffers_without_uri.size() > (is_glb && contains(facts.buffers_without_uri, 0) ? 1u : 0u);
+  const bool placeholders =
+      facts.buffers_without_uri.size() > (is_glb && contains(facts.buffers_without_uri, 0) ? 1u : 0u);
   return placeholders || !facts.accessors_without_view.empty() || !facts.images_with_other_media.empty() ||
          facts.integral_floats || json.find(kDraco) != std::string_view::npos;
 }

@@ -38,7 +38,8 @@ void mark_primitive(const json& primitive, UsedObjects& used) {
   mark(primitive, "indices", used.accessors);
   for (const json& target : primitive.value("targets", json::array())) mark_values(target, used.accessors);
   const json& extensions = primitive.value("extensions", json::object());
-  if (extensions.is_object()) mark(extensions.value("KHR_draco_mesh_compression", json::object()), "bufferView", used.views);
+  if (extensions.is_object())
+    mark(extensions.value("KHR_draco_mesh_compression", json::object()), "bufferView", used.views);
 }
 
 void mark_accessor_views(const json& accessor, UsedObjects& used) {

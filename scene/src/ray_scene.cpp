@@ -39,12 +39,10 @@ RayScene::RayScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   if (!scene.triangles.empty()) {
     RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree reads 16 bytes past the last vertex; the scene's vector has no such padding, so copy.
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                                  RTC_FORMAT_FLOAT3, sizeof(float) * 3,
-                                                                  scene.positions.size()));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                   RTC_FORMAT_UINT3, sizeof(unsigned) * 3,
-                                                                   scene.triangles.size()));
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 sizeof(float) * 3, scene.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   sizeof(unsigned) * 3, scene.triangles.size()));
     if (vertices == nullptr || indices == nullptr) throw_embree_error(impl_->device, "buffer allocation");
     for (std::size_t i = 0; i < scene.positions.size(); ++i)
       for (int c = 0; c < 3; ++c) vertices[3 * i + std::size_t(c)] = scene.positions[i][c];
@@ -69,8 +67,12 @@ std::optional<RayHit> RayScene::intersect(const glm::vec3& origin, const glm::ve
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rayhit{};
-  rayhit.ray.org_x = origin.x; rayhit.ray.org_y = origin.y; rayhit.ray.org_z = origin.z;
-  rayhit.ray.dir_x = direction.x; rayhit.ray.dir_y = direction.y; rayhit.ray.dir_z = direction.z;
+  rayhit.ray.org_x = origin.x;
+  rayhit.ray.org_y = origin.y;
+  rayhit.ray.org_z = origin.z;
+  rayhit.ray.dir_x = direction.x;
+  rayhit.ray.dir_y = direction.y;
+  rayhit.ray.dir_z = direction.z;
   rayhit.ray.tnear = t_min;
   rayhit.ray.tfar = t_max;
   rayhit.ray.mask = 0xffffffffu;
@@ -93,8 +95,12 @@ bool RayScene::occluded(const glm::vec3& origin, const glm::vec3& direction, flo
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray{};
-  ray.org_x = origin.x; ray.org_y = origin.y; ray.org_z = origin.z;
-  ray.dir_x = direction.x; ray.dir_y = direction.y; ray.dir_z = direction.z;
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = direction.x;
+  ray.dir_y = direction.y;
+  ray.dir_z = direction.z;
   ray.tnear = t_min;
   ray.tfar = t_max;
   ray.mask = 0xffffffffu;

@@ -35,8 +35,9 @@ void Bounds::extend(const Bounds& b) {
 
 const std::vector<std::string>& supported_extensions() {
   static const std::vector<std::string> names = {
-      "KHR_draco_mesh_compression", "KHR_materials_emissive_strength", "KHR_lights_punctual",
-      "KHR_texture_transform",      "KHR_mesh_quantization",           "EXT_meshopt_compression",
+      "KHR_draco_mesh_compression", "KHR_materials_emissive_strength",
+      "KHR_lights_punctual",        "KHR_texture_transform",
+      "KHR_mesh_quantization",      "EXT_meshopt_compression",
       "EXT_texture_webp",           "KHR_texture_basisu", // through its fallback image, else the factor (warning)
   };
   return names;

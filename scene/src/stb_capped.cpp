@@ -82,15 +82,17 @@ bool read_stb_header(const unsigned char* bytes, int size, StbHeader& out) {
 }
 
 std::uint64_t stb_decode_cap(const StbHeader& header, int size) {
-  return 2u * std::uint64_t(std::max(size, 0)) + 4u * std::uint64_t(header.width) * std::uint64_t(header.height) * pixel_bytes(header) +
-         (1u << 20);
+  return 2u * std::uint64_t(std::max(size, 0)) +
+         4u * std::uint64_t(header.width) * std::uint64_t(header.height) * pixel_bytes(header) + (1u << 20);
 }
 
-StbDecode decode_capped(const unsigned char* bytes, int size, const StbHeader& header, std::uint64_t cap_bytes, StbImage& out) {
+StbDecode decode_capped(const unsigned char* bytes, int size, const StbHeader& header, std::uint64_t cap_bytes,
+                        StbImage& out) {
   t_allowance = {cap_bytes, 0, false};
   int width = 0, height = 0, components = 0;
-  void* pixels = header.wide ? static_cast<void*>(stbi_load_16_from_memory(bytes, size, &width, &height, &components, 4))
-                             : static_cast<void*>(stbi_load_from_memory(bytes, size, &width, &height, &components, 4));
+  void* pixels = header.wide
+                     ? static_cast<void*>(stbi_load_16_from_memory(bytes, size, &width, &height, &components, 4))
+                     : static_cast<void*>(stbi_load_from_memory(bytes, size, &width, &height, &components, 4));
   const bool over = t_allowance.over;
   if (pixels == nullptr || width < 1 || height < 1) {
     stbi_image_free(pixels);

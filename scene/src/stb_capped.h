@@ -32,6 +32,7 @@ std::uint64_t stb_decode_cap(const StbHeader& header, int size);
 
 // Decodes `bytes` to RGBA, 16 bits per component when `header` is wide. over_cap: stb asked for more than
 // `cap_bytes` in all at some moment; failed: anything else stb refused.
-StbDecode decode_capped(const unsigned char* bytes, int size, const StbHeader& header, std::uint64_t cap_bytes, StbImage& out);
+StbDecode decode_capped(const unsigned char* bytes, int size, const StbHeader& header, std::uint64_t cap_bytes,
+                        StbImage& out);
 
 } // namespace probebake::scene::detail

@@ -55,7 +55,8 @@ std::vector<PathPoint> parse_camera_path(std::string_view text, std::string_view
     std::string_view f[4];
     if (!split_row(row, f)) fail(name, line, "expected 4 comma-separated fields (frame,x,y,z)");
     if (!header) {
-      if (f[0] != "frame" || f[1] != "x" || f[2] != "y" || f[3] != "z") fail(name, line, "the header must be frame,x,y,z");
+      if (f[0] != "frame" || f[1] != "x" || f[2] != "y" || f[3] != "z")
+        fail(name, line, "the header must be frame,x,y,z");
       header = true;
       continue;
     }
@@ -77,7 +78,8 @@ std::vector<PathPoint> read_camera_path(const std::filesystem::path& path) {
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec) throw_input_error(path.string(), "cannot read: " + ec.message());
-  if (size > kMaxPathFileBytes) throw_input_error(path.string(), "larger than " + std::to_string(kMaxPathFileBytes) + " bytes");
+  if (size > kMaxPathFileBytes)
+    throw_input_error(path.string(), "larger than " + std::to_string(kMaxPathFileBytes) + " bytes");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw_input_error(path.string(), "cannot open");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

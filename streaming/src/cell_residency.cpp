@@ -21,16 +21,21 @@ std::vector<CellFootprint> cell_footprints(const formats::ProbeVolume& volume) {
   return out;
 }
 
-std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<const std::uint64_t> counts, std::uint64_t budget) {
+std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<const std::uint64_t> counts,
+                            std::uint64_t budget) {
   std::uint64_t total = 0;
   std::vector<std::size_t> paid; // cells that cost bytes, densest first
   for (std::size_t k = 0; k < cells.size(); ++k) {
     if (counts[k] == 0) continue;
-    if (cells[k].bytes == 0) total += counts[k];
-    else paid.push_back(k);
+    if (cells[k].bytes == 0)
+      total += counts[k];
+    else
+      paid.push_back(k);
   }
   const auto density = [&](std::size_t k) { return double(counts[k]) / double(cells[k].bytes); };
-  std::sort(paid.begin(), paid.end(), [&](std::size_t a, std::size_t b) { return density(a) > density(b) || (density(a) == density(b) && a < b); });
+  std::sort(paid.begin(), paid.end(), [&](std::size_t a, std::size_t b) {
+    return density(a) > density(b) || (density(a) == density(b) && a < b);
+  });
   std::uint64_t left = budget;
   for (std::size_t k : paid) {
     if (cells[k].bytes <= left) {
@@ -38,7 +43,8 @@ std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<cons
       left -= cells[k].bytes;
       continue;
     }
-    total += std::uint64_t(std::ceil(double(counts[k]) * double(left) / double(cells[k].bytes))); // the fraction that fits
+    total +=
+        std::uint64_t(std::ceil(double(counts[k]) * double(left) / double(cells[k].bytes))); // the fraction that fits
     break;
   }
   return total;
@@ -89,7 +95,8 @@ ResidencyChanges CellResidency::update(glm::vec3 position, float radius) {
   }
   for (std::size_t k : want) {
     if (resident_[k] != 0) continue;
-    const bool over = max_load_bytes_ != 0 && !changes.loads.empty() && changes.loaded_bytes + cells_[k].bytes > max_load_bytes_;
+    const bool over =
+        max_load_bytes_ != 0 && !changes.loads.empty() && changes.loaded_bytes + cells_[k].bytes > max_load_bytes_;
     if (over) {
       ++changes.waiting;
       continue;

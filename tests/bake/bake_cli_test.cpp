@@ -83,7 +83,8 @@ TEST(BakeCli, RuntimeLightingSectionsAndTheirSwitch) {
   EXPECT_EQ(report["runtime_lighting"]["lights"].get<int>(), 1);
   EXPECT_EQ(report["sections"]["trace_faces"].get<int>(), 16);
   EXPECT_EQ(report["sections"]["trace_vertices"].get<int>(), 36);
-  EXPECT_EQ(report["runtime_lighting"]["tracing_bytes"].get<int>(), 32 + 16 + 36 + 32); // tree, face, vertices, material
+  EXPECT_EQ(report["runtime_lighting"]["tracing_bytes"].get<int>(),
+            32 + 16 + 36 + 32); // tree, face, vertices, material
   EXPECT_EQ(report["sections"]["punctual_lights"].get<int>(), 64);
   EXPECT_TRUE(report["stages"].contains("gpu_scene"));
   const auto info = nlohmann::json::parse(run({"info --json", with}).out);
@@ -106,8 +107,8 @@ TEST(BakeCli, JsonReportTimesEveryStage) {
   ASSERT_EQ(bake.exit_code, 0) << bake.err;
   const auto report = nlohmann::ordered_json::parse(bake.out);
   ASSERT_GT(report["moved_probes"].get<int>(), 0);
-  const std::vector<std::string> expected = {"load", "bvh", "sealed", "place", "sdf", "relocate", "svo", "lighting",
-                                             "gpu_scene", "cells", "write"};
+  const std::vector<std::string> expected = {"load", "bvh",      "sealed",    "place", "sdf",  "relocate",
+                                             "svo",  "lighting", "gpu_scene", "cells", "write"};
   for (const char* key : {"stages", "stages_cpu"}) {
     std::vector<std::string> names;
     double sum = 0.0;
@@ -141,11 +142,12 @@ TEST(BakeCli, PartsBakedWithCellsMergeIntoTheSingleBakesBytes) {
   EXPECT_EQ(part["cells"].get<std::vector<int>>(), (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(part["tested_triangles"].get<int>(), report["triangles"].get<int>());
   EXPECT_EQ(part["sealed_triangles"].get<int>(), report["sealed_triangles"].get<int>());
-  const CliRun merge = run({"merge", scene, dir / "b.part", dir / "a.part", options.c_str(), "-o", dir / "merged.probes"});
+  const CliRun merge =
+      run({"merge", scene, dir / "b.part", dir / "a.part", options.c_str(), "-o", dir / "merged.probes"});
   ASSERT_EQ(merge.exit_code, 0) << merge.err;
   EXPECT_EQ(read_bytes(dir / "merged.probes"), read_bytes(dir / "single.probes"));
 
-  EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 0-3"}).exit_code, 1);                  // no -o
+  EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 0-3"}).exit_code, 1);                    // no -o
   EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 3-1 -o", dir / "c.part"}).exit_code, 1); // backwards
   EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 8 -o", dir / "c.part"}).exit_code, 1);   // outside 2^3
   EXPECT_EQ(run({"merge", scene, dir / "a.part", options.c_str()}).exit_code, 1);                  // no -o
@@ -155,12 +157,15 @@ TEST(BakeCli, PartsBakedWithCellsMergeIntoTheSingleBakesBytes) {
   const CliRun other = run({"merge", scene, dir / "a.part", dir / "b.part", "--max-depth 2 -o", dir / "m.probes"});
   EXPECT_EQ(other.exit_code, 2);
   EXPECT_NE(other.err.find("baked from another scene or with other settings"), std::string::npos) << other.err;
-  const CliRun not_part = run({"merge", scene, dir / "a.part", dir / "single.probes", options.c_str(), "-o", dir / "m.probes"});
+  const CliRun not_part =
+      run({"merge", scene, dir / "a.part", dir / "single.probes", options.c_str(), "-o", dir / "m.probes"});
   EXPECT_EQ(not_part.exit_code, 2);
-  EXPECT_NE(not_part.err.find("single.probes: header: not a probebake bake part (bad magic)"), std::string::npos) << not_part.err;
+  EXPECT_NE(not_part.err.find("single.probes: header: not a probebake bake part (bad magic)"), std::string::npos)
+      << not_part.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "m.probes"));
   const std::string part_bytes = read_bytes(dir / "a.part");
-  EXPECT_EQ(run({"merge", scene, dir / "a.part", dir / "b.part", options.c_str(), "-o", dir / "a.part"}).exit_code, 3); // an input
+  EXPECT_EQ(run({"merge", scene, dir / "a.part", dir / "b.part", options.c_str(), "-o", dir / "a.part"}).exit_code,
+            3); // an input
   EXPECT_EQ(read_bytes(dir / "a.part"), part_bytes);
   EXPECT_EQ(run({"bake", scene, options.c_str(), "--cells 0-3, -o", dir / "c.part"}).exit_code, 1); // a trailing comma
 }

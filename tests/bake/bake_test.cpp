@@ -24,7 +24,8 @@ namespace {
 
 std::string violations(const formats::ValidationReport& r) {
   std::string out;
-  for (const auto& v : r.violations) out += v.invariant + " @" + v.section + "[" + std::to_string(v.index) + "] " + v.message + "\n";
+  for (const auto& v : r.violations)
+    out += v.invariant + " @" + v.section + "[" + std::to_string(v.index) + "] " + v.message + "\n";
   return out;
 }
 
@@ -74,7 +75,7 @@ TEST(Bake, HitFractionRuleHolds) {
   const bake::BakeResult r = bake::bake(s, settings);
   for (const gpu::Probe& p : r.volume.probes) {
     if (p.link == 0) continue;
-    EXPECT_GE(p.hit_fraction, settings.split_low);                                     // else freed
+    EXPECT_GE(p.hit_fraction, settings.split_low); // else freed
     if (p.depth < settings.max_depth) {
       EXPECT_LT(p.hit_fraction, settings.split_high); // else split
     }
@@ -130,7 +131,8 @@ TEST(Bake, ProbeCentreOnAWallIsMoved) {
   // Furnace cube [-0.5, 0.5]^3 plus a wall through its centre: the root probe (max depth 0) sits on it.
   samples::SceneBuilder builder = samples::furnace({.albedo = 0.5f, .emission = 1.0f});
   const auto white = builder.add_material({.name = "wall"});
-  const auto wall = builder.add_mesh("wall", samples::box({-0.01f, -0.5f, -0.5f}, {0.01f, 0.5f, 0.5f}, samples::Facing::outward), white);
+  const auto wall = builder.add_mesh(
+      "wall", samples::box({-0.01f, -0.5f, -0.5f}, {0.01f, 0.5f, 0.5f}, samples::Facing::outward), white);
   builder.add_mesh_node("wall", wall);
   const scene::Scene s = load_generated(builder, "wall");
   bake::BakeSettings settings = test_settings();
@@ -220,7 +222,10 @@ TEST(Bake, OnlyDegenerateTrianglesAreRefused) {
 }
 
 TEST(Bake, EveryGeneratedSceneBakesValid) {
-  struct Case { const char* name; samples::SceneBuilder builder; };
+  struct Case {
+    const char* name;
+    samples::SceneBuilder builder;
+  };
   std::vector<Case> cases;
   cases.push_back({"furnace", samples::furnace({.albedo = 0.99f, .emission = 1.0f})});
   cases.push_back({"leak", samples::leak()});
@@ -287,10 +292,11 @@ FlippedBakes bake_both(const scene::Scene& original, const bake::BakeSettings& s
   const bake::BakeResult& a = out.original;
   const bake::BakeResult& b = out.reversed;
   std::printf("%s: probes original %d, reversed double-sided %d (placed %d/%d, dead %d/%d, freed %d/%d, "
-              "sealed %d/%d, svo solid %d/%d)\n", name, a.report.probes, b.report.probes, a.report.placed_probes,
-              b.report.placed_probes, a.report.dead_probes, b.report.dead_probes, a.report.freed_probes,
-              b.report.freed_probes, a.report.sealed_triangles, b.report.sealed_triangles,
-              a.report.svo_solid_voxels, b.report.svo_solid_voxels);
+              "sealed %d/%d, svo solid %d/%d)\n",
+              name, a.report.probes, b.report.probes, a.report.placed_probes, b.report.placed_probes,
+              a.report.dead_probes, b.report.dead_probes, a.report.freed_probes, b.report.freed_probes,
+              a.report.sealed_triangles, b.report.sealed_triangles, a.report.svo_solid_voxels,
+              b.report.svo_solid_voxels);
   expect_valid(b.volume);
   expect_probes_outside_geometry(out.flipped, b);
   return out;
@@ -328,8 +334,8 @@ TEST(BakeDoubleSided, ReversedDoubleSidedCornellIsDeterministicAcrossThreadCount
 // behind single-sided walls do: the same probes, all inside the rooms (51 and 51 here; 16 against 111
 // at the default depth without that rule).
 TEST(BakeDoubleSided, ReversedDoubleSidedRoomsPlaceTheSameProbesInsideTheRooms) {
-  const FlippedBakes r = bake_both(load_generated(samples::rooms({.count = 2, .detail = 4}), "rooms_ds"),
-                                   placement_settings(), "rooms");
+  const FlippedBakes r =
+      bake_both(load_generated(samples::rooms({.count = 2, .detail = 4}), "rooms_ds"), placement_settings(), "rooms");
   // Room i spans [6.2 i - 3, 6.2 i + 3] x [0, 3] x [-3, 3].
   const auto inside_room = [](const bake::BakeResult& b, int room) {
     int n = 0;
@@ -345,7 +351,8 @@ TEST(BakeDoubleSided, ReversedDoubleSidedRoomsPlaceTheSameProbesInsideTheRooms) 
   EXPECT_EQ(r.reversed.report.freed_probes, 0);
   EXPECT_NEAR(r.reversed.report.probes, r.original.report.probes, 0.05 * r.original.report.probes);
   for (int room = 0; room < 2; ++room)
-    EXPECT_NEAR(inside_room(r.reversed, room), inside_room(r.original, room), 0.05 * inside_room(r.original, room)) << "room " << room;
+    EXPECT_NEAR(inside_room(r.reversed, room), inside_room(r.original, room), 0.05 * inside_room(r.original, room))
+        << "room " << room;
 }
 
 // A lone plane z = 0 in a 2 m box (the grid's bounds widened around it): grid probes at z = +-0.25,
@@ -417,7 +424,10 @@ TEST(BakeDoubleSided, DoubleSidedQuadIsSealedOnlyInsideASolid) {
     samples::SceneBuilder builder = samples::furnace({.albedo = 0.5f, .emission = 1.0f});
     const auto white = builder.add_material({.name = "block"});
     const auto decal = builder.add_material({.name = "decal", .double_sided = true});
-    builder.add_mesh_node("block", builder.add_mesh("block", samples::box({0.1f, -0.4f, -0.2f}, {0.4f, -0.1f, 0.2f}, samples::Facing::outward), white));
+    builder.add_mesh_node(
+        "block",
+        builder.add_mesh("block", samples::box({0.1f, -0.4f, -0.2f}, {0.4f, -0.1f, 0.2f}, samples::Facing::outward),
+                         white));
     const glm::vec3 corner = in_block ? glm::vec3(0.2f, -0.35f, -0.1f) : glm::vec3(-0.3f, -0.35f, -0.1f);
     builder.add_mesh_node("decal", builder.add_mesh("decal", samples::quad(corner, {0.1f, 0, 0}, {0, 0.2f, 0}), decal));
     const scene::Scene s = load_generated(builder, in_block ? "decal_sealed" : "decal_open");
@@ -434,7 +444,8 @@ TEST(BakeDoubleSided, DoubleSidedQuadIsSealedOnlyInsideASolid) {
 bake::BakeResult wall_in_room(bool double_sided) {
   samples::SceneBuilder builder = samples::furnace({.albedo = 0.5f, .emission = 1.0f});
   const auto white = builder.add_material({.name = "wall", .double_sided = double_sided});
-  builder.add_mesh_node("wall", builder.add_mesh("wall", samples::quad({0.005f, -0.5f, -0.5f}, {0, 1, 0}, {0, 0, 1}), white));
+  builder.add_mesh_node("wall",
+                        builder.add_mesh("wall", samples::quad({0.005f, -0.5f, -0.5f}, {0, 1, 0}, {0, 0, 1}), white));
   const scene::Scene s = load_generated(builder, double_sided ? "wall_ds" : "wall_ss");
   EXPECT_GT(scene::triangle_normal(s, s.triangles.size() - 1).x, 0.99f);
   bake::BakeSettings settings = placement_settings();
@@ -463,7 +474,8 @@ TEST(BakeDoubleSided, ProbeBehindAThinSingleSidedWallCrossesToItsFront) {
 TEST(BakeDoubleSided, ThinDoubleSidedWallFreesNoProbes) {
   samples::SceneBuilder builder = samples::furnace({.albedo = 0.5f, .emission = 1.0f});
   const auto white = builder.add_material({.name = "wall", .double_sided = true});
-  builder.add_mesh_node("wall", builder.add_mesh("wall", samples::quad({0.13f, -0.5f, -0.5f}, {0, 1, 0}, {0, 0, 1}), white));
+  builder.add_mesh_node("wall",
+                        builder.add_mesh("wall", samples::quad({0.13f, -0.5f, -0.5f}, {0, 1, 0}, {0, 0, 1}), white));
   const scene::Scene s = load_generated(builder, "wall_octree_ds");
   const bake::BakeResult r = bake::bake(s, placement_settings());
   expect_valid(r.volume);
@@ -473,8 +485,8 @@ TEST(BakeDoubleSided, ThinDoubleSidedWallFreesNoProbes) {
   EXPECT_EQ(r.report.sealed_triangles, 0);
   int behind = 0;
   for (const glm::vec3& p : live_positions(r)) behind += p.x < 0.13f ? 1 : 0;
-  const bake::BakeResult empty = bake::bake(load_generated(samples::furnace({.albedo = 0.5f, .emission = 1.0f}), "room_only"),
-                                            placement_settings());
+  const bake::BakeResult empty = bake::bake(
+      load_generated(samples::furnace({.albedo = 0.5f, .emission = 1.0f}), "room_only"), placement_settings());
   std::printf("double-sided wall: %d probes (%d behind it), %d without the wall\n", r.report.probes, behind,
               empty.report.probes);
   EXPECT_GE(r.report.probes, empty.report.probes);

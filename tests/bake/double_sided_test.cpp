@@ -37,7 +37,9 @@ Loaded adopt(scene::Scene s) {
   return l;
 }
 
-Loaded load(const samples::SceneBuilder& builder, const std::string& name) { return adopt(load_generated(builder, name)); }
+Loaded load(const samples::SceneBuilder& builder, const std::string& name) {
+  return adopt(load_generated(builder, name));
+}
 
 // Irradiance on the axis of a uniformly emitting square (radiance L, half side a) at distance h, the
 // receiver facing it: four corner rectangles of the view factor table (Howell C-11),
@@ -82,7 +84,8 @@ double lattice_tolerance(int rays, double omega, double perimeter) {
 }
 
 // The reference's estimate at one point with `sigmas` standard errors of slack (per channel).
-void expect_reference(const bake::ReferenceResult& r, std::size_t i, glm::vec3 expected, float sigmas, const char* what) {
+void expect_reference(const bake::ReferenceResult& r, std::size_t i, glm::vec3 expected, float sigmas,
+                      const char* what) {
   for (int c = 0; c < 3; ++c) {
     const float tolerance = sigmas * r.standard_error[i][c] + 1e-6f * expected[c];
     EXPECT_NEAR(r.irradiance[i][c], expected[c], tolerance) << what << " channel " << c;
@@ -98,8 +101,10 @@ const glm::vec3 kRadiance(3.0f, 2.0f, 1.0f);
 samples::SceneBuilder square_emitter(bool double_sided) {
   samples::SceneBuilder b("square_emitter");
   const samples::MaterialId m = b.add_material({"emitter", glm::vec3(0.5f), kRadiance, double_sided});
-  b.add_mesh_node("square", b.add_mesh("square", samples::quad({-kHalf, 0.0f, -kHalf}, {0.0f, 0.0f, 2.0f * kHalf},
-                                                              {2.0f * kHalf, 0.0f, 0.0f}, 2), m));
+  b.add_mesh_node(
+      "square",
+      b.add_mesh("square",
+                 samples::quad({-kHalf, 0.0f, -kHalf}, {0.0f, 0.0f, 2.0f * kHalf}, {2.0f * kHalf, 0.0f, 0.0f}, 2), m));
   return b;
 }
 
@@ -120,8 +125,10 @@ SquareResult measure_square(bool double_sided) {
   s.reference_back = r.irradiance[1];
   const double expected = square_irradiance(1.0, kHalf, kHeight);
   expect_reference(r, 0, kRadiance * float(expected), 5.0f, "reference, in front");
-  if (double_sided) expect_reference(r, 1, kRadiance * float(expected), 5.0f, "reference, behind");
-  else EXPECT_EQ(r.irradiance[1], glm::vec3(0.0f)) << "reference behind a single-sided emitter";
+  if (double_sided)
+    expect_reference(r, 1, kRadiance * float(expected), 5.0f, "reference, behind");
+  else
+    EXPECT_EQ(r.irradiance[1], glm::vec3(0.0f)) << "reference behind a single-sided emitter";
   // Shading points: the emitter as an area light (the exact polygon formula, one shadow ray per patch).
   bake::LightingSettings lighting;
   s.direct_front = bake::direct_irradiance(*l.scene, *l.rays, points[0].position, points[0].normal, lighting);
@@ -196,8 +203,10 @@ TEST(DoubleSided, PointOnTheEmitterGetsNoneOfItsLight) {
                 double_sided ? "double-sided" : "single-sided", double(h), expected, double(above.x / kRadiance.x),
                 double(below.x / kRadiance.x));
     EXPECT_NEAR(above.x, kRadiance.x * expected, 1e-5 * kRadiance.x * expected);
-    if (double_sided) EXPECT_NEAR(below.x, kRadiance.x * expected, 1e-5 * kRadiance.x * expected);
-    else EXPECT_EQ(below, glm::vec3(0.0f));
+    if (double_sided)
+      EXPECT_NEAR(below.x, kRadiance.x * expected, 1e-5 * kRadiance.x * expected);
+    else
+      EXPECT_EQ(below, glm::vec3(0.0f));
   }
 }
 
@@ -230,8 +239,10 @@ const glm::vec3 kPlaneAlbedo(0.6f, 0.4f, 0.2f);
 samples::SceneBuilder plane_lit_from_below(bool double_sided) {
   samples::SceneBuilder b("plane_below");
   const samples::MaterialId m = b.add_material({"plane", kPlaneAlbedo, glm::vec3(0.0f), double_sided});
-  b.add_mesh_node("plane", b.add_mesh("plane", samples::quad({-kPlaneHalf, 0.0f, -kPlaneHalf}, {0.0f, 0.0f, 2.0f * kPlaneHalf},
-                                                            {2.0f * kPlaneHalf, 0.0f, 0.0f}, 2), m));
+  b.add_mesh_node("plane", b.add_mesh("plane",
+                                      samples::quad({-kPlaneHalf, 0.0f, -kPlaneHalf}, {0.0f, 0.0f, 2.0f * kPlaneHalf},
+                                                    {2.0f * kPlaneHalf, 0.0f, 0.0f}, 2),
+                                      m));
   samples::Light sun{.name = "sun", .type = samples::LightType::directional, .intensity = kLux};
   b.add_light_node("sun", b.add_light(sun), {0.0f, -3.0f, 0.0f}, {0.0f, 1.0f, 0.0f});
   return b;
@@ -255,8 +266,10 @@ PlaneResult measure_plane(bool double_sided) {
   p.receiver = r.irradiance[1];
   const glm::vec3 radiance = kPlaneAlbedo * (kLux / kPi);
   const double expected = square_irradiance(1.0, kPlaneHalf, kBelow);
-  if (double_sided) expect_reference(r, 1, radiance * float(expected), 5.0f, "reference under the plane");
-  else EXPECT_EQ(r.irradiance[1], glm::vec3(0.0f)) << "reference under a single-sided plane's back";
+  if (double_sided)
+    expect_reference(r, 1, radiance * float(expected), 5.0f, "reference under the plane");
+  else
+    EXPECT_EQ(r.irradiance[1], glm::vec3(0.0f)) << "reference under a single-sided plane's back";
   // The probe under the plane: sky 0, so its DC term is rho E / pi * omega / 4.
   bake::LightingSettings lighting;
   lighting.rays = 16384;
@@ -264,12 +277,13 @@ PlaneResult measure_plane(bool double_sided) {
   const bake::LightingReport report = bake::bake_lighting(*l.scene, *l.rays, volume, lighting);
   p.probe = probe_dc(volume.probes[0]);
   p.backface_hits = report.backface_hits;
-  std::printf("[double-sided] plane lit from below (%s), rho = (0.6, 0.4, 0.2), E = 5, X = 2: underside reference %.5f "
-              "(closed form %.5f); receiver below: closed form %.5f, reference %.5f +- %.5f; probe DC closed form %.5f, "
-              "bake %.5f (red channel); back-face probe rays %zu\n",
-              double_sided ? "double-sided" : "single-sided", double(p.underside.x), double(kLux),
-              double(radiance.x) * expected, double(p.receiver.x), double(r.standard_error[1].x),
-              double(radiance.x) * square_solid_angle(kPlaneHalf, kBelow) / 4.0, double(p.probe.x), p.backface_hits);
+  std::printf(
+      "[double-sided] plane lit from below (%s), rho = (0.6, 0.4, 0.2), E = 5, X = 2: underside reference %.5f "
+      "(closed form %.5f); receiver below: closed form %.5f, reference %.5f +- %.5f; probe DC closed form %.5f, "
+      "bake %.5f (red channel); back-face probe rays %zu\n",
+      double_sided ? "double-sided" : "single-sided", double(p.underside.x), double(kLux),
+      double(radiance.x) * expected, double(p.receiver.x), double(r.standard_error[1].x),
+      double(radiance.x) * square_solid_angle(kPlaneHalf, kBelow) / 4.0, double(p.probe.x), p.backface_hits);
   return p;
 }
 
@@ -320,7 +334,7 @@ scene::Scene without_ceiling(scene::Scene s) {
 
 struct ReferenceComparison {
   std::size_t receivers = 0;
-  double worst_sigmas = 0.0;   // largest |difference| / combined standard error over receivers and channels
+  double worst_sigmas = 0.0; // largest |difference| / combined standard error over receivers and channels
   double mean_original = 0.0, mean_reversed = 0.0;
 };
 
@@ -381,7 +395,8 @@ TEST(DoubleSided, ReversedCornellBoxGainsOnlyTheLightsBackGlow) {
   const glm::vec3 ea = bake::direct_irradiance(*original.scene, *original.rays, p, down);
   const glm::vec3 eb = bake::direct_irradiance(*reversed.scene, *reversed.rays, p, down);
   std::printf("[double-sided] ceiling 2 mm beside the light: emitter direct %.4f (original) vs %.4f (reversed, "
-              "double-sided) W/m^2, red\n", double(ea.x), double(eb.x));
+              "double-sided) W/m^2, red\n",
+              double(ea.x), double(eb.x));
   EXPECT_EQ(ea, glm::vec3(0.0f));
   EXPECT_GT(eb.x, 0.01f * kPi * samples::cornell_light_radiance[0]);
 }
@@ -416,12 +431,15 @@ TEST(DoubleSided, ReversedCornellBoxHasTheSameBakeLighting) {
   EXPECT_EQ(std::memcmp(b.probes.data(), b1.probes.data(), b.probes.size() * sizeof(gpu::Probe)), 0);
   float worst_direct = 0.0f;
   for (const bake::SamplePoint& p : bake::surface_sample_points(*original.scene, *original.rays, 60, 2)) {
-    const glm::vec3 ea = bake::direct_irradiance(*original.scene, *original.rays, p.position, p.normal, settings.lighting);
-    const glm::vec3 eb = bake::direct_irradiance(*reversed.scene, *reversed.rays, p.position, p.normal, settings.lighting);
+    const glm::vec3 ea =
+        bake::direct_irradiance(*original.scene, *original.rays, p.position, p.normal, settings.lighting);
+    const glm::vec3 eb =
+        bake::direct_irradiance(*reversed.scene, *reversed.rays, p.position, p.normal, settings.lighting);
     for (int c = 0; c < 3; ++c) worst_direct = std::max(worst_direct, std::abs(eb[c] - ea[c]) / std::max(ea[c], 1e-3f));
   }
   std::printf("[double-sided] cornell (no ceiling) reversed: emitter direct_irradiance at 60 receivers, max relative "
-              "difference %.2e\n", double(worst_direct));
+              "difference %.2e\n",
+              double(worst_direct));
   EXPECT_LT(worst_direct, 1e-4f);
 }
 

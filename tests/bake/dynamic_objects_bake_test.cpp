@@ -45,7 +45,8 @@ std::array<glm::vec3, 3> corners(const formats::ProbeVolume& v, std::size_t face
 int scene_triangle_at(const scene::Scene& scene, const std::array<glm::vec3, 3>& world) {
   for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
     bool same = true;
-    for (int k = 0; k < 3; ++k) same = same && glm::length(world[std::size_t(k)] - scene.positions[scene.triangles[t][k]]) < 1e-5f;
+    for (int k = 0; k < 3; ++k)
+      same = same && glm::length(world[std::size_t(k)] - scene.positions[scene.triangles[t][k]]) < 1e-5f;
     if (same) return int(t);
   }
   return -1;

@@ -160,7 +160,8 @@ void write_without_direct(const std::filesystem::path& path) {
   std::string out;
   for (const std::string& line : lines(read_text(path))) {
     std::size_t cut = 0;
-    for (int commas = 0; commas < 10 && cut != std::string::npos; ++commas) cut = line.find(',', cut == 0 ? 0 : cut + 1);
+    for (int commas = 0; commas < 10 && cut != std::string::npos; ++commas)
+      cut = line.find(',', cut == 0 ? 0 : cut + 1);
     out += line.substr(0, cut) + '\n';
   }
   std::ofstream(path, std::ios::binary) << out;
@@ -203,7 +204,8 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
   const auto scene = write_generated(samples::cornell(), "ladder_cli");
   const auto dir = scene.parent_path();
   const auto csv = dir / "ladder.csv", svg = dir / "ladder.svg";
-  const CliResult r = run_cli("eval " + quoted(scene) + " --quick --probes 16,64 --csv " + quoted(csv) + " --plot " + quoted(svg));
+  const CliResult r =
+      run_cli("eval " + quoted(scene) + " --quick --probes 16,64 --csv " + quoted(csv) + " --plot " + quoted(svg));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("| indirect rel. RMSE |"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("direct_irradiance against the traced direct part"), std::string::npos) << r.out;

@@ -59,7 +59,7 @@ formats::ProbeVolume lighting_volume(const scene::Scene& s, const bake::BakeSett
 
 struct GpuHit {
   float distance = 0.0f;
-  int triangle = -1;     // index into trace_faces
+  int triangle = -1;      // index into trace_faces
   glm::vec3 normal{0.0f}; // world space (object triangles are stored in their object's frame)
 };
 
@@ -103,7 +103,8 @@ void trace_tree(const formats::ProbeVolume& v, int tree_index, glm::vec3 origin,
   while (size > 0) {
     const std::uint32_t word = stack[std::size_t(--size)];
     if (formats::is_leaf_word(word)) {
-      for (std::uint32_t f = formats::leaf_first(word); f < formats::leaf_first(word) + formats::leaf_count(word); ++f) {
+      for (std::uint32_t f = formats::leaf_first(word); f < formats::leaf_first(word) + formats::leaf_count(word);
+           ++f) {
         const formats::TraceFaceGeometry face = formats::face_geometry(v, f);
         const auto d = intersect(face, origin, direction);
         if (d && *d >= 0.0f && *d < best.distance) best = {*d, int(f), face.normal};
@@ -112,7 +113,8 @@ void trace_tree(const formats::ProbeVolume& v, int tree_index, glm::vec3 origin,
     }
     const gpu::TraceNode& node = v.trace_nodes[word];
     for (int c = 1; c >= 0; --c)
-      if (hits_box(formats::decode_child_box(tree, node, c), origin, inverse, best.distance)) stack[std::size_t(size++)] = node.child[c];
+      if (hits_box(formats::decode_child_box(tree, node, c), origin, inverse, best.distance))
+        stack[std::size_t(size++)] = node.child[c];
   }
 }
 
@@ -123,8 +125,10 @@ std::optional<GpuHit> trace(const formats::ProbeVolume& v, glm::vec3 origin, glm
   for (std::size_t o = 0; o < v.dynamic_objects.size(); ++o) {
     const glm::mat4 rest = dynamic::rest_pose(v.dynamic_objects[o]), object_from_world = glm::inverse(rest);
     const int before = best.triangle;
-    trace_tree(v, int(o) + 1, glm::vec3(object_from_world * glm::vec4(origin, 1.0f)), glm::mat3(object_from_world) * direction, best);
-    if (best.triangle != before) best.normal = glm::normalize(glm::transpose(glm::mat3(object_from_world)) * best.normal);
+    trace_tree(v, int(o) + 1, glm::vec3(object_from_world * glm::vec4(origin, 1.0f)),
+               glm::mat3(object_from_world) * direction, best);
+    if (best.triangle != before)
+      best.normal = glm::normalize(glm::transpose(glm::mat3(object_from_world)) * best.normal);
   }
   if (best.triangle < 0) return std::nullopt;
   return best;
@@ -178,14 +182,18 @@ Comparison compare_with_embree(const scene::Scene& s, const formats::ProbeVolume
     const bool backface = glm::dot(b->normal, direction) > 0.0f;
     c.backfaces += backface ? 1 : 0;
     const bool tie = !is_scene_triangle(v, s, std::size_t(b->triangle), a->triangle);
-    if (tie && difference > 1e-5 * std::max(double(a->distance), scene_size)) ++c.other_triangle;
-    else if (tie && std::min({a->u, a->v, 1.0f - a->u - a->v}) < 1e-4f) ++c.edge_ties;
+    if (tie && difference > 1e-5 * std::max(double(a->distance), scene_size))
+      ++c.other_triangle;
+    else if (tie && std::min({a->u, a->v, 1.0f - a->u - a->v}) < 1e-4f)
+      ++c.edge_ties;
     else if (tie) {
       (backface == a->backface ? c.ties : c.opposite_ties) += 1;
-      const gpu::TraceMaterial& m = v.trace_materials[v.trace_faces[std::size_t(b->triangle)].material & gpu::TRACE_MATERIAL_MASK];
-      c.other_surface += m.albedo != s.triangle_albedo[a->triangle] || m.emission != s.triangle_emission[a->triangle] || backface != a->backface;
-    }
-    else if (backface != a->backface) ++c.other_face;
+      const gpu::TraceMaterial& m =
+          v.trace_materials[v.trace_faces[std::size_t(b->triangle)].material & gpu::TRACE_MATERIAL_MASK];
+      c.other_surface += m.albedo != s.triangle_albedo[a->triangle] || m.emission != s.triangle_emission[a->triangle] ||
+                         backface != a->backface;
+    } else if (backface != a->backface)
+      ++c.other_face;
   }
   return c;
 }
@@ -198,10 +206,12 @@ void expect_same_hits(const scene::Scene& s, const char* name, float leaf_cost =
   const formats::ValidationReport validation = formats::validate(volume);
   EXPECT_TRUE(validation.valid()) << violations(validation);
   const Comparison c = compare_with_embree(s, volume, 20000);
-  std::printf("[ %s ] %d triangles, %d BVH nodes, depth %d, %.1f ms: %d rays, %d hits (%d back faces), %d ties on a shared "
-              "edge, %d inside another triangle (%d between opposite faces, %d with another surface), max relative distance error %.2g\n",
-              name, report.triangles, report.bvh_nodes, report.bvh_depth, 1e3 * report.bvh_seconds, c.rays, c.hits, c.backfaces,
-              c.edge_ties, c.ties + c.opposite_ties, c.opposite_ties, c.other_surface, c.max_relative);
+  std::printf(
+      "[ %s ] %d triangles, %d BVH nodes, depth %d, %.1f ms: %d rays, %d hits (%d back faces), %d ties on a shared "
+      "edge, %d inside another triangle (%d between opposite faces, %d with another surface), max relative distance "
+      "error %.2g\n",
+      name, report.triangles, report.bvh_nodes, report.bvh_depth, 1e3 * report.bvh_seconds, c.rays, c.hits, c.backfaces,
+      c.edge_ties, c.ties + c.opposite_ties, c.opposite_ties, c.other_surface, c.max_relative);
   EXPECT_GT(c.hits, c.rays / 4);
   EXPECT_GT(c.backfaces, 0);
   EXPECT_EQ(c.only_gpu, 0);
@@ -237,8 +247,9 @@ TEST(GpuScene, LeafCostTradesNodesForLargerLeavesWithTheSameHits) {
   lighting_volume(s, settings, &cheap);
   settings.trace_leaf_cost = 1.0f;
   lighting_volume(s, settings, &fast);
-  std::printf("[ leaf cost ] %d faces: cost 0.35 %d nodes, %.1f B per face; cost 1 %d nodes, %.1f B per face\n", cheap.triangles,
-              cheap.bvh_nodes, double(cheap.tracing_bytes) / cheap.triangles, fast.bvh_nodes, double(fast.tracing_bytes) / fast.triangles);
+  std::printf("[ leaf cost ] %d faces: cost 0.35 %d nodes, %.1f B per face; cost 1 %d nodes, %.1f B per face\n",
+              cheap.triangles, cheap.bvh_nodes, double(cheap.tracing_bytes) / cheap.triangles, fast.bvh_nodes,
+              double(fast.tracing_bytes) / fast.triangles);
   EXPECT_EQ(cheap.triangles, fast.triangles);
   EXPECT_GT(fast.bvh_nodes, cheap.bvh_nodes * 3 / 2);
   EXPECT_LT(cheap.tracing_bytes, fast.tracing_bytes);
@@ -317,8 +328,9 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
     deepest = std::max(deepest, word_depth);
     for (std::size_t k = 0; k < v.cells.size(); ++k) {
       const formats::CellTracing& r = v.cell_tracing[k];
-      const bool cell_root = r.trace_nodes.count > 0 ? word == r.trace_nodes.first
-                                                     : formats::is_leaf_word(word) && formats::leaf_first(word) == r.trace_faces.first;
+      const bool cell_root = r.trace_nodes.count > 0
+                                 ? word == r.trace_nodes.first
+                                 : formats::is_leaf_word(word) && formats::leaf_first(word) == r.trace_faces.first;
       if (cell_root) word_depth_of_cell[k] = word_depth;
     }
     if (!formats::is_leaf_word(word))
@@ -330,10 +342,13 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
   const auto morton = [&](int cell) {
     std::uint32_t code = 0;
     for (int bit = 0; bit < v.cell_depth; ++bit)
-      for (int axis = 0, rest = cell; axis < 3; ++axis, rest /= n) code |= std::uint32_t(((rest % n) >> bit) & 1) << (3 * bit + axis);
+      for (int axis = 0, rest = cell; axis < 3; ++axis, rest /= n)
+        code |= std::uint32_t(((rest % n) >> bit) & 1) << (3 * bit + axis);
     return code;
   };
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return morton(v.cells[a].cell_index) < morton(v.cells[b].cell_index); });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return morton(v.cells[a].cell_index) < morton(v.cells[b].cell_index);
+  });
   EXPECT_EQ(word_depth_of_cell, formats::cell_top_depths(order));
   EXPECT_LT(deepest, gpu::BVH_MAX_DEPTH);
 
@@ -348,7 +363,8 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
     for (std::size_t f = 0; f < cell.trace_faces.size(); ++f) {
       const formats::TraceFaceGeometry g = formats::face_geometry(cell, f);
       const glm::vec3 a = g.v0, b = g.v0 + g.edge1, cc = g.v0 + g.edge2;
-      ASSERT_EQ(formats::cell_of_triangle(v.info, v.cell_depth, a, b, cc), v.cells[k].cell_index) << "cell " << k << " face " << f;
+      ASSERT_EQ(formats::cell_of_triangle(v.info, v.cell_depth, a, b, cc), v.cells[k].cell_index)
+          << "cell " << k << " face " << f;
     }
     if (cell.trace_faces.empty()) continue;
     glm::vec3 lower, upper;
@@ -360,13 +376,14 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
       trace_tree(cell, 0, origin, direction, traced);
       float nearest = std::numeric_limits<float>::max();
       for (std::size_t f = 0; f < cell.trace_faces.size(); ++f)
-        if (const auto d = intersect(formats::face_geometry(cell, f), origin, direction); d && *d >= 0.0f) nearest = std::min(nearest, *d);
+        if (const auto d = intersect(formats::face_geometry(cell, f), origin, direction); d && *d >= 0.0f)
+          nearest = std::min(nearest, *d);
       ASSERT_EQ(traced.distance, nearest) << "cell " << k << " ray " << r;
       hits += traced.triangle >= 0 ? 1 : 0;
     }
   }
-  std::printf("[ cells ] %zu cells, %zu static faces, %zu of %zu rays from inside cells hit their cell's faces\n", v.cells.size(), faces, hits,
-              64 * v.cells.size());
+  std::printf("[ cells ] %zu cells, %zu static faces, %zu of %zu rays from inside cells hit their cell's faces\n",
+              v.cells.size(), faces, hits, 64 * v.cells.size());
   ASSERT_FALSE(v.dynamic_objects.empty()); // the rooms' spheres: their faces follow the cells'
   EXPECT_EQ(faces, std::size_t(v.dynamic_objects[0].first_triangle));
   EXPECT_GT(hits, 0u);
@@ -381,7 +398,8 @@ TEST(GpuScene, EachCellsPartOfTheTreeTracesAloneFromItsByteRanges) {
   other_vertex.trace_faces[v.cell_tracing[0].trace_faces.first].vertex[0] = v.cell_tracing[last].trace_vertices.first;
   EXPECT_TRUE(invariants_of(other_vertex).count("cell_tracing"));
   formats::ProbeVolume overlapping = v;
-  overlapping.cell_tracing[1].trace_faces.first -= 1, overlapping.cell_tracing[1].trace_faces.byte_offset -= sizeof(gpu::TraceFace);
+  overlapping.cell_tracing[1].trace_faces.first -= 1,
+      overlapping.cell_tracing[1].trace_faces.byte_offset -= sizeof(gpu::TraceFace);
   EXPECT_TRUE(invariants_of(overlapping).count("cell_range"));
 }
 
@@ -399,19 +417,22 @@ TEST(GpuScene, EachCellIsCheckedOnItsOwnAgainstItsChecksum) {
     const formats::Cell& c = v.cells[k];
     const formats::CellTracing& t = v.cell_tracing[k];
     const std::pair<Section, const formats::CellRange*> ranges[] = {
-        {Section::probes, &c.probes},           {Section::surfel_batches, &c.surfel_batches}, {Section::svo_leaves, &c.svo_leaves},
-        {Section::trace_nodes, &t.trace_nodes}, {Section::trace_faces, &t.trace_faces},       {Section::trace_vertices, &t.trace_vertices}};
+        {Section::probes, &c.probes},           {Section::surfel_batches, &c.surfel_batches},
+        {Section::svo_leaves, &c.svo_leaves},   {Section::trace_nodes, &t.trace_nodes},
+        {Section::trace_faces, &t.trace_faces}, {Section::trace_vertices, &t.trace_vertices}};
     std::vector<std::pair<std::size_t, std::size_t>> out; // offset in the file and bytes of each range, in order
     for (const auto& [section, range] : ranges) {
       const std::span<const std::uint8_t> payload = section_payload(view, section);
-      out.emplace_back(range->byte_size == 0 ? 0 : std::size_t(payload.data() - file.data()) + range->byte_offset, range->byte_size);
+      out.emplace_back(range->byte_size == 0 ? 0 : std::size_t(payload.data() - file.data()) + range->byte_offset,
+                       range->byte_size);
     }
     return out;
   };
   int cells_with_probes = 0, cells_with_faces = 0;
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     std::vector<std::uint8_t> bytes;
-    for (const auto& [offset, size] : file_ranges(k)) bytes.insert(bytes.end(), file.begin() + std::ptrdiff_t(offset), file.begin() + std::ptrdiff_t(offset + size));
+    for (const auto& [offset, size] : file_ranges(k))
+      bytes.insert(bytes.end(), file.begin() + std::ptrdiff_t(offset), file.begin() + std::ptrdiff_t(offset + size));
     EXPECT_EQ(formats::checksum64(bytes), v.cell_checksums[k]) << "cell " << k;
     cells_with_probes += v.cells[k].probes.count > 0 ? 1 : 0;
     cells_with_faces += v.cell_tracing[k].trace_faces.count > 0 ? 1 : 0;
@@ -454,7 +475,8 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
   // The load reads none of the cells' tracing (format 1.7): the three sections are the file's outside the
   // cells' ranges and zeros inside them, in zero pages, and the global part is valid without the cells.
   EXPECT_TRUE(opened.cells_unread);
-  EXPECT_TRUE(opened.volume.trace_nodes.empty() && opened.volume.trace_faces.empty() && opened.volume.trace_vertices.empty());
+  EXPECT_TRUE(opened.volume.trace_nodes.empty() && opened.volume.trace_faces.empty() &&
+              opened.volume.trace_vertices.empty());
   const formats::TracingView in_file = opened.tracing();
   ASSERT_EQ(in_file.faces.size(), v.trace_faces.size());
   std::uint64_t cells_tracing = 0;
@@ -462,11 +484,13 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
     const formats::CellTracing& t = v.cell_tracing[k];
     cells_tracing += formats::cell_tracing_bytes(t);
     for (std::uint32_t f = t.trace_faces.first; f < t.trace_faces.first + t.trace_faces.count; ++f)
-      ASSERT_EQ(in_file.faces[f].vertex[0] | in_file.faces[f].vertex[1] | in_file.faces[f].material, 0u) << "face " << f << " was read";
+      ASSERT_EQ(in_file.faces[f].vertex[0] | in_file.faces[f].vertex[1] | in_file.faces[f].material, 0u)
+          << "face " << f << " was read";
   }
   const std::uint32_t global_faces = v.cell_tracing.back().trace_faces.first + v.cell_tracing.back().trace_faces.count;
   EXPECT_EQ(std::memcmp(in_file.faces.data() + global_faces, v.trace_faces.data() + global_faces,
-                        (v.trace_faces.size() - global_faces) * sizeof(gpu::TraceFace)), 0);
+                        (v.trace_faces.size() - global_faces) * sizeof(gpu::TraceFace)),
+            0);
   EXPECT_EQ(opened.bytes_read, std::filesystem::file_size(path) - cells_tracing);
   std::vector<formats::CellEntry> entries;
   ASSERT_TRUE(formats::validate_without_cells(opened.volume, in_file, entries).valid());
@@ -512,8 +536,10 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
     return "";
   };
   const std::string changed = refusal(damaged);
-  EXPECT_NE(changed.find("cells[" + std::to_string(damaged) + "] (cell " + std::to_string(v.cells[damaged].cell_index) + ")"),
-            std::string::npos) << changed;
+  EXPECT_NE(
+      changed.find("cells[" + std::to_string(damaged) + "] (cell " + std::to_string(v.cells[damaged].cell_index) + ")"),
+      std::string::npos)
+      << changed;
   EXPECT_NE(changed.find("differ from their checksum"), std::string::npos) << changed;
   for (std::size_t k = 0; k < v.cells.size(); ++k) {
     if (k == damaged) continue;
@@ -522,7 +548,8 @@ TEST(GpuScene, CellFileReadsEachCellFromDiskAndRefusesOneChangedSinceOpen) {
   // Cut the file in the middle of the last cell's vertices: that cell no longer reads, an earlier one does.
   std::size_t last = v.cells.size() - 1;
   while (v.cell_tracing[last].trace_vertices.count == 0) --last;
-  std::filesystem::resize_file(path, file_offset(formats::SectionType::trace_vertices, v.cell_tracing[last].trace_vertices));
+  std::filesystem::resize_file(path,
+                               file_offset(formats::SectionType::trace_vertices, v.cell_tracing[last].trace_vertices));
   const std::string cut = refusal(last);
   EXPECT_NE(cut.find("cells[" + std::to_string(last) + "]"), std::string::npos) << cut;
   EXPECT_NE(cut.find("bytes early"), std::string::npos) << cut;
@@ -551,8 +578,9 @@ TEST(GpuScene, CellSizePicksTheShallowestGridWithCellsThatNarrow) {
 
 samples::SceneBuilder lit_scene() {
   samples::SceneBuilder b = samples::triangle();
-  b.add_light_node("spot", b.add_light({"spot", samples::LightType::spot, glm::vec3(1.0f, 0.5f, 0.25f), 50.0f, 4.0f, 0.3f, 0.6f}),
-                   {0.25f, 2.0f, -0.25f}, glm::normalize(glm::vec3(0.1f, -1.0f, 0.2f)));
+  b.add_light_node(
+      "spot", b.add_light({"spot", samples::LightType::spot, glm::vec3(1.0f, 0.5f, 0.25f), 50.0f, 4.0f, 0.3f, 0.6f}),
+      {0.25f, 2.0f, -0.25f}, glm::normalize(glm::vec3(0.1f, -1.0f, 0.2f)));
   b.add_light_node("sun", b.add_light({"sun", samples::LightType::directional, glm::vec3(0.5f), 3.0f}), {5, 5, 5},
                    glm::normalize(glm::vec3(1.0f, -2.0f, 0.5f)));
   return b;
@@ -610,11 +638,12 @@ TEST(GpuScene, EmitterPatchesTileTheCornellLight) {
   for (std::size_t t = 0; t < s.triangles.size(); ++t) {
     if (s.triangle_emission[t].x > 0.0f) emitter_area += scene::triangle_area(s, t);
   }
-  const glm::vec3 radiance(samples::cornell_light_radiance[0], samples::cornell_light_radiance[1], samples::cornell_light_radiance[2]);
+  const glm::vec3 radiance(samples::cornell_light_radiance[0], samples::cornell_light_radiance[1],
+                           samples::cornell_light_radiance[2]);
   for (const gpu::EmitterPatch& p : v.emitter_patches) {
     patch_area += 0.5 * glm::length(glm::cross(p.b - p.a, p.c - p.a));
     EXPECT_EQ(p.radiance, radiance);
-    EXPECT_NEAR(p.normal.y, -1.0f, 1e-6f); // facing down from the ceiling
+    EXPECT_NEAR(p.normal.y, -1.0f, 1e-6f);                                 // facing down from the ceiling
     EXPECT_GT(glm::dot(glm::cross(p.b - p.a, p.c - p.a), p.normal), 0.0f); // counter-clockwise from the front
   }
   EXPECT_NEAR(patch_area, emitter_area, 1e-6 * emitter_area);
@@ -638,8 +667,10 @@ samples::SceneBuilder mixed_sides_scene() {
   const samples::MaterialId two_sides = b.add_material({"lamp_two_sides", glm::vec3(0.5f), glm::vec3(5.0f), true});
   b.add_mesh_node("floor", b.add_mesh("floor", samples::quad({-1, 0, 1}, {2, 0, 0}, {0, 0, -2}), floor));
   b.add_mesh_node("wall", b.add_mesh("wall", samples::quad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, 2), wall));
-  b.add_mesh_node("lamp1", b.add_mesh("lamp1", samples::quad({-0.5f, 1.5f, 0.5f}, {0, 0, -0.3f}, {0.3f, 0, 0}), one_side));
-  b.add_mesh_node("lamp2", b.add_mesh("lamp2", samples::quad({0.2f, 1.5f, 0.5f}, {0.3f, 0, 0}, {0, 0, -0.3f}), two_sides));
+  b.add_mesh_node("lamp1",
+                  b.add_mesh("lamp1", samples::quad({-0.5f, 1.5f, 0.5f}, {0, 0, -0.3f}, {0.3f, 0, 0}), one_side));
+  b.add_mesh_node("lamp2",
+                  b.add_mesh("lamp2", samples::quad({0.2f, 1.5f, 0.5f}, {0.3f, 0, 0}, {0, 0, -0.3f}), two_sides));
   return b;
 }
 
@@ -671,7 +702,8 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
   EXPECT_EQ(std::size_t(one_side + two_sides), v.emitter_patches.size());
   const formats::ValidationReport validation = formats::validate(v);
   EXPECT_TRUE(validation.valid()) << violations(validation);
-  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor, formats::kCellGlobalChecksumsMinor);
+  EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor,
+            formats::kCellGlobalChecksumsMinor);
 }
 
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
@@ -752,7 +784,7 @@ bool has_section(const std::vector<std::uint32_t>& types, formats::SectionType t
 TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
   const scene::Scene s = load_generated(lit_scene(), "gpu_bake");
   bake::BakeSettings settings = test_settings();
-  settings.lighting.enabled = false; // the runtime can light from zero
+  settings.lighting.enabled = false;          // the runtime can light from zero
   settings.placement = bake::Placement::grid; // the octree places no probe around a lone triangle
   settings.grid_resolution = 2;
   const bake::BakeResult with = bake::bake(s, settings);
@@ -760,19 +792,22 @@ TEST(GpuScene, BakeWritesTheSectionsUnlessTurnedOff) {
   EXPECT_TRUE(with.report.runtime_lighting.written);
   EXPECT_EQ(with.report.runtime_lighting.triangles, 1);
   EXPECT_EQ(with.report.runtime_lighting.lights, 3);
-  const auto stage = std::find_if(with.report.stages.begin(), with.report.stages.end(), [](const auto& t) { return t.stage == "gpu_scene"; });
+  const auto stage = std::find_if(with.report.stages.begin(), with.report.stages.end(),
+                                  [](const auto& t) { return t.stage == "gpu_scene"; });
   EXPECT_NE(stage, with.report.stages.end());
   const std::vector<std::uint8_t> bytes = formats::write_probes(with.volume);
   EXPECT_EQ(formats::parse_container(bytes, "bake").header.version_minor, formats::kCellGlobalChecksumsMinor);
   const auto types = section_types(bytes);
-  for (auto type : {formats::SectionType::lighting_info, formats::SectionType::ray_directions, formats::SectionType::trace_trees,
-                    formats::SectionType::trace_faces, formats::SectionType::trace_vertices, formats::SectionType::trace_materials,
-                    formats::SectionType::punctual_lights}) {
+  for (auto type :
+       {formats::SectionType::lighting_info, formats::SectionType::ray_directions, formats::SectionType::trace_trees,
+        formats::SectionType::trace_faces, formats::SectionType::trace_vertices, formats::SectionType::trace_materials,
+        formats::SectionType::punctual_lights}) {
     EXPECT_TRUE(has_section(types, type)) << formats::section_name(static_cast<std::uint32_t>(type));
   }
   EXPECT_FALSE(has_section(types, formats::SectionType::emitter_patches)); // no emitters
   EXPECT_FALSE(has_section(types, formats::SectionType::trace_nodes));     // one triangle: the root is a leaf
-  EXPECT_FALSE(has_section(types, formats::SectionType::bvh_nodes) || has_section(types, formats::SectionType::trace_triangles));
+  EXPECT_FALSE(has_section(types, formats::SectionType::bvh_nodes) ||
+               has_section(types, formats::SectionType::trace_triangles));
 
   settings.runtime_lighting = false;
   const bake::BakeResult without = bake::bake(s, settings);

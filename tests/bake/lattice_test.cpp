@@ -28,14 +28,14 @@ bool azimuth_in_sector(double phi, double start, double width, double slack) {
   return offset <= width + slack || offset >= 2.0 * pi - slack;
 }
 
-}  // namespace
+} // namespace
 
 TEST(Lattice, FibonacciEqualsThesisEquations) {
   const double g = pi * (3.0 - std::sqrt(5.0));
   for (int n : {1, 2, 3, 7, 64, 200, 1000, 4097}) {
     const auto points = pb::lattice_directions(Lattice::fibonacci, n);
     ASSERT_EQ(points.size(), static_cast<std::size_t>(n));
-    for (int i = 1; i <= n; ++i) {  // 1-based as in eq. 2.3
+    for (int i = 1; i <= n; ++i) { // 1-based as in eq. 2.3
       const double z = 1.0 - (2.0 / n) * (i - 0.5);
       const double phi = g * (i - 0.5);
       const glm::dvec3 expected(std::sqrt(1.0 - z * z) * std::cos(phi), std::sqrt(1.0 - z * z) * std::sin(phi), z);
@@ -96,7 +96,7 @@ TEST(Lattice, MeanDirectionNearZero) {
 }
 
 TEST(Lattice, LatlongIsTheThesisGridWhenItCan) {
-  const auto points = pb::lattice_directions(Lattice::latlong, 200);  // 10 parallels x 20 meridians
+  const auto points = pb::lattice_directions(Lattice::latlong, 200); // 10 parallels x 20 meridians
   for (int row = 0; row < 10; ++row) {
     for (int column = 0; column < 20; ++column) {
       const glm::dvec3 p(points[static_cast<std::size_t>(row * 20 + column)]);
@@ -159,7 +159,7 @@ TEST(EqualAreaPartition, CentresLieInsideTheirRegions) {
         EXPECT_GE(theta, partition.zone_boundaries[z] - 1e-6) << "n=" << n << " zone=" << z;
         EXPECT_LE(theta, partition.zone_boundaries[z + 1] + 1e-6) << "n=" << n << " zone=" << z;
         const bool is_cap = (z == 0 || z + 1 == partition.regions_per_zone.size());
-        if (is_cap) continue;  // a cap has no azimuth range; its centre is the pole
+        if (is_cap) continue; // a cap has no azimuth range; its centre is the pole
         const double width = 2.0 * pi / m;
         const double start = partition.zone_longitude_offsets[z] + k * width;
         EXPECT_TRUE(azimuth_in_sector(azimuth(c), start, width, 1e-6)) << "n=" << n << " zone=" << z << " k=" << k;

@@ -85,9 +85,13 @@ FurnaceErrors furnace_errors(const Lit& lit, float expected, float half, float e
   const float probe_expected = lit.lighting.emissive_as_lights ? expected - emitted : expected;
   for (const gpu::Probe& p : lit.volume().probes) {
     if (p.link == 0) continue;
-    e.probe_dc = std::max(e.probe_dc, max_relative_error(bake::kShY0 * glm::vec3(p.irradiance_sh[0], p.irradiance_sh[1], p.irradiance_sh[2]), probe_expected));
+    e.probe_dc =
+        std::max(e.probe_dc,
+                 max_relative_error(bake::kShY0 * glm::vec3(p.irradiance_sh[0], p.irradiance_sh[1], p.irradiance_sh[2]),
+                                    probe_expected));
     for (int k = 0; k < 8; ++k)
-      e.probe_eval = std::max(e.probe_eval, max_relative_error(bake::evaluate_sh(p.irradiance_sh, random_unit(rng)), probe_expected));
+      e.probe_eval = std::max(e.probe_eval,
+                              max_relative_error(bake::evaluate_sh(p.irradiance_sh, random_unit(rng)), probe_expected));
   }
   const float inner = half - 2.0f * bake::normal_bias(lit.volume().info);
   std::uniform_real_distribution<float> in(-inner, inner), wall(-half, half);
@@ -96,15 +100,21 @@ FurnaceErrors furnace_errors(const Lit& lit, float expected, float half, float e
     const glm::vec3 p(in(rng), in(rng), in(rng));
     const glm::vec3 n = random_unit(rng);
     const glm::vec3 direct_p = lit.direct(p, n);
-    e.sampler_inside = std::max(e.sampler_inside, max_relative_error(direct_p + bake::sample_irradiance(lit.volume(), p, n, &stats), expected));
+    e.sampler_inside = std::max(
+        e.sampler_inside, max_relative_error(direct_p + bake::sample_irradiance(lit.volume(), p, n, &stats), expected));
     if (i % 10 == 0)
-      e.all_probes = std::max(e.all_probes, max_relative_error(direct_p + bake::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n, &stats), expected));
+      e.all_probes =
+          std::max(e.all_probes,
+                   max_relative_error(
+                       direct_p + bake::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n, &stats), expected));
     const int axis = i % 3;
     const float side = (i / 3) % 2 ? 1.0f : -1.0f;
     glm::vec3 q(wall(rng), wall(rng), wall(rng)), normal(0.0f);
     q[axis] = side * half;
     normal[axis] = -side;
-    e.sampler_walls = std::max(e.sampler_walls, max_relative_error(lit.direct(q, normal) + bake::sample_irradiance(lit.volume(), q, normal, &stats), expected));
+    e.sampler_walls = std::max(
+        e.sampler_walls,
+        max_relative_error(lit.direct(q, normal) + bake::sample_irradiance(lit.volume(), q, normal, &stats), expected));
   }
   e.misses = stats.misses;
   return e;
@@ -119,10 +129,11 @@ void expect_furnace(float albedo, bool accelerate, int max_sweeps, bool emissive
   const Lit lit = bake_lit(samples::furnace({.albedo = albedo, .emission = 1.0f}), name, s);
   const float expected = kPi / (1.0f - albedo);
   const FurnaceErrors e = furnace_errors(lit, expected, 0.5f, kPi);
-  std::printf("[lighting] %s: expected %.4f; max relative error probe DC %.2e, probe SH eval %.2e, sampler inside %.2e, "
-              "on walls %.2e, all-probes %.2e; sampler misses %zu; hits without probes %zu\n",
-              name.c_str(), double(expected), double(e.probe_dc), double(e.probe_eval), double(e.sampler_inside),
-              double(e.sampler_walls), double(e.all_probes), e.misses, lit.report().indirect_misses);
+  std::printf(
+      "[lighting] %s: expected %.4f; max relative error probe DC %.2e, probe SH eval %.2e, sampler inside %.2e, "
+      "on walls %.2e, all-probes %.2e; sampler misses %zu; hits without probes %zu\n",
+      name.c_str(), double(expected), double(e.probe_dc), double(e.probe_eval), double(e.sampler_inside),
+      double(e.sampler_walls), double(e.all_probes), e.misses, lit.report().indirect_misses);
   EXPECT_TRUE(lit.report().converged);
   EXPECT_LE(lit.report().iterations, max_sweeps);
   EXPECT_GT(lit.report().probes, 0);
@@ -162,9 +173,12 @@ TEST(Lighting, FurnaceAlbedoOneStopsFiniteAndUnconverged) {
 // The plane-light scene plus a tiny black cube 2 m up in a corner, so that the scene bounds (and the
 // grid) have height: grid probes then sit above the plane instead of on it.
 samples::SceneBuilder plane_scene(float albedo, float intensity = 100.0f) {
-  samples::SceneBuilder b = samples::plane_light({.size = 10.0f, .height = 1.0f, .intensity = intensity, .albedo = albedo});
+  samples::SceneBuilder b =
+      samples::plane_light({.size = 10.0f, .height = 1.0f, .intensity = intensity, .albedo = albedo});
   const samples::MaterialId black = b.add_material({"black", glm::vec3(0.0f), {}});
-  b.add_mesh_node("marker", b.add_mesh("marker", samples::box({4.9f, 2.0f, 4.9f}, {4.95f, 2.05f, 4.95f}, samples::Facing::outward), black));
+  b.add_mesh_node(
+      "marker",
+      b.add_mesh("marker", samples::box({4.9f, 2.0f, 4.9f}, {4.95f, 2.05f, 4.95f}, samples::Facing::outward), black));
   return b;
 }
 
@@ -262,7 +276,8 @@ TEST(Lighting, PointLightOverPlane) {
   for (const gpu::Probe& p : lit.volume().probes) {
     if (p.link == 0 || std::abs(p.position.x) > 3.5f || std::abs(p.position.z) > 3.5f) continue; // away from the edges
     const Bounce expected = plane_bounce(p.position, albedo);
-    worst_probe = std::max(worst_probe, max_relative_error(bake::evaluate_sh(p.irradiance_sh, {0, -1, 0}), float(expected.l2)));
+    worst_probe =
+        std::max(worst_probe, max_relative_error(bake::evaluate_sh(p.irradiance_sh, {0, -1, 0}), float(expected.l2)));
     worst_truncation = std::max(worst_truncation, float(std::abs(expected.l2 - expected.exact) / expected.exact));
     ++probes;
   }
@@ -315,7 +330,8 @@ TEST(Lighting, AccelerationReachesThePlainIterationsFixedPoint) {
 
 // Independent of direct_light.cpp: midpoint quadrature of the emissive triangles (n x n points each,
 // one shadow ray per point), E = sum L_e cos_p cos_l / r^2 dA.
-glm::vec3 emitter_quadrature(const scene::Scene& scene, const scene::RayScene& rays, glm::vec3 p, glm::vec3 n, int grid) {
+glm::vec3 emitter_quadrature(const scene::Scene& scene, const scene::RayScene& rays, glm::vec3 p, glm::vec3 n,
+                             int grid) {
   glm::vec3 e(0.0f);
   const glm::vec3 origin = p + n * 1e-4f;
   for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
@@ -376,9 +392,10 @@ TEST(Lighting, CornellEmitterIsAnAreaLightAtShadingPoints) {
   }
   float brightest = 0.0f;
   for (const gpu::Probe& p : lit.volume().probes) brightest = std::max(brightest, bake::kShY0 * p.irradiance_sh[0]);
-  std::printf("[lighting] cornell emitters: direct vs quadrature max error %.2e (relative, floored at 0.05 W/m^2); "
-              "block top: probes' share of direct at most %.3f; sampled at most %.3f W/m^2; brightest probe DC %.3f W/m^2\n",
-              double(worst_direct), double(worst_probe_share), double(largest_probe), double(brightest));
+  std::printf(
+      "[lighting] cornell emitters: direct vs quadrature max error %.2e (relative, floored at 0.05 W/m^2); "
+      "block top: probes' share of direct at most %.3f; sampled at most %.3f W/m^2; brightest probe DC %.3f W/m^2\n",
+      double(worst_direct), double(worst_probe_share), double(largest_probe), double(brightest));
   EXPECT_LT(worst_direct, 0.01f);
   EXPECT_LT(worst_probe_share, 0.3f);
   EXPECT_LT(brightest, 2.0f); // the light itself (17 W/m^2 sr) is in no probe
@@ -428,8 +445,9 @@ TEST(Lighting, LeakIntoTheDarkRoomIsSmall) {
   const float margin = 2.0f * bake::normal_bias(lit.volume().info);
   const RoomIrradiance svo =
       room_irradiance(margin, [&](glm::vec3 p, glm::vec3 n) { return bake::sample_irradiance(lit.volume(), p, n); });
-  const RoomIrradiance all = room_irradiance(
-      margin, [&](glm::vec3 p, glm::vec3 n) { return bake::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n); });
+  const RoomIrradiance all = room_irradiance(margin, [&](glm::vec3 p, glm::vec3 n) {
+    return bake::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n);
+  });
   double lit_probes = 0, dark_probes = 0;
   for (const gpu::Probe& p : lit.volume().probes)
     if (p.link != 0) (p.position.x < 0.0f ? lit_probes : dark_probes) += p.irradiance_sh[0];
@@ -457,7 +475,8 @@ TEST(Lighting, FiniteAndCorrectAcrossEmissionAndScale) {
   s.lighting.rays = 128;
   for (float emission : {1e-6f, 1e6f})
     for (float size : {1e-3f, 1e5f}) {
-      const std::string name = "furnace_e" + std::to_string(int(std::log10(emission))) + "_s" + std::to_string(int(std::log10(size)));
+      const std::string name =
+          "furnace_e" + std::to_string(int(std::log10(emission))) + "_s" + std::to_string(int(std::log10(size)));
       const Lit lit = bake_lit(samples::furnace({.albedo = 0.9f, .emission = emission, .size = size}), name, s);
       expect_all_finite(lit);
       EXPECT_TRUE(lit.report().converged) << name;
@@ -476,7 +495,8 @@ TEST(Lighting, FiniteAndCorrectAcrossEmissionAndScale) {
       expect_all_finite(lit);
       EXPECT_TRUE(lit.report().converged);
       const glm::vec3 p(0.5f * scale, 0.0f, 0.0f);
-      const glm::vec3 e = bake::direct_irradiance(*lit.scene, *lit.rays, p, {0, 1, 0}) + bake::sample_irradiance(lit.volume(), p, {0, 1, 0});
+      const glm::vec3 e = bake::direct_irradiance(*lit.scene, *lit.rays, p, {0, 1, 0}) +
+                          bake::sample_irradiance(lit.volume(), p, {0, 1, 0});
       EXPECT_TRUE(finite(e));
       const float r = 1.118034f * scale, expected = intensity / (r * r) / 1.118034f;
       EXPECT_NEAR(e.x / expected, 1.0f, 0.01f);
@@ -493,7 +513,9 @@ TEST(Lighting, DeterministicAcrossThreadCounts) {
   }
   for (std::size_t v = 1; v < volumes.size(); ++v) {
     ASSERT_EQ(volumes[v].probes.size(), volumes[0].probes.size());
-    EXPECT_EQ(std::memcmp(volumes[v].probes.data(), volumes[0].probes.data(), volumes[0].probes.size() * sizeof(gpu::Probe)), 0);
+    EXPECT_EQ(
+        std::memcmp(volumes[v].probes.data(), volumes[0].probes.data(), volumes[0].probes.size() * sizeof(gpu::Probe)),
+        0);
   }
   // The batch sampler too.
   std::vector<glm::vec3> points, normals;
@@ -507,7 +529,8 @@ TEST(Lighting, DeterministicAcrossThreadCounts) {
   bake::sample_irradiance(volumes[0], points, normals, one, nullptr, 1);
   bake::sample_irradiance(volumes[0], points, normals, many, nullptr, 0);
   EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(glm::vec3)), 0);
-  for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(one[i], bake::sample_irradiance(volumes[0], points[i], normals[i]));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    EXPECT_EQ(one[i], bake::sample_irradiance(volumes[0], points[i], normals[i]));
 }
 
 TEST(Lighting, RejectsBadSettings) {

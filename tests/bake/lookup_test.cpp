@@ -53,7 +53,8 @@ struct Inner {
   float margin;
   explicit Inner(const scene::Scene& scene)
       : lo(scene.bounds.min + 0.1f * scene.bounds.largest_extent()),
-        hi(scene.bounds.max - 0.1f * scene.bounds.largest_extent()), margin(0.1f * scene.bounds.largest_extent()) {}
+        hi(scene.bounds.max - 0.1f * scene.bounds.largest_extent()),
+        margin(0.1f * scene.bounds.largest_extent()) {}
   bool contains(glm::vec3 p) const { return glm::all(glm::greaterThan(p, lo)) && glm::all(glm::lessThan(p, hi)); }
 };
 

@@ -82,11 +82,11 @@ TEST(OutputCli, AnOutputThatIsTheSceneIsRefusedAndTheSceneKept) {
   const std::string scene = quoted(names.scene);
   for (const fs::path& output : names.aliases) {
     const std::string o = quoted(output);
-    for (const std::string& args : {"bake " + scene + " --no-lighting -o " + o, scene + " --output " + o,
-                                    "reference " + scene + " --points 4 --samples 4 --csv " + o,
-                                    "reference " + scene + " --points 0 --image " + o + " --camera 0,1,3 --look-at 0,0,0 --size 8x8",
-                                    "eval " + scene + " --quick --no-cache --csv " + o,
-                                    "eval " + scene + " --quick --no-cache --plot " + o}) {
+    for (const std::string& args :
+         {"bake " + scene + " --no-lighting -o " + o, scene + " --output " + o,
+          "reference " + scene + " --points 4 --samples 4 --csv " + o,
+          "reference " + scene + " --points 0 --image " + o + " --camera 0,1,3 --look-at 0,0,0 --size 8x8",
+          "eval " + scene + " --quick --no-cache --csv " + o, "eval " + scene + " --quick --no-cache --plot " + o}) {
       const CliResult r = run_cli(args);
       EXPECT_TRUE(is_refusal(r, "probebake", output, "is the input")) << args << "\n" << r.exit_code << " " << r.err;
     }
@@ -114,7 +114,8 @@ TEST(OutputCli, NonRegularOutputsAreRefusedAndLeftAsTheyWere) {
                                     "eval " + scene + " --quick --no-cache --plot " + o}) {
       const CliResult r = run_cli(args);
       EXPECT_TRUE(is_refusal(r, "probebake", c.output, "is " + c.what + ", not a regular file"))
-          << args << "\n" << r.exit_code << " " << r.err;
+          << args << "\n"
+          << r.exit_code << " " << r.err;
     }
   }
   EXPECT_EQ(entries(dir), before);
@@ -134,7 +135,8 @@ TEST(OutputCli, AnOutputLinkIsWrittenThrough) {
   fs::create_directories(dir / "real");
   std::ofstream(dir / "real" / "out.probes") << "old";
   fs::create_symlink("real/out.probes", dir / "out.probes");
-  const CliResult r = run_cli(quoted(dir / "scene.glb") + " --no-lighting --placement grid --grid 2 -o " + quoted(dir / "out.probes"));
+  const CliResult r =
+      run_cli(quoted(dir / "scene.glb") + " --no-lighting --placement grid --grid 2 -o " + quoted(dir / "out.probes"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_symlink(dir / "out.probes"));
   EXPECT_EQ(run_cli("validate " + quoted(dir / "real" / "out.probes")).exit_code, 0);
@@ -191,8 +193,8 @@ TEST(OutputCli, SigtermDuringABakeLeavesTheOldOutputOrTheNewOneAndNoTemporary) {
   const fs::path dir = fresh_folder("sigterm");
   samples::cornell().write_glb(dir / "scene.glb");
   const fs::path output = dir / "scene.probes";
-  const std::vector<std::string> args = {(dir / "scene.glb").string(), "--max-depth", "3", "--svo-depth", "4",
-                                         "--no-lighting", "-o", output.string()};
+  const std::vector<std::string> args = {
+      (dir / "scene.glb").string(), "--max-depth", "3", "--svo-depth", "4", "--no-lighting", "-o", output.string()};
   // The new bytes (bakes are byte-identical) and the time a bake takes.
   const auto start = std::chrono::steady_clock::now();
   int status = 0;

@@ -18,7 +18,8 @@ namespace {
 TEST(PlacementMethods, EachKindNamesItsOwnFunction) {
   EXPECT_EQ(placement::placement_method(formats::PlacementKind::octree), &placement::place_octree);
   EXPECT_EQ(placement::placement_method(formats::PlacementKind::grid), &placement::place_grid);
-  for (const formats::PlacementKindInfo& k : formats::placement_kinds()) EXPECT_NE(placement::placement_method(k.kind), nullptr);
+  for (const formats::PlacementKindInfo& k : formats::placement_kinds())
+    EXPECT_NE(placement::placement_method(k.kind), nullptr);
 }
 
 TEST(PlacementMethods, EveryKindBakesAsItsRowSays) {

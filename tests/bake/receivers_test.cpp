@@ -22,7 +22,8 @@ namespace probebake::test {
 namespace {
 
 const scene::Instance& instance(const scene::Scene& s, const std::string& name) {
-  const auto it = std::find_if(s.instances.begin(), s.instances.end(), [&](const scene::Instance& i) { return i.node_name == name; });
+  const auto it = std::find_if(s.instances.begin(), s.instances.end(),
+                               [&](const scene::Instance& i) { return i.node_name == name; });
   if (it == s.instances.end()) throw std::runtime_error("no instance " + name);
   return *it;
 }
@@ -38,8 +39,8 @@ samples::SceneBuilder cornell_with_hidden_cubes() {
     const glm::vec3 extent = b.max - b.min;
     const float half = 0.15f * std::min(extent.x, extent.z);
     const glm::vec3 centre(0.5f * (b.min.x + b.max.x), b.min.y + 0.65f * extent.y, 0.5f * (b.min.z + b.max.z));
-    const samples::MeshId mesh = builder.add_mesh(std::string("hidden_") + block,
-                                                  samples::box(centre - half, centre + half, samples::Facing::outward), white);
+    const samples::MeshId mesh = builder.add_mesh(
+        std::string("hidden_") + block, samples::box(centre - half, centre + half, samples::Facing::outward), white);
     builder.add_mesh_node(std::string("hidden_") + block, mesh);
   }
   return builder;
@@ -54,8 +55,9 @@ samples::SceneBuilder closed_room() {
   shell.append(samples::box({-1.8f, 0.0f, -1.8f}, {1.8f, 3.0f, 1.8f}, samples::Facing::inward));
   builder.add_mesh_node("shell", builder.add_mesh("shell", shell, wall));
   builder.add_light_node("lamp", builder.add_light({.name = "lamp", .intensity = 20.0f}), {0.3f, 2.0f, -0.2f});
-  builder.add_light_node("sun", builder.add_light({.name = "sun", .type = samples::LightType::directional, .intensity = 1000.0f}),
-                         {0.0f, 5.0f, 0.0f}, glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)));
+  builder.add_light_node(
+      "sun", builder.add_light({.name = "sun", .type = samples::LightType::directional, .intensity = 1000.0f}),
+      {0.0f, 5.0f, 0.0f}, glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)));
   return builder;
 }
 
@@ -80,7 +82,8 @@ TEST(Receivers, ClosedRoomSeenFromInsideHasNoReceiversOnItsOuterFaces) {
   }
   // The area receivers put about half their points outside (the outer faces are larger).
   const bake::Receivers area = receivers_of(s, bake::ReceiverMode::area, 300);
-  const auto outside = std::count_if(area.points.begin(), area.points.end(), [](const bake::SamplePoint& p) { return !inside_inner_room(p.position); });
+  const auto outside = std::count_if(area.points.begin(), area.points.end(),
+                                     [](const bake::SamplePoint& p) { return !inside_inner_room(p.position); });
   std::printf("[ closed room ] visible: %zu receivers from %d viewpoints, 0 outside; area: %ld of %zu outside\n",
               visible.points.size(), visible.viewpoints, long(outside), area.points.size());
   EXPECT_GT(outside, 100);
@@ -89,7 +92,8 @@ TEST(Receivers, ClosedRoomSeenFromInsideHasNoReceiversOnItsOuterFaces) {
 TEST(Receivers, VolumeReceiversLieInOpenSpaceInsideTheRoom) {
   const scene::Scene s = load_generated(closed_room(), "recv_closed_room_volume");
   const scene::RayScene rays(s);
-  const bake::Receivers volume = bake::make_receivers(s, rays, {.mode = bake::ReceiverMode::volume, .count = 50, .seed = 3});
+  const bake::Receivers volume =
+      bake::make_receivers(s, rays, {.mode = bake::ReceiverMode::volume, .count = 50, .seed = 3});
   ASSERT_EQ(volume.points.size(), 50u);
   for (const bake::SamplePoint& p : volume.points) {
     EXPECT_TRUE(inside_inner_room(p.position));
@@ -172,7 +176,8 @@ TEST(HiddenGeometry, SealedCubesLeaveReceiversAndProbeLayoutUnchanged) {
   for (std::size_t i = 0; i < pa.volume.probes.size(); ++i) {
     EXPECT_EQ(pa.volume.probes[i].position, pb.volume.probes[i].position) << i;
     EXPECT_EQ(pa.volume.probes[i].link, pb.volume.probes[i].link) << i;
-    for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k) EXPECT_EQ(pa.volume.probes[i].irradiance_sh[k], pb.volume.probes[i].irradiance_sh[k]) << i;
+    for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
+      EXPECT_EQ(pa.volume.probes[i].irradiance_sh[k], pb.volume.probes[i].irradiance_sh[k]) << i;
   }
   EXPECT_EQ(pa.volume.octree, pb.volume.octree);
   EXPECT_EQ(pa.volume.svo_nodes, pb.volume.svo_nodes);
@@ -257,8 +262,11 @@ TEST(EvalReceivers, ImageReceiversAverageToTheErrorMapMean) {
   bake::EvalSettings s = quick_settings();
   s.configs = {s.configs.front()};
   s.baseline = s.configs.front().label;
-  s.camera = bake::Camera{.position = {0.0f, 0.274f, 1.0f}, .look_at = {0.0f, 0.274f, 0.0f}, .fov_degrees = 40.0f,
-                          .width = 16, .height = 12};
+  s.camera = bake::Camera{.position = {0.0f, 0.274f, 1.0f},
+                          .look_at = {0.0f, 0.274f, 0.0f},
+                          .fov_degrees = 40.0f,
+                          .width = 16,
+                          .height = 12};
   s.image_paths = 4;
   const auto path = write_generated(samples::cornell(), "recv_eval_image");
   s.error_map_dir = path.parent_path() / "recv_eval_maps";
@@ -295,14 +303,17 @@ namespace {
 samples::SceneBuilder lit_plane(bool double_sided) {
   samples::SceneBuilder builder("lit_plane");
   const samples::MaterialId grey = builder.add_material({"grey", glm::vec3(0.5f), glm::vec3(0.0f), double_sided});
-  builder.add_mesh_node("plane", builder.add_mesh("plane", samples::quad({-1.0f, 0.0f, 1.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -2.0f}, 4), grey));
+  builder.add_mesh_node(
+      "plane",
+      builder.add_mesh("plane", samples::quad({-1.0f, 0.0f, 1.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -2.0f}, 4), grey));
   builder.add_light_node("above", builder.add_light({.name = "above", .intensity = 4.0f}), {0.0f, 1.0f, 0.0f});
   builder.add_light_node("below", builder.add_light({.name = "below", .intensity = 1.0f}), {0.0f, -1.0f, 0.0f});
   return builder;
 }
 
 int facing_down(const std::vector<bake::SamplePoint>& points) {
-  return int(std::count_if(points.begin(), points.end(), [](const bake::SamplePoint& p) { return p.normal.y < -0.999f; }));
+  return int(
+      std::count_if(points.begin(), points.end(), [](const bake::SamplePoint& p) { return p.normal.y < -0.999f; }));
 }
 
 TEST(Receivers, BothSidesOfADoubleSidedPlaneAreReceivers) {
@@ -320,7 +331,8 @@ TEST(Receivers, BothSidesOfADoubleSidedPlaneAreReceivers) {
   }
   // Each side sees its own light: E = I / h^2 straight under it (4 above, 1 below; nothing else to bounce
   // light, point lights are sampled exactly).
-  const std::vector<bake::SamplePoint> at = {{{0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}}, {{0.0f, 0.0f, 0.0f}, {0.0f, -1.0f, 0.0f}}};
+  const std::vector<bake::SamplePoint> at = {{{0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}},
+                                             {{0.0f, 0.0f, 0.0f}, {0.0f, -1.0f, 0.0f}}};
   bake::ReferenceSettings settings;
   settings.paths = 256;
   const scene::RayScene rays_both(both);
@@ -332,11 +344,13 @@ TEST(Receivers, BothSidesOfADoubleSidedPlaneAreReceivers) {
 }
 
 TEST(Receivers, CameraSeesTheBackOfADoubleSidedPlaneWithItsFacingNormal) {
-  const bake::Camera below{.position = {0.1f, -1.0f, 0.2f}, .look_at = {0.0f, 0.0f, 0.0f}, .fov_degrees = 30.0f, .width = 8, .height = 8};
+  const bake::Camera below{
+      .position = {0.1f, -1.0f, 0.2f}, .look_at = {0.0f, 0.0f, 0.0f}, .fov_degrees = 30.0f, .width = 8, .height = 8};
   const scene::Scene single = load_generated(lit_plane(false), "recv_plane_cam_single");
   const scene::Scene both = load_generated(lit_plane(true), "recv_plane_cam_double");
   const scene::RayScene rays_single(single), rays_both(both);
-  for (const auto& p : bake::camera_surface_points(rays_single, below)) EXPECT_FALSE(p.has_value()) << "back of a single-sided plane";
+  for (const auto& p : bake::camera_surface_points(rays_single, below))
+    EXPECT_FALSE(p.has_value()) << "back of a single-sided plane";
   const auto seen = bake::camera_surface_points(rays_both, below);
   ASSERT_EQ(seen.size(), 64u);
   for (const auto& p : seen) {
@@ -351,7 +365,8 @@ std::filesystem::path write_flipped(const samples::SceneBuilder& builder, const 
   const std::filesystem::path original = write_generated(builder, name);
   const std::vector<std::uint8_t> bytes = samples::flip_sides_file(original);
   const std::filesystem::path flipped = original.parent_path() / (name + "_flipped.glb");
-  std::ofstream(flipped, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  std::ofstream(flipped, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   return flipped;
 }
 
@@ -382,7 +397,8 @@ TEST(FlippedCornell, SameReferenceAtTheOriginalsReceivers) {
   const double n = double(a.irradiance.size());
   const double mean_a = mean_of(a.irradiance), mean_b = mean_of(b.irradiance);
   std::printf("[ flipped cornell ] reference at 64 receivers x 256 paths: mean %.4f (original) vs %.4f (flipped), "
-              "sigma of the difference %.4f\n", mean_a, mean_b, std::sqrt(variance) / n);
+              "sigma of the difference %.4f\n",
+              mean_a, mean_b, std::sqrt(variance) / n);
   EXPECT_GT(mean_a, 0.1);
   EXPECT_NEAR(mean_b, mean_a, 4.0 * std::sqrt(variance) / n);
 }
@@ -406,7 +422,8 @@ TEST(FlippedCornell, EvalErrorsWithinTenPercent) {
   const auto once = write_flipped(samples::cornell(), "flip_cornell_eval");
   const std::vector<std::uint8_t> twice_bytes = samples::flip_sides_file(once);
   const std::filesystem::path twice = once.parent_path() / "flip_cornell_eval_twice.glb";
-  std::ofstream(twice, std::ios::binary).write(reinterpret_cast<const char*>(twice_bytes.data()), std::streamsize(twice_bytes.size()));
+  std::ofstream(twice, std::ios::binary)
+      .write(reinterpret_cast<const char*>(twice_bytes.data()), std::streamsize(twice_bytes.size()));
   bake::EvalSettings s = quick_settings();
   s.points = 128;
   s.paths = 512;
@@ -416,10 +433,12 @@ TEST(FlippedCornell, EvalErrorsWithinTenPercent) {
   ASSERT_EQ(a.rows.size(), b.rows.size());
   std::printf("[ flipped cornell ] eval: mean reference %.4f (flipped twice) vs %.4f (once), reference noise %.3f\n",
               a.mean_reference, b.mean_reference, a.reference_noise);
-  EXPECT_NEAR(b.mean_reference, a.mean_reference, 4.0 * a.reference_noise / std::sqrt(double(s.points)) * a.mean_reference);
+  EXPECT_NEAR(b.mean_reference, a.mean_reference,
+              4.0 * a.reference_noise / std::sqrt(double(s.points)) * a.mean_reference);
   for (std::size_t i = 0; i < a.rows.size(); ++i) {
     std::printf("[ flipped cornell ] %-16s relative RMSE %.4f (twice) vs %.4f (once), probes %d vs %d\n",
-                a.rows[i].label.c_str(), a.rows[i].relative_rmse, b.rows[i].relative_rmse, a.rows[i].probes, b.rows[i].probes);
+                a.rows[i].label.c_str(), a.rows[i].relative_rmse, b.rows[i].relative_rmse, a.rows[i].probes,
+                b.rows[i].probes);
     EXPECT_NEAR(b.rows[i].relative_rmse, a.rows[i].relative_rmse, 0.1 * a.rows[i].relative_rmse) << a.rows[i].label;
     EXPECT_EQ(b.rows[i].coverage, a.rows[i].coverage) << a.rows[i].label;
   }

@@ -90,11 +90,14 @@ TEST(Reference, SamePointsAndNumbersForAnyThreadCount) {
     EXPECT_EQ(points[i].position, again[i].position);
     EXPECT_EQ(points[i].normal, again[i].normal);
   }
-  const bake::ReferenceResult one = bake::reference_irradiance(s, rays, points, {.paths = 200, .seed = 9, .threads = 1});
-  const bake::ReferenceResult two = bake::reference_irradiance(s, rays, points, {.paths = 200, .seed = 9, .threads = 2});
+  const bake::ReferenceResult one =
+      bake::reference_irradiance(s, rays, points, {.paths = 200, .seed = 9, .threads = 1});
+  const bake::ReferenceResult two =
+      bake::reference_irradiance(s, rays, points, {.paths = 200, .seed = 9, .threads = 2});
   EXPECT_EQ(one.irradiance, two.irradiance);
   EXPECT_EQ(one.standard_error, two.standard_error);
-  const bake::ReferenceResult other = bake::reference_irradiance(s, rays, points, {.paths = 200, .seed = 10, .threads = 2});
+  const bake::ReferenceResult other =
+      bake::reference_irradiance(s, rays, points, {.paths = 200, .seed = 10, .threads = 2});
   EXPECT_NE(one.irradiance, other.irradiance);
   double lit = 0.0;
   for (const glm::vec3& e : one.irradiance) lit += e.x + e.y + e.z;
@@ -109,15 +112,19 @@ TEST(Reference, SamplePointsAvoidHiddenSurfaces) {
   ASSERT_EQ(points.size(), 400u);
   for (const bake::SamplePoint& p : points) {
     EXPECT_NEAR(glm::length(p.normal), 1.0f, 1e-5f);
-    EXPECT_FALSE(inside_geometry(rays, p.position + 1e-4f * p.normal)) << p.position.x << " " << p.position.y << " " << p.position.z;
+    EXPECT_FALSE(inside_geometry(rays, p.position + 1e-4f * p.normal))
+        << p.position.x << " " << p.position.y << " " << p.position.z;
   }
 }
 
 TEST(Reference, IrradianceImageIsWrittenAsReadableOpenExr) {
   const scene::Scene s = load_generated(samples::cornell(), "ref_cornell_image");
   const scene::RayScene rays(s);
-  const bake::Camera camera{.position = {0.0f, 0.274f, 1.0f}, .look_at = {0.0f, 0.274f, 0.0f}, .fov_degrees = 40.0f,
-                            .width = 24, .height = 16};
+  const bake::Camera camera{.position = {0.0f, 0.274f, 1.0f},
+                            .look_at = {0.0f, 0.274f, 0.0f},
+                            .fov_degrees = 40.0f,
+                            .width = 24,
+                            .height = 16};
   const bake::Image image = bake::render_irradiance_image(s, rays, camera, {.paths = 16});
   const auto path = write_generated(samples::empty(), "ref_image_dir").parent_path() / "ref_cornell.exr";
   std::filesystem::remove(path);
@@ -139,7 +146,7 @@ TEST(Reference, IrradianceImageIsWrittenAsReadableOpenExr) {
       EXPECT_NEAR(float(pixels[y][x].b), e.z, 2e-3f * e.z + 1e-4f);
       lit += e.x > 0.0f ? 1 : 0;
     }
-  EXPECT_GT(lit, 24 * 16 / 2); // the camera looks into the box
+  EXPECT_GT(lit, 24 * 16 / 2);                          // the camera looks into the box
   EXPECT_EQ(bake::read_exr(path).pixels, image.pixels); // float channels round-trip exactly
 }
 
@@ -172,8 +179,9 @@ std::string read_text(const std::filesystem::path& p) {
 TEST(ReferenceCli, WritesCsvAndImage) {
   const auto scene = write_generated(samples::cornell(), "ref_cli_cornell");
   const auto dir = scene.parent_path();
-  const CliResult r = run("reference " + quoted(scene) + " --points 16 --samples 16 --csv " + quoted(dir / "ref_cli.csv") +
-                       " --image " + quoted(dir / "ref_cli.exr") + " --camera 0,0.27,1 --look-at 0,0.27,0 --size 8x6 --json");
+  const CliResult r =
+      run("reference " + quoted(scene) + " --points 16 --samples 16 --csv " + quoted(dir / "ref_cli.csv") +
+          " --image " + quoted(dir / "ref_cli.exr") + " --camera 0,0.27,1 --look-at 0,0.27,0 --size 8x6 --json");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(nlohmann::json::parse(r.out)["points"]["count"].get<int>(), 16);
   const auto csv = lines_of(read_text(dir / "ref_cli.csv"));
@@ -195,7 +203,8 @@ TEST(ReferenceCli, AnimateTracesTheScenesPoseAtAFrame) {
   const auto scene = write_generated(samples::cornell(options), "ref_animate_cornell");
   const auto dir = scene.parent_path();
   const auto reference = [&](const std::string& extra, const char* csv) {
-    const CliResult r = run("reference " + quoted(scene) + " --points 32 --samples 16 --csv " + quoted(dir / csv) + extra);
+    const CliResult r =
+        run("reference " + quoted(scene) + " --points 32 --samples 16 --csv " + quoted(dir / csv) + extra);
     EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
     return read_text(dir / csv);
   };
@@ -206,7 +215,8 @@ TEST(ReferenceCli, AnimateTracesTheScenesPoseAtAFrame) {
 }
 
 TEST(ReferenceCli, AtReadsReceiversAndItsOwnCsvBack) {
-  const auto scene = write_generated(samples::plane_light({.size = 4.0f, .height = 1.0f, .intensity = 10.0f}), "ref_at_plane");
+  const auto scene =
+      write_generated(samples::plane_light({.size = 4.0f, .height = 1.0f, .intensity = 10.0f}), "ref_at_plane");
   const auto dir = scene.parent_path();
   // Header, blank line, CRLF and spaces are accepted; the normal is normalised.
   write_text(dir / "at.csv", "x,y,z,nx,ny,nz\n0,0,0,0,2,0\r\n\n 0.5 , 0 , 0 , 0 , 1 , 0\n");
@@ -214,7 +224,7 @@ TEST(ReferenceCli, AtReadsReceiversAndItsOwnCsvBack) {
                           quoted(dir / "at_out.csv") + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["points"]["count"].get<int>(), 2);
-  const auto points = bake::read_receivers_csv(dir / "at_out.csv");  // the --csv output reads back as --at
+  const auto points = bake::read_receivers_csv(dir / "at_out.csv"); // the --csv output reads back as --at
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0].normal, glm::vec3(0.0f, 1.0f, 0.0f));
   EXPECT_EQ(points[1].position, glm::vec3(0.5f, 0.0f, 0.0f));
@@ -250,7 +260,10 @@ TEST(ReferenceCli, AtRefusesMalformedRowsNamingFileAndLine) {
   EXPECT_EQ(run("reference " + quoted(scene) + " --at " + quoted(dir / "bad0.csv") + " --points 4").exit_code, 1);
   // The output may not replace the receivers it reads.
   write_text(dir / "good.csv", "0.2,0,-0.2,0,1,0\n");
-  EXPECT_EQ(run("reference " + quoted(scene) + " --at " + quoted(dir / "good.csv") + " --csv " + quoted(dir / "good.csv")).exit_code, 3);
+  EXPECT_EQ(
+      run("reference " + quoted(scene) + " --at " + quoted(dir / "good.csv") + " --csv " + quoted(dir / "good.csv"))
+          .exit_code,
+      3);
 }
 
 // The limits of read_receivers_csv: kMaxReceivers rows are read, one more is refused naming its line, and a
@@ -288,8 +301,10 @@ std::vector<std::string> table_rows(const std::string& out) {
   std::vector<std::string> rows;
   bool body = false;
   for (const std::string& line : lines_of(out)) {
-    if (line.starts_with("|---")) body = true;
-    else if (body && line.starts_with("| ")) rows.push_back(line);
+    if (line.starts_with("|---"))
+      body = true;
+    else if (body && line.starts_with("| "))
+      rows.push_back(line);
   }
   return rows;
 }
@@ -298,7 +313,8 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   const auto scene = write_generated(samples::cornell(), "ref_eval_cornell");
   const auto dir = scene.parent_path();
   for (const auto& entry : std::filesystem::directory_iterator(dir)) // start without a cached reference
-    if (entry.path().filename().string().starts_with("ref_eval_cornell.glb.reference.")) std::filesystem::remove(entry.path());
+    if (entry.path().filename().string().starts_with("ref_eval_cornell.glb.reference."))
+      std::filesystem::remove(entry.path());
   const auto csv = dir / "ref_eval.csv", svg = dir / "ref_eval.svg";
   const CliResult first = run("eval " + quoted(scene) + " --quick --csv " + quoted(csv) + " --plot " + quoted(svg));
   ASSERT_EQ(first.exit_code, 0) << first.out;
@@ -306,7 +322,9 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   const auto rows = table_rows(first.out);
   ASSERT_EQ(rows.size(), configs + 1) << first.out; // one per configuration, plus the all-probes baseline
   for (const auto& c : bake::quick_sweep())
-    EXPECT_EQ(std::count_if(rows.begin(), rows.end(), [&](const std::string& r) { return r.starts_with("| " + c.label + " | svo |"); }), 1)
+    EXPECT_EQ(std::count_if(rows.begin(), rows.end(),
+                            [&](const std::string& r) { return r.starts_with("| " + c.label + " | svo |"); }),
+              1)
         << c.label;
   EXPECT_EQ(lines_of(read_text(csv)).size(), configs + 2); // header + rows
   const std::string plot = read_text(svg);

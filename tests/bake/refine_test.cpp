@@ -25,15 +25,19 @@ constexpr float kCorner = 2.0f; // the detailed region: x, z in [6, 8], y < 2
 samples::SceneBuilder cluttered_corner_room() {
   samples::SceneBuilder b("cluttered_corner");
   const auto white = b.add_material({.name = "white", .albedo = glm::vec3(0.7f)});
-  b.add_mesh_node("room", b.add_mesh("room", samples::box({0, 0, 0}, {kRoom, kRoom / 2, kRoom}, samples::Facing::inward, 4), white));
+  b.add_mesh_node(
+      "room",
+      b.add_mesh("room", samples::box({0, 0, 0}, {kRoom, kRoom / 2, kRoom}, samples::Facing::inward, 4), white));
   for (int i = 0; i < 20; ++i) {
     const float x = kRoom - kCorner + 0.15f + 0.4f * float(i % 4);
     const float z = kRoom - kCorner + 0.15f + 0.35f * float(i / 4);
     const float h = 0.1f + 0.05f * float((i * 7) % 5);
-    const glm::vec3 colour(0.2f + 0.7f * float(i % 3 == 0), 0.2f + 0.7f * float(i % 3 == 1), 0.2f + 0.7f * float(i % 3 == 2));
+    const glm::vec3 colour(0.2f + 0.7f * float(i % 3 == 0), 0.2f + 0.7f * float(i % 3 == 1),
+                           0.2f + 0.7f * float(i % 3 == 2));
     const auto m = b.add_material({.name = "block" + std::to_string(i), .albedo = colour});
-    b.add_mesh_node("block" + std::to_string(i), b.add_mesh("block" + std::to_string(i),
-                    samples::box({x, 0, z}, {x + 0.2f, h, z + 0.2f}, samples::Facing::outward), m));
+    b.add_mesh_node("block" + std::to_string(i),
+                    b.add_mesh("block" + std::to_string(i),
+                               samples::box({x, 0, z}, {x + 0.2f, h, z + 0.2f}, samples::Facing::outward), m));
   }
   const auto light = b.add_light({.name = "lamp", .intensity = 20.0f});
   b.add_light_node("lamp", light, {kRoom - 1.0f, 0.6f, kRoom - 1.0f});
@@ -70,12 +74,14 @@ TEST(Refine, DepthGoesToTheDetailedCorner) {
   std::vector<int> corner(7, 0), rest(7, 0);
   for (const gpu::Probe& p : r.volume.probes)
     if (p.link != 0) ++(in_corner(p.position) ? corner : rest)[std::size_t(p.depth)];
-  for (int d = 0; d < 7; ++d) std::printf("depth %d: corner %d, rest %d\n", d, corner[std::size_t(d)], rest[std::size_t(d)]);
+  for (int d = 0; d < 7; ++d)
+    std::printf("depth %d: corner %d, rest %d\n", d, corner[std::size_t(d)], rest[std::size_t(d)]);
   // The corner is 1/64 of the room's volume and 1/16 of its floor; the refinement spends its depth there.
   const double corner_mean = mean_depth(r.volume, true), rest_mean = mean_depth(r.volume, false);
   std::printf("mean depth: corner %.2f, rest %.2f\n", corner_mean, rest_mean);
   EXPECT_GT(corner_mean, rest_mean + 1.0);
-  const int deepest = int(std::find_if(corner.rbegin(), corner.rend(), [](int n) { return n > 0; }).base() - corner.begin()) - 1;
+  const int deepest =
+      int(std::find_if(corner.rbegin(), corner.rend(), [](int n) { return n > 0; }).base() - corner.begin()) - 1;
   EXPECT_GE(deepest, 4);
   EXPECT_EQ(rest[std::size_t(deepest)], 0) << "the deepest level lies in the corner only";
 }
@@ -83,17 +89,18 @@ TEST(Refine, DepthGoesToTheDetailedCorner) {
 TEST(Refine, BudgetIsHonouredAndNearlySpent) {
   const scene::Scene s = load_generated(cluttered_corner_room(), "cluttered_corner");
   for (const bake::SplitRule rule : {bake::SplitRule::error, bake::SplitRule::surface})
-  for (int budget : {1, 40, 150}) {
-    SCOPED_TRACE(budget);
-    bake::BakeSettings settings = error_settings(budget);
-    settings.split_rule = rule;
-    const bake::BakeResult r = bake::bake(s, settings);
-    std::printf("%s, budget %d: placed %d, live %d (freed %d)\n", rule == bake::SplitRule::error ? "error" : "surface",
-                budget, r.report.placed_probes, r.report.probes, r.report.freed_probes);
-    EXPECT_LE(r.report.placed_probes, budget);
-    EXPECT_LE(r.report.probes, budget);
-    EXPECT_GE(r.report.placed_probes, budget == 1 ? 1 : int(0.9 * budget));
-  }
+    for (int budget : {1, 40, 150}) {
+      SCOPED_TRACE(budget);
+      bake::BakeSettings settings = error_settings(budget);
+      settings.split_rule = rule;
+      const bake::BakeResult r = bake::bake(s, settings);
+      std::printf("%s, budget %d: placed %d, live %d (freed %d)\n",
+                  rule == bake::SplitRule::error ? "error" : "surface", budget, r.report.placed_probes, r.report.probes,
+                  r.report.freed_probes);
+      EXPECT_LE(r.report.placed_probes, budget);
+      EXPECT_LE(r.report.probes, budget);
+      EXPECT_GE(r.report.placed_probes, budget == 1 ? 1 : int(0.9 * budget));
+    }
 }
 
 TEST(Refine, SameBytesForAnyThreadCount) {
@@ -167,9 +174,10 @@ TEST(Refine, AFlatWorldOfRoomsKeepsItsRootCube) {
     EXPECT_FALSE(r.report.surrounded_root) << clearance;
     EXPECT_EQ(r.volume.info.root_size, bake::volume_info(s, settings).root_size);
     int in_rooms = 0;
-    for (const gpu::Probe& p : r.volume.probes) in_rooms += p.link != 0 && p.position.y > 0.0f && p.position.y < 3.0f ? 1 : 0;
-    std::printf("flat world at clearance %.3f m: %d probes, %d of them between floor and ceiling height\n", r.report.clearance,
-                r.report.probes, in_rooms);
+    for (const gpu::Probe& p : r.volume.probes)
+      in_rooms += p.link != 0 && p.position.y > 0.0f && p.position.y < 3.0f ? 1 : 0;
+    std::printf("flat world at clearance %.3f m: %d probes, %d of them between floor and ceiling height\n",
+                r.report.clearance, r.report.probes, in_rooms);
     EXPECT_GT(in_rooms, 64) << clearance; // more than one per room
   }
 }

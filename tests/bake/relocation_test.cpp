@@ -18,7 +18,7 @@ namespace {
 struct Verdicts {
   int valid = 0;
   int outside_cube = 0;
-  int dead_by_clearance = 0; // a surface nearer than the clearance
+  int dead_by_clearance = 0;  // a surface nearer than the clearance
   int dead_by_back_faces = 0; // no surface that near, but mostly back faces: inside a solid
   int mismatches = 0;
 };
@@ -35,16 +35,21 @@ Verdicts compare_with_full_trace(const scene::Scene& s, float clearance) {
   Verdicts v;
   for (int i = 0; i < n * n * n; ++i) {
     const glm::vec3 cell(float(i % n), float(i / n % n), float(i / (n * n)));
-    const glm::vec3 jitter(std::fmod(0.618f * float(i), 1.0f), std::fmod(0.414f * float(i), 1.0f), std::fmod(0.732f * float(i), 1.0f));
+    const glm::vec3 jitter(std::fmod(0.618f * float(i), 1.0f), std::fmod(0.414f * float(i), 1.0f),
+                           std::fmod(0.732f * float(i), 1.0f));
     const glm::vec3 p = lo - 0.1f * extent + (cell + jitter) / float(n) * 1.2f * extent;
     const placement::ProbeRays full = placement::trace_probe(rays, p, cube, directions);
     const bool expected = cube.contains(p) && !placement::is_dead(full, clearance);
     if (placement::is_valid_position(ctx, p, cube) != expected) ++v.mismatches;
     if (placement::mostly_back_faces(rays, p, directions) != (full.backface_fraction() > 0.5f)) ++v.mismatches;
-    if (!cube.contains(p)) ++v.outside_cube;
-    else if (expected) ++v.valid;
-    else if (full.nearest < clearance) ++v.dead_by_clearance;
-    else ++v.dead_by_back_faces;
+    if (!cube.contains(p))
+      ++v.outside_cube;
+    else if (expected)
+      ++v.valid;
+    else if (full.nearest < clearance)
+      ++v.dead_by_clearance;
+    else
+      ++v.dead_by_back_faces;
   }
   return v;
 }

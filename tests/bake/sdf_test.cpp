@@ -237,7 +237,7 @@ TEST(SceneSdf, ReversedDoubleSidedRoomIsFreeSpaceInside) {
   for (const glm::vec3& n : face_normals) {
     const glm::vec3 p = glm::vec3(2.0f) + n * 1.8f; // 0.2 from a wall, inside
     EXPECT_NEAR(sdf.distance(p), 0.2f, sdf.voxel_size());
-    EXPECT_GT(glm::dot(sdf.gradient(p), -n), 0.99f); // away from the wall, into the room
+    EXPECT_GT(glm::dot(sdf.gradient(p), -n), 0.99f);                               // away from the wall, into the room
     EXPECT_NEAR(sdf.distance(glm::vec3(2.0f) + n * 2.2f), 0.2f, sdf.voxel_size()); // and outside it
   }
   for (const glm::vec3& p : sample_points(glm::vec3(-0.5f), glm::vec3(4.5f), 9)) EXPECT_GE(sdf.distance(p), 0.0f);
@@ -256,7 +256,8 @@ TEST(SceneSdf, SolidInsideADoubleSidedRoomIsStillSolid) {
 TEST(SceneSdf, DoubleSidedPlaneInsideASolidStaysInside) {
   Scene scene = unit_cube();
   const auto base = static_cast<unsigned>(scene.positions.size());
-  scene.positions.insert(scene.positions.end(), {{0.1f, 0.1f, 0.5f}, {0.9f, 0.1f, 0.5f}, {0.9f, 0.9f, 0.5f}, {0.1f, 0.9f, 0.5f}});
+  scene.positions.insert(scene.positions.end(),
+                         {{0.1f, 0.1f, 0.5f}, {0.9f, 0.1f, 0.5f}, {0.9f, 0.9f, 0.5f}, {0.1f, 0.9f, 0.5f}});
   scene.triangles.push_back({base, base + 1, base + 2});
   scene.triangles.push_back({base, base + 2, base + 3});
   mark_double_sided(scene, 12);

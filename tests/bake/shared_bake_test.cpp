@@ -60,7 +60,8 @@ TEST(SharedBake, ReversedDoubleSidedSharedScenesBakeValid) {
   for_each_shared_scene([&](const std::filesystem::path& path, const scene::Scene& s) {
     const scene::Scene flipped = reversed_double_sided(s);
     bool all_double_sided = true;
-    for (std::size_t t = 0; t < s.triangles.size(); ++t) all_double_sided = all_double_sided && scene::is_double_sided(s, t);
+    for (std::size_t t = 0; t < s.triangles.size(); ++t)
+      all_double_sided = all_double_sided && scene::is_double_sided(s, t);
     int counts[2] = {-1, -1}; // -1: the bake refused (no probes placed)
     std::vector<glm::vec3> positions[2];
     for (int k = 0; k < 2; ++k) {
@@ -79,8 +80,8 @@ TEST(SharedBake, ReversedDoubleSidedSharedScenesBakeValid) {
         EXPECT_NE(std::string(e.what()).find("no probes placed"), std::string::npos) << e.what();
       }
     }
-    std::printf("%s: probes original %d, reversed double-sided %d%s\n", path.filename().string().c_str(),
-                counts[0], counts[1], all_double_sided ? " (all materials double-sided)" : "");
+    std::printf("%s: probes original %d, reversed double-sided %d%s\n", path.filename().string().c_str(), counts[0],
+                counts[1], all_double_sided ? " (all materials double-sided)" : "");
     if (all_double_sided) {
       EXPECT_GT(counts[0], 0) << "a refused bake on both sides would compare nothing";
       EXPECT_EQ(counts[1], counts[0]);

@@ -52,7 +52,8 @@ std::string merge_error(std::span<const formats::BakePart> parts) {
 
 std::vector<formats::BakePart> three_parts() {
   std::vector<formats::BakePart> parts;
-  for (int which = 0; which < 3; ++which) parts.push_back(bake::bake_part(rooms(), split_settings(1), every_nth_cell(2, 3, which)));
+  for (int which = 0; which < 3; ++which)
+    parts.push_back(bake::bake_part(rooms(), split_settings(1), every_nth_cell(2, 3, which)));
   return parts;
 }
 
@@ -110,7 +111,8 @@ TEST(SplitBake, ACellOutsideTheGridIsAUsageError) {
     ADD_FAILURE() << "cell 64 of a 4^3 grid accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::usage);
-    EXPECT_NE(std::string(e.what()).find("cell 64 is outside the grid's 64 cells (4^3)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cell 64 is outside the grid's 64 cells (4^3)"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -17,9 +17,9 @@ namespace probebake::test {
 namespace {
 
 struct LookupComparison {
-  double mean_all = 0.0;      // mean of the all-probe loop over receivers and channels
-  double worst_excess = 0.0;  // max over receivers of (SVO - all-probe loop), per channel
-  float brightest_probe = 0;  // the largest probe DC irradiance
+  double mean_all = 0.0;     // mean of the all-probe loop over receivers and channels
+  double worst_excess = 0.0; // max over receivers of (SVO - all-probe loop), per channel
+  float brightest_probe = 0; // the largest probe DC irradiance
   std::size_t misses = 0;
 };
 
@@ -56,7 +56,8 @@ TEST(StiffScenes, ASealedEmissiveBoxUnderTheCeilingDoesNotLightTheRoomThroughThe
     settings.max_depth = depth;
     const LookupComparison c = compare_lookups(scene, settings);
     std::printf("[stiff] light box, octree depth %d: brightest probe %.1f W/m^2, mean all-probe %.3f, worst SVO "
-                "excess %.3f, misses %zu\n", depth, c.brightest_probe, c.mean_all, c.worst_excess, c.misses);
+                "excess %.3f, misses %zu\n",
+                depth, c.brightest_probe, c.mean_all, c.worst_excess, c.misses);
     // The cavity's probes are there and bright: the test would see them leak.
     EXPECT_GT(c.brightest_probe, 50.0f * float(c.mean_all));
     // The bound (no receiver off by more than 10x the mean). Before the group rule: 270x the mean
@@ -125,8 +126,8 @@ TEST(StiffScenes, ProbeIrradianceIsBoundedAndTheIterationConverges) {
         for (int channel = 0; channel < 3; ++channel)
           brightest = std::max(brightest, p.irradiance_sh[channel] * bake::kShY0);
       }
-      std::printf("[stiff] %s, %s: %d probes, brightest mean irradiance %.3g W/m^2 (bound %.3g), %d sweeps\n",
-                  c.name, grid ? "grid 8" : "octree depth 3", r.report.probes, brightest, c.bound,
+      std::printf("[stiff] %s, %s: %d probes, brightest mean irradiance %.3g W/m^2 (bound %.3g), %d sweeps\n", c.name,
+                  grid ? "grid 8" : "octree depth 3", r.report.probes, brightest, c.bound,
                   r.report.lighting.iterations);
       EXPECT_LE(brightest, c.bound) << c.name;
       EXPECT_TRUE(r.report.lighting.converged) << c.name;
@@ -153,7 +154,8 @@ TEST(StiffScenes, ProbeNoiseFallsAsOneOverTheRootOfTheRays) {
   EXPECT_NEAR(noise[0] / noise[1], 2.0f, 0.3f);
   bake::BakeSettings furnace;
   furnace.max_depth = 2;
-  const bake::BakeResult f = bake::bake(load_generated(samples::furnace({.albedo = 0.5f}), "stiff-noise-furnace"), furnace);
+  const bake::BakeResult f =
+      bake::bake(load_generated(samples::furnace({.albedo = 0.5f}), "stiff-noise-furnace"), furnace);
   EXPECT_GT(f.report.lighting.probes, 0);
   EXPECT_LT(f.report.lighting.noise_p95, 1e-3f);
 }

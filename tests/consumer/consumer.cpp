@@ -55,8 +55,10 @@ struct GameVulkan {
     features.pEnabledValidationFeatures = &sync;
     VkDebugUtilsMessengerCreateInfoEXT messenger_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
     messenger_info.pNext = &features;
-    messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+    messenger_info.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                                 VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                                  VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
     messenger_info.pfnUserCallback = on_message;
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
@@ -70,9 +72,11 @@ struct GameVulkan {
     }
     check(vkCreateInstance(&info, nullptr, &instance), "vkCreateInstance");
     if (validation) {
-      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
       messenger_info.pNext = nullptr;
-      check(create ? create(instance, &messenger_info, nullptr, &messenger) : VK_ERROR_EXTENSION_NOT_PRESENT, "vkCreateDebugUtilsMessengerEXT");
+      check(create ? create(instance, &messenger_info, nullptr, &messenger) : VK_ERROR_EXTENSION_NOT_PRESENT,
+            "vkCreateDebugUtilsMessengerEXT");
     }
     std::uint32_t count = 0;
     vkEnumeratePhysicalDevices(instance, &count, nullptr);
@@ -105,7 +109,8 @@ struct GameVulkan {
   ~GameVulkan() {
     if (device) vkDestroyDevice(device, nullptr);
     if (messenger) {
-      auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+      auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
       if (destroy) destroy(instance, messenger, nullptr);
     }
     if (instance) vkDestroyInstance(instance, nullptr);
@@ -188,7 +193,13 @@ struct GamePipeline {
     VkShaderModule module;
     check(vkCreateShaderModule(device, &module_info, nullptr, &module), "vkCreateShaderModule");
     VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main", nullptr};
+    pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                           nullptr,
+                           0,
+                           VK_SHADER_STAGE_COMPUTE_BIT,
+                           module,
+                           "main",
+                           nullptr};
     pipeline_info.layout = layout;
     const VkResult made = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline);
     vkDestroyShaderModule(device, module, nullptr);
@@ -243,14 +254,18 @@ void dispatch(const GameVulkan& vk, const GamePipeline& p, std::uint32_t count) 
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
   // The runtime's frames end with its own barrier and were waited for; the game orders its host writes.
-  VkMemoryBarrier host_to_shader{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_HOST_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT};
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &host_to_shader, 0, nullptr, 0, nullptr);
+  VkMemoryBarrier host_to_shader{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_HOST_WRITE_BIT,
+                                 VK_ACCESS_SHADER_READ_BIT};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &host_to_shader, 0,
+                       nullptr, 0, nullptr);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 2, p.sets, 0, nullptr);
   vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, 4, &count);
   vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
-  VkMemoryBarrier shader_to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &shader_to_host, 0, nullptr, 0, nullptr);
+  VkMemoryBarrier shader_to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT,
+                                 VK_ACCESS_HOST_READ_BIT};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &shader_to_host, 0,
+                       nullptr, 0, nullptr);
   check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkFence fence;
@@ -280,9 +295,11 @@ int run(const char* file, bool validation) {
   const gpu::VolumeInfo& info = volume->info();
   std::vector<glm::vec3> positions(kPoints), normals(kPoints);
   for (std::uint32_t i = 0; i < kPoints; ++i) {
-    const glm::vec3 u(std::fmod(0.618034f * float(i), 1.0f), std::fmod(0.754878f * float(i), 1.0f), std::fmod(0.569840f * float(i), 1.0f));
+    const glm::vec3 u(std::fmod(0.618034f * float(i), 1.0f), std::fmod(0.754878f * float(i), 1.0f),
+                      std::fmod(0.569840f * float(i), 1.0f));
     positions[i] = info.root_min + info.root_size * (0.25f + 0.5f * u);
-    const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(kPoints), r = std::sqrt(1.0f - z * z), a = 2.39996323f * float(i);
+    const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(kPoints), r = std::sqrt(1.0f - z * z),
+                a = 2.39996323f * float(i);
     normals[i] = glm::vec3(r * std::cos(a), z, r * std::sin(a));
   }
   HostBuffer points(vk, kPoints * 16), normal_buffer(vk, kPoints * 16), shaded(vk, kPoints * 16);
@@ -309,7 +326,8 @@ int run(const char* file, bool validation) {
     const glm::vec3 game(shaded.vec4s()[i]), runtime_value = expected.value()[i];
     for (int c = 0; c < 3; ++c) {
       if (!std::isfinite(game[c])) throw std::runtime_error("non-finite irradiance at point " + std::to_string(i));
-      worst = std::max(worst, double(std::abs(game[c] - runtime_value[c])) / std::max(1e-6, double(std::abs(runtime_value[c]))));
+      worst = std::max(worst, double(std::abs(game[c] - runtime_value[c])) /
+                                  std::max(1e-6, double(std::abs(runtime_value[c]))));
       mean += game[c] / (3.0 * kPoints);
     }
     lit += game.x + game.y + game.z > 0.0f ? 1 : 0;

@@ -73,7 +73,8 @@ TEST(Animation, SoakWandersBoundedAndEndsEveryBlockAtRest) {
 }
 
 TEST(Animation, NamesRoundTrip) {
-  for (Animation a : {Animation::thesis, Animation::revolution, Animation::soak}) EXPECT_EQ(parse_animation(to_string(a)), a);
+  for (Animation a : {Animation::thesis, Animation::revolution, Animation::soak})
+    EXPECT_EQ(parse_animation(to_string(a)), a);
   EXPECT_FALSE(parse_animation("spin").has_value());
   EXPECT_EQ(default_frames(Animation::soak), 10000);
 }

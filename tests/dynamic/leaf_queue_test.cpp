@@ -39,10 +39,10 @@ TEST(LeafQueue, ANodeIsOneEntryPerSegmentWithTheStrongerState) {
   EXPECT_TRUE(q.push(0, 5, gpu::LEAF_M0_CHILD_ALLOCATING)); // a child allocates: M0 wins
   EXPECT_TRUE(q.push(0, 5, gpu::LEAF_M4_FREE_CLUSTER));     // and stays
   EXPECT_TRUE(q.push(1, 3, gpu::LEAF_L3_CHECK_BOXES));
-  EXPECT_TRUE(q.push(1, 3, gpu::LEAF_L0_PARENT_FREED));     // L0 overrides every light state
+  EXPECT_TRUE(q.push(1, 3, gpu::LEAF_L0_PARENT_FREED)); // L0 overrides every light state
   EXPECT_TRUE(q.push(1, 3, gpu::LEAF_L1_PLACE_SURFELS));
   EXPECT_TRUE(q.push(1, 4, gpu::LEAF_L2_LIGHT));
-  EXPECT_TRUE(q.push(1, 4, gpu::LEAF_L1_PLACE_SURFELS));    // L1 does L2's work and more
+  EXPECT_TRUE(q.push(1, 4, gpu::LEAF_L1_PLACE_SURFELS)); // L1 does L2's work and more
   ASSERT_EQ(q.count(0), 1);
   ASSERT_EQ(q.count(1), 2);
   EXPECT_EQ(q.entries(0)[0].state, gpu::LEAF_M0_CHILD_ALLOCATING);

@@ -18,7 +18,9 @@ VolumeInfo thresholds() {
   return info;
 }
 
-int verdict(float f, float b, int depth) { return leaf_verdict(f, b, depth, thresholds(), LEAF_DEAD_BACKFACE_FRACTION); }
+int verdict(float f, float b, int depth) {
+  return leaf_verdict(f, b, depth, thresholds(), LEAF_DEAD_BACKFACE_FRACTION);
+}
 
 float below(float x) { return std::nextafter(x, 0.0f); }
 float above(float x) { return std::nextafter(x, 1.0f); }
@@ -31,17 +33,17 @@ TEST(LeafRule, SplitHighIsInclusiveBelowMaxDepthOnly) {
 }
 
 TEST(LeafRule, BelowSplitLowABlindCentreRefinesTowardsWhatItSeesOrIsFreed) {
-  EXPECT_EQ(verdict(0.05f, 0.0f, 1), LEAF_VERDICT_KEEP);            // split_low itself sees enough
-  EXPECT_EQ(verdict(below(0.05f), 0.0f, 1), LEAF_VERDICT_SPLIT);    // blind, sees geometry: refine
-  EXPECT_EQ(verdict(below(0.05f), 0.0f, 3), LEAF_VERDICT_FREE);     // ... unless at max depth
-  EXPECT_EQ(verdict(0.0f, 0.0f, 1), LEAF_VERDICT_FREE);             // sees nothing in its cube
+  EXPECT_EQ(verdict(0.05f, 0.0f, 1), LEAF_VERDICT_KEEP);                       // split_low itself sees enough
+  EXPECT_EQ(verdict(below(0.05f), 0.0f, 1), LEAF_VERDICT_SPLIT);               // blind, sees geometry: refine
+  EXPECT_EQ(verdict(below(0.05f), 0.0f, 3), LEAF_VERDICT_FREE);                // ... unless at max depth
+  EXPECT_EQ(verdict(0.0f, 0.0f, 1), LEAF_VERDICT_FREE);                        // sees nothing in its cube
   EXPECT_EQ(verdict(std::nextafter(0.0f, 1.0f), 0.0f, 1), LEAF_VERDICT_SPLIT); // the smallest f > 0
 }
 
 TEST(LeafRule, MostlyBackFacesMakeTheCentreBlindAboveTheFractionOnly) {
-  EXPECT_EQ(verdict(0.3f, 0.5f, 1), LEAF_VERDICT_KEEP);         // exactly the fraction: still sees
-  EXPECT_EQ(verdict(0.3f, above(0.5f), 1), LEAF_VERDICT_SPLIT); // inside a solid, below max: refine
-  EXPECT_EQ(verdict(0.3f, above(0.5f), 3), LEAF_VERDICT_FREE);  // inside a solid at max depth: free
+  EXPECT_EQ(verdict(0.3f, 0.5f, 1), LEAF_VERDICT_KEEP);                           // exactly the fraction: still sees
+  EXPECT_EQ(verdict(0.3f, above(0.5f), 1), LEAF_VERDICT_SPLIT);                   // inside a solid, below max: refine
+  EXPECT_EQ(verdict(0.3f, above(0.5f), 3), LEAF_VERDICT_FREE);                    // inside a solid at max depth: free
   EXPECT_EQ(leaf_verdict(0.3f, 0.7f, 3, thresholds(), 0.75f), LEAF_VERDICT_KEEP); // the fraction is a parameter
   EXPECT_TRUE(leaf_centre_blind(0.3f, above(0.5f), 0.05f, 0.5f));
   EXPECT_FALSE(leaf_centre_blind(0.05f, 0.5f, 0.05f, 0.5f));

@@ -71,7 +71,8 @@ struct World {
   std::optional<Box> floor;
 
   TreeFrameStats frame(std::span<const Box> changed) {
-    const TreeFrameStats stats = update.run_frame(changed, [this](const formats::NodeCube& c, glm::vec3 p) { return trace(c, p); });
+    const TreeFrameStats stats =
+        update.run_frame(changed, [this](const formats::NodeCube& c, glm::vec3 p) { return trace(c, p); });
     formats::rebuild_probe_index(volume); // the runtime's probe-index pass
     return stats;
   }
@@ -94,7 +95,8 @@ struct World {
     for (int f = 1; f <= max_frames; ++f) {
       const TreeFrameStats s = frame({});
       const bool busy = s.processed[gpu::LEAF_L1_PLACE_SURFELS] > 0 ||
-                        std::any_of(s.processed.begin(), s.processed.begin() + gpu::LEAF_L0_PARENT_FREED, [](int n) { return n > 0; });
+                        std::any_of(s.processed.begin(), s.processed.begin() + gpu::LEAF_L0_PARENT_FREED,
+                                    [](int n) { return n > 0; });
       quiet = busy ? 0 : quiet + 1;
       if (quiet == 2) return f;
     }
@@ -108,7 +110,8 @@ std::set<Leaf> shape(const formats::ProbeVolume& v) {
   std::set<Leaf> leaves;
   formats::for_each_leaf(v, [&](const formats::NodeCube& c) {
     const glm::vec3 i = c.min / c.size;
-    leaves.emplace(c.depth, int(std::lround(i.x)), int(std::lround(i.y)), int(std::lround(i.z)), v.octree[std::size_t(c.node)] < 0);
+    leaves.emplace(c.depth, int(std::lround(i.x)), int(std::lround(i.y)), int(std::lround(i.z)),
+                   v.octree[std::size_t(c.node)] < 0);
   });
   return leaves;
 }
@@ -119,7 +122,8 @@ int probes_in(const std::set<Leaf>& leaves) {
 
 void expect_consistent(const World& w, const TreeFrameStats& s, int frame, bool validate = true) {
   const formats::ValidationReport report = validate ? formats::validate(w.volume) : formats::ValidationReport{};
-  ASSERT_TRUE(report.valid()) << "frame " << frame << ": " << report.violations.front().invariant << ": " << report.violations.front().message;
+  ASSERT_TRUE(report.valid()) << "frame " << frame << ": " << report.violations.front().invariant << ": "
+                              << report.violations.front().message;
   const std::vector<std::string> problems = check_queue_covers_tree(w.volume);
   ASSERT_TRUE(problems.empty()) << "frame " << frame << ": " << problems.front();
   ASSERT_EQ(s.lost_entries, 0) << "frame " << frame;
@@ -162,7 +166,8 @@ TEST(TreeUpdate, LeavingMergesBackAndTheRoundTripReturnsEveryPoolElement) {
   EXPECT_NE(at_a, at_b);
   for (const Leaf& l : at_b) { // nothing is left where the object was: every probe's cube reaches x > 5
     if (std::get<4>(l)) {
-      EXPECT_GT(float(std::get<1>(l) + 1) * kRootSize / std::pow(2.0f, float(std::get<0>(l))), 5.0f) << "probe left behind";
+      EXPECT_GT(float(std::get<1>(l) + 1) * kRootSize / std::pow(2.0f, float(std::get<0>(l))), 5.0f)
+          << "probe left behind";
     }
   }
   w.move({a});
@@ -191,7 +196,7 @@ TEST(TreeUpdate, TheValidatorKnowsWhichStatesNameParents) {
     v->leaf_header.count[0] = v->leaf_header.count[1] = v->leaf_header.count[2] = 0;
     v->leaf_header.count[segment] = 1;
   }
-  parent_as_leaf.leaf_entries[0] = {0, gpu::LEAF_L2_LIGHT};                        // the root is a parent
+  parent_as_leaf.leaf_entries[0] = {0, gpu::LEAF_L2_LIGHT}; // the root is a parent
   leaf_as_parent.leaf_entries[0] = {formats::child_node(w.volume.octree[0], 7), gpu::LEAF_M4_FREE_CLUSTER}; // a leaf
   for (const formats::ProbeVolume* v : {&parent_as_leaf, &leaf_as_parent}) {
     const formats::ValidationReport r = formats::validate(*v);
@@ -230,7 +235,10 @@ TEST(TreeUpdate, NewProbesStartFromTheirParentsOrTheSamplersIrradiance) {
   const Box object{{0.5f, 0.5f, 0.5f}, {1.5f, 1.5f, 1.5f}};
   w.objects = {object};
   // Frame 1: the root (no probe, touched) asks for a probe; frame 2 places it from the sampler's answer.
-  const auto sampler = [](glm::vec3 p, float (&sh)[gpu::PROBE_SH_FLOATS]) { std::fill(std::begin(sh), std::end(sh), 0.0f); sh[0] = p.x; };
+  const auto sampler = [](glm::vec3 p, float(&sh)[gpu::PROBE_SH_FLOATS]) {
+    std::fill(std::begin(sh), std::end(sh), 0.0f);
+    sh[0] = p.x;
+  };
   const auto trace = [&w](const formats::NodeCube& c, glm::vec3 p) { return w.trace(c, p); };
   w.update.run_frame(std::span<const Box>(&object, 1), trace, sampler);
   w.update.run_frame({}, trace, sampler);
@@ -288,7 +296,9 @@ TEST(TreeUpdate, SoakOfRandomMotionStaysValidAndLeaksNothing) {
   for (int f = 0; f < 1500; ++f) {
     w.update.set_settings({.max_memory_entries = limit(rng), .max_light_entries = limit(rng) * 4});
     std::vector<Box> next = w.objects;
-    next[std::size_t(f % 3)] = f % 7 == 0 ? random_box() : Box{next[f % 3].min + 0.05f, glm::min(next[f % 3].max + 0.05f, glm::vec3(kRootSize))};
+    next[std::size_t(f % 3)] =
+        f % 7 == 0 ? random_box()
+                   : Box{next[f % 3].min + 0.05f, glm::min(next[f % 3].max + 0.05f, glm::vec3(kRootSize))};
     const TreeFrameStats s = w.move(next);
     expect_consistent(w, s, f, f % 5 == 0); // the full validator every 5th frame, the queue check always
     ASSERT_EQ(s.failed_allocations, 0);

@@ -40,7 +40,8 @@ std::vector<std::uint8_t> read_bytes(const fs::path& path) {
 }
 
 void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
 }
 
 std::vector<std::string> entries(const fs::path& folder) {
@@ -61,7 +62,8 @@ protected:
   void TearDown() override { fs::remove_all(dir_); }
 
   // The Error(output) message of `f`, or "" when it does not throw one.
-  template <class F> static std::string output_error(F f) {
+  template <class F>
+  static std::string output_error(F f) {
     try {
       f();
     } catch (const Error& e) {
@@ -86,8 +88,8 @@ TEST_F(AtomicFile, OutputThatIsTheInputIsRefusedHoweverSpelled) {
   fs::create_symlink(scene, dir_ / "link.glb");
   fs::create_symlink("scene.glb", dir_ / "relative-link.glb");
   fs::create_hard_link(scene, dir_ / "hard.glb");
-  for (const fs::path& output : {scene, dir_ / "sub" / ".." / "scene.glb", dir_ / "." / "scene.glb",
-                                 dir_ / "link.glb", dir_ / "relative-link.glb", dir_ / "hard.glb"}) {
+  for (const fs::path& output : {scene, dir_ / "sub" / ".." / "scene.glb", dir_ / "." / "scene.glb", dir_ / "link.glb",
+                                 dir_ / "relative-link.glb", dir_ / "hard.glb"}) {
     const std::string message = output_error([&] { check(output, {scene}); });
     EXPECT_EQ(message.rfind(output.string() + ": is the input", 0), 0u) << output << ": " << message;
     EXPECT_EQ(message.find('\n'), std::string::npos);
@@ -105,7 +107,8 @@ TEST_F(AtomicFile, OtherOutputsPass) {
   check(dir_ / "old.probes", {scene});
   check(dir_ / "new.probes", {dir_ / "missing.glb"}); // a missing input is the loader's error, not ours
   check(dir_ / "new.probes", {});
-  EXPECT_NE(output_error([&] { check(dir_ / "no" / "folder.probes", {scene}); }).find("no such folder"), std::string::npos);
+  EXPECT_NE(output_error([&] { check(dir_ / "no" / "folder.probes", {scene}); }).find("no such folder"),
+            std::string::npos);
   EXPECT_EQ(output_error([&] { check("", {scene}); }), "empty output path");
 }
 
@@ -120,9 +123,9 @@ TEST_F(AtomicFile, NonRegularTargetsAreRefusedAndLeftAsTheyWere) {
     fs::path path;
     const char* what;
   };
-  for (const Case& c : {Case{dir_ / "folder", "a directory"}, Case{dir_ / "fifo", "a FIFO"},
-                        Case{dir_ / "link-to-fifo", "a FIFO"}, Case{dir_ / "link-to-folder", "a directory"},
-                        Case{"/dev/null", "a character device"}}) {
+  for (const Case& c :
+       {Case{dir_ / "folder", "a directory"}, Case{dir_ / "fifo", "a FIFO"}, Case{dir_ / "link-to-fifo", "a FIFO"},
+        Case{dir_ / "link-to-folder", "a directory"}, Case{"/dev/null", "a character device"}}) {
     if (c.path == "/dev/null" && !fs::is_character_file("/dev/null")) continue;
     for (const bool early : {true, false}) {
       const std::string message = early ? output_error([&] { check(c.path, {}); })
@@ -185,7 +188,8 @@ Stopped start_helper(const fs::path& target, std::size_t size, unsigned seed, st
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   Stopped s;
-  struct sigaction ignore {}, old {};
+  struct sigaction ignore {
+  }, old{};
   ignore.sa_handler = SIG_IGN;
   sigemptyset(&ignore.sa_mask);
   if (ignore_sighup) ::sigaction(SIGHUP, &ignore, &old); // inherited by the helper
@@ -253,7 +257,7 @@ std::vector<std::string> kill_at_every_step(const fs::path& dir, int signal) {
   return steps;
 }
 
-const std::vector<std::string> kSteps = {"registered", "created", "chunk", "chunk", "chunk",
+const std::vector<std::string> kSteps = {"registered", "created", "chunk",   "chunk", "chunk",
                                          "chunk",      "synced",  "renamed", "done"};
 
 TEST_F(AtomicFile, KilledBySigtermAtEveryStepLeavesOldOrNewAndNoTemporary) {

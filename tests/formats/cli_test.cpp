@@ -39,7 +39,8 @@ using test::run_cli;
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
   std::size_t start = 0;
-  for (std::size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1) lines.push_back(text.substr(start, end - start));
+  for (std::size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1)
+    lines.push_back(text.substr(start, end - start));
   if (start < text.size()) lines.push_back(text.substr(start));
   return lines;
 }
@@ -47,13 +48,15 @@ std::vector<std::string> lines_of(const std::string& text) {
 class CliValidate : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("probebake_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = std::filesystem::temp_directory_path() /
+           ("probebake_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     std::filesystem::create_directories(dir_);
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::filesystem::path write_bytes(const std::string& name, const std::vector<std::uint8_t>& bytes) const {
     const std::filesystem::path path = dir_ / name;
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     return path;
   }
   std::filesystem::path dir_;
@@ -80,8 +83,11 @@ TEST_F(CliValidate, BrokenTreeIsInvalidAndNamed) {
   EXPECT_EQ(report["violations"][0]["invariant"], "octree_cycle");
   const test::CliResult text = run_cli(with_path("validate", path));
   EXPECT_EQ(text.exit_code, 1);
-  EXPECT_NE(text.out.find(path.string() + ": invalid: octree_cycle: 1 violation, first: octree[10]: "), std::string::npos) << text.out;
-  EXPECT_EQ(text.out.find("octree[10]: octree_cycle"), std::string::npos) << "details only with --verbose\n" << text.out;
+  EXPECT_NE(text.out.find(path.string() + ": invalid: octree_cycle: 1 violation, first: octree[10]: "),
+            std::string::npos)
+      << text.out;
+  EXPECT_EQ(text.out.find("octree[10]: octree_cycle"), std::string::npos) << "details only with --verbose\n"
+                                                                          << text.out;
   const test::CliResult verbose = run_cli(with_path("validate --verbose", path));
   EXPECT_EQ(verbose.exit_code, 1);
   EXPECT_NE(verbose.out.find(path.string() + ": octree[10]: octree_cycle: "), std::string::npos) << verbose.out;
@@ -101,8 +107,12 @@ TEST_F(CliValidate, TextIsOneLinePerInvariant) {
   const std::vector<std::string> lines = lines_of(text.out);
   ASSERT_EQ(lines.size(), 3u) << text.out;
   const std::string name = path.string();
-  EXPECT_EQ(lines[0].rfind(name + ": invalid: volume_info: 1 violation, first: volume_info[0]: split thresholds -0.25", 0), 0u) << lines[0];
-  EXPECT_EQ(lines[1], name + ": invalid: non_finite: " + std::to_string(probes) + " violations, first: probes[0]: a float is NaN or infinite");
+  EXPECT_EQ(
+      lines[0].rfind(name + ": invalid: volume_info: 1 violation, first: volume_info[0]: split thresholds -0.25", 0),
+      0u)
+      << lines[0];
+  EXPECT_EQ(lines[1], name + ": invalid: non_finite: " + std::to_string(probes) +
+                          " violations, first: probes[0]: a float is NaN or infinite");
   EXPECT_EQ(lines[2], name + ": invalid: " + std::to_string(probes + 1) + " violations of 2 invariants");
 
   const test::CliResult verbose = run_cli(with_path("validate --verbose --max-errors 0", path));
@@ -111,7 +121,8 @@ TEST_F(CliValidate, TextIsOneLinePerInvariant) {
   EXPECT_EQ(json["violations"].size(), probes + 1);
 
   const test::CliResult stopped = run_cli(with_path("validate --max-errors 5", path));
-  EXPECT_NE(stopped.out.find(": invalid: 5 violations of 2 invariants (stopped at --max-errors)"), std::string::npos) << stopped.out;
+  EXPECT_NE(stopped.out.find(": invalid: 5 violations of 2 invariants (stopped at --max-errors)"), std::string::npos)
+      << stopped.out;
 }
 
 // A file that streams (cell_tracing, 1.6) has each cell checked on its own. One cell's bytes replaced under
@@ -125,25 +136,31 @@ TEST_F(CliValidate, EachCellIsCheckedOnItsOwnAndADamagedOneIsNamed) {
   const std::filesystem::path clean = write_bytes("clean.probes", before);
   const test::CliResult ok = run_cli(with_path("validate", clean));
   EXPECT_EQ(ok.exit_code, 0) << ok.out;
-  EXPECT_EQ(lines_of(ok.out), (std::vector<std::string>{clean.string() + ": " + cells + "0 damaged", clean.string() + ": valid"}));
+  EXPECT_EQ(lines_of(ok.out),
+            (std::vector<std::string>{clean.string() + ": " + cells + "0 damaged", clean.string() + ": valid"}));
 
   std::size_t damaged = 1;
   while (volume.cells[damaged].probes.count == 0) ++damaged;
   volume.probes[volume.cells[damaged].probes.first].irradiance_sh[0] += 1.0f;
   const ContainerView old_view = parse_container(before, "before");
-  const auto old_checksums = std::find_if(old_view.sections.begin(), old_view.sections.end(), [](const SectionEntry& e) {
-    return e.type == static_cast<std::uint32_t>(SectionType::cell_checksums);
-  });
+  const auto old_checksums =
+      std::find_if(old_view.sections.begin(), old_view.sections.end(), [](const SectionEntry& e) {
+        return e.type == static_cast<std::uint32_t>(SectionType::cell_checksums);
+      });
   ASSERT_NE(old_checksums, old_view.sections.end());
-  const std::vector<std::uint8_t> patched = testing::rewrite_sections(write_probes(volume), [&](std::vector<SectionPayload>& sections) {
-    for (SectionPayload& section : sections)
-      if (section.type == old_checksums->type) section.bytes = old_view.payloads[std::size_t(old_checksums - old_view.sections.begin())];
-  });
+  const std::vector<std::uint8_t> patched =
+      testing::rewrite_sections(write_probes(volume), [&](std::vector<SectionPayload>& sections) {
+        for (SectionPayload& section : sections)
+          if (section.type == old_checksums->type)
+            section.bytes = old_view.payloads[std::size_t(old_checksums - old_view.sections.begin())];
+      });
   const std::filesystem::path path = write_bytes("damaged.probes", patched);
   const test::CliResult text = run_cli(with_path("validate", path));
   EXPECT_EQ(text.exit_code, 1) << text.out;
   const std::string name = path.string(), place = "cells[" + std::to_string(damaged) + "]";
-  EXPECT_NE(text.out.find(name + ": " + cells + "1 damaged\n" + name + ": damaged: " + place + ": the "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(name + ": " + cells + "1 damaged\n" + name + ": damaged: " + place + ": the "),
+            std::string::npos)
+      << text.out;
   const nlohmann::json json = nlohmann::json::parse(run_cli(with_path("validate --json", path)).out);
   EXPECT_EQ(json["cells_checked"], volume.cells.size());
   ASSERT_EQ(json["violations"].size(), 1u) << json.dump();
@@ -156,16 +173,18 @@ TEST_F(CliValidate, AGlobalChecksumThatDiffersIsReportedForItsSection) {
   const std::vector<std::uint8_t> bytes = write_probes(testing::make_sample(testing::Sample::cells));
   const std::size_t faces = 4; // kCellSplitSections: probes, batches, SVO leaves, trace nodes, trace faces, ...
   std::vector<std::uint8_t> changed;
-  const std::vector<std::uint8_t> patched = testing::rewrite_sections(bytes, [&](std::vector<SectionPayload>& sections) {
-    for (SectionPayload& section : sections) {
-      if (section.type != static_cast<std::uint32_t>(SectionType::cell_global_checksums)) continue;
-      ASSERT_EQ(section.element_count, 6u);
-      changed.assign(section.bytes.begin(), section.bytes.end());
-      changed[faces * 8] ^= 1;
-      section.bytes = changed;
-    }
-  });
-  const nlohmann::json json = nlohmann::json::parse(run_cli(with_path("validate --json", write_bytes("global.probes", patched))).out);
+  const std::vector<std::uint8_t> patched =
+      testing::rewrite_sections(bytes, [&](std::vector<SectionPayload>& sections) {
+        for (SectionPayload& section : sections) {
+          if (section.type != static_cast<std::uint32_t>(SectionType::cell_global_checksums)) continue;
+          ASSERT_EQ(section.element_count, 6u);
+          changed.assign(section.bytes.begin(), section.bytes.end());
+          changed[faces * 8] ^= 1;
+          section.bytes = changed;
+        }
+      });
+  const nlohmann::json json =
+      nlohmann::json::parse(run_cli(with_path("validate --json", write_bytes("global.probes", patched))).out);
   ASSERT_EQ(json["violations"].size(), 1u) << json.dump();
   EXPECT_EQ(json["violations"][0]["invariant"], "cell_global_checksum");
   EXPECT_EQ(json["violations"][0]["index"], faces);
@@ -179,7 +198,8 @@ TEST_F(CliValidate, TrailingBytesAreInvalidNotUnreadable) {
   testing::refresh_header_checksum(bytes);
   const test::CliResult text = run_cli(with_path("validate", write_bytes("tail.probes", bytes)));
   EXPECT_EQ(text.exit_code, 1) << text.out;
-  EXPECT_NE(text.out.find(": invalid: trailing_bytes: 1 violation, first: container: 32 bytes after the last payload"), std::string::npos)
+  EXPECT_NE(text.out.find(": invalid: trailing_bytes: 1 violation, first: container: 32 bytes after the last payload"),
+            std::string::npos)
       << text.out;
 }
 
@@ -194,7 +214,8 @@ TEST_F(CliValidate, FlippedByteIsAChecksumViolation) {
 TEST_F(CliValidate, MaxErrorsLimitsTheReport) {
   ProbeVolume volume = testing::make_sample(testing::Sample::small);
   for (gpu::Probe& probe : volume.probes) probe.pad0 = std::nanf("");
-  const test::CliResult json = run_cli(with_path("validate --json --max-errors 2", write_bytes("nan.probes", write_probes(volume))));
+  const test::CliResult json =
+      run_cli(with_path("validate --json --max-errors 2", write_bytes("nan.probes", write_probes(volume))));
   EXPECT_EQ(json.exit_code, 1);
   const nlohmann::json report = nlohmann::json::parse(json.out);
   EXPECT_EQ(report["violations"].size(), 2u);
@@ -202,7 +223,8 @@ TEST_F(CliValidate, MaxErrorsLimitsTheReport) {
 }
 
 TEST_F(CliValidate, UnreadableFilesExitTwo) {
-  std::vector<std::uint8_t> truncated = read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::static_set)));
+  std::vector<std::uint8_t> truncated =
+      read_file_bytes(testing::golden_path(testing::golden_name(testing::Sample::static_set)));
   truncated.resize(truncated.size() / 2);
   const std::vector<std::uint8_t> garbage = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 1, 2, 3};
   for (const std::filesystem::path& path :
@@ -262,7 +284,8 @@ TEST(InfoProbes, SaysWhatStreamingKeepsInHostMemory) {
   EXPECT_NE(::testing::internal::GetCapturedStdout().find("B load whole"), std::string::npos);
   // Without split tracing there is nothing to stream.
   ::testing::internal::CaptureStdout();
-  EXPECT_EQ(cli::run_info_probes(testing::golden_path(testing::golden_name(testing::Sample::compact)).string(), true), 0);
+  EXPECT_EQ(cli::run_info_probes(testing::golden_path(testing::golden_name(testing::Sample::compact)).string(), true),
+            0);
   EXPECT_TRUE(nlohmann::json::parse(::testing::internal::GetCapturedStdout())["streaming"].is_null());
 }
 
@@ -274,7 +297,8 @@ TEST(InfoProbes, NamesTheLightingSections) {
   const nlohmann::json info = nlohmann::json::parse(::testing::internal::GetCapturedStdout());
   EXPECT_EQ(info["format_version"], "1.1");
   ASSERT_EQ(info["sections"].size(), 13u);
-  const char* names[] = {"lighting_info", "ray_directions", "bvh_nodes", "trace_triangles", "punctual_lights", "emitter_patches"};
+  const char* names[] = {"lighting_info",   "ray_directions",  "bvh_nodes",
+                         "trace_triangles", "punctual_lights", "emitter_patches"};
   for (std::size_t k = 0; k < 6; ++k) {
     EXPECT_EQ(info["sections"][7 + k]["name"], names[k]);
     EXPECT_FALSE(info["sections"][7 + k]["required"].get<bool>());

@@ -33,7 +33,9 @@ bool reader_refuses(std::span<const std::uint8_t> bytes) {
 
 class Corruption : public ::testing::TestWithParam<Sample> {
 protected:
-  std::vector<std::uint8_t> golden() const { return read_file_bytes(testing::golden_path(testing::golden_name(GetParam()))); }
+  std::vector<std::uint8_t> golden() const {
+    return read_file_bytes(testing::golden_path(testing::golden_name(GetParam())));
+  }
 };
 
 TEST_P(Corruption, EveryPrefixIsUnreadable) {
@@ -96,9 +98,13 @@ TEST_P(Corruption, PayloadChangeIsAChecksumViolationNotUnreadable) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Golden, Corruption, ::testing::ValuesIn(testing::kAllSamples),
-                         [](const ::testing::TestParamInfo<Sample>& param) { return testing::sample_name(param.param); });
+                         [](const ::testing::TestParamInfo<Sample>& param) {
+                           return testing::sample_name(param.param);
+                         });
 
-std::vector<std::uint8_t> golden_bytes(Sample sample) { return read_file_bytes(testing::golden_path(testing::golden_name(sample))); }
+std::vector<std::uint8_t> golden_bytes(Sample sample) {
+  return read_file_bytes(testing::golden_path(testing::golden_name(sample)));
+}
 
 // The golden file with its header's minor version (and header checksum) changed.
 std::vector<std::uint8_t> golden_with_minor(Sample sample, std::uint16_t minor) {
@@ -139,38 +145,48 @@ struct FileCase {
 
 const std::vector<FileCase>& file_cases() {
   static const std::vector<FileCase> cases = {
-      {"trailing_bytes", "16 zero bytes after the last payload", [] {
+      {"trailing_bytes", "16 zero bytes after the last payload",
+       [] {
          std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
          testing::insert_zeros(bytes, bytes.size(), 16);
          testing::refresh_header_checksum(bytes);
          return bytes;
        }},
-      {"section_layout", "16 zero bytes before the last payload", [] {
+      {"section_layout", "16 zero bytes before the last payload",
+       [] {
          std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
          testing::insert_zeros(bytes, section_offset(bytes, SectionType::cells), 16);
          testing::refresh_header_checksum(bytes);
          return bytes;
        }},
-      {"section_layout", "a surfel_batches section without elements", [] {
+      {"section_layout", "a surfel_batches section without elements",
+       [] {
          return testing::rewrite_sections(golden_bytes(Sample::static_set), [](std::vector<SectionPayload>& sections) {
-           sections.push_back(SectionPayload{type_id(SectionType::surfel_batches), kSectionRequired, sizeof(gpu::SurfelBatch), 0, {}});
+           sections.push_back(
+               SectionPayload{type_id(SectionType::surfel_batches), kSectionRequired, sizeof(gpu::SurfelBatch), 0, {}});
          });
        }},
-      {"section_flags", "probes not REQUIRED", [] {
+      {"section_flags", "probes not REQUIRED",
+       [] {
          return testing::rewrite_sections(golden_bytes(Sample::small),
                                           [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::probes, 0); });
        }},
-      {"section_flags", "lighting_info REQUIRED", [] {
-         return testing::rewrite_sections(golden_bytes(Sample::lighting),
-                                          [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::lighting_info, kSectionRequired); });
+      {"section_flags", "lighting_info REQUIRED",
+       [] {
+         return testing::rewrite_sections(golden_bytes(Sample::lighting), [](std::vector<SectionPayload>& s) {
+           set_flags(s, SectionType::lighting_info, kSectionRequired);
+         });
        }},
-      {"section_flags", "a reserved flag bit", [] {
-         return testing::rewrite_sections(golden_bytes(Sample::small), [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::cells, 2); });
+      {"section_flags", "a reserved flag bit",
+       [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small),
+                                          [](std::vector<SectionPayload>& s) { set_flags(s, SectionType::cells, 2); });
        }},
       {"format_version", "lighting sections in a 1.0 file", [] { return golden_with_minor(Sample::lighting, 0); }},
       {"format_version", "double-sided flags in a 1.1 file", [] { return golden_with_minor(Sample::double_sided, 1); }},
       {"format_version", "dynamic objects in a 1.2 file", [] { return golden_with_minor(Sample::dynamic, 2); }},
-      {"format_version", "a 1.0 header of 80 bytes", [] {
+      {"format_version", "a 1.0 header of 80 bytes",
+       [] {
          std::vector<std::uint8_t> bytes = golden_bytes(Sample::small);
          testing::insert_zeros(bytes, sizeof(FileHeader), 16);
          FileHeader header = testing::header_of(bytes);
@@ -179,13 +195,17 @@ const std::vector<FileCase>& file_cases() {
          testing::refresh_header_checksum(bytes);
          return bytes;
        }},
-      {"section_dependency", "leaf_queue_header without leaf_entries", [] {
-         return testing::rewrite_sections(golden_bytes(Sample::small),
-                                          [](std::vector<SectionPayload>& s) { drop_section(s, SectionType::leaf_entries); });
+      {"section_dependency", "leaf_queue_header without leaf_entries",
+       [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small), [](std::vector<SectionPayload>& s) {
+           drop_section(s, SectionType::leaf_entries);
+         });
        }},
-      {"section_dependency", "leaf_entries without leaf_queue_header", [] {
-         return testing::rewrite_sections(golden_bytes(Sample::small),
-                                          [](std::vector<SectionPayload>& s) { drop_section(s, SectionType::leaf_queue_header); });
+      {"section_dependency", "leaf_entries without leaf_queue_header",
+       [] {
+         return testing::rewrite_sections(golden_bytes(Sample::small), [](std::vector<SectionPayload>& s) {
+           drop_section(s, SectionType::leaf_queue_header);
+         });
        }},
   };
   return cases;
@@ -200,7 +220,8 @@ TEST(FileLevel, ReadableButInvalidFilesNameTheirInvariant) {
     const ValidationReport report = validate_file(bytes, c.what);
     EXPECT_TRUE(report.readable) << c.what;
     ASSERT_FALSE(report.violations.empty()) << c.what;
-    EXPECT_EQ(report.violations.front().invariant, c.invariant) << c.what << ": " << format_violation(report.violations.front());
+    EXPECT_EQ(report.violations.front().invariant, c.invariant)
+        << c.what << ": " << format_violation(report.violations.front());
     if (std::getenv("PROBEBAKE_VERBOSE")) {
       std::printf("%s:\n", c.what);
       for (const Violation& v : report.violations) std::printf("  %s\n", format_violation(v).c_str());
@@ -226,7 +247,8 @@ TEST(FileLevel, NonZeroTrailingBytesAreUnreadable) {
   const ValidationReport report = validate_file(bytes, "tail");
   EXPECT_FALSE(report.readable);
   ASSERT_EQ(report.violations.size(), 1u);
-  EXPECT_NE(report.violations[0].message.find("after the last payload"), std::string::npos) << report.violations[0].message;
+  EXPECT_NE(report.violations[0].message.find("after the last payload"), std::string::npos)
+      << report.violations[0].message;
 }
 
 TEST(CorruptionRandom, GarbageIsUnreadable) {

@@ -44,12 +44,14 @@ std::vector<std::string> violation_lines(const ValidationReport& report) {
 // validate_without_cells, then validate_cell_tracing for each cell (a 1.7 streaming load's checks); a volume
 // without one cell_tracing record per cell has nothing to stream and takes validate()'s verdict.
 bool split_checks_valid(const ProbeVolume& volume) {
-  if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size()) return validate(volume, ValidateOptions{1}).valid();
+  if (volume.cell_tracing.empty() || volume.cell_tracing.size() != volume.cells.size())
+    return validate(volume, ValidateOptions{1}).valid();
   std::vector<CellEntry> entries;
   if (!validate_without_cells(volume, tracing_view(volume), entries, ValidateOptions{1}).valid()) return false;
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
     const CellTracingData data = cell_tracing_data(volume, k); // the ranges passed the check above
-    if (!validate_cell_tracing(volume, entries, k, {data.nodes, data.faces, data.vertices}, ValidateOptions{1}).valid()) return false;
+    if (!validate_cell_tracing(volume, entries, k, {data.nodes, data.faces, data.vertices}, ValidateOptions{1}).valid())
+      return false;
   }
   return true;
 }
@@ -61,7 +63,8 @@ void fuzz_model(std::span<const std::uint8_t> input) {
   ProbeVolume volume, in_place;
   TracingView in_bytes;
   try {
-    const ContainerView container = parse_container(bytes, "fuzz", [](const std::string&, long long, const std::string&) {});
+    const ContainerView container =
+        parse_container(bytes, "fuzz", [](const std::string&, long long, const std::string&) {});
     volume = decode_probes(container, "fuzz");
     in_place = decode_probes(container, "fuzz", TraceSections::leave_in_bytes);
     in_bytes = tracing_in(container, "fuzz");
@@ -71,7 +74,8 @@ void fuzz_model(std::span<const std::uint8_t> input) {
   const ValidationReport report = validate(volume, ValidateOptions{0});
   check(violation_lines(validate(in_place, in_bytes, ValidateOptions{0})) == violation_lines(report),
         "the trace sections read in place are validated as the decoded ones");
-  check(split_checks_valid(volume) == report.valid(), "the checks without the cells and of each cell agree with validate()");
+  check(split_checks_valid(volume) == report.valid(),
+        "the checks without the cells and of each cell agree with validate()");
   try {
     (void)compute_stats(volume); // what `probebake info` runs on unvalidated files
   } catch (const Error&) {
@@ -118,7 +122,8 @@ void fuzz_cell_file(std::span<const std::uint8_t> bytes, const ValidationReport&
   if (report.valid() && streams_as_1_7) check(whole == true, "a valid 1.7 file streams, every cell");
   if (whole == true) {
     const std::set<std::string> file_level = {"format_version", "section_flags", "section_layout", "trailing_bytes"};
-    for (const Violation& v : report.violations) check(file_level.count(v.invariant) == 1, "a file that streams whole breaks no model invariant");
+    for (const Violation& v : report.violations)
+      check(file_level.count(v.invariant) == 1, "a file that streams whole breaks no model invariant");
   }
 }
 
@@ -130,8 +135,8 @@ void fuzz_bake_part(std::span<const std::uint8_t> bytes) {
     return;
   }
   const BakePart again = read_bake_part(write_bake_part(part), "rewrite");
-  check(again.input_hash == part.input_hash && again.cell_depth == part.cell_depth && again.scene_triangles == part.scene_triangles &&
-            again.cells == part.cells && again.sealed == part.sealed,
+  check(again.input_hash == part.input_hash && again.cell_depth == part.cell_depth &&
+            again.scene_triangles == part.scene_triangles && again.cells == part.cells && again.sealed == part.sealed,
         "a bake part that reads writes and reads back the same");
 }
 

@@ -18,9 +18,7 @@ TEST(FuzzRegression, ProbesReader) {
   EXPECT_GE(replay(formats_inputs(), fuzz_one_probes_reader), 4u); // the golden files at least
 }
 
-TEST(FuzzRegression, Validator) {
-  EXPECT_GE(replay(formats_inputs(), fuzz_one_validator), 4u);
-}
+TEST(FuzzRegression, Validator) { EXPECT_GE(replay(formats_inputs(), fuzz_one_validator), 4u); }
 
 // Short inputs that reach every early exit of the container checks.
 TEST(FuzzRegression, PrefixesOfAGoldenFile) {

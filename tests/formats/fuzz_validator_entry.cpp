@@ -58,7 +58,8 @@ bool known_invariant(const std::string& id) {
 // `serialize`: also the text and JSON forms (`probebake validate`), once per input: with up to 1000
 // violations they cost more under ASan than the validation itself.
 void check_report(const ValidationReport& report, bool serialize = false) {
-  for (const Violation& v : report.violations) check(known_invariant(v.invariant), "unknown invariant id '" + v.invariant + "'");
+  for (const Violation& v : report.violations)
+    check(known_invariant(v.invariant), "unknown invariant id '" + v.invariant + "'");
   // An unreadable file's report is its one container violation (checksums are reported only after decoding).
   const auto containers = std::count_if(report.violations.begin(), report.violations.end(),
                                         [](const Violation& v) { return v.invariant == "container"; });
@@ -86,7 +87,8 @@ std::vector<std::uint8_t> with_checksums_fixed(std::span<const std::uint8_t> byt
   const std::size_t table = header.header_size;
   for (std::size_t i = 0; i < container.sections.size(); ++i) {
     const std::uint64_t sum = checksum64(container.payloads[i]);
-    std::memcpy(fixed.data() + table + i * header.section_entry_size + offsetof(SectionEntry, checksum), &sum, sizeof sum);
+    std::memcpy(fixed.data() + table + i * header.section_entry_size + offsetof(SectionEntry, checksum), &sum,
+                sizeof sum);
   }
   formats::testing::refresh_header_checksum(fixed); // covers the table just written
   return fixed;

@@ -66,7 +66,9 @@ TEST(GoldenOlder, A16CellFileReadsValidatesAndRewritesAs16) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Samples, Golden, ::testing::ValuesIn(testing::kAllSamples),
-                         [](const ::testing::TestParamInfo<Sample>& param) { return testing::sample_name(param.param); });
+                         [](const ::testing::TestParamInfo<Sample>& param) {
+                           return testing::sample_name(param.param);
+                         });
 
 } // namespace
 } // namespace probebake::formats

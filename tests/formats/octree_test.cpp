@@ -89,10 +89,10 @@ TEST(Octree, MisuseThrows) {
   ProbeVolume volume = make_empty_volume(settings(2));
   Octree tree(volume);
   const int meta = tree.split(0);
-  EXPECT_THROW(tree.split(0), Error);         // not a leaf
+  EXPECT_THROW(tree.split(0), Error);          // not a leaf
   EXPECT_THROW(tree.place_probe(meta), Error); // a meta index
   EXPECT_THROW(tree.collapse(child_node(meta, 1)), Error);
-  EXPECT_THROW(tree.free_probe(0), Error);    // not allocated
+  EXPECT_THROW(tree.free_probe(0), Error); // not allocated
   EXPECT_THROW(tree.place_probe(1000), Error);
 }
 
@@ -216,7 +216,8 @@ TEST(Octree, RandomOperationsStayValid) {
           if (const int p = tree.probe_of(child_node(meta, octant)); p != kNoIndex) tree.free_probe(p);
         }
         bool all_leaves = true;
-        for (int octant = 0; octant < 8; ++octant) all_leaves = all_leaves && volume.octree[child_node(meta, octant)] == 0;
+        for (int octant = 0; octant < 8; ++octant)
+          all_leaves = all_leaves && volume.octree[child_node(meta, octant)] == 0;
         EXPECT_EQ(tree.collapse(parent), all_leaves);
       } else if (action < 7 && volume.octree[leaf.node] == 0) {
         ASSERT_NE(tree.place_probe(leaf.node), kNoIndex);

@@ -103,7 +103,8 @@ TEST(ProbesFile, DoubleSidedFlagsMakeTheFile1_2) {
   EXPECT_EQ(kDoubleSidedFlagsMinor, 2);
   const ProbeVolume back = read_probes(bytes, "double_sided");
   ASSERT_EQ(back.trace_triangles.size(), 6u);
-  const std::uint32_t expected[6] = {0u, 0u, gpu::TRIANGLE_DOUBLE_SIDED, gpu::TRIANGLE_DOUBLE_SIDED, gpu::TRIANGLE_DOUBLE_SIDED, 0u};
+  const std::uint32_t expected[6] = {
+      0u, 0u, gpu::TRIANGLE_DOUBLE_SIDED, gpu::TRIANGLE_DOUBLE_SIDED, gpu::TRIANGLE_DOUBLE_SIDED, 0u};
   for (std::size_t t = 0; t < 6; ++t) EXPECT_EQ(back.trace_triangles[t].flags, expected[t]) << t;
   ASSERT_EQ(back.emitter_patches.size(), 2u);
   for (const gpu::EmitterPatch& patch : back.emitter_patches) EXPECT_EQ(patch.flags, gpu::EMITTER_DOUBLE_SIDED);
@@ -183,8 +184,8 @@ TEST(ProbesFile, UnknownOptionalSectionIsSkipped) {
 
 TEST(ProbesFile, UnknownRequiredSectionIsRefused) {
   const std::uint8_t payload[16] = {};
-  const std::vector<std::uint8_t> bytes =
-      with_extra_section(write_probes(testing::make_sample(Sample::small)), SectionPayload{77, kSectionRequired, 16, 1, payload});
+  const std::vector<std::uint8_t> bytes = with_extra_section(write_probes(testing::make_sample(Sample::small)),
+                                                             SectionPayload{77, kSectionRequired, 16, 1, payload});
   EXPECT_NE(error_of(bytes).find("unknown required section"), std::string::npos) << error_of(bytes);
   EXPECT_FALSE(validate_file(bytes, "x").readable);
 }
@@ -238,11 +239,13 @@ TEST(ProbesFile, LongerHeaderIsSkipped) {
 TEST(ProbesFile, MissingVolumeInfoOrWrongElementSizeIsRefused) {
   const std::int32_t octree[1] = {0};
   const std::span<const std::uint8_t> octree_bytes(reinterpret_cast<const std::uint8_t*>(octree), sizeof(octree));
-  const SectionPayload only_octree{static_cast<std::uint32_t>(SectionType::octree), kSectionRequired, 4, 1, octree_bytes};
+  const SectionPayload only_octree{static_cast<std::uint32_t>(SectionType::octree), kSectionRequired, 4, 1,
+                                   octree_bytes};
   EXPECT_NE(error_of(write_container({}, std::span(&only_octree, 1))).find("no volume_info"), std::string::npos);
 
   const ProbeVolume volume = testing::make_sample(Sample::small);
-  const std::span<const std::uint8_t> info_bytes(reinterpret_cast<const std::uint8_t*>(&volume.info), sizeof(volume.info));
+  const std::span<const std::uint8_t> info_bytes(reinterpret_cast<const std::uint8_t*>(&volume.info),
+                                                 sizeof(volume.info));
   const SectionPayload wrong_size[] = {
       {static_cast<std::uint32_t>(SectionType::volume_info), kSectionRequired, 40, 2, info_bytes}};
   EXPECT_NE(error_of(write_container({}, wrong_size)).find("element size 40, expected 80"), std::string::npos);
@@ -269,7 +272,8 @@ protected:
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::size_t entries() const {
-    return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir_), std::filesystem::directory_iterator()));
+    return static_cast<std::size_t>(
+        std::distance(std::filesystem::directory_iterator(dir_), std::filesystem::directory_iterator()));
   }
   std::filesystem::path dir_;
 };
@@ -328,7 +332,8 @@ TEST_F(TempDir, AStreamingOpenReadsTheGlobalPartOnlyAndEachCellWhenAsked) {
   std::vector<std::uint8_t> cell_changed = bytes;
   cell_changed[section(SectionType::trace_faces).offset + v.cell_tracing[k].trace_faces.byte_offset] ^= 1;
   const std::filesystem::path a = dir_ / "cell.probes";
-  std::ofstream(a, std::ios::binary).write(reinterpret_cast<const char*>(cell_changed.data()), std::streamsize(cell_changed.size()));
+  std::ofstream(a, std::ios::binary)
+      .write(reinterpret_cast<const char*>(cell_changed.data()), std::streamsize(cell_changed.size()));
   OpenedCellFile opened = CellFile::open(a);
   EXPECT_TRUE(opened.cells_unread);
   EXPECT_EQ(opened.bytes_read, bytes.size() - cells_tracing);
@@ -339,7 +344,9 @@ TEST_F(TempDir, AStreamingOpenReadsTheGlobalPartOnlyAndEachCellWhenAsked) {
     if (j == k) continue;
     const CellTracingData read = opened.file.read_cell_tracing(j), expected = cell_tracing_data(v, j);
     EXPECT_EQ(read.faces.size(), expected.faces.size());
-    EXPECT_TRUE(read.faces.empty() || std::memcmp(read.faces.data(), expected.faces.data(), read.faces.size() * sizeof(read.faces[0])) == 0) << j;
+    EXPECT_TRUE(read.faces.empty() ||
+                std::memcmp(read.faces.data(), expected.faces.data(), read.faces.size() * sizeof(read.faces[0])) == 0)
+        << j;
   }
   try {
     (void)opened.file.read_cell_tracing(k);
@@ -352,16 +359,21 @@ TEST_F(TempDir, AStreamingOpenReadsTheGlobalPartOnlyAndEachCellWhenAsked) {
 
   std::vector<std::uint8_t> global_changed = bytes;
   const SectionEntry vertices = section(SectionType::trace_vertices);
-  ASSERT_GT(vertices.size, v.cell_tracing.back().trace_vertices.byte_offset + v.cell_tracing.back().trace_vertices.byte_size);
+  ASSERT_GT(vertices.size,
+            v.cell_tracing.back().trace_vertices.byte_offset + v.cell_tracing.back().trace_vertices.byte_size);
   global_changed[vertices.offset + vertices.size - 1] ^= 1; // the dynamic object's last vertex
   const std::filesystem::path b = dir_ / "global.probes";
-  std::ofstream(b, std::ios::binary).write(reinterpret_cast<const char*>(global_changed.data()), std::streamsize(global_changed.size()));
+  std::ofstream(b, std::ios::binary)
+      .write(reinterpret_cast<const char*>(global_changed.data()), std::streamsize(global_changed.size()));
   try {
     (void)CellFile::open(b);
     ADD_FAILURE() << "the changed global part opened";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::input);
-    EXPECT_NE(std::string(e.what()).find("cell_global_checksums[5]: the bytes of trace_vertices outside the cells differ"), std::string::npos) << e.what();
+    EXPECT_NE(
+        std::string(e.what()).find("cell_global_checksums[5]: the bytes of trace_vertices outside the cells differ"),
+        std::string::npos)
+        << e.what();
   }
 }
 

@@ -114,7 +114,8 @@ gpu::SvoLeaf nearest_probes_payload(const ProbeVolume& volume, glm::vec3 centre,
     candidates.emplace_back(d.x * d.x + d.y * d.y + d.z * d.z, static_cast<int>(p));
   }
   std::sort(candidates.begin(), candidates.end());
-  static constexpr float kWeights[4][4] = {{1.0f, 0, 0, 0}, {0.5f, 0.5f, 0, 0}, {0.5f, 0.25f, 0.25f, 0}, {0.25f, 0.25f, 0.25f, 0.25f}};
+  static constexpr float kWeights[4][4] = {
+      {1.0f, 0, 0, 0}, {0.5f, 0.5f, 0, 0}, {0.5f, 0.25f, 0.25f, 0}, {0.25f, 0.25f, 0.25f, 0.25f}};
   gpu::SvoLeaf leaf{glm::ivec4(-1), glm::vec4(0.0f)};
   k = std::min<int>(k, static_cast<int>(candidates.size()));
   for (int slot = 0; slot < k; ++slot) {
@@ -164,8 +165,9 @@ ProbeVolume make_grid_sample() {
   const float step = volume.info.root_size / 2.0f;
   for (int i = 0; i < 8; ++i) {
     gpu::Probe probe{};
-    probe.position = volume.info.root_min +
-                     step * glm::vec3(0.5f + static_cast<float>(i & 1), 0.5f + static_cast<float>((i >> 1) & 1), 0.5f + static_cast<float>(i >> 2));
+    probe.position = volume.info.root_min + step * glm::vec3(0.5f + static_cast<float>(i & 1),
+                                                             0.5f + static_cast<float>((i >> 1) & 1),
+                                                             0.5f + static_cast<float>(i >> 2));
     probe.link = ~gpu::PROBE_NO_SURFELS;
     probe.node = -1;
     fill_probe_data(probe, i);
@@ -175,7 +177,8 @@ ProbeVolume make_grid_sample() {
   return volume;
 }
 
-gpu::TraceTriangle trace_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, int source, glm::vec3 emission = glm::vec3(0.0f)) {
+gpu::TraceTriangle trace_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, int source,
+                                  glm::vec3 emission = glm::vec3(0.0f)) {
   gpu::TraceTriangle t{};
   t.v0 = a;
   t.edge1 = b - a;
@@ -192,11 +195,12 @@ gpu::TraceTriangle trace_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, int sou
 // in one leaf each: root -> {leaf 1, inner 2 -> {leaf 3, leaf 4}}. Boxes are the exact vertex bounds.
 void build_sample_bvh(ProbeVolume& v) {
   const glm::vec3 o(0.0f);
-  v.trace_triangles = {
-      trace_triangle(o, {0, 0, 2}, {2, 0, 0}, 0),         trace_triangle({2, 0, 0}, {0, 0, 2}, {2, 0, 2}, 1),
-      trace_triangle(o, {0, 2, 0}, {0, 0, 2}, 2),         trace_triangle({0, 2, 0}, {0, 2, 2}, {0, 0, 2}, 3),
-      trace_triangle({0.5f, 2, 0.5f}, {1.5f, 2, 0.5f}, {0.5f, 2, 1.5f}, 5, glm::vec3(4.0f)),
-      trace_triangle({1, 0, 1}, {1.5f, 0, 1}, {1, 0.5f, 1}, 4)};
+  v.trace_triangles = {trace_triangle(o, {0, 0, 2}, {2, 0, 0}, 0),
+                       trace_triangle({2, 0, 0}, {0, 0, 2}, {2, 0, 2}, 1),
+                       trace_triangle(o, {0, 2, 0}, {0, 0, 2}, 2),
+                       trace_triangle({0, 2, 0}, {0, 2, 2}, {0, 0, 2}, 3),
+                       trace_triangle({0.5f, 2, 0.5f}, {1.5f, 2, 0.5f}, {0.5f, 2, 1.5f}, 5, glm::vec3(4.0f)),
+                       trace_triangle({1, 0, 1}, {1.5f, 0, 1}, {1, 0.5f, 1}, 4)};
   v.bvh_nodes = {{{}, 1, {}, 0}, {{}, 0, {}, 4}, {{}, 3, {}, 0}, {{}, 4, {}, 1}, {{}, 5, {}, 1}};
   for (int node : {4, 3, 1, 2, 0}) { // children before parents
     gpu::BvhNode& n = v.bvh_nodes[node];
@@ -252,7 +256,8 @@ void add_sample_lighting(ProbeVolume& v) {
   v.punctual_lights[1].cos_outer = 0.75f;
   v.punctual_lights[1].spot_scale = 4.0f; // 1 / (cos inner - cos outer) = 1 / (1 - 0.75)
   const glm::vec3 a(0.5f, 2, 0.5f), b(1.5f, 2, 0.5f), c(0.5f, 2, 1.5f), ab = 0.5f * (a + b);
-  v.emitter_patches = {{a, 0, ab, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}, {ab, 0, b, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}};
+  v.emitter_patches = {{a, 0, ab, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0},
+                       {ab, 0, b, 0, c, 0, {0, -1, 0}, 0, glm::vec3(4.0f), 0}};
 }
 
 // Format 1.2: the wall (trace triangles 2, 3) and the emissive ceiling triangle (4) with its two patches.

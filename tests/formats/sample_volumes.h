@@ -8,11 +8,11 @@
 namespace probebake::formats::testing {
 
 enum class Sample {
-  small,      // depth-2 octree, probes, surfel batches, leaf buffer, probe index, SVO, cells of depth 1
-  static_set, // the same without surfel batches and without a leaf buffer (static scene)
-  grid,       // 2x2x2 grid placement: root-only octree, probes with node -1, SVO, cells of depth 1
-  lighting,   // static_set plus the runtime lighting sections of format 1.1 (BVH of 6 triangles, 3 lights,
-              // 2 emitter patches, 6 + 32 ray directions)
+  small,        // depth-2 octree, probes, surfel batches, leaf buffer, probe index, SVO, cells of depth 1
+  static_set,   // the same without surfel batches and without a leaf buffer (static scene)
+  grid,         // 2x2x2 grid placement: root-only octree, probes with node -1, SVO, cells of depth 1
+  lighting,     // static_set plus the runtime lighting sections of format 1.1 (BVH of 6 triangles, 3 lights,
+                // 2 emitter patches, 6 + 32 ray directions)
   double_sided, // lighting with format 1.2's flags: the wall and the emissive ceiling (and its patches)
                 // double-sided
   dynamic,      // lighting plus format 1.3's dynamic_objects: a two-triangle card with its own one-leaf BVH,
@@ -24,8 +24,8 @@ enum class Sample {
 };
 
 // Every sample, for tests that loop over them.
-inline constexpr Sample kAllSamples[] = {Sample::small, Sample::static_set, Sample::grid, Sample::lighting,
-                                           Sample::double_sided, Sample::dynamic, Sample::compact, Sample::cells};
+inline constexpr Sample kAllSamples[] = {Sample::small,        Sample::static_set, Sample::grid,    Sample::lighting,
+                                         Sample::double_sided, Sample::dynamic,    Sample::compact, Sample::cells};
 
 ProbeVolume make_sample(Sample sample);
 

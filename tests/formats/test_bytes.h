@@ -28,7 +28,8 @@ inline void refresh_header_checksum(std::vector<std::uint8_t>& bytes) {
   FileHeader header = header_of(bytes);
   const std::size_t table_end = header.header_size + std::size_t{header.section_count} * header.section_entry_size;
   std::vector<std::uint8_t> covered(bytes.begin(), bytes.begin() + offsetof(FileHeader, header_checksum));
-  covered.insert(covered.end(), bytes.begin() + sizeof(FileHeader), bytes.begin() + static_cast<std::ptrdiff_t>(table_end));
+  covered.insert(covered.end(), bytes.begin() + sizeof(FileHeader),
+                 bytes.begin() + static_cast<std::ptrdiff_t>(table_end));
   header.header_checksum = checksum64(covered);
   put_header(bytes, header);
 }
@@ -44,7 +45,8 @@ inline std::vector<std::uint8_t> rewrite_sections(const std::vector<std::uint8_t
     sections.push_back(SectionPayload{e.type, e.flags, e.element_size, e.element_count, view.payloads[i]});
   }
   edit(sections);
-  return write_container(ContainerHeaderFields{view.header.cell_depth, view.header.input_hash, view.header.version_minor}, sections);
+  return write_container(
+      ContainerHeaderFields{view.header.cell_depth, view.header.input_hash, view.header.version_minor}, sections);
 }
 
 // Inserts `count` zero bytes at byte `at` (at or after the header), moves the payloads behind it and

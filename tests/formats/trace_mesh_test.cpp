@@ -33,7 +33,9 @@ ProbeVolume empty_lit_volume() {
 // A median-split tree over `triangles` (reordered into leaf order), leaves of up to `leaf` triangles.
 std::vector<gpu::BvhNode> median_tree(std::vector<TraceInputTriangle>& triangles, int leaf) {
   std::vector<gpu::BvhNode> nodes(1);
-  struct Range { int node, first, count; };
+  struct Range {
+    int node, first, count;
+  };
   std::vector<Range> stack{{0, 0, int(triangles.size())}};
   while (!stack.empty()) {
     const Range r = stack.back();
@@ -44,7 +46,9 @@ std::vector<gpu::BvhNode> median_tree(std::vector<TraceInputTriangle>& triangles
     }
     const int axis = int(nodes.size() % 3);
     std::sort(triangles.begin() + r.first, triangles.begin() + r.first + r.count,
-              [&](const TraceInputTriangle& a, const TraceInputTriangle& b) { return a.corners[0][axis] < b.corners[0][axis]; });
+              [&](const TraceInputTriangle& a, const TraceInputTriangle& b) {
+                return a.corners[0][axis] < b.corners[0][axis];
+              });
     const int child = int(nodes.size());
     nodes.resize(nodes.size() + 2);
     nodes[std::size_t(r.node)] = gpu::BvhNode{{}, child, {}, 0};
@@ -57,7 +61,10 @@ std::vector<gpu::BvhNode> median_tree(std::vector<TraceInputTriangle>& triangles
 // Every face inside every box above it, decoded with a separate multiply and add and with one fma.
 void expect_boxes_hold_faces(const ProbeVolume& v, std::size_t tree_index) {
   const gpu::TraceTree& tree = v.trace_trees[tree_index];
-  struct Pending { std::uint32_t word; TraceBox box; };
+  struct Pending {
+    std::uint32_t word;
+    TraceBox box;
+  };
   std::vector<Pending> stack{{tree.root, tree_box(tree)}};
   const auto fused_box = [&](const gpu::TraceNode& node, int c) {
     TraceBox b;
@@ -75,7 +82,9 @@ void expect_boxes_hold_faces(const ProbeVolume& v, std::size_t tree_index) {
       const gpu::TraceNode& node = v.trace_nodes[p.word];
       for (int c = 0; c < 2; ++c) {
         const TraceBox plain = decode_child_box(tree, node, c), fused = fused_box(node, c);
-        stack.push_back({node.child[c], {glm::max(p.box.lower, glm::max(plain.lower, fused.lower)), glm::min(p.box.upper, glm::min(plain.upper, fused.upper))}});
+        stack.push_back({node.child[c],
+                         {glm::max(p.box.lower, glm::max(plain.lower, fused.lower)),
+                          glm::min(p.box.upper, glm::min(plain.upper, fused.upper))}});
       }
       continue;
     }
@@ -83,7 +92,8 @@ void expect_boxes_hold_faces(const ProbeVolume& v, std::size_t tree_index) {
       for (std::uint32_t k : v.trace_faces[f].vertex) {
         const gpu::TraceVertex& q = v.trace_vertices[k];
         const glm::vec3 point(q.x, q.y, q.z);
-        ASSERT_TRUE(glm::all(glm::greaterThanEqual(point, p.box.lower)) && glm::all(glm::lessThanEqual(point, p.box.upper)))
+        ASSERT_TRUE(glm::all(glm::greaterThanEqual(point, p.box.lower)) &&
+                    glm::all(glm::lessThanEqual(point, p.box.upper)))
             << "tree " << tree_index << " face " << f;
       }
   }
@@ -91,9 +101,12 @@ void expect_boxes_hold_faces(const ProbeVolume& v, std::size_t tree_index) {
 
 TEST(TraceMesh, QuantisedBoxesHoldTheirFacesOnRandomAndExtremeScenes) {
   std::mt19937 rng(7);
-  struct Case { float offset, extent, size; };
+  struct Case {
+    float offset, extent, size;
+  };
   // Offsets far from the origin (coarse floats), tiny and huge extents, slivers much smaller than a step.
-  const Case cases[] = {{0, 10, 0.5f}, {1e4f, 100, 1}, {-3e5f, 1, 1e-3f}, {1e6f, 1e5f, 10}, {5, 1e-3f, 1e-4f}, {0, 1e-30f, 1e-31f}};
+  const Case cases[] = {{0, 10, 0.5f},    {1e4f, 100, 1},    {-3e5f, 1, 1e-3f},
+                        {1e6f, 1e5f, 10}, {5, 1e-3f, 1e-4f}, {0, 1e-30f, 1e-31f}};
   for (const Case& c : cases) {
     ProbeVolume v = empty_lit_volume();
     std::uniform_real_distribution<float> at(c.offset, c.offset + c.extent), edge(-c.size, c.size);
@@ -118,7 +131,8 @@ TEST(TraceMesh, FlatTreesKeepAZeroStep) {
   std::vector<TraceInputTriangle> triangles;
   for (int i = 0; i < 20; ++i) {
     TraceInputTriangle t;
-    t.corners[0] = glm::vec3(float(i), 2.5f, 0.0f), t.corners[1] = glm::vec3(float(i) + 1, 2.5f, 0.0f), t.corners[2] = glm::vec3(float(i), 2.5f, 1.0f);
+    t.corners[0] = glm::vec3(float(i), 2.5f, 0.0f), t.corners[1] = glm::vec3(float(i) + 1, 2.5f, 0.0f),
+    t.corners[2] = glm::vec3(float(i), 2.5f, 1.0f);
     triangles.push_back(t);
   }
   const std::vector<gpu::BvhNode> nodes = median_tree(triangles, 2);
@@ -133,7 +147,8 @@ TEST(TraceMesh, FlatTreesKeepAZeroStep) {
 // A 1.3 volume upgrades to faces whose corners are the float triangles' v0, v0 + edge1, v0 + edge2, in the
 // same order, with the same surfaces, trees and object ranges; the result validates.
 TEST(TraceMesh, UpgradeKeepsEveryTriangleInOrder) {
-  for (const testing::Sample sample : {testing::Sample::lighting, testing::Sample::double_sided, testing::Sample::dynamic}) {
+  for (const testing::Sample sample :
+       {testing::Sample::lighting, testing::Sample::double_sided, testing::Sample::dynamic}) {
     const ProbeVolume before = testing::make_sample(sample);
     ProbeVolume after = before;
     upgrade_tracing(after);
@@ -152,7 +167,8 @@ TEST(TraceMesh, UpgradeKeepsEveryTriangleInOrder) {
       const gpu::TraceMaterial& m = after.trace_materials[after.trace_faces[f].material & gpu::TRACE_MATERIAL_MASK];
       EXPECT_EQ(m.albedo, t.albedo);
       EXPECT_EQ(m.emission, t.emission);
-      EXPECT_EQ((after.trace_faces[f].material & gpu::TRACE_FACE_DOUBLE_SIDED) != 0u, (t.flags & gpu::TRIANGLE_DOUBLE_SIDED) != 0u);
+      EXPECT_EQ((after.trace_faces[f].material & gpu::TRACE_FACE_DOUBLE_SIDED) != 0u,
+                (t.flags & gpu::TRIANGLE_DOUBLE_SIDED) != 0u);
       EXPECT_LT(glm::length(face_geometry(after, f).normal - t.normal), 1e-6f) << f;
     }
     for (std::size_t o = 0; o < after.dynamic_objects.size(); ++o) {

@@ -29,7 +29,8 @@ std::string violations_text(const ValidationReport& report) {
 
 std::vector<int> chain_of(const ProbeVolume& v, int probe) {
   std::vector<int> chain;
-  for (int link = v.probes[probe].link; link < 0 && ~link != gpu::PROBE_NO_SURFELS; link = v.surfel_batches[chain.back()].link) {
+  for (int link = v.probes[probe].link; link < 0 && ~link != gpu::PROBE_NO_SURFELS;
+       link = v.surfel_batches[chain.back()].link) {
     chain.push_back(~link);
   }
   return chain;
@@ -99,11 +100,12 @@ const std::vector<Corruption>& corruptions() {
       {"volume_info", Sample::small, [](ProbeVolume& v) { v.info.surfels_per_probe = kMaxSurfelsPerProbe + 1; }},
       {"grid_resolution", Sample::grid, [](ProbeVolume& v) { v.info.grid_resolution = 1 << 20; }},
       {"grid_resolution", Sample::grid, [](ProbeVolume& v) { v.info.grid_resolution = 0; }},
-      {"grid_resolution", Sample::grid, [](ProbeVolume& v) { v.info.grid_resolution = 1; }}, // 8 probes > 1^3
+      {"grid_resolution", Sample::grid, [](ProbeVolume& v) { v.info.grid_resolution = 1; }},  // 8 probes > 1^3
       {"grid_resolution", Sample::small, [](ProbeVolume& v) { v.info.grid_resolution = 4; }}, // octree placement
       {"cell_depth", Sample::small, [](ProbeVolume& v) { v.cell_depth = 9; }},
       {"cell_depth", Sample::small, [](ProbeVolume& v) { v.cells.clear(); }}, // depth 1 without cells
-      {"section_dependency", Sample::small, [](ProbeVolume& v) {
+      {"section_dependency", Sample::small,
+       [](ProbeVolume& v) {
          v.probes.clear(), v.probe_index = {gpu::PROBE_INDEX_END}, v.cells.clear(), v.cell_depth = 0;
          sync_info_counts(v);
        }},
@@ -112,12 +114,14 @@ const std::vector<Corruption>& corruptions() {
       {"count_mismatch", Sample::small, [](ProbeVolume& v) { v.info.probe_capacity += 1; }},
       {"non_finite", Sample::small, [](ProbeVolume& v) { v.probes[0].irradiance_sh[3] = std::nanf(""); }},
       {"octree_root", Sample::small, [](ProbeVolume& v) { v.octree.clear(), v.info.octree_elements = 0; }},
-      {"incomplete_cluster_used", Sample::small, [](ProbeVolume& v) {
+      {"incomplete_cluster_used", Sample::small,
+       [](ProbeVolume& v) {
          v.octree.resize(v.octree.size() + 4, 0);
          v.info.octree_elements += 4;
          v.octree[25] = static_cast<int>(v.octree.size()) - 4; // the incomplete cluster's meta index
        }},
-      {"grid_octree", Sample::grid, [](ProbeVolume& v) {
+      {"grid_octree", Sample::grid,
+       [](ProbeVolume& v) {
          v.octree = {1, ~0, 0, 0, 0, 0, 0, 0, 0, 0};
          v.info.octree_elements = 10;
        }},
@@ -138,32 +142,41 @@ const std::vector<Corruption>& corruptions() {
       {"probe_values", Sample::grid, [](ProbeVolume& v) { v.probes[5].backface_fraction = 1.5f; }},
       {"probe_values", Sample::small, [](ProbeVolume& v) { v.probes[first_free_probe(v)].hit_fraction = -1.0f; }},
       {"probe_values", Sample::small, [](ProbeVolume& v) { v.probes[3].pad0 = -0.0f; }},
-      {"batch_link", Sample::small, [](ProbeVolume& v) { v.probes[probe_with_chain(v, 1)].link = ~static_cast<int>(v.surfel_batches.size() + 5); }},
-      {"batch_chain_endless", Sample::small, [](ProbeVolume& v) {
+      {"batch_link", Sample::small,
+       [](ProbeVolume& v) { v.probes[probe_with_chain(v, 1)].link = ~static_cast<int>(v.surfel_batches.size() + 5); }},
+      {"batch_chain_endless", Sample::small,
+       [](ProbeVolume& v) {
          const std::vector<int> chain = chain_of(v, probe_with_chain(v, 2));
          v.surfel_batches[chain.back()].link = ~chain.front();
        }},
-      {"batch_shared", Sample::small, [](ProbeVolume& v) {
+      {"batch_shared", Sample::small,
+       [](ProbeVolume& v) {
          const int low = probe_with_chain(v, 1), high = probe_with_chain(v, 1, true);
          v.surfel_batches[chain_of(v, high).back()].link = ~chain_of(v, low).front();
        }},
-      {"batch_owner", Sample::small, [](ProbeVolume& v) { v.surfel_batches[chain_of(v, probe_with_chain(v, 1)).front()].probe += 1; }},
-      {"batch_count", Sample::small, [](ProbeVolume& v) { v.surfel_batches[chain_of(v, probe_with_chain(v, 1)).front()].count = 0; }},
-      {"batch_orphan", Sample::small, [](ProbeVolume& v) {
+      {"batch_owner", Sample::small,
+       [](ProbeVolume& v) { v.surfel_batches[chain_of(v, probe_with_chain(v, 1)).front()].probe += 1; }},
+      {"batch_count", Sample::small,
+       [](ProbeVolume& v) { v.surfel_batches[chain_of(v, probe_with_chain(v, 1)).front()].count = 0; }},
+      {"batch_orphan", Sample::small,
+       [](ProbeVolume& v) {
          const int probe = probe_with_chain(v, 1);
          gpu::SurfelBatch& batch = v.surfel_batches[first_free_batch(v)];
          batch.link = probe + 1, batch.probe = probe, batch.count = 1;
        }},
       {"free_not_zeroed", Sample::small, [](ProbeVolume& v) { v.surfel_batches[first_free_batch(v)].count = 3; }},
       {"batch_lattice", Sample::small, [](ProbeVolume& v) { first_batch(v).first = -1; }},
-      {"batch_lattice", Sample::small, [](ProbeVolume& v) { first_batch(v).first = v.info.surfels_per_probe - 15; }}, // count 16
+      {"batch_lattice", Sample::small,
+       [](ProbeVolume& v) { first_batch(v).first = v.info.surfels_per_probe - 15; }}, // count 16
       {"surfel_values", Sample::small, [](ProbeVolume& v) { first_batch(v).surfels[2].flags = 4; }},
-      {"surfel_values", Sample::small, [](ProbeVolume& v) { first_batch(v).surfels[3].flags = gpu::SURFEL_FLAG_BACKFACE; }},
+      {"surfel_values", Sample::small,
+       [](ProbeVolume& v) { first_batch(v).surfels[3].flags = gpu::SURFEL_FLAG_BACKFACE; }},
       {"surfel_values", Sample::small, [](ProbeVolume& v) { first_batch(v).surfels[4].distance = -0.5f; }},
       {"surfel_values", Sample::small, [](ProbeVolume& v) { first_batch(v).surfels[5].normal *= 2.0f; }},
       {"surfel_values", Sample::small, [](ProbeVolume& v) { first_batch(v).surfels[6].albedo.y = -0.25f; }},
       {"surfel_values", Sample::small, [](ProbeVolume& v) { first_batch(v).surfels[7].pad1 = 1.0f; }},
-      {"surfel_values", Sample::small, [](ProbeVolume& v) { // a surfel past the batch's count was written
+      {"surfel_values", Sample::small,
+       [](ProbeVolume& v) { // a surfel past the batch's count was written
          gpu::SurfelBatch& second = v.surfel_batches[chain_of(v, probe_with_chain(v, 2))[1]];
          ASSERT_LT(second.count, gpu::SURFELS_PER_BATCH);
          second.surfels[gpu::SURFELS_PER_BATCH - 1].distance = 0.5f;
@@ -175,9 +188,11 @@ const std::vector<Corruption>& corruptions() {
       {"leaf_entry_state", Sample::small, [](ProbeVolume& v) { v.leaf_entries[1].state = 42; }},
       {"leaf_entry_duplicate", Sample::small, [](ProbeVolume& v) { v.leaf_entries[1].node = v.leaf_entries[0].node; }},
       {"svo_index_range", Sample::small, [](ProbeVolume& v) { v.svo_leaves[0].probes[0] = 100000; }},
-      {"svo_index_range", Sample::small, [](ProbeVolume& v) { v.svo_nodes[8] = static_cast<int>(v.svo_nodes.size()) - 4; }},
+      {"svo_index_range", Sample::small,
+       [](ProbeVolume& v) { v.svo_nodes[8] = static_cast<int>(v.svo_nodes.size()) - 4; }},
       {"svo_tree", Sample::small, [](ProbeVolume& v) { v.svo_nodes[8] = 1; }},
-      {"svo_leaf_shared", Sample::small, [](ProbeVolume& v) {
+      {"svo_leaf_shared", Sample::small,
+       [](ProbeVolume& v) {
          const std::vector<int> leaves = svo_leaf_nodes(v);
          v.svo_nodes[leaves[1]] = v.svo_nodes[leaves[0]];
        }},
@@ -189,20 +204,27 @@ const std::vector<Corruption>& corruptions() {
       {"cell_bounds", Sample::small, [](ProbeVolume& v) { v.cells[0].bounds_min.x += 0.5f; }},
       {"cell_root_node", Sample::small, [](ProbeVolume& v) { v.cells[0].root_node = 5; }},
       {"cell_range", Sample::small, [](ProbeVolume& v) { v.cells[0].probes.byte_offset += 1; }},
-      {"cell_tracing", Sample::small, [](ProbeVolume& v) { v.cell_tracing.resize(v.cells.size() + 1); }}, // more: gpu_scene_test.cpp
+      {"cell_tracing", Sample::small,
+       [](ProbeVolume& v) { v.cell_tracing.resize(v.cells.size() + 1); }}, // more: gpu_scene_test.cpp
       // Format 1.5: the cells sample's static tree is a top level over one leaf per cell.
-      {"cell_tracing", Sample::cells, [](ProbeVolume& v) { // a face of the first cell uses a vertex of the second
+      {"cell_tracing", Sample::cells,
+       [](ProbeVolume& v) { // a face of the first cell uses a vertex of the second
          v.trace_faces[v.cell_tracing[0].trace_faces.first].vertex[0] = v.cell_tracing[1].trace_vertices.first;
        }},
-      {"cell_tracing", Sample::cells, [](ProbeVolume& v) { // the last cell's faces start one late: the first cells' miss one
+      {"cell_tracing", Sample::cells,
+       [](ProbeVolume& v) { // the last cell's faces start one late: the first cells' miss one
          CellRange& faces = v.cell_tracing.back().trace_faces;
          faces.first += 1, faces.byte_offset += sizeof(gpu::TraceFace);
        }},
-      {"cell_tracing", Sample::cells, [](ProbeVolume& v) { // the dynamic object's face uses a cell's vertex
-         v.trace_faces[std::size_t(v.dynamic_objects[0].first_triangle)].vertex[0] = v.cell_tracing[0].trace_vertices.first;
+      {"cell_tracing", Sample::cells,
+       [](ProbeVolume& v) { // the dynamic object's face uses a cell's vertex
+         v.trace_faces[std::size_t(v.dynamic_objects[0].first_triangle)].vertex[0] =
+             v.cell_tracing[0].trace_vertices.first;
        }},
-      {"non_finite", Sample::cells, [](ProbeVolume& v) { v.trace_vertices[v.cell_tracing.back().trace_vertices.first].y = std::nanf(""); }},
-      {"trace_tree", Sample::cells, [](ProbeVolume& v) { // a top-level leaf holds one face fewer of its cell
+      {"non_finite", Sample::cells,
+       [](ProbeVolume& v) { v.trace_vertices[v.cell_tracing.back().trace_vertices.first].y = std::nanf(""); }},
+      {"trace_tree", Sample::cells,
+       [](ProbeVolume& v) { // a top-level leaf holds one face fewer of its cell
          for (gpu::TraceNode& node : v.trace_nodes)
            for (std::uint32_t& word : node.child)
              if (is_leaf_word(word) && leaf_count(word) > 1) {
@@ -211,7 +233,8 @@ const std::vector<Corruption>& corruptions() {
              }
          FAIL() << "no leaf of two faces or more";
        }},
-      {"cell_membership", Sample::small, [](ProbeVolume& v) {
+      {"cell_membership", Sample::small,
+       [](ProbeVolume& v) {
          v.cells[0].probes.count -= 1;
          v.cells[0].probes.byte_size -= sizeof(gpu::Probe);
        }},
@@ -221,11 +244,13 @@ const std::vector<Corruption>& corruptions() {
       {"non_finite", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[3].upper.x = INFINITY; }},
       {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting->triangles += 1; }},
       {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting.reset(); }},
-      {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting->placement_rays = 31, v.lighting->rays = 7; }},
+      {"lighting_sections", Sample::lighting,
+       [](ProbeVolume& v) { v.lighting->placement_rays = 31, v.lighting->rays = 7; }},
       {"lighting_sections", Sample::lighting, [](ProbeVolume& v) { v.lighting->emissive_as_lights = 0; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.lighting->shadow_offset = 0.0f; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.ray_directions[7].x *= 1.01f; }},
-      {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[1].normal = -v.trace_triangles[1].normal; }},
+      {"lighting_values", Sample::lighting,
+       [](ProbeVolume& v) { v.trace_triangles[1].normal = -v.trace_triangles[1].normal; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[0].emission.z = -1.0f; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[0].type = 3; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[1].range = -1.0f; }},
@@ -234,30 +259,41 @@ const std::vector<Corruption>& corruptions() {
       {"lighting_flags", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[0].flags = 2u; }},
       {"lighting_flags", Sample::double_sided, [](ProbeVolume& v) { v.trace_triangles[3].flags |= 0x80000000u; }},
       {"lighting_flags", Sample::double_sided, [](ProbeVolume& v) { v.emitter_patches[1].flags = 3u; }},
-      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 1; }},      // node 1 reached twice
-      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 2; }},      // child = itself
-      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[1].count = 5; }},      // more than 4 triangles
-      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[4].first = 4; }},      // triangle 4 twice, 5 in none
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 1; }}, // node 1 reached twice
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[2].first = 2; }}, // child = itself
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[1].count = 5; }}, // more than 4 triangles
+      {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[4].first = 4; }}, // triangle 4 twice, 5 in none
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[3].upper.x -= 0.25f; }}, // misses its triangle
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { v.bvh_nodes[0].upper.y = 1.0f; }},   // child box sticks out
       {"bvh_tree", Sample::lighting, [](ProbeVolume& v) { make_bvh_chain(v, gpu::BVH_MAX_DEPTH); }},
       // Format 1.3: the card (object 0: node 5, triangles 6-7).
-      {"dynamic_ranges", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].first_triangle = 5, v.dynamic_objects[0].triangle_count = 3; }},
+      {"dynamic_ranges", Sample::dynamic,
+       [](ProbeVolume& v) { v.dynamic_objects[0].first_triangle = 5, v.dynamic_objects[0].triangle_count = 3; }},
       {"dynamic_ranges", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].gltf_node = -1; }},
-      {"dynamic_ranges", Sample::dynamic, [](ProbeVolume& v) { v.bvh_nodes[4].first = 6; }}, // a static leaf on the card's triangle
-      {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
-      {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[0].x = -1.0f; }}, // mirrored
-      {"dynamic_values", Sample::dynamic, [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[2] = glm::vec4(0.0f); }}, // singular
+      {"dynamic_ranges", Sample::dynamic,
+       [](ProbeVolume& v) { v.bvh_nodes[4].first = 6; }}, // a static leaf on the card's triangle
+      {"dynamic_values", Sample::dynamic,
+       [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
+      {"dynamic_values", Sample::dynamic,
+       [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[0].x = -1.0f; }}, // mirrored
+      {"dynamic_values", Sample::dynamic,
+       [](ProbeVolume& v) { v.dynamic_objects[0].rest_rows[2] = glm::vec4(0.0f); }}, // singular
       // Compact tracing (1.4). The sample's static tree: node 0 = {leaf of faces 0-3, node 1}, node 1 = {leaf 4,
       // leaf 5}; the card's tree is one leaf of faces 6-7.
-      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[0].child[1] = 0u; }},                        // a cycle
-      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[1].child[1] = v.trace_nodes[1].child[0]; }}, // face 4 twice, 5 in none
-      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[1].child[1] = gpu::TRACE_CHILD_LEAF | (7u << 27) | 5u; }},
-      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[1].upper[0] &= 0xFFFF0000u; }}, // child 0's box misses face 4
-      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_trees[0].scale.y *= 0.5f; }},          // the root box shrinks
-      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_trees[1].root = gpu::TRACE_CHILD_LEAF | (1u << 27) | 4u; }}, // the card on static faces
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_nodes[0].child[1] = 0u; }}, // a cycle
+      {"trace_tree", Sample::compact,
+       [](ProbeVolume& v) { v.trace_nodes[1].child[1] = v.trace_nodes[1].child[0]; }}, // face 4 twice, 5 in none
+      {"trace_tree", Sample::compact,
+       [](ProbeVolume& v) { v.trace_nodes[1].child[1] = gpu::TRACE_CHILD_LEAF | (7u << 27) | 5u; }},
+      {"trace_tree", Sample::compact,
+       [](ProbeVolume& v) { v.trace_nodes[1].upper[0] &= 0xFFFF0000u; }}, // child 0's box misses face 4
+      {"trace_tree", Sample::compact, [](ProbeVolume& v) { v.trace_trees[0].scale.y *= 0.5f; }}, // the root box shrinks
+      {"trace_tree", Sample::compact,
+       [](ProbeVolume&
+              v) { v.trace_trees[1].root = gpu::TRACE_CHILD_LEAF | (1u << 27) | 4u; }}, // the card on static faces
       {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_faces[3].vertex[1] = 1000u; }},
-      {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_faces[3].vertex[1] = v.trace_faces[3].vertex[0]; }}, // no area
+      {"lighting_values", Sample::compact,
+       [](ProbeVolume& v) { v.trace_faces[3].vertex[1] = v.trace_faces[3].vertex[0]; }}, // no area
       {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_faces[2].material = 77u; }},
       {"lighting_values", Sample::compact, [](ProbeVolume& v) { v.trace_materials[0].albedo.x = -0.5f; }},
       {"non_finite", Sample::compact, [](ProbeVolume& v) { v.trace_vertices[2].z = std::nanf(""); }},
@@ -265,7 +301,8 @@ const std::vector<Corruption>& corruptions() {
       {"lighting_sections", Sample::compact, [](ProbeVolume& v) { v.lighting->bvh_nodes = 1; }},
       {"dynamic_ranges", Sample::compact, [](ProbeVolume& v) { v.dynamic_objects[0].bvh_root = 2; }},
       {"dynamic_ranges", Sample::compact, [](ProbeVolume& v) { v.dynamic_objects[0].first_triangle = 5; }},
-      {"dynamic_values", Sample::compact, [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
+      {"dynamic_values", Sample::compact,
+       [](ProbeVolume& v) { v.dynamic_objects[0].upper.y = 0.25f; }}, // box misses a vertex
   };
   return list;
 }
@@ -313,7 +350,8 @@ TEST(Validate, ATracingViewGetsTheSameReportAsTheVectors) {
 // the load's check never reads the cells' own tracing: with garbage there, its report is the same.
 TEST(Validate, TheCheckWithoutTheCellsAndEachCellsCheckAgreeWithTheWholeCheck) {
   std::vector<std::pair<std::string, ProbeVolume>> cases;
-  for (Sample sample : testing::kAllSamples) cases.emplace_back(testing::sample_name(sample), testing::make_sample(sample));
+  for (Sample sample : testing::kAllSamples)
+    cases.emplace_back(testing::sample_name(sample), testing::make_sample(sample));
   for (const Corruption& corruption : corruptions()) {
     ProbeVolume volume = testing::make_sample(corruption.sample);
     corruption.corrupt(volume);
@@ -329,7 +367,8 @@ TEST(Validate, TheCheckWithoutTheCellsAndEachCellsCheckAgreeWithTheWholeCheck) {
         if (std::uint64_t(range.first) + range.count <= section.size() && range.count > 0)
           std::memset(static_cast<void*>(section.data() + range.first), 0xA5, range.count * sizeof(section[0]));
       };
-      fill(garbage.trace_nodes, r.trace_nodes), fill(garbage.trace_faces, r.trace_faces), fill(garbage.trace_vertices, r.trace_vertices);
+      fill(garbage.trace_nodes, r.trace_nodes), fill(garbage.trace_faces, r.trace_faces),
+          fill(garbage.trace_vertices, r.trace_vertices);
     }
     std::vector<CellEntry> entries, garbage_entries;
     const ValidationReport global = validate_without_cells(whole, tracing_view(whole), entries);
@@ -339,7 +378,8 @@ TEST(Validate, TheCheckWithoutTheCellsAndEachCellsCheckAgreeWithTheWholeCheck) {
     for (std::size_t k = 0; k < whole.cell_tracing.size() && global.valid(); ++k) {
       const CellTracingData data = cell_tracing_data(whole, k);
       EXPECT_EQ(garbage_entries[k].word, entries[k].word) << name << " cell " << k;
-      cells_valid = validate_cell_tracing(whole, entries, k, {data.nodes, data.faces, data.vertices}).valid() && cells_valid;
+      cells_valid =
+          validate_cell_tracing(whole, entries, k, {data.nodes, data.faces, data.vertices}).valid() && cells_valid;
     }
     const bool split_valid = global.valid() && cells_valid;
     EXPECT_EQ(split_valid, validate(whole).valid()) << name << "\n" << violations_text(validate(whole));
@@ -352,11 +392,13 @@ TEST(Validate, TheCheckWithoutTheCellsAndEachCellsCheckAgreeWithTheWholeCheck) {
 TEST(Validate, EveryModelInvariantHasACorruptionCase) {
   std::set<std::string> covered;
   for (const Corruption& corruption : corruptions()) covered.insert(corruption.invariant);
-  const std::set<std::string> file_level = {"container", "checksum", "format_version", "section_flags", "section_layout", "trailing_bytes",
-                                            "cell_checksum", "cell_global_checksum"};
+  const std::set<std::string> file_level = {
+      "container",      "checksum",       "format_version", "section_flags",
+      "section_layout", "trailing_bytes", "cell_checksum",  "cell_global_checksum"};
   for (const InvariantInfo& info : invariants()) {
     const std::string id = info.id;
-    if (file_level.count(id)) continue; // see corruption_test.cpp; cell_checksum, cell_global_checksum: cli_test.cpp, gpu_scene_test.cpp
+    if (file_level.count(id))
+      continue; // see corruption_test.cpp; cell_checksum, cell_global_checksum: cli_test.cpp, gpu_scene_test.cpp
     EXPECT_TRUE(covered.count(id)) << "no corruption case for " << id;
   }
 }

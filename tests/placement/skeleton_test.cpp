@@ -38,12 +38,12 @@ scene::Scene box_room(glm::vec3 size) {
     s.triangles.push_back(inward ? glm::uvec3(base, base + 2, base + 3) : glm::uvec3(base, base + 3, base + 2));
   };
   const float X = size.x, Y = size.y, Z = size.z;
-  quad({0, 0, 0}, {X, 0, 0}, {X, 0, Z}, {0, 0, Z});  // floor
-  quad({0, Y, 0}, {0, Y, Z}, {X, Y, Z}, {X, Y, 0});  // ceiling
-  quad({0, 0, 0}, {0, 0, Z}, {0, Y, Z}, {0, Y, 0});  // x = 0
-  quad({X, 0, 0}, {X, Y, 0}, {X, Y, Z}, {X, 0, Z});  // x = X
-  quad({0, 0, 0}, {0, Y, 0}, {X, Y, 0}, {X, 0, 0});  // z = 0
-  quad({0, 0, Z}, {X, 0, Z}, {X, Y, Z}, {0, Y, Z});  // z = Z
+  quad({0, 0, 0}, {X, 0, 0}, {X, 0, Z}, {0, 0, Z}); // floor
+  quad({0, Y, 0}, {0, Y, Z}, {X, Y, Z}, {X, Y, 0}); // ceiling
+  quad({0, 0, 0}, {0, 0, Z}, {0, Y, Z}, {0, Y, 0}); // x = 0
+  quad({X, 0, 0}, {X, Y, 0}, {X, Y, Z}, {X, 0, Z}); // x = X
+  quad({0, 0, 0}, {0, Y, 0}, {X, Y, 0}, {X, 0, 0}); // z = 0
+  quad({0, 0, Z}, {X, 0, Z}, {X, Y, Z}, {0, Y, Z}); // z = Z
   for (std::size_t t = 0; t < s.triangles.size(); ++t) {
     s.triangle_material.push_back(0);
     s.triangle_albedo.push_back(glm::vec3(0.5f));
@@ -81,8 +81,9 @@ TEST(Skeleton, BoxRoomSkeletonLiesOnItsMedialPlanes) {
   }
   int free_voxels = 0;
   for (float d : grid.distance) free_voxels += d >= clearance ? 1 : 0;
-  std::printf("box room: %zu skeleton voxels of %d free (voxel %.4f m); worst |d2 - d1| = %.4f m; %d on the central sheet\n",
-              skeleton.size(), free_voxels, double(grid.voxel), double(worst), on_central_sheet);
+  std::printf(
+      "box room: %zu skeleton voxels of %d free (voxel %.4f m); worst |d2 - d1| = %.4f m; %d on the central sheet\n",
+      skeleton.size(), free_voxels, double(grid.voxel), double(worst), on_central_sheet);
   EXPECT_LE(worst, 1.5f * grid.voxel);
   // The central sheet is 1.2 x 0.4 m: about (1.2 / v) * (0.4 / v) voxels, one or two thick.
   EXPECT_GE(on_central_sheet, int(0.8f * (1.2f / grid.voxel) * (0.4f / grid.voxel)));
@@ -125,10 +126,11 @@ TEST(Skeleton, GreedySelectionCoversTheCornellBoxSurface) {
   const std::vector<SurfaceSample> samples = sample_surface(c.scene, 4096, 777);
   const std::vector<glm::vec3> open = open_points(c);
   const float seen = coverage(c.rays, r.probes, open, samples, 0);
-  std::printf("cornell, no budget: %zu probes, %d candidates from %d skeleton voxels; coverage %.4f (own samples %.4f); "
-              "R %.1f -> %.1f in %d moves\n",
-              r.probes.size(), r.report.candidates, r.report.skeleton_voxels, double(seen), double(r.report.coverage),
-              r.report.objective_selected, r.report.objective_final, r.report.moves);
+  std::printf(
+      "cornell, no budget: %zu probes, %d candidates from %d skeleton voxels; coverage %.4f (own samples %.4f); "
+      "R %.1f -> %.1f in %d moves\n",
+      r.probes.size(), r.report.candidates, r.report.skeleton_voxels, double(seen), double(r.report.coverage),
+      r.report.objective_selected, r.report.objective_final, r.report.moves);
   EXPECT_GE(r.report.coverage, 0.999f);
   EXPECT_GE(seen, 0.99f);
   EXPECT_LE(r.probes.size(), 40u); // the paper's Cornell box needed 7
@@ -171,7 +173,8 @@ TEST(Skeleton, EveryGeneratedAndSharedSceneGetsProbes) {
   if (std::filesystem::exists(shared))
     for (const auto& entry : std::filesystem::recursive_directory_iterator(shared)) {
       const auto ext = entry.path().extension();
-      if (ext == ".glb" || ext == ".gltf") scenes.emplace_back(entry.path().filename().string(), scene::load_scene(entry.path()));
+      if (ext == ".glb" || ext == ".gltf")
+        scenes.emplace_back(entry.path().filename().string(), scene::load_scene(entry.path()));
     }
   std::sort(scenes.begin(), scenes.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& [name, s] : scenes) {

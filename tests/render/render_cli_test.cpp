@@ -26,14 +26,16 @@ const Files& files() {
     fs::create_directories(out.folder);
     out.scene = write_generated(samples::cornell(), "render-cli-cornell");
     out.probes = out.folder / "cornell.probes";
-    formats::write_probes_file(out.probes, bake::bake(load_generated(samples::cornell(), "render-cli-cornell-load"), test_settings()).volume);
+    formats::write_probes_file(
+        out.probes, bake::bake(load_generated(samples::cornell(), "render-cli-cornell-load"), test_settings()).volume);
     return out;
   }();
   return f;
 }
 
 CliResult render(const std::string& arguments) {
-  return run_program(PROBEBAKE_CLI, "render " + quoted(files().probes) + " --scene " + quoted(files().scene) + " " + arguments);
+  return run_program(PROBEBAKE_CLI,
+                     "render " + quoted(files().probes) + " --scene " + quoted(files().scene) + " " + arguments);
 }
 
 TEST(RenderCli, WritesEveryViewOnTheRuntimeUnderValidationAndTheCpuAgrees) {
@@ -52,7 +54,9 @@ TEST(RenderCli, WritesEveryViewOnTheRuntimeUnderValidationAndTheCpuAgrees) {
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   float brightest = 0.0f, largest_difference = 0.0f;
   for (std::size_t i = 0; i < a.pixels.size(); ++i)
-    for (int k = 0; k < 3; ++k) brightest = std::max(brightest, b.pixels[i][k]), largest_difference = std::max(largest_difference, std::abs(a.pixels[i][k] - b.pixels[i][k]));
+    for (int k = 0; k < 3; ++k)
+      brightest = std::max(brightest, b.pixels[i][k]),
+      largest_difference = std::max(largest_difference, std::abs(a.pixels[i][k] - b.pixels[i][k]));
   EXPECT_GT(brightest, 0.0f);
   EXPECT_LT(largest_difference, 1e-3f * brightest);
 }
@@ -72,12 +76,15 @@ TEST(RenderCli, RefusalsHaveTheirExitCodesAndWriteNothing) {
   EXPECT_EQ(render("--cpu --frames 3 -o " + quoted(out)).exit_code, 1);
   fs::create_directories(files().folder / "folder.png");
   EXPECT_EQ(render("--cpu -o " + quoted(files().folder / "folder.png")).exit_code, 3) << "a folder is not replaced";
-  EXPECT_EQ(run_program(PROBEBAKE_CLI, "render " + quoted(files().probes) + " --scene " + quoted(files().folder / "missing.glb") +
-                                           " --cpu -o " + quoted(out)).exit_code, 2);
+  EXPECT_EQ(run_program(PROBEBAKE_CLI, "render " + quoted(files().probes) + " --scene " +
+                                           quoted(files().folder / "missing.glb") + " --cpu -o " + quoted(out))
+                .exit_code,
+            2);
   const fs::path broken = files().folder / "broken.probes";
   fs::copy_file(files().probes, broken, fs::copy_options::overwrite_existing);
   fs::resize_file(broken, fs::file_size(broken) / 2);
-  const CliResult r = run_program(PROBEBAKE_CLI, "render " + quoted(broken) + " --scene " + quoted(files().scene) + " --cpu -o " + quoted(out));
+  const CliResult r = run_program(PROBEBAKE_CLI, "render " + quoted(broken) + " --scene " + quoted(files().scene) +
+                                                     " --cpu -o " + quoted(out));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("broken.probes"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));

@@ -58,7 +58,9 @@ bake::Camera facing(glm::vec3 target, float distance) {
   return c;
 }
 
-glm::vec3 centre_pixel(const bake::Image& image) { return image.pixels[std::size_t(image.height / 2) * std::size_t(image.width) + std::size_t(image.width / 2)]; }
+glm::vec3 centre_pixel(const bake::Image& image) {
+  return image.pixels[std::size_t(image.height / 2) * std::size_t(image.width) + std::size_t(image.width / 2)];
+}
 
 TEST(Render, FinalViewOfAPointLightOverABlackPlaneIsInverseSquare) {
   samples::PlaneLightOptions options; // 10 x 10 m at y = 0, 100 cd at (0, 1, 0), albedo 0
@@ -72,7 +74,8 @@ TEST(Render, FinalViewOfAPointLightOverABlackPlaneIsInverseSquare) {
   bake::Camera camera;
   camera.position = {0.3f, 2.5f, 1.5f}, camera.look_at = {0.0f, 0.0f, 0.0f}, camera.width = 48, camera.height = 40;
   render::Renderer renderer(inputs_of(b, camera));
-  const bake::Image final_image = renderer.render(render::View::final), indirect = renderer.render(render::View::indirect);
+  const bake::Image final_image = renderer.render(render::View::final),
+                    indirect = renderer.render(render::View::indirect);
   const bake::CameraFrame frame(camera);
   int checked = 0;
   for (std::size_t i = 0; i < final_image.pixels.size(); ++i) {
@@ -140,7 +143,8 @@ TEST(Render, ProbeSphereSeenHeadOnShowsTheProbesIrradianceTowardsTheCamera) {
   const glm::vec3 expected = glm::max(bake::evaluate_sh(p.irradiance_sh, {0.0f, 0.0f, 1.0f}), glm::vec3(0.0f));
   const glm::vec3 seen = centre_pixel(renderer.render(render::View::probes));
   ASSERT_GT(expected.x + expected.y + expected.z, 0.0f);
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(seen[c], expected[c], 1e-3f * (expected.x + expected.y + expected.z)) << "channel " << c;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(seen[c], expected[c], 1e-3f * (expected.x + expected.y + expected.z)) << "channel " << c;
 }
 
 TEST(Render, ProbeBehindAWallIsHidden) {

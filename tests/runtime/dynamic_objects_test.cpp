@@ -36,7 +36,8 @@ formats::ProbeVolume with_cube(const formats::ProbeVolume& base, glm::vec3 rest,
     a[axis] = 1.0f, u[(axis + 1) % 3] = 1.0f, w[(axis + 2) % 3] = 1.0f; // u x w = a
     for (const float side : {-1.0f, 1.0f}) {
       const glm::vec3 c = side * half * a;
-      glm::vec3 q[4] = {c - half * u - half * w, c + half * u - half * w, c + half * u + half * w, c - half * u + half * w};
+      glm::vec3 q[4] = {c - half * u - half * w, c + half * u - half * w, c + half * u + half * w,
+                        c - half * u + half * w};
       if (side < 0.0f) std::swap(q[1], q[3]); // counter-clockwise seen from outside
       for (const auto& [i, j] : {std::pair{1, 2}, std::pair{2, 3}}) {
         formats::TraceInputTriangle t;
@@ -70,7 +71,9 @@ formats::ProbeVolume with_cube(const formats::ProbeVolume& base, glm::vec3 rest,
   return v;
 }
 
-glm::vec3 in_root(const formats::ProbeVolume& v, glm::vec3 fraction) { return v.info.root_min + fraction * v.info.root_size; }
+glm::vec3 in_root(const formats::ProbeVolume& v, glm::vec3 fraction) {
+  return v.info.root_min + fraction * v.info.root_size;
+}
 
 runtime::ObjectPose at(glm::vec3 position) { return {0, glm::translate(glm::mat4(1.0f), position)}; }
 
@@ -181,7 +184,10 @@ TEST_F(DynamicObjectsTest, LightTraceSeesTheRotatedCubeAsTheCpuDoes) {
   // Around the first probe (inside the cube) and in view of the others.
   glm::vec3 around(0.0f);
   for (const gpu::Probe& p : v.probes)
-    if (p.link != 0) { around = p.position; break; }
+    if (p.link != 0) {
+      around = p.position;
+      break;
+    }
   const glm::mat4 pose = glm::translate(glm::mat4(1.0f), around + 0.02f * base.info.root_size) *
                          glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(1.0f, 1.0f, 0.3f))) *
                          glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 0.7f, 1.2f));
@@ -200,14 +206,19 @@ TEST_F(DynamicObjectsTest, LightTraceSeesTheRotatedCubeAsTheCpuDoes) {
       const glm::vec3 dir(v.ray_directions[std::size_t(r)]);
       const NearestHit hit = nearest_hit(v, posed, p.position, dir);
       const NearestHit without = nearest_hit(v, away, p.position, dir);
-      if (hit.triangle < 0) { ++miss; continue; }
+      if (hit.triangle < 0) {
+        ++miss;
+        continue;
+      }
       cube_hits += hit.triangle >= v.dynamic_objects[0].first_triangle ? 1 : 0;
       changed_by_cube += hit.triangle != without.triangle ? 1 : 0;
-      const bool inside = glm::dot(hit.normal, dir) > 0.0f && (v.trace_faces[std::size_t(hit.triangle)].material & gpu::TRACE_FACE_DOUBLE_SIDED) == 0u;
+      const bool inside = glm::dot(hit.normal, dir) > 0.0f &&
+                          (v.trace_faces[std::size_t(hit.triangle)].material & gpu::TRACE_FACE_DOUBLE_SIDED) == 0u;
       (inside ? back : front) += 1;
     }
   }
-  std::printf("[dynamic] light_trace with the rotated cube: %d probes, front/back/miss GPU %d/%d/%d, CPU %d/%d/%d; %d rays hit the cube\n",
+  std::printf("[dynamic] light_trace with the rotated cube: %d probes, front/back/miss GPU %d/%d/%d, CPU %d/%d/%d; %d "
+              "rays hit the cube\n",
               l.traced_probes, l.front_hits, l.backface_hits, l.misses, front, back, miss, cube_hits);
   EXPECT_EQ(l.traced_probes, traced);
   EXPECT_GT(cube_hits, 10);
@@ -266,11 +277,14 @@ TEST_F(DynamicObjectsTest, MovedObjectRetracesOnlyTheProbesWhoseRaysCrossItsBox)
   float worst = 0.0f, brightest = 0.0f;
   for (std::size_t i = 0; i < b.value().probes.size(); ++i) {
     if (b.value().probes[i].link == 0) continue;
-    for (int c = 0; c < gpu::PROBE_SH_FLOATS; ++c) worst = std::max(worst, std::abs(a.value().probes[i].irradiance_sh[c] - b.value().probes[i].irradiance_sh[c]));
+    for (int c = 0; c < gpu::PROBE_SH_FLOATS; ++c)
+      worst = std::max(worst, std::abs(a.value().probes[i].irradiance_sh[c] - b.value().probes[i].irradiance_sh[c]));
     brightest = std::max(brightest, std::abs(b.value().probes[i].irradiance_sh[0]));
   }
-  std::printf("[dynamic] a room's sphere moved: %d of %d probes re-traced; after 80 frames %.2e of the brightest DC from a "
-              "volume traced with it moved\n", traced, live, double(worst / brightest));
+  std::printf(
+      "[dynamic] a room's sphere moved: %d of %d probes re-traced; after 80 frames %.2e of the brightest DC from a "
+      "volume traced with it moved\n",
+      traced, live, double(worst / brightest));
   EXPECT_GT(traced, 0);
   EXPECT_LT(traced, live * 3 / 4) << "the other rooms' probes keep their records";
   EXPECT_LT(worst, 1e-4f * brightest);
@@ -308,8 +322,9 @@ TEST_F(DynamicObjectsTest, AllProbeSamplerIsOccludedByTheCubeWhereItIs) {
   ASSERT_TRUE(reference.ok());
   auto after = gpu.value().sample_irradiance(positions, normals, &moved, runtime::SampleMethod::all_probes);
   ASSERT_TRUE(after.ok());
-  std::printf("[dynamic] all-probe sampler: %zu of %zu points inside the cube miss, %zu after it moved away, %zu without it\n",
-              inside.misses, positions.size(), moved.misses, alone.misses);
+  std::printf(
+      "[dynamic] all-probe sampler: %zu of %zu points inside the cube miss, %zu after it moved away, %zu without it\n",
+      inside.misses, positions.size(), moved.misses, alone.misses);
   EXPECT_EQ(inside.misses, positions.size());
   EXPECT_LT(alone.misses, positions.size() / 2);
   EXPECT_EQ(moved.misses, alone.misses);
@@ -336,7 +351,8 @@ TEST_F(DynamicObjectsTest, PosesAllocateNothingAndStaticVolumesGetNoObjectBuffer
   const runtime::MemoryStats before = context().memory_stats();
   for (int f = 0; f < 12; ++f) {
     runtime::FrameInputs in;
-    in.object_poses = {at(in_root(base, glm::vec3(0.3f + 0.03f * float(f / 2), 0.4f, 0.5f)))}; // every other frame the same
+    in.object_poses = {
+        at(in_root(base, glm::vec3(0.3f + 0.03f * float(f / 2), 0.4f, 0.5f)))}; // every other frame the same
     auto stats = gpu.value().run_frame(in);
     ASSERT_TRUE(stats.ok()) << stats.status().message;
     EXPECT_EQ(stats.value().light.moved_objects, f % 2 == 0 ? 1 : 0) << "frame " << f;
@@ -355,7 +371,7 @@ TEST_F(DynamicObjectsTest, BadPosesAreRefusedAndChangeNothing) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   glm::mat4 with_nan(1.0f), projective(1.0f), flat(1.0f);
   with_nan[3][1] = nan;
-  projective[0][3] = 0.5f; // last row 0.5 0 0 1
+  projective[0][3] = 0.5f;                // last row 0.5 0 0 1
   flat[1][1] = 1e-5f, flat[2][2] = 1e-8f; // det 1e-13
   const std::vector<std::pair<std::vector<runtime::ObjectPose>, std::string>> bad{
       {{{0, with_nan}}, "not finite"},

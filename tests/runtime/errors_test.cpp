@@ -15,7 +15,8 @@ void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
-void expect_refused(const runtime::Result<runtime::Volume>& result, runtime::StatusCode code, const std::string& needle) {
+void expect_refused(const runtime::Result<runtime::Volume>& result, runtime::StatusCode code,
+                    const std::string& needle) {
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.status().code, code) << result.status().message;
   EXPECT_NE(result.status().message.find(needle), std::string::npos) << result.status().message;
@@ -28,7 +29,8 @@ const runtime::UploadOptions kLoads[] = {{}, {.streaming = {.budget_bytes = 1u <
 TEST_F(ErrorsTest, MissingFileIsAFileError) {
   const std::string path = temp_path("does-not-exist.probes");
   for (const runtime::UploadOptions& options : kLoads)
-    expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error, "does-not-exist.probes");
+    expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error,
+                   "does-not-exist.probes");
 }
 
 TEST_F(ErrorsTest, GarbageIsAFileError) {
@@ -36,7 +38,8 @@ TEST_F(ErrorsTest, GarbageIsAFileError) {
   write_bytes(path, std::vector<std::uint8_t>(1000, 0x5a));
   for (const runtime::UploadOptions& options : kLoads)
     expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error, "garbage.probes");
-  expect_refused(runtime::Volume::load(context(), ::testing::TempDir()), runtime::StatusCode::file_error, "is a directory");
+  expect_refused(runtime::Volume::load(context(), ::testing::TempDir()), runtime::StatusCode::file_error,
+                 "is a directory");
   expect_refused(runtime::Volume::load(context(), ::testing::TempDir(), kLoads[1]), runtime::StatusCode::file_error,
                  "not a regular file");
 }
@@ -47,7 +50,8 @@ TEST_F(ErrorsTest, TruncatedFileIsAFileError) {
   for (std::size_t size : {std::size_t(0), std::size_t(63), bytes.size() / 2, bytes.size() - 1}) {
     write_bytes(path, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + std::ptrdiff_t(size)));
     for (const runtime::UploadOptions& options : kLoads)
-      expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error, "truncated.probes");
+      expect_refused(runtime::Volume::load(context(), path, options), runtime::StatusCode::file_error,
+                     "truncated.probes");
   }
 }
 
@@ -69,7 +73,8 @@ TEST_F(ErrorsTest, ProbeIndexOfTheWrongSizeIsRefusedEvenWithoutValidation) {
 
 TEST_F(ErrorsTest, SectionOverMaxStorageBufferRangeIsUnsupported) {
   const std::uint64_t range = context().device_info().max_storage_buffer_range;
-  if (range > (std::uint64_t(1) << 29)) GTEST_SKIP() << "maxStorageBufferRange " << range << " is too large to exceed here";
+  if (range > (std::uint64_t(1) << 29))
+    GTEST_SKIP() << "maxStorageBufferRange " << range << " is too large to exceed here";
   formats::ProbeVolume huge = baked_cornell_octree();
   huge.probes.resize(range / sizeof(gpu::Probe) + 1);
   huge.probe_index.assign(huge.probes.size() + 1, gpu::PROBE_INDEX_END);

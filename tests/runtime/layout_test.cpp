@@ -21,14 +21,14 @@ namespace {
 // Offsets per member name of every struct type named `name` in a SPIR-V module (several types may carry
 // the name; each is returned).
 struct SpirvStructs {
-  std::map<std::uint32_t, std::string> names;                                  // id -> OpName
-  std::map<std::uint32_t, std::map<std::uint32_t, std::string>> member_names;  // id -> member -> name
-  std::map<std::uint32_t, std::map<std::uint32_t, std::uint32_t>> offsets;     // id -> member -> Offset
-  std::map<std::uint32_t, std::uint32_t> array_strides;                        // type id -> ArrayStride
-  std::map<std::uint32_t, std::vector<std::uint32_t>> struct_members;          // struct id -> member type ids
-  std::map<std::uint32_t, std::uint32_t> bindings, sets;                       // variable id -> Binding, DescriptorSet
-  std::map<std::uint32_t, std::uint32_t> pointees;                             // pointer type id -> pointee type id
-  std::map<std::uint32_t, std::uint32_t> variable_types;                       // variable id -> (pointer) type id
+  std::map<std::uint32_t, std::string> names;                                 // id -> OpName
+  std::map<std::uint32_t, std::map<std::uint32_t, std::string>> member_names; // id -> member -> name
+  std::map<std::uint32_t, std::map<std::uint32_t, std::uint32_t>> offsets;    // id -> member -> Offset
+  std::map<std::uint32_t, std::uint32_t> array_strides;                       // type id -> ArrayStride
+  std::map<std::uint32_t, std::vector<std::uint32_t>> struct_members;         // struct id -> member type ids
+  std::map<std::uint32_t, std::uint32_t> bindings, sets;                      // variable id -> Binding, DescriptorSet
+  std::map<std::uint32_t, std::uint32_t> pointees;                            // pointer type id -> pointee type id
+  std::map<std::uint32_t, std::uint32_t> variable_types;                      // variable id -> (pointer) type id
 };
 
 std::string literal_string(std::span<const std::uint32_t> words) {
@@ -90,9 +90,9 @@ int expect_layout(const char* shader, const char* type, const std::vector<Member
   return found;
 }
 
-constexpr const char* kMemoryShaders[] = {"memory_begin",    "memory_decide",   "memory_release",
-                                          "memory_grant",    "memory_allocate", "memory_collapse",
-                                          "memory_svo",      "memory_light",    "memory_sync"};
+constexpr const char* kMemoryShaders[] = {"memory_begin", "memory_decide",   "memory_release",
+                                          "memory_grant", "memory_allocate", "memory_collapse",
+                                          "memory_svo",   "memory_light",    "memory_sync"};
 
 // Buffer block name -> binding number of bindings.h.
 using BindingTable = std::map<std::string, std::uint32_t>;
@@ -172,7 +172,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
                            {"RelightChangeBuffer", LIGHT_BINDING_RELIGHT_CHANGES},
                            {"TrackedPunctualBuffer", LIGHT_BINDING_TRACKED_PUNCTUAL},
                            {"RecordSlotBuffer", LIGHT_BINDING_RECORD_SLOTS}};
-  for (const char* shader : {"light_trace", "light_gather", "light_resolve", "light_relight"}) expect_bindings(shader, light);
+  for (const char* shader : {"light_trace", "light_gather", "light_resolve", "light_relight"})
+    expect_bindings(shader, light);
   const BindingTable memory{{"VolumeInfoBuffer", MEMORY_BINDING_VOLUME_INFO},
                             {"ProbeBuffer", MEMORY_BINDING_PROBES},
                             {"SvoNodeBuffer", MEMORY_BINDING_SVO_NODES},
@@ -208,7 +209,8 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeader) {
   for (const char* shader : kMemoryShaders) expect_bindings(shader, memory);
   expect_bindings("object_refit", {{"DynamicObjectBuffer", OBJECT_BINDING_DYNAMIC_OBJECTS},
                                    {"ObjectInstanceBuffer", OBJECT_BINDING_INSTANCES}});
-  expect_bindings("stream_relocate", {{"ArenaBuffer", STREAM_BINDING_ARENA}, {"ScratchBuffer", STREAM_BINDING_SCRATCH}});
+  expect_bindings("stream_relocate",
+                  {{"ArenaBuffer", STREAM_BINDING_ARENA}, {"ScratchBuffer", STREAM_BINDING_SCRATCH}});
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
@@ -226,11 +228,14 @@ TEST(GpuLayout, ShaderLibraryHoldsEveryShader) {
 
 TEST(GpuLayout, ProbeMatchesGpuTypes) {
   using gpu::Probe;
-  const std::vector<Member> members{{"position", offsetof(Probe, position)}, {"link", offsetof(Probe, link)},
-                                    {"node", offsetof(Probe, node)},         {"depth", offsetof(Probe, depth)},
+  const std::vector<Member> members{{"position", offsetof(Probe, position)},
+                                    {"link", offsetof(Probe, link)},
+                                    {"node", offsetof(Probe, node)},
+                                    {"depth", offsetof(Probe, depth)},
                                     {"hit_fraction", offsetof(Probe, hit_fraction)},
                                     {"backface_fraction", offsetof(Probe, backface_fraction)},
-                                    {"irradiance_sh", offsetof(Probe, irradiance_sh)}, {"pad0", offsetof(Probe, pad0)}};
+                                    {"irradiance_sh", offsetof(Probe, irradiance_sh)},
+                                    {"pad0", offsetof(Probe, pad0)}};
   EXPECT_GE(expect_layout("sample_irradiance", "Probe", members), 1);
   EXPECT_GE(expect_layout("probe_index_count", "Probe", members), 1);
   // The probe buffer's runtime array has the C++ stride.
@@ -249,10 +254,12 @@ TEST(GpuLayout, VolumeInfoAndSvoLeafMatchGpuTypes) {
   using gpu::SvoLeaf;
   using gpu::VolumeInfo;
   EXPECT_EQ(expect_layout("sample_irradiance", "VolumeInfo",
-                          {{"root_min", offsetof(VolumeInfo, root_min)}, {"root_size", offsetof(VolumeInfo, root_size)},
+                          {{"root_min", offsetof(VolumeInfo, root_min)},
+                           {"root_size", offsetof(VolumeInfo, root_size)},
                            {"svo_depth", offsetof(VolumeInfo, svo_depth)},
                            {"probe_capacity", offsetof(VolumeInfo, probe_capacity)},
-                           {"svo_nodes", offsetof(VolumeInfo, svo_nodes)}, {"svo_leaves", offsetof(VolumeInfo, svo_leaves)},
+                           {"svo_nodes", offsetof(VolumeInfo, svo_nodes)},
+                           {"svo_leaves", offsetof(VolumeInfo, svo_leaves)},
                            {"pad2", offsetof(VolumeInfo, pad2)}}),
             1);
   EXPECT_EQ(expect_layout("sample_irradiance", "SvoLeaf",
@@ -262,7 +269,8 @@ TEST(GpuLayout, VolumeInfoAndSvoLeafMatchGpuTypes) {
 
 TEST(GpuLayout, RuntimeTypesMatch) {
   EXPECT_EQ(expect_layout("sample_irradiance", "SampleQuery",
-                          {{"position", offsetof(gpu::SampleQuery, position)}, {"normal", offsetof(gpu::SampleQuery, normal)},
+                          {{"position", offsetof(gpu::SampleQuery, position)},
+                           {"normal", offsetof(gpu::SampleQuery, normal)},
                            {"pad1", offsetof(gpu::SampleQuery, pad1)}}),
             1);
   EXPECT_EQ(expect_layout("sample_irradiance", "SampleResult",
@@ -281,33 +289,47 @@ TEST(GpuLayout, RuntimeTypesMatch) {
 TEST(GpuLayout, LightingSectionsMatchGpuTypes) {
   using namespace gpu;
   EXPECT_GE(expect_layout("light_trace", "TraceTree",
-                          {{"lower", offsetof(TraceTree, lower)}, {"root", offsetof(TraceTree, root)},
-                           {"scale", offsetof(TraceTree, scale)}, {"node_count", offsetof(TraceTree, node_count)}}),
+                          {{"lower", offsetof(TraceTree, lower)},
+                           {"root", offsetof(TraceTree, root)},
+                           {"scale", offsetof(TraceTree, scale)},
+                           {"node_count", offsetof(TraceTree, node_count)}}),
             1);
   EXPECT_GE(expect_layout("light_trace", "TraceNode",
-                          {{"lower", offsetof(TraceNode, lower)}, {"upper", offsetof(TraceNode, upper)}, {"child", offsetof(TraceNode, child)}}),
+                          {{"lower", offsetof(TraceNode, lower)},
+                           {"upper", offsetof(TraceNode, upper)},
+                           {"child", offsetof(TraceNode, child)}}),
             1);
-  EXPECT_GE(expect_layout("light_trace", "TraceFace", {{"vertex", offsetof(TraceFace, vertex)}, {"material", offsetof(TraceFace, material)}}), 1);
-  EXPECT_GE(expect_layout("light_trace", "TraceVertex",
-                          {{"x", offsetof(TraceVertex, x)}, {"y", offsetof(TraceVertex, y)}, {"z", offsetof(TraceVertex, z)}}),
+  EXPECT_GE(expect_layout("light_trace", "TraceFace",
+                          {{"vertex", offsetof(TraceFace, vertex)}, {"material", offsetof(TraceFace, material)}}),
             1);
-  EXPECT_GE(expect_layout("light_trace", "TraceMaterial",
-                          {{"albedo", offsetof(TraceMaterial, albedo)}, {"emission", offsetof(TraceMaterial, emission)}}),
+  EXPECT_GE(expect_layout(
+                "light_trace", "TraceVertex",
+                {{"x", offsetof(TraceVertex, x)}, {"y", offsetof(TraceVertex, y)}, {"z", offsetof(TraceVertex, z)}}),
             1);
+  EXPECT_GE(
+      expect_layout("light_trace", "TraceMaterial",
+                    {{"albedo", offsetof(TraceMaterial, albedo)}, {"emission", offsetof(TraceMaterial, emission)}}),
+      1);
   EXPECT_GE(expect_layout("light_gather", "PunctualLight",
-                          {{"position", offsetof(PunctualLight, position)}, {"type", offsetof(PunctualLight, type)},
-                           {"direction", offsetof(PunctualLight, direction)}, {"range", offsetof(PunctualLight, range)},
+                          {{"position", offsetof(PunctualLight, position)},
+                           {"type", offsetof(PunctualLight, type)},
+                           {"direction", offsetof(PunctualLight, direction)},
+                           {"range", offsetof(PunctualLight, range)},
                            {"intensity", offsetof(PunctualLight, intensity)},
                            {"cos_outer", offsetof(PunctualLight, cos_outer)},
                            {"spot_scale", offsetof(PunctualLight, spot_scale)}}),
             1);
   EXPECT_GE(expect_layout("light_trace", "EmitterPatch",
-                          {{"a", offsetof(EmitterPatch, a)}, {"flags", offsetof(EmitterPatch, flags)},
-                           {"b", offsetof(EmitterPatch, b)}, {"c", offsetof(EmitterPatch, c)},
-                           {"normal", offsetof(EmitterPatch, normal)}, {"radiance", offsetof(EmitterPatch, radiance)}}),
+                          {{"a", offsetof(EmitterPatch, a)},
+                           {"flags", offsetof(EmitterPatch, flags)},
+                           {"b", offsetof(EmitterPatch, b)},
+                           {"c", offsetof(EmitterPatch, c)},
+                           {"normal", offsetof(EmitterPatch, normal)},
+                           {"radiance", offsetof(EmitterPatch, radiance)}}),
             1);
   EXPECT_GE(expect_layout("light_trace", "LightingInfo",
-                          {{"sky_radiance", offsetof(LightingInfo, sky_radiance)}, {"rays", offsetof(LightingInfo, rays)},
+                          {{"sky_radiance", offsetof(LightingInfo, sky_radiance)},
+                           {"rays", offsetof(LightingInfo, rays)},
                            {"shadow_offset", offsetof(LightingInfo, shadow_offset)},
                            {"emissive_as_lights", offsetof(LightingInfo, emissive_as_lights)},
                            {"bvh_nodes", offsetof(LightingInfo, bvh_nodes)},
@@ -320,45 +342,63 @@ TEST(GpuLayout, DynamicObjectTypesMatch) {
   using namespace gpu;
   for (const char* shader : {"object_refit", "light_trace", "memory_light", "sample_all_probes"}) {
     EXPECT_GE(expect_layout(shader, "DynamicObject",
-                            {{"lower", offsetof(DynamicObject, lower)}, {"bvh_root", offsetof(DynamicObject, bvh_root)},
-                             {"upper", offsetof(DynamicObject, upper)}, {"bvh_node_count", offsetof(DynamicObject, bvh_node_count)},
+                            {{"lower", offsetof(DynamicObject, lower)},
+                             {"bvh_root", offsetof(DynamicObject, bvh_root)},
+                             {"upper", offsetof(DynamicObject, upper)},
+                             {"bvh_node_count", offsetof(DynamicObject, bvh_node_count)},
                              {"first_triangle", offsetof(DynamicObject, first_triangle)},
                              {"triangle_count", offsetof(DynamicObject, triangle_count)},
-                             {"gltf_node", offsetof(DynamicObject, gltf_node)}, {"rest_rows", offsetof(DynamicObject, rest_rows)}}),
-              1) << shader;
+                             {"gltf_node", offsetof(DynamicObject, gltf_node)},
+                             {"rest_rows", offsetof(DynamicObject, rest_rows)}}),
+              1)
+        << shader;
     EXPECT_GE(expect_layout(shader, "ObjectInstance",
                             {{"world_from_object", offsetof(ObjectInstance, world_from_object)},
                              {"object_from_world", offsetof(ObjectInstance, object_from_world)},
                              {"world_lower", offsetof(ObjectInstance, world_lower)},
                              {"world_upper", offsetof(ObjectInstance, world_upper)}}),
-              1) << shader;
+              1)
+        << shader;
   }
-  EXPECT_GE(expect_layout("light_trace", "LightingInfo", {{"dynamic_objects", offsetof(LightingInfo, dynamic_objects)}}), 1);
+  EXPECT_GE(
+      expect_layout("light_trace", "LightingInfo", {{"dynamic_objects", offsetof(LightingInfo, dynamic_objects)}}), 1);
   EXPECT_GE(expect_layout("object_refit", "ObjectRefitPush", {{"objects", offsetof(ObjectRefitPush, objects)}}), 1);
   EXPECT_GE(expect_layout("stream_relocate", "StreamRelocatePush",
-                          {{"from_byte", offsetof(StreamRelocatePush, from_byte)}, {"to_byte", offsetof(StreamRelocatePush, to_byte)},
-                           {"nodes", offsetof(StreamRelocatePush, nodes)}, {"faces", offsetof(StreamRelocatePush, faces)}}),
+                          {{"from_byte", offsetof(StreamRelocatePush, from_byte)},
+                           {"to_byte", offsetof(StreamRelocatePush, to_byte)},
+                           {"nodes", offsetof(StreamRelocatePush, nodes)},
+                           {"faces", offsetof(StreamRelocatePush, faces)}}),
             1);
 }
 
 TEST(GpuLayout, LightUpdateTypesMatch) {
   using namespace gpu;
   EXPECT_GE(expect_layout("light_gather", "LightRecord",
-                          {{"position", offsetof(LightRecord, position)}, {"kind", offsetof(LightRecord, kind)},
-                           {"normal", offsetof(LightRecord, normal)}, {"base", offsetof(LightRecord, base)},
-                           {"reflect", offsetof(LightRecord, reflect)}, {"punctual_r", offsetof(LightRecord, punctual_r)},
-                           {"punctual_g", offsetof(LightRecord, punctual_g)}, {"punctual_b", offsetof(LightRecord, punctual_b)}}),
+                          {{"position", offsetof(LightRecord, position)},
+                           {"kind", offsetof(LightRecord, kind)},
+                           {"normal", offsetof(LightRecord, normal)},
+                           {"base", offsetof(LightRecord, base)},
+                           {"reflect", offsetof(LightRecord, reflect)},
+                           {"punctual_r", offsetof(LightRecord, punctual_r)},
+                           {"punctual_g", offsetof(LightRecord, punctual_g)},
+                           {"punctual_b", offsetof(LightRecord, punctual_b)}}),
             1);
   EXPECT_GE(expect_layout("light_relight", "RelightChanges",
-                          {{"count", offsetof(RelightChanges, count)}, {"everything", offsetof(RelightChanges, everything)},
+                          {{"count", offsetof(RelightChanges, count)},
+                           {"everything", offsetof(RelightChanges, everything)},
                            {"reuse_before", offsetof(RelightChanges, reuse_before)},
-                           {"track_after", offsetof(RelightChanges, track_after)}, {"changes", offsetof(RelightChanges, changes)},
-                           {"moved_boxes", offsetof(RelightChanges, moved_boxes)}, {"boxes", offsetof(RelightChanges, boxes)}}),
+                           {"track_after", offsetof(RelightChanges, track_after)},
+                           {"changes", offsetof(RelightChanges, changes)},
+                           {"moved_boxes", offsetof(RelightChanges, moved_boxes)},
+                           {"boxes", offsetof(RelightChanges, boxes)}}),
             1);
-  EXPECT_GE(expect_layout("light_relight", "LightChange", {{"before", offsetof(LightChange, before)}, {"after", offsetof(LightChange, after)}}), 1);
+  EXPECT_GE(expect_layout("light_relight", "LightChange",
+                          {{"before", offsetof(LightChange, before)}, {"after", offsetof(LightChange, after)}}),
+            1);
   EXPECT_GE(expect_layout("light_gather", "LightPush",
                           {{"probe_capacity", offsetof(LightPush, probe_capacity)},
-                           {"hysteresis", offsetof(LightPush, hysteresis)}, {"first_slot", offsetof(LightPush, first_slot)},
+                           {"hysteresis", offsetof(LightPush, hysteresis)},
+                           {"first_slot", offsetof(LightPush, first_slot)},
                            {"slot_count", offsetof(LightPush, slot_count)},
                            {"indirect_records", offsetof(LightPush, indirect_records)}}),
             1);
@@ -373,23 +413,30 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
                           {{"relit_records", offsetof(LightCounters, relit_records)},
                            {"reused_records", offsetof(LightCounters, reused_records)}}),
             1);
-  EXPECT_GE(expect_layout("light_trace", "LightPush", {{"tracked_light", offsetof(LightPush, tracked_light)},
-                                                       {"probes_per_page", offsetof(LightPush, probes_per_page)}}),
+  EXPECT_GE(expect_layout("light_trace", "LightPush",
+                          {{"tracked_light", offsetof(LightPush, tracked_light)},
+                           {"probes_per_page", offsetof(LightPush, probes_per_page)}}),
             1);
 }
 
 TEST(GpuLayout, MemoryUpdateTypesMatch) {
   using namespace gpu;
   EXPECT_GE(expect_layout("memory_grant", "MemoryWork",
-                          {{"node", offsetof(MemoryWork, node)}, {"state", offsetof(MemoryWork, state)},
-                           {"action", offsetof(MemoryWork, action)}, {"verdict", offsetof(MemoryWork, verdict)},
-                           {"reuse_probe", offsetof(MemoryWork, reuse_probe)}, {"cluster_first", offsetof(MemoryWork, cluster_first)},
-                           {"probe_first", offsetof(MemoryWork, probe_first)}, {"batch_first", offsetof(MemoryWork, batch_first)},
+                          {{"node", offsetof(MemoryWork, node)},
+                           {"state", offsetof(MemoryWork, state)},
+                           {"action", offsetof(MemoryWork, action)},
+                           {"verdict", offsetof(MemoryWork, verdict)},
+                           {"reuse_probe", offsetof(MemoryWork, reuse_probe)},
+                           {"cluster_first", offsetof(MemoryWork, cluster_first)},
+                           {"probe_first", offsetof(MemoryWork, probe_first)},
+                           {"batch_first", offsetof(MemoryWork, batch_first)},
                            {"merged", offsetof(MemoryWork, merged)}}),
             1);
   EXPECT_GE(expect_layout("memory_grant", "MemoryState",
-                          {{"cluster_top", offsetof(MemoryState, cluster_top)}, {"probe_top", offsetof(MemoryState, probe_top)},
-                           {"batch_top", offsetof(MemoryState, batch_top)}, {"traced", offsetof(MemoryState, traced)},
+                          {{"cluster_top", offsetof(MemoryState, cluster_top)},
+                           {"probe_top", offsetof(MemoryState, probe_top)},
+                           {"batch_top", offsetof(MemoryState, batch_top)},
+                           {"traced", offsetof(MemoryState, traced)},
                            {"memory_pulled", offsetof(MemoryState, memory_pulled)},
                            {"memory_segment", offsetof(MemoryState, memory_segment)},
                            {"light_pulled", offsetof(MemoryState, light_pulled)},
@@ -406,11 +453,15 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
                            {"batches_per_probe", offsetof(MemoryFrame, batches_per_probe)},
                            {"boxes", offsetof(MemoryFrame, boxes)}}),
             1);
-  EXPECT_GE(expect_layout("memory_light", "MemoryBox", {{"lower", offsetof(MemoryBox, lower)}, {"upper", offsetof(MemoryBox, upper)}}), 1);
+  EXPECT_GE(expect_layout("memory_light", "MemoryBox",
+                          {{"lower", offsetof(MemoryBox, lower)}, {"upper", offsetof(MemoryBox, upper)}}),
+            1);
   EXPECT_GE(expect_layout("memory_sync", "MemoryCounters",
-                          {{"processed", offsetof(MemoryCounters, processed)}, {"deferred", offsetof(MemoryCounters, deferred)},
+                          {{"processed", offsetof(MemoryCounters, processed)},
+                           {"deferred", offsetof(MemoryCounters, deferred)},
                            {"probes_placed", offsetof(MemoryCounters, probes_placed)},
-                           {"probes_freed", offsetof(MemoryCounters, probes_freed)}, {"splits", offsetof(MemoryCounters, splits)},
+                           {"probes_freed", offsetof(MemoryCounters, probes_freed)},
+                           {"splits", offsetof(MemoryCounters, splits)},
                            {"collapses", offsetof(MemoryCounters, collapses)},
                            {"failed_allocations", offsetof(MemoryCounters, failed_allocations)},
                            {"lost_entries", offsetof(MemoryCounters, lost_entries)},
@@ -422,8 +473,10 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
                            {"free_batches", offsetof(MemoryCounters, free_batches)}}),
             1);
   EXPECT_GE(expect_layout("memory_allocate", "SurfelBatch",
-                          {{"link", offsetof(SurfelBatch, link)}, {"probe", offsetof(SurfelBatch, probe)},
-                           {"count", offsetof(SurfelBatch, count)}, {"first", offsetof(SurfelBatch, first)},
+                          {{"link", offsetof(SurfelBatch, link)},
+                           {"probe", offsetof(SurfelBatch, probe)},
+                           {"count", offsetof(SurfelBatch, count)},
+                           {"first", offsetof(SurfelBatch, first)},
                            {"surfels", offsetof(SurfelBatch, surfels)}}),
             1);
   EXPECT_GE(expect_layout("memory_allocate", "LeafQueueHeader",
@@ -435,9 +488,10 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
   EXPECT_GE(expect_layout("light_trace", "LightPush",
                           {{"trace_all", offsetof(LightPush, trace_all)}, {"listed", offsetof(LightPush, listed)}}),
             1);
-  const std::vector<Member> list{{"groups_x", offsetof(LightListHeader, groups_x)}, {"count", offsetof(LightListHeader, count)},
-                                 {"resolve_x", offsetof(LightListHeader, resolve_x)}, {"resolve_z", offsetof(LightListHeader, resolve_z)},
-                                 {"trace_x", offsetof(LightListHeader, trace_x)}, {"trace_z", offsetof(LightListHeader, trace_z)}};
+  const std::vector<Member> list{
+      {"groups_x", offsetof(LightListHeader, groups_x)},   {"count", offsetof(LightListHeader, count)},
+      {"resolve_x", offsetof(LightListHeader, resolve_x)}, {"resolve_z", offsetof(LightListHeader, resolve_z)},
+      {"trace_x", offsetof(LightListHeader, trace_x)},     {"trace_z", offsetof(LightListHeader, trace_z)}};
   EXPECT_GE(expect_layout("memory_begin", "LightListHeader", list), 1);
   EXPECT_GE(expect_layout("light_resolve", "LightListHeader", list), 1);
 }

@@ -79,7 +79,9 @@ formats::ProbeVolume cpu_lighting(const Baked& b, const formats::ProbeVolume& st
 float brightest_dc(const formats::ProbeVolume& volume) {
   float brightest = 0.0f;
   for (const gpu::Probe& p : volume.probes)
-    if (p.link != 0) brightest = std::max({brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
+    if (p.link != 0)
+      brightest = std::max(
+          {brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
   return brightest;
 }
 
@@ -88,7 +90,8 @@ float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolum
   float worst = 0.0f;
   for (std::size_t i = 0; i < b.probes.size(); ++i) {
     if (b.probes[i].link == 0) continue;
-    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
+      worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
   }
   return worst / std::max(brightest_dc(b), 1e-30f);
 }
@@ -165,18 +168,24 @@ TEST_F(LightInputsTest, MovedLightMatchesTheCpuBakeAtTheNewPose) {
 // lights than a sampled record's shadow rays.
 samples::SceneBuilder cornell_with_six_lights() {
   samples::SceneBuilder scene = samples::cornell();
-  const std::array<glm::vec3, 6> at = {{{-0.1f, 0.42f, 0.05f}, {0.15f, 0.30f, -0.15f}, {-0.2f, 0.10f, -0.2f},
-                                        {0.2f, 0.45f, 0.15f}, {0.0f, 0.05f, 0.2f}, {-0.05f, 0.25f, -0.22f}}};
+  const std::array<glm::vec3, 6> at = {{{-0.1f, 0.42f, 0.05f},
+                                        {0.15f, 0.30f, -0.15f},
+                                        {-0.2f, 0.10f, -0.2f},
+                                        {0.2f, 0.45f, 0.15f},
+                                        {0.0f, 0.05f, 0.2f},
+                                        {-0.05f, 0.25f, -0.22f}}};
   for (std::size_t i = 0; i < at.size(); ++i) {
     const std::string name = "bulb" + std::to_string(i);
     const glm::vec3 colour{1.0f, 0.5f + 0.1f * float(i), 1.0f - 0.15f * float(i)};
-    scene.add_light_node(name, scene.add_light({.name = name, .color = colour, .intensity = 0.05f + 0.06f * float(i)}), at[i]);
+    scene.add_light_node(name, scene.add_light({.name = name, .color = colour, .intensity = 0.05f + 0.06f * float(i)}),
+                         at[i]);
   }
   return scene;
 }
 
 // Frames with the given shadow-ray budget (FrameLimits::shadow_rays_per_record), `lights` in the first.
-void run_sampled(runtime::Volume& volume, int frames, int shadow_rays, const std::vector<gpu::PunctualLight>* lights = nullptr) {
+void run_sampled(runtime::Volume& volume, int frames, int shadow_rays,
+                 const std::vector<gpu::PunctualLight>* lights = nullptr) {
   for (int f = 0; f < frames; ++f) {
     runtime::FrameInputs in;
     in.limits.shadow_rays_per_record = shadow_rays;
@@ -216,7 +225,8 @@ TEST_F(LightInputsTest, SeveralLightsMovedAtOnceMatchTheCpuBake) {
     runtime::Volume gpu = upload(context(), b.volume);
     run(gpu, 60, &moved);
     const float after60 = max_sh_difference(read_back(gpu), cpu_converged);
-    std::printf("[lights] %d of 6 lights moved at once: GPU vs CPU after 60 frames %.2e\n", moved_count, double(after60));
+    std::printf("[lights] %d of 6 lights moved at once: GPU vs CPU after 60 frames %.2e\n", moved_count,
+                double(after60));
     EXPECT_LT(after60, 2e-3f) << moved_count << " lights moved";
   }
 }
@@ -235,7 +245,8 @@ TEST_F(LightInputsTest, SampledLightsStayNearTheExactSum) {
     }
     const auto [rms, bias] = dc_error(sampled[0], cpu_converged);
     std::printf("[lights] 6 lights, %d shadow rays per record, 256 records per probe: DC relative RMS %.4f, bias %+.4f "
-                "against the exact CPU bake\n", shadow_rays, rms, bias);
+                "against the exact CPU bake\n",
+                shadow_rays, rms, bias);
     EXPECT_EQ(max_sh_difference(sampled[0], sampled[1]), 0.0f) << "the same frames, the same draws";
     if (shadow_rays == 6) {
       EXPECT_LT(max_sh_difference(sampled[0], cpu_converged), 2e-3f) << "as many rays as lights: exact";
@@ -254,7 +265,8 @@ TEST_F(LightInputsTest, GatherBudgetBoundsTheRelightAndCatchesUpAfterManyLightsM
   // unbudgeted twin given the same frames ends.
   samples::SceneBuilder builder = samples::cornell();
   for (int l = 0; l < 18; ++l)
-    builder.add_light_node("bulb" + std::to_string(l), builder.add_light({.name = "bulb" + std::to_string(l), .intensity = 0.02f}),
+    builder.add_light_node("bulb" + std::to_string(l),
+                           builder.add_light({.name = "bulb" + std::to_string(l), .intensity = 0.02f}),
                            {-0.2f + 0.08f * float(l % 6), 0.25f + 0.08f * float(l / 6), 0.1f});
   Baked b = bake_generated(builder, "cornell-window");
   ASSERT_GT(b.volume.punctual_lights.size(), std::size_t(gpu::RELIGHT_MAX_CHANGES));
@@ -265,9 +277,12 @@ TEST_F(LightInputsTest, GatherBudgetBoundsTheRelightAndCatchesUpAfterManyLightsM
   // light_moves: light 0 on a small circle; all_move: every light shifted by f millimetres.
   const auto frame = [&](int f, bool light_moves, bool all_move) {
     runtime::FrameInputs in;
-    if (light_moves) lights[0].position = b.volume.punctual_lights[0].position + 0.02f * glm::vec3(std::sin(0.3f * float(f)), 0.0f, std::cos(0.3f * float(f)));
+    if (light_moves)
+      lights[0].position = b.volume.punctual_lights[0].position +
+                           0.02f * glm::vec3(std::sin(0.3f * float(f)), 0.0f, std::cos(0.3f * float(f)));
     if (all_move)
-      for (std::size_t l = 0; l < lights.size(); ++l) lights[l].position = b.volume.punctual_lights[l].position + glm::vec3(0.001f * float(f));
+      for (std::size_t l = 0; l < lights.size(); ++l)
+        lights[l].position = b.volume.punctual_lights[l].position + glm::vec3(0.001f * float(f));
     if (light_moves || all_move) in.lights = lights;
     auto twin_stats = twin.run_frame(in);
     ASSERT_TRUE(twin_stats.ok()) << twin_stats.status().message;
@@ -282,9 +297,10 @@ TEST_F(LightInputsTest, GatherBudgetBoundsTheRelightAndCatchesUpAfterManyLightsM
   frame(23, false, true); // while most probes still wait
   for (int f = 24; f < 400; ++f) frame(f, false, false);
   const float error = max_sh_difference(read_back(budgeted), read_back(twin));
-  std::printf("[lights] gather budget %d of %d probes: at most %d records relit per frame after 18 lights moved (window: "
-              "%d), budgeted vs unbudgeted %.2e after 376 still frames\n", window, capacity, most_relit_after_move, window * rays,
-              double(error));
+  std::printf(
+      "[lights] gather budget %d of %d probes: at most %d records relit per frame after 18 lights moved (window: "
+      "%d), budgeted vs unbudgeted %.2e after 376 still frames\n",
+      window, capacity, most_relit_after_move, window * rays, double(error));
   EXPECT_GT(most_relit_after_move, 0);
   EXPECT_LE(most_relit_after_move, window * rays);
   EXPECT_LT(error, 1e-4f);
@@ -325,8 +341,9 @@ TEST_F(LightInputsTest, RecolouredLightScalesTheProbesExactly) {
       unequal += y.probes[i].irradiance_sh[v] == scale[v % 3] * x.probes[i].irradiance_sh[v] ? 0 : 1;
     }
   }
-  std::printf("[lights] leak light recoloured x (2, 0.5, 4): %d SH coefficients, %d not exactly scaled (brightest DC %.3g)\n",
-              compared, unequal, double(brightest_dc(x)));
+  std::printf(
+      "[lights] leak light recoloured x (2, 0.5, 4): %d SH coefficients, %d not exactly scaled (brightest DC %.3g)\n",
+      compared, unequal, double(brightest_dc(x)));
   EXPECT_GT(brightest_dc(x), 0.1f);
   EXPECT_EQ(unequal, 0);
 }
@@ -355,9 +372,10 @@ TEST_F(LightInputsTest, RemovingAllLightsLeavesTheEmitterAndAddingBackRestores) 
   const formats::ProbeVolume restored = read_back(gpu);
   const float restored_error = max_sh_difference(restored, b.volume);
   const float bulb_share = max_sh_difference(b.volume, emitter_only);
-  std::printf("[lights] cornell bulb removed: GPU vs CPU emitter-only bake %.2e after 60 frames; added back: vs the first "
-              "bake %.2e after 60 more (the bulb changes the probes by %.3g of the brightest DC)\n",
-              double(removed_error), double(restored_error), double(bulb_share));
+  std::printf(
+      "[lights] cornell bulb removed: GPU vs CPU emitter-only bake %.2e after 60 frames; added back: vs the first "
+      "bake %.2e after 60 more (the bulb changes the probes by %.3g of the brightest DC)\n",
+      double(removed_error), double(restored_error), double(bulb_share));
   EXPECT_GT(bulb_share, 0.05f);
   EXPECT_LT(removed_error, 2e-3f);
   EXPECT_LT(restored_error, 2e-3f);
@@ -389,7 +407,8 @@ TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
   auto refused = no_room.run_frame(in);
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.status().code, runtime::StatusCode::invalid_argument);
-  EXPECT_NE(refused.status().message.find("2 punctual lights exceed the capacity 1"), std::string::npos) << refused.status().message;
+  EXPECT_NE(refused.status().message.find("2 punctual lights exceed the capacity 1"), std::string::npos)
+      << refused.status().message;
 
   runtime::Volume gpu = upload(context(), start, 1);
   EXPECT_EQ(gpu.light_capacity(), 2);
@@ -400,9 +419,10 @@ TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
   for (const gpu::Probe& p : live.probes)
     if (p.link != 0 && p.position.x > 0.05f) dark_room = std::max(dark_room, p.irradiance_sh[2]);
   const float difference = max_sh_difference(live, cpu);
-  std::printf("[lights] leak + a light in the dark room (headroom 1): GPU vs CPU after 3 frames %.2e; brightest blue DC "
-              "in the +X room %.3g\n",
-              double(difference), double(dark_room));
+  std::printf(
+      "[lights] leak + a light in the dark room (headroom 1): GPU vs CPU after 3 frames %.2e; brightest blue DC "
+      "in the +X room %.3g\n",
+      double(difference), double(dark_room));
   EXPECT_GT(dark_room, 1.0f);
   EXPECT_LT(difference, 1e-4f);
   ASSERT_EQ(live.punctual_lights.size(), 2u);
@@ -509,9 +529,10 @@ TEST_F(LightInputsTest, OrbitingLightLeavesNoDriftInTheCache) {
   run(orbiting, 60);
   run(still, 301);
   const float drift = max_sh_difference(read_back(orbiting), read_back(still));
-  std::printf("[lights] cornell bulb orbited twice (240 frames of cache differences) and back: %.2e of the brightest DC "
-              "from a volume whose light never moved\n",
-              double(drift));
+  std::printf(
+      "[lights] cornell bulb orbited twice (240 frames of cache differences) and back: %.2e of the brightest DC "
+      "from a volume whose light never moved\n",
+      double(drift));
   EXPECT_LT(drift, 1e-4f);
 }
 
@@ -529,7 +550,8 @@ TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
   options.hysteresis = 0.5f;
   options.memory_update = true;
   options.light_headroom = 1;
-  auto tracked = runtime::Volume::upload(context(), b.volume, options), untracked = runtime::Volume::upload(context(), b.volume, options);
+  auto tracked = runtime::Volume::upload(context(), b.volume, options),
+       untracked = runtime::Volume::upload(context(), b.volume, options);
   ASSERT_TRUE(tracked.ok() && untracked.ok()) << tracked.status().message << untracked.status().message;
   ASSERT_TRUE(tracked.value().runs_memory_update());
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
@@ -548,8 +570,9 @@ TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
   for (int f = 0; f < 60; ++f) {
     runtime::FrameInputs in;
     const float x = info.root_min.x + info.root_size * float(f % 8) / 8.0f; // a slab sweeping the root cube
-    in.changed_boxes = {{glm::vec3(x, info.root_min.y, info.root_min.z),
-                         glm::vec3(x + info.root_size / 8.0f, info.root_min.y + info.root_size, info.root_min.z + info.root_size)}};
+    in.changed_boxes = {
+        {glm::vec3(x, info.root_min.y, info.root_min.z),
+         glm::vec3(x + info.root_size / 8.0f, info.root_min.y + info.root_size, info.root_min.z + info.root_size)}};
     if (f == 10) in.max_depth = 4; // splits: new probes in fresh slots trace records the relight never saw
     if (f == 40) in.max_depth = 3; // merges back
     const float angle = 6.2831853f * float(f) / 60.0f;
@@ -572,18 +595,21 @@ TEST_F(LightInputsTest, TrackedLightStaysExactWhileTheMemoryUpdateRetraces) {
     ++same_trees;
     for (const auto& [position, p] : x1) {
       const gpu::Probe& other = y1.at(position);
-      for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v, ++compared) unequal += p.irradiance_sh[v] == other.irradiance_sh[v] ? 0 : 1;
+      for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v, ++compared)
+        unequal += p.irradiance_sh[v] == other.irradiance_sh[v] ? 0 : 1;
     }
     reused_compared = reused;
     traced_compared = traced;
   }
-  std::printf("[lights] cornell bulb orbited while the memory update split, merged and re-measured (%d probes traced): "
-              "%d records updated with one ray; over the %d frames before the trees first differed (%d probes traced, %d "
-              "records with one ray), %d of %d SH coefficients differ from the two-ray volume (%d of %d probe-frames of the "
-              "60 without a twin at the same place)\n",
-              traced, reused, same_trees, traced_compared, reused_compared, unequal, compared, unmatched, live);
+  std::printf(
+      "[lights] cornell bulb orbited while the memory update split, merged and re-measured (%d probes traced): "
+      "%d records updated with one ray; over the %d frames before the trees first differed (%d probes traced, %d "
+      "records with one ray), %d of %d SH coefficients differ from the two-ray volume (%d of %d probe-frames of the "
+      "60 without a twin at the same place)\n",
+      traced, reused, same_trees, traced_compared, reused_compared, unequal, compared, unmatched, live);
   EXPECT_GT(reused_compared, 0);
-  EXPECT_GE(same_trees, 3); // the first frames: a full trace, then one relight from the traced share, then one from the tracked
+  EXPECT_GE(same_trees,
+            3); // the first frames: a full trace, then one relight from the traced share, then one from the tracked
   EXPECT_EQ(reused_untracked, 0);
   EXPECT_LT(unmatched, live / 20);
   EXPECT_EQ(unequal, 0);
@@ -641,7 +667,8 @@ TEST_F(LightInputsTest, PagedLightRecordsGiveTheSameBits) {
   ASSERT_EQ(x.probes.size(), y.probes.size());
   int unequal = 0;
   for (std::size_t i = 0; i < x.probes.size(); ++i)
-    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) unequal += x.probes[i].irradiance_sh[v] == y.probes[i].irradiance_sh[v] ? 0 : 1;
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
+      unequal += x.probes[i].irradiance_sh[v] == y.probes[i].irradiance_sh[v] ? 0 : 1;
   EXPECT_EQ(unequal, 0);
   EXPECT_GT(brightest_dc(y), 0.1f);
 
@@ -695,7 +722,7 @@ TEST_F(LightInputsTest, BadLightsAreInvalidArgument) {
     l.cos_outer = 0.7f;
     l.spot_scale = spot_scale;
   };
-  with([&](gpu::PunctualLight& l) { spot(l, {0, -2, 0}, 5.0f); });   // not a unit direction
+  with([&](gpu::PunctualLight& l) { spot(l, {0, -2, 0}, 5.0f); }); // not a unit direction
   with([&](gpu::PunctualLight& l) { spot(l, {0, -1, 0}, kNaN); });
   with([&](gpu::PunctualLight& l) { spot(l, {0, -1, 0}, 2000.0f); }); // above the bake's 1000
   with([&](gpu::PunctualLight& l) {
@@ -737,8 +764,11 @@ TEST_F(LightInputsTest, RunToolOrbitsALight) {
   const std::string file = test::quoted(std::filesystem::path(probes));
   // The light moves every frame: light_relight runs in frames 2-4 under synchronization validation, and the
   // gather takes a window of 8 probes.
-  const CliResult r = run_cli(file + " --frames 4 --verbose --hysteresis 0.5 --orbit-light 0:0.5:4 --gather-budget 8 --validate "
-                              "--vk-validation --csv " + test::quoted(std::filesystem::path(csv)));
+  const CliResult r =
+      run_cli(file +
+              " --frames 4 --verbose --hysteresis 0.5 --orbit-light 0:0.5:4 --gather-budget 8 --validate "
+              "--vk-validation --csv " +
+              test::quoted(std::filesystem::path(csv)));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("lit 8, lights 1 (1 uploaded)"), std::string::npos) << r.out;

@@ -68,7 +68,8 @@ struct FrameRun {
 };
 
 FrameRun run_frames(runtime::Context& context, const formats::ProbeVolume& volume, int frames, float hysteresis) {
-  auto gpu = runtime::Volume::upload(context, volume, {.validate = true, .light_update = true, .hysteresis = hysteresis});
+  auto gpu =
+      runtime::Volume::upload(context, volume, {.validate = true, .light_update = true, .hysteresis = hysteresis});
   EXPECT_TRUE(gpu.ok()) << gpu.status().message;
   FrameRun run;
   if (!gpu.ok()) return run;
@@ -88,7 +89,9 @@ FrameRun run_frames(runtime::Context& context, const formats::ProbeVolume& volum
 float brightest_dc(const formats::ProbeVolume& volume) {
   float brightest = 0.0f;
   for (const gpu::Probe& p : volume.probes)
-    if (p.link != 0) brightest = std::max({brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
+    if (p.link != 0)
+      brightest = std::max(
+          {brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
   return brightest;
 }
 
@@ -150,12 +153,12 @@ float expect_gpu_equals_cpu(runtime::Context& context, const Baked& b, const cha
   const float difference = max_sh_difference(gpu.volume, cpu);
   std::printf("[light] %s: %d probes x %d rays, %d sweeps: max |GPU - CPU| / brightest DC (%.3g) = %.2e; front %d "
               "back %d miss %d (CPU back %zu miss %zu), indirect misses GPU %d CPU %zu\n",
-              name, report.probes, lighting.rays, sweeps, double(brightest_dc(cpu)), double(difference), first.front_hits, first.backface_hits,
-              first.misses, report.backface_hits, report.misses, gpu.frames.back().light.indirect_misses,
-              report.indirect_misses);
+              name, report.probes, lighting.rays, sweeps, double(brightest_dc(cpu)), double(difference),
+              first.front_hits, first.backface_hits, first.misses, report.backface_hits, report.misses,
+              gpu.frames.back().light.indirect_misses, report.indirect_misses);
   const DcExcess excess = largest_dc_excess(gpu.volume, cpu);
-  std::printf("[light] %s: largest (GPU - CPU) / CPU of a DC term %.2e, probe at y = %.3g\n", name, double(excess.relative),
-              double(excess.y));
+  std::printf("[light] %s: largest (GPU - CPU) / CPU of a DC term %.2e, probe at y = %.3g\n", name,
+              double(excess.relative), double(excess.y));
   EXPECT_TRUE(first.active);
   EXPECT_EQ(first.traced_probes, report.probes);
   EXPECT_EQ(gpu.frames.back().light.traced_probes, sweeps > 1 ? 0 : report.probes); // L1 runs once
@@ -214,7 +217,8 @@ int expect_hit_fractions_equal_the_bakes(runtime::Context& context, const Baked&
     EXPECT_LE(d, ray * 1.01f) << "probe " << i;
     EXPECT_NEAR(gpu.volume.probes[i].backface_fraction, cpu.backface_fraction, 0.05f) << "probe " << i;
   }
-  std::printf("[light] hit fractions: %d octree probes, %d lattice rays judged differently in all\n", compared, different_rays);
+  std::printf("[light] hit fractions: %d octree probes, %d lattice rays judged differently in all\n", compared,
+              different_rays);
   EXPECT_GT(compared, 10);
   EXPECT_LE(different_rays, compared / 10);
   return compared;
@@ -266,7 +270,7 @@ samples::SceneBuilder room_with_panel_seen_from_behind() {
   // Lifted off the floor: a bottom face in the floor's plane would be sealed (left out of placement but not
   // of the runtime's triangles), and probes inside the block would then judge its back faces differently.
   add("block", samples::box({0.2f, 0.05f, 0.2f}, {0.7f, 0.6f, 0.7f}, samples::Facing::outward), block);
-  add("screen", samples::quad({-0.8f, 0.2f, -0.3f}, {0, 0.8f, 0}, {0.6f, 0, 0}), wall);  // front: -z
+  add("screen", samples::quad({-0.8f, 0.2f, -0.3f}, {0, 0.8f, 0}, {0.6f, 0, 0}), wall); // front: -z
   add("panel", samples::quad({-0.4f, 1.4f, 0.3f}, {0.7f, 0, 0}, {0, 0, -0.6f}), panel); // front: +y
   return scene;
 }
@@ -291,7 +295,8 @@ TEST_F(LightUpdateTest, DoubleSidedCornellEmittersInProbesFramesEqualCpuSweeps) 
 TEST_F(LightUpdateTest, DoubleSidedEmitterSeenFromBehindFramesEqualCpuSweeps) {
   const Baked b = bake_generated(room_with_panel_seen_from_behind(), "panel", small_settings());
   int flagged_patches = 0;
-  for (const gpu::EmitterPatch& p : b.volume.emitter_patches) flagged_patches += p.flags == gpu::EMITTER_DOUBLE_SIDED ? 1 : 0;
+  for (const gpu::EmitterPatch& p : b.volume.emitter_patches)
+    flagged_patches += p.flags == gpu::EMITTER_DOUBLE_SIDED ? 1 : 0;
   EXPECT_GT(flagged_patches, 0);
   EXPECT_EQ(std::size_t(flagged_patches), b.volume.emitter_patches.size());
   EXPECT_GT(expect_gpu_equals_cpu(context(), b, "panel seen from behind", 3), kLitDc);
@@ -302,10 +307,11 @@ TEST_F(LightUpdateTest, DoubleSidedEmitterSeenFromBehindFramesEqualCpuSweeps) {
             kLitDc);
 }
 
-
 TEST_F(LightUpdateTest, DoubleSidedHitFractionsEqualTheBakesPlacement) {
-  expect_hit_fractions_equal_the_bakes(context(), bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_settings()));
-  expect_hit_fractions_equal_the_bakes(context(), bake_generated(room_with_panel_seen_from_behind(), "panel", small_settings()));
+  expect_hit_fractions_equal_the_bakes(
+      context(), bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_settings()));
+  expect_hit_fractions_equal_the_bakes(context(),
+                                       bake_generated(room_with_panel_seen_from_behind(), "panel", small_settings()));
 }
 
 // The white furnace on the GPU alone: from zero, frames at hysteresis 0 converge to pi L / (1 - R) (the
@@ -324,9 +330,12 @@ void expect_gpu_furnace(runtime::Context& context, float albedo, int frames) {
   for (const gpu::Probe& p : gpu.volume.probes) {
     if (p.link == 0) continue;
     ++probes;
-    for (const glm::vec3 n : {glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0.6f, 0.0f, -0.8f)}) {
+    for (const glm::vec3 n :
+         {glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0.6f, 0.0f, -0.8f)}) {
       const glm::vec3 e = kPi + bake::evaluate_sh(p.irradiance_sh, n);
-      worst = std::max(worst, glm::max(glm::max(std::abs(e.x - expected), std::abs(e.y - expected)), std::abs(e.z - expected)) / expected);
+      worst = std::max(
+          worst,
+          glm::max(glm::max(std::abs(e.x - expected), std::abs(e.y - expected)), std::abs(e.z - expected)) / expected);
     }
   }
   std::printf("[light] GPU furnace R = %.2f: %d probes, %d frames, max relative error %.2e (pi L / (1 - R) = %.3f)\n",
@@ -344,7 +353,8 @@ TEST_F(LightUpdateTest, SameInputSameBits) {
   const FrameRun two = run_frames(context(), b.volume, 5, 0.9f);
   ASSERT_EQ(one.volume.probes.size(), two.volume.probes.size());
   for (std::size_t i = 0; i < one.volume.probes.size(); ++i)
-    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) ASSERT_EQ(one.volume.probes[i].irradiance_sh[v], two.volume.probes[i].irradiance_sh[v]);
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
+      ASSERT_EQ(one.volume.probes[i].irradiance_sh[v], two.volume.probes[i].irradiance_sh[v]);
 }
 
 TEST_F(LightUpdateTest, LiveStateValidAfterEveryFrameOfAHundred) {

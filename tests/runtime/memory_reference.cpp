@@ -59,8 +59,10 @@ float ray_triangle(const formats::TraceFaceGeometry& tri, glm::vec3 origin, glm:
 float exit_distance(const formats::NodeCube& cube, glm::vec3 inside, glm::vec3 dir) {
   float t = 3.4e38f;
   for (int a = 0; a < 3; ++a) {
-    if (dir[a] > 0.0f) t = std::min(t, (cube.min[a] + cube.size - inside[a]) / dir[a]);
-    else if (dir[a] < 0.0f) t = std::min(t, (cube.min[a] - inside[a]) / dir[a]);
+    if (dir[a] > 0.0f)
+      t = std::min(t, (cube.min[a] + cube.size - inside[a]) / dir[a]);
+    else if (dir[a] < 0.0f)
+      t = std::min(t, (cube.min[a] - inside[a]) / dir[a]);
   }
   return std::max(t, 0.0f);
 }
@@ -72,7 +74,8 @@ float exit_distance(const formats::NodeCube& cube, glm::vec3 inside, glm::vec3 d
 // normalised, so t is the same in both spaces). For translations the inverse is exact, so both sides agree
 // bit for bit.
 
-NearestHit nearest_hit(const formats::ProbeVolume& v, std::span<const glm::mat4> poses, glm::vec3 origin, glm::vec3 dir) {
+NearestHit nearest_hit(const formats::ProbeVolume& v, std::span<const glm::mat4> poses, glm::vec3 origin,
+                       glm::vec3 dir) {
   NearestHit best;
   const auto test = [&](std::size_t first, std::size_t count, glm::vec3 o, glm::vec3 d, const glm::mat4* pose) {
     for (std::size_t t = first; t < first + count; ++t) {
@@ -86,18 +89,20 @@ NearestHit nearest_hit(const formats::ProbeVolume& v, std::span<const glm::mat4>
       }
     }
   };
-  const std::size_t statics = v.dynamic_objects.empty() ? v.trace_faces.size() : std::size_t(v.dynamic_objects[0].first_triangle);
+  const std::size_t statics =
+      v.dynamic_objects.empty() ? v.trace_faces.size() : std::size_t(v.dynamic_objects[0].first_triangle);
   test(0, statics, origin, dir, nullptr);
   for (std::size_t o = 0; o < v.dynamic_objects.size(); ++o) {
     const glm::mat4 inverse = glm::inverse(poses[o]);
     const gpu::DynamicObject& object = v.dynamic_objects[o];
-    test(std::size_t(object.first_triangle), std::size_t(object.triangle_count), glm::vec3(inverse * glm::vec4(origin, 1.0f)),
-         glm::vec3(inverse * glm::vec4(dir, 0.0f)), &poses[o]);
+    test(std::size_t(object.first_triangle), std::size_t(object.triangle_count),
+         glm::vec3(inverse * glm::vec4(origin, 1.0f)), glm::vec3(inverse * glm::vec4(dir, 0.0f)), &poses[o]);
   }
   return best;
 }
 
-dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCube& cube, std::span<const glm::mat4> poses) {
+dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCube& cube,
+                           std::span<const glm::mat4> poses) {
   const glm::vec3 centre = cube.centre();
   const int first = v.lighting->rays, rays = v.lighting->placement_rays;
   int in_cube = 0, hits = 0, backface = 0;
@@ -119,7 +124,9 @@ dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCub
 std::optional<std::string> path_of(const formats::ProbeVolume& v, int node) {
   std::string path;
   for (int steps = 0; node != 0; ++steps) {
-    if (node < 0 || std::size_t(node) >= v.octree.size() || !formats::is_node_index(node) || steps > gpu::OCTREE_MAX_DEPTH) return std::nullopt;
+    if (node < 0 || std::size_t(node) >= v.octree.size() || !formats::is_node_index(node) ||
+        steps > gpu::OCTREE_MAX_DEPTH)
+      return std::nullopt;
     const int meta = formats::cluster_meta_of(node);
     if (v.octree[std::size_t(meta)] >= 0) return std::nullopt;
     path.insert(path.begin(), char('0' + formats::octant_of(node)));
@@ -127,7 +134,6 @@ std::optional<std::string> path_of(const formats::ProbeVolume& v, int node) {
   }
   return path;
 }
-
 
 Canonical canonical(const formats::ProbeVolume& v) {
   Canonical c;
@@ -144,7 +150,8 @@ Canonical canonical(const formats::ProbeVolume& v) {
   for (int s = 0; s < 3; ++s)
     for (int e = 0; e < v.leaf_header.count[s]; ++e) {
       const gpu::LeafEntry& entry = v.leaf_entries[std::size_t(s * capacity + e)];
-      c.segments[std::size_t(s)].emplace(path_of(v, entry.node).value_or("dead " + std::to_string(entry.node)), entry.state);
+      c.segments[std::size_t(s)].emplace(path_of(v, entry.node).value_or("dead " + std::to_string(entry.node)),
+                                         entry.state);
     }
   c.pull_origin = v.leaf_header.pull_origin;
   for (const gpu::Probe& p : v.probes) c.probes += p.link != 0 ? 1 : 0;
@@ -155,15 +162,16 @@ Canonical canonical(const formats::ProbeVolume& v) {
 
 // Names the first difference between two canonical trees, or "" when they are equal.
 std::string first_difference(const Canonical& gpu, const Canonical& cpu) {
-  if (gpu.pull_origin != cpu.pull_origin) return "pull origin " + std::to_string(gpu.pull_origin) + " vs " + std::to_string(cpu.pull_origin);
+  if (gpu.pull_origin != cpu.pull_origin)
+    return "pull origin " + std::to_string(gpu.pull_origin) + " vs " + std::to_string(cpu.pull_origin);
   for (const auto& [path, leaf] : cpu.leaves) {
     const auto found = gpu.leaves.find(path);
     if (found == gpu.leaves.end()) return "leaf '" + path + "' only on the CPU";
     if (found->second != leaf) {
       auto text = [](const std::tuple<bool, float, float, float, int>& l) {
         char buffer[160];
-        std::snprintf(buffer, sizeof(buffer), "(probe %d at %.9g %.9g %.9g depth %d)", int(std::get<0>(l)), double(std::get<1>(l)),
-                      double(std::get<2>(l)), double(std::get<3>(l)), std::get<4>(l));
+        std::snprintf(buffer, sizeof(buffer), "(probe %d at %.9g %.9g %.9g depth %d)", int(std::get<0>(l)),
+                      double(std::get<1>(l)), double(std::get<2>(l)), double(std::get<3>(l)), std::get<4>(l));
         return std::string(buffer);
       };
       return "leaf '" + path + "' differs: " + text(found->second) + " vs " + text(leaf);
@@ -175,17 +183,23 @@ std::string first_difference(const Canonical& gpu, const Canonical& cpu) {
     if (gpu.segments[std::size_t(s)] != cpu.segments[std::size_t(s)]) {
       for (const auto& [path, state] : cpu.segments[std::size_t(s)]) {
         const auto found = gpu.segments[std::size_t(s)].find(path);
-        if (found == gpu.segments[std::size_t(s)].end()) return "segment " + std::to_string(s) + ": '" + path + "' (state " + std::to_string(state) + ") only on the CPU";
-        if (found->second != state) return "segment " + std::to_string(s) + ": '" + path + "' state " + std::to_string(found->second) + " vs " + std::to_string(state);
+        if (found == gpu.segments[std::size_t(s)].end())
+          return "segment " + std::to_string(s) + ": '" + path + "' (state " + std::to_string(state) +
+                 ") only on the CPU";
+        if (found->second != state)
+          return "segment " + std::to_string(s) + ": '" + path + "' state " + std::to_string(found->second) + " vs " +
+                 std::to_string(state);
       }
       for (const auto& [path, state] : gpu.segments[std::size_t(s)])
         if (!cpu.segments[std::size_t(s)].count(path))
-          return "segment " + std::to_string(s) + ": '" + path + "' (state " + std::to_string(state) + ") only on the GPU";
+          return "segment " + std::to_string(s) + ": '" + path + "' (state " + std::to_string(state) +
+                 ") only on the GPU";
       return "segment " + std::to_string(s) + ": entries differ";
     }
   if (gpu.probes != cpu.probes || gpu.batches != cpu.batches || gpu.clusters != cpu.clusters)
-    return "pool use (probes, batches, clusters) " + std::to_string(gpu.probes) + "/" + std::to_string(gpu.batches) + "/" +
-           std::to_string(gpu.clusters) + " vs " + std::to_string(cpu.probes) + "/" + std::to_string(cpu.batches) + "/" + std::to_string(cpu.clusters);
+    return "pool use (probes, batches, clusters) " + std::to_string(gpu.probes) + "/" + std::to_string(gpu.batches) +
+           "/" + std::to_string(gpu.clusters) + " vs " + std::to_string(cpu.probes) + "/" +
+           std::to_string(cpu.batches) + "/" + std::to_string(cpu.clusters);
   return "";
 }
 
@@ -195,7 +209,8 @@ runtime::Box root_box(const formats::ProbeVolume& v) {
   return {v.info.root_min, v.info.root_min + glm::vec3(v.info.root_size)};
 }
 
-Cpu::Cpu(const formats::ProbeVolume& start) : volume(start), tree(volume, formats::Octree::Growth::fixed), update(tree) {
+Cpu::Cpu(const formats::ProbeVolume& start)
+    : volume(start), tree(volume, formats::Octree::Growth::fixed), update(tree) {
   for (const gpu::DynamicObject& o : volume.dynamic_objects) poses.push_back(dynamic::rest_pose(o));
 }
 
@@ -216,7 +231,8 @@ dynamic::TreeFrameStats Cpu::frame(const Step& step, std::span<const runtime::Ob
     boxes.push_back({glm::min(before.min, after.min), glm::max(before.max, after.max)});
     poses[o] = move.world_from_object;
   }
-  return update.run_frame(boxes, [this](const formats::NodeCube& cube, glm::vec3) { return measure(volume, cube, poses); });
+  return update.run_frame(boxes,
+                          [this](const formats::NodeCube& cube, glm::vec3) { return measure(volume, cube, poses); });
 }
 
 runtime::UploadOptions dynamic_options() {
@@ -228,7 +244,8 @@ runtime::UploadOptions dynamic_options() {
 }
 
 void expect_same_stats(const runtime::MemoryUpdateStats& gpu, const dynamic::TreeFrameStats& cpu, int frame) {
-  for (int s = 0; s < gpu::LEAF_STATE_COUNT; ++s) EXPECT_EQ(gpu.processed[std::size_t(s)], cpu.processed[std::size_t(s)]) << "frame " << frame << " state " << s;
+  for (int s = 0; s < gpu::LEAF_STATE_COUNT; ++s)
+    EXPECT_EQ(gpu.processed[std::size_t(s)], cpu.processed[std::size_t(s)]) << "frame " << frame << " state " << s;
   EXPECT_EQ(gpu.splits, cpu.splits) << "frame " << frame;
   EXPECT_EQ(gpu.collapses, cpu.collapses) << "frame " << frame;
   EXPECT_EQ(gpu.probes_placed, cpu.probes_placed) << "frame " << frame;
@@ -239,13 +256,13 @@ void expect_same_stats(const runtime::MemoryUpdateStats& gpu, const dynamic::Tre
   EXPECT_EQ(gpu.lost_entries, 0) << "frame " << frame;
 }
 
-
 // The live volume obeys every invariant, judged at the deepest max depth of the script (a lowered max
 // depth leaves deeper leaves until they merge, which the validator would call too deep).
 void expect_valid(formats::ProbeVolume live, int deepest, int frame) {
   live.info.max_depth = std::max(live.info.max_depth, deepest);
   const formats::ValidationReport report = formats::validate(live);
-  ASSERT_TRUE(report.valid()) << "frame " << frame << ": " << report.violations.front().invariant << ": " << report.violations.front().message;
+  ASSERT_TRUE(report.valid()) << "frame " << frame << ": " << report.violations.front().invariant << ": "
+                              << report.violations.front().message;
 }
 
 } // namespace probebake::test

@@ -36,10 +36,12 @@ struct NearestHit {
   int triangle = -1;
   glm::vec3 normal{0.0f}; // world space
 };
-NearestHit nearest_hit(const formats::ProbeVolume& v, std::span<const glm::mat4> poses, glm::vec3 origin, glm::vec3 dir);
+NearestHit nearest_hit(const formats::ProbeVolume& v, std::span<const glm::mat4> poses, glm::vec3 origin,
+                       glm::vec3 dir);
 
 // The leaf measure (hit and back-face fractions) of a node cube, as octree.glsl computes it.
-dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCube& cube, std::span<const glm::mat4> poses = {});
+dynamic::LeafTrace measure(const formats::ProbeVolume& v, const formats::NodeCube& cube,
+                           std::span<const glm::mat4> poses = {});
 
 // Octants from the root ("" = root, "37" = child 7 of child 3), or nullopt for a node that is not live.
 std::optional<std::string> path_of(const formats::ProbeVolume& v, int node);

@@ -74,7 +74,8 @@ TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
     expect_same_stats(stats.value().memory, cpu_stats, frame);
     // The light update lights exactly the leaves its transitions took (L1, L2), not every slot.
     const runtime::MemoryUpdateStats& m = stats.value().memory;
-    EXPECT_EQ(stats.value().light.lit_probes, m.processed[gpu::LEAF_L1_PLACE_SURFELS] + m.processed[gpu::LEAF_L2_LIGHT]) << "frame " << frame;
+    EXPECT_EQ(stats.value().light.lit_probes, m.processed[gpu::LEAF_L1_PLACE_SURFELS] + m.processed[gpu::LEAF_L2_LIGHT])
+        << "frame " << frame;
     auto live = gpu.value().read_back();
     ASSERT_TRUE(live.ok()) << live.status().message;
     const Canonical g = canonical(live.value()), c = canonical(cpu.volume);
@@ -86,7 +87,9 @@ TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
         const gpu::Probe& p = live.value().probes[std::size_t(~value)];
         const dynamic::LeafTrace t = measure(live.value(), leaf);
         if (p.hit_fraction != t.hit_fraction || p.backface_fraction != t.backface_fraction)
-          std::printf("[memory] leaf %s (depth %d) measured differently: GPU f %g b %g, CPU f %g b %g\n", path_of(live.value(), leaf.node)->c_str(), leaf.depth, p.hit_fraction, p.backface_fraction, t.hit_fraction, t.backface_fraction);
+          std::printf("[memory] leaf %s (depth %d) measured differently: GPU f %g b %g, CPU f %g b %g\n",
+                      path_of(live.value(), leaf.node)->c_str(), leaf.depth, p.hit_fraction, p.backface_fraction,
+                      t.hit_fraction, t.backface_fraction);
       });
     }
     ASSERT_EQ(difference, "") << "frame " << frame;
@@ -192,10 +195,11 @@ TEST_F(MemoryUpdateTest, SoakOfRandomBoxesAndDepthsStaysValidAndLeaksNothing) {
   const formats::ProbeVolume end = gpu.value().read_back().value();
   ASSERT_TRUE(gpu.value().validate_live().ok());
   const Canonical back = canonical(end);
-  std::printf("[memory] soak: %d frames, %d checks, at most %d probes, %d splits, %d merges, %d deferred; back at depth 1 "
-              "after %d frames: %d probes (settled start %d), pools %d/%d/%d (start %d/%d/%d)\n",
-              kFrames, checks, most_probes, splits, collapses, deferred, settle_frames, back.probes, settled.probes, back.probes,
-              back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
+  std::printf(
+      "[memory] soak: %d frames, %d checks, at most %d probes, %d splits, %d merges, %d deferred; back at depth 1 "
+      "after %d frames: %d probes (settled start %d), pools %d/%d/%d (start %d/%d/%d)\n",
+      kFrames, checks, most_probes, splits, collapses, deferred, settle_frames, back.probes, settled.probes,
+      back.probes, back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
   EXPECT_GT(splits, 10);
   EXPECT_GT(collapses, 10);
   EXPECT_GT(deferred, 0);
@@ -233,7 +237,8 @@ TEST_F(MemoryUpdateTest, DryPoolsCountTheShortfallAndCorruptNothing) {
   EXPECT_GT(failed, 0);
   ASSERT_GT(settle(gpu.value(), all, 1), 0);
   const Canonical back = canonical(gpu.value().read_back().value());
-  std::printf("[memory] dry pools (3 clusters, 30 probes, 90 batches free): %d failed allocations; back at depth 1: %d/%d/%d vs %d/%d/%d\n",
+  std::printf("[memory] dry pools (3 clusters, 30 probes, 90 batches free): %d failed allocations; back at depth 1: "
+              "%d/%d/%d vs %d/%d/%d\n",
               failed, back.probes, back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
   EXPECT_EQ(back.leaves, settled.leaves);
   EXPECT_EQ(back.batches, settled.batches);

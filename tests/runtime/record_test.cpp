@@ -142,7 +142,7 @@ TEST_F(RecordTest, FramesRecordedByTheHostEqualFramesRunOneByOne) {
     commands.wait();
     expect_stats(4);
     EXPECT_EQ(irradiance_of(volume->read_back().value()), expected); // bit for bit
-    EXPECT_FALSE(volume->poll_frame_stats().has_value()); // every frame returned once
+    EXPECT_FALSE(volume->poll_frame_stats().has_value());            // every frame returned once
   }
 }
 
@@ -191,7 +191,8 @@ TEST_F(RecordTest, RefusesANullCommandBufferAndABadRingCount) {
   EXPECT_EQ(volume->record_frame(VK_NULL_HANDLE).status().code, runtime::StatusCode::invalid_argument);
   runtime::UploadOptions options;
   options.frames_in_flight = 0;
-  EXPECT_EQ(runtime::Volume::upload(context(), baked_cornell_octree(), options).status().code, runtime::StatusCode::invalid_argument);
+  EXPECT_EQ(runtime::Volume::upload(context(), baked_cornell_octree(), options).status().code,
+            runtime::StatusCode::invalid_argument);
 }
 
 } // namespace

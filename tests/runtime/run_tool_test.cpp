@@ -37,8 +37,9 @@ TEST(RunToolUsage, NoInputIsAUsageError) {
 TEST_F(RunToolTest, RunsFramesValidatesAndWritesCsv) {
   const std::string probes = temp_path("tool-cornell.probes"), csv = temp_path("tool-cornell.csv");
   formats::write_probes_file(probes, baked_cornell_full());
-  const CliResult r =
-      run_cli(shell_path(probes) + " --frames 5 --verbose --validate --vk-validation --samples 1000 --compare-all-probes --csv " + shell_path(csv));
+  const CliResult r = run_cli(
+      shell_path(probes) +
+      " --frames 5 --verbose --validate --vk-validation --samples 1000 --compare-all-probes --csv " + shell_path(csv));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("device: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("frame 5: probe_index "), std::string::npos) << r.out;
@@ -58,7 +59,8 @@ TEST_F(RunToolTest, RunsFramesValidatesAndWritesCsv) {
 TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
   const std::string probes = temp_path("tool-cycle.probes"), csv = temp_path("tool-cycle.csv");
   formats::write_probes_file(probes, baked_cornell_full());
-  const CliResult r = run_cli(shell_path(probes) + " --frames 6 --verbose --depth-cycle 2:3:2 --vk-validation --csv " + shell_path(csv));
+  const CliResult r = run_cli(shell_path(probes) + " --frames 6 --verbose --depth-cycle 2:3:2 --vk-validation --csv " +
+                              shell_path(csv));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
   int merges = 0, splits = 0;
@@ -79,12 +81,14 @@ TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
   const auto pool_line = [](const std::string& out, int& in_use, int& slots, int& failed) {
     const std::size_t at = out.find("memory update pools: ");
     return at != std::string::npos &&
-           std::sscanf(out.c_str() + at, "memory update pools: at most %d of %d probe slots in use, %d failed", &in_use, &slots, &failed) == 3;
+           std::sscanf(out.c_str() + at, "memory update pools: at most %d of %d probe slots in use, %d failed", &in_use,
+                       &slots, &failed) == 3;
   };
   int in_use = 0, slots = 0, failed = 0;
   ASSERT_TRUE(pool_line(r.out, in_use, slots, failed)) << r.out;
   const formats::ProbeVolume file = baked_cornell_full();
-  const int used = int(std::count_if(file.probes.begin(), file.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
+  const int used =
+      int(std::count_if(file.probes.begin(), file.probes.end(), [](const gpu::Probe& p) { return p.link != 0; }));
   EXPECT_GE(slots, used + 512);
   EXPECT_GT(in_use, 0);
   EXPECT_LE(in_use, slots);
@@ -101,12 +105,16 @@ TEST_F(RunToolTest, DepthCycleReshapesTheTree) {
 // --animate: the file's two blocks turn (revolution: a turn in 150 frames), the memory update follows; one
 // CSV row per frame, the summary table by phase, three SVG plots, the live state valid, the layer silent.
 TEST_F(RunToolTest, AnimatesDynamicObjectsWithFramesTablePlotsAndSummary) {
-  const std::string probes = temp_path("tool-animate.probes"), csv = temp_path("tool-animate.csv"), plots = temp_path("tool-animate-plots");
+  const std::string probes = temp_path("tool-animate.probes"), csv = temp_path("tool-animate.csv"),
+                    plots = temp_path("tool-animate-plots");
   formats::write_probes_file(probes, baked_cornell_dynamic());
-  const CliResult r = run_cli(shell_path(probes) + " --animate revolution --frames 24 --validate --vk-validation --csv " +
-                              shell_path(csv) + " --plots " + shell_path(plots));
+  const CliResult r =
+      run_cli(shell_path(probes) + " --animate revolution --frames 24 --validate --vk-validation --csv " +
+              shell_path(csv) + " --plots " + shell_path(plots));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("animation: revolution over 24 frames, 2 dynamic object(s), memory update on"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("animation: revolution over 24 frames, 2 dynamic object(s), memory update on"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("| memory_update | all | 24 |"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| gpu total | all | 24 |"), std::string::npos) << r.out; // one phase: no "turning" rows
   EXPECT_NE(r.out.find("live state valid after every frame"), std::string::npos) << r.out;
@@ -120,8 +128,10 @@ TEST_F(RunToolTest, AnimatesDynamicObjectsWithFramesTablePlotsAndSummary) {
   const auto fields = [](const std::string& line) {
     std::vector<std::string> out(1);
     for (char c : line) {
-      if (c == ',') out.emplace_back();
-      else out.back().push_back(c);
+      if (c == ',')
+        out.emplace_back();
+      else
+        out.back().push_back(c);
     }
     return out;
   };

@@ -62,10 +62,11 @@ public:
 
 } // namespace
 
-formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings) {
+formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name,
+                               const bake::BakeSettings& settings) {
   const std::vector<std::uint8_t> glb = builder.to_glb();
-  const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), name, ".",
-                                                           {.require_triangles = true});
+  const scene::Scene scene = scene::load_scene_from_memory(std::vector<unsigned char>(glb.begin(), glb.end()), name,
+                                                           ".", {.require_triangles = true});
   return bake::bake(scene, settings).volume;
 }
 
@@ -151,7 +152,8 @@ std::string temp_path(const std::string& name) {
 // ---- HostVulkanObjects ------------------------------------------------------------------------------------
 namespace {
 
-VKAPI_ATTR VkBool32 VKAPI_CALL count_host_message(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
+VKAPI_ATTR VkBool32 VKAPI_CALL count_host_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                                  VkDebugUtilsMessageTypeFlagsEXT,
                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
   ++g_messages;
   std::printf("[runtime] host validation: %s\n", data->pMessage);
@@ -162,7 +164,8 @@ VkDebugUtilsMessengerCreateInfoEXT host_messenger_info(const VkValidationFeature
   VkDebugUtilsMessengerCreateInfoEXT info{};
   info.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
   info.pNext = features;
-  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
   info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   info.pfnUserCallback = count_host_message;
@@ -195,7 +198,8 @@ HostVulkanObjects::HostVulkanObjects(bool validation) {
   }
   if (vkCreateInstance(&info, nullptr, &instance) != VK_SUCCESS) return;
   if (validation) {
-    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
     messenger_info.pNext = nullptr;
     if (!create || create(instance, &messenger_info, nullptr, &messenger) != VK_SUCCESS) return;
   }
@@ -225,7 +229,8 @@ HostVulkanObjects::HostVulkanObjects(bool validation) {
 HostVulkanObjects::~HostVulkanObjects() {
   if (device) vkDestroyDevice(device, nullptr);
   if (messenger) {
-    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
     if (destroy) destroy(instance, messenger, nullptr);
   }
   if (instance) vkDestroyInstance(instance, nullptr);

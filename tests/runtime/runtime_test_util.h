@@ -37,10 +37,12 @@ private:
 
 // A generated scene loaded like the CLI loads it and baked with small settings (max depth 3, 64 surfels, SVO
 // depth 4, 96 rays; octree or a 6^3 grid; `full`: surfel batches and a leaf queue).
-formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid = false, bool full = false);
+formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid = false,
+                                bool full = false);
 
 // A generated scene loaded like the CLI loads it and baked with `settings`.
-formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings);
+formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name,
+                               const bake::BakeSettings& settings);
 
 // Baked volumes, cached per process (small settings, lighting on).
 const formats::ProbeVolume& baked_cornell_octree();

@@ -82,15 +82,16 @@ Comparison compare(const formats::ProbeVolume& volume, runtime::Volume& gpu_volu
     const glm::vec3 g = gpu.value()[i], e = cpu[i];
     const float scale = std::max(std::max({std::abs(e.x), std::abs(e.y), std::abs(e.z)}), 1e-6f * brightest);
     const glm::vec3 diff = glm::abs(g - e);
-    const float relative = scale > 0.0f ? std::max({diff.x, diff.y, diff.z}) / scale : std::max({diff.x, diff.y, diff.z});
+    const float relative =
+        scale > 0.0f ? std::max({diff.x, diff.y, diff.z}) / scale : std::max({diff.x, diff.y, diff.z});
     c.max_relative = std::max(c.max_relative, relative);
     c.mismatches += relative > 1e-4f ? 1 : 0;
     c.lit += std::max({e.x, e.y, e.z}) > 0.0f ? 1 : 0;
   }
-  std::printf("[sampling] %zu points: %zu lit, misses CPU %zu GPU %zu, max relative difference %.3g, gpu %.3f ms in %zu "
-              "dispatch(es)\n",
-              cpu.size(), c.lit, c.cpu_misses, c.gpu_misses, double(c.max_relative), gpu_stats.gpu_ms,
-              gpu_stats.dispatches);
+  std::printf(
+      "[sampling] %zu points: %zu lit, misses CPU %zu GPU %zu, max relative difference %.3g, gpu %.3f ms in %zu "
+      "dispatch(es)\n",
+      cpu.size(), c.lit, c.cpu_misses, c.gpu_misses, double(c.max_relative), gpu_stats.gpu_ms, gpu_stats.dispatches);
   return c;
 }
 
@@ -105,7 +106,9 @@ void expect_gpu_equals_cpu(runtime::Context& context, const formats::ProbeVolume
   EXPECT_GT(c.lit, count / 10); // the test is about lit points, not only misses
 }
 
-TEST_F(SamplingTest, CornellOctreeMatchesTheCpuSampler) { expect_gpu_equals_cpu(context(), baked_cornell_octree(), 20000); }
+TEST_F(SamplingTest, CornellOctreeMatchesTheCpuSampler) {
+  expect_gpu_equals_cpu(context(), baked_cornell_octree(), 20000);
+}
 TEST_F(SamplingTest, LeakOctreeMatchesTheCpuSampler) { expect_gpu_equals_cpu(context(), baked_leak_octree(), 20000); }
 TEST_F(SamplingTest, CornellGridMatchesTheCpuSampler) { expect_gpu_equals_cpu(context(), baked_cornell_grid(), 20000); }
 

@@ -58,8 +58,8 @@ std::uint64_t tracing_bytes_of_cells(const formats::ProbeVolume& v) {
 }
 
 // A frame that streamed every cell of `v` but record `refused`, which stream_refusals() names with `reason`.
-void expect_one_refusal(runtime::Volume& volume, const runtime::FrameStats& frame, const formats::ProbeVolume& v, std::size_t refused,
-                        const std::string& reason = "") {
+void expect_one_refusal(runtime::Volume& volume, const runtime::FrameStats& frame, const formats::ProbeVolume& v,
+                        std::size_t refused, const std::string& reason = "") {
   EXPECT_EQ(frame.streaming.refused_cells, 1);
   EXPECT_EQ(frame.streaming.loaded_cells, int(v.cells.size()) - 1);
   const std::vector<std::string> refusals = volume.stream_refusals();
@@ -146,7 +146,8 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
           const int cx = x + dx, cy = y + dy, cz = z + dz;
           if (cx < 0 || cy < 0 || cz < 0 || cx >= n || cy >= n || cz >= n) continue;
           const int neighbour = cx + n * (cy + n * cz);
-          const bool has_record = std::any_of(v.cells.begin(), v.cells.end(), [&](const formats::Cell& r) { return r.cell_index == neighbour; });
+          const bool has_record = std::any_of(v.cells.begin(), v.cells.end(),
+                                              [&](const formats::Cell& r) { return r.cell_index == neighbour; });
           if (has_record && !resident_set.count(neighbour)) return false;
         }
     return true;
@@ -158,7 +159,8 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
     if (v.probes[i].link == 0) continue;
     const int c = formats::cell_of_point(v.info, v.cell_depth, v.probes[i].position);
     if (!resident_set.count(c)) {
-      ASSERT_TRUE(same_irradiance(b.value().probes[i], v.probes[i])) << "probe " << i << " of a cell out of range changed";
+      ASSERT_TRUE(same_irradiance(b.value().probes[i], v.probes[i]))
+          << "probe " << i << " of a cell out of range changed";
       ++kept;
     } else if (neighbourhood_resident(c)) {
       ASSERT_TRUE(same_irradiance(b.value().probes[i], a.value().probes[i])) << "probe " << i << " of cell " << c;
@@ -167,7 +169,8 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
       // Beside cells that are out: lit exactly as the whole file when none of its rays crossed one, else it
       // keeps the file's irradiance (RECORD_SLOT_UNRESOLVED); never lit through a missing cell.
       const bool lit_exactly = same_irradiance(b.value().probes[i], a.value().probes[i]);
-      ASSERT_TRUE(lit_exactly || same_irradiance(b.value().probes[i], v.probes[i])) << "probe " << i << " lit through a cell that is out";
+      ASSERT_TRUE(lit_exactly || same_irradiance(b.value().probes[i], v.probes[i]))
+          << "probe " << i << " lit through a cell that is out";
       ++between;
       between_lit += lit_exactly ? 1 : 0;
     }
@@ -178,15 +181,19 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
   const auto not_lit_probe = [&](int p) {
     const std::size_t i = std::size_t(p);
     if (!resident_set.count(formats::cell_of_point(v.info, v.cell_depth, v.probes[i].position))) return true;
-    return !same_irradiance(b.value().probes[i], a.value().probes[i]) && same_irradiance(b.value().probes[i], v.probes[i]);
+    return !same_irradiance(b.value().probes[i], a.value().probes[i]) &&
+           same_irradiance(b.value().probes[i], v.probes[i]);
   };
   std::vector<glm::vec3> positions, normals;
   for (const gpu::Probe& p : v.probes)
     if (p.link != 0) positions.push_back(p.position), normals.push_back(glm::vec3(0.0f, 1.0f, 0.0f));
   std::vector<std::uint32_t> flags, whole_flags;
   runtime::SampleStats sampled, whole_sampled;
-  ASSERT_TRUE(streamed.value().sample_irradiance(positions, normals, &sampled, runtime::SampleMethod::svo, &flags).ok());
-  ASSERT_TRUE(whole.value().sample_irradiance(positions, normals, &whole_sampled, runtime::SampleMethod::svo, &whole_flags).ok());
+  ASSERT_TRUE(
+      streamed.value().sample_irradiance(positions, normals, &sampled, runtime::SampleMethod::svo, &flags).ok());
+  ASSERT_TRUE(whole.value()
+                  .sample_irradiance(positions, normals, &whole_sampled, runtime::SampleMethod::svo, &whole_flags)
+                  .ok());
   std::size_t expected_not_lit = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const bake::BlendedLookup lookup = bake::blended_lookup(v, positions[i], normals[i]);
@@ -208,9 +215,10 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
   EXPECT_LT(sampled.not_lit, positions.size());
   std::printf("[streaming] %zu of %zu lookups at the probes say that a probe of theirs is not lit\n", sampled.not_lit,
               positions.size());
-  std::printf("[streaming] %d live probes, cells of %.2f m: %zu of %zu cells resident: %d probes lit exactly as the whole file, %d kept the file's "
-              "irradiance, %d beside cells that are out (%d of them lit as the whole file, the others unresolved)\n", live_probe_count(v),
-              double(cell), resident.size(), v.cells.size(), exact, kept, between, between_lit);
+  std::printf("[streaming] %d live probes, cells of %.2f m: %zu of %zu cells resident: %d probes lit exactly as the "
+              "whole file, %d kept the file's "
+              "irradiance, %d beside cells that are out (%d of them lit as the whole file, the others unresolved)\n",
+              live_probe_count(v), double(cell), resident.size(), v.cells.size(), exact, kept, between, between_lit);
   EXPECT_GT(exact, 0);
   EXPECT_GT(kept, 0);
 }
@@ -247,17 +255,21 @@ TEST_F(StreamingTest, NoProbeIsLitThroughACellThatIsOutWithOrWithoutALightReach)
     lit.unresolved = stats.value().light.unresolved_probes;
     for (std::size_t i = 0; i < v.probes.size(); ++i) {
       if (v.probes[i].link == 0) continue;
-      if (same_irradiance(b.value().probes[i], a.value().probes[i])) ++lit.exact;
-      else if (!same_irradiance(b.value().probes[i], v.probes[i])) ++lit.seams;
+      if (same_irradiance(b.value().probes[i], a.value().probes[i]))
+        ++lit.exact;
+      else if (!same_irradiance(b.value().probes[i], v.probes[i]))
+        ++lit.seams;
     }
     return lit;
   };
   int unresolved = 0, lit_with = 0;
   for (const float radius : {4.0f, 6.0f, 8.0f, 10.0f, 12.0f, 16.0f, 20.0f}) {
     const Lit without = light_at(0.0f, radius), with = light_at(6.4f, radius);
-    std::printf("[streaming] radius %2.0f m: without a light reach %3d probes lit as the whole file, %2d left unresolved, %d seams; "
-                "with 6.4 m %3d lit, %d unresolved, %d seams\n", double(radius), without.exact, without.unresolved, without.seams,
-                with.exact, with.unresolved, with.seams);
+    std::printf("[streaming] radius %2.0f m: without a light reach %3d probes lit as the whole file, %2d left "
+                "unresolved, %d seams; "
+                "with 6.4 m %3d lit, %d unresolved, %d seams\n",
+                double(radius), without.exact, without.unresolved, without.seams, with.exact, with.unresolved,
+                with.seams);
     EXPECT_EQ(without.seams, 0) << "radius " << radius;
     EXPECT_EQ(with.seams, 0) << "radius " << radius;
     EXPECT_GE(without.exact, with.exact) << "radius " << radius << ": the reach only holds probes back";
@@ -284,7 +296,8 @@ TEST_F(StreamingTest, UnresolvedProbesAreRetriedWithinTheJoinBudgetOnceTheirCell
     for (int f = 0;; ++f) {
       auto stats = streamed.value().run_frame();
       EXPECT_TRUE(stats.ok());
-      EXPECT_LE(stats.value().light.traced_probes, 2 * kJoining) << "frame " << frames << ": the joining probes and one retry window";
+      EXPECT_LE(stats.value().light.traced_probes, 2 * kJoining)
+          << "frame " << frames << ": the joining probes and one retry window";
       unresolved += stats.value().light.unresolved_probes, retraced += stats.value().light.traced_probes, ++frames;
       if (stats.value().streaming.joining_probes == 0 && stats.value().streaming.waiting_cells == 0) return;
       ASSERT_LT(f, 400);
@@ -303,9 +316,10 @@ TEST_F(StreamingTest, UnresolvedProbesAreRetriedWithinTheJoinBudgetOnceTheirCell
   EXPECT_EQ(last.value().light.lit_probes, live) << "every probe is lit: none keeps its light as unresolved";
   EXPECT_EQ(last.value().light.traced_probes, 0) << "the retries are over";
   EXPECT_TRUE(streamed.value().validate_live().ok());
-  std::printf("[streaming] around one probe %d probes left unresolved; with every cell in, %d traces in %d frames (at most %d "
-              "a frame), then %d of %d probes lit\n", unresolved_around_one, retraced, frames, 2 * kJoining,
-              last.value().light.lit_probes, live);
+  std::printf(
+      "[streaming] around one probe %d probes left unresolved; with every cell in, %d traces in %d frames (at most %d "
+      "a frame), then %d of %d probes lit\n",
+      unresolved_around_one, retraced, frames, 2 * kJoining, last.value().light.lit_probes, live);
 }
 
 // A light change after cells dropped: the relight's shadow rays that cross a cell that is out leave their
@@ -337,13 +351,19 @@ TEST_F(StreamingTest, ALightChangeLightsNoProbeThroughACellThatDropped) {
   int exact = 0, kept = 0, seams = 0;
   for (std::size_t i = 0; i < v.probes.size(); ++i) {
     if (v.probes[i].link == 0) continue;
-    ASSERT_FALSE(same_irradiance(a.value().probes[i], before.value().probes[i])) << "probe " << i << ": the lights moved";
-    if (same_irradiance(b.value().probes[i], a.value().probes[i])) ++exact;
-    else if (same_irradiance(b.value().probes[i], before.value().probes[i])) ++kept;
-    else ++seams;
+    ASSERT_FALSE(same_irradiance(a.value().probes[i], before.value().probes[i]))
+        << "probe " << i << ": the lights moved";
+    if (same_irradiance(b.value().probes[i], a.value().probes[i]))
+      ++exact;
+    else if (same_irradiance(b.value().probes[i], before.value().probes[i]))
+      ++kept;
+    else
+      ++seams;
   }
-  std::printf("[streaming] lights moved as cells dropped: %d probes lit as the whole file, %d kept their irradiance (%d left "
-              "unresolved by the relight), %d seams\n", exact, kept, b_frame.value().light.unresolved_probes, seams);
+  std::printf(
+      "[streaming] lights moved as cells dropped: %d probes lit as the whole file, %d kept their irradiance (%d left "
+      "unresolved by the relight), %d seams\n",
+      exact, kept, b_frame.value().light.unresolved_probes, seams);
   EXPECT_EQ(seams, 0);
   EXPECT_GT(exact, 0);
   EXPECT_GT(b_frame.value().light.unresolved_probes, 0) << "no shadow ray crossed a cell that dropped";
@@ -372,7 +392,8 @@ TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
     ASSERT_TRUE(s.active);
     ASSERT_LE(s.resident_bytes, budget) << "frame " << f;
     ASSERT_LE(s.joined_probes, kJoining) << "frame " << f;
-    ASSERT_LE(stats.value().light.traced_probes, 2 * kJoining) << "frame " << f << ": only joining probes and one retry window trace";
+    ASSERT_LE(stats.value().light.traced_probes, 2 * kJoining)
+        << "frame " << f << ": only joining probes and one retry window trace";
     ASSERT_LE(stats.value().light.lit_probes, kLit) << "frame " << f << ": only probes with records are lit";
     loads += s.loaded_cells, drops += s.dropped_cells, waits += s.waiting_cells, joined += s.joined_probes;
     unplaced += s.unplaced_cells, moved += s.moved_cells;
@@ -380,10 +401,11 @@ TEST_F(StreamingTest, CameraPathKeepsTheBudgetAndAValidLiveStateEveryFrame) {
     const runtime::Status live = streamed.value().validate_live();
     ASSERT_TRUE(live.ok()) << "frame " << f << ": " << live.message;
   }
-  std::printf("[streaming] %d frames, budget %llu of %llu bytes: %d loads, %d drops, %d waits, %d without a free run, %d "
-              "blocks moved to compact the arena, %d probes joined, largest frame upload %llu bytes\n", frames,
-              static_cast<unsigned long long>(budget), static_cast<unsigned long long>(all), loads, drops, waits, unplaced, moved,
-              joined, static_cast<unsigned long long>(worst_upload));
+  std::printf(
+      "[streaming] %d frames, budget %llu of %llu bytes: %d loads, %d drops, %d waits, %d without a free run, %d "
+      "blocks moved to compact the arena, %d probes joined, largest frame upload %llu bytes\n",
+      frames, static_cast<unsigned long long>(budget), static_cast<unsigned long long>(all), loads, drops, waits,
+      unplaced, moved, joined, static_cast<unsigned long long>(worst_upload));
   // A load that finds the arena fragmented compacts it (validate_live above compares every resident block,
   // moved or not, with the file's bytes at its place): none waits.
   EXPECT_EQ(unplaced, 0);
@@ -427,14 +449,16 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   ASSERT_TRUE(from_disk.value().validate_live().ok()) << from_disk.value().validate_live().message;
   auto a = from_disk.value().read_back(), b = in_memory.value().read_back();
   ASSERT_TRUE(a.ok() && b.ok());
-  for (std::size_t i = 0; i < v.probes.size(); ++i) ASSERT_TRUE(same_irradiance(a.value().probes[i], b.value().probes[i])) << "probe " << i;
+  for (std::size_t i = 0; i < v.probes.size(); ++i)
+    ASSERT_TRUE(same_irradiance(a.value().probes[i], b.value().probes[i])) << "probe " << i;
 
   // A second load, then one byte of a cell's faces changes on disk before the camera reaches it.
   auto later = runtime::Volume::load(context(), path, options);
   ASSERT_TRUE(later.ok());
   std::size_t damaged = 0;
   while (v.cell_tracing[damaged].trace_faces.count == 0) ++damaged;
-  const std::uint64_t offset = file_offset_in(path, formats::SectionType::trace_faces, v.cell_tracing[damaged].trace_faces);
+  const std::uint64_t offset =
+      file_offset_in(path, formats::SectionType::trace_faces, v.cell_tracing[damaged].trace_faces);
   flip_byte(path, offset, 0x01);
   ASSERT_TRUE(later.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
   auto first = later.value().run_frame();
@@ -445,7 +469,8 @@ TEST_F(StreamingTest, LoadedFileStreamsCellsFromDiskAndRefusesACellChangedSinceL
   EXPECT_EQ(resident.size(), v.cells.size() - 1);
   auto second = later.value().run_frame();
   ASSERT_TRUE(second.ok());
-  EXPECT_EQ(second.value().streaming.refused_cells + second.value().streaming.loaded_cells, 0) << "a refused cell is not retried";
+  EXPECT_EQ(second.value().streaming.refused_cells + second.value().streaming.loaded_cells, 0)
+      << "a refused cell is not retried";
   // With the byte back the file reads as validated again: the live state checks out, the refused cell's
   // word the null leaf.
   flip_byte(path, offset, 0x01);
@@ -504,7 +529,8 @@ TEST_F(StreamingTest, BackgroundReadsArriveInLaterFramesAndRefuseADamagedCell) {
   std::size_t damaged = 0, with_faces = 0;
   for (const formats::CellTracing& t : v.cell_tracing) with_faces += t.trace_faces.count > 0 ? 1 : 0;
   while (v.cell_tracing[damaged].trace_faces.count == 0) ++damaged;
-  const std::uint64_t offset = file_offset_in(path, formats::SectionType::trace_vertices, v.cell_tracing[damaged].trace_vertices);
+  const std::uint64_t offset =
+      file_offset_in(path, formats::SectionType::trace_vertices, v.cell_tracing[damaged].trace_vertices);
   flip_byte(path, offset, 0x40);
   ASSERT_TRUE(volume.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
   int loaded = 0, refused = 0, frames = 0;
@@ -526,7 +552,8 @@ TEST_F(StreamingTest, BackgroundReadsArriveInLaterFramesAndRefuseADamagedCell) {
   ASSERT_EQ(volume.value().stream_refusals().size(), 1u);
   EXPECT_NE(volume.value().stream_refusals()[0].find("cells[" + std::to_string(damaged) + "]"), std::string::npos);
   EXPECT_EQ(volume.value().resident_cells().size(), v.cells.size() - 1);
-  std::printf("[streaming] background reads: %zu cells with faces arrived within %d frames, one refused\n", with_faces, frames);
+  std::printf("[streaming] background reads: %zu cells with faces arrived within %d frames, one refused\n", with_faces,
+              frames);
   // The rest of the file is intact: every resident cell's block equals its bytes. (The damaged cell's
   // section checksum now fails, so the whole file is compared only after restoring it.)
   flip_byte(path, offset, 0x40);
@@ -535,7 +562,8 @@ TEST_F(StreamingTest, BackgroundReadsArriveInLaterFramesAndRefuseADamagedCell) {
 
 // probebake-run --budget --path: a line per frame and the summary with the worst upload spike.
 TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
-  const std::string probes = temp_path("stream-rooms.probes"), path = temp_path("stream-path.csv"), csv = temp_path("stream.csv");
+  const std::string probes = temp_path("stream-rooms.probes"), path = temp_path("stream-path.csv"),
+                    csv = temp_path("stream.csv");
   const formats::ProbeVolume& v = streamed_rooms();
   formats::write_probes_file(probes, v);
   {
@@ -547,8 +575,9 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
     }
   }
   const std::uint64_t budget = tracing_bytes_of_cells(v) / 2;
-  const CliResult r = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) + " --path " +
-                              test::quoted(std::filesystem::path(path)) + " --radius 8 --max-joining 16 --keep-margin 2 --validate --vk-validation --csv " +
+  const CliResult r = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) +
+                              " --path " + test::quoted(std::filesystem::path(path)) +
+                              " --radius 8 --max-joining 16 --keep-margin 2 --validate --vk-validation --csv " +
                               test::quoted(std::filesystem::path(csv)));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("frame 5 at ("), std::string::npos) << r.out;
@@ -560,7 +589,8 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   const std::size_t number_at = r.out.rfind("; ", waits_at);
   ASSERT_NE(number_at, std::string::npos);
   int unplaced_frames = 0;
-  for (std::size_t at = r.out.find(" without a free run)"); at != std::string::npos; at = r.out.find(" without a free run)", at + 1))
+  for (std::size_t at = r.out.find(" without a free run)"); at != std::string::npos;
+       at = r.out.find(" without a free run)", at + 1))
     ++unplaced_frames;
   EXPECT_EQ(std::stoi(r.out.substr(number_at + 2, waits_at - number_at - 2)), unplaced_frames) << r.out;
   EXPECT_NE(r.out.find("| stream_upload | all |"), std::string::npos) << r.out;
@@ -575,15 +605,17 @@ TEST_F(StreamingTest, RunToolStreamsAlongAPathAndReportsTheWorstUploadSpike) {
   EXPECT_EQ(lines, 1 + 6);
   EXPECT_NE(header.find(",waiting_cells,reading_cells,refused_cells,upload_cpu_ms"), std::string::npos) << header;
   // The same path read in the background, probes lit only with the rooms around them resident.
-  const CliResult background = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " + std::to_string(budget) + " --path " +
-                                       test::quoted(std::filesystem::path(path)) +
+  const CliResult background = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget " +
+                                       std::to_string(budget) + " --path " + test::quoted(std::filesystem::path(path)) +
                                        " --radius 8 --background-reads --light-reach 6.4 --validate --vk-validation");
   EXPECT_EQ(background.exit_code, 0) << background.out << background.err;
   EXPECT_NE(background.out.find(" being read)"), std::string::npos) << background.out;
   EXPECT_NE(background.out.find("host memory: "), std::string::npos) << background.out;
   EXPECT_NE(background.out.find("validation messages: 0"), std::string::npos) << background.out;
-  EXPECT_EQ(run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " + test::quoted(std::filesystem::path(path)) +
-                    " --light-reach -1").exit_code, 1);
+  EXPECT_EQ(run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " +
+                    test::quoted(std::filesystem::path(path)) + " --light-reach -1")
+                .exit_code,
+            1);
   const CliResult missing = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M");
   EXPECT_EQ(missing.exit_code, 1) << "--budget needs --path";
   const CliResult bad_path = run_cli(test::quoted(std::filesystem::path(probes)) + " --budget 1M --path " +
@@ -603,7 +635,8 @@ TEST_F(StreamingTest, LitProbeCapSizesTheLightRecords) {
     return context().memory_stats().live_bytes - before;
   };
   const std::uint64_t all = device_bytes(0), capped = device_bytes(32);
-  const std::uint64_t per_probe = std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12) + gpu::PROBE_SH_FLOATS * sizeof(float);
+  const std::uint64_t per_probe =
+      std::uint64_t(v.lighting->rays) * (sizeof(gpu::LightRecord) + 12) + gpu::PROBE_SH_FLOATS * sizeof(float);
   std::printf("[streaming] light records for every one of %zu probe slots: %llu bytes on the device; for 32: %llu\n",
               v.probes.size(), static_cast<unsigned long long>(all), static_cast<unsigned long long>(capped));
   EXPECT_EQ(all - capped, (v.probes.size() - 32) * per_probe);
@@ -649,7 +682,9 @@ int node_at(const formats::ProbeVolume& v, const std::string& path) {
 }
 
 // Whether a tree's leaf at `leaf` lies strictly below `path`.
-bool below(const std::string& leaf, const std::string& path) { return leaf.size() > path.size() && leaf.compare(0, path.size(), path) == 0; }
+bool below(const std::string& leaf, const std::string& path) {
+  return leaf.size() > path.size() && leaf.compare(0, path.size(), path) == 0;
+}
 
 // The octant path of every probe's leaf in `v` ("" for a probe in no leaf).
 std::vector<std::string> probe_paths(const formats::ProbeVolume& v) {
@@ -674,7 +709,8 @@ std::vector<int> probe_cells(const formats::ProbeVolume& v) {
   const std::vector<std::string> paths = probe_paths(v);
   std::vector<int> cells(paths.size(), -1);
   for (std::size_t p = 0; p < paths.size(); ++p)
-    if (paths[p].size() >= std::size_t(v.cell_depth)) cells[p] = cell_at.at(paths[p].substr(0, std::size_t(v.cell_depth)));
+    if (paths[p].size() >= std::size_t(v.cell_depth))
+      cells[p] = cell_at.at(paths[p].substr(0, std::size_t(v.cell_depth)));
   return cells;
 }
 
@@ -712,10 +748,12 @@ std::vector<int> cells_unlike_the_file(const formats::ProbeVolume& live, const f
 // Of the cells of `v` that `chosen` picks, how many have the file's subtree in `live`; each one that does not
 // is a test failure naming `when`.
 template <class Chosen>
-int cells_with_file_subtrees(const formats::ProbeVolume& live, const formats::ProbeVolume& v, Chosen chosen, const char* when) {
+int cells_with_file_subtrees(const formats::ProbeVolume& live, const formats::ProbeVolume& v, Chosen chosen,
+                             const char* when) {
   const std::vector<int> unlike = cells_unlike_the_file(live, v, chosen);
   for (int cell : unlike) ADD_FAILURE() << when << ": cell " << cell << " differs from the file";
-  return int(std::count_if(v.cells.begin(), v.cells.end(), [&](const formats::Cell& c) { return chosen(c.cell_index); })) -
+  return int(std::count_if(v.cells.begin(), v.cells.end(),
+                           [&](const formats::Cell& c) { return chosen(c.cell_index); })) -
          int(unlike.size());
 }
 
@@ -743,7 +781,8 @@ StencilCount bake_stencils_in(const formats::ProbeVolume& live, const formats::P
     const gpu::SvoLeaf& now = live.svo_leaves[leaf];
     bool same = std::memcmp(&now.weights, &file.weights, sizeof(file.weights)) == 0;
     for (int k = 0; k < 4 && same; ++k) {
-      if ((file.probes[k] < 0) != (now.probes[k] < 0)) same = false;
+      if ((file.probes[k] < 0) != (now.probes[k] < 0))
+        same = false;
       else if (file.probes[k] >= 0)
         same = live.probes[std::size_t(now.probes[k])].position == v.probes[std::size_t(file.probes[k])].position;
     }
@@ -796,7 +835,8 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
     ASSERT_LT(collapsed.octree[std::size_t(node)], 0) << "cell " << cell.cell_index << " is not a leaf with a probe";
     const gpu::Probe& mean = collapsed.probes[std::size_t(~collapsed.octree[std::size_t(node)])];
     for (int k = 0; k < gpu::PROBE_SH_FLOATS; ++k)
-      ASSERT_NEAR(mean.irradiance_sh[k], sum[std::size_t(k)] / probes, 1e-5 * (1.0 + std::abs(sum[std::size_t(k)] / probes)))
+      ASSERT_NEAR(mean.irradiance_sh[k], sum[std::size_t(k)] / probes,
+                  1e-5 * (1.0 + std::abs(sum[std::size_t(k)] / probes)))
           << "cell " << cell.cell_index << " coefficient " << k;
     ++cells, freed += probes - 1;
   }
@@ -817,7 +857,8 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
   for (const formats::Cell& cell : v.cells) {
     if (resident.count(cell.cell_index)) continue;
     const std::string path = cell_path(cell.cell_index, v.cell_depth);
-    for (const auto& [leaf, value] : boxed.leaves) ASSERT_FALSE(below(leaf, path)) << "cell " << cell.cell_index << " grew";
+    for (const auto& [leaf, value] : boxed.leaves)
+      ASSERT_FALSE(below(leaf, path)) << "cell " << cell.cell_index << " grew";
     single += boxed.leaves.count(path) ? 1 : 0;
   }
   EXPECT_GE(single, cells);
@@ -838,10 +879,11 @@ TEST_F(StreamingTest, TheProbeTreeFollowsTheCellsThroughTheMemoryUpdatesPools) {
     EXPECT_EQ(stencils.held, stencils.leaves) << (round == 0 ? "first return" : "second return");
     ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
     if (round == 1) {
-      std::printf("[streaming] memory update: %d cells collapsed to their node (%d probes fewer); %d measures "
-                  "unresolved around one room; twice out and in, each of the %d cells that were out has the file's subtree, "
-                  "and the %d SVO leaves naming their probes (%d of them probes of other cells too) the bake's stencils\n",
-                  cells, freed, unresolved, seated, stencils.leaves, stencils.crossing);
+      std::printf(
+          "[streaming] memory update: %d cells collapsed to their node (%d probes fewer); %d measures "
+          "unresolved around one room; twice out and in, each of the %d cells that were out has the file's subtree, "
+          "and the %d SVO leaves naming their probes (%d of them probes of other cells too) the bake's stencils\n",
+          cells, freed, unresolved, seated, stencils.leaves, stencils.crossing);
       break;
     }
     ASSERT_TRUE(streamed.value().stream_around(first->position, 6.0f).ok());
@@ -903,19 +945,21 @@ TEST_F(StreamingTest, ABudgetSizesTheMemoryUpdatesPoolsAndEveryArrivalSeatsFromT
     for (int c : streamed.value().resident_cells()) resident.insert(c);
     ASSERT_TRUE(resident.count(cell.cell_index)) << "cell " << cell.cell_index;
     const auto in_cells = [&](int c) { return resident.count(c) != 0; };
-    ASSERT_EQ(cells_with_file_subtrees(streamed.value().read_back().value(), v, in_cells, "walk"), int(resident.size()));
+    ASSERT_EQ(cells_with_file_subtrees(streamed.value().read_back().value(), v, in_cells, "walk"),
+              int(resident.size()));
     ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
     capacity = frame.value().probe_capacity;
     most_live = std::max(most_live, frame.value().live_probes);
     ++steps;
   }
   ASSERT_GT(steps, 2);
-  std::printf("[streaming] memory update on a budget of %llu bytes: %d probe slots (at most %d live over %d cells) and "
-              "%llu device bytes (%llu with a pool as large as the whole file's), against %d slots and %llu bytes for the "
-              "whole file's (%zu probes)\n",
-              static_cast<unsigned long long>(streamed_options.streaming.budget_bytes), capacity, most_live, steps,
-              static_cast<unsigned long long>(streamed_bytes), static_cast<unsigned long long>(whole_pool_bytes), whole_capacity,
-              static_cast<unsigned long long>(whole_bytes), v.probes.size());
+  std::printf(
+      "[streaming] memory update on a budget of %llu bytes: %d probe slots (at most %d live over %d cells) and "
+      "%llu device bytes (%llu with a pool as large as the whole file's), against %d slots and %llu bytes for the "
+      "whole file's (%zu probes)\n",
+      static_cast<unsigned long long>(streamed_options.streaming.budget_bytes), capacity, most_live, steps,
+      static_cast<unsigned long long>(streamed_bytes), static_cast<unsigned long long>(whole_pool_bytes),
+      whole_capacity, static_cast<unsigned long long>(whole_bytes), v.probes.size());
   EXPECT_LT(capacity, whole_capacity);
   EXPECT_LT(streamed_bytes, whole_bytes);
   EXPECT_LT(streamed_bytes, whole_pool_bytes);
@@ -981,13 +1025,14 @@ TEST_F(StreamingTest, TheSeatLimitSpreadsArrivalsOverFramesAndALargerCellGrowsBy
   ASSERT_GE(settle_streamed(streamed.value(), std::nullopt), 0);
   const std::string path = cell_path(largest, v.cell_depth);
   int leaves = 0;
-  for (const auto& [leaf, value] : canonical(streamed.value().read_back().value()).leaves) leaves += below(leaf, path) ? 1 : 0;
+  for (const auto& [leaf, value] : canonical(streamed.value().read_back().value()).leaves)
+    leaves += below(leaf, path) ? 1 : 0;
   EXPECT_GT(leaves, 1) << "cell " << largest << " did not grow";
   ASSERT_TRUE(streamed.value().validate_live().ok()) << streamed.value().validate_live().message;
   std::printf("[streaming] seat data of %llu bytes a frame: %d cells seated over %zu frames (%d in the first); cell %d "
               "(%llu bytes) grew by measures to %d leaves\n",
-              static_cast<unsigned long long>(options.streaming.max_seat_bytes), cells, seated_by_frame.size(), seated_by_frame.front(),
-              largest, static_cast<unsigned long long>(4 * (8 + seats[0].first)), leaves);
+              static_cast<unsigned long long>(options.streaming.max_seat_bytes), cells, seated_by_frame.size(),
+              seated_by_frame.front(), largest, static_cast<unsigned long long>(4 * (8 + seats[0].first)), leaves);
 }
 
 TEST_F(StreamingTest, RefusesVolumesItCannotStream) {

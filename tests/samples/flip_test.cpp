@@ -98,9 +98,11 @@ TEST(Flip, TwiceGivesTheOriginalTriangles) {
 TEST(Flip, FlippedAndMeshoptCompressedLoadsTheSameTriangles) {
   const std::vector<std::uint8_t> flipped = ps::flip_sides_gltf(ps::cornell().to_glb(), ".");
   const auto folder = pt::fresh_folder("flip_meshopt");
-  std::ofstream(folder / "flipped.glb", std::ios::binary).write(reinterpret_cast<const char*>(flipped.data()), std::streamsize(flipped.size()));
+  std::ofstream(folder / "flipped.glb", std::ios::binary)
+      .write(reinterpret_cast<const char*>(flipped.data()), std::streamsize(flipped.size()));
   const std::vector<std::uint8_t> packed = ps::meshopt_compress_gltf(flipped, folder);
-  std::ofstream(folder / "packed.glb", std::ios::binary).write(reinterpret_cast<const char*>(packed.data()), std::streamsize(packed.size()));
+  std::ofstream(folder / "packed.glb", std::ios::binary)
+      .write(reinterpret_cast<const char*>(packed.data()), std::streamsize(packed.size()));
   const scene::Scene a = scene::load_scene(folder / "flipped.glb");
   const scene::Scene b = scene::load_scene(folder / "packed.glb");
   // meshoptimizer's index codec may rotate a triangle's vertices (never its winding).
@@ -132,7 +134,8 @@ void expect_flipped_shared(const std::filesystem::path& path) {
   const scene::Scene original = scene::load_scene(path);
   const std::vector<std::uint8_t> bytes = ps::flip_sides_file(path);
   const auto folder = pt::fresh_folder("flip_shared_" + path.stem().string());
-  std::ofstream(folder / "flipped.glb", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  std::ofstream(folder / "flipped.glb", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   const scene::Scene flipped = scene::load_scene(folder / "flipped.glb");
   ASSERT_EQ(flipped.triangles.size(), original.triangles.size());
   EXPECT_EQ(flipped.positions.size(), original.positions.size());
@@ -145,7 +148,9 @@ void expect_flipped_shared(const std::filesystem::path& path) {
     // Textures embedded, the same texels (the per-triangle average visits its sample points in another
     // order: float rounding only).
     EXPECT_LT(glm::distance(flipped.triangle_albedo[t], original.triangle_albedo[t]), 1e-6f) << t;
-    EXPECT_LT(glm::distance(flipped.triangle_emission[t], original.triangle_emission[t]), 1e-6f * (1.0f + glm::length(original.triangle_emission[t]))) << t;
+    EXPECT_LT(glm::distance(flipped.triangle_emission[t], original.triangle_emission[t]),
+              1e-6f * (1.0f + glm::length(original.triangle_emission[t])))
+        << t;
   }
   EXPECT_EQ(flipped.lights.size(), original.lights.size());
   EXPECT_EQ(flipped.cameras.size(), original.cameras.size());
@@ -153,11 +158,12 @@ void expect_flipped_shared(const std::filesystem::path& path) {
 }
 
 TEST(Flip, SharedCornellBoxBjsWithTextures) {
-  expect_flipped_shared(std::filesystem::path(PROBEBAKE_SHARED_SCENES) / "cornellbox_bjs" / "cornellBox-2.80-Eevee-gltf.gltf");
+  expect_flipped_shared(std::filesystem::path(PROBEBAKE_SHARED_SCENES) / "cornellbox_bjs" /
+                        "cornellBox-2.80-Eevee-gltf.gltf");
 }
 
 TEST(Flip, SharedSphereLightsWithPunctualLights) {
   expect_flipped_shared(std::filesystem::path(PROBEBAKE_SHARED_SCENES) / "sphere_lights" / "sphere_lights.gltf");
 }
 
-}  // namespace
+} // namespace

@@ -15,7 +15,8 @@ namespace {
 std::vector<ps::test::WorldTriangle> triangles_of(const ps::MeshData& mesh) {
   std::vector<ps::test::WorldTriangle> out;
   for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
-    out.push_back({mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]], mesh.positions[mesh.indices[t + 2]], 0, ""});
+    out.push_back({mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]],
+                   mesh.positions[mesh.indices[t + 2]], 0, ""});
   }
   return out;
 }
@@ -32,7 +33,7 @@ void expect_facing(const ps::MeshData& mesh, glm::vec3 centre, Facing facing, fl
   }
 }
 
-}  // namespace
+} // namespace
 
 TEST(Geometry, QuadFacesAlongCrossOfEdges) {
   const ps::MeshData q = ps::quad({0, 0, 0}, {0, 0, 2}, {3, 0, 0}, 4);

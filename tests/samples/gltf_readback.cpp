@@ -49,7 +49,8 @@ std::uint32_t read_index(const tinygltf::Model& model, int accessor, std::size_t
 
 glm::mat4 local_matrix(const tinygltf::Node& node) {
   glm::mat4 m(1.0f);
-  if (node.translation.size() == 3) m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+  if (node.translation.size() == 3)
+    m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
   if (node.rotation.size() == 4) {
     m *= glm::mat4_cast(glm::quat(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
                                   static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2])));
@@ -66,7 +67,8 @@ void add_mesh(const tinygltf::Model& model, const tinygltf::Node& node, const gl
     for (std::size_t t = 0; t + 2 < count; t += 3) {
       std::array<glm::vec3, 3> p;
       for (std::size_t k = 0; k < 3; ++k) {
-        p[k] = glm::vec3(world * glm::vec4(read_vec3(model, positions, read_index(model, primitive.indices, t + k)), 1.0f));
+        p[k] = glm::vec3(world *
+                         glm::vec4(read_vec3(model, positions, read_index(model, primitive.indices, t + k)), 1.0f));
       }
       out.push_back(WorldTriangle{p[0], p[1], p[2], primitive.material, node.name});
     }
@@ -80,7 +82,7 @@ void walk(const tinygltf::Model& model, int index, const glm::mat4& parent, std:
   for (int child : node.children) walk(model, child, world, out);
 }
 
-}  // namespace
+} // namespace
 
 tinygltf::Model load_glb(const std::vector<std::uint8_t>& bytes, std::string& error) {
   tinygltf::TinyGLTF loader;
@@ -163,4 +165,4 @@ std::filesystem::path fresh_folder(const std::string& name) {
   return folder;
 }
 
-}  // namespace probebake::samples::test
+} // namespace probebake::samples::test

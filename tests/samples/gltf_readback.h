@@ -18,10 +18,10 @@ tinygltf::Model load_glb(const std::vector<std::uint8_t>& bytes, std::string& er
 std::vector<std::uint8_t> read_file(const std::filesystem::path& path);
 
 struct WorldTriangle {
-  glm::vec3 a, b, c;     // counter-clockwise = front
+  glm::vec3 a, b, c; // counter-clockwise = front
   int material = -1;
-  std::string node;      // name of the node that placed it
-  glm::vec3 normal() const;  // unit geometric normal of the front face
+  std::string node;         // name of the node that placed it
+  glm::vec3 normal() const; // unit geometric normal of the front face
   glm::vec3 centroid() const { return (a + b + c) / 3.0f; }
 };
 
@@ -41,4 +41,4 @@ std::vector<std::string> dynamic_node_names(const tinygltf::Model& model);
 // A fresh empty folder for one test.
 std::filesystem::path fresh_folder(const std::string& name);
 
-}  // namespace probebake::samples::test
+} // namespace probebake::samples::test

@@ -22,7 +22,7 @@ bool is_one_error_line(const std::string& text) {
   return text.rfind("make-scene: error: ", 0) == 0 && text.find('\n') == text.size() - 1;
 }
 
-}  // namespace
+} // namespace
 
 TEST(MakeSceneCli, HelpAndVersionSucceed) {
   const auto folder = pt::fresh_folder("cli_help");
@@ -47,7 +47,8 @@ TEST(MakeSceneCli, DefaultOutputIsKindInCurrentFolder) {
 
 TEST(MakeSceneCli, OptionsAfterTheKindAndPlacement) {
   const auto folder = pt::fresh_folder("cli_options");
-  const CliResult run = make_scene(folder, "furnace --albedo 0.99 --emission 2 -o box.glb --scale 2 --offset 10 0 0 -q");
+  const CliResult run =
+      make_scene(folder, "furnace --albedo 0.99 --emission 2 -o box.glb --scale 2 --offset 10 0 0 -q");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(run.out.empty());
   std::string error;

@@ -31,7 +31,8 @@ Loaded load(const ps::SceneBuilder& scene) {
 }
 
 const tinygltf::Material& material_named(const tinygltf::Model& model, const std::string& name) {
-  const auto it = std::find_if(model.materials.begin(), model.materials.end(), [&](const auto& m) { return m.name == name; });
+  const auto it =
+      std::find_if(model.materials.begin(), model.materials.end(), [&](const auto& m) { return m.name == name; });
   if (it == model.materials.end()) throw std::runtime_error("no material " + name);
   return *it;
 }
@@ -58,7 +59,7 @@ std::vector<pt::WorldTriangle> of_node(const std::vector<pt::WorldTriangle>& all
   return out;
 }
 
-}  // namespace
+} // namespace
 
 TEST(Cornell, ClassicBox) {
   const Loaded s = load(ps::cornell());
@@ -75,11 +76,12 @@ TEST(Cornell, ClassicBox) {
   for (const char* surface : {"floor", "ceiling", "back_wall", "red_wall", "green_wall", "light"}) {
     const auto triangles = of_node(s.triangles, surface);
     ASSERT_EQ(triangles.size(), 2u) << surface;
-    for (const auto& t : triangles) EXPECT_GT(glm::dot(t.normal(), centre - t.centroid()), 0.0f) << surface << " faces the room";
+    for (const auto& t : triangles)
+      EXPECT_GT(glm::dot(t.normal(), centre - t.centroid()), 0.0f) << surface << " faces the room";
   }
-  EXPECT_LT(of_node(s.triangles, "red_wall")[0].centroid().x, -0.27f);   // red on the left (-X)
-  EXPECT_GT(of_node(s.triangles, "green_wall")[0].centroid().x, 0.27f);  // green on the right (+X)
-  EXPECT_LT(of_node(s.triangles, "light")[0].normal().y, -0.99f);  // shines down
+  EXPECT_LT(of_node(s.triangles, "red_wall")[0].centroid().x, -0.27f);  // red on the left (-X)
+  EXPECT_GT(of_node(s.triangles, "green_wall")[0].centroid().x, 0.27f); // green on the right (+X)
+  EXPECT_LT(of_node(s.triangles, "light")[0].normal().y, -0.99f);       // shines down
   EXPECT_EQ(of_node(s.triangles, "tall_block").size(), 10u);
   EXPECT_EQ(of_node(s.triangles, "short_block").size(), 10u);
 }
@@ -100,7 +102,8 @@ TEST(Cornell, WithModelReplacesTheTallBlock) {
   const ps::MaterialId m = model.add_material({"blue", {0.1f, 0.2f, 0.9f}, {}});
   ps::Transform far_away;
   far_away.translation = {10.0f, 5.0f, -3.0f};
-  model.add_mesh_node("pillar", model.add_mesh("pillar", ps::box({-1, 0, -1}, {1, 4, 1}, ps::Facing::outward), m), far_away);
+  model.add_mesh_node("pillar", model.add_mesh("pillar", ps::box({-1, 0, -1}, {1, 4, 1}, ps::Facing::outward), m),
+                      far_away);
   model.write_glb(folder / "pillar.glb");
 
   ps::CornellOptions options;
@@ -139,17 +142,18 @@ probebake::ErrorKind import_error(const std::filesystem::path& path) {
   } catch (const probebake::Error& e) {
     return e.kind();
   }
-  return probebake::ErrorKind::internal;  // "no error" marker: never what an import reports
+  return probebake::ErrorKind::internal; // "no error" marker: never what an import reports
 }
 
-}  // namespace
+} // namespace
 
 // Only the whole file may load; every prefix is refused as unreadable input, without crashing.
 TEST(ModelImport, EveryTruncationIsRefused) {
   const auto folder = pt::fresh_folder("import_prefixes");
   const std::vector<std::uint8_t> bytes = ps::triangle().to_glb();
   for (std::size_t length = 0; length < bytes.size(); ++length) {
-    std::ofstream(folder / "cut.glb", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(length));
+    std::ofstream(folder / "cut.glb", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(length));
     EXPECT_EQ(import_error(folder / "cut.glb"), probebake::ErrorKind::input) << "length " << length;
   }
 }
@@ -158,7 +162,7 @@ TEST(ModelImport, AccessorPastItsBufferIsRefused) {
   const auto folder = pt::fresh_folder("import_bad_accessor");
   std::vector<std::uint8_t> bytes = ps::triangle().to_glb();
   std::string text(bytes.begin(), bytes.end());
-  const std::size_t at = text.find("\"count\":3");  // the POSITION accessor
+  const std::size_t at = text.find("\"count\":3"); // the POSITION accessor
   ASSERT_NE(at, std::string::npos);
   text[at + 8] = '9';
   std::ofstream(folder / "bad.glb", std::ios::binary) << text;
@@ -202,7 +206,8 @@ TEST(Furnace, EmissionEncoding) {
     EXPECT_EQ(uses_strength, emission > 1.0f) << emission;
     for (double f : m.emissiveFactor) EXPECT_LE(f, 1.0);
     EXPECT_NEAR(emission_of(m).r, emission, 1e-6 * std::max(1.0f, emission));
-    const bool listed = std::count(s.model.extensionsUsed.begin(), s.model.extensionsUsed.end(), "KHR_materials_emissive_strength") == 1;
+    const bool listed = std::count(s.model.extensionsUsed.begin(), s.model.extensionsUsed.end(),
+                                   "KHR_materials_emissive_strength") == 1;
     EXPECT_EQ(listed, uses_strength);
   }
 }
@@ -216,10 +221,11 @@ TEST(Leak, TwoClosedRoomsAndOneLight) {
   const auto dark = of_node(s.triangles, "room_dark");
   EXPECT_TRUE(pt::is_closed_and_oriented(lit));
   EXPECT_TRUE(pt::is_closed_and_oriented(dark));
-  EXPECT_NEAR(pt::bounds_of(dark).min.x - pt::bounds_of(lit).max.x, 0.02f, 1e-6f);  // the wall
+  EXPECT_NEAR(pt::bounds_of(dark).min.x - pt::bounds_of(lit).max.x, 0.02f, 1e-6f); // the wall
   ASSERT_EQ(s.model.lights.size(), 1u);
   EXPECT_EQ(s.model.lights[0].type, "point");
-  const auto light_node = std::find_if(s.model.nodes.begin(), s.model.nodes.end(), [](const auto& n) { return n.name == "light"; });
+  const auto light_node =
+      std::find_if(s.model.nodes.begin(), s.model.nodes.end(), [](const auto& n) { return n.name == "light"; });
   ASSERT_NE(light_node, s.model.nodes.end());
   EXPECT_LT(light_node->translation.at(0), pt::bounds_of(lit).max.x);
   EXPECT_GT(light_node->translation.at(0), pt::bounds_of(lit).min.x);
@@ -255,7 +261,7 @@ TEST(Rooms, LargeDeterministicScene) {
   EXPECT_EQ(triangles.size(), 16u * (7844u + 72u * 20u * 20u) + 2u * 6u);
   EXPECT_EQ(model.lights.size(), 16u);
   EXPECT_EQ(pt::dynamic_node_names(model).size(), 16u);
-  EXPECT_NE(ps::rooms({16, 20, 2}).to_glb(), bytes);  // the seed matters
+  EXPECT_NE(ps::rooms({16, 20, 2}).to_glb(), bytes); // the seed matters
 }
 
 TEST(Rooms, SmallGridBounds) {
@@ -312,7 +318,7 @@ TEST(Builder, SpotAndDirectionalLightsPointAlongTheirDirection) {
   sun.type = ps::LightType::directional;
   sun.intensity = 2000.0f;
   scene.add_light_node("spot", scene.add_light(spot), {0, 2, 0}, {1, 0, 0});
-  scene.add_light_node("sun", scene.add_light(sun), {0, 0, 0}, {0, 0, 1});  // opposite to glTF's -Z
+  scene.add_light_node("sun", scene.add_light(sun), {0, 0, 0}, {0, 0, 1}); // opposite to glTF's -Z
   const Loaded s = load(scene);
   ASSERT_EQ(s.model.lights.size(), 2u);
   EXPECT_EQ(s.model.lights[0].type, "spot");
@@ -321,7 +327,8 @@ TEST(Builder, SpotAndDirectionalLightsPointAlongTheirDirection) {
   for (std::size_t i = 0; i < 2; ++i) {
     const auto& r = s.model.nodes[i].rotation;
     ASSERT_EQ(r.size(), 4u);
-    const glm::quat q(static_cast<float>(r[3]), static_cast<float>(r[0]), static_cast<float>(r[1]), static_cast<float>(r[2]));
+    const glm::quat q(static_cast<float>(r[3]), static_cast<float>(r[0]), static_cast<float>(r[1]),
+                      static_cast<float>(r[2]));
     const glm::vec3 shines = q * glm::vec3(0, 0, -1);
     EXPECT_NEAR(glm::dot(shines, i == 0 ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1)), 1.0f, 1e-5f);
   }
@@ -334,7 +341,7 @@ TEST(Builder, RejectsBadInput) {
     } catch (const probebake::Error& e) {
       return e.kind();
     }
-    return probebake::ErrorKind::internal;  // "no error" marker: never thrown here
+    return probebake::ErrorKind::internal; // "no error" marker: never thrown here
   };
   EXPECT_EQ(kind_of([] { return ps::furnace({1.5f, 1.0f, 1.0f, 1}); }), probebake::ErrorKind::usage);
   EXPECT_EQ(kind_of([] { return ps::furnace({0.5f, std::nanf(""), 1.0f, 1}); }), probebake::ErrorKind::usage);
@@ -353,7 +360,7 @@ TEST(Output, AtomicWriteAndUnwritablePath) {
   const ps::SceneBuilder scene = ps::furnace();
   scene.write_glb(folder / "furnace.glb");
   EXPECT_EQ(pt::read_file(folder / "furnace.glb"), scene.to_glb());
-  scene.write_glb(folder / "furnace.glb");  // replaces an existing file
+  scene.write_glb(folder / "furnace.glb"); // replaces an existing file
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator()), 1);
   try {
     scene.write_glb(folder / "no" / "such" / "folder.glb");

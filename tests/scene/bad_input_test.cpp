@@ -56,7 +56,8 @@ TEST(BadInput, TruncatedGlbAtEveryLength) {
     EXPECT_THROW(scene::load_scene(path, {.require_triangles = true}), Error) << "prefix " << n;
   }
   const auto path = dir / "half.glb";
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size() / 2));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size() / 2));
   const CliResult cli = run_info(path);
   EXPECT_EQ(cli.exit_code, 2);
   EXPECT_NE(cli.err.find("half.glb"), std::string::npos);

@@ -38,7 +38,10 @@ std::filesystem::path make_scratch() {
     // Never destroyed: static destructors run before this handler. (libFuzzer ends with _Exit, so its
     // runs leave the folder: scripts/fuzz.sh gives them one in the build folder.)
     static const auto* to_remove = new std::filesystem::path(root);
-    std::atexit([] { std::error_code ec; std::filesystem::remove_all(*to_remove, ec); });
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(*to_remove, ec);
+    });
   }
   std::filesystem::create_directories(root / "scene");
   // A triangle (positions, then uint32 indices 0 1 2 as bit patterns) that "buffer.bin" URIs may use.

@@ -36,7 +36,8 @@ Layout make_layout(const std::string& name) {
   std::filesystem::create_directories(l.scene_dir);
   const MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   l.secret = l.root / "secret.bin";
-  std::ofstream(l.secret, std::ios::binary).write(reinterpret_cast<const char*>(g.bin.data()), std::streamsize(g.bin.size()));
+  std::ofstream(l.secret, std::ios::binary)
+      .write(reinterpret_cast<const char*>(g.bin.data()), std::streamsize(g.bin.size()));
   return l;
 }
 
@@ -74,7 +75,7 @@ void expect_refused(const std::filesystem::path& path, const std::string& place,
 TEST(Confinement, RelativeEscapesInEverySpellingAreRefused) {
   const Layout l = make_layout("confine-relative");
   for (const char* uri : {"../secret.bin", "..%2Fsecret.bin", "%2E%2E/secret.bin", "%2e%2e%2fsecret.bin",
-                                "./../secret.bin", "sub/../../secret.bin", "..//secret.bin"}) {
+                          "./../secret.bin", "sub/../../secret.bin", "..//secret.bin"}) {
     SCOPED_TRACE(uri);
     expect_refused(scene_with_buffer_uri(l, uri), "buffers[0].uri", "outside the scene's folder");
   }
@@ -83,7 +84,8 @@ TEST(Confinement, RelativeEscapesInEverySpellingAreRefused) {
 TEST(Confinement, AbsolutePathsAndSchemesAreRefused) {
   const Layout l = make_layout("confine-absolute");
   const std::vector<std::string> uris = {l.secret.string(), "file://" + l.secret.string(),
-                                        "%2F" + l.secret.string().substr(1), "http://example.com/x.bin", "C:/secret.bin"};
+                                         "%2F" + l.secret.string().substr(1), "http://example.com/x.bin",
+                                         "C:/secret.bin"};
   for (const std::string& uri : uris) {
     SCOPED_TRACE(uri);
     expect_refused(scene_with_buffer_uri(l, uri), "buffers[0].uri", "absolute or has a scheme");
@@ -218,8 +220,8 @@ TEST(Limits, TheSceneFileItselfCountsAgainstTheBudget) {
 
 TEST(Limits, OversizedImagesAreNotDecoded) {
   // A PNG header claiming 17000 x 1000 RGB pixels with no pixel data (stb itself stops at 1 GiB).
-  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                               0, 0, 0x42, 0x68, 0, 0, 0x03, 0xe8, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+  const unsigned char png[] = {0x89, 'P',  'N',  'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R', 0,
+                               0,    0x42, 0x68, 0,   0,    0x03, 0xe8, 8,    2, 0, 0, 0,  0,   0,   0,   0};
   const Layout l = make_layout("huge-image");
   std::ofstream(l.scene_dir / "big.png", std::ios::binary).write(reinterpret_cast<const char*>(png), sizeof(png));
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
@@ -231,7 +233,8 @@ TEST(Limits, OversizedImagesAreNotDecoded) {
   // Never allocated (a 1 MiB budget would refuse 17000 x 1000 x 4 bytes); the texture is one warning...
   const scene::Scene s = scene::load_scene(l.scene_dir / "scene.glb", {.max_memory = 1 << 20});
   ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_NE(s.warnings[0].find("17000x1000 is larger than the limit of 16384x16384"), std::string::npos) << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("17000x1000 is larger than the limit of 16384x16384"), std::string::npos)
+      << s.warnings[0];
   // ... and an error with strict.
   EXPECT_NE(load_error(l.scene_dir / "scene.glb", {.strict = true}).find("larger than the limit"), std::string::npos);
 }
@@ -239,8 +242,8 @@ TEST(Limits, OversizedImagesAreNotDecoded) {
 TEST(Limits, ImageBufferViewsOutsideTheirBufferAreNeverRead) {
   // tinygltf passes a bufferView image to the decoder without checking the view against its buffer (fuzzing
   // found the read past the end). The PNG header is real, so only the range decides the outcome.
-  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                               0, 0, 0, 1, 0, 0, 0, 1, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R', 0,
+                               0,    0,   1,   0,   0,    0,    1,    8,    2, 0, 0, 0,  0,   0,   0,   0};
   const auto dir = test_dir("image-view-range");
   MiniGltf g = MiniGltf::triangles(kTri, {0, 1, 2});
   const int view = g.add_view(png, sizeof(png));

@@ -25,8 +25,8 @@ MiniGltf room() {
   g.json["meshes"][0]["primitives"][0]["material"] = 0;
   g.json["extensionsUsed"] = {"KHR_lights_punctual"};
   g.json["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 5}}}}}}};
-  g.json["nodes"].push_back({{"name", "light"}, {"translation", {0.5, 0.5, 0.5}},
-                             {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  g.json["nodes"].push_back(
+      {{"name", "light"}, {"translation", {0.5, 0.5, 0.5}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   g.json["scenes"][0]["nodes"] = {0, 1};
   return g;
 }
@@ -74,25 +74,28 @@ std::vector<LenientCase> accessor_cases() {
   std::vector<LenientCase> cases;
   MiniGltf g = room();
   g.add_accessor(0, 5126, 1, "NotaVEC3");
-  cases.push_back(bakes("unused_accessor_unknown_type.gltf", "an accessor `type` from a later version that no primitive uses",
-                        gltf_bytes(g), {"accessors[2].type: unknown value 'NotaVEC3' in an unused accessor"}));
+  cases.push_back(bakes("unused_accessor_unknown_type.gltf",
+                        "an accessor `type` from a later version that no primitive uses", gltf_bytes(g),
+                        {"accessors[2].type: unknown value 'NotaVEC3' in an unused accessor"}));
   g = room();
   g.add_accessor(0, 5127, 1, "VEC3");
-  cases.push_back(bakes("unused_accessor_unknown_component_type.gltf", "an unknown `componentType` in an unused accessor",
-                        gltf_bytes(g), {"accessors[2].componentType: unknown value '5127' in an unused accessor"}));
+  cases.push_back(bakes("unused_accessor_unknown_component_type.gltf",
+                        "an unknown `componentType` in an unused accessor", gltf_bytes(g),
+                        {"accessors[2].componentType: unknown value '5127' in an unused accessor"}));
   g = room();
   g.json["accessors"][0]["type"] = "NotaVEC3";
   cases.push_back(refused("used_accessor_unknown_type.gltf", "POSITION read through an accessor of an unknown `type`",
                           gltf_bytes(g), "accessors[0].type: 'NotaVEC3' is not a glTF 2.0 accessor type"));
   g = room();
   g.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 7;
-  cases.push_back(refused("missing_position_accessor.gltf", "POSITION names an accessor that is not there", gltf_bytes(g),
-                          "accessor 7 does not exist"));
+  cases.push_back(refused("missing_position_accessor.gltf", "POSITION names an accessor that is not there",
+                          gltf_bytes(g), "accessor 7 does not exist"));
   g = room();
   json j = g.json;
   floats_for_integers(j);
   g.json = j;
-  cases.push_back(bakes("integral_floats.gltf", "every integer written as a float (`\"byteLength\": 1.0`)", gltf_bytes(g)));
+  cases.push_back(
+      bakes("integral_floats.gltf", "every integer written as a float (`\"byteLength\": 1.0`)", gltf_bytes(g)));
   return cases;
 }
 
@@ -118,8 +121,8 @@ std::vector<LenientCase> glb_cases() {
   cases.push_back(refused("glb_chunk_past_end.glb", "a BIN chunk longer than the file", long_chunk,
                           fmt::format("glb: chunk 1: {} bytes are longer than the file", get_u32(long_chunk, bin))));
   Bytes truncated(glb.begin(), glb.end() - 8);
-  cases.push_back(refused("glb_truncated.glb", "a file shorter than its header's declared length", truncated,
-                          "truncated"));
+  cases.push_back(
+      refused("glb_truncated.glb", "a file shorter than its header's declared length", truncated, "truncated"));
   return cases;
 }
 
@@ -127,13 +130,14 @@ std::vector<LenientCase> unused_data_cases() {
   std::vector<LenientCase> cases;
   MiniGltf g = room();
   g.json["buffers"].push_back({{"uri", "data:application/gltf-buffer,0"}, {"byteLength", 1}});
-  LenientCase described = bakes("unused_buffer_not_base64.glb", "an unused buffer whose data URI is not base64", g.glb());
+  LenientCase described =
+      bakes("unused_buffer_not_base64.glb", "an unused buffer whose data URI is not base64", g.glb());
   described.outcome = LenientOutcome::described;
   cases.push_back(described);
   g = room();
   g.json["images"] = {{{"uri", "data:image/png,not-base64"}}};
-  cases.push_back(bakes("unused_image_not_base64.gltf", "an image no texture uses, whose data URI is not base64",
-                        gltf_bytes(g)));
+  cases.push_back(
+      bakes("unused_image_not_base64.gltf", "an image no texture uses, whose data URI is not base64", gltf_bytes(g)));
   g = room();
   g.json["buffers"][0]["uri"] = "data:application/gltf-buffer,0";
   cases.push_back(refused("used_buffer_not_base64.gltf", "the buffer the mesh reads is a data URI that is not base64",

@@ -11,8 +11,8 @@ namespace probebake::test {
 enum class LenientOutcome { bakes, described, refused };
 
 struct LenientCase {
-  std::string file;                  // file name, .gltf or .glb
-  std::string what;                  // the case, in words
+  std::string file; // file name, .gltf or .glb
+  std::string what; // the case, in words
   LenientOutcome outcome;
   std::vector<unsigned char> bytes;
   std::vector<std::string> warnings; // each a substring of one warning line, in order; none when empty

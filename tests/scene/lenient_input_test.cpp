@@ -49,7 +49,8 @@ TEST(LenientCases, TheCommittedFilesAreTheGeneratorsOutput) {
   const std::string readme = lenient_cases_readme(cases);
   EXPECT_EQ(read_bytes(kCases / "README.md"), std::vector<unsigned char>(readme.begin(), readme.end()));
   std::set<std::string> present;
-  for (const auto& entry : std::filesystem::directory_iterator(kCases)) present.insert(entry.path().filename().string());
+  for (const auto& entry : std::filesystem::directory_iterator(kCases))
+    present.insert(entry.path().filename().string());
   EXPECT_EQ(present, expected);
 }
 

@@ -91,9 +91,8 @@ TEST(Loader, NormalizedShortPositionsAndSparseAccessor) {
   const std::uint8_t which[] = {2};
   const float value[] = {2.0f, 3.0f, 0.0f};
   const int iv = sp.add_view(which, 1), vv = sp.add_view(value, sizeof(value));
-  sp.json["accessors"][0]["sparse"] = {{"count", 1},
-                                       {"indices", {{"bufferView", iv}, {"componentType", 5121}}},
-                                       {"values", {{"bufferView", vv}}}};
+  sp.json["accessors"][0]["sparse"] = {
+      {"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5121}}}, {"values", {{"bufferView", vv}}}};
   s = load_glb(sp, "sparse");
   EXPECT_EQ(s.bounds.max, glm::vec3(2, 3, 0));
 }
@@ -135,7 +134,7 @@ TEST(Loader, MaterialsLightsAndDynamicNodes) {
   EXPECT_EQ(s.triangle_emission[0], glm::vec3(4.0f, 2.0f, 0.0f));
   ASSERT_EQ(s.lights.size(), 2u);
   EXPECT_EQ(s.lights[0].type, scene::LightType::spot);
-  EXPECT_FLOAT_EQ(s.lights[0].intensity, 1.0f);               // spec default
+  EXPECT_FLOAT_EQ(s.lights[0].intensity, 1.0f);                 // spec default
   EXPECT_NEAR(s.lights[0].outer_cone_angle, 0.7853982f, 1e-6f); // spec default pi/4
   EXPECT_EQ(s.lights[0].position, glm::vec3(0, 2, 0));
   EXPECT_EQ(s.lights[1].direction, glm::vec3(0, 0, -1));
@@ -151,7 +150,8 @@ std::vector<unsigned char> encode_draco_quad() {
   builder.Start(2);
   const int pos = builder.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
   for (int f = 0; f < 2; ++f) {
-    const glm::vec3 a = kQuad[kQuadIndices[3 * f]], b = kQuad[kQuadIndices[3 * f + 1]], c = kQuad[kQuadIndices[3 * f + 2]];
+    const glm::vec3 a = kQuad[kQuadIndices[3 * f]], b = kQuad[kQuadIndices[3 * f + 1]],
+                    c = kQuad[kQuadIndices[3 * f + 2]];
     builder.SetAttributeValuesForFace(pos, draco::FaceIndex(f), &a.x, &b.x, &c.x);
   }
   std::unique_ptr<draco::Mesh> mesh = builder.Finalize();
@@ -167,10 +167,12 @@ MiniGltf draco_quad(const std::vector<unsigned char>& payload) {
   g.bin.clear();
   g.json["bufferViews"] = nlohmann::json::array();
   const int view = g.add_view(payload.data(), payload.size());
-  g.json["accessors"] = {{{"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
-                         {{"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}}};
+  g.json["accessors"] = {
+      {{"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+      {{"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}}};
   g.json["meshes"][0]["primitives"][0] = {
-      {"attributes", {{"POSITION", 0}}}, {"indices", 1},
+      {"attributes", {{"POSITION", 0}}},
+      {"indices", 1},
       {"extensions", {{"KHR_draco_mesh_compression", {{"bufferView", view}, {"attributes", {{"POSITION", 0}}}}}}}};
   g.json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
   g.json["extensionsRequired"] = {"KHR_draco_mesh_compression"};

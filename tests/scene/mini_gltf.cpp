@@ -26,13 +26,20 @@ int MiniGltf::add_accessor(int view, int component_type, std::size_t count, cons
 MiniGltf MiniGltf::triangles(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
                              int index_component_type) {
   MiniGltf g;
-  g.json = {{"asset", {{"version", "2.0"}}}, {"buffers", {{{"byteLength", 0}}}}, {"bufferViews", nlohmann::json::array()},
-            {"accessors", nlohmann::json::array()}, {"scene", 0}, {"scenes", {{{"nodes", {0}}}}},
+  g.json = {{"asset", {{"version", "2.0"}}},
+            {"buffers", {{{"byteLength", 0}}}},
+            {"bufferViews", nlohmann::json::array()},
+            {"accessors", nlohmann::json::array()},
+            {"scene", 0},
+            {"scenes", {{{"nodes", {0}}}}},
             {"nodes", {{{"mesh", 0}, {"name", "root"}}}}};
   const int pv = g.add_view(positions.data(), positions.size() * sizeof(glm::vec3));
   const int pa = g.add_accessor(pv, 5126, positions.size(), "VEC3");
   glm::vec3 lo(1e30f), hi(-1e30f);
-  for (auto p : positions) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  for (auto p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
   g.json["accessors"][pa]["min"] = {lo.x, lo.y, lo.z};
   g.json["accessors"][pa]["max"] = {hi.x, hi.y, hi.z};
   nlohmann::json primitive = {{"attributes", {{"POSITION", pa}}}};

@@ -68,8 +68,8 @@ TEST(OptimisedCli, BrokenTextureBakesWithOneWarningAndFailsWithStrict) {
   EXPECT_EQ(lines_with(bake.err, "warning"), 1u) << bake.err;
   EXPECT_NE(bake.err.find("textures[0]: image 0 'broken.png': unknown image format"), std::string::npos) << bake.err;
   EXPECT_EQ(run_cli("validate " + quoted(dir / "a.probes")).exit_code, 0);
-  const CliResult strict = run_cli("bake " + quoted(dir / "scene.glb") + kFastBake + " --strict -o " +
-                                   quoted(dir / "b.probes"));
+  const CliResult strict =
+      run_cli("bake " + quoted(dir / "scene.glb") + kFastBake + " --strict -o " + quoted(dir / "b.probes"));
   EXPECT_EQ(strict.exit_code, 2) << strict.err;
   EXPECT_NE(strict.err.find("(--strict)"), std::string::npos) << strict.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "b.probes"));
@@ -104,7 +104,8 @@ TEST(OptimisedCli, MeshoptCopiesOfTheSharedScenesBakeAndValidate) {
       const std::string name = folder.path().filename().string();
       const auto copy = dir / (name + "-meshopt.glb");
       ASSERT_EQ(make_scene("convert --meshopt -q " + quoted(file.path()) + " -o " + quoted(copy)).exit_code, 0) << name;
-      for (const auto& [scene, out] : {std::pair{file.path(), dir / (name + ".probes")}, std::pair{copy, dir / (name + "-meshopt.probes")}}) {
+      for (const auto& [scene, out] :
+           {std::pair{file.path(), dir / (name + ".probes")}, std::pair{copy, dir / (name + "-meshopt.probes")}}) {
         const CliResult bake = run_cli("bake " + quoted(scene) + kFastBake + " -o " + quoted(out));
         ASSERT_EQ(bake.exit_code, 0) << name << ": " << bake.err;
       }

@@ -68,7 +68,8 @@ TEST(MeshoptStream, TrianglesAndIndexSequencesRoundTrip) {
         // The triangle codec keeps each triangle and its winding but may rotate its corners.
         bool same = false;
         for (std::size_t r = 0; r < 3; ++r)
-          same |= got[t] == indices[t + r] && got[t + 1] == indices[t + (r + 1) % 3] && got[t + 2] == indices[t + (r + 2) % 3];
+          same |= got[t] == indices[t + r] && got[t + 1] == indices[t + (r + 1) % 3] &&
+                  got[t + 2] == indices[t + (r + 2) % 3];
         EXPECT_TRUE(same) << mode << " stride " << stride << " triangle " << t / 3;
         if (std::string(mode) == "INDICES") {
           EXPECT_EQ(got[t], indices[t]) << "sequences are exact";
@@ -142,9 +143,14 @@ TEST(MeshoptStream, InvalidLayoutsAndCorruptDataAreOneLineErrors) {
 // bufferViews on a uri-less fallback buffer 1: the layout gltfpack -cc writes.
 MiniGltf meshopt_quad() {
   MiniGltf g;
-  g.json = {{"asset", {{"version", "2.0"}}}, {"buffers", {{{"byteLength", 0}}}}, {"bufferViews", nlohmann::json::array()},
-            {"accessors", nlohmann::json::array()}, {"scene", 0}, {"scenes", {{{"nodes", {0}}}}},
-            {"nodes", {{{"mesh", 0}}}}, {"extensionsUsed", {"EXT_meshopt_compression"}},
+  g.json = {{"asset", {{"version", "2.0"}}},
+            {"buffers", {{{"byteLength", 0}}}},
+            {"bufferViews", nlohmann::json::array()},
+            {"accessors", nlohmann::json::array()},
+            {"scene", 0},
+            {"scenes", {{{"nodes", {0}}}}},
+            {"nodes", {{{"mesh", 0}}}},
+            {"extensionsUsed", {"EXT_meshopt_compression"}},
             {"extensionsRequired", {"EXT_meshopt_compression"}}};
   Bytes exp(4 * 12);
   meshopt_encodeFilterExp(exp.data(), 4 * 3, 4, 23, &kQuad[0].x);
@@ -156,15 +162,24 @@ MiniGltf meshopt_quad() {
   auto compressed = [&](int source, std::size_t offset, std::size_t count, std::size_t stride, const char* mode,
                         const char* filter) {
     const nlohmann::json& view = g.json["bufferViews"][source];
-    return nlohmann::json{{"buffer", 1}, {"byteOffset", offset}, {"byteLength", count * stride},
-                          {"extensions", {{"EXT_meshopt_compression", {{"buffer", 0}, {"byteOffset", view["byteOffset"]},
-                          {"byteLength", view["byteLength"]}, {"byteStride", stride}, {"count", count}, {"mode", mode},
-                          {"filter", filter}}}}}};
+    return nlohmann::json{{"buffer", 1},
+                          {"byteOffset", offset},
+                          {"byteLength", count * stride},
+                          {"extensions",
+                           {{"EXT_meshopt_compression",
+                             {{"buffer", 0},
+                              {"byteOffset", view["byteOffset"]},
+                              {"byteLength", view["byteLength"]},
+                              {"byteStride", stride},
+                              {"count", count},
+                              {"mode", mode},
+                              {"filter", filter}}}}}};
   };
   g.json["bufferViews"].push_back(compressed(pv, 0, 4, 12, "ATTRIBUTES", "EXPONENTIAL"));
   g.json["bufferViews"].push_back(compressed(iv, 48, 6, 4, "INDICES", "NONE"));
   g.json["bufferViews"][2]["byteStride"] = 12;
-  g.json["buffers"].push_back({{"byteLength", 72}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
+  g.json["buffers"].push_back(
+      {{"byteLength", 72}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
   const int pa = g.add_accessor(2, 5126, 4, "VEC3");
   g.json["accessors"][pa]["min"] = {0, 0, 0};
   g.json["accessors"][pa]["max"] = {1, 1, 0};
@@ -201,17 +216,27 @@ TEST(MeshoptFiles, SizesAndRangesAreCheckedBeforeDecoding) {
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     return message;
   };
-  auto ext = [](nlohmann::json& j) -> nlohmann::json& { return j["bufferViews"][2]["extensions"]["EXT_meshopt_compression"]; };
-  EXPECT_NE(refused("count", [&](auto& j) { ext(j)["count"] = 5; }).find("is not the bufferView's byteLength"), std::string::npos);
-  EXPECT_NE(refused("stride", [&](auto& j) { j["bufferViews"][2]["byteStride"] = 16; }).find("differs from"), std::string::npos);
-  EXPECT_NE(refused("past", [&](auto& j) { ext(j)["byteLength"] = 100000; }).find("reaches past buffer 0"), std::string::npos);
-  EXPECT_NE(refused("source", [&](auto& j) { ext(j)["buffer"] = 7; }).find("buffer 7 does not exist"), std::string::npos);
-  EXPECT_NE(refused("huge", [&](auto& j) {
-              ext(j)["count"] = 100000000;
-              j["bufferViews"][2]["byteLength"] = 1200000000;
-            }).find("memory budget"), std::string::npos);
+  auto ext = [](nlohmann::json& j) -> nlohmann::json& {
+    return j["bufferViews"][2]["extensions"]["EXT_meshopt_compression"];
+  };
+  EXPECT_NE(refused("count", [&](auto& j) { ext(j)["count"] = 5; }).find("is not the bufferView's byteLength"),
+            std::string::npos);
+  EXPECT_NE(refused("stride", [&](auto& j) { j["bufferViews"][2]["byteStride"] = 16; }).find("differs from"),
+            std::string::npos);
+  EXPECT_NE(refused("past", [&](auto& j) { ext(j)["byteLength"] = 100000; }).find("reaches past buffer 0"),
+            std::string::npos);
+  EXPECT_NE(refused("source", [&](auto& j) { ext(j)["buffer"] = 7; }).find("buffer 7 does not exist"),
+            std::string::npos);
+  EXPECT_NE(refused("huge",
+                    [&](auto& j) {
+                      ext(j)["count"] = 100000000;
+                      j["bufferViews"][2]["byteLength"] = 1200000000;
+                    })
+                .find("memory budget"),
+            std::string::npos);
   EXPECT_NE(refused("mode", [&](auto& j) { ext(j).erase("mode"); }).find("mode must be"), std::string::npos);
-  EXPECT_NE(refused("negative", [&](auto& j) { ext(j)["byteOffset"] = -4; }).find("non-negative integer"), std::string::npos);
+  EXPECT_NE(refused("negative", [&](auto& j) { ext(j)["byteOffset"] = -4; }).find("non-negative integer"),
+            std::string::npos);
 }
 
 // ---- Textures --------------------------------------------------------------------------------------------
@@ -220,10 +245,12 @@ Bytes png_bytes(unsigned char r, unsigned char g, unsigned char b) {
   std::vector<unsigned char> rgb;
   for (int i = 0; i < 16; ++i) rgb.insert(rgb.end(), {r, g, b});
   Bytes out;
-  stbi_write_png_to_func([](void* ctx, void* data, int size) {
-    auto* o = static_cast<Bytes*>(ctx);
-    o->insert(o->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
-  }, &out, 4, 4, 3, rgb.data(), 12);
+  stbi_write_png_to_func(
+      [](void* ctx, void* data, int size) {
+        auto* o = static_cast<Bytes*>(ctx);
+        o->insert(o->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+      },
+      &out, 4, 4, 3, rgb.data(), 12);
   return out;
 }
 
@@ -273,9 +300,11 @@ TEST(Textures, WebpIsDecodedLikePng) {
   // EXT_texture_webp with a PNG fallback of another colour: the WebP is preferred.
   const int fallback_png = fallback.add_image(png_bytes(10, 10, 10), "image/png");
   const int fallback_webp = fallback.add_image(webp_bytes(200, 100, 50), "image/webp");
-  fallback.g.json["textures"] = {{{"source", fallback_png}, {"extensions", {{"EXT_texture_webp", {{"source", fallback_webp}}}}}}};
+  fallback.g.json["textures"] = {
+      {{"source", fallback_png}, {"extensions", {{"EXT_texture_webp", {{"source", fallback_webp}}}}}}};
   const glm::vec3 expected(srgb(200), srgb(100), srgb(50));
-  for (const auto& [name, quad] : {std::pair{"png", &png}, std::pair{"webp", &webp}, std::pair{"webp-fallback", &fallback}}) {
+  for (const auto& [name, quad] :
+       {std::pair{"png", &png}, std::pair{"webp", &webp}, std::pair{"webp-fallback", &fallback}}) {
     const scene::Scene s = quad->load(std::string("tex-") + name);
     ASSERT_EQ(s.triangle_count(), 2u);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.triangle_albedo[0][c], expected[c], 1e-6f) << name;
@@ -358,7 +387,9 @@ std::uint32_t png_crc(const unsigned char* bytes, std::size_t size) {
 // A PNG of `width` x `height` RGBA8 pixels whose IDAT holds `raw` deflated (stb's zlib writer), with CRCs.
 Bytes png_of(std::uint32_t width, std::uint32_t height, bool interlaced, std::vector<unsigned char> raw) {
   Bytes out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  const auto be32 = [&](std::uint32_t v) { for (int k = 3; k >= 0; --k) out.push_back(static_cast<unsigned char>(v >> (8 * k))); };
+  const auto be32 = [&](std::uint32_t v) {
+    for (int k = 3; k >= 0; --k) out.push_back(static_cast<unsigned char>(v >> (8 * k)));
+  };
   const auto chunk = [&](const char* type, const unsigned char* data, std::size_t size) {
     be32(std::uint32_t(size));
     const std::size_t start = out.size();
@@ -381,8 +412,9 @@ Bytes png_of(std::uint32_t width, std::uint32_t height, bool interlaced, std::ve
 
 // Rows of one colour, each with filter byte 0, for the passes of a 16 x 16 image (one pass, or Adam7's seven).
 std::vector<unsigned char> rows_of_colour(bool interlaced) {
-  const std::vector<std::pair<int, int>> passes = interlaced ? std::vector<std::pair<int, int>>{{2, 2}, {2, 2}, {4, 2}, {4, 4}, {8, 4}, {8, 8}, {16, 8}}
-                                                             : std::vector<std::pair<int, int>>{{16, 16}};
+  const std::vector<std::pair<int, int>> passes =
+      interlaced ? std::vector<std::pair<int, int>>{{2, 2}, {2, 2}, {4, 2}, {4, 4}, {8, 4}, {8, 8}, {16, 8}}
+                 : std::vector<std::pair<int, int>>{{16, 16}};
   std::vector<unsigned char> raw;
   for (const auto& [w, h] : passes)
     for (int y = 0; y < h; ++y) {
@@ -455,8 +487,8 @@ TEST(SpecValid, UnusedUrilessBufferGltfBufferDataUriAndViewlessAccessors) {
   const int wv = sparse.add_view(which.data(), 8);
   const int vv = sparse.add_view(kQuad.data(), 48);
   sparse.json["accessors"][0].erase("bufferView");
-  sparse.json["accessors"][0]["sparse"] = {{"count", 4}, {"indices", {{"bufferView", wv}, {"componentType", 5123}}},
-                                           {"values", {{"bufferView", vv}}}};
+  sparse.json["accessors"][0]["sparse"] = {
+      {"count", 4}, {"indices", {{"bufferView", wv}, {"componentType", 5123}}}, {"values", {{"bufferView", vv}}}};
   sparse.json["accessors"][1].erase("bufferView");
   sparse.write_glb(dir / "sparse.glb");
   const scene::Scene s = scene::load_scene(dir / "sparse.glb");

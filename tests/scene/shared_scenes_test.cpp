@@ -32,7 +32,11 @@ std::vector<SceneRow> readme_rows() {
     std::stringstream ss(line);
     for (std::string cell; std::getline(ss, cell, '|');) cells.push_back(cell);
     if (cells.size() < 10) continue;
-    auto trim = [](std::string s) { s.erase(0, s.find_first_not_of(' ')); s.erase(s.find_last_not_of(' ') + 1); return s; };
+    auto trim = [](std::string s) {
+      s.erase(0, s.find_first_not_of(' '));
+      s.erase(s.find_last_not_of(' ') + 1);
+      return s;
+    };
     SceneRow row{trim(cells[1]), trim(cells[2])};
     if (row.folder == "scene" || row.folder.starts_with("---")) continue;
     row.file = row.file.substr(0, row.file.find(' '));
@@ -94,7 +98,8 @@ TEST_F(SharedScenes, DracoTwinsEqualTheirPlainScenes) {
                                                     {"cornellbox_bjs_draco", "cornellbox_bjs"}};
   const auto rows = readme_rows();
   auto find = [&](const std::string& folder) {
-    for (const auto& r : rows) if (r.folder == folder) return scene_file(r);
+    for (const auto& r : rows)
+      if (r.folder == folder) return scene_file(r);
     return std::filesystem::path{};
   };
   for (const auto& [draco_name, plain_name] : twins) {
@@ -112,7 +117,10 @@ TEST_F(SharedScenes, DracoTwinsEqualTheirPlainScenes) {
     }
     EXPECT_EQ(unmatched, 0u) << draco_name << " tolerance " << tolerance;
     double area_a = 0, area_b = 0;
-    for (std::size_t t = 0; t < a.size(); ++t) { area_a += scene::triangle_area(draco, t); area_b += scene::triangle_area(plain, t); }
+    for (std::size_t t = 0; t < a.size(); ++t) {
+      area_a += scene::triangle_area(draco, t);
+      area_b += scene::triangle_area(plain, t);
+    }
     EXPECT_NEAR(area_a, area_b, 1e-3 * area_b) << draco_name;
   }
 }

@@ -29,7 +29,8 @@ std::vector<CellFootprint> grid_cells(int n, std::mt19937& rng) {
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const glm::vec3 corner{float(x), float(y), float(z)};
-        cells.push_back({x + n * (y + n * z), corner, corner + 1.0f, std::uint64_t(bytes(rng)) * (rng() % 50 == 0 ? 20 : 1)});
+        cells.push_back(
+            {x + n * (y + n * z), corner, corner + 1.0f, std::uint64_t(bytes(rng)) * (rng() % 50 == 0 ? 20 : 1)});
       }
   return cells;
 }
@@ -37,8 +38,8 @@ std::vector<CellFootprint> grid_cells(int n, std::mt19937& rng) {
 // The policy restated: a cell within the radius, or resident before and within radius + margin, is wanted
 // exactly when its bytes fit beside the wanted cells nearer than it (ties by index); no other cell is, nor
 // a refused one.
-void expect_policy(const CellResidency& r, glm::vec3 camera, float radius, float margin, const std::vector<std::uint8_t>& before,
-                   const std::vector<std::uint8_t>& wanted) {
+void expect_policy(const CellResidency& r, glm::vec3 camera, float radius, float margin,
+                   const std::vector<std::uint8_t>& before, const std::vector<std::uint8_t>& wanted) {
   const auto cells = r.cells();
   const auto distance = [&](std::size_t k) { return streaming::distance_to_box(camera, cells[k].min, cells[k].max); };
   for (std::size_t k = 0; k < cells.size(); ++k) {
@@ -120,8 +121,9 @@ TEST(CellResidency, ThousandsOfRandomMovesKeepTheBudgetAndThePolicy) {
     loads += changes.loads.size();
     drops += changes.drops.size();
   }
-  std::printf("[residency] 4000 frames, 216 cells: %zu loads, %zu drops, %zu cells refused, largest resident %llu bytes\n", loads,
-              drops, refused, static_cast<unsigned long long>(largest_resident));
+  std::printf(
+      "[residency] 4000 frames, 216 cells: %zu loads, %zu drops, %zu cells refused, largest resident %llu bytes\n",
+      loads, drops, refused, static_cast<unsigned long long>(largest_resident));
   EXPECT_GT(refused, 10u);
   EXPECT_GT(loads, 1000u);
   EXPECT_GT(drops, 1000u);
@@ -152,7 +154,8 @@ TEST(CellResidency, AStillCameraSettlesAndThenChangesNothing) {
 // is dropped and loaded again every step; with one it stays.
 TEST(CellResidency, AKeepMarginStopsReloadsAtTheEdgeOfTheRadius) {
   std::vector<CellFootprint> cells;
-  for (int x = 0; x < 4; ++x) cells.push_back({x, glm::vec3(float(x), 0.0f, 0.0f), glm::vec3(float(x) + 1.0f, 1.0f, 1.0f), 100});
+  for (int x = 0; x < 4; ++x)
+    cells.push_back({x, glm::vec3(float(x), 0.0f, 0.0f), glm::vec3(float(x) + 1.0f, 1.0f, 1.0f), 100});
   for (const float margin : {0.0f, 0.5f}) {
     CellResidency residency(cells);
     residency.set_budget(1000);
@@ -186,7 +189,8 @@ TEST(CellResidency, ACellLargerThanTheBudgetBlocksNothingBehindIt) {
 // to the next cell in distance order.
 TEST(CellResidency, ARefusedCellIsNeverWantedAgainAndGivesItsRoomToTheNext) {
   std::vector<CellFootprint> cells;
-  for (int x = 0; x < 3; ++x) cells.push_back({x, glm::vec3(float(x), 0.0f, 0.0f), glm::vec3(float(x + 1), 1.0f, 1.0f), 100});
+  for (int x = 0; x < 3; ++x)
+    cells.push_back({x, glm::vec3(float(x), 0.0f, 0.0f), glm::vec3(float(x + 1), 1.0f, 1.0f), 100});
   CellResidency residency(cells);
   residency.set_budget(200);
   const auto first = residency.update(glm::vec3(0.5f), 10.0f);

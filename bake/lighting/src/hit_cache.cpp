@@ -78,7 +78,8 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
       } else if (hit->inside()) { // the back of a single-sided surface: black and absorbing
         ++counts[i].backface;
       } else {
-        h = shade_hit(scene, volume, direct, !settings.emissive_as_lights, origin + hit->distance * directions[j], *hit);
+        h = shade_hit(scene, volume, direct, !settings.emissive_as_lights, origin + hit->distance * directions[j],
+                      *hit);
         counts[i].indirect_misses += h.stencil.empty() ? 1 : 0;
         check_finite(h, cache.probes[i], j);
       }

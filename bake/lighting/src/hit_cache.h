@@ -26,8 +26,8 @@ struct HitRecord {
 
 struct HitCache {
   int rays_per_probe = 0;
-  std::vector<int> probes;                          // live probes, ascending
-  std::vector<HitRecord> records;                   // probe-major: records[i * rays_per_probe + j]
+  std::vector<int> probes;        // live probes, ascending
+  std::vector<HitRecord> records; // probe-major: records[i * rays_per_probe + j]
   // projection[j][k] = (4 pi / R) * A_l(k) * Y_k(direction j): radiance of ray j -> irradiance SH.
   std::vector<std::array<float, 9>> projection;
   std::size_t backface_hits = 0; // RayHit::inside(): backs of single-sided surfaces only

@@ -75,7 +75,8 @@ void sweep(const HitCache& cache, const ShBuffer& prev, ShBuffer& next, int thre
 SweepChange measure_change(const HitCache& cache, const ShBuffer& prev, const ShBuffer& next) {
   double largest = 0.0;
   for (int p : cache.probes)
-    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(next[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(c)]));
+    for (int c = 0; c < 3; ++c)
+      largest = std::max(largest, std::abs(next[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(c)]));
   const double floor = std::max(1e-6 * largest, double(FLT_MIN));
   double relative = 0.0;
   SweepChange change;
@@ -93,10 +94,12 @@ SweepChange measure_change(const HitCache& cache, const ShBuffer& prev, const Sh
 void check_finite(const HitCache& cache, const ShBuffer& sh, int sweep_number) {
   for (int p : cache.probes)
     for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
-      if (!std::isfinite(float(sh[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v)]))) // must fit the file's floats
-        throw Error(ErrorKind::input, fmt::format("lighting: probe {}: irradiance is not finite after sweep {} (emission "
-                                                  "or light intensity beyond 32-bit float range?)",
-                                                  p, sweep_number));
+      if (!std::isfinite(
+              float(sh[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v)]))) // must fit the file's floats
+        throw Error(ErrorKind::input,
+                    fmt::format("lighting: probe {}: irradiance is not finite after sweep {} (emission "
+                                "or light intensity beyond 32-bit float range?)",
+                                p, sweep_number));
 }
 
 void extrapolate(const HitCache& cache, ShBuffer& current, const ShBuffer& previous, double factor) {

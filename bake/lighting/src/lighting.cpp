@@ -25,7 +25,8 @@ void require(bool ok, const char* message) {
 
 void check_lighting_settings(const LightingSettings& s) {
   require(s.rays >= 1 && s.rays <= 65536, "lighting rays must be in [1, 65536]");
-  require(std::isfinite(s.tolerance) && s.tolerance > 0.0f && s.tolerance < 1.0f, "lighting tolerance must be in (0, 1)");
+  require(std::isfinite(s.tolerance) && s.tolerance > 0.0f && s.tolerance < 1.0f,
+          "lighting tolerance must be in (0, 1)");
   require(s.max_iterations >= 1, "lighting max iterations must be >= 1");
   for (int c = 0; c < 3; ++c)
     require(std::isfinite(s.sky_radiance[c]) && s.sky_radiance[c] >= 0.0f, "sky radiance must be finite and >= 0");
@@ -48,11 +49,15 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
 
   const auto iterate_start = Clock::now();
   lighting_detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * volume.probes.size(), 0.0);
-  if (!cache.probes.empty()) lighting_detail::solve(cache, settings, sh, report);
-  else report.converged = true;
+  if (!cache.probes.empty())
+    lighting_detail::solve(cache, settings, sh, report);
+  else
+    report.converged = true;
   lighting_detail::measure_noise(cache, sh, report);
   for (int p : cache.probes)
-    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v) volume.probes[std::size_t(p)].irradiance_sh[v] = float(sh[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v)]);
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
+      volume.probes[std::size_t(p)].irradiance_sh[v] =
+          float(sh[gpu::PROBE_SH_FLOATS * std::size_t(p) + std::size_t(v)]);
   report.iterate_seconds = seconds_since(iterate_start);
   report.seconds = seconds_since(start);
   return report;

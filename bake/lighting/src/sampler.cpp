@@ -107,7 +107,8 @@ int heaviest(const BlendedLookup& lookup) {
   int best = -1;
   float best_weight = 0.0f;
   for (int i = 0; i < lookup.count; ++i)
-    if (lookup.weights[std::size_t(i)] > best_weight) best = lookup.leaves[std::size_t(i)], best_weight = lookup.weights[std::size_t(i)];
+    if (lookup.weights[std::size_t(i)] > best_weight)
+      best = lookup.leaves[std::size_t(i)], best_weight = lookup.weights[std::size_t(i)];
   return best;
 }
 
@@ -261,8 +262,8 @@ BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 posit
 }
 
 glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& stencil, glm::vec3 normal) {
-  return lighting_detail::apply_stencil<float>(stencil, normal,
-                                        [&](int probe) { return volume.probes[std::size_t(probe)].irradiance_sh; });
+  return lighting_detail::apply_stencil<float>(
+      stencil, normal, [&](int probe) { return volume.probes[std::size_t(probe)].irradiance_sh; });
 }
 
 ProbeBlend probe_blend(const formats::ProbeVolume& volume, const BlendedLookup& lookup, glm::vec3 position,
@@ -291,7 +292,8 @@ ProbeBlend probe_blend(const formats::ProbeVolume& volume, const BlendedLookup& 
     }
     if (!(sum > 0.0f)) continue;
     for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
-      if (slot[std::size_t(k)] >= 0) out.weights[std::size_t(slot[std::size_t(k)])] += lookup.weights[std::size_t(i)] * (w[k] / sum);
+      if (slot[std::size_t(k)] >= 0)
+        out.weights[std::size_t(slot[std::size_t(k)])] += lookup.weights[std::size_t(i)] * (w[k] / sum);
   }
   return out;
 }
@@ -302,7 +304,8 @@ glm::vec3 apply_blend(const formats::ProbeVolume& volume, const ProbeBlend& blen
   const std::array<float, 9> y = sh_basis(normal);
   for (int j = 0; j < blend.count; ++j) {
     const gpu::Probe& probe = volume.probes[std::size_t(blend.probes[std::size_t(j)])];
-    e += blend.weights[std::size_t(j)] * glm::max(lighting_detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
+    e += blend.weights[std::size_t(j)] *
+         glm::max(lighting_detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
   }
   return e;
 }

@@ -39,7 +39,8 @@ CameraFrame::CameraFrame(const Camera& c) : position(c.position), width(c.width)
 glm::vec3 CameraFrame::pixel_direction(std::size_t pixel) const {
   const float px = (float(pixel % std::size_t(width)) + 0.5f) / float(width);
   const float py = (float(pixel / std::size_t(width)) + 0.5f) / float(height);
-  return glm::normalize(forward + right * ((2.0f * px - 1.0f) * tan_half_y * aspect) + up * ((1.0f - 2.0f * py) * tan_half_y));
+  return glm::normalize(forward + right * ((2.0f * px - 1.0f) * tan_half_y * aspect) +
+                        up * ((1.0f - 2.0f * py) * tan_half_y));
 }
 
 std::optional<glm::vec3> CameraFrame::project(glm::vec3 p) const {

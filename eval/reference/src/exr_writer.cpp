@@ -29,7 +29,8 @@ Imf::Slice rgb_slice(std::vector<glm::vec3>& pixels, int width, int c) {
 } // namespace
 
 void write_exr(const std::filesystem::path& path, const Image& image) {
-  if (image.width < 1 || image.height < 1 || image.pixels.size() != std::size_t(image.width) * std::size_t(image.height))
+  if (image.width < 1 || image.height < 1 ||
+      image.pixels.size() != std::size_t(image.width) * std::size_t(image.height))
     throw Error(ErrorKind::internal, fmt::format("{}: image size does not match its pixels", path.string()));
   Imf::StdOSStream stream; // encoded in memory, then written through the one atomic writer
   try {
@@ -60,7 +61,8 @@ Image read_exr(const std::filesystem::path& path) {
     const std::ptrdiff_t origin = std::ptrdiff_t(window.min.y) * image.width + window.min.x;
     for (int c = 0; c < 3; ++c) {
       char* base = reinterpret_cast<char*>(&image.pixels[0][c]) - origin * std::ptrdiff_t(sizeof(glm::vec3));
-      frame.insert(kChannels[c], Imf::Slice(Imf::FLOAT, base, sizeof(glm::vec3), sizeof(glm::vec3) * std::size_t(image.width)));
+      frame.insert(kChannels[c],
+                   Imf::Slice(Imf::FLOAT, base, sizeof(glm::vec3), sizeof(glm::vec3) * std::size_t(image.width)));
     }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);

@@ -13,8 +13,7 @@ float emission_weight(const glm::vec3& e) {
   return (std::max(e.x, 0.0f) + std::max(e.y, 0.0f) + std::max(e.z, 0.0f)) / 3.0f;
 }
 
-EmitterTable::EmitterTable(const scene::Scene& scene)
-    : scene_(&scene), pdf_by_triangle_(scene.triangles.size(), 0.0f) {
+EmitterTable::EmitterTable(const scene::Scene& scene) : scene_(&scene), pdf_by_triangle_(scene.triangles.size(), 0.0f) {
   double total = 0.0;
   for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
     const double power = scene::triangle_area(scene, t) * emission_weight(scene.triangle_emission[t]);
@@ -39,7 +38,8 @@ EmitterTable::Sample EmitterTable::sample(Pcg32& rng) const {
   const std::uint32_t t = triangles_[i];
   const glm::uvec3 tri = scene_->triangles[t];
   const float u1 = rng.uniform(), u2 = rng.uniform();
-  return {t, uniform_triangle_point(scene_->positions[tri.x], scene_->positions[tri.y], scene_->positions[tri.z], u1, u2)};
+  return {t,
+          uniform_triangle_point(scene_->positions[tri.x], scene_->positions[tri.y], scene_->positions[tri.z], u1, u2)};
 }
 
 namespace {
@@ -102,8 +102,8 @@ glm::vec3 punctual_irradiance(const scene::Scene& scene, const scene::RayScene& 
 }
 
 glm::vec3 emitter_irradiance_sample(const scene::Scene& scene, const scene::RayScene& rays,
-                                    const EmitterTable& emitters, const glm::vec3& x, const glm::vec3& n,
-                                    float epsilon, Pcg32& rng) {
+                                    const EmitterTable& emitters, const glm::vec3& x, const glm::vec3& n, float epsilon,
+                                    Pcg32& rng) {
   if (emitters.empty()) return glm::vec3(0.0f);
   const EmitterTable::Sample s = emitters.sample(rng);
   const glm::vec3 d = s.position - x;

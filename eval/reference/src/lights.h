@@ -32,8 +32,8 @@ public:
 private:
   const scene::Scene* scene_;
   std::vector<std::uint32_t> triangles_;
-  std::vector<double> cdf_;             // inclusive prefix sums of the power weights, normalised to 1
-  std::vector<float> pdf_by_triangle_;  // pdf_area per scene triangle (0 = not an emitter)
+  std::vector<double> cdf_;            // inclusive prefix sums of the power weights, normalised to 1
+  std::vector<float> pdf_by_triangle_; // pdf_area per scene triangle (0 = not an emitter)
 };
 
 // Weight of triangle t in the emitter table: its emitted radiance averaged over the channels, >= 0.
@@ -47,8 +47,8 @@ glm::vec3 punctual_irradiance(const scene::Scene& scene, const scene::RayScene& 
 // One light sample of the irradiance at x from emissive triangles, MIS-weighted against cosine sampling.
 // Single-sided emitters light only their front; double-sided ones both sides (pdf with |cos| at the emitter).
 glm::vec3 emitter_irradiance_sample(const scene::Scene& scene, const scene::RayScene& rays,
-                                    const EmitterTable& emitters, const glm::vec3& x, const glm::vec3& n,
-                                    float epsilon, Pcg32& rng);
+                                    const EmitterTable& emitters, const glm::vec3& x, const glm::vec3& n, float epsilon,
+                                    Pcg32& rng);
 
 // MIS weight of a cosine-sampled ray (density cos_x / pi) that hit emitter triangle t at distance dist
 // with cosine cos_y at the emitter, measured against the normal of the side it hit (> 0 for any hit that

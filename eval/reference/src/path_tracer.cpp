@@ -42,7 +42,8 @@ PathEstimate irradiance_path(const PathContext& c, const SamplePoint& point, Pcg
     const glm::vec3 emission = scene.triangle_emission[hit->triangle];
     if (emission_weight(emission) > 0.0f) { // distance from x, as next-event estimation measures it
       const float cos_y = -glm::dot(facing, w);
-      const glm::vec3 seen = beta * emission * (kPi * bsdf_hit_weight(*c.emitters, hit->triangle, cos_x, glm::length(y - x), cos_y));
+      const glm::vec3 seen =
+          beta * emission * (kPi * bsdf_hit_weight(*c.emitters, hit->triangle, cos_x, glm::length(y - x), cos_y));
       result += seen;
       if (bounce == 0) direct += seen; // an emitter the receiver's own ray sees
     }

@@ -12,7 +12,7 @@ struct PathContext {
   const scene::Scene* scene = nullptr;
   const scene::RayScene* rays = nullptr;
   const EmitterTable* emitters = nullptr;
-  float epsilon = 1e-5f;   // ray origin offset along the normal
+  float epsilon = 1e-5f; // ray origin offset along the normal
   int roulette_after = 3;
   int max_bounces = 100000;
 };

@@ -21,8 +21,8 @@ constexpr int kChunk = 64; // paths per task: small enough to spread one point's
 struct Moments {
   glm::dvec3 sum{0.0};
   glm::dvec3 sum_squares{0.0};
-  glm::dvec3 direct{0.0};                   // sum of the direct parts
-  glm::dvec3 indirect_squares{0.0};         // sum of the squared indirect parts (total - direct)
+  glm::dvec3 direct{0.0};           // sum of the direct parts
+  glm::dvec3 indirect_squares{0.0}; // sum of the squared indirect parts (total - direct)
 
   void add(const Moments& m) {
     sum += m.sum;
@@ -39,8 +39,8 @@ glm::dvec3 standard_error(const glm::dvec3& sum, const glm::dvec3& sum_squares, 
   return glm::sqrt(variance / n);
 }
 
-Moments trace_chunk(const detail::PathContext& context, const SamplePoint& point, std::uint64_t seed,
-                    std::uint64_t key, int paths) {
+Moments trace_chunk(const detail::PathContext& context, const SamplePoint& point, std::uint64_t seed, std::uint64_t key,
+                    int paths) {
   detail::Pcg32 rng(seed, key);
   Moments m;
   for (int i = 0; i < paths; ++i) {
@@ -68,8 +68,8 @@ ReferenceResult reference_irradiance(const scene::Scene& scene, const scene::Ray
   check_reference_settings(settings);
   const auto start = std::chrono::steady_clock::now();
   const detail::EmitterTable emitters(scene);
-  const detail::PathContext context{&scene, &rays, &emitters, scene::ray_epsilon(scene), settings.roulette_after,
-                                    settings.max_bounces};
+  const detail::PathContext context{
+      &scene, &rays, &emitters, scene::ray_epsilon(scene), settings.roulette_after, settings.max_bounces};
   const std::size_t chunks = (std::size_t(settings.paths) + kChunk - 1) / kChunk;
   std::vector<Moments> moments(points.size() * chunks);
   parallel_for(moments.size(), settings.threads, [&](std::size_t task) {

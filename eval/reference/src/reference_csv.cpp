@@ -76,15 +76,16 @@ void write_reference_csv(const std::filesystem::path& path, std::span<const Samp
     const SamplePoint& p = points[i];
     const glm::vec3& e = reference.irradiance[i];
     const glm::vec3& d = reference.direct.at(i);
-    out += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
-                       p.position.x, p.position.y, p.position.z, p.normal.x, p.normal.y, p.normal.z, e.x, e.y, e.z,
-                       max_channel(reference.standard_error[i]), d.x, d.y, d.z,
-                       max_channel(reference.indirect_standard_error.at(i)));
+    out += fmt::format(
+        "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+        p.position.x, p.position.y, p.position.z, p.normal.x, p.normal.y, p.normal.z, e.x, e.y, e.z,
+        max_channel(reference.standard_error[i]), d.x, d.y, d.z, max_channel(reference.indirect_standard_error.at(i)));
   }
   write_file_atomically(path, std::string_view(out));
 }
 
-bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points, ReferenceResult& reference) {
+bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points,
+                        ReferenceResult& reference) {
   std::ifstream in(path);
   std::string line;
   if (!in || !std::getline(in, line) || line != kHeader) return false;

@@ -70,21 +70,23 @@ struct Candidate {
 };
 
 // One round of `count` candidates: candidate i takes the triangle at cumulative area (i + u) / count.
-std::vector<Candidate> candidates(const scene::Scene& scene, const AreaTable& table, int count,
-                                    std::uint64_t seed, int round) {
+std::vector<Candidate> candidates(const scene::Scene& scene, const AreaTable& table, int count, std::uint64_t seed,
+                                  int round) {
   detail::Pcg32 rng(seed, 0x5a3b1e0000000000ull + std::uint64_t(round));
   std::vector<Candidate> points;
   points.reserve(std::size_t(count));
   for (int i = 0; i < count; ++i) {
     const double u = (double(i) + double(rng.uniform())) / double(count);
     const auto it = std::lower_bound(table.cdf.begin(), table.cdf.end(), u);
-    const scene::ReceivingSide side = table.sides[std::min(std::size_t(it - table.cdf.begin()), table.sides.size() - 1)];
+    const scene::ReceivingSide side =
+        table.sides[std::min(std::size_t(it - table.cdf.begin()), table.sides.size() - 1)];
     const glm::uvec3 tri = scene.triangles[side.triangle];
     const glm::vec3 front = scene::triangle_normal(scene, side.triangle);
     const float u1 = rng.uniform(), u2 = rng.uniform();
-    points.push_back({u, {detail::uniform_triangle_point(scene.positions[tri.x], scene.positions[tri.y],
-                                                         scene.positions[tri.z], u1, u2),
-                          side.back ? -front : front}});
+    points.push_back({u,
+                      {detail::uniform_triangle_point(scene.positions[tri.x], scene.positions[tri.y],
+                                                      scene.positions[tri.z], u1, u2),
+                       side.back ? -front : front}});
   }
   return points;
 }

@@ -41,8 +41,8 @@ PB_CONSTANT(uint, SAMPLE_ALL_BINDING_QUERIES, 8u);
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_RESULTS, 9u);
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS, 10u);  // the dynamic_objects section (or the placeholder)
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_OBJECT_INSTANCES, 11u); // ObjectInstance per dynamic object (or the placeholder)
-PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_TREES, 12u);     // the compact tracing sections (format 1.4),
-PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_VERTICES, 13u);  // with TRACE_NODES and TRACE_FACES above
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_TREES, 12u);      // the compact tracing sections (format 1.4),
+PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_VERTICES, 13u);   // with TRACE_NODES and TRACE_FACES above
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_TRACE_MATERIALS, 14u);
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_COUNT, 15u);
 
@@ -69,11 +69,11 @@ PB_CONSTANT(uint, LIGHT_BINDING_EMITTER_PATCHES, 10u);
 PB_CONSTANT(uint, LIGHT_BINDING_RECORDS, 11u);
 PB_CONSTANT(uint, LIGHT_BINDING_NEXT_IRRADIANCE, 12u);
 PB_CONSTANT(uint, LIGHT_BINDING_COUNTERS, 13u);
-PB_CONSTANT(uint, LIGHT_BINDING_TRACE_FLAGS, 14u); // uint per probe slot: TRACE_FLAG_* (runtime_types.h)
-PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);  // LightListHeader + int per listed probe (runtime_types.h)
+PB_CONSTANT(uint, LIGHT_BINDING_TRACE_FLAGS, 14u);      // uint per probe slot: TRACE_FLAG_* (runtime_types.h)
+PB_CONSTANT(uint, LIGHT_BINDING_LIGHT_LIST, 15u);       // LightListHeader + int per listed probe (runtime_types.h)
 PB_CONSTANT(uint, LIGHT_BINDING_DYNAMIC_OBJECTS, 16u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS
 PB_CONSTANT(uint, LIGHT_BINDING_OBJECT_INSTANCES, 17u); // as SAMPLE_ALL_BINDING_OBJECT_INSTANCES
-PB_CONSTANT(uint, LIGHT_BINDING_RELIGHT_CHANGES, 18u); // RelightChanges (runtime_types.h)
+PB_CONSTANT(uint, LIGHT_BINDING_RELIGHT_CHANGES, 18u);  // RelightChanges (runtime_types.h)
 // The light records are split into pages of whole probes, each within maxStorageBufferRange: page 0 at
 // LIGHT_BINDING_RECORDS, pages 1-3 here (unused pages repeat page 0; LightPush.probes_per_page).
 PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_1, 19u);
@@ -81,8 +81,8 @@ PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_2, 20u);
 PB_CONSTANT(uint, LIGHT_BINDING_RECORDS_PAGE_3, 21u);
 PB_CONSTANT(uint, LIGHT_RECORD_PAGES, 4u);
 PB_CONSTANT(uint, LIGHT_BINDING_TRACKED_PUNCTUAL, 22u); // float[3] per record (RelightChanges.track_after)
-PB_CONSTANT(uint, LIGHT_BINDING_TRACE_TREES, 23u);     // the compact tracing sections (format 1.4),
-PB_CONSTANT(uint, LIGHT_BINDING_TRACE_VERTICES, 24u);  // with TRACE_NODES and TRACE_FACES above
+PB_CONSTANT(uint, LIGHT_BINDING_TRACE_TREES, 23u);      // the compact tracing sections (format 1.4),
+PB_CONSTANT(uint, LIGHT_BINDING_TRACE_VERTICES, 24u);   // with TRACE_NODES and TRACE_FACES above
 PB_CONSTANT(uint, LIGHT_BINDING_TRACE_MATERIALS, 25u);
 // Streaming: int per probe slot, the slot of its records in the record pages, -1 for a probe that has none
 // (not lit); read only when LightPush.indirect_records is set (otherwise a probe's records are its slot's).
@@ -107,7 +107,8 @@ PB_CONSTANT(uint, MEMORY_BINDING_TRACE_FACES, 8u);
 PB_CONSTANT(uint, MEMORY_BINDING_SURFEL_BATCHES, 9u);
 PB_CONSTANT(uint, MEMORY_BINDING_LEAF_HEADER, 10u);
 PB_CONSTANT(uint, MEMORY_BINDING_LEAF_ENTRIES, 11u);
-PB_CONSTANT(uint, MEMORY_BINDING_KEYS, 12u);              // int[3 * segment_capacity]: key of node n in segment s at s * capacity + n
+PB_CONSTANT(uint, MEMORY_BINDING_KEYS,
+            12u); // int[3 * segment_capacity]: key of node n in segment s at s * capacity + n
 PB_CONSTANT(uint, MEMORY_BINDING_STATE, 13u);             // MemoryState
 PB_CONSTANT(uint, MEMORY_BINDING_CLUSTER_STACK, 14u);     // int: free cluster meta indices
 PB_CONSTANT(uint, MEMORY_BINDING_PROBE_STACK, 15u);       // int: free probe slots
@@ -120,13 +121,13 @@ PB_CONSTANT(uint, MEMORY_BINDING_COUNTERS, 21u);          // MemoryCounters
 PB_CONSTANT(uint, MEMORY_BINDING_TRACE_FLAGS, 22u);       // = LIGHT_BINDING_TRACE_FLAGS' buffer
 PB_CONSTANT(uint, MEMORY_BINDING_PROBE_GENERATIONS, 23u); // uint per probe slot: +1 each time it is freed
 PB_CONSTANT(uint, MEMORY_BINDING_SVO_GENERATIONS, 24u);   // ivec4 per SVO leaf: generation of each stencil probe
-PB_CONSTANT(uint, MEMORY_BINDING_SVO_BAKE, 25u);          // 16 B per SVO leaf (float bits): voxel centre, w = its SVO node; with
-                                                          //   streaming, then the bake stencils (SEAT_STENCIL_VEC4S) (static)
-PB_CONSTANT(uint, MEMORY_BINDING_LIGHT_LIST, 26u);        // = LIGHT_BINDING_LIGHT_LIST's buffer
+PB_CONSTANT(uint, MEMORY_BINDING_SVO_BAKE, 25u); // 16 B per SVO leaf (float bits): voxel centre, w = its SVO node; with
+                                                 //   streaming, then the bake stencils (SEAT_STENCIL_VEC4S) (static)
+PB_CONSTANT(uint, MEMORY_BINDING_LIGHT_LIST, 26u);       // = LIGHT_BINDING_LIGHT_LIST's buffer
 PB_CONSTANT(uint, MEMORY_BINDING_DYNAMIC_OBJECTS, 27u);  // as SAMPLE_ALL_BINDING_DYNAMIC_OBJECTS
 PB_CONSTANT(uint, MEMORY_BINDING_OBJECT_INSTANCES, 28u); // as SAMPLE_ALL_BINDING_OBJECT_INSTANCES
-PB_CONSTANT(uint, MEMORY_BINDING_TRACE_TREES, 29u);     // the compact tracing sections (format 1.4),
-PB_CONSTANT(uint, MEMORY_BINDING_TRACE_VERTICES, 30u);  // with TRACE_NODES and TRACE_FACES above
+PB_CONSTANT(uint, MEMORY_BINDING_TRACE_TREES, 29u);      // the compact tracing sections (format 1.4),
+PB_CONSTANT(uint, MEMORY_BINDING_TRACE_VERTICES, 30u);   // with TRACE_NODES and TRACE_FACES above
 PB_CONSTANT(uint, MEMORY_BINDING_TRACE_MATERIALS, 31u);
 PB_CONSTANT(uint, MEMORY_BINDING_COUNT, 32u);
 
@@ -141,10 +142,12 @@ PB_CONSTANT(uint, STREAM_BINDING_SCRATCH, 1u); // a copy of the block being move
 PB_CONSTANT(uint, STREAM_BINDING_COUNT, 2u);
 
 #ifdef __cplusplus
-static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES &&
-              LIGHT_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES && LIGHT_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
-static_assert(MEMORY_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO && MEMORY_BINDING_PROBES == SAMPLE_BINDING_PROBES &&
-              MEMORY_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES && MEMORY_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
+static_assert(LIGHT_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO &&
+              LIGHT_BINDING_PROBES == SAMPLE_BINDING_PROBES && LIGHT_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES &&
+              LIGHT_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
+static_assert(MEMORY_BINDING_VOLUME_INFO == SAMPLE_BINDING_VOLUME_INFO &&
+              MEMORY_BINDING_PROBES == SAMPLE_BINDING_PROBES && MEMORY_BINDING_SVO_NODES == SAMPLE_BINDING_SVO_NODES &&
+              MEMORY_BINDING_SVO_LEAVES == SAMPLE_BINDING_SVO_LEAVES);
 } // namespace probebake::gpu
 #endif
 

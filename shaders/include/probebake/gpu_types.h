@@ -61,15 +61,15 @@ PB_CONSTANT(float, SH_BAND1, 2.09439510f);  // 2 pi / 3
 PB_CONSTANT(float, SH_BAND2, 0.785398163f); // pi / 4
 
 struct Probe {
-  vec3 position;           // offset   0: world space, metres (glTF units)
-  int link;                // offset  12: see above
-  int node;                // offset  16: octree node holding this probe (back link, -1 for grid probes)
-  int depth;               // offset  20: depth of that node (root = 0)
-  float hit_fraction;      // offset  24: surfel hits inside the node cube / surfels placed
-  float backface_fraction; // offset  28: back-face hits / hits (dead-probe test)
+  vec3 position;                        // offset   0: world space, metres (glTF units)
+  int link;                             // offset  12: see above
+  int node;                             // offset  16: octree node holding this probe (back link, -1 for grid probes)
+  int depth;                            // offset  20: depth of that node (root = 0)
+  float hit_fraction;                   // offset  24: surfel hits inside the node cube / surfels placed
+  float backface_fraction;              // offset  28: back-face hits / hits (dead-probe test)
   float irradiance_sh[PROBE_SH_FLOATS]; // offset  32: L2 SH irradiance, RGB, W/m^2 per unit of emission
-  float pad0;              // offset 140
-};                         // size 144
+  float pad0;                           // offset 140
+};                                      // size 144
 
 // ---- Surfels and surfel batches (thesis §3.1.3, extended) ----------------------------------------------
 PB_CONSTANT(int, SURFELS_PER_BATCH, 16);
@@ -150,25 +150,25 @@ PB_CONSTANT(int, LATTICE_LATLONG, 1);
 PB_CONSTANT(int, LATTICE_EQUAL_AREA, 2);
 
 struct VolumeInfo {
-  vec3 root_min;          // offset  0: minimum corner of the octree root cube (also the SVO cube)
-  float root_size;        // offset 12: edge length of the root cube
-  int placement;          // offset 16: PLACEMENT_*
-  int max_depth;          // offset 20: octree max depth (octree placement)
-  int svo_depth;          // offset 24: SVO leaf depth
-  int lattice;            // offset 28: LATTICE_*
-  int surfels_per_probe;  // offset 32
-  float split_low;        // offset 36: f < split_low frees a probe
-  float split_high;       // offset 40: f >= split_high splits a node below max depth
-  int grid_resolution;    // offset 44: N for an N^3 grid (grid placement), else 0
-  int probe_capacity;     // offset 48: elements in the probe buffer
-  int batch_capacity;     // offset 52: elements in the surfel batch buffer (0 when not stored)
-  int octree_elements;    // offset 56: int32 elements in the octree buffer
-  int svo_nodes;          // offset 60: int32 elements in the SVO node buffer
-  int svo_leaves;         // offset 64: SvoLeaf elements
-  int pad0;               // offset 68
-  int pad1;               // offset 72
-  int pad2;               // offset 76
-};                        // size 80
+  vec3 root_min;         // offset  0: minimum corner of the octree root cube (also the SVO cube)
+  float root_size;       // offset 12: edge length of the root cube
+  int placement;         // offset 16: PLACEMENT_*
+  int max_depth;         // offset 20: octree max depth (octree placement)
+  int svo_depth;         // offset 24: SVO leaf depth
+  int lattice;           // offset 28: LATTICE_*
+  int surfels_per_probe; // offset 32
+  float split_low;       // offset 36: f < split_low frees a probe
+  float split_high;      // offset 40: f >= split_high splits a node below max depth
+  int grid_resolution;   // offset 44: N for an N^3 grid (grid placement), else 0
+  int probe_capacity;    // offset 48: elements in the probe buffer
+  int batch_capacity;    // offset 52: elements in the surfel batch buffer (0 when not stored)
+  int octree_elements;   // offset 56: int32 elements in the octree buffer
+  int svo_nodes;         // offset 60: int32 elements in the SVO node buffer
+  int svo_leaves;        // offset 64: SvoLeaf elements
+  int pad0;              // offset 68
+  int pad1;              // offset 72
+  int pad2;              // offset 76
+};                       // size 80
 
 // ---- Runtime lighting (format 1.1, optional sections) ------------------------------------------------------
 // What the runtime's light update (thesis §3.2.2) needs to reproduce the bake's lighting on any Vulkan
@@ -217,13 +217,13 @@ struct TraceTriangle {
 // rounded outwards so that no box ever culls its contents. Positions stay exact floats: hits are the
 // same as with the float layout.
 PB_CONSTANT(int, TRACE_MAX_LEAF_FACES, 8);
-PB_CONSTANT(uint, TRACE_BOX_STEPS, 65535u);           // quantised coordinate q: frame lower + q * frame scale
+PB_CONSTANT(uint, TRACE_BOX_STEPS, 65535u); // quantised coordinate q: frame lower + q * frame scale
 // A child word (TraceNode::child, TraceTree::root): an inner node's index (bit 31 clear), or a leaf of
 // faces [first, first + count) with bit 31 set, count - 1 in bits 27-30 and first in bits 0-26.
 PB_CONSTANT(uint, TRACE_CHILD_LEAF, 0x80000000u);
 PB_CONSTANT(uint, TRACE_LEAF_COUNT_SHIFT, 27u);
 PB_CONSTANT(uint, TRACE_LEAF_FIRST_MASK, 0x07FFFFFFu);
-PB_CONSTANT(uint, TRACE_NO_ROOT, 0xFFFFFFFFu);        // TraceTree::root of a tree without faces
+PB_CONSTANT(uint, TRACE_NO_ROOT, 0xFFFFFFFFu);           // TraceTree::root of a tree without faces
 PB_CONSTANT(uint, TRACE_FACE_DOUBLE_SIDED, 0x80000000u); // TraceFace::material bit 31 (glTF doubleSided)
 PB_CONSTANT(uint, TRACE_MATERIAL_MASK, 0x7FFFFFFFu);
 
@@ -320,16 +320,16 @@ struct LightingInfo {
 // bvh_nodes[0, static_bvh_nodes) with static_bvh_nodes = dynamic_objects ? objects[0].bvh_root : bvh_nodes.
 // An object's BvhNode::first indices are absolute (into the whole arrays), like the static ones.
 struct DynamicObject {
-  vec3 lower;          // offset  0: object-space bounding box of its triangles
-  int bvh_root;        // offset 12: its root in bvh_nodes; its nodes are [bvh_root, bvh_root + bvh_node_count)
-  vec3 upper;          // offset 16
-  int bvh_node_count;  // offset 28
-  int first_triangle;  // offset 32: its triangles are trace_triangles[first_triangle, + triangle_count)
-  int triangle_count;  // offset 36
-  int gltf_node;       // offset 40: index of the dynamic node in the glTF's nodes (how a host finds it)
-  int pad0;            // offset 44
-  vec4 rest_rows[3];   // offset 48: world_from_object at rest, the rows of an affine 3x4 matrix
-};                     // size 96
+  vec3 lower;         // offset  0: object-space bounding box of its triangles
+  int bvh_root;       // offset 12: its root in bvh_nodes; its nodes are [bvh_root, bvh_root + bvh_node_count)
+  vec3 upper;         // offset 16
+  int bvh_node_count; // offset 28
+  int first_triangle; // offset 32: its triangles are trace_triangles[first_triangle, + triangle_count)
+  int triangle_count; // offset 36
+  int gltf_node;      // offset 40: index of the dynamic node in the glTF's nodes (how a host finds it)
+  int pad0;           // offset 44
+  vec4 rest_rows[3];  // offset 48: world_from_object at rest, the rows of an affine 3x4 matrix
+};                    // size 96
 
 #ifdef __cplusplus
 static_assert(sizeof(Probe) == 144 && alignof(Probe) == 4);
@@ -343,17 +343,22 @@ static_assert(sizeof(SvoLeaf) == 32 && offsetof(SvoLeaf, weights) == 16);
 static_assert(sizeof(VolumeInfo) == 80 && offsetof(VolumeInfo, placement) == 16);
 static_assert(offsetof(VolumeInfo, probe_capacity) == 48 && offsetof(VolumeInfo, svo_leaves) == 64);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, upper) == 16 && offsetof(BvhNode, count) == 28);
-static_assert(sizeof(TraceTriangle) == 96 && offsetof(TraceTriangle, normal) == 48 && offsetof(TraceTriangle, emission) == 80);
+static_assert(sizeof(TraceTriangle) == 96 && offsetof(TraceTriangle, normal) == 48 &&
+              offsetof(TraceTriangle, emission) == 80);
 static_assert(offsetof(TraceTriangle, flags) == 28 && offsetof(EmitterPatch, flags) == 12);
 static_assert(sizeof(TraceTree) == 32 && offsetof(TraceTree, root) == 12 && offsetof(TraceTree, node_count) == 28);
 static_assert(sizeof(TraceNode) == 32 && offsetof(TraceNode, upper) == 12 && offsetof(TraceNode, child) == 24);
 static_assert(sizeof(TraceFace) == 16 && offsetof(TraceFace, material) == 12 && sizeof(TraceVertex) == 12);
 static_assert(sizeof(TraceMaterial) == 32 && offsetof(TraceMaterial, emission) == 16);
-static_assert(sizeof(PunctualLight) == 64 && offsetof(PunctualLight, intensity) == 32 && offsetof(PunctualLight, spot_scale) == 48);
-static_assert(sizeof(EmitterPatch) == 80 && offsetof(EmitterPatch, normal) == 48 && offsetof(EmitterPatch, radiance) == 64);
-static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset) == 16 && offsetof(LightingInfo, placement_rays) == 40);
+static_assert(sizeof(PunctualLight) == 64 && offsetof(PunctualLight, intensity) == 32 &&
+              offsetof(PunctualLight, spot_scale) == 48);
+static_assert(sizeof(EmitterPatch) == 80 && offsetof(EmitterPatch, normal) == 48 &&
+              offsetof(EmitterPatch, radiance) == 64);
+static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset) == 16 &&
+              offsetof(LightingInfo, placement_rays) == 40);
 static_assert(offsetof(LightingInfo, dynamic_objects) == 44);
-static_assert(sizeof(DynamicObject) == 96 && offsetof(DynamicObject, first_triangle) == 32 && offsetof(DynamicObject, rest_rows) == 48);
+static_assert(sizeof(DynamicObject) == 96 && offsetof(DynamicObject, first_triangle) == 32 &&
+              offsetof(DynamicObject, rest_rows) == 48);
 } // namespace probebake::gpu
 #endif
 

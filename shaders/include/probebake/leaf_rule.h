@@ -29,7 +29,8 @@ PB_CONSTANT(int, LEAF_VERDICT_KEEP, 2);  // keep the probe and light it (L2)
 PB_CONSTANT(float, LEAF_DEAD_BACKFACE_FRACTION, 0.5f);
 
 // Whether a centre with hit fraction f and back-face fraction b cannot judge its cube.
-PB_FUNCTION bool leaf_centre_blind(float hit_fraction, float backface_fraction, float split_low, float dead_backface_fraction) {
+PB_FUNCTION bool leaf_centre_blind(float hit_fraction, float backface_fraction, float split_low,
+                                   float dead_backface_fraction) {
   return hit_fraction < split_low || backface_fraction > dead_backface_fraction;
 }
 
@@ -38,8 +39,8 @@ PB_FUNCTION bool leaf_centre_blind(float hit_fraction, float backface_fraction, 
 // (the runtime passes f > 0; the bake passes whether triangles overlap the cube). `relocates_dead`: a centre
 // blind only because it is dead (inside a solid, on a double-sided surface) keeps its probe when it cannot
 // refine, because a relocation step moves it out (the bake); without one (the runtime) it is freed.
-PB_FUNCTION int leaf_verdict_with(float hit_fraction, bool blind, bool sees_geometry_in_cube, bool relocates_dead, int depth,
-                                  VolumeInfo info) {
+PB_FUNCTION int leaf_verdict_with(float hit_fraction, bool blind, bool sees_geometry_in_cube, bool relocates_dead,
+                                  int depth, VolumeInfo info) {
   const bool below_max = depth < info.max_depth;
   const bool refine_towards_geometry = blind && below_max && sees_geometry_in_cube;
   const bool unrecoverable = hit_fraction < info.split_low || (blind && !relocates_dead);
@@ -49,7 +50,8 @@ PB_FUNCTION int leaf_verdict_with(float hit_fraction, bool blind, bool sees_geom
 }
 
 // The runtime's rule (dynamic::TreeUpdate::judge, the GPU's L1 and M4): geometry in the cube = f > 0.
-PB_FUNCTION int leaf_verdict(float hit_fraction, float backface_fraction, int depth, VolumeInfo info, float dead_backface_fraction) {
+PB_FUNCTION int leaf_verdict(float hit_fraction, float backface_fraction, int depth, VolumeInfo info,
+                             float dead_backface_fraction) {
   const bool blind = leaf_centre_blind(hit_fraction, backface_fraction, info.split_low, dead_backface_fraction);
   return leaf_verdict_with(hit_fraction, blind, hit_fraction > 0.0f, false, depth, info);
 }

@@ -51,7 +51,8 @@ PB_CONSTANT(int, MEMORY_ACTION_STALE, 8);          // the node no longer fits th
 PB_CONSTANT(int, MEMORY_ACTION_SEAT, 9);           // streaming: memory_cells seats a cell (work indexed by seat)
 
 // Per-node marks of the frame (MemoryState-sized int per octree element), cleared by memory_collapse.
-PB_CONSTANT(int, MEMORY_MARK_FREEING, -1); // an M2 leaf freeing its probe this frame; > 0: 1 + LEAF_VERDICT_* of a merging parent
+PB_CONSTANT(int, MEMORY_MARK_FREEING,
+            -1); // an M2 leaf freeing its probe this frame; > 0: 1 + LEAF_VERDICT_* of a merging parent
 // Streaming: a leaf (L1) or parent (M4) whose measure crossed a cell that is out, kept as it was until cells
 // arrive (memory_remeasure), across frames; decide overwrites it and collapse clears it like the others.
 PB_CONSTANT(int, MEMORY_MARK_REMEASURE, -2);
@@ -72,18 +73,18 @@ struct MemoryBox {
 };            // size 32
 
 struct MemoryFrame {
-  int box_count;                 // offset  0: changed boxes in use
-  int max_memory_entries;        // offset  4: M1/M3 per frame, 0 = all
-  int max_light_entries;         // offset  8: L1/L2 leaves with a probe per frame, 0 = all
-  float dead_backface_fraction;  // offset 12: leaf_rule.h
-  int batches_per_probe;         // offset 16: surfel batches of a new probe (0 without a batch pool)
-  uint null_leaf;                // offset 20: streaming: the child word of a cell that is out, else 0; a
-                                 //   measure whose lattice ray crosses one decides nothing (octree.glsl)
-  int cell_changes;              // offset 24: entries of cells in use (memory_cells)
-  int cell_depth;                // offset 28: the octree depth of the cells (VolumeInfo's octree), 0 = none
-  MemoryBox boxes[MEMORY_MAX_BOXES]; // offset 32
+  int box_count;                       // offset  0: changed boxes in use
+  int max_memory_entries;              // offset  4: M1/M3 per frame, 0 = all
+  int max_light_entries;               // offset  8: L1/L2 leaves with a probe per frame, 0 = all
+  float dead_backface_fraction;        // offset 12: leaf_rule.h
+  int batches_per_probe;               // offset 16: surfel batches of a new probe (0 without a batch pool)
+  uint null_leaf;                      // offset 20: streaming: the child word of a cell that is out, else 0; a
+                                       //   measure whose lattice ray crosses one decides nothing (octree.glsl)
+  int cell_changes;                    // offset 24: entries of cells in use (memory_cells)
+  int cell_depth;                      // offset 28: the octree depth of the cells (VolumeInfo's octree), 0 = none
+  MemoryBox boxes[MEMORY_MAX_BOXES];   // offset 32
   uint cells[MEMORY_MAX_CELL_CHANGES]; // offset 32 + 32 * MEMORY_MAX_BOXES: cells dropped or arrived
-};                               // size 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES
+};                                     // size 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES
 
 // Streaming: an arriving cell's subtree as the file has it, in the seat data behind MemoryFrame (ints;
 // memory_cells seats it from the pools). A word is a node's: > 0 an inner node whose cluster is local
@@ -110,21 +111,21 @@ struct CellSeat {
 // Device-only state: free-list stack sizes, the frame's pulled counts, and the indirect dispatch sizes that
 // memory_begin derives from them (VkDispatchIndirectCommand, folded into y past LIGHT_LIST_MAX_GROUPS_X).
 struct MemoryState {
-  int cluster_top;           // offset  0: free node clusters (meta indices) on the cluster stack
-  int probe_top;             // offset  4: free probe slots on the probe stack
-  int batch_top;             // offset  8: free surfel batches on the batch stack
-  int traced;                // offset 12: L1/L2 leaves with a probe taken so far this frame (light limit)
-  int memory_pulled;         // offset 16: entries the memory update pulled this frame
-  int memory_segment;        // offset 20: the segment it pulled
-  int light_pulled;          // offset 24: entries the light update pulled this frame
-  int light_segment;         // offset 28: the segment it pulled
-  uint entry_groups[3];      // offset 32: one workgroup per pulled memory entry (memory_decide)
+  int cluster_top;             // offset  0: free node clusters (meta indices) on the cluster stack
+  int probe_top;               // offset  4: free probe slots on the probe stack
+  int batch_top;               // offset  8: free surfel batches on the batch stack
+  int traced;                  // offset 12: L1/L2 leaves with a probe taken so far this frame (light limit)
+  int memory_pulled;           // offset 16: entries the memory update pulled this frame
+  int memory_segment;          // offset 20: the segment it pulled
+  int light_pulled;            // offset 24: entries the light update pulled this frame
+  int light_segment;           // offset 28: the segment it pulled
+  uint entry_groups[3];        // offset 32: one workgroup per pulled memory entry (memory_decide)
   uint entry_thread_groups[3]; // offset 44: one thread per pulled memory entry (release, allocate, collapse)
-  uint light_groups[3];      // offset 56: one workgroup per pulled light entry (memory_light)
-  int pad0;                  // offset 68
-  int pad1;                  // offset 72
-  int pad2;                  // offset 76
-};                           // size 80
+  uint light_groups[3];        // offset 56: one workgroup per pulled light entry (memory_light)
+  int pad0;                    // offset 68
+  int pad1;                    // offset 72
+  int pad2;                    // offset 76
+};                             // size 80
 
 // One pulled memory entry as the dispatches pass it on: decide fills node/state/action, release the
 // merge probe, grant the stack positions (index into the stacks of the first element granted).
@@ -169,11 +170,13 @@ static_assert(SVO_PROBES_PER_LEAF == 4 && OCTREE_MAX_DEPTH < 16); // a key per v
 static_assert(sizeof(CellSeat) == 32 && sizeof(MemoryFrame) % 16 == 0);
 static_assert(sizeof(CellSeat) == SEAT_HEADER_INTS * 4 && sizeof(Probe) == SEAT_PROBE_INTS * 4);
 static_assert(sizeof(MemoryBox) == 32 && offsetof(MemoryBox, upper) == 16);
-static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES && offsetof(MemoryFrame, boxes) == 32);
+static_assert(sizeof(MemoryFrame) == 32 + 32 * MEMORY_MAX_BOXES + 4 * MEMORY_MAX_CELL_CHANGES &&
+              offsetof(MemoryFrame, boxes) == 32);
 static_assert(offsetof(MemoryFrame, cells) == 32 + 32 * MEMORY_MAX_BOXES && offsetof(MemoryFrame, cell_depth) == 28);
 static_assert(offsetof(MemoryFrame, batches_per_probe) == 16 && offsetof(MemoryFrame, null_leaf) == 20);
 static_assert(sizeof(MemoryState) == 80 && offsetof(MemoryState, light_segment) == 28);
-static_assert(offsetof(MemoryState, entry_groups) == 32 && offsetof(MemoryState, entry_thread_groups) == 44 && offsetof(MemoryState, light_groups) == 56);
+static_assert(offsetof(MemoryState, entry_groups) == 32 && offsetof(MemoryState, entry_thread_groups) == 44 &&
+              offsetof(MemoryState, light_groups) == 56);
 static_assert(sizeof(MemoryWork) == 48 && offsetof(MemoryWork, merged) == 32);
 static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred) == 36);
 static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);

@@ -48,17 +48,17 @@ struct SampleQuery {
 };               // size 32
 
 struct SampleResult {
-  vec3 irradiance;  // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/bake/sampler.h)
-  int probes_used;  // offset 12: distinct probes of the blend (at most 32), 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
-};                  //   left one of them out of the light update (its irradiance is kept, not updated)
+  vec3 irradiance; // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/bake/sampler.h)
+  int probes_used; // offset 12: distinct probes of the blend (at most 32), 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
+};                 //   left one of them out of the light update (its irradiance is kept, not updated)
 PB_CONSTANT(int, SAMPLE_RESULT_NOT_LIT, 256);
 
 struct SamplePush {
   uint count;     // offset 0: queries in this dispatch
   uint streaming; // offset 4: 1 = flag results whose probes have no record slot (SAMPLE_BINDING_RECORD_SLOTS)
-  uint pad1;  // offset 8
-  uint pad2;  // offset 12
-};            // size 16
+  uint pad1;      // offset 8
+  uint pad2;      // offset 12
+};                // size 16
 
 // ---- Light update (octree thesis §3.2.2), light_trace.comp / light_gather.comp / light_resolve.comp -------
 // One workgroup per probe slot for trace and gather (threads over the probe's rays), one thread per probe
@@ -111,15 +111,15 @@ struct MovedBox {
   float pad1; // offset 28
 };            // size 32
 struct RelightChanges {
-  uint count;      // offset  0: changes in use
-  uint everything; // offset  4: 1 = recompute every front record's E_punctual
+  uint count;        // offset  0: changes in use
+  uint everything;   // offset  4: 1 = recompute every front record's E_punctual
   uint reuse_before; // offset  8: 1 = changes[0].before's E at each record is in the tracked buffer
   uint track_after;  // offset 12: 1 = write changes[0].after's E at each front record to the tracked buffer
   LightChange changes[RELIGHT_MAX_CHANGES]; // offset 16
-  uint moved_boxes; // offset 16 + 128 * RELIGHT_MAX_CHANGES: boxes in use
+  uint moved_boxes;                         // offset 16 + 128 * RELIGHT_MAX_CHANGES: boxes in use
   uint pad0, pad1, pad2;
   MovedBox boxes[RELIGHT_MAX_MOVED_BOXES];
-};                 // size 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES
+}; // size 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES
 
 // Per probe slot flags (LIGHT_BINDING_TRACE_FLAGS): trace the slot's records in the next light_trace (a new or
 // re-measured probe), or its cached punctual irradiance missed a light change while the probe was outside
@@ -133,27 +133,27 @@ PB_CONSTANT(uint, TRACE_FLAG_STALE_PUNCTUAL, 2u);
 PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED_NOW, 4u);
 
 struct LightPush {
-  uint probe_capacity; // offset  0
-  float hysteresis;    // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
-  uint trace_all;      // offset  8: light_trace: 1 = every live probe, 0 = flagged probes only
-  uint listed;         // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = the slot window
-  uint first_slot;     // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
-  uint slot_count;     // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
-  uint probes_per_page; // offset 24: light records: slot s is in page s / probes_per_page (bindings.h)
-  int tracked_light;    // offset 28: light_trace: the light whose share it also writes to the tracked
-                        //   punctual buffer (RelightChanges), -1 = none
-  int shadow_rays;      // offset 32: light_trace, light_relight (everything): shadow rays per record for a
-                        //   whole punctual sum; 0 = one per light (exact); else lights are sampled when there
-                        //   are more (FrameLimits::shadow_rays_per_record, direct_light.glsl)
-  uint seed;            // offset 36: this frame's seed of the light sampling (the same frames, the same bits)
+  uint probe_capacity;   // offset  0
+  float hysteresis;      // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
+  uint trace_all;        // offset  8: light_trace: 1 = every live probe, 0 = flagged probes only
+  uint listed;           // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = the slot window
+  uint first_slot;       // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
+  uint slot_count;       // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
+  uint probes_per_page;  // offset 24: light records: slot s is in page s / probes_per_page (bindings.h)
+  int tracked_light;     // offset 28: light_trace: the light whose share it also writes to the tracked
+                         //   punctual buffer (RelightChanges), -1 = none
+  int shadow_rays;       // offset 32: light_trace, light_relight (everything): shadow rays per record for a
+                         //   whole punctual sum; 0 = one per light (exact); else lights are sampled when there
+                         //   are more (FrameLimits::shadow_rays_per_record, direct_light.glsl)
+  uint seed;             // offset 36: this frame's seed of the light sampling (the same frames, the same bits)
   uint indirect_records; // offset 40: 1 = a probe's records are at LIGHT_BINDING_RECORD_SLOTS[slot] (streaming)
-  uint trace_lanes;     // offset 44: light_trace: threads per record, 1 or LIGHT_TRACE_LANES (below)
-  uint null_leaf;       // offset 48: streaming: the child word of a cell that is out (StreamedTracing), else 0
-  uint retry_first;     // offset 52: streaming: light_trace retraces the RECORD_SLOT_UNRESOLVED probes at light
-  uint retry_count;     // offset 56:   list places [retry_first, retry_first + retry_count) modulo its count
-  uint retry_by_slot;   // offset 60: 1 = the retry window counts probe slots modulo probe_capacity instead
-                        //   (the memory update writes the list, whose places the host does not know)
-};                      // size 64
+  uint trace_lanes;      // offset 44: light_trace: threads per record, 1 or LIGHT_TRACE_LANES (below)
+  uint null_leaf;        // offset 48: streaming: the child word of a cell that is out (StreamedTracing), else 0
+  uint retry_first;      // offset 52: streaming: light_trace retraces the RECORD_SLOT_UNRESOLVED probes at light
+  uint retry_count;      // offset 56:   list places [retry_first, retry_first + retry_count) modulo its count
+  uint retry_by_slot;    // offset 60: 1 = the retry window counts probe slots modulo probe_capacity instead
+                         //   (the memory update writes the list, whose places the host does not know)
+};                       // size 64
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -162,19 +162,19 @@ struct LightPush {
 // frame, which light_trace_list appends before light_trace.
 // light_trace runs a workgroup per chunk of those alone: a frame where few trace costs few workgroups.
 struct LightListHeader {
-  uint groups_x;  // offset  0: VkDispatchIndirectCommand of gather: one workgroup per listed probe,
-  uint groups_y;  // offset  4:   folded into y past LIGHT_LIST_MAX_GROUPS_X
-  uint groups_z;  // offset  8
-  uint count;     // offset 12: listed probes
-  uint resolve_x; // offset 16: VkDispatchIndirectCommand of resolve: one thread per listed probe
-  uint resolve_y; // offset 20
-  uint resolve_z; // offset 24
-  uint pad0;      // offset 28
-  uint trace_x;   // offset 32: VkDispatchIndirectCommand of trace: one workgroup per probe that traces (folded
-  uint trace_y;   // offset 36:   into y past LIGHT_LIST_MAX_GROUPS_X) and LIGHT_TRACE_CHUNKS, raised by
-  uint trace_z;   // offset 40:   light_trace_list from zero
+  uint groups_x;    // offset  0: VkDispatchIndirectCommand of gather: one workgroup per listed probe,
+  uint groups_y;    // offset  4:   folded into y past LIGHT_LIST_MAX_GROUPS_X
+  uint groups_z;    // offset  8
+  uint count;       // offset 12: listed probes
+  uint resolve_x;   // offset 16: VkDispatchIndirectCommand of resolve: one thread per listed probe
+  uint resolve_y;   // offset 20
+  uint resolve_z;   // offset 24
+  uint pad0;        // offset 28
+  uint trace_x;     // offset 32: VkDispatchIndirectCommand of trace: one workgroup per probe that traces (folded
+  uint trace_y;     // offset 36:   into y past LIGHT_LIST_MAX_GROUPS_X) and LIGHT_TRACE_CHUNKS, raised by
+  uint trace_z;     // offset 40:   light_trace_list from zero
   uint trace_count; // offset 44: probes that trace (light_trace_list)
-};                // size 48
+};                  // size 48
 // light_trace spreads a probe's trace over LIGHT_TRACE_CHUNKS workgroups (gl_WorkGroupID.z) and, when few
 // probes trace (probes arriving with a streamed cell, new leaves, retraces around a moved object: the cost
 // is one probe's latency), each record's shadow rays (emitter patches', lights') over LIGHT_TRACE_LANES
@@ -189,19 +189,19 @@ PB_CONSTANT(uint, LIGHT_LIST_MAX_GROUPS_X, 65535u); // the least maxComputeWorkG
 
 // Statistics of the light update, reset every frame; trace counts are written only in frames that trace.
 struct LightCounters {
-  int traced_probes;   // offset  0: probes traced by L1 this frame
-  int front_hits;      // offset  4: lighting rays that hit a front face (L1)
-  int backface_hits;   // offset  8: ... the back of a single-sided triangle (L1)
-  int misses;          // offset 12: ... nothing (L1)
-  int lit_probes;      // offset 16: probes gathered by L2 this frame
-  int indirect_misses; // offset 20: front hits whose SVO lookup found no probe (L2)
-  int non_finite;      // offset 24: probes whose gathered irradiance was not finite: kept their old value
-  int want_split;      // offset 28: L3: the leaf rule (leaf_rule.h) says split
-  int want_free;       // offset 32: L3: the leaf rule says free the probe
-  int relit_records;   // offset 36: records whose cached E_punctual light_relight updated
-  int reused_records;  // offset 40: of them, updated with E_before read from the tracked buffer
+  int traced_probes;     // offset  0: probes traced by L1 this frame
+  int front_hits;        // offset  4: lighting rays that hit a front face (L1)
+  int backface_hits;     // offset  8: ... the back of a single-sided triangle (L1)
+  int misses;            // offset 12: ... nothing (L1)
+  int lit_probes;        // offset 16: probes gathered by L2 this frame
+  int indirect_misses;   // offset 20: front hits whose SVO lookup found no probe (L2)
+  int non_finite;        // offset 24: probes whose gathered irradiance was not finite: kept their old value
+  int want_split;        // offset 28: L3: the leaf rule (leaf_rule.h) says split
+  int want_free;         // offset 32: L3: the leaf rule says free the probe
+  int relit_records;     // offset 36: records whose cached E_punctual light_relight updated
+  int reused_records;    // offset 40: of them, updated with E_before read from the tracked buffer
   int unresolved_probes; // offset 44: streaming: traces that left RECORD_SLOT_UNRESOLVED, relights that newly set it
-};                     // size 48
+};                       // size 48
 
 // ---- Dynamic objects (gpu_types.h DynamicObject; docs/RUNTIME_INTERNALS.md "Moving objects: internals") ---
 // The runtime's pose of one dynamic object: the host writes world_from_object (vkCmdUpdateBuffer, rows of an
@@ -239,18 +239,23 @@ static_assert(sizeof(ObjectInstance) == 128 && offsetof(ObjectInstance, object_f
 static_assert(sizeof(ObjectRefitPush) == 16);
 static_assert(PROBE_INDEX_BLOCK == PROBE_INDEX_THREADS * PROBE_INDEX_PER_THREAD);
 // light_trace.comp: whole rays per workgroup; the chunks' completion count fits above the flag bits.
-static_assert(LIGHT_WORKGROUP_SIZE % LIGHT_TRACE_LANES == 0 && uint64_t(LIGHT_TRACE_CHUNKS) * TRACE_FLAG_CHUNK_ONE <= 0xffffffffull);
+static_assert(LIGHT_WORKGROUP_SIZE % LIGHT_TRACE_LANES == 0 &&
+              uint64_t(LIGHT_TRACE_CHUNKS) * TRACE_FLAG_CHUNK_ONE <= 0xffffffffull);
 static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && sizeof(SamplePush) == 16);
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);
 static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) == 12);
 static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48 &&
               offsetof(LightRecord, punctual_r) == 28 && offsetof(LightRecord, punctual_g) == 44 &&
               offsetof(LightRecord, punctual_b) == 60);
-static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 && offsetof(LightListHeader, trace_x) == 32 &&
-              offsetof(LightListHeader, trace_count) == 44);
-static_assert(sizeof(LightPush) == 64 && offsetof(LightPush, retry_by_slot) == 60 && offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 &&
+              offsetof(LightListHeader, trace_x) == 32 && offsetof(LightListHeader, trace_count) == 44);
+static_assert(sizeof(LightPush) == 64 && offsetof(LightPush, retry_by_slot) == 60 &&
+              offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 &&
+              offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 &&
+              offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
-static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES && offsetof(RelightChanges, changes) == 16 &&
+static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES &&
+              offsetof(RelightChanges, changes) == 16 &&
               offsetof(RelightChanges, moved_boxes) == 16 + 128 * RELIGHT_MAX_CHANGES &&
               offsetof(RelightChanges, boxes) == 32 + 128 * RELIGHT_MAX_CHANGES);
 static_assert(sizeof(MovedBox) == 32 && offsetof(MovedBox, upper) == 16);

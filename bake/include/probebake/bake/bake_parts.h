@@ -28,12 +28,13 @@ std::uint64_t part_input_hash(const scene::Scene& scene, const BakeSettings& set
 
 // The part of the bake for `cells` (any cells of the part grid, ascending; cells without triangles
 // contribute nothing). Throws Error(usage) for a cell outside the grid.
-formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& settings, std::span<const std::int32_t> cells);
+formats::BakePart bake_part(const scene::Scene& scene, const BakeSettings& settings,
+                            std::span<const std::int32_t> cells);
 
 // The work the parts did, for bake(): every triangle must lie in a cell that exactly one part baked.
 // `names` names the parts in messages. Throws Error(input, "<name>: <reason>") for a part of another scene
 // or settings, a cell two parts baked, or Error(input) naming a cell with triangles that no part baked.
-PrecomputedWork merge_parts(const scene::Scene& scene, const BakeSettings& settings, std::span<const formats::BakePart> parts,
-                            std::span<const std::string> names);
+PrecomputedWork merge_parts(const scene::Scene& scene, const BakeSettings& settings,
+                            std::span<const formats::BakePart> parts, std::span<const std::string> names);
 
 } // namespace probebake::bake

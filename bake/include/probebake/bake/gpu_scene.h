@@ -15,6 +15,7 @@ namespace probebake::bake {
 // there). Every triangle the bake's RayScene traces is included except zero-area ones (never hit).
 // Deterministic: the same scene and settings give the same bytes. Throws Error(internal) when Embree
 // fails, Error(input) when a value is not finite.
-RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const BakeSettings& settings, formats::ProbeVolume& volume);
+RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const BakeSettings& settings,
+                                           formats::ProbeVolume& volume);
 
 } // namespace probebake::bake

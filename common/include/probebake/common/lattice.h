@@ -15,9 +15,9 @@
 namespace probebake {
 
 enum class Lattice {
-  fibonacci,   // golden-angle spiral, thesis eq. 2.3-2.4 (the default)
-  latlong,     // parallels x meridians at cell centres, exactly n points (see lattice_directions)
-  equal_area,  // Leopardi's recursive zonal equal-area partition EQ(2, n), region centres
+  fibonacci,  // golden-angle spiral, thesis eq. 2.3-2.4 (the default)
+  latlong,    // parallels x meridians at cell centres, exactly n points (see lattice_directions)
+  equal_area, // Leopardi's recursive zonal equal-area partition EQ(2, n), region centres
 };
 
 // "fibonacci", "latlong", "equal-area".
@@ -56,4 +56,4 @@ struct EqualAreaPartition {
 // The partition for n >= 1 regions (an empty partition for n <= 0).
 EqualAreaPartition equal_area_partition(int n);
 
-}  // namespace probebake
+} // namespace probebake

@@ -56,21 +56,21 @@ struct LeafTrace {
 };
 
 struct TreeUpdateSettings {
-  int max_memory_entries = 0;             // M1/M3 allocations per frame, 0 = all (M0, M2, M4 always run)
-  int max_light_entries = 0;              // L1/L2 leaves traced or lit per frame, 0 = all (L0, L3 always run)
+  int max_memory_entries = 0; // M1/M3 allocations per frame, 0 = all (M0, M2, M4 always run)
+  int max_light_entries = 0;  // L1/L2 leaves traced or lit per frame, 0 = all (L0, L3 always run)
   float dead_backface_fraction = gpu::LEAF_DEAD_BACKFACE_FRACTION; // back-face fraction above which a centre is blind
 };
 
 struct TreeFrameStats {
   std::array<int, gpu::LEAF_STATE_COUNT> processed{}; // entries processed, by state
-  int deferred = 0;            // entries left for a later frame by the per-frame limits
-  int probes_placed = 0;       // M1
-  int probes_freed = 0;        // M2
-  int splits = 0;              // M3
-  int collapses = 0;           // M4
-  int failed_allocations = 0;  // a pool ran dry: the node kept its state
-  int lost_entries = 0;        // a push into a full segment (0 while capacity >= octree nodes)
-  int stale_entries = 0;       // entries whose node no longer fits their state (0 unless the buffers were edited)
+  int deferred = 0;                                   // entries left for a later frame by the per-frame limits
+  int probes_placed = 0;                              // M1
+  int probes_freed = 0;                               // M2
+  int splits = 0;                                     // M3
+  int collapses = 0;                                  // M4
+  int failed_allocations = 0;                         // a pool ran dry: the node kept its state
+  int lost_entries = 0;                               // a push into a full segment (0 while capacity >= octree nodes)
+  int stale_entries = 0; // entries whose node no longer fits their state (0 unless the buffers were edited)
 };
 
 class TreeUpdate {

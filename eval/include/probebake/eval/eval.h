@@ -35,8 +35,8 @@ struct ReceiverSettings {
   ReceiverMode mode = ReceiverMode::visible;
   int count = 1000;
   std::uint64_t seed = 1;
-  float clearance = 0.0f;          // viewpoints' distance from surfaces; 0 = the bake's default (2% of the size)
-  int cells = 32;                  // viewpoint cells along the largest axis of the scene bounds
+  float clearance = 0.0f;              // viewpoints' distance from surfaces; 0 = the bake's default (2% of the size)
+  int cells = 32;                      // viewpoint cells along the largest axis of the scene bounds
   std::vector<glm::vec3> anchors = {}; // camera positions: the open regions holding them are the player's
   int threads = 0;
 };
@@ -77,21 +77,21 @@ std::vector<EvalConfig> ladder_sweep(const scene::Scene& scene, std::span<const 
 
 struct EvalSettings {
   int points = 1000;
-  int paths = 4096;            // reference paths per point (about 1.5% noise per point on the Cornell box)
-  std::uint64_t seed = 1;      // sample points and reference
-  int threads = 0;             // bakes and reference; 0 = all cores (sampling is timed on one thread)
-  std::vector<EvalConfig> configs;  // empty: default_sweep(), or the ladder when probe_ladder is set
-  std::vector<int> probe_ladder;    // --probes: rungs in 1..kMaxLadderProbes, increasing; needs empty configs
-  BakeSettings ladder_base;         // what every ladder configuration starts from
-  std::string baseline;        // label of the configuration also sampled with all probes; empty: "octree-d4"
-                               // when swept, else the first octree configuration
+  int paths = 4096;                // reference paths per point (about 1.5% noise per point on the Cornell box)
+  std::uint64_t seed = 1;          // sample points and reference
+  int threads = 0;                 // bakes and reference; 0 = all cores (sampling is timed on one thread)
+  std::vector<EvalConfig> configs; // empty: default_sweep(), or the ladder when probe_ladder is set
+  std::vector<int> probe_ladder;   // --probes: rungs in 1..kMaxLadderProbes, increasing; needs empty configs
+  BakeSettings ladder_base;        // what every ladder configuration starts from
+  std::string baseline;            // label of the configuration also sampled with all probes; empty: "octree-d4"
+                                   // when swept, else the first octree configuration
   ReceiverMode receivers = ReceiverMode::visible;
   bool use_cache = true;
-  std::optional<Camera> camera;       // adds image receivers (its visible pixels) and anchors the player's region;
-                                      // with error_map_dir also per-configuration error images
+  std::optional<Camera> camera; // adds image receivers (its visible pixels) and anchors the player's region;
+                                // with error_map_dir also per-configuration error images
   std::filesystem::path error_map_dir;
-  int image_paths = 64;               // reference paths per pixel of the error maps
-  scene::LoadOptions scene_input = {}; // confinement and memory budget of the scene load
+  int image_paths = 64;                            // reference paths per pixel of the error maps
+  scene::LoadOptions scene_input = {};             // confinement and memory budget of the scene load
   std::vector<std::filesystem::path> outputs = {}; // checked against every file the load read
 };
 
@@ -103,20 +103,20 @@ void check_eval_settings(const EvalSettings& settings);
 
 struct EvalRow {
   std::string label;
-  std::string sampler;          // "svo" (sample_irradiance) or "all-probes" (the baseline)
+  std::string sampler; // "svo" (sample_irradiance) or "all-probes" (the baseline)
   BakeSettings bake;
-  int asked_probes = 0;         // EvalConfig::asked_probes and budget_by
+  int asked_probes = 0; // EvalConfig::asked_probes and budget_by
   std::string budget_by;
   int probes = 0;
   std::uint64_t file_bytes = 0; // the .probes file as written by write_probes
   double bake_seconds = 0.0;
-  double sample_ns = 0.0;       // per point, one thread, lookup only (direct light is the same for all rows)
-  double rmse = 0.0;            // over points of the RGB RMS error, W/m^2
-  double relative_rmse = 0.0;   // rmse / mean reference irradiance
-  double bias = 0.0;            // (mean estimate - mean reference) / mean reference
-  double p95 = 0.0;             // 95th percentile of the per-point RGB RMS error
+  double sample_ns = 0.0;     // per point, one thread, lookup only (direct light is the same for all rows)
+  double rmse = 0.0;          // over points of the RGB RMS error, W/m^2
+  double relative_rmse = 0.0; // rmse / mean reference irradiance
+  double bias = 0.0;          // (mean estimate - mean reference) / mean reference
+  double p95 = 0.0;           // 95th percentile of the per-point RGB RMS error
   double max_error = 0.0;
-  double leak_rmse = 0.0;       // rmse over points darker than 1% of the mean reference (0 when none)
+  double leak_rmse = 0.0; // rmse over points darker than 1% of the mean reference (0 when none)
   int leak_points = 0;
   std::size_t misses = 0;       // lookups that found no probe: scored as what a runtime shows (direct light only)
   double coverage = 0.0;        // fraction of receivers whose lookup found probes
@@ -135,26 +135,26 @@ struct EvalRow {
 
 struct EvalResult {
   std::filesystem::path scene;
-  std::string receivers;               // receiver_mode_name
-  int viewpoints = 0;                  // 0 when the receivers came from the cache or by area
-  int points = 0;                      // may be below the requested count when most surfaces are hidden
-  int image_pixels = 0;                // camera receivers (0 without --camera)
+  std::string receivers; // receiver_mode_name
+  int viewpoints = 0;    // 0 when the receivers came from the cache or by area
+  int points = 0;        // may be below the requested count when most surfaces are hidden
+  int image_pixels = 0;  // camera receivers (0 without --camera)
   double image_mean_reference = 0.0;
   int paths = 0;
   std::uint64_t seed = 0;
-  double mean_reference = 0.0;         // W/m^2, mean over points and channels
-  double reference_noise = 0.0;        // RMS standard error of the reference / mean_reference
+  double mean_reference = 0.0;          // W/m^2, mean over points and channels
+  double reference_noise = 0.0;         // RMS standard error of the reference / mean_reference
   double mean_indirect_reference = 0.0; // W/m^2: the reference minus its direct part, mean over points and channels
   double indirect_noise = 0.0;          // RMS standard error of the indirect part / mean_indirect_reference
   // direct_irradiance (what a renderer adds per pixel) against the path tracer's direct part, relative to
   // the mean traced direct light: RMSE (holds the traced direct part's noise too) and bias.
   double direct_relative_rmse = 0.0;
   double direct_bias = 0.0;
-  double reference_seconds = 0.0;      // 0 when read from the cache
+  double reference_seconds = 0.0; // 0 when read from the cache
   bool reference_from_cache = false;
   std::filesystem::path cache_file;
   bool cache_written = false;
-  std::vector<EvalRow> rows;           // one per configuration; the all-probes baseline follows its own
+  std::vector<EvalRow> rows; // one per configuration; the all-probes baseline follows its own
   std::vector<std::filesystem::path> error_maps;
 };
 
@@ -162,7 +162,8 @@ struct EvalResult {
 using EvalProgress = std::function<void(const std::string& message)>;
 
 // Throws Error(input) for an unreadable scene, Error(output) when an error map cannot be written.
-EvalResult evaluate(const std::filesystem::path& scene, const EvalSettings& settings, const EvalProgress& progress = {});
+EvalResult evaluate(const std::filesystem::path& scene, const EvalSettings& settings,
+                    const EvalProgress& progress = {});
 
 // Reports.
 std::string eval_markdown_table(const EvalResult& result);

@@ -44,8 +44,8 @@ struct SeamCell {
 using SeamLookup = std::function<glm::vec3(glm::vec3, glm::vec3)>;
 using SeamCellAt = std::function<SeamCell(glm::vec3, glm::vec3)>;
 using SeamOpen = std::function<bool(glm::vec3, glm::vec3, glm::vec3)>;
-SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo,
-                     glm::vec3 hi, const SeamSettings& settings = {});
+SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo, glm::vec3 hi,
+                     const SeamSettings& settings = {});
 
 // The SVO sampler (sample_irradiance) over the volume's root cube; the cell is the SVO leaf holding the
 // normal-biased lookup point (merged leaves are one cell: their voxels share a stencil). A step is open

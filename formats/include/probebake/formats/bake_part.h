@@ -31,16 +31,18 @@ struct PartInfo {
 static_assert(sizeof(PartInfo) == 16);
 
 std::string part_section_name(std::uint32_t type);
-inline constexpr bool is_known_part_section_type(std::uint32_t type) { return type >= 1 && type <= kPartSectionTypeCount; }
-inline constexpr ContainerKind kPartContainer{{'P', 'B', 'P', 'A', 'R', 'T', '1', '\0'}, "a probebake bake part", part_section_name,
-                                              is_known_part_section_type};
+inline constexpr bool is_known_part_section_type(std::uint32_t type) {
+  return type >= 1 && type <= kPartSectionTypeCount;
+}
+inline constexpr ContainerKind kPartContainer{
+    {'P', 'B', 'P', 'A', 'R', 'T', '1', '\0'}, "a probebake bake part", part_section_name, is_known_part_section_type};
 
 struct BakePart {
-  std::uint64_t input_hash = 0;       // bake_input_hash of the scene and the settings asked for
-  int cell_depth = 0;                 // the cell grid the cells are numbered in, [0, cells.h kMaxCellDepth]
+  std::uint64_t input_hash = 0; // bake_input_hash of the scene and the settings asked for
+  int cell_depth = 0;           // the cell grid the cells are numbered in, [0, cells.h kMaxCellDepth]
   std::uint32_t scene_triangles = 0;
-  std::vector<std::int32_t> cells;    // ascending
-  std::vector<std::uint8_t> sealed;   // one per triangle of those cells, in scene order
+  std::vector<std::int32_t> cells;  // ascending
+  std::vector<std::uint8_t> sealed; // one per triangle of those cells, in scene order
 };
 
 std::vector<std::uint8_t> write_bake_part(const BakePart& part);

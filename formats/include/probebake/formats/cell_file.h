@@ -89,7 +89,8 @@ private:
   // open() of a 1.7 file: false (nothing changed) for a file without cell_global_checksums.
   bool read_global_part(OpenedCellFile& opened, std::uint64_t size);
   void read_global_ranges(std::span<std::uint8_t> image, std::uint64_t begin, std::uint64_t end,
-                          std::vector<std::pair<std::uint64_t, std::uint64_t>> skipped, std::uint64_t& bytes_read) const;
+                          std::vector<std::pair<std::uint64_t, std::uint64_t>> skipped,
+                          std::uint64_t& bytes_read) const;
   void keep_ranges(const ProbeVolume& volume);
   void keep_sections(const ContainerView& container);
   void read_into(void* out, std::uint64_t offset, std::uint64_t size, const std::string& place) const;
@@ -104,8 +105,8 @@ private:
   std::vector<CellTracing> tracing_;
   std::vector<std::uint64_t> checksums_;
   std::vector<std::uint64_t> bytes_; // cells.h cell_bytes of each cell, for the message of a refusal
-  bool stored_checksums_ = false;     // expect_unread: the file's own cell checksums
-  ProbeVolume cell_context_;          // what validate_cell_tracing reads besides the cell (expect_unread)
+  bool stored_checksums_ = false;    // expect_unread: the file's own cell checksums
+  ProbeVolume cell_context_;         // what validate_cell_tracing reads besides the cell (expect_unread)
   std::vector<CellEntry> entries_;
 };
 

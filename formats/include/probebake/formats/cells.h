@@ -31,7 +31,9 @@ inline constexpr int kMaxCellDepth = 5;
 // Cells per axis for a cell depth (1 << depth).
 constexpr int cells_per_axis(int cell_depth) { return 1 << cell_depth; }
 // Cells of the grid: cells_per_axis^3.
-constexpr int cell_count(int cell_depth) { return cells_per_axis(cell_depth) * cells_per_axis(cell_depth) * cells_per_axis(cell_depth); }
+constexpr int cell_count(int cell_depth) {
+  return cells_per_axis(cell_depth) * cells_per_axis(cell_depth) * cells_per_axis(cell_depth);
+}
 
 // Linear index x + n * (y + n * z) of the cell containing `point`: per axis
 // floor((p - root_min) / root_size * n) clamped to [0, n - 1] (non-finite coordinates map to 0).
@@ -60,7 +62,9 @@ std::vector<int> svo_leaf_cells(const ProbeVolume& volume, int cell_depth);
 void arrange_cells(ProbeVolume& volume, int cell_depth);
 
 // Bytes of a cell's three tracing ranges (trace nodes, faces, vertices): what streaming reads per cell.
-inline std::uint64_t cell_tracing_bytes(const CellTracing& t) { return t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size; }
+inline std::uint64_t cell_tracing_bytes(const CellTracing& t) {
+  return t.trace_nodes.byte_size + t.trace_faces.byte_size + t.trace_vertices.byte_size;
+}
 
 // Bytes of cell k's own ranges (probes, surfel batches, SVO payloads and, with cell_tracing, its trace
 // nodes, faces and vertices): what loading the cell alone reads beyond the global sections.
@@ -76,8 +80,9 @@ std::uint64_t cell_checksum(const ProbeVolume& volume, const TracingView& tracin
 std::vector<std::uint64_t> cell_checksums_of(const ProbeVolume& volume);
 
 // The sections whose elements are ordered by cell, in the order of cell_global_checksums (format 1.7).
-inline constexpr SectionType kCellSplitSections[] = {SectionType::probes,      SectionType::surfel_batches, SectionType::svo_leaves,
-                                                     SectionType::trace_nodes, SectionType::trace_faces,    SectionType::trace_vertices};
+inline constexpr SectionType kCellSplitSections[] = {SectionType::probes,      SectionType::surfel_batches,
+                                                     SectionType::svo_leaves,  SectionType::trace_nodes,
+                                                     SectionType::trace_faces, SectionType::trace_vertices};
 // For each of kCellSplitSections, the XXH3-64 of its bytes outside every cell's range, in file order (the
 // global part, which a streaming load reads whole): the top level and the dynamic objects' trees, free
 // probes... With the trace nodes, faces and vertices read through `tracing`; the cells' ranges must lie

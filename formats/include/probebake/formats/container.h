@@ -21,31 +21,31 @@ namespace probebake::formats {
 // File header, at offset 0. 64 bytes in version 1.x; header_size lets a later minor version append
 // fields (a 1.0 reader skips them, and still covers them with the header checksum).
 struct FileHeader {
-  char magic[8];                  // offset  0: the kind's magic (kProbesContainer: "PROBEBK\0")
-  std::uint16_t version_major;    // offset  8: a reader refuses any other major
-  std::uint16_t version_minor;    // offset 10: compatible additions
-  std::uint32_t header_size;      // offset 12: bytes of this header, >= 64, multiple of 8
-  std::uint32_t required_features;// offset 16: feature bits a reader must understand (none in 1.0)
-  std::uint32_t section_count;    // offset 20: entries in the section table
+  char magic[8];                    // offset  0: the kind's magic (kProbesContainer: "PROBEBK\0")
+  std::uint16_t version_major;      // offset  8: a reader refuses any other major
+  std::uint16_t version_minor;      // offset 10: compatible additions
+  std::uint32_t header_size;        // offset 12: bytes of this header, >= 64, multiple of 8
+  std::uint32_t required_features;  // offset 16: feature bits a reader must understand (none in 1.0)
+  std::uint32_t section_count;      // offset 20: entries in the section table
   std::uint32_t section_entry_size; // offset 24: bytes per section table entry (48 in 1.x)
-  std::uint32_t cell_depth;       // offset 28: streaming cell grid depth (see cells.h), 0 without cells
-  std::uint64_t input_hash;       // offset 32: hash of the bake inputs and settings
-  std::uint64_t file_size;        // offset 40: total bytes of the file
-  std::uint64_t reserved;         // offset 48: 0
-  std::uint64_t header_checksum;  // offset 56: XXH3-64 of header bytes [0, 56) ++ [64, header_size) ++ table
+  std::uint32_t cell_depth;         // offset 28: streaming cell grid depth (see cells.h), 0 without cells
+  std::uint64_t input_hash;         // offset 32: hash of the bake inputs and settings
+  std::uint64_t file_size;          // offset 40: total bytes of the file
+  std::uint64_t reserved;           // offset 48: 0
+  std::uint64_t header_checksum;    // offset 56: XXH3-64 of header bytes [0, 56) ++ [64, header_size) ++ table
 };
 static_assert(sizeof(FileHeader) == 64);
 
 // One section table entry; the table follows the header (offset header_size).
 struct SectionEntry {
-  std::uint32_t type;             // offset  0: SectionType
-  std::uint32_t flags;            // offset  4: kSectionRequired | ...
-  std::uint64_t offset;           // offset  8: payload offset from the file start, multiple of alignment
-  std::uint64_t size;             // offset 16: payload bytes = element_size * element_count
-  std::uint32_t alignment;        // offset 24: power of two, 16..4096
-  std::uint32_t element_size;     // offset 28: bytes per element
-  std::uint64_t element_count;    // offset 32
-  std::uint64_t checksum;         // offset 40: XXH3-64 (seed 0) of the payload bytes
+  std::uint32_t type;          // offset  0: SectionType
+  std::uint32_t flags;         // offset  4: kSectionRequired | ...
+  std::uint64_t offset;        // offset  8: payload offset from the file start, multiple of alignment
+  std::uint64_t size;          // offset 16: payload bytes = element_size * element_count
+  std::uint32_t alignment;     // offset 24: power of two, 16..4096
+  std::uint32_t element_size;  // offset 28: bytes per element
+  std::uint64_t element_count; // offset 32
+  std::uint64_t checksum;      // offset 40: XXH3-64 (seed 0) of the payload bytes
 };
 static_assert(sizeof(SectionEntry) == 48);
 
@@ -72,25 +72,25 @@ enum class SectionType : std::uint32_t {
   svo_leaves = 9,        // gpu::SvoLeaf x info.svo_leaves
   cells = 10,            // Cell x cells (optional: a reader may load everything instead)
   // Runtime lighting (1.1), all optional: a 1.0 reader skips them.
-  lighting_info = 11,    // gpu::LightingInfo x 1
-  ray_directions = 12,   // vec4 x (lighting.rays + lighting.placement_rays)
-  bvh_nodes = 13,        // gpu::BvhNode x lighting.bvh_nodes
-  trace_triangles = 14,  // gpu::TraceTriangle x lighting.triangles
-  punctual_lights = 15,  // gpu::PunctualLight x lighting.lights
-  emitter_patches = 16,  // gpu::EmitterPatch x lighting.emitter_patches
+  lighting_info = 11,   // gpu::LightingInfo x 1
+  ray_directions = 12,  // vec4 x (lighting.rays + lighting.placement_rays)
+  bvh_nodes = 13,       // gpu::BvhNode x lighting.bvh_nodes
+  trace_triangles = 14, // gpu::TraceTriangle x lighting.triangles
+  punctual_lights = 15, // gpu::PunctualLight x lighting.lights
+  emitter_patches = 16, // gpu::EmitterPatch x lighting.emitter_patches
   // Dynamic objects (1.3), optional.
-  dynamic_objects = 17,  // gpu::DynamicObject x lighting.dynamic_objects
+  dynamic_objects = 17, // gpu::DynamicObject x lighting.dynamic_objects
   // Compact tracing (1.4), REQUIRED when present: they replace bvh_nodes and trace_triangles, which a
   // 1.3 reader would need, so it must refuse the file rather than trace nothing.
-  trace_trees = 18,      // gpu::TraceTree x (1 + lighting.dynamic_objects)
-  trace_nodes = 19,      // gpu::TraceNode x lighting.bvh_nodes
-  trace_faces = 20,      // gpu::TraceFace x lighting.triangles
-  trace_vertices = 21,   // gpu::TraceVertex
-  trace_materials = 22,  // gpu::TraceMaterial
+  trace_trees = 18,     // gpu::TraceTree x (1 + lighting.dynamic_objects)
+  trace_nodes = 19,     // gpu::TraceNode x lighting.bvh_nodes
+  trace_faces = 20,     // gpu::TraceFace x lighting.triangles
+  trace_vertices = 21,  // gpu::TraceVertex
+  trace_materials = 22, // gpu::TraceMaterial
   // Cells of the static tracing tree (1.5), optional like cells: a 1.4 reader traces the same tree.
-  cell_tracing = 23,     // CellTracing x cells
+  cell_tracing = 23, // CellTracing x cells
   // A checksum per cell (1.6), optional: what a reader that loads one cell checks its bytes against.
-  cell_checksums = 24,   // uint64 x cells
+  cell_checksums = 24, // uint64 x cells
   // The global part's checksums (1.7), optional: what a streaming load that reads no cell checks.
   cell_global_checksums = 25, // uint64 x 6 (cells.h kCellSplitSections)
 };
@@ -123,7 +123,8 @@ inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
 // of 1.1-1.3 are optional, so that older readers skip them. The writer and the validator both use it.
 inline constexpr bool is_required_section_type(std::uint32_t type) {
   return (type >= 1 && type <= static_cast<std::uint32_t>(SectionType::svo_leaves)) ||
-         (type >= static_cast<std::uint32_t>(SectionType::trace_trees) && type <= static_cast<std::uint32_t>(SectionType::trace_materials));
+         (type >= static_cast<std::uint32_t>(SectionType::trace_trees) &&
+          type <= static_cast<std::uint32_t>(SectionType::trace_materials));
 }
 
 // "octree", "probes", ...; "section_<id>" for unknown types.
@@ -133,12 +134,12 @@ std::string section_name(std::uint32_t type);
 // and section types so that neither reader mistakes one for the other.
 struct ContainerKind {
   char magic[8];
-  const char* description;                        // "a .probes file", for "not <description> (bad magic)"
-  std::string (*section_name)(std::uint32_t type); // for messages
+  const char* description;                           // "a .probes file", for "not <description> (bad magic)"
+  std::string (*section_name)(std::uint32_t type);   // for messages
   bool (*is_known_section_type)(std::uint32_t type); // an unknown type with kSectionRequired is refused
 };
-inline constexpr ContainerKind kProbesContainer{{'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'}, "a .probes file", section_name,
-                                                is_known_section_type};
+inline constexpr ContainerKind kProbesContainer{
+    {'P', 'R', 'O', 'B', 'E', 'B', 'K', '\0'}, "a .probes file", section_name, is_known_section_type};
 
 // A section to write.
 struct SectionPayload {
@@ -157,8 +158,7 @@ struct ContainerHeaderFields {
 
 // Writes header, table and payloads (in the given order, each aligned to kSectionAlignment, padding
 // zero). Throws Error(internal) when a payload's size disagrees with element_size * element_count.
-std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields,
-                                          std::span<const SectionPayload> sections,
+std::vector<std::uint8_t> write_container(const ContainerHeaderFields& fields, std::span<const SectionPayload> sections,
                                           const ContainerKind& kind = kProbesContainer);
 
 // A parsed container: a view on the caller's bytes (they must outlive it).
@@ -184,7 +184,8 @@ ContainerView parse_container(std::span<const std::uint8_t> bytes, std::string_v
 // parse_container without the checksums of the sections of the `unread` types, whose payloads the caller
 // has not read (a streaming load, cell_file.h, which checks their global part by cell_global_checksums and
 // each cell by its cell checksum). Every other check is made; a mismatch throws.
-ContainerView parse_container_without(std::span<const std::uint8_t> bytes, std::string_view name, std::span<const SectionType> unread);
+ContainerView parse_container_without(std::span<const std::uint8_t> bytes, std::string_view name,
+                                      std::span<const SectionType> unread);
 
 // XXH3-64 with seed 0, the checksum of every section and of the header.
 std::uint64_t checksum64(std::span<const std::uint8_t> bytes);

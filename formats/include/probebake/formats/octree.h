@@ -44,10 +44,10 @@ constexpr std::size_t complete_clusters(std::size_t elements) { return elements 
 // ---- Geometry -------------------------------------------------------------------------------------------
 // The cube of one octree node.
 struct NodeCube {
-  int node = 0;          // octree buffer index
-  int depth = 0;         // root = 0
-  glm::vec3 min{0.0f};   // minimum corner, world space
-  float size = 0.0f;     // edge length
+  int node = 0;        // octree buffer index
+  int depth = 0;       // root = 0
+  glm::vec3 min{0.0f}; // minimum corner, world space
+  float size = 0.0f;   // edge length
   glm::vec3 centre() const { return min + glm::vec3(0.5f * size); }
 };
 

@@ -31,16 +31,16 @@ struct CellRange {
 // One streaming cell: a cube of the regular grid that divides the root cube into (2^cell_depth)^3 cells.
 // Only cells that own at least one element are stored, sorted by cell_index. See cells.h.
 struct Cell {
-  glm::vec3 bounds_min{0.0f};     // offset  0: world-space minimum corner of the cell cube
-  std::int32_t root_node = -1;    // offset 12: octree node whose cube is exactly this cell, or -1 when the
-                                  //            octree is not subdivided that deep there (a shallower leaf
-                                  //            covers the cell; find it with find_leaf)
-  glm::vec3 bounds_max{0.0f};     // offset 16: world-space maximum corner
-  std::int32_t cell_index = 0;    // offset 28: x + n * (y + n * z), n = 2^cell_depth
-  CellRange probes;               // offset 32: probes whose position lies in the cell
-  CellRange surfel_batches;       // offset 56: batches owned by those probes (chain order)
-  CellRange svo_leaves;           // offset 80: SVO leaf payloads of voxels inside the cell
-};                                // size 104
+  glm::vec3 bounds_min{0.0f};  // offset  0: world-space minimum corner of the cell cube
+  std::int32_t root_node = -1; // offset 12: octree node whose cube is exactly this cell, or -1 when the
+                               //            octree is not subdivided that deep there (a shallower leaf
+                               //            covers the cell; find it with find_leaf)
+  glm::vec3 bounds_max{0.0f};  // offset 16: world-space maximum corner
+  std::int32_t cell_index = 0; // offset 28: x + n * (y + n * z), n = 2^cell_depth
+  CellRange probes;            // offset 32: probes whose position lies in the cell
+  CellRange surfel_batches;    // offset 56: batches owned by those probes (chain order)
+  CellRange svo_leaves;        // offset 80: SVO leaf payloads of voxels inside the cell
+};                             // size 104
 
 // Where one cell's part of the static tracing tree lies (format 1.5, section cell_tracing; one record per
 // Cell, same order). The static tree (trace_trees[0]) is a top level over per-cell subtrees: a cell's inner
@@ -63,34 +63,34 @@ static_assert(sizeof(CellRange) == 24 && sizeof(Cell) == 104 && sizeof(CellTraci
 // equal the sizes of the five vectors after it (validate() reports lighting_sections otherwise).
 struct ProbeVolume {
   gpu::VolumeInfo info{};
-  std::vector<std::int32_t> octree;               // info.octree_elements; [0] is the root
-  std::vector<gpu::Probe> probes;                 // info.probe_capacity
-  std::vector<gpu::SurfelBatch> surfel_batches;   // info.batch_capacity (0 for static scenes)
-  gpu::LeafQueueHeader leaf_header{};             // meaningful only when leaf_entries is not empty
-  std::vector<gpu::LeafEntry> leaf_entries;       // 3 * leaf_header.segment_capacity, or empty
-  std::vector<std::int32_t> probe_index;          // info.probe_capacity + 1 (see rebuild_probe_index)
-  std::vector<std::int32_t> svo_nodes;            // info.svo_nodes; [0] is the SVO root when not empty
-  std::vector<gpu::SvoLeaf> svo_leaves;           // info.svo_leaves
-  std::int32_t cell_depth = 0;                    // the cell grid is (2^cell_depth)^3; see cells.h
-  std::vector<Cell> cells;                        // streaming index, or empty (load everything)
-  std::vector<CellTracing> cell_tracing;          // one per cell (format 1.5), or empty: tracing not split
-  std::vector<std::uint64_t> cell_checksums;      // as read from a file (format 1.6, cells.h cell_checksum), or
-                                                  // empty; validate_file checks them, the writer takes the bytes' own
+  std::vector<std::int32_t> octree;                 // info.octree_elements; [0] is the root
+  std::vector<gpu::Probe> probes;                   // info.probe_capacity
+  std::vector<gpu::SurfelBatch> surfel_batches;     // info.batch_capacity (0 for static scenes)
+  gpu::LeafQueueHeader leaf_header{};               // meaningful only when leaf_entries is not empty
+  std::vector<gpu::LeafEntry> leaf_entries;         // 3 * leaf_header.segment_capacity, or empty
+  std::vector<std::int32_t> probe_index;            // info.probe_capacity + 1 (see rebuild_probe_index)
+  std::vector<std::int32_t> svo_nodes;              // info.svo_nodes; [0] is the SVO root when not empty
+  std::vector<gpu::SvoLeaf> svo_leaves;             // info.svo_leaves
+  std::int32_t cell_depth = 0;                      // the cell grid is (2^cell_depth)^3; see cells.h
+  std::vector<Cell> cells;                          // streaming index, or empty (load everything)
+  std::vector<CellTracing> cell_tracing;            // one per cell (format 1.5), or empty: tracing not split
+  std::vector<std::uint64_t> cell_checksums;        // as read from a file (format 1.6, cells.h cell_checksum), or
+                                                    // empty; validate_file checks them, the writer takes the bytes' own
   std::vector<std::uint64_t> cell_global_checksums; // as read (format 1.7, cells.h cell_global_checksums_of), like them
-  std::uint64_t input_hash = 0;                   // hash of the bake's inputs and settings (given by it)
+  std::uint64_t input_hash = 0;                     // hash of the bake's inputs and settings (given by it)
 
-  std::optional<gpu::LightingInfo> lighting;      // settings and counts of the sections below
-  std::vector<glm::vec4> ray_directions;          // lighting->rays Fibonacci lighting rays, then
-                                                  // placement_rays lattice directions; unit xyz, w = 0
-  std::vector<gpu::BvhNode> bvh_nodes;            // 1.1-1.3 float layout, read from older files only
+  std::optional<gpu::LightingInfo> lighting;       // settings and counts of the sections below
+  std::vector<glm::vec4> ray_directions;           // lighting->rays Fibonacci lighting rays, then
+                                                   // placement_rays lattice directions; unit xyz, w = 0
+  std::vector<gpu::BvhNode> bvh_nodes;             // 1.1-1.3 float layout, read from older files only
   std::vector<gpu::TraceTriangle> trace_triangles; // (upgrade_tracing turns them into the five below)
   std::vector<gpu::PunctualLight> punctual_lights;
-  std::vector<gpu::EmitterPatch> emitter_patches; // empty unless emissive_as_lights
+  std::vector<gpu::EmitterPatch> emitter_patches;  // empty unless emissive_as_lights
   std::vector<gpu::DynamicObject> dynamic_objects; // lighting->dynamic_objects (format 1.3); empty = all static
   // Compact tracing (format 1.4, trace_mesh.h): tree 0 static, tree 1 + o dynamic object o.
-  std::vector<gpu::TraceTree> trace_trees;         // 1 + lighting->dynamic_objects when present
-  std::vector<gpu::TraceNode> trace_nodes;         // lighting->bvh_nodes
-  std::vector<gpu::TraceFace> trace_faces;         // lighting->triangles, in leaf order
+  std::vector<gpu::TraceTree> trace_trees; // 1 + lighting->dynamic_objects when present
+  std::vector<gpu::TraceNode> trace_nodes; // lighting->bvh_nodes
+  std::vector<gpu::TraceFace> trace_faces; // lighting->triangles, in leaf order
   std::vector<gpu::TraceVertex> trace_vertices;
   std::vector<gpu::TraceMaterial> trace_materials;
 };
@@ -104,7 +104,9 @@ struct TracingView {
   std::span<const gpu::TraceVertex> vertices;
 };
 
-inline TracingView tracing_view(const ProbeVolume& volume) { return {volume.trace_nodes, volume.trace_faces, volume.trace_vertices}; }
+inline TracingView tracing_view(const ProbeVolume& volume) {
+  return {volume.trace_nodes, volume.trace_faces, volume.trace_vertices};
+}
 
 // A volume with a root-only octree (one leaf without probe) and every other buffer empty; `settings`
 // provides root cube, placement and bake parameters, its count fields are overwritten.

@@ -41,7 +41,8 @@ ProbeVolume read_probes(std::span<const std::uint8_t> bytes, std::string_view na
 // which stay empty: read them with tracing_in() (a streaming load, CellFile::open).
 enum class TraceSections { decode, leave_in_bytes };
 // The three sections leave_in_bytes leaves: trace nodes, faces and vertices (the cells' tracing of format 1.5).
-inline constexpr SectionType kInPlaceTraceSections[] = {SectionType::trace_nodes, SectionType::trace_faces, SectionType::trace_vertices};
+inline constexpr SectionType kInPlaceTraceSections[] = {SectionType::trace_nodes, SectionType::trace_faces,
+                                                        SectionType::trace_vertices};
 inline constexpr bool is_in_place_trace_section(std::uint32_t type) {
   for (SectionType s : kInPlaceTraceSections)
     if (type == static_cast<std::uint32_t>(s)) return true;

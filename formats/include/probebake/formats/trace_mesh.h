@@ -45,7 +45,8 @@ public:
   // nodes, faces and vertices in the order of `cells`, contiguous and its own (no vertex shared with any
   // other tree or cell). ranges[k] receives cells[k]'s. Every cell has at least one triangle. Returns the
   // tree's index.
-  int add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order, std::vector<CellTracing>& ranges);
+  int add_cell_tree(std::span<const TraceTreeInput> cells, std::span<const std::size_t> top_order,
+                    std::vector<CellTracing>& ranges);
 
 private:
   using VertexMap = std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>; // hash of the bits -> indices
@@ -96,6 +97,8 @@ std::size_t tracing_bytes(const ProbeVolume& volume);
 // Child words (TRACE_CHILD_LEAF layout).
 inline constexpr bool is_leaf_word(std::uint32_t word) { return (word & gpu::TRACE_CHILD_LEAF) != 0u; }
 inline constexpr std::uint32_t leaf_first(std::uint32_t word) { return word & gpu::TRACE_LEAF_FIRST_MASK; }
-inline constexpr std::uint32_t leaf_count(std::uint32_t word) { return ((word >> gpu::TRACE_LEAF_COUNT_SHIFT) & 15u) + 1u; }
+inline constexpr std::uint32_t leaf_count(std::uint32_t word) {
+  return ((word >> gpu::TRACE_LEAF_COUNT_SHIFT) & 15u) + 1u;
+}
 
 } // namespace probebake::formats

@@ -22,17 +22,17 @@
 namespace probebake::formats {
 
 struct Violation {
-  std::string invariant;   // e.g. "octree_cycle"
-  std::string section;     // "octree", "probes", ..., "header", "section_table", "container"
-  long long index = -1;    // element index inside the section, -1 when not about one element
-  std::string message;     // one line
+  std::string invariant; // e.g. "octree_cycle"
+  std::string section;   // "octree", "probes", ..., "header", "section_table", "container"
+  long long index = -1;  // element index inside the section, -1 when not about one element
+  std::string message;   // one line
 };
 
 struct ValidationReport {
-  std::string name;                  // file name or "volume"
-  bool readable = true;              // false: the bytes are not a .probes file we can decode
-  bool truncated = false;            // stopped at ValidateOptions::max_errors
-  std::size_t cells_checked = 0;     // cells whose bytes were checked on their own against their checksum (1.6)
+  std::string name;              // file name or "volume"
+  bool readable = true;          // false: the bytes are not a .probes file we can decode
+  bool truncated = false;        // stopped at ValidateOptions::max_errors
+  std::size_t cells_checked = 0; // cells whose bytes were checked on their own against their checksum (1.6)
   std::vector<Violation> violations;
   bool valid() const { return readable && violations.empty(); }
 };
@@ -43,9 +43,9 @@ inline constexpr int kMaxGridResolution = 256;
 inline constexpr int kMaxSurfelsPerProbe = 65536;
 
 struct ValidateOptions {
-  std::size_t max_errors = 1000;     // stop after this many violations (0 = no limit)
-  float position_epsilon = 1e-4f;    // probe-in-cube tolerance, relative to the cube size
-  float weight_tolerance = 1e-4f;    // |sum of SVO weights - 1| allowed
+  std::size_t max_errors = 1000;  // stop after this many violations (0 = no limit)
+  float position_epsilon = 1e-4f; // probe-in-cube tolerance, relative to the cube size
+  float weight_tolerance = 1e-4f; // |sum of SVO weights - 1| allowed
 };
 
 ValidationReport validate(const ProbeVolume& volume, const ValidateOptions& options = {});
@@ -67,8 +67,8 @@ struct CellEntry {
 // nodes, faces and vertices (format 1.7: docs/FORMAT.md section 6.2): their elements in `tracing` are never
 // read. Every invariant is checked but those of the cells' own tracing, which validate_cell_tracing checks
 // as each cell arrives. `entries` gets one CellEntry per cell record. The volume needs cell_tracing.
-ValidationReport validate_without_cells(const ProbeVolume& volume, const TracingView& tracing, std::vector<CellEntry>& entries,
-                                        const ValidateOptions& options = {});
+ValidationReport validate_without_cells(const ProbeVolume& volume, const TracingView& tracing,
+                                        std::vector<CellEntry>& entries, const ValidateOptions& options = {});
 // Cell record k's own trace nodes, faces and vertices (`cell`: its three ranges' elements, numbered as in the
 // file) against what validate() checks of them: finite vertices; faces with vertices and material in range
 // and non-zero area (lighting_values); nothing outside the cell (cell_tracing); its subtree from entries[k],

@@ -9,15 +9,15 @@
 namespace probebake::formats {
 
 struct VolumeStats {
-  int probes = 0;                  // allocated probes
-  int nodes = 0;                   // nodes reachable from the root (root included)
+  int probes = 0; // allocated probes
+  int nodes = 0;  // nodes reachable from the root (root included)
   int leaves = 0;
-  int clusters = 0;                // node clusters in the tree
-  int max_depth = 0;               // deepest leaf
+  int clusters = 0;                  // node clusters in the tree
+  int max_depth = 0;                 // deepest leaf
   std::vector<int> probes_per_depth; // index = depth, size max_depth + 1
-  int surfel_batches = 0;          // allocated batches
-  long long surfels = 0;           // sum of the allocated batches' counts
-  int svo_leaf_voxels = 0;         // SVO nodes that are leaves
+  int surfel_batches = 0;            // allocated batches
+  long long surfels = 0;             // sum of the allocated batches' counts
+  int svo_leaf_voxels = 0;           // SVO nodes that are leaves
 };
 
 // Throws Error(input) when the octree is not a tree (see for_each_leaf).

@@ -38,8 +38,8 @@ struct PlacementInput {
   const scene::RayScene* rays = nullptr;
   PlacementSettings settings;
   RefineSettings refine;
-  std::vector<glm::vec3> directions;          // the lattice
-  float clearance = 0.0f;                     // the bake's effective clearance (a centre nearer a surface is moved)
+  std::vector<glm::vec3> directions;             // the lattice
+  float clearance = 0.0f;                        // the bake's effective clearance (a centre nearer a surface is moved)
   std::function<void(double fraction)> progress; // may be empty; called from the calling thread
 };
 

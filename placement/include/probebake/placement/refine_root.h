@@ -22,8 +22,8 @@ namespace probebake::placement {
 // side by side of a world 49 m wide were taken for a closed object and baked in a root three times too
 // wide. The surface points find them when no grid point is far enough from every surface, as at the default
 // clearance (0.99 m there, where the bake placed no probe).
-bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds, float clearance,
-                       const std::vector<glm::vec3>& directions, int threads);
+bool open_space_inside(const scene::RayScene& rays, const gpu::VolumeInfo& info, const scene::Bounds& bounds,
+                       float clearance, const std::vector<glm::vec3>& directions, int threads);
 
 // The root cube scaled by kSurroundScale about its centre.
 void surround_root(gpu::VolumeInfo& info);

@@ -12,11 +12,10 @@ namespace probebake::placement {
 
 class SceneSdf;
 
-
 struct RelocationContext {
   const scene::RayScene* rays = nullptr;
-  const SceneSdf* sdf = nullptr;            // geometry-aware direction; may be null
-  std::span<const glm::vec3> directions;    // the probe lattice, used to verify candidates
+  const SceneSdf* sdf = nullptr;         // geometry-aware direction; may be null
+  std::span<const glm::vec3> directions; // the probe lattice, used to verify candidates
   float clearance = 0.0f;
 };
 

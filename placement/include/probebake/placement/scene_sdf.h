@@ -41,7 +41,7 @@ struct SdfSettings {
 };
 
 class SceneSdf {
- public:
+public:
   // Builds the field from the scene's triangles. A scene without triangles gives an empty field
   // (+band_width() everywhere). Throws std::invalid_argument for non-finite positions or settings.
   explicit SceneSdf(const scene::Scene& scene, const SdfSettings& settings = {});
@@ -69,7 +69,7 @@ class SceneSdf {
   // the axis direction that gains most, +x first on ties.
   std::optional<glm::vec3> push_out(glm::vec3 p, float clearance, int max_steps = 64) const;
 
- private:
+private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -27,22 +27,24 @@
 namespace probebake::render {
 
 enum class View {
-  final,      // direct + probe irradiance at the first visible surface (W/m^2)
-  indirect,   // the probe lookup alone: what a game takes from the volume (W/m^2)
-  probes,     // every live probe as a sphere showing its irradiance SH in each direction, over the indirect
-              // view in grey (W/m^2)
-  octree,     // surfaces coloured by the depth of the octree leaf they lie in, leaf borders dark (colour)
-  svo,        // surfaces coloured by the probes their SVO lookup blends (1-4), magenta where it finds none
-              // and the runtime shows direct light only; SVO voxel borders dark (colour)
-  relocation, // probes at their cube's centre (blue-grey), probes the bake moved out of geometry (orange,
-              // a line from the centre they left), leaves without a probe (red, at the cube's centre) (colour)
-  reference,  // the path-traced irradiance at the first visible surface, to set beside final (W/m^2)
+  final,              // direct + probe irradiance at the first visible surface (W/m^2)
+  indirect,           // the probe lookup alone: what a game takes from the volume (W/m^2)
+  probes,             // every live probe as a sphere showing its irradiance SH in each direction, over the indirect
+                      // view in grey (W/m^2)
+  octree,             // surfaces coloured by the depth of the octree leaf they lie in, leaf borders dark (colour)
+  svo,                // surfaces coloured by the probes their SVO lookup blends (1-4), magenta where it finds none
+                      // and the runtime shows direct light only; SVO voxel borders dark (colour)
+  relocation,         // probes at their cube's centre (blue-grey), probes the bake moved out of geometry (orange,
+                      // a line from the centre they left), leaves without a probe (red, at the cube's centre) (colour)
+  reference,          // the path-traced irradiance at the first visible surface, to set beside final (W/m^2)
   reference_indirect, // the same less its direct part, to set beside indirect (W/m^2)
 };
 // What `--view all` renders: every view but the path-traced ones, which cost minutes.
-inline constexpr std::array<View, 6> kViews = {View::final, View::indirect, View::probes, View::octree, View::svo, View::relocation};
-inline constexpr std::array<View, 8> kEveryView = {View::final, View::indirect, View::probes, View::octree, View::svo,
-                                                   View::relocation, View::reference, View::reference_indirect};
+inline constexpr std::array<View, 6> kViews = {View::final,  View::indirect, View::probes,
+                                               View::octree, View::svo,      View::relocation};
+inline constexpr std::array<View, 8> kEveryView = {
+    View::final, View::indirect,   View::probes,    View::octree,
+    View::svo,   View::relocation, View::reference, View::reference_indirect};
 
 std::string_view view_name(View view);
 std::optional<View> view_from_name(std::string_view name);
@@ -63,14 +65,14 @@ using IndirectSampler =
     std::function<std::vector<glm::vec3>(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals)>;
 
 struct RenderInputs {
-  const scene::Scene* scene = nullptr;           // in the pose the volume was lit for
-  const scene::RayScene* rays = nullptr;         // built over *scene
-  const formats::ProbeVolume* volume = nullptr;  // the probes, octree and SVO (debug views only)
+  const scene::Scene* scene = nullptr;          // in the pose the volume was lit for
+  const scene::RayScene* rays = nullptr;        // built over *scene
+  const formats::ProbeVolume* volume = nullptr; // the probes, octree and SVO (debug views only)
   bake::Camera camera;
-  IndirectSampler indirect;                      // for final, indirect and probes
-  bool emitters_as_lights = false;               // the volume's emitters are lit as lights (direct light)
-  float probe_radius = 0.0f;                     // sphere radius in metres; 0: a tenth of each probe's cell
-  bake::ReferenceSettings reference;             // the path tracer of the reference views (paths per pixel)
+  IndirectSampler indirect;          // for final, indirect and probes
+  bool emitters_as_lights = false;   // the volume's emitters are lit as lights (direct light)
+  float probe_radius = 0.0f;         // sphere radius in metres; 0: a tenth of each probe's cell
+  bake::ReferenceSettings reference; // the path tracer of the reference views (paths per pixel)
 };
 
 // Renders views of one camera; the primary rays are cast once, the probe lookups made once.
@@ -99,7 +101,7 @@ private:
   RenderInputs in_;
   bake::CameraFrame frame_;
   std::vector<std::optional<bake::SamplePoint>> hits_;
-  std::vector<float> distances_; // to the first hit on either side, +inf for a miss
+  std::vector<float> distances_;    // to the first hit on either side, +inf for a miss
   std::vector<glm::vec3> indirect_; // per pixel, sampled on first use
   bool sampled_ = false;
   std::optional<bake::ReferenceResult> reference_; // per hit pixel, traced on first use

@@ -76,8 +76,8 @@ struct BufferView {
 
 // One storage buffer per .probes section, laid out exactly as the section (gpu_types.h, std430).
 struct VolumeBuffers {
-  BufferView volume_info, octree, probes, surfel_batches, leaf_queue_header, leaf_entries, probe_index,
-      svo_nodes, svo_leaves;
+  BufferView volume_info, octree, probes, surfel_batches, leaf_queue_header, leaf_entries, probe_index, svo_nodes,
+      svo_leaves;
   // Runtime lighting sections (format 1.1): the light update's inputs, e.g. for the game's own ray queries.
   BufferView lighting_info, ray_directions, punctual_lights, emitter_patches;
   // The scene as the shaders trace it (format 1.4, gpu_types.h "Compact tracing"; 1.1-1.3 files are

@@ -45,8 +45,8 @@ struct Status {
 template <class T>
 class Result {
 public:
-  Result(T value) : value_(std::move(value)) {}                  // NOLINT: implicit by design
-  Result(Status status) : status_(std::move(status)) {           // NOLINT: implicit by design
+  Result(T value) : value_(std::move(value)) {}        // NOLINT: implicit by design
+  Result(Status status) : status_(std::move(status)) { // NOLINT: implicit by design
     if (status_.ok()) status_ = {StatusCode::internal, "Result made from an ok Status without a value"};
   }
   bool ok() const { return value_.has_value(); }
@@ -67,7 +67,7 @@ private:
 struct ValidationMessage {
   enum class Severity { info, warning, error };
   Severity severity = Severity::warning;
-  std::string id;      // VUID or message id name, e.g. "SYNC-HAZARD-WRITE-AFTER-READ"
+  std::string id; // VUID or message id name, e.g. "SYNC-HAZARD-WRITE-AFTER-READ"
   std::string text;
 };
 
@@ -100,20 +100,20 @@ struct HostVulkan {
 };
 
 struct DeviceInfo {
-  std::string name;                          // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-  std::string type;                          // "discrete", "integrated", "virtual", "cpu", "other"
-  std::uint32_t api_version = 0;             // VK_MAKE_API_VERSION encoded
+  std::string name;                           // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string type;                           // "discrete", "integrated", "virtual", "cpu", "other"
+  std::uint32_t api_version = 0;              // VK_MAKE_API_VERSION encoded
   std::uint64_t max_storage_buffer_range = 0; // bytes; a larger section is refused (unsupported)
-  bool timestamps = false;                   // per-pass GPU times are measured
+  bool timestamps = false;                    // per-pass GPU times are measured
   bool borrowed = false;
   bool validation = false;
 };
 
 struct MemoryStats {
   std::size_t live_buffers = 0;
-  std::uint64_t live_bytes = 0;   // device memory of live buffers
+  std::uint64_t live_bytes = 0; // device memory of live buffers
   std::uint64_t peak_bytes = 0;
-  std::size_t allocations = 0;    // vkAllocateMemory calls so far (one per buffer)
+  std::size_t allocations = 0; // vkAllocateMemory calls so far (one per buffer)
 };
 
 // ---- Volume: upload options, frame inputs and frame statistics -------------------------------------------
@@ -267,33 +267,33 @@ struct FrameInputs {
 
 // The per-frame passes in execution order: the names FrameStats::passes uses (a pass that did not run in a
 // frame is left out of that frame's list).
-inline constexpr std::array<const char*, 8> kFramePassNames = {"stream_upload", "memory_update", "probe_index",  "light_transitions",
-                                                               "light_relight", "light_trace",  "light_gather",
-                                                               "light_resolve"};
+inline constexpr std::array<const char*, 8> kFramePassNames = {"stream_upload",     "memory_update", "probe_index",
+                                                               "light_transitions", "light_relight", "light_trace",
+                                                               "light_gather",      "light_resolve"};
 
 struct PassTime {
-  std::string name;    // one of kFramePassNames
-  double gpu_ms = -1;  // GPU timestamp difference; -1 when the queue has no timestamps
+  std::string name;   // one of kFramePassNames
+  double gpu_ms = -1; // GPU timestamp difference; -1 when the queue has no timestamps
 };
 
 // Statistics of one frame's light update (all 0 and active = false when the volume has none).
 struct LightStats {
   bool active = false;
-  int traced_probes = 0;   // L1 (records and hit fractions): the first frame only
-  int front_hits = 0;      // lighting rays of traced probes that hit a front face (or a double-sided back) /
-  int backface_hits = 0;   // the back of a single-sided triangle (inside geometry) / nothing
+  int traced_probes = 0; // L1 (records and hit fractions): the first frame only
+  int front_hits = 0;    // lighting rays of traced probes that hit a front face (or a double-sided back) /
+  int backface_hits = 0; // the back of a single-sided triangle (inside geometry) / nothing
   int misses = 0;
-  int lit_probes = 0;      // L2: probes relit and gathered this frame
-  int indirect_misses = 0; // front hits whose SVO lookup found no probe (no indirect light there)
-  int non_finite = 0;      // probes whose new irradiance was not finite: kept their old value
-  int want_split = 0;      // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
-  int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
-  int lights = 0;          // punctual lights lit this frame
-  int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
-  int relit_records = 0;   // records whose cached punctual irradiance was updated (in reach of a changed
-                           // light: inside its range, or all for a light without range or after an object moved)
-  int reused_records = 0;  // of them, updated with one shadow ray (the same light changed last time too)
-  int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
+  int lit_probes = 0;        // L2: probes relit and gathered this frame
+  int indirect_misses = 0;   // front hits whose SVO lookup found no probe (no indirect light there)
+  int non_finite = 0;        // probes whose new irradiance was not finite: kept their old value
+  int want_split = 0;        // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
+  int want_free = 0;         //     (counted by light_resolve; the memory update acts on L1 verdicts)
+  int lights = 0;            // punctual lights lit this frame
+  int uploaded_lights = 0;   // of them, records uploaded this frame (changed by FrameInputs::lights)
+  int relit_records = 0;     // records whose cached punctual irradiance was updated (in reach of a changed
+                             // light: inside its range, or all for a light without range or after an object moved)
+  int reused_records = 0;    // of them, updated with one shadow ray (the same light changed last time too)
+  int moved_objects = 0;     // dynamic objects whose pose FrameInputs::object_poses changed this frame
   int unresolved_probes = 0; // streaming: events of this frame that left a probe unresolved (its rays crossed a
                              // cell that is out before they hit anything): each trace that did, and each relight
                              // that newly did (a probe already unresolved is not counted again by the relight;
@@ -328,18 +328,18 @@ struct MemoryUpdateStats {
 // the "stream_upload" pass; its host time (numbering the blocks into the staging buffer) is upload_cpu_ms.
 struct StreamStats {
   bool active = false;
-  int resident_cells = 0;        // cells whose probes are lit (with their tracing block, if they have faces)
+  int resident_cells = 0;           // cells whose probes are lit (with their tracing block, if they have faces)
   std::uint64_t resident_bytes = 0; // their blocks' slots (StreamingOptions::budget_bytes), <= the budget
   int loaded_cells = 0, dropped_cells = 0;
   std::uint64_t loaded_bytes = 0;
-  int waiting_cells = 0;         // wanted but left for later frames by max_upload_bytes
-  int unplaced_cells = 0;        // loads that found no free run in the fragmented arena (retried next frame)
-  int moved_cells = 0;           // resident cells whose blocks moved to compact the arena for a load (GPU copies)
-  int reading_cells = 0;         // wanted cells still being read on the background thread (read_in_background)
-  int refused_cells = 0;         // loads whose bytes on disk could not be read or differ from those validated at
-                                 // load (never retried; Volume::stream_refusals says why)
-  int joined_probes = 0;         // probes of resident cells that joined the light update this frame (traced)
-  int joining_probes = 0;        // probes of resident cells still waiting for max_joining_probes
+  int waiting_cells = 0;  // wanted but left for later frames by max_upload_bytes
+  int unplaced_cells = 0; // loads that found no free run in the fragmented arena (retried next frame)
+  int moved_cells = 0;    // resident cells whose blocks moved to compact the arena for a load (GPU copies)
+  int reading_cells = 0;  // wanted cells still being read on the background thread (read_in_background)
+  int refused_cells = 0;  // loads whose bytes on disk could not be read or differ from those validated at
+                          // load (never retried; Volume::stream_refusals says why)
+  int joined_probes = 0;  // probes of resident cells that joined the light update this frame (traced)
+  int joining_probes = 0; // probes of resident cells still waiting for max_joining_probes
   double upload_cpu_ms = 0.0;
 };
 
@@ -356,12 +356,12 @@ struct FrameStats {
 
 struct SampleStats {
   std::size_t samples = 0;
-  std::size_t misses = 0;   // lookups without a probe (as bake::SamplerStats)
-  std::size_t not_lit = 0;  // streaming: lookups that used a probe the light update does not light now (the
-                            // cell is out, or its probes wait): its irradiance is the file's or the last lit
+  std::size_t misses = 0;  // lookups without a probe (as bake::SamplerStats)
+  std::size_t not_lit = 0; // streaming: lookups that used a probe the light update does not light now (the
+                           // cell is out, or its probes wait): its irradiance is the file's or the last lit
   std::size_t dispatches = 0;
-  double gpu_ms = -1;       // sum over dispatches; -1 without timestamps
-  double cpu_ms = 0.0;      // including uploads and read-backs of queries and results
+  double gpu_ms = -1;  // sum over dispatches; -1 without timestamps
+  double cpu_ms = 0.0; // including uploads and read-backs of queries and results
 };
 
 // What Volume::sample_irradiance says of each lookup besides its irradiance (bits).

@@ -17,7 +17,8 @@
 namespace probebake::samples {
 
 // A .glb or .gltf (external files resolved against `base_dir`) -> the flipped scene as .glb bytes.
-std::vector<std::uint8_t> flip_sides_gltf(const std::vector<std::uint8_t>& input, const std::filesystem::path& base_dir);
+std::vector<std::uint8_t> flip_sides_gltf(const std::vector<std::uint8_t>& input,
+                                          const std::filesystem::path& base_dir);
 // The same for a file.
 std::vector<std::uint8_t> flip_sides_file(const std::filesystem::path& path);
 

@@ -17,8 +17,8 @@ namespace probebake::samples {
 // An indexed triangle list with one normal per vertex.
 struct MeshData {
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;       // same size as positions, unit length
-  std::vector<std::uint32_t> indices;   // 3 per triangle, counter-clockwise = front
+  std::vector<glm::vec3> normals;     // same size as positions, unit length
+  std::vector<std::uint32_t> indices; // 3 per triangle, counter-clockwise = front
 
   std::size_t triangle_count() const { return indices.size() / 3; }
   bool empty() const { return indices.empty(); }
@@ -67,4 +67,4 @@ MeshData flipped(const MeshData& mesh);
 
 Bounds bounds_of(const MeshData& mesh);
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -19,4 +19,4 @@ std::vector<std::uint8_t> meshopt_compress_gltf(const std::vector<std::uint8_t>&
 // The same for a file.
 std::vector<std::uint8_t> meshopt_compress_file(const std::filesystem::path& path);
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -41,17 +41,17 @@ enum class LightType { point, spot, directional };
 struct Light {
   std::string name;
   LightType type = LightType::point;
-  glm::vec3 color{1.0f};              // linear RGB, each in [0, 1]
-  float intensity = 1.0f;             // candela (point, spot) or lux (directional), >= 0
-  float range = 0.0f;                 // metres; 0 = infinite
-  float inner_cone_angle = 0.0f;      // spot only, radians, 0 <= inner < outer <= pi/2
+  glm::vec3 color{1.0f};         // linear RGB, each in [0, 1]
+  float intensity = 1.0f;        // candela (point, spot) or lux (directional), >= 0
+  float range = 0.0f;            // metres; 0 = infinite
+  float inner_cone_angle = 0.0f; // spot only, radians, 0 <= inner < outer <= pi/2
   float outer_cone_angle = 0.7853982f;
 };
 
 // A node's local transform: translation * rotation * scale.
 struct Transform {
   glm::vec3 translation{0.0f};
-  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  // (w, x, y, z)
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f}; // (w, x, y, z)
   glm::vec3 scale{1.0f};
 
   glm::mat4 matrix() const;
@@ -59,10 +59,18 @@ struct Transform {
 };
 
 // Indices into the builder's lists; only valid for the builder that returned them.
-struct MaterialId { int index = -1; };
-struct MeshId { int index = -1; };
-struct LightId { int index = -1; };
-struct NodeId { int index = -1; };
+struct MaterialId {
+  int index = -1;
+};
+struct MeshId {
+  int index = -1;
+};
+struct LightId {
+  int index = -1;
+};
+struct NodeId {
+  int index = -1;
+};
 
 // One glTF primitive: triangles with one material.
 struct Primitive {
@@ -71,7 +79,7 @@ struct Primitive {
 };
 
 class SceneBuilder {
- public:
+public:
   struct MeshEntry {
     std::string name;
     std::vector<Primitive> primitives;
@@ -105,8 +113,8 @@ class SceneBuilder {
   NodeId add_mesh_node(std::string name, MeshId mesh, const Transform& transform = {},
                        std::optional<NodeId> parent = {});
   // A light node at `position`; spot and directional lights shine along `direction` (glTF's -Z axis).
-  NodeId add_light_node(std::string name, LightId light, glm::vec3 position,
-                        glm::vec3 direction = {0.0f, -1.0f, 0.0f}, std::optional<NodeId> parent = {});
+  NodeId add_light_node(std::string name, LightId light, glm::vec3 position, glm::vec3 direction = {0.0f, -1.0f, 0.0f},
+                        std::optional<NodeId> parent = {});
   // A perspective camera node at `position` looking at `look_at` (+Y up), vertical field of view in radians.
   NodeId add_camera_node(std::string name, glm::vec3 position, glm::vec3 look_at, float yfov);
   // Marks a node as moving at run time (the extras key above).
@@ -132,7 +140,7 @@ class SceneBuilder {
   const std::vector<NodeEntry>& nodes() const { return nodes_; }
   const std::vector<int>& roots() const { return roots_; }
 
- private:
+private:
   template <class Visit>
   void visit_mesh_instances(Visit&& visit) const;
 
@@ -147,4 +155,4 @@ class SceneBuilder {
 // Writes bytes to `path` atomically (temporary file + rename). Throws Error(output).
 void write_file_atomically(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes);
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

@@ -21,7 +21,7 @@ struct CornellOptions {
   // Replaces the tall block with this model's triangles, scaled uniformly to fit 60% of the box and
   // centred on the middle of the floor (it may intersect the short block).
   std::optional<std::filesystem::path> with_model;
-  float light_scale = 1.0f;  // multiplies the light's radiance cornell_light_radiance, >= 0
+  float light_scale = 1.0f; // multiplies the light's radiance cornell_light_radiance, >= 0
   // When set, the light is a closed emissive box (the light's footprint, 3 cm tall, every face emitting)
   // whose top lies this many metres below the ceiling: the stiff case of issue #39 (0.00013 m).
   std::optional<float> light_box_gap;
@@ -36,19 +36,19 @@ SceneBuilder cornell(const CornellOptions& options = {});
 // A closed cube [-size/2, size/2]^3 whose every face looks inward, with one material of albedo R and
 // emitted radiance L: irradiance is pi L / (1 - R) at every point inside, in every direction.
 struct FurnaceOptions {
-  float albedo = 0.5f;    // in [0, 1]
-  float emission = 1.0f;  // >= 0; KHR_materials_emissive_strength is used when > 1
-  float size = 1.0f;      // > 0, metres
-  int subdivisions = 1;   // cells per face edge: 12 * subdivisions^2 triangles
+  float albedo = 0.5f;   // in [0, 1]
+  float emission = 1.0f; // >= 0; KHR_materials_emissive_strength is used when > 1
+  float size = 1.0f;     // > 0, metres
+  int subdivisions = 1;  // cells per face edge: 12 * subdivisions^2 triangles
 };
 SceneBuilder furnace(const FurnaceOptions& options = {});
 
 // Two closed rooms (3 x 2.5 x 3 m inside) side by side along X, separated by a wall of the given
 // thickness, with a point light at the centre of the -X room only: any light in the +X room is a leak.
 struct LeakOptions {
-  float wall_thickness = 0.02f;  // > 0, metres
-  float intensity = 100.0f;      // candela, >= 0
-  int subdivisions = 1;          // per room face edge
+  float wall_thickness = 0.02f; // > 0, metres
+  float intensity = 100.0f;     // candela, >= 0
+  int subdivisions = 1;         // per room face edge
 };
 SceneBuilder leak(const LeakOptions& options = {});
 
@@ -80,9 +80,9 @@ SceneBuilder rooms(const RoomsOptions& options = {});
 // Stiff scenes (issue #39, scene_stiff.cpp). A closed 4 x 2.5 x 4 m room (faces inward, x, z in -2..2, y in
 // 0..2.5) lit only by a directional sun (`sun` lux) through `windows` 0.5 x 0.5 m openings in its +X wall.
 struct WindowRoomOptions {
-  int windows = 2;      // 1..4
-  float albedo = 0.7f;  // every face
-  float sun = 10.0f;    // lux
+  int windows = 2;     // 1..4
+  float albedo = 0.7f; // every face
+  float sun = 10.0f;   // lux
 };
 SceneBuilder window_room(const WindowRoomOptions& options = {});
 // The same room shut, lit only by a square emitter of side `size` and radiance `radiance` facing down 1 cm
@@ -105,4 +105,4 @@ SceneBuilder triangle();
 // A valid glTF with one empty scene: no nodes, meshes, materials or lights.
 SceneBuilder empty();
 
-}  // namespace probebake::samples
+} // namespace probebake::samples

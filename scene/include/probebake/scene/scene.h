@@ -36,12 +36,12 @@ enum class LightType { point, spot, directional };
 struct Light {
   std::string name;
   LightType type = LightType::point;
-  glm::vec3 color{1.0f};           // linear RGB
-  float intensity = 1.0f;          // candela (point, spot) or lux (directional)
-  glm::vec3 position{0.0f};        // world space (point, spot)
-  glm::vec3 direction{0, 0, -1};   // world-space unit direction the light travels (spot, directional)
-  float range = 0.0f;              // 0 = infinite
-  float inner_cone_angle = 0.0f;   // radians (spot)
+  glm::vec3 color{1.0f};                 // linear RGB
+  float intensity = 1.0f;                // candela (point, spot) or lux (directional)
+  glm::vec3 position{0.0f};              // world space (point, spot)
+  glm::vec3 direction{0, 0, -1};         // world-space unit direction the light travels (spot, directional)
+  float range = 0.0f;                    // 0 = infinite
+  float inner_cone_angle = 0.0f;         // radians (spot)
   float outer_cone_angle = 0.785398163f; // radians (spot), glTF default pi/4
 };
 
@@ -69,7 +69,7 @@ struct Instance {
   int mesh = -1;
   std::uint32_t first_triangle = 0;
   std::uint32_t triangle_count = 0;
-  bool dynamic = false; // node (or an ancestor) is dynamic (extras {"probebake": {"dynamic": true}} or by name)
+  bool dynamic = false;    // node (or an ancestor) is dynamic (extras {"probebake": {"dynamic": true}} or by name)
   int dynamic_object = -1; // index into Scene::dynamic_objects when dynamic
   glm::mat4 world_from_local{1.0f};
   Bounds bounds;
@@ -84,19 +84,19 @@ struct DynamicObject {
 };
 
 struct Scene {
-  std::vector<glm::vec3> positions;               // world space
-  std::vector<glm::uvec3> triangles;              // indices into positions, CCW front faces
-  std::vector<std::uint32_t> triangle_material;   // index into materials
-  std::vector<glm::vec3> triangle_albedo;         // diffuse albedo, texture averaged over the triangle
-  std::vector<glm::vec3> triangle_emission;       // emitted radiance, texture averaged
-  std::vector<Material> materials;                // always at least one (the glTF default material last)
+  std::vector<glm::vec3> positions;             // world space
+  std::vector<glm::uvec3> triangles;            // indices into positions, CCW front faces
+  std::vector<std::uint32_t> triangle_material; // index into materials
+  std::vector<glm::vec3> triangle_albedo;       // diffuse albedo, texture averaged over the triangle
+  std::vector<glm::vec3> triangle_emission;     // emitted radiance, texture averaged
+  std::vector<Material> materials;              // always at least one (the glTF default material last)
   std::vector<Light> lights;
-  std::vector<SceneCamera> cameras;               // perspective cameras, scene order (orthographic ones skipped)
+  std::vector<SceneCamera> cameras; // perspective cameras, scene order (orthographic ones skipped)
   std::vector<Instance> instances;
-  std::vector<DynamicObject> dynamic_objects;     // in the order the node walk meets them
+  std::vector<DynamicObject> dynamic_objects; // in the order the node walk meets them
   std::vector<std::string> extensions_used;
   std::vector<std::string> extensions_required;
-  std::vector<std::string> warnings;              // things skipped, e.g. non-triangle primitives
+  std::vector<std::string> warnings; // things skipped, e.g. non-triangle primitives
   int mesh_count = 0;
   Bounds bounds;                                  // of all triangles
   std::vector<std::filesystem::path> input_files; // every file read: the scene, then its buffers and images (resolved)

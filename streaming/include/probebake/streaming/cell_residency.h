@@ -26,9 +26,9 @@ namespace probebake::streaming {
 
 // One cell as the policy sees it: where it is and what loading it costs.
 struct CellFootprint {
-  int cell_index = 0;        // Cell::cell_index
+  int cell_index = 0; // Cell::cell_index
   glm::vec3 min{0.0f}, max{0.0f};
-  std::uint64_t bytes = 0;   // formats::cell_bytes
+  std::uint64_t bytes = 0; // formats::cell_bytes
 };
 
 // The footprint of every Cell record of a volume, in record order.
@@ -38,7 +38,8 @@ std::vector<CellFootprint> cell_footprints(const formats::ProbeVolume& volume);
 // once can hold, whatever the camera does: resident bytes never exceed `budget`, so every cell of zero bytes
 // and, of the others, the fractional knapsack by count per byte (an upper bound of any whole-cell choice),
 // rounded up. Sizes what a GPU pool needs for the resident cells. counts.size() == cells.size().
-std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<const std::uint64_t> counts, std::uint64_t budget);
+std::uint64_t most_resident(std::span<const CellFootprint> cells, std::span<const std::uint64_t> counts,
+                            std::uint64_t budget);
 
 // Distance from `point` to the box (0 inside).
 float distance_to_box(glm::vec3 point, glm::vec3 min, glm::vec3 max);

@@ -52,7 +52,7 @@ private:
 
   const scene::Scene& scene_;
   const scene::RayScene& rays_;
-  float offset_; // shadow_offset(scene): along the normal, for every shadow ray
+  float offset_;                      // shadow_offset(scene): along the normal, for every shadow ray
   std::vector<EmitterPatch> patches_; // empty unless emissive_as_lights
 };
 

@@ -31,37 +31,37 @@
 namespace probebake::bake {
 
 struct LightingSettings {
-  bool enabled = true;              // the bake runs bake_lighting (false: probes keep zero irradiance)
-  int rays = 256;                   // Fibonacci rays per probe over the full sphere, 1..65536
-  float tolerance = 1e-4f;          // stop when the estimated relative error of every probe's DC term is below
-  int max_iterations = 5000;        // at least 1
-  bool accelerate = true;           // geometric-series extrapolation once the contraction rate is steady
-  glm::vec3 sky_radiance{0.0f};     // radiance of rays that leave the scene, >= 0
+  bool enabled = true;          // the bake runs bake_lighting (false: probes keep zero irradiance)
+  int rays = 256;               // Fibonacci rays per probe over the full sphere, 1..65536
+  float tolerance = 1e-4f;      // stop when the estimated relative error of every probe's DC term is below
+  int max_iterations = 5000;    // at least 1
+  bool accelerate = true;       // geometric-series extrapolation once the contraction rate is steady
+  glm::vec3 sky_radiance{0.0f}; // radiance of rays that leave the scene, >= 0
   // Emissive triangles as area lights: direct_irradiance() adds their light (exact unoccluded irradiance
   // of fixed sub-triangles, one shadow ray each) and probes leave out the emission their rays see, so
   // that it is counted once. false: probes carry the emitters' light like any other surface's.
   bool emissive_as_lights = true;
-  int emitter_samples = 64;         // sub-triangle budget per lookup, shared by emitter power (>= 1)
-  int threads = 0;                  // 0 = all cores (bake::bake passes BakeSettings::threads)
+  int emitter_samples = 64; // sub-triangle budget per lookup, shared by emitter power (>= 1)
+  int threads = 0;          // 0 = all cores (bake::bake passes BakeSettings::threads)
 };
 
 // Throws Error(usage) naming the setting when one is out of range.
 void check_lighting_settings(const LightingSettings& settings);
 
 struct LightingReport {
-  int probes = 0;                   // live probes lit
-  std::size_t rays = 0;             // probe rays traced (probes * rays)
-  std::size_t backface_hits = 0;    // rays that ended inside a solid (back of a single-sided surface)
-  std::size_t misses = 0;           // rays that left the scene (sky)
-  std::size_t indirect_misses = 0;  // front hits whose SVO lookup found no probe (they get no E_indirect)
-  int iterations = 0;               // Jacobi sweeps (sweep 1 = emission + direct light, one bounce each more)
-  int extrapolations = 0;           // accelerated steps kept among them
-  int rejected_extrapolations = 0;  // steps undone because the sweep after them changed more than the one
-                                    // before (docs/LIGHTING.md "Convergence"); acceleration then stops
-  float change = 0.0f;              // max relative change of any probe's DC term in the last sweep
-  float rate = 0.0f;                // estimated contraction rate per sweep (0 when unknown)
-  float estimated_error = 0.0f;     // change * rate / (1 - rate): distance to the fixed point, relative;
-                                    // -1 while the rate is unknown or >= 1
+  int probes = 0;                  // live probes lit
+  std::size_t rays = 0;            // probe rays traced (probes * rays)
+  std::size_t backface_hits = 0;   // rays that ended inside a solid (back of a single-sided surface)
+  std::size_t misses = 0;          // rays that left the scene (sky)
+  std::size_t indirect_misses = 0; // front hits whose SVO lookup found no probe (they get no E_indirect)
+  int iterations = 0;              // Jacobi sweeps (sweep 1 = emission + direct light, one bounce each more)
+  int extrapolations = 0;          // accelerated steps kept among them
+  int rejected_extrapolations = 0; // steps undone because the sweep after them changed more than the one
+                                   // before (docs/LIGHTING.md "Convergence"); acceleration then stops
+  float change = 0.0f;             // max relative change of any probe's DC term in the last sweep
+  float rate = 0.0f;               // estimated contraction rate per sweep (0 when unknown)
+  float estimated_error = 0.0f;    // change * rate / (1 - rate): distance to the fixed point, relative;
+                                   // -1 while the rate is unknown or >= 1
   bool converged = false;
   // Monte Carlo noise of the probes: the standard error of a probe's mean ray radiance over that mean
   // (median and 95th percentile over the lit probes). It falls as 1 / sqrt(rays); a small bright patch (sun
@@ -69,9 +69,9 @@ struct LightingReport {
   // as probes are added (docs/results/lookup.md, "Convergence").
   float noise_median = 0.0f;
   float noise_p95 = 0.0f;
-  double trace_seconds = 0.0;       // rays, shadow rays and SVO lookups of the hits
+  double trace_seconds = 0.0; // rays, shadow rays and SVO lookups of the hits
   double iterate_seconds = 0.0;
-  double seconds = 0.0;             // total
+  double seconds = 0.0; // total
 };
 
 // Lights every probe with link != 0 (volume.svo_nodes must be built; without an SVO no hit gets

@@ -34,19 +34,19 @@ struct SamplePoint {
 };
 
 struct ReferenceSettings {
-  int paths = 1024;          // paths per point, >= 2 (the standard error needs two)
+  int paths = 1024; // paths per point, >= 2 (the standard error needs two)
   std::uint64_t seed = 1;
-  int threads = 0;           // 0 = all cores; results do not depend on it
-  int roulette_after = 3;    // bounces traced before Russian roulette starts
-  int max_bounces = 100000;  // safety net only (a path this long has throughput ~0 unless albedo is 1)
+  int threads = 0;          // 0 = all cores; results do not depend on it
+  int roulette_after = 3;   // bounces traced before Russian roulette starts
+  int max_bounces = 100000; // safety net only (a path this long has throughput ~0 unless albedo is 1)
 };
 
 // Throws Error(usage) naming the setting when one is out of range.
 void check_reference_settings(const ReferenceSettings& settings);
 
 struct ReferenceResult {
-  std::vector<glm::vec3> irradiance;      // mean estimate per point, W/m^2 per RGB channel
-  std::vector<glm::vec3> standard_error;  // standard error of that mean, per channel
+  std::vector<glm::vec3> irradiance;     // mean estimate per point, W/m^2 per RGB channel
+  std::vector<glm::vec3> standard_error; // standard error of that mean, per channel
   // The direct part of `irradiance`: punctual lights and emitters seen from the point itself (next-event
   // samples at the receiver and the emission its first ray hits). irradiance - direct is the indirect
   // light, what probes hold (docs/LIGHTING.md "What a probe stores").
@@ -79,7 +79,8 @@ void write_reference_csv(const std::filesystem::path& path, std::span<const Samp
 // Returns false when the file is missing or not such a CSV (the standard errors come back in every
 // channel). A CSV of the 10 columns before the direct part was added is "not such a CSV": eval's cache
 // computes it again rather than read it without a direct part.
-bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points, ReferenceResult& reference);
+bool read_reference_csv(const std::filesystem::path& path, std::vector<SamplePoint>& points,
+                        ReferenceResult& reference);
 
 // Receivers for `probebake reference --at`: one per line, x,y,z,nx,ny,nz (scene units; the normal picks
 // the side of a double-sided surface and is normalised). A first line "x,y,z,nx,ny,nz" or the header of
@@ -95,7 +96,7 @@ std::vector<SamplePoint> read_receivers_csv(const std::filesystem::path& path);
 struct Camera {
   glm::vec3 position{0.0f, 0.0f, 1.0f};
   glm::vec3 look_at{0.0f};
-  float fov_degrees = 60.0f;  // vertical field of view
+  float fov_degrees = 60.0f; // vertical field of view
   int width = 256;
   int height = 256;
 };

@@ -25,7 +25,7 @@ install(TARGETS ${probebake_install_targets} EXPORT probebakeTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # Headers: the public ones of each library, and the shared C++/GLSL ones (gpu_types.h, bindings.h, the
 # .glsl includes). Private headers (src/) stay out.
-install(DIRECTORY runtime/include/ formats/include/ dynamic/include/ streaming/include/ shaders/include/
+install(DIRECTORY runtime/include/ formats/include/ dynamic/include/ runtime/streaming/policy/include/ shaders/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT probebakeTargets NAMESPACE probebake:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/probebake)
 

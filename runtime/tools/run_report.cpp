@@ -239,10 +239,14 @@ std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynam
   return table;
 }
 
-// Columns of FrameRow::pass_ms that the streaming report reads.
-constexpr std::size_t kStreamUploadPass = 0, kLightTracePass = 5;
-static_assert(std::string_view(kFramePassNames[kStreamUploadPass]) == "stream_upload" &&
-              std::string_view(kFramePassNames[kLightTracePass]) == "light_trace");
+// The column of a pass in FrameRow::pass_ms, by its name in the pass table (a name not there does not build);
+// the streaming report reads these two.
+consteval std::size_t pass_column(std::string_view name) {
+  for (std::size_t k = 0; k < kFramePassNames.size(); ++k)
+    if (std::string_view(kFramePassNames[k]) == name) return k;
+  throw "not a pass of the pass table";
+}
+constexpr std::size_t kStreamUploadPass = pass_column("stream_upload"), kLightTracePass = pass_column("light_trace");
 
 std::string stream_frame_line(const FrameRow& r) {
   const runtime::StreamStats& s = r.stream;

@@ -122,10 +122,10 @@ struct MemoryState {
   uint entry_groups[3];        // offset 32: one workgroup per pulled memory entry (memory_decide)
   uint entry_thread_groups[3]; // offset 44: one thread per pulled memory entry (release, allocate, collapse)
   uint light_groups[3];        // offset 56: one workgroup per pulled light entry (memory_light)
-  int pad0;                    // offset 68
-  int pad1;                    // offset 72
-  int pad2;                    // offset 76
-};                             // size 80
+  int probe_stack_base;        // offset 68: the probe stack's first element in the free-stack buffer
+  int batch_stack_base;        // offset 72: the batch stack's (the cluster stack starts at 0)
+  int pad0;                    // offset 76
+};                             // size 80 (the queue keys follow it in the state buffer)
 
 // One pulled memory entry as the dispatches pass it on: decide fills node/state/action, release the
 // merge probe, grant the stack positions (index into the stacks of the first element granted).
@@ -176,7 +176,8 @@ static_assert(offsetof(MemoryFrame, cells) == 32 + 32 * MEMORY_MAX_BOXES && offs
 static_assert(offsetof(MemoryFrame, batches_per_probe) == 16 && offsetof(MemoryFrame, null_leaf) == 20);
 static_assert(sizeof(MemoryState) == 80 && offsetof(MemoryState, light_segment) == 28);
 static_assert(offsetof(MemoryState, entry_groups) == 32 && offsetof(MemoryState, entry_thread_groups) == 44 &&
-              offsetof(MemoryState, light_groups) == 56);
+              offsetof(MemoryState, light_groups) == 56 && offsetof(MemoryState, probe_stack_base) == 68 &&
+              offsetof(MemoryState, batch_stack_base) == 72);
 static_assert(sizeof(MemoryWork) == 48 && offsetof(MemoryWork, merged) == 32);
 static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred) == 36);
 static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);

@@ -139,7 +139,7 @@ struct LightPush {
   uint listed;           // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = the slot window
   uint first_slot;       // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
   uint slot_count;       // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
-  uint probes_per_page;  // offset 24: light records: slot s is in page s / probes_per_page (bindings.h)
+  uint probes_per_page;  // offset 24: light records: slot s is in page s / probes_per_page (light_update_bindings.h)
   int tracked_light;     // offset 28: light_trace: the light whose share it also writes to the tracked
                          //   punctual buffer (RelightChanges), -1 = none
   int shadow_rays;       // offset 32: light_trace, light_relight (everything): shadow rays per record for a

@@ -18,7 +18,8 @@
 //   PROBEBAKE_BINDING_SVO_NODES   (default 2): int probebake_svo_nodes[]        <- .svo_nodes
 //   PROBEBAKE_BINDING_SVO_LEAVES  (default 3): SvoLeaf probebake_svo_leaves[]   <- .svo_leaves
 // all in descriptor set PROBEBAKE_SET (default 0). Define the macros before the #include to move them (an
-// integer literal or any GLSL constant expression); the defaults are SAMPLE_BINDING_* of probebake/bindings.h.
+// integer literal or any GLSL constant expression); the defaults are the runtime's volume set (VOLUME_SET,
+// VOLUME_BINDING_* of probebake/bindings.h), so a game may also bind that set as the runtime writes it.
 // An empty SVO section has no buffer: bind any buffer of at least 4 bytes there (info.svo_nodes == 0 makes
 // every lookup a miss without reading it).
 //
@@ -41,18 +42,18 @@
 #ifndef PROBEBAKE_SET
 #define PROBEBAKE_SET 0
 #endif
-// Defaults: the runtime's own sampling pass layout (SAMPLE_BINDING_* in bindings.h, 0-3).
+// Defaults: the runtime's volume set (VOLUME_SET, VOLUME_BINDING_* 0-3 in bindings.h).
 #ifndef PROBEBAKE_BINDING_VOLUME_INFO
-#define PROBEBAKE_BINDING_VOLUME_INFO SAMPLE_BINDING_VOLUME_INFO
+#define PROBEBAKE_BINDING_VOLUME_INFO VOLUME_BINDING_VOLUME_INFO
 #endif
 #ifndef PROBEBAKE_BINDING_PROBES
-#define PROBEBAKE_BINDING_PROBES SAMPLE_BINDING_PROBES
+#define PROBEBAKE_BINDING_PROBES VOLUME_BINDING_PROBES
 #endif
 #ifndef PROBEBAKE_BINDING_SVO_NODES
-#define PROBEBAKE_BINDING_SVO_NODES SAMPLE_BINDING_SVO_NODES
+#define PROBEBAKE_BINDING_SVO_NODES VOLUME_BINDING_SVO_NODES
 #endif
 #ifndef PROBEBAKE_BINDING_SVO_LEAVES
-#define PROBEBAKE_BINDING_SVO_LEAVES SAMPLE_BINDING_SVO_LEAVES
+#define PROBEBAKE_BINDING_SVO_LEAVES VOLUME_BINDING_SVO_LEAVES
 #endif
 #ifndef PROBEBAKE_DECLARE_BUFFERS
 #define PROBEBAKE_DECLARE_BUFFERS 1

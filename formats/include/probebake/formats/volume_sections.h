@@ -1,5 +1,5 @@
 // The one list of a ProbeVolume's sections: which member holds which SectionType, in type order. The
-// writer and reader (probes_file.cpp), the runtime's GPU buffers (runtime/src/gpu_volume.cpp) and the bake's
+// writer and reader (probes_file.cpp), the runtime's GPU buffers (runtime/core/gpu_volume.cpp) and the bake's
 // report of section sizes all walk it, so a new section is added here and nowhere else.
 #pragma once
 

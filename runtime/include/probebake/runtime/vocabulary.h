@@ -265,11 +265,12 @@ struct FrameInputs {
   FrameLimits limits;
 };
 
-// The per-frame passes in execution order: the names FrameStats::passes uses (a pass that did not run in a
+// The per-frame passes in execution order (the pass table's PROBEBAKE_TIMER rows): the names FrameStats::passes uses (a pass that did not run in a
 // frame is left out of that frame's list).
-inline constexpr std::array<const char*, 8> kFramePassNames = {"stream_upload",     "memory_update", "probe_index",
-                                                               "light_transitions", "light_relight", "light_trace",
-                                                               "light_gather",      "light_resolve"};
+inline constexpr std::array kFramePassNames = {
+#define PROBEBAKE_TIMER(name) #name,
+#include "probebake/runtime/passes.def"
+};
 
 struct PassTime {
   std::string name;   // one of kFramePassNames

@@ -1,0 +1,158 @@
+// The light update (octree thesis §3.2.2) on a static octree: L1 traces every live probe's lighting rays
+// and placement lattice once (light_trace.comp) and caches each record's punctual irradiance, which
+// light_relight.comp updates only where lights or objects changed; L2 relights the kept records every frame and gathers
+// them into the probes with hysteresis (light_gather.comp, then light_resolve.comp copies the result
+// into the probes, so that the whole frame reads last frame's values), L3 compares hit fractions with the
+// split thresholds by the leaf rule (counted; the memory update acts on its own L1 measures).
+// Exists only for volumes that carry the runtime lighting sections (bake default).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <vulkan/vulkan_core.h>
+
+#include "core/allocator.h"
+#include "core/commands.h"
+#include "core/device.h"
+#include "core/gpu_volume.h"
+#include "core/handles.h"
+#include "core/pass_counters.h"
+#include "core/pipelines.h"
+#include "probebake/formats/probe_volume.h"
+#include "probebake/runtime_types.h"
+#include "probebake/runtime/vocabulary.h"
+
+namespace probebake::runtime::detail {
+
+struct LightTimerSlots {
+  std::uint32_t relight, trace, gather, resolve;
+};
+
+// Where a probe slot's light records are (LIGHT_BINDING_RECORD_SLOTS, light_update_bindings.h).
+struct RecordSlots {
+  enum class Kind {
+    own,        // each probe slot has its own records; no record-slot buffer
+    handed_out, // streaming: `count` record slots, handed out by the host (record_record_slots)
+    own_marked, // streaming with the memory update: each probe slot its own, the buffer holding the
+                // RECORD_SLOT_UNRESOLVED marks; retries count probe slots (the GPU writes the light list)
+  };
+  Kind kind = Kind::own;
+  std::uint32_t count = 0; // handed_out
+};
+
+class LightUpdatePass {
+public:
+  // The per-ray records are split into up to LIGHT_RECORD_PAGES pages of whole probes, each within
+  // maxStorageBufferRange; throws RuntimeError(unsupported) when they need more.
+  // `rings`: frames in flight whose statistics are kept apart (PassCounters).
+  // `records`: how a probe slot finds its records (RecordSlots).
+  LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
+                  RecordSlots records = {});
+
+  // Whether `volume` can run the light update: it has the lighting sections and probes.
+  static bool applies(const GpuVolume& volume);
+
+  // Records L1 (first frame every probe; after retrace_crossing(), or with walk_light_list() in every later
+  // frame, the flagged probes), L2 and L3 between the timer slots' timestamps.
+  // `limits.max_gathered_probes`: probes gathered and resolved this frame when the pass does not walk the
+  // light list, a window of slots that moves on every frame (0 = every slot); `limits.shadow_rays_per_record`:
+  // the light sampling's budget of whole punctual sums (0 = exact). Returns whether L1 was recorded.
+  bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits);
+  // Whether the last record() updated cached punctual irradiance (light_relight).
+  bool relit() const { return relit_; }
+  // After the submission: this frame's statistics.
+  LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
+  // Objects moved (without the memory update): the next record() re-traces only the probes whose rays cross
+  // one of these boxes (light_mark_moved); more than RELIGHT_MAX_MOVED_BOXES are merged into the last.
+  void retrace_crossing(std::span<const Box> boxes);
+  // Lights changed: the next record() updates the cached punctual irradiance of the records they reach
+  // (light_relight); more than RELIGHT_MAX_CHANGES changes before a record() mean relight_everything().
+  // `first`: the light index of changes[0] (the others follow it).
+  void relight(std::span<const gpu::LightChange> changes, std::size_t first);
+  // The next record() recomputes every record's punctual irradiance (an object moved: shadows anywhere).
+  void relight_everything() { relight_everything_ = true; }
+  // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
+  // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
+  void walk_light_list() { queue_driven_ = true; }
+  // Streaming: the child word of a cell that is out; light_trace flags probes whose rays cross one
+  // (RECORD_SLOT_UNRESOLVED) and the gather keeps their irradiance.
+  void set_null_leaf(std::uint32_t word) { null_leaf_ = word; }
+  // Streaming: cells arrived, so unresolved probes may now see their geometry. From the next record() on,
+  // light_trace retraces the unresolved probes among `window` places of the light list per frame (0 = all),
+  // moving on until it has passed the whole list once (again from the start when the list changes under it:
+  // places move): a bounded cost per frame, whatever was unresolved. Call after this frame's record_host_list.
+  // With RecordSlots::own_marked the window counts probe slots instead of list places.
+  void retry_unresolved(std::uint32_t window);
+  // Streaming (walk_light_list() on, no memory update): the host's list of the probe slots to light, and
+  // the slot ranges [first, first + count) whose records the next light_trace makes afresh (probes whose
+  // geometry just arrived). Recorded before record(); at most LightListHeader + probe_capacity entries.
+  void record_host_list(VkCommandBuffer cmd, std::span<const std::int32_t> slots,
+                        std::span<const formats::CellRange> retrace);
+  // Streaming: uploads the record slot (-1: none) of the probes in `ranges` from `slots` (one per probe slot).
+  void record_record_slots(VkCommandBuffer cmd, std::span<const formats::CellRange> ranges,
+                           std::span<const std::int32_t> slots);
+  // uint per probe slot, 1 = trace its records in the next light_trace (cleared there).
+  VkBuffer trace_flags() const { return trace_flags_.get(); }
+  // Streaming: int per probe slot, its record slot (-1: not lit); VK_NULL_HANDLE otherwise.
+  VkBuffer record_slots() const { return record_slots_ ? record_slots_.get() : VK_NULL_HANDLE; }
+  VkDeviceSize record_slots_size() const { return record_slots_ ? record_slots_.size() : 0; }
+  // LightListHeader + int per probe slot (runtime_types.h), written by the light transitions.
+  VkBuffer light_list() const { return light_list_.get(); }
+
+private:
+  // Pages of whole probes' records, each within maxStorageBufferRange (probes_per_page_).
+  void create_record_pages(int rays);
+  // Uploads the pending changes and records light_relight between the slot's timestamps, when any change is
+  // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
+  // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
+  void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
+  // The pending moved boxes into RelightChanges, and the probes whose rays cross them flagged (light_mark_moved).
+  void upload_moved_boxes(VkCommandBuffer cmd);
+  void record_mark_moved(VkCommandBuffer cmd);
+  // The places of the probes that trace this frame, and light_trace's dispatch size (light_trace_list.comp).
+  void record_trace_list(VkCommandBuffer cmd);
+
+  Device& device_;
+  std::uint32_t probe_capacity_ = 0;
+  std::uint32_t record_capacity_ = 0; // probes whose records the pages hold
+  bool indirect_records_ = false;     // records by LIGHT_BINDING_RECORD_SLOTS (streaming)
+  bool retry_by_slot_ = false;        // RecordSlots::own_marked: retry windows over probe slots
+  std::uint32_t null_leaf_ = 0;       // streaming's null leaf word (LightPush::null_leaf), 0 = none
+  float hysteresis_ = 0.0f;
+  bool trace_pending_ = true;
+  bool queue_driven_ = false;
+  bool host_listed_ = false;       // the host writes the light list (streaming): trace only when it asks
+  bool host_retrace_ = false;      // record_host_list flagged probes since the last trace
+  std::uint32_t listed_ = 0;       // entries of the host's light list
+  std::uint32_t retry_cursor_ = 0; // first list place of the next retry window
+  std::uint32_t retry_window_ = 0; // list places per frame
+  std::uint32_t retry_left_ = 0;   // list places still to retry since cells last arrived
+  bool relight_everything_ = false;
+  bool relit_ = false;
+  std::uint32_t gather_cursor_ = 0;        // first slot of the next frame's gather window
+  std::uint32_t frames_recorded_ = 0;      // the light sampling's seed: the same frames, the same draws
+  std::uint32_t stale_frames_left_ = 0;    // frames until every window has caught up with the last change
+  std::uint32_t last_window_ = 0;          // the last frame's window size
+  std::vector<gpu::MovedBox> moved_boxes_; // pending retrace_crossing boxes (empty: none)
+  gpu::RelightChanges changes_{};          // pending changes (changes_.count), uploaded by record()
+  std::size_t first_change_ = 0;           // light index of changes_.changes[0]
+  Buffer relight_changes_;
+  // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
+  // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.
+  int tracked_light_ = -1;
+  bool tracking_ = false;
+  Buffer tracked_punctual_;
+  std::vector<Buffer> record_pages_; // 1 to LIGHT_RECORD_PAGES
+  std::uint32_t probes_per_page_ = 0;
+  Buffer next_irradiance_;
+  Buffer trace_flags_;
+  Buffer record_slots_; // streaming: int per probe slot
+  Buffer light_list_;
+  PassCounters<gpu::LightCounters> counters_;
+  VkDescriptorSet volume_set_ = VK_NULL_HANDLE; // the volume's (set 0)
+  PassDescriptorSet descriptors_;               // set 1
+};
+
+} // namespace probebake::runtime::detail

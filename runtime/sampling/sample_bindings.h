@@ -1,0 +1,24 @@
+// Set 1 of the sampling kernels (sample_irradiance.comp, sample_all_probes.comp): the queries and results of
+// one batch, rewritten for each run (sample_pass.cpp).
+#ifndef PROBEBAKE_SAMPLE_BINDINGS_H
+#define PROBEBAKE_SAMPLE_BINDINGS_H
+
+#include "probebake/bindings.h" // PB_BINDING, PB_GPU_BEGIN, PB_GPU_END
+
+PB_GPU_BEGIN
+
+// sample_irradiance.comp
+PB_BINDING(SAMPLE_BINDING_QUERIES, 0u);
+PB_BINDING(SAMPLE_BINDING_RESULTS, 1u);
+// Streaming: the light update's record slots (LIGHT_BINDING_RECORD_SLOTS), so that a result can say that
+// its probes are not being lit; read only with SamplePush.streaming.
+PB_BINDING(SAMPLE_BINDING_RECORD_SLOTS, 2u);
+PB_BINDING(SAMPLE_BINDING_COUNT, 3u);
+
+// sample_all_probes.comp
+PB_BINDING(SAMPLE_ALL_BINDING_QUERIES, 0u);
+PB_BINDING(SAMPLE_ALL_BINDING_RESULTS, 1u);
+PB_BINDING(SAMPLE_ALL_BINDING_COUNT, 2u);
+
+PB_GPU_END
+#endif // PROBEBAKE_SAMPLE_BINDINGS_H

@@ -6,26 +6,9 @@
 #ifndef PROBEBAKE_BINDINGS_H
 #define PROBEBAKE_BINDINGS_H
 
-#ifdef __cplusplus
-#include <cstdint>
+#include "probebake/gpu_shared.h"
 
-namespace probebake::gpu {
-using uint = std::uint32_t;
-#define PB_CONSTANT(type, name, value) inline constexpr type name = value
-#else
-#define PB_CONSTANT(type, name, value) const type name = value
-#endif
-// For the concept folders' set-1 headers (runtime/<concept>/*_bindings.h), which include this one: a binding
-// number (uint) in namespace probebake::gpu. Not undefined at the end, unlike PB_CONSTANT.
-#ifdef __cplusplus
-#define PB_GPU_BEGIN namespace probebake::gpu {
-#define PB_GPU_END }
-#define PB_BINDING(name, value) inline constexpr std::uint32_t name = value
-#else
-#define PB_GPU_BEGIN
-#define PB_GPU_END
-#define PB_BINDING(name, value) const uint name = value
-#endif
+PB_GPU_BEGIN
 
 PB_CONSTANT(uint, VOLUME_SET, 0u);      // the file's sections, shared by every kernel
 PB_CONSTANT(uint, PASS_SET, 1u);        // the pass's own buffers
@@ -62,7 +45,5 @@ PB_CONSTANT(uint, VOLUME_BINDING_COUNT, 20u);
 // (sample_irradiance.glsl). Record slots stay below it.
 PB_CONSTANT(int, RECORD_SLOT_UNRESOLVED, 0x40000000);
 
-#ifdef __cplusplus
-} // namespace probebake::gpu
-#endif
+PB_GPU_END
 #endif // PROBEBAKE_BINDINGS_H

@@ -17,14 +17,15 @@
 #include <glm/vec4.hpp>
 #include <glm/ext/vector_int4.hpp>
 
-namespace probebake::gpu {
+#endif
+
+#include "probebake/gpu_shared.h"
+
+PB_GPU_BEGIN
+#ifdef __cplusplus
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 using ivec4 = glm::ivec4;
-using uint = std::uint32_t;
-#define PB_CONSTANT(type, name, value) inline constexpr type name = value
-#else
-#define PB_CONSTANT(type, name, value) const type name = value
 #endif
 
 // ---- Octree buffer (thesis §3.1.1): int32 elements ------------------------------------------------
@@ -359,8 +360,7 @@ static_assert(sizeof(LightingInfo) == 48 && offsetof(LightingInfo, shadow_offset
 static_assert(offsetof(LightingInfo, dynamic_objects) == 44);
 static_assert(sizeof(DynamicObject) == 96 && offsetof(DynamicObject, first_triangle) == 32 &&
               offsetof(DynamicObject, rest_rows) == 48);
-} // namespace probebake::gpu
 #endif
+PB_GPU_END
 
-#undef PB_CONSTANT
 #endif // PROBEBAKE_GPU_TYPES_H

@@ -13,14 +13,7 @@
 
 #include "probebake/gpu_types.h"
 
-#ifdef __cplusplus
-namespace probebake::gpu {
-#define PB_CONSTANT(type, name, value) inline constexpr type name = value
-#define PB_FUNCTION inline
-#else
-#define PB_CONSTANT(type, name, value) const type name = value
-#define PB_FUNCTION
-#endif
+PB_GPU_BEGIN
 
 PB_CONSTANT(int, LEAF_VERDICT_FREE, 0);  // free the probe (M2); the leaf stays without one
 PB_CONSTANT(int, LEAF_VERDICT_SPLIT, 1); // split the node (M3)
@@ -68,10 +61,6 @@ PB_FUNCTION int leaf_state_priority(int state) {
   return 0;
 }
 
-#ifdef __cplusplus
-} // namespace probebake::gpu
-#endif
+PB_GPU_END
 
-#undef PB_CONSTANT
-#undef PB_FUNCTION
 #endif // PROBEBAKE_LEAF_RULE_H

@@ -7,12 +7,7 @@
 
 #include "probebake/gpu_types.h"
 
-#ifdef __cplusplus
-namespace probebake::gpu {
-#define PB_CONSTANT(type, name, value) inline constexpr type name = value
-#else
-#define PB_CONSTANT(type, name, value) const type name = value
-#endif
+PB_GPU_BEGIN
 
 // Threads per workgroup of the per-entry dispatches (one leaf-queue entry or one SVO leaf per thread).
 PB_CONSTANT(uint, MEMORY_WORKGROUP_SIZE, 64u);
@@ -183,8 +178,7 @@ static_assert(sizeof(MemoryCounters) == 96 && offsetof(MemoryCounters, deferred)
 static_assert(offsetof(MemoryCounters, stale_entries) == 64 && offsetof(MemoryCounters, svo_leaves_refilled) == 72);
 static_assert(offsetof(MemoryCounters, free_clusters) == 76 && offsetof(MemoryCounters, free_batches) == 84);
 static_assert(offsetof(MemoryCounters, unresolved_measures) == 88 && offsetof(MemoryCounters, cells_collapsed) == 92);
-} // namespace probebake::gpu
 #endif
+PB_GPU_END
 
-#undef PB_CONSTANT
 #endif // PROBEBAKE_MEMORY_TYPES_H

@@ -5,12 +5,7 @@
 
 #include "probebake/gpu_types.h"
 
-#ifdef __cplusplus
-namespace probebake::gpu {
-#define PB_CONSTANT(type, name, value) inline constexpr type name = value
-#else
-#define PB_CONSTANT(type, name, value) const type name = value
-#endif
+PB_GPU_BEGIN
 
 // Threads per workgroup of the sampling pass (one query per thread).
 PB_CONSTANT(uint, RUNTIME_WORKGROUP_SIZE, 256u);
@@ -259,8 +254,7 @@ static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RE
               offsetof(RelightChanges, moved_boxes) == 16 + 128 * RELIGHT_MAX_CHANGES &&
               offsetof(RelightChanges, boxes) == 32 + 128 * RELIGHT_MAX_CHANGES);
 static_assert(sizeof(MovedBox) == 32 && offsetof(MovedBox, upper) == 16);
-} // namespace probebake::gpu
 #endif
+PB_GPU_END
 
-#undef PB_CONSTANT
 #endif // PROBEBAKE_RUNTIME_TYPES_H

@@ -48,11 +48,23 @@ nlohmann::ordered_json section_bytes(const formats::ProbeVolume& v) {
   return bytes;
 }
 
-// Every method of formats/placement_kind.h, by name.
+// Every method of formats/placement_methods.def, by name.
 std::vector<std::string> placement_choices() {
   std::vector<std::string> names;
   for (const formats::PlacementKindInfo& k : formats::placement_kinds()) names.emplace_back(k.name);
   return names;
+}
+
+// "Probe placement: octree (--max-depth, --split-range), grid (--grid) or skeleton (--probes)", from the rows.
+std::string placement_help() {
+  const auto kinds = formats::placement_kinds();
+  std::string help = "Probe placement: ";
+  for (std::size_t i = 0; i < kinds.size(); ++i) {
+    if (i > 0) help += i + 1 == kinds.size() ? " or " : ", ";
+    help += std::string(kinds[i].name);
+    if (!kinds[i].options.empty()) help += fmt::format(" ({})", kinds[i].options);
+  }
+  return help;
 }
 
 struct BakeCommandSettings {
@@ -337,9 +349,7 @@ void add_bake_options(CLI::App* app, BakeCommandSettings& settings) {
   app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
   add_scene_input_options(app, s->input);
   app->add_option("-o,--output", s->output, "Output file (default: the scene's name with .probes, beside it)");
-  app->add_option("--placement", s->placement,
-                  "Probe placement: octree (--max-depth, --split-range), grid (--grid) or skeleton (--probes)")
-      ->check(CLI::IsMember(placement_choices()));
+  app->add_option("--placement", s->placement, placement_help())->check(CLI::IsMember(placement_choices()));
   app->add_option("--max-depth", s->bake.max_depth, "Octree: deepest split level (root = 0)");
   app->add_option("--surfels", s->bake.surfels_per_probe, "Surfels (lattice rays) per probe");
   app->add_option("--lattice", s->lattice, "Spherical lattice")

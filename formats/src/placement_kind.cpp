@@ -7,12 +7,29 @@
 namespace probebake::formats {
 namespace {
 
-// Row i is PlacementKind(i) (placement_kinds_test checks it).
+// Row i is PlacementKind(i): both come from the rows of placement_methods.def, in order.
 constexpr std::array kKinds = {
-    PlacementKindInfo{PlacementKind::octree, "octree", gpu::PLACEMENT_OCTREE, true, true, false, true, 0.0f},
-    PlacementKindInfo{PlacementKind::grid, "grid", gpu::PLACEMENT_GRID, false, false, true, true, 0.0f},
-    PlacementKindInfo{PlacementKind::skeleton, "skeleton", gpu::PLACEMENT_SKELETON, false, false, false, true, 3.0f},
+// clang-format off
+#define PROBEBAKE_PLACEMENT(name, code, function, has_octree, uses_max_depth, uses_grid_resolution, \
+                            meets_probe_budget, root_pad_clearances, options)                       \
+  PlacementKindInfo{PlacementKind::name, #name, code, has_octree, uses_max_depth, uses_grid_resolution, \
+                    meets_probe_budget, root_pad_clearances, options},
+// clang-format on
+#include "probebake/formats/placement_methods.def"
 };
+
+constexpr bool codes_unique() {
+  for (std::size_t i = 0; i < kKinds.size(); ++i)
+    for (std::size_t j = i + 1; j < kKinds.size(); ++j)
+      if (kKinds[i].file_code == kKinds[j].file_code) return false;
+  return true;
+}
+static_assert(codes_unique(), "placement_methods.def: two rows share a file code");
+// The codes the GPU side names (gpu_types.h PLACEMENT_*: the runtime and the renderer ask for the octree) are
+// the table's.
+static_assert(kKinds[std::size_t(PlacementKind::octree)].file_code == gpu::PLACEMENT_OCTREE);
+static_assert(kKinds[std::size_t(PlacementKind::grid)].file_code == gpu::PLACEMENT_GRID);
+static_assert(kKinds[std::size_t(PlacementKind::skeleton)].file_code == gpu::PLACEMENT_SKELETON);
 
 } // namespace
 

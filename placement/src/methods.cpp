@@ -1,5 +1,9 @@
-// The bake's way to a placement method: formats::PlacementKind -> the method's function. The switch has
-// no default, so a kind added to formats/placement_kind.h without a case here fails the -Werror build.
+// The bake's way to a placement method: formats::PlacementKind -> the method's function, both from the rows
+// of formats/placement_methods.def, so every kind has its function (a row whose folder does not define it
+// fails to link).
+#include <cstddef>
+#include <iterator>
+
 #include <fmt/core.h>
 
 #include "method_util.h"
@@ -9,12 +13,19 @@
 
 namespace probebake::placement {
 
+namespace {
+
+// Row i is PlacementKind(i)'s function.
+constexpr PlacementMethod kMethods[] = {
+#define PROBEBAKE_PLACEMENT(name, code, function, ...) &function,
+#include "probebake/formats/placement_methods.def"
+};
+
+} // namespace
+
 PlacementMethod placement_method(formats::PlacementKind kind) {
-  switch (kind) {
-  case formats::PlacementKind::octree: return place_octree;
-  case formats::PlacementKind::grid: return place_grid;
-  case formats::PlacementKind::skeleton: return place_skeleton;
-  }
+  const auto row = static_cast<std::size_t>(kind);
+  if (row < std::size(kMethods)) return kMethods[row];
   throw Error(ErrorKind::internal, fmt::format("placement: no method for kind {}", int(kind)));
 }
 

@@ -7,7 +7,7 @@
 
 #include "probebake/common/parallel.h"
 #include "probebake/placement/probe_tracing.h"
-#include "skeleton.h" // sample_surface: points stratified by area, each with the normal of the side it is on
+#include "surface_samples.h" // points stratified by area, each with the normal of the side it is on
 
 namespace probebake::placement {
 namespace {

@@ -1,4 +1,4 @@
-// Error-driven octree refinement under a probe budget (bake/src/refine_octree.h): depth goes where the
+// Error-driven octree refinement under a probe budget (placement/methods/octree/refine_octree.h): depth goes where the
 // light varies over visible surface, the budget is honoured, bakes are deterministic, and no shipped
 // scene bakes to zero probes.
 #include <algorithm>

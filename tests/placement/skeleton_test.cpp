@@ -1,4 +1,4 @@
-// Skeleton placement (placement/src/skeleton.h): the medial axis of an analytic box room, surface
+// Skeleton placement (placement/methods/skeleton/skeleton.h): the medial axis of an analytic box room, surface
 // coverage of the greedy selection on the Cornell box, thread-count invariance, and probes in every
 // shared scene.
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-// The placement methods, one row each: the name the CLI and reports use, the VolumeInfo.placement code a
-// file stores, and the properties that decide which settings and invariants apply. Everything that used
-// to ask "grid or octree?" asks this table instead, so a new method is one enum value and one row here,
-// its file in placement/src, and one line in the CLI's help.
+// The placement methods' kinds, one per row of placement_methods.def: the name the CLI and reports use, the
+// VolumeInfo.placement code a file stores, and the properties that decide which settings and invariants
+// apply. Everything that used to ask "grid or octree?" asks this table instead; a new method is a row in
+// placement_methods.def and its folder placement/methods/<name>/ (docs/ARCHITECTURE.md).
 #pragma once
 
 #include <optional>
@@ -11,12 +11,16 @@
 
 namespace probebake::formats {
 
-enum class PlacementKind { octree, grid, skeleton };
+enum class PlacementKind {
+#define PROBEBAKE_PLACEMENT(name, ...) name,
+#include "probebake/formats/placement_methods.def"
+};
 
+// A row of placement_methods.def (which documents each column), less the function.
 struct PlacementKindInfo {
   PlacementKind kind;
   std::string_view name;     // as typed after --placement and printed by info / eval
-  int file_code;             // VolumeInfo.placement (gpu::PLACEMENT_*); unique per row
+  int file_code;             // VolumeInfo.placement (docs/FORMAT.md); unique per row, never renumbered
   bool has_octree;           // probes live in octree leaves (else node -1, the octree stays a bare root)
   bool uses_max_depth;       // VolumeInfo.max_depth is the method's depth limit (else 0)
   bool uses_grid_resolution; // VolumeInfo.grid_resolution is N of an N^3 grid, at most N^3 probes (else 0)
@@ -24,6 +28,7 @@ struct PlacementKindInfo {
   // The root cube reaches this many clearances past the scene's bounds on every side (else 0.2 %), so
   // that probes fit around a solid that fills its own bounds (box_draco).
   float root_pad_clearances;
+  std::string_view options; // the bake options it reads, for the CLI's --placement help
 };
 
 // Every row, in enum order.

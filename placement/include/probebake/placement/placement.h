@@ -1,6 +1,7 @@
 // Probe placement methods. A method is a function (PlacementInput, tree, bounds) -> placed probes, in its
-// own file under placement/src (octree.cpp, grid.cpp); it fills the ProbeVolume behind `tree` through
-// formats::Octree. The bake picks the method from formats::PlacementKind with placement_method().
+// own folder placement/methods/<name>/, named by its row of formats/placement_methods.def; it fills the
+// ProbeVolume behind `tree` through formats::Octree. The bake picks the method from formats::PlacementKind
+// with placement_method().
 #pragma once
 
 #include <functional>
@@ -54,18 +55,12 @@ struct PlacedProbe {
 using PlacementMethod = std::vector<PlacedProbe> (*)(const PlacementInput& in, formats::Octree& tree,
                                                      const scene::Bounds& bounds);
 
-// Octree (octree.cpp): starts from the root leaf; each leaf gets a probe at its centre whose hit fraction
-// f decides: f < split_low frees the probe, f >= split_high below max_depth splits the node, otherwise it
-// stays. Newly created children are evaluated in the next round until nothing changes.
-std::vector<PlacedProbe> place_octree(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
-
-// Grid (grid.cpp): N^3 probes at the cell centres of `bounds` (node -1, depth 0).
-std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
-
-// Skeleton (skeleton*.cpp, nonuniform-probe-placement-svo.txt §3.1-3.3): probes on the medial axis of
-// the scene's free space inside the root cube, selected by the surface they see and optimised (node -1,
-// depth 0); settings.probes of them, or the fewest that see every surface sample.
-std::vector<PlacedProbe> place_skeleton(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+// Every method's function, declared from its row of formats/placement_methods.def and defined and
+// documented in its folder, placement/methods/<name>/ (octree: octree.cpp and refine_octree.h; grid: grid.cpp;
+// skeleton: skeleton.h).
+#define PROBEBAKE_PLACEMENT(name, code, function, ...)                                                                 \
+  std::vector<PlacedProbe> function(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds);
+#include "probebake/formats/placement_methods.def"
 
 // The method of `kind` (methods.cpp), and a call of it.
 PlacementMethod placement_method(formats::PlacementKind kind);

@@ -32,6 +32,7 @@
 
 #include "probebake/scene/ray_scene.h"
 #include "probebake/placement/scene_sdf.h"
+#include "surface_samples.h" // SurfaceSample, sample_surface: shared with refine_root.cpp
 
 namespace probebake::placement {
 
@@ -97,15 +98,6 @@ DistanceGrid sample_distance(const SceneSdf& sdf, const scene::Bounds& domain, f
 
 // Indices (DistanceGrid::index) of the ridge voxels at least `clearance` from every surface, ascending.
 std::vector<std::size_t> skeleton_voxels(const DistanceGrid& grid, float clearance);
-
-struct SurfaceSample {
-  glm::vec3 position{0.0f};
-  glm::vec3 normal{0.0f}; // the side that is seen (a double-sided triangle gives samples on both sides)
-};
-
-// Area-uniform stratified samples on every triangle side that can be seen (fronts; both sides of
-// double-sided triangles).
-std::vector<SurfaceSample> sample_surface(const scene::Scene& scene, int count, std::uint64_t seed);
 
 // q(p, s) of the objective: 0 when the sample faces away or is occluded, else cos * l^2 / (l^2 + d^2).
 float sample_quality(const scene::RayScene& rays, glm::vec3 probe, const SurfaceSample& s, float falloff);

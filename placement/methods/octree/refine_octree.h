@@ -20,12 +20,22 @@
 // decision is sequential.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
+#include "probebake/formats/octree.h"
 #include "probebake/placement/placement.h"
 
 namespace probebake::placement {
 
 std::vector<PlacedProbe> place_octree_by_error(const PlacementInput& in, formats::Octree& tree);
+
+namespace detail {
+
+// The octree's loose overlap test (octree.cpp, refine_octree.cpp): the bounding box of triangle `t`
+// overlaps the cube, faces included.
+bool box_overlaps_cube(const scene::Scene& s, std::uint32_t t, const formats::NodeCube& cube);
+
+} // namespace detail
 
 } // namespace probebake::placement

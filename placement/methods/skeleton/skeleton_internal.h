@@ -52,7 +52,4 @@ struct OptimiseResult {
 OptimiseResult optimise_positions(const ObjectiveContext& ctx, std::vector<glm::vec3>& probes, QualityMatrix rows,
                                   float first_step, int iterations, std::uint64_t seed);
 
-// Deterministic uniform [0, 1) from (seed, stream, index).
-float hash_uniform(std::uint64_t seed, std::uint64_t stream, std::uint64_t index);
-
 } // namespace probebake::placement

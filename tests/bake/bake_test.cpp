@@ -330,8 +330,8 @@ TEST(BakeDoubleSided, ReversedDoubleSidedCornellIsDeterministicAcrossThreadCount
 
 // Closed rooms: by winding, the space around single-sided rooms is solid (backs of their walls); the
 // reversed double-sided rooms are seen from both sides, so the space outside them is open space too.
-// Octree centres lying on their walls cannot judge their nodes (placement/src/octree.cpp) and refine, as centres
-// behind single-sided walls do: the same probes, all inside the rooms (51 and 51 here; 16 against 111
+// Octree centres lying on their walls cannot judge their nodes (placement/methods/octree/octree.cpp) and refine,
+// as centres behind single-sided walls do: the same probes, all inside the rooms (51 and 51 here; 16 against 111
 // at the default depth without that rule).
 TEST(BakeDoubleSided, ReversedDoubleSidedRoomsPlaceTheSameProbesInsideTheRooms) {
   const FlippedBakes r =

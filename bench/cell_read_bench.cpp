@@ -9,8 +9,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <vector>
 
+#include "bench_args.h"
 #include "probebake/formats/cell_file.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
@@ -40,14 +42,10 @@ double read_all_ms(const CellFile& file, std::size_t cells, int runs) {
 } // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) return std::fprintf(stderr, "usage: probebake-bench-cell-read FILE.probes [--runs N]\n"), 1;
-  int runs = 5;
-  for (int i = 2; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
-      runs = std::max(1, std::atoi(argv[++i]));
-    else
-      return std::fprintf(stderr, "usage: probebake-bench-cell-read FILE.probes [--runs N]\n"), 1;
-  }
+  const std::optional<int> parsed_runs = probebake::bench::parse_runs(argc, argv, 2, 5);
+  if (argc < 2 || !parsed_runs)
+    return std::fprintf(stderr, "usage: probebake-bench-cell-read FILE.probes [--runs N]\n"), 1;
+  const int runs = *parsed_runs;
   try {
     auto start = Clock::now();
     OpenedCellFile opened = CellFile::open(argv[1]);

@@ -9,12 +9,14 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "bench_args.h"
 #include "stb_capped.h"
 
 namespace {
@@ -55,13 +57,9 @@ double median_ms(int runs, F&& f) {
 } // namespace
 
 int main(int argc, char** argv) {
-  int runs = 9;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
-      runs = std::max(1, std::atoi(argv[++i]));
-    else
-      return std::fprintf(stderr, "usage: probebake-bench-png [--runs N]\n"), 1;
-  }
+  const std::optional<int> parsed_runs = probebake::bench::parse_runs(argc, argv, 1, 9);
+  if (!parsed_runs) return std::fprintf(stderr, "usage: probebake-bench-png [--runs N]\n"), 1;
+  const int runs = *parsed_runs;
   std::printf("| side | PNG bytes | loader's stb, capped, ms | libstb ms | ratio |\n|--:|--:|--:|--:|--:|\n");
   for (int side : {512, 1024, 2048, 4096}) {
     const std::vector<unsigned char> png = encode(side);

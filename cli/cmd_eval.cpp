@@ -149,10 +149,9 @@ int run_eval(EvalCommandSettings& s) {
 
 Command add_eval_command(CLI::App& root) {
   auto s = std::make_shared<EvalCommandSettings>();
-  CLI::App* app =
-      root.add_subcommand("eval", "Error against bake time over a sweep of settings, vs. the path-traced reference");
-  app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
-  add_scene_input_options(app, s->input);
+  CLI::App* app = add_scene_subcommand(
+      root, "eval", "Error against bake time over a sweep of settings, vs. the path-traced reference", s->scene,
+      s->input);
   s->points_option = app->add_option("--points", s->eval.points, "Seeded receivers (default 1000, --quick 64)");
   s->samples_option =
       app->add_option("--samples", s->eval.paths, "Reference paths per point (default 4096, --quick 64)");

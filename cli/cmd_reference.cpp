@@ -135,10 +135,8 @@ int run_reference(ReferenceCommandSettings& s) {
 
 Command add_reference_command(CLI::App& root) {
   auto s = std::make_shared<ReferenceCommandSettings>();
-  CLI::App* app =
-      root.add_subcommand("reference", "Path-traced reference irradiance at surface points and/or as an image");
-  app->add_option("scene", s->scene, "Scene (.gltf or .glb)")->required();
-  add_scene_input_options(app, s->input);
+  CLI::App* app = add_scene_subcommand(
+      root, "reference", "Path-traced reference irradiance at surface points and/or as an image", s->scene, s->input);
   CLI::Option* points = app->add_option("--points", s->points, "Seeded surface points, stratified by area (0 = none)");
   app->add_option("--at", s->at,
                   "Receivers from a CSV file instead of seeded points: rows x,y,z,nx,ny,nz (header line optional; "

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "probebake/common/lattice.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/placement_kind.h"
@@ -35,12 +37,12 @@ std::string placement_name(int code) {
   return kind != nullptr ? std::string(kind->name) : fmt::format("unknown ({})", code);
 }
 
-const char* lattice_name(int lattice) {
-  switch (lattice) {
-  case gpu::LATTICE_LATLONG: return "latlong";
-  case gpu::LATTICE_EQUAL_AREA: return "equal-area";
-  default: return "fibonacci";
-  }
+// The file stores the bake's Lattice value (VolumeInfo.lattice); a code outside it reads as the default.
+static_assert(int(Lattice::fibonacci) == gpu::LATTICE_FIBONACCI && int(Lattice::latlong) == gpu::LATTICE_LATLONG &&
+              int(Lattice::equal_area) == gpu::LATTICE_EQUAL_AREA);
+std::string lattice_name(int code) {
+  const bool known = code >= gpu::LATTICE_FIBONACCI && code <= gpu::LATTICE_EQUAL_AREA;
+  return std::string(probebake::lattice_name(known ? Lattice(code) : Lattice::fibonacci));
 }
 
 nlohmann::json vec_json(const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }

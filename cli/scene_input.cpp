@@ -75,6 +75,14 @@ void add_scene_input_options(CLI::App* app, SceneInputOptions& options) {
       ->delimiter(',');
 }
 
+CLI::App* add_scene_subcommand(CLI::App& root, const std::string& name, const std::string& description,
+                               std::string& scene, SceneInputOptions& input) {
+  CLI::App* app = root.add_subcommand(name, description);
+  app->add_option("scene", scene, "Scene (.gltf or .glb)")->required();
+  add_scene_input_options(app, input);
+  return app;
+}
+
 scene::LoadOptions load_options(const SceneInputOptions& options, bool require_triangles) {
   scene::LoadOptions load;
   load.require_triangles = require_triangles;

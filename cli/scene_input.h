@@ -21,6 +21,10 @@ struct SceneInputOptions {
 
 void add_scene_input_options(CLI::App* app, SceneInputOptions& options);
 
+// A subcommand of `root` that reads a glTF scene: its required positional `scene` and the scene input options.
+CLI::App* add_scene_subcommand(CLI::App& root, const std::string& name, const std::string& description,
+                               std::string& scene, SceneInputOptions& input);
+
 // Loader options; also caps the process's address space at the budget plus headroom (not under
 // sanitizers), so an allocation no check foresaw fails as std::bad_alloc instead of exhausting the machine.
 scene::LoadOptions load_options(const SceneInputOptions& options, bool require_triangles);

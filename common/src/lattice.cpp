@@ -9,6 +9,8 @@
 //    round_to_naturals, cap_colats, circle_offset) restricted to the 2-sphere.
 #include "probebake/common/lattice.h"
 
+#include "probebake/common/enum_names.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -179,21 +181,15 @@ std::vector<glm::vec3> equal_area_directions(int n) {
 
 } // namespace
 
-std::string_view lattice_name(Lattice lattice) {
-  switch (lattice) {
-  case Lattice::fibonacci: return "fibonacci";
-  case Lattice::latlong: return "latlong";
-  case Lattice::equal_area: return "equal-area";
-  }
-  return "unknown";
-}
+constexpr EnumName<Lattice> kLatticeNames[] = {
+    {Lattice::fibonacci, "fibonacci"},
+    {Lattice::latlong, "latlong"},
+    {Lattice::equal_area, "equal-area"},
+};
 
-std::optional<Lattice> parse_lattice(std::string_view name) {
-  for (Lattice lattice : {Lattice::fibonacci, Lattice::latlong, Lattice::equal_area}) {
-    if (name == lattice_name(lattice)) return lattice;
-  }
-  return std::nullopt;
-}
+std::string_view lattice_name(Lattice lattice) { return name_in(kLatticeNames, lattice, "unknown"); }
+
+std::optional<Lattice> parse_lattice(std::string_view name) { return parse_name_in(kLatticeNames, name); }
 
 EqualAreaPartition equal_area_partition(int n) {
   EqualAreaPartition partition;

@@ -1,4 +1,7 @@
 // The sweeps of `probebake eval` and the validation of its settings.
+#include <string>
+#include <utility>
+
 #include <fmt/core.h>
 
 #include "probebake/eval/eval.h"
@@ -7,33 +10,35 @@
 namespace probebake::bake {
 namespace {
 
-EvalConfig octree(int depth, int surfels = 128, Lattice lattice = Lattice::fibonacci) {
+// A row of a sweep: `placement` with the default settings, named `label`.
+EvalConfig config(Placement placement, std::string label) {
   EvalConfig c;
-  c.bake.placement = Placement::octree;
+  c.bake.placement = placement;
+  c.label = std::move(label);
+  return c;
+}
+
+EvalConfig octree(int depth, int surfels = 128, Lattice lattice = Lattice::fibonacci) {
+  EvalConfig c = config(Placement::octree, fmt::format("octree-d{}", depth));
   c.bake.max_depth = depth;
   c.bake.surfels_per_probe = surfels;
   c.bake.lattice = lattice;
-  c.label = fmt::format("octree-d{}", depth);
   if (surfels != 128) c.label += fmt::format("-s{}", surfels);
   if (lattice != Lattice::fibonacci) c.label += fmt::format("-{}", lattice_name(lattice));
   return c;
 }
 
 EvalConfig grid(int n) {
-  EvalConfig c;
-  c.bake.placement = Placement::grid;
+  EvalConfig c = config(Placement::grid, fmt::format("grid-{}", n));
   c.bake.grid_resolution = n;
-  c.label = fmt::format("grid-{}", n);
   return c;
 }
 
 // Skeleton placement with a budget of n probes; the budgets match the octree and grid rows' counts
 // (octree-d2 29, d3 69, d4 139; grid-5 124, grid-8 498) and the 92 (1 % of grid-21).
 EvalConfig skeleton(int n) {
-  EvalConfig c;
-  c.bake.placement = Placement::skeleton;
+  EvalConfig c = config(Placement::skeleton, fmt::format("skeleton-p{}", n));
   c.bake.probe_budget = n;
-  c.label = fmt::format("skeleton-p{}", n);
   return c;
 }
 

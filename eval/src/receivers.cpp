@@ -14,6 +14,7 @@
 #include "probebake/common/parallel.h"
 #include "probebake/placement/probe_tracing.h"
 #include "probebake/eval/eval.h"
+#include "probebake/common/enum_names.h"
 #include "probebake/common/lattice.h"
 #include "probebake/formats/error.h"
 #include "rng.h"
@@ -202,19 +203,16 @@ std::vector<SamplePoint> volume_points(const scene::RayScene& rays, const OpenSp
 
 } // namespace
 
-std::string_view receiver_mode_name(ReceiverMode mode) {
-  switch (mode) {
-  case ReceiverMode::visible: return "visible";
-  case ReceiverMode::volume: return "volume";
-  case ReceiverMode::area: return "area";
-  }
-  return "visible";
-}
+constexpr EnumName<ReceiverMode> kReceiverModeNames[] = {
+    {ReceiverMode::visible, "visible"},
+    {ReceiverMode::volume, "volume"},
+    {ReceiverMode::area, "area"},
+};
+
+std::string_view receiver_mode_name(ReceiverMode mode) { return name_in(kReceiverModeNames, mode, "visible"); }
 
 std::optional<ReceiverMode> parse_receiver_mode(std::string_view name) {
-  for (ReceiverMode m : {ReceiverMode::visible, ReceiverMode::volume, ReceiverMode::area})
-    if (name == receiver_mode_name(m)) return m;
-  return std::nullopt;
+  return parse_name_in(kReceiverModeNames, name);
 }
 
 Receivers make_receivers(const scene::Scene& scene, const scene::RayScene& rays, const ReceiverSettings& s) {

@@ -88,9 +88,8 @@ bool Octree::collapse(int node) {
 }
 
 int Octree::allocate_cluster(int parent) {
-  if (!ensure_free(free_clusters_, &Octree::grow_clusters, complete_clusters(volume_->octree.size()))) return kNoIndex;
-  const int meta = free_clusters_.back();
-  free_clusters_.pop_back();
+  const int meta = take_free(free_clusters_, &Octree::grow_clusters, complete_clusters(volume_->octree.size()));
+  if (meta == kNoIndex) return kNoIndex;
   volume_->octree[meta] = ~parent; // its eight nodes are already zero: leaves without probes
   return meta;
 }
@@ -124,12 +123,7 @@ int Octree::place_probe(int leaf) {
   return index;
 }
 
-int Octree::allocate_probe() {
-  if (!ensure_free(free_probes_, &Octree::grow_probes, volume_->probes.size())) return kNoIndex;
-  const int probe = free_probes_.back();
-  free_probes_.pop_back();
-  return probe;
-}
+int Octree::allocate_probe() { return take_free(free_probes_, &Octree::grow_probes, volume_->probes.size()); }
 
 void Octree::free_probe(int probe) {
   check_allocated_probe(probe, "free_probe");
@@ -187,12 +181,7 @@ void Octree::free_surfel_chain(int probe) {
   first_link = ~gpu::PROBE_NO_SURFELS;
 }
 
-int Octree::allocate_batch() {
-  if (!ensure_free(free_batches_, &Octree::grow_batches, volume_->surfel_batches.size())) return kNoIndex;
-  const int batch = free_batches_.back();
-  free_batches_.pop_back();
-  return batch;
-}
+int Octree::allocate_batch() { return take_free(free_batches_, &Octree::grow_batches, volume_->surfel_batches.size()); }
 
 void Octree::release_batch(int batch) {
   volume_->surfel_batches[batch] = gpu::SurfelBatch{};
@@ -201,12 +190,16 @@ void Octree::release_batch(int batch) {
 
 // ---- Growth -----------------------------------------------------------------------------------------------
 
-// Amortised doubling: grows by the current capacity (at least kMinGrowth).
-bool Octree::ensure_free(const std::vector<int>& list, void (Octree::*grow)(int), std::size_t capacity) {
-  if (!list.empty()) return true;
-  if (growth_ == Growth::fixed) return false;
-  (this->*grow)(static_cast<int>(std::clamp<std::size_t>(capacity, kMinGrowth, kMaxElements / 16)));
-  return true;
+// Takes the last free slot of `list`. An empty list grows first, by amortised doubling (the current capacity,
+// at least kMinGrowth), unless the growth is fixed: then there is no slot (kNoIndex).
+int Octree::take_free(std::vector<int>& list, void (Octree::*grow)(int), std::size_t capacity) {
+  if (list.empty()) {
+    if (growth_ == Growth::fixed) return kNoIndex;
+    (this->*grow)(static_cast<int>(std::clamp<std::size_t>(capacity, kMinGrowth, kMaxElements / 16)));
+  }
+  const int slot = list.back();
+  list.pop_back();
+  return slot;
 }
 
 // Grows by whole clusters. A trailing incomplete cluster (possible in a buffer from elsewhere) is never

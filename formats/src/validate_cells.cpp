@@ -2,6 +2,9 @@
 // exact bounds and root nodes, ranges inside their sections and in ascending order, every allocated
 // element inside the range of the cell it belongs to and no free element inside any range, each cell's
 // tracing self-contained; for files, each cell's bytes equal to its checksum.
+#include <initializer_list>
+#include <utility>
+
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/trace_mesh.h"
@@ -35,6 +38,14 @@ bool check_range(const CellRange& range, RangeCursor& cursor, long long cell, Re
   }
   cursor.end = first + count;
   return true;
+}
+
+// A record's ranges into several sections, each checked (and reported) against its section's cursor in turn.
+bool check_ranges(std::initializer_list<std::pair<const CellRange&, RangeCursor&>> ranges, long long cell,
+                  Reporter& out) {
+  bool ok = true;
+  for (const auto& [range, cursor] : ranges) ok = check_range(range, cursor, cell, out) && ok;
+  return ok;
 }
 
 // Owning cell of each element according to the ranges (-1: in no range).
@@ -73,9 +84,8 @@ void check_records(const ProbeVolume& volume, const OctreeFacts& octree, bool& r
   for (std::size_t k = 0; k < volume.cells.size(); ++k) {
     const Cell& cell = volume.cells[k];
     const long long index = static_cast<long long>(k);
-    ranges_ok = check_range(cell.probes, probes, index, out) && ranges_ok;
-    ranges_ok = check_range(cell.surfel_batches, batches, index, out) && ranges_ok;
-    ranges_ok = check_range(cell.svo_leaves, leaves, index, out) && ranges_ok;
+    if (!check_ranges({{cell.probes, probes}, {cell.surfel_batches, batches}, {cell.svo_leaves, leaves}}, index, out))
+      ranges_ok = false;
     if (cell.cell_index < 0 || cell.cell_index >= total) {
       ranges_ok = false;
       out.add("cell_bounds", "cells", index, concat("cell index ", cell.cell_index, " outside [0, ", total, ")"));
@@ -207,9 +217,9 @@ void check_cell_tracing(const ProbeVolume& volume, const TracingView& tracing, c
   for (std::size_t k = 0; k < volume.cell_tracing.size(); ++k) {
     const CellTracing& ranges = volume.cell_tracing[k];
     const long long index = static_cast<long long>(k);
-    ranges_ok = check_range(ranges.trace_nodes, nodes, index, out) && ranges_ok;
-    ranges_ok = check_range(ranges.trace_faces, faces, index, out) && ranges_ok;
-    ranges_ok = check_range(ranges.trace_vertices, vertices, index, out) && ranges_ok;
+    if (!check_ranges({{ranges.trace_nodes, nodes}, {ranges.trace_faces, faces}, {ranges.trace_vertices, vertices}},
+                      index, out))
+      ranges_ok = false;
     covered_faces += ranges.trace_faces.count;
   }
   if (!ranges_ok) return;

@@ -207,12 +207,7 @@ private:
 
 std::vector<std::uint8_t> flip_sides_gltf(const std::vector<std::uint8_t>& input,
                                           const std::filesystem::path& base_dir) {
-  try {
-    detail::GltfInput parsed = detail::parse_gltf_input(input, base_dir, kTool);
-    return Flipper(parsed, base_dir).run();
-  } catch (const json::exception& e) {
-    fail(std::string("malformed glTF JSON: ") + e.what());
-  }
+  return detail::rewrite_gltf<Flipper>(input, base_dir, kTool);
 }
 
 std::vector<std::uint8_t> flip_sides_file(const std::filesystem::path& path) {

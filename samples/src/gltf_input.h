@@ -27,6 +27,18 @@ Bytes read_file(const std::filesystem::path& path, const std::string& tool);
 // meshopt compression (the rewriters read geometry bytes directly).
 GltfInput parse_gltf_input(const Bytes& bytes, const std::filesystem::path& base_dir, const std::string& tool);
 
+// A rewriter's whole run: `Rewriter(parsed input, base_dir).run()`, JSON that does not have the shape glTF
+// gives it an input error of `tool`.
+template <typename Rewriter>
+Bytes rewrite_gltf(const Bytes& input, const std::filesystem::path& base_dir, const std::string& tool) {
+  try {
+    GltfInput parsed = parse_gltf_input(input, base_dir, tool);
+    return Rewriter(parsed, base_dir).run();
+  } catch (const nlohmann::json::exception& e) {
+    fail(tool, std::string("malformed glTF JSON: ") + e.what());
+  }
+}
+
 std::size_t component_size(int type);
 std::size_t component_count(const std::string& type);
 

@@ -8,6 +8,9 @@
 #include <algorithm>
 #include <charconv>
 #include <sstream>
+#include <string>
+
+#include "probebake/common/enum_names.h"
 
 namespace probebake::samples {
 namespace {
@@ -122,19 +125,17 @@ tinygltf::Material encode_material(const Material& source, bool& uses_strength) 
   return material;
 }
 
-const char* light_type_name(LightType type) {
-  switch (type) {
-  case LightType::spot: return "spot";
-  case LightType::directional: return "directional";
-  case LightType::point: break;
-  }
-  return "point";
-}
+// KHR_lights_punctual's type names.
+constexpr EnumName<LightType> kLightTypeNames[] = {
+    {LightType::point, "point"},
+    {LightType::spot, "spot"},
+    {LightType::directional, "directional"},
+};
 
 tinygltf::Light encode_light(const Light& source) {
   tinygltf::Light light;
   light.name = source.name;
-  light.type = light_type_name(source.type);
+  light.type = std::string(name_in(kLightTypeNames, source.type, "point"));
   light.color = tidy3(source.color);
   light.intensity = tidy(source.intensity);
   light.range = tidy(source.range);

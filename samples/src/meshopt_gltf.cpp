@@ -214,12 +214,7 @@ private:
 
 std::vector<std::uint8_t> meshopt_compress_gltf(const std::vector<std::uint8_t>& input,
                                                 const std::filesystem::path& base_dir) {
-  try {
-    detail::GltfInput parsed = detail::parse_gltf_input(input, base_dir, kTool);
-    return Writer(parsed, base_dir).run();
-  } catch (const json::exception& e) {
-    fail(std::string("malformed glTF JSON: ") + e.what());
-  }
+  return detail::rewrite_gltf<Writer>(input, base_dir, kTool);
 }
 
 std::vector<std::uint8_t> meshopt_compress_file(const std::filesystem::path& path) {

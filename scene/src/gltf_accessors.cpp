@@ -1,7 +1,9 @@
 // glTF accessor decoding with every offset, stride and count checked (glTF 2.0 spec §3.6.2, §3.6.2.3).
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include <fmt/core.h>
 #include <tiny_gltf.h>
@@ -28,39 +30,25 @@ ComponentInfo component_info(int component_type) {
   }
 }
 
-// One component as a double: exact for every glTF integer type; normalized per spec §3.11.
+// One stored component of type T as a double: exact for every glTF integer type; a normalized integer maps to
+// [0, 1] (unsigned) or [-1, 1] (signed, clamped), per spec §3.11.
+template <typename T>
+double read_as(const unsigned char* p, bool normalized) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  if (!normalized || std::is_floating_point_v<T>) return double(v);
+  const double scaled = double(v) / double(std::numeric_limits<T>::max());
+  return std::is_signed_v<T> ? std::max(scaled, -1.0) : scaled;
+}
+
 double read_component(const unsigned char* p, int component_type, bool normalized) {
   switch (component_type) {
-  case TINYGLTF_COMPONENT_TYPE_BYTE: {
-    std::int8_t v;
-    std::memcpy(&v, p, 1);
-    return normalized ? std::max(double(v) / 127.0, -1.0) : double(v);
-  }
-  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-    std::uint8_t v;
-    std::memcpy(&v, p, 1);
-    return normalized ? double(v) / 255.0 : double(v);
-  }
-  case TINYGLTF_COMPONENT_TYPE_SHORT: {
-    std::int16_t v;
-    std::memcpy(&v, p, 2);
-    return normalized ? std::max(double(v) / 32767.0, -1.0) : double(v);
-  }
-  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-    std::uint16_t v;
-    std::memcpy(&v, p, 2);
-    return normalized ? double(v) / 65535.0 : double(v);
-  }
-  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-    std::uint32_t v;
-    std::memcpy(&v, p, 4);
-    return normalized ? double(v) / 4294967295.0 : double(v);
-  }
-  default: {
-    float v;
-    std::memcpy(&v, p, 4);
-    return double(v);
-  }
+  case TINYGLTF_COMPONENT_TYPE_BYTE: return read_as<std::int8_t>(p, normalized);
+  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return read_as<std::uint8_t>(p, normalized);
+  case TINYGLTF_COMPONENT_TYPE_SHORT: return read_as<std::int16_t>(p, normalized);
+  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return read_as<std::uint16_t>(p, normalized);
+  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return read_as<std::uint32_t>(p, normalized);
+  default: return read_as<float>(p, normalized);
   }
 }
 

@@ -37,6 +37,17 @@ scene::Scene load_generated(const samples::SceneBuilder& builder, const std::str
   return scene::load_scene(write_generated(builder, name), {.require_triangles = true});
 }
 
+Loaded adopt(scene::Scene s) {
+  Loaded l;
+  l.scene = std::make_unique<scene::Scene>(std::move(s));
+  l.rays = std::make_unique<scene::RayScene>(*l.scene);
+  return l;
+}
+
+Loaded load(const samples::SceneBuilder& builder, const std::string& name) {
+  return adopt(load_generated(builder, name));
+}
+
 bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
   int hits = 0, back = 0;
   for (const glm::vec3& d : random_directions()) {

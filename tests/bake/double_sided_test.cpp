@@ -24,23 +24,6 @@ namespace {
 
 constexpr float kPi = 3.14159265f;
 
-// A loaded scene and its BVH (the RayScene keeps a pointer to the scene: both live on the heap).
-struct Loaded {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<scene::RayScene> rays;
-};
-
-Loaded adopt(scene::Scene s) {
-  Loaded l;
-  l.scene = std::make_unique<scene::Scene>(std::move(s));
-  l.rays = std::make_unique<scene::RayScene>(*l.scene);
-  return l;
-}
-
-Loaded load(const samples::SceneBuilder& builder, const std::string& name) {
-  return adopt(load_generated(builder, name));
-}
-
 // Irradiance on the axis of a uniformly emitting square (radiance L, half side a) at distance h, the
 // receiver facing it: four corner rectangles of the view factor table (Howell C-11),
 // E = 4 L X/sqrt(1+X^2) atan(X/sqrt(1+X^2)), X = a/h.

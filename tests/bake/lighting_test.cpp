@@ -10,6 +10,7 @@
 #include <cstring>
 #include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -27,10 +28,9 @@ namespace {
 
 constexpr float kPi = 3.14159265f;
 
-// A scene, its BVH and the lit bake (the RayScene keeps a pointer to the scene: both live on the heap).
-struct Lit {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<scene::RayScene> rays;
+// A scene, its BVH and the lit bake.
+struct Lit : Loaded {
+  explicit Lit(Loaded loaded) : Loaded(std::move(loaded)) {}
   bake::BakeResult result;
   bake::LightingSettings lighting;
   // What a renderer adds per pixel: punctual lights, and the emitters with emissive_as_lights.
@@ -40,9 +40,7 @@ struct Lit {
 };
 
 Lit bake_lit(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings) {
-  Lit lit;
-  lit.scene = std::make_unique<scene::Scene>(load_generated(builder, name));
-  lit.rays = std::make_unique<scene::RayScene>(*lit.scene);
+  Lit lit(load(builder, name));
   lit.result = bake::bake(*lit.scene, settings);
   lit.lighting = settings.lighting;
   const auto& r = lit.result.report.lighting;

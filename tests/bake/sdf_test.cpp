@@ -168,14 +168,20 @@ TEST(SceneSdf, PushOutEdgeCases) {
   EXPECT_FALSE(sdf.push_out(glm::vec3(std::numeric_limits<float>::quiet_NaN()), 0.1f));
 }
 
-TEST(SceneSdf, RoomInteriorIsFreeSpace) {
-  const pb::SceneSdf sdf(room(false), room_settings);
+// The inside of the 4 m room: free space beyond the band at its centre, 0.2 at 0.2 from each wall with the
+// gradient away from it.
+void expect_room_interior_free(const pb::SceneSdf& sdf) {
   EXPECT_FLOAT_EQ(sdf.distance(glm::vec3(2.0f)), sdf.band_width());
   for (const glm::vec3& n : face_normals) {
     const glm::vec3 p = glm::vec3(2.0f) + n * 1.8f; // 0.2 from a wall, inside
     EXPECT_NEAR(sdf.distance(p), 0.2f, sdf.voxel_size());
     EXPECT_GT(glm::dot(sdf.gradient(p), -n), 0.99f); // away from the wall, into the room
   }
+}
+
+TEST(SceneSdf, RoomInteriorIsFreeSpace) {
+  const pb::SceneSdf sdf(room(false), room_settings);
+  expect_room_interior_free(sdf);
   for (const glm::vec3& p : sample_points(glm::vec3(0.1f), glm::vec3(3.9f), 7)) EXPECT_GT(sdf.distance(p), 0.0f);
 }
 
@@ -233,13 +239,9 @@ TEST(SceneSdf, ReversedDoubleSidedRoomIsFreeSpaceInside) {
   add_box(single, glm::vec3(0.0f), glm::vec3(4.0f), false);
   EXPECT_NEAR(pb::SceneSdf(single, room_settings).distance(glm::vec3(2.0f)), -2.0f, 0.05f); // the solid it would be
   const pb::SceneSdf sdf(reversed_double_sided_room(false), room_settings);
-  EXPECT_FLOAT_EQ(sdf.distance(glm::vec3(2.0f)), sdf.band_width());
-  for (const glm::vec3& n : face_normals) {
-    const glm::vec3 p = glm::vec3(2.0f) + n * 1.8f; // 0.2 from a wall, inside
-    EXPECT_NEAR(sdf.distance(p), 0.2f, sdf.voxel_size());
-    EXPECT_GT(glm::dot(sdf.gradient(p), -n), 0.99f);                               // away from the wall, into the room
-    EXPECT_NEAR(sdf.distance(glm::vec3(2.0f) + n * 2.2f), 0.2f, sdf.voxel_size()); // and outside it
-  }
+  expect_room_interior_free(sdf);
+  for (const glm::vec3& n : face_normals) // and 0.2 outside each wall
+    EXPECT_NEAR(sdf.distance(glm::vec3(2.0f) + n * 2.2f), 0.2f, sdf.voxel_size());
   for (const glm::vec3& p : sample_points(glm::vec3(-0.5f), glm::vec3(4.5f), 9)) EXPECT_GE(sdf.distance(p), 0.0f);
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <span>
 #include <vector>
@@ -347,32 +348,42 @@ ProbeVolume make_sample(Sample sample) {
   return volume;
 }
 
+namespace {
+
+// Each sample's name (test parameters, messages) and its golden file under tests/data/golden/.
+struct SampleNames {
+  Sample sample;
+  const char* name;
+  const char* golden;
+};
+constexpr SampleNames kSampleNames[] = {
+    {Sample::small, "small", "v1_0_small.probes"},
+    {Sample::static_set, "static", "v1_0_static.probes"},
+    {Sample::grid, "grid", "v1_0_grid.probes"},
+    {Sample::lighting, "lighting", "v1_1_lighting.probes"},
+    {Sample::double_sided, "double_sided", "v1_2_double_sided.probes"},
+    {Sample::dynamic, "dynamic", "v1_3_dynamic.probes"},
+    {Sample::compact, "compact", "v1_4_compact.probes"},
+    {Sample::cells, "cells", "v1_7_cells.probes"},
+};
+static_assert(std::size(kSampleNames) == std::size(kAllSamples), "a name for every sample");
+
+const SampleNames* names_of(Sample sample) {
+  for (const SampleNames& names : kSampleNames)
+    if (names.sample == sample) return &names;
+  return nullptr;
+}
+
+} // namespace
+
 const char* sample_name(Sample sample) {
-  switch (sample) {
-  case Sample::small: return "small";
-  case Sample::static_set: return "static";
-  case Sample::grid: return "grid";
-  case Sample::lighting: return "lighting";
-  case Sample::double_sided: return "double_sided";
-  case Sample::dynamic: return "dynamic";
-  case Sample::compact: return "compact";
-  case Sample::cells: return "cells";
-  }
-  return "";
+  const SampleNames* names = names_of(sample);
+  return names != nullptr ? names->name : "";
 }
 
 const char* golden_name(Sample sample) {
-  switch (sample) {
-  case Sample::small: return "v1_0_small.probes";
-  case Sample::static_set: return "v1_0_static.probes";
-  case Sample::grid: return "v1_0_grid.probes";
-  case Sample::lighting: return "v1_1_lighting.probes";
-  case Sample::double_sided: return "v1_2_double_sided.probes";
-  case Sample::dynamic: return "v1_3_dynamic.probes";
-  case Sample::compact: return "v1_4_compact.probes";
-  case Sample::cells: return "v1_7_cells.probes";
-  }
-  return "";
+  const SampleNames* names = names_of(sample);
+  return names != nullptr ? names->golden : "";
 }
 
 } // namespace probebake::formats::testing

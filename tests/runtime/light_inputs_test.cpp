@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "probebake/bake/bake.h"
@@ -32,25 +33,11 @@ namespace {
 
 using LightInputsTest = RuntimeTest;
 
-struct Baked {
-  std::unique_ptr<scene::Scene> scene; // mutable lights: the CPU reference of each light state
-  std::unique_ptr<scene::RayScene> rays;
-  bake::BakeSettings settings;
-  formats::ProbeVolume volume;
-};
-
+// The tests change b.scene's lights: the CPU reference of each light state.
 Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, int rays = 96) {
-  Baked b;
-  const std::vector<std::uint8_t> glb = builder.to_glb();
-  b.scene = std::make_unique<scene::Scene>(scene::load_scene_from_memory(
-      std::vector<unsigned char>(glb.begin(), glb.end()), name, ".", {.require_triangles = true}));
-  b.rays = std::make_unique<scene::RayScene>(*b.scene);
-  b.settings.max_depth = 3;
-  b.settings.surfels_per_probe = 64;
-  b.settings.svo_depth = 4;
-  b.settings.lighting.rays = rays;
-  b.volume = bake::bake(*b.scene, b.settings).volume;
-  return b;
+  bake::BakeSettings settings = small_bake_settings();
+  settings.lighting.rays = rays;
+  return test::bake_generated(builder, name, settings);
 }
 
 // The Cornell box (its ceiling emitter) with a white 0.3 cd point light above the blocks.
@@ -76,29 +63,23 @@ formats::ProbeVolume cpu_lighting(const Baked& b, const formats::ProbeVolume& st
   return cpu;
 }
 
-float brightest_dc(const formats::ProbeVolume& volume) {
-  float brightest = 0.0f;
-  for (const gpu::Probe& p : volume.probes)
-    if (p.link != 0)
-      brightest = std::max(
-          {brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
-  return brightest;
-}
-
-// Largest |a - b| over every coefficient of every live probe, relative to b's brightest DC term.
-float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolume& b) {
-  float worst = 0.0f;
-  for (std::size_t i = 0; i < b.probes.size(); ++i) {
-    if (b.probes[i].link == 0) continue;
-    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
-      worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
-  }
-  return worst / std::max(brightest_dc(b), 1e-30f);
-}
-
-formats::ProbeVolume with_zero_irradiance(formats::ProbeVolume volume) {
-  for (gpu::Probe& p : volume.probes) std::fill(std::begin(p.irradiance_sh), std::end(p.irradiance_sh), 0.0f);
-  return volume;
+// Adds a second light to the leak scene b, its light mirrored into the dark (+X) room that the file's light never
+// reaches, with `color` and `intensity` (and `range`, else the file light's): to the GPU's `lights` and to the CPU
+// scene. Returns the GPU light.
+gpu::PunctualLight add_light_in_dark_room(Baked& b, std::vector<gpu::PunctualLight>& lights, glm::vec3 color,
+                                          float intensity, std::optional<float> range = std::nullopt) {
+  gpu::PunctualLight mirrored = lights.at(0);
+  mirrored.position.x = -mirrored.position.x;
+  mirrored.intensity = color * intensity;
+  if (range) mirrored.range = *range;
+  lights.push_back(mirrored);
+  scene::Light cpu = b.scene->lights.at(0);
+  cpu.position = mirrored.position;
+  cpu.color = color;
+  cpu.intensity = intensity;
+  if (range) cpu.range = *range;
+  b.scene->lights.push_back(cpu);
+  return mirrored;
 }
 
 runtime::Volume upload(runtime::Context& context, const formats::ProbeVolume& volume, int headroom = 0) {
@@ -384,19 +365,10 @@ TEST_F(LightInputsTest, RemovingAllLightsLeavesTheEmitterAndAddingBackRestores) 
 }
 
 TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
-  // A second light in the leak scene's dark (+X) room, which the file's light never reaches.
   Baked b = bake_generated(samples::leak(), "leak");
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
   ASSERT_EQ(lights.size(), 1u);
-  gpu::PunctualLight added = lights[0];
-  added.position.x = -added.position.x;
-  added.intensity = glm::vec3(30.0f, 60.0f, 90.0f);
-  lights.push_back(added);
-  scene::Light cpu_added = b.scene->lights[0];
-  cpu_added.position = added.position;
-  cpu_added.color = glm::vec3(1.0f, 2.0f, 3.0f);
-  cpu_added.intensity = 30.0f;
-  b.scene->lights.push_back(cpu_added);
+  const gpu::PunctualLight added = add_light_in_dark_room(b, lights, glm::vec3(1.0f, 2.0f, 3.0f), 30.0f);
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
   const formats::ProbeVolume cpu = cpu_lighting(b, start, 3);
 
@@ -438,17 +410,8 @@ TEST_F(LightInputsTest, RangedLightRelightsOnlyRecordsInItsRange) {
   Baked b = bake_generated(samples::leak(), "leak");
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
   ASSERT_EQ(lights.size(), 1u);
-  gpu::PunctualLight ranged = lights[0];
-  ranged.position.x = -ranged.position.x;
-  ranged.intensity = glm::vec3(20.0f);
-  ranged.range = 1.6f; // reaches the floor, ceiling and walls of the 3 x 2.5 x 3 m room, not its corners
-  lights.push_back(ranged);
-  scene::Light cpu_ranged = b.scene->lights[0];
-  cpu_ranged.position = ranged.position;
-  cpu_ranged.color = glm::vec3(1.0f);
-  cpu_ranged.intensity = 20.0f;
-  cpu_ranged.range = 1.6f;
-  b.scene->lights.push_back(cpu_ranged);
+  // 1.6 m reaches the floor, ceiling and walls of the 3 x 2.5 x 3 m room, not its corners.
+  add_light_in_dark_room(b, lights, glm::vec3(1.0f), 20.0f, 1.6f);
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
   const formats::ProbeVolume cpu = cpu_lighting(b, start, 3);
 

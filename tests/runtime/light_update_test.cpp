@@ -1,4 +1,4 @@
-// The GPU light update (thesis §3.2.2: shaders/light_trace.comp, light_gather.comp, light_resolve.comp)
+// The GPU light update (thesis §3.2.2: runtime/light_update/light_trace.comp, light_gather.comp, light_resolve.comp)
 // against the CPU lighting (bake::bake_lighting): with hysteresis 0 one frame is one Jacobi sweep of the
 // bake's iteration, so N frames from zero irradiance must equal N sweeps without extrapolation. Also the
 // L1 hit fractions against the bake's placement, the same on double-sided scenes (glTF doubleSided, #19),
@@ -28,39 +28,6 @@ namespace {
 using LightUpdateTest = RuntimeTest;
 constexpr float kPi = 3.14159265f;
 
-// A generated scene, its Embree BVH and a bake of it (heap-held: RayScene points at the scene).
-struct Baked {
-  std::unique_ptr<scene::Scene> scene;
-  std::unique_ptr<scene::RayScene> rays;
-  bake::BakeSettings settings;
-  formats::ProbeVolume volume;
-};
-
-bake::BakeSettings small_settings() {
-  bake::BakeSettings s;
-  s.max_depth = 3;
-  s.surfels_per_probe = 64;
-  s.svo_depth = 4;
-  s.lighting.rays = 96;
-  return s;
-}
-
-Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& s) {
-  Baked b;
-  const std::vector<std::uint8_t> glb = builder.to_glb();
-  b.scene = std::make_unique<scene::Scene>(scene::load_scene_from_memory(
-      std::vector<unsigned char>(glb.begin(), glb.end()), name, ".", {.require_triangles = true}));
-  b.rays = std::make_unique<scene::RayScene>(*b.scene);
-  b.settings = s;
-  b.volume = bake::bake(*b.scene, s).volume;
-  return b;
-}
-
-formats::ProbeVolume with_zero_irradiance(formats::ProbeVolume volume) {
-  for (gpu::Probe& p : volume.probes) std::fill(std::begin(p.irradiance_sh), std::end(p.irradiance_sh), 0.0f);
-  return volume;
-}
-
 // Runs `frames` frames; returns the read-back volume and the last frame's statistics.
 struct FrameRun {
   formats::ProbeVolume volume;
@@ -83,28 +50,6 @@ FrameRun run_frames(runtime::Context& context, const formats::ProbeVolume& volum
   EXPECT_TRUE(back.ok()) << back.status().message;
   if (back.ok()) run.volume = std::move(back).value();
   return run;
-}
-
-// The largest |DC term| of any live probe.
-float brightest_dc(const formats::ProbeVolume& volume) {
-  float brightest = 0.0f;
-  for (const gpu::Probe& p : volume.probes)
-    if (p.link != 0)
-      brightest = std::max(
-          {brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
-  return brightest;
-}
-
-// Largest |gpu - cpu| over every coefficient of every live probe, relative to the brightest DC term.
-float max_sh_difference(const formats::ProbeVolume& gpu, const formats::ProbeVolume& cpu) {
-  const float brightest = brightest_dc(cpu);
-  float worst = 0.0f;
-  for (std::size_t i = 0; i < cpu.probes.size(); ++i) {
-    if (cpu.probes[i].link == 0) continue;
-    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
-      worst = std::max(worst, std::abs(gpu.probes[i].irradiance_sh[v] - cpu.probes[i].irradiance_sh[v]));
-  }
-  return brightest > 0.0f ? worst / brightest : worst;
 }
 
 // Largest (GPU - CPU) / CPU of a DC term over the live probes lit to at least 1 % of the brightest DC, and
@@ -174,12 +119,12 @@ float expect_gpu_equals_cpu(runtime::Context& context, const Baked& b, const cha
 }
 
 TEST_F(LightUpdateTest, CornellOctreeFramesEqualCpuSweeps) {
-  const Baked b = bake_generated(samples::cornell(), "cornell", small_settings());
+  const Baked b = bake_generated(samples::cornell(), "cornell", small_bake_settings());
   expect_gpu_equals_cpu(context(), b, "cornell octree", 4);
 }
 
 TEST_F(LightUpdateTest, CornellGridFramesEqualCpuSweeps) {
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.placement = bake::Placement::grid;
   s.grid_resolution = 5;
   const Baked b = bake_generated(samples::cornell(), "cornell-grid", s);
@@ -188,12 +133,12 @@ TEST_F(LightUpdateTest, CornellGridFramesEqualCpuSweeps) {
 
 TEST_F(LightUpdateTest, PointLightAndLeakFramesEqualCpuSweeps) {
   // Punctual light relit every frame (shadow rays through the BVH), two rooms behind a 2 cm wall.
-  const Baked b = bake_generated(samples::leak(), "leak", small_settings());
+  const Baked b = bake_generated(samples::leak(), "leak", small_bake_settings());
   expect_gpu_equals_cpu(context(), b, "leak (point light)", 3);
 }
 
 TEST_F(LightUpdateTest, EmittersAsProbeContentFramesEqualCpuSweeps) {
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.lighting.emissive_as_lights = false;
   const Baked b = bake_generated(samples::cornell(), "cornell-emission-in-probes", s);
   expect_gpu_equals_cpu(context(), b, "cornell, emitters in probes", 3);
@@ -225,7 +170,7 @@ int expect_hit_fractions_equal_the_bakes(runtime::Context& context, const Baked&
 }
 
 TEST_F(LightUpdateTest, HitFractionsEqualTheBakesPlacement) {
-  expect_hit_fractions_equal_the_bakes(context(), bake_generated(samples::cornell(), "cornell", small_settings()));
+  expect_hit_fractions_equal_the_bakes(context(), bake_generated(samples::cornell(), "cornell", small_bake_settings()));
 }
 
 // ---- glTF doubleSided (#19) -------------------------------------------------------------------------------
@@ -279,28 +224,28 @@ samples::SceneBuilder room_with_panel_seen_from_behind() {
 constexpr float kLitDc = 0.1f;
 
 TEST_F(LightUpdateTest, DoubleSidedCornellFramesEqualCpuSweeps) {
-  const Baked b = bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_settings());
+  const Baked b = bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_bake_settings());
   ASSERT_FALSE(b.volume.trace_faces.empty());
   for (const gpu::TraceFace& f : b.volume.trace_faces) ASSERT_NE(f.material & gpu::TRACE_FACE_DOUBLE_SIDED, 0u);
   EXPECT_GT(expect_gpu_equals_cpu(context(), b, "cornell flipped, double-sided", 4), kLitDc);
 }
 
 TEST_F(LightUpdateTest, DoubleSidedCornellEmittersInProbesFramesEqualCpuSweeps) {
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.lighting.emissive_as_lights = false;
   const Baked b = bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped-emission", s);
   EXPECT_GT(expect_gpu_equals_cpu(context(), b, "cornell flipped, emitters in probes", 3), kLitDc);
 }
 
 TEST_F(LightUpdateTest, DoubleSidedEmitterSeenFromBehindFramesEqualCpuSweeps) {
-  const Baked b = bake_generated(room_with_panel_seen_from_behind(), "panel", small_settings());
+  const Baked b = bake_generated(room_with_panel_seen_from_behind(), "panel", small_bake_settings());
   int flagged_patches = 0;
   for (const gpu::EmitterPatch& p : b.volume.emitter_patches)
     flagged_patches += p.flags == gpu::EMITTER_DOUBLE_SIDED ? 1 : 0;
   EXPECT_GT(flagged_patches, 0);
   EXPECT_EQ(std::size_t(flagged_patches), b.volume.emitter_patches.size());
   EXPECT_GT(expect_gpu_equals_cpu(context(), b, "panel seen from behind", 3), kLitDc);
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.lighting.emissive_as_lights = false;
   EXPECT_GT(expect_gpu_equals_cpu(context(), bake_generated(room_with_panel_seen_from_behind(), "panel-emission", s),
                                   "panel seen from behind, emitters in probes", 3),
@@ -309,15 +254,15 @@ TEST_F(LightUpdateTest, DoubleSidedEmitterSeenFromBehindFramesEqualCpuSweeps) {
 
 TEST_F(LightUpdateTest, DoubleSidedHitFractionsEqualTheBakesPlacement) {
   expect_hit_fractions_equal_the_bakes(
-      context(), bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_settings()));
-  expect_hit_fractions_equal_the_bakes(context(),
-                                       bake_generated(room_with_panel_seen_from_behind(), "panel", small_settings()));
+      context(), bake_generated(flipped_double_sided(samples::cornell()), "cornell-flipped", small_bake_settings()));
+  expect_hit_fractions_equal_the_bakes(
+      context(), bake_generated(room_with_panel_seen_from_behind(), "panel", small_bake_settings()));
 }
 
 // The white furnace on the GPU alone: from zero, frames at hysteresis 0 converge to pi L / (1 - R) (the
 // probes hold all but the walls' own pi L, which shading points add as area lights).
 void expect_gpu_furnace(runtime::Context& context, float albedo, int frames) {
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.placement = bake::Placement::grid;
   s.grid_resolution = 2;
   s.svo_depth = 3;
@@ -348,7 +293,7 @@ TEST_F(LightUpdateTest, FurnaceConvergesOnTheGpuHalf) { expect_gpu_furnace(conte
 TEST_F(LightUpdateTest, FurnaceConvergesOnTheGpuStiff) { expect_gpu_furnace(context(), 0.99f, 700); }
 
 TEST_F(LightUpdateTest, SameInputSameBits) {
-  const Baked b = bake_generated(samples::cornell(), "cornell", small_settings());
+  const Baked b = bake_generated(samples::cornell(), "cornell", small_bake_settings());
   const FrameRun one = run_frames(context(), b.volume, 5, 0.9f);
   const FrameRun two = run_frames(context(), b.volume, 5, 0.9f);
   ASSERT_EQ(one.volume.probes.size(), two.volume.probes.size());
@@ -358,7 +303,7 @@ TEST_F(LightUpdateTest, SameInputSameBits) {
 }
 
 TEST_F(LightUpdateTest, LiveStateValidAfterEveryFrameOfAHundred) {
-  const Baked b = bake_generated(samples::cornell(), "cornell", small_settings());
+  const Baked b = bake_generated(samples::cornell(), "cornell", small_bake_settings());
   auto gpu = runtime::Volume::upload(context(), b.volume);
   ASSERT_TRUE(gpu.ok()) << gpu.status().message;
   for (int f = 0; f < 100; ++f) {
@@ -383,7 +328,7 @@ TEST_F(LightUpdateTest, LiveStateValidAfterEveryFrameOfAHundred) {
 
 TEST_F(LightUpdateTest, StartingFromTheBakeStaysAtTheBake) {
   // The bake's probes are the converged fixed point: GPU frames may move them by rounding only.
-  const Baked b = bake_generated(samples::cornell(), "cornell", small_settings());
+  const Baked b = bake_generated(samples::cornell(), "cornell", small_bake_settings());
   const FrameRun gpu = run_frames(context(), b.volume, 20, 0.0f);
   const float difference = max_sh_difference(gpu.volume, b.volume);
   std::printf("[light] cornell: 20 GPU frames from the bake's converged probes: max change %.2e of the brightest DC\n",
@@ -392,7 +337,7 @@ TEST_F(LightUpdateTest, StartingFromTheBakeStaysAtTheBake) {
 }
 
 TEST_F(LightUpdateTest, VolumesWithoutLightingSectionsRunNoLightPasses) {
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.runtime_lighting = false;
   const Baked b = bake_generated(samples::cornell(), "cornell", s);
   ASSERT_FALSE(b.volume.lighting.has_value());
@@ -406,7 +351,7 @@ TEST_F(LightUpdateTest, VolumesWithoutLightingSectionsRunNoLightPasses) {
   // light_update = false leaves out the passes and their buffers (records in one page here, next irradiance,
   // trace flags, light list, relight changes, tracked punctual, counters on the device, and on the host once
   // per frame in flight) for a volume that has the sections.
-  const Baked lit = bake_generated(samples::cornell(), "cornell", small_settings());
+  const Baked lit = bake_generated(samples::cornell(), "cornell", small_bake_settings());
   const auto buffers_for = [&](bool light_update) {
     const std::size_t before = context().memory_stats().live_buffers;
     auto v = runtime::Volume::upload(context(), lit.volume, {.light_update = light_update});
@@ -422,7 +367,7 @@ TEST_F(LightUpdateTest, VolumesWithoutLightingSectionsRunNoLightPasses) {
 }
 
 TEST_F(LightUpdateTest, BadHysteresisIsInvalidArgument) {
-  const Baked b = bake_generated(samples::cornell(), "cornell", small_settings());
+  const Baked b = bake_generated(samples::cornell(), "cornell", small_bake_settings());
   for (float h : {-0.1f, 1.0f, std::nanf("")}) {
     auto gpu = runtime::Volume::upload(context(), b.volume, {.hysteresis = h});
     ASSERT_FALSE(gpu.ok());
@@ -433,7 +378,7 @@ TEST_F(LightUpdateTest, BadHysteresisIsInvalidArgument) {
 TEST_F(LightUpdateTest, OverflowingEmissionNeverLeavesNonFiniteProbes) {
   // Emission near float max: the CPU bake refuses it (Error(input)); baked without lighting, the GPU
   // overflows to Inf while gathering and must keep the probes' old, finite values and count them.
-  bake::BakeSettings s = small_settings();
+  bake::BakeSettings s = small_bake_settings();
   s.lighting.enabled = false;
   const Baked b = bake_generated(samples::furnace({.albedo = 0.9f, .emission = 3.0e38f}), "furnace-overflow", s);
   const FrameRun gpu = run_frames(context(), b.volume, 3, 0.0f);

@@ -22,10 +22,9 @@ namespace probebake::test {
 namespace {
 
 formats::ProbeVolume bake_shallow_cornell() {
-  bake::BakeSettings s;
+  bake::BakeSettings s = small_bake_settings();
   s.max_depth = 1;
   s.surfels_per_probe = 48;
-  s.svo_depth = 4;
   s.lighting.rays = 32;
   s.store_surfels = true;
   return bake_with(samples::cornell(), "cornell-d1", s);

@@ -1,4 +1,4 @@
-// The GPU memory update and light transitions (runtime/src/memory_update_pass.h, shaders/memory_*.comp)
+// The GPU memory update and light transitions (runtime/memory_update/)
 // against the CPU reference dynamic::TreeUpdate: the same scripted frames (changed boxes, max depth raised
 // from 1 to 3 and lowered back) must give the same tree, the same probes and the same queue states; and a
 // soak of random inputs must keep the live volume valid, leak nothing and stay bounded.
@@ -51,6 +51,13 @@ std::vector<Step> scripted_steps(const formats::ProbeVolume& v) {
   steps.push_back({{all}, 1});
   for (int f = 0; f < 10; ++f) steps.push_back({});
   return steps;
+}
+
+// Back at depth 1 the tree merged back to the settled one, and the batch and cluster pools' use with it.
+void expect_merged_back(const Canonical& back, const Canonical& settled) {
+  EXPECT_EQ(back.leaves, settled.leaves);
+  EXPECT_EQ(back.batches, settled.batches);
+  EXPECT_EQ(back.clusters, settled.clusters);
 }
 
 TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
@@ -112,11 +119,9 @@ TEST_F(MemoryUpdateTest, GpuAndCpuGrowAndShrinkTheSameTree) {
   EXPECT_GT(most_probes, 2 * settled.probes); // depth 3 refined the tree
   EXPECT_GT(splits, 0);
   EXPECT_GT(collapses, 0);
-  // Back at depth 1 everything merged back: the settled tree and its pool use, element for element.
-  EXPECT_EQ(end.leaves, settled.leaves);
+  // Everything merged back: the settled tree and its pool use, element for element.
+  expect_merged_back(end, settled);
   EXPECT_EQ(end.probes, settled.probes);
-  EXPECT_EQ(end.batches, settled.batches);
-  EXPECT_EQ(end.clusters, settled.clusters);
 }
 
 // No NaN or Inf in what the memory update writes or the light update reads back into the probes.
@@ -203,10 +208,8 @@ TEST_F(MemoryUpdateTest, SoakOfRandomBoxesAndDepthsStaysValidAndLeaksNothing) {
   EXPECT_GT(splits, 10);
   EXPECT_GT(collapses, 10);
   EXPECT_GT(deferred, 0);
-  EXPECT_EQ(back.leaves, settled.leaves);
+  expect_merged_back(back, settled);
   EXPECT_EQ(back.probes, settled.probes);
-  EXPECT_EQ(back.batches, settled.batches);
-  EXPECT_EQ(back.clusters, settled.clusters);
 }
 
 // Pools smaller than the refinement asks for: allocations fail and are counted, the nodes keep their states,
@@ -240,9 +243,7 @@ TEST_F(MemoryUpdateTest, DryPoolsCountTheShortfallAndCorruptNothing) {
   std::printf("[memory] dry pools (3 clusters, 30 probes, 90 batches free): %d failed allocations; back at depth 1: "
               "%d/%d/%d vs %d/%d/%d\n",
               failed, back.probes, back.batches, back.clusters, settled.probes, settled.batches, settled.clusters);
-  EXPECT_EQ(back.leaves, settled.leaves);
-  EXPECT_EQ(back.batches, settled.batches);
-  EXPECT_EQ(back.clusters, settled.clusters);
+  expect_merged_back(back, settled);
 }
 
 TEST_F(MemoryUpdateTest, FrameInputsOutOfRangeAreInvalidArguments) {

@@ -1,10 +1,14 @@
 #include "runtime_test_util.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include "probebake/bake/bake.h"
 #include "probebake/scene/scene.h"
@@ -70,17 +74,58 @@ formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::
   return bake::bake(scene, settings).volume;
 }
 
-formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid, bool full) {
+bake::BakeSettings small_bake_settings() {
   bake::BakeSettings s;
-  s.placement = grid ? bake::Placement::grid : bake::Placement::octree;
-  s.grid_resolution = 6;
   s.max_depth = 3;
   s.surfels_per_probe = 64;
   s.svo_depth = 4;
   s.lighting.rays = 96;
+  return s;
+}
+
+formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid, bool full) {
+  bake::BakeSettings s = small_bake_settings();
+  s.placement = grid ? bake::Placement::grid : bake::Placement::octree;
+  s.grid_resolution = 6;
   s.store_surfels = full;
   formats::ProbeVolume volume = bake_with(builder, name, s);
   if (full) formats::init_leaf_queue(volume, 64);
+  return volume;
+}
+
+Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name,
+                     const bake::BakeSettings& settings) {
+  Baked b;
+  const std::vector<std::uint8_t> glb = builder.to_glb();
+  b.scene = std::make_unique<scene::Scene>(scene::load_scene_from_memory(
+      std::vector<unsigned char>(glb.begin(), glb.end()), name, ".", {.require_triangles = true}));
+  b.rays = std::make_unique<scene::RayScene>(*b.scene);
+  b.settings = settings;
+  b.volume = bake::bake(*b.scene, settings).volume;
+  return b;
+}
+
+float brightest_dc(const formats::ProbeVolume& volume) {
+  float brightest = 0.0f;
+  for (const gpu::Probe& p : volume.probes)
+    if (p.link != 0)
+      brightest = std::max(
+          {brightest, std::abs(p.irradiance_sh[0]), std::abs(p.irradiance_sh[1]), std::abs(p.irradiance_sh[2])});
+  return brightest;
+}
+
+float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolume& b) {
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < b.probes.size(); ++i) {
+    if (b.probes[i].link == 0) continue;
+    for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
+      worst = std::max(worst, std::abs(a.probes[i].irradiance_sh[v] - b.probes[i].irradiance_sh[v]));
+  }
+  return worst / std::max(brightest_dc(b), 1e-30f);
+}
+
+formats::ProbeVolume with_zero_irradiance(formats::ProbeVolume volume) {
+  for (gpu::Probe& p : volume.probes) std::fill(std::begin(p.irradiance_sh), std::end(p.irradiance_sh), 0.0f);
   return volume;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -11,6 +12,8 @@
 #include "probebake/formats/probe_volume.h"
 #include "probebake/runtime/runtime.h"
 #include "probebake/samples/scene_builder.h"
+#include "probebake/scene/ray_scene.h"
+#include "probebake/scene/scene.h"
 
 namespace probebake::test {
 
@@ -35,14 +38,34 @@ private:
   std::uint64_t messages_before_ = 0;
 };
 
-// A generated scene loaded like the CLI loads it and baked with small settings (max depth 3, 64 surfels, SVO
-// depth 4, 96 rays; octree or a 6^3 grid; `full`: surfel batches and a leaf queue).
+// Small bake settings: max depth 3, 64 surfels, SVO depth 4, 96 rays.
+bake::BakeSettings small_bake_settings();
+
+// A generated scene loaded like the CLI loads it and baked with small_bake_settings() (octree or a 6^3 grid;
+// `full`: surfel batches and a leaf queue).
 formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std::string& name, bool grid = false,
                                 bool full = false);
 
 // A generated scene loaded like the CLI loads it and baked with `settings`.
 formats::ProbeVolume bake_with(const samples::SceneBuilder& builder, const std::string& name,
                                const bake::BakeSettings& settings);
+
+// A generated scene, its Embree BVH and a bake of it, kept for the lighting tests' CPU references (heap-held:
+// the RayScene points at the scene).
+struct Baked {
+  std::unique_ptr<scene::Scene> scene;
+  std::unique_ptr<scene::RayScene> rays;
+  bake::BakeSettings settings;
+  formats::ProbeVolume volume;
+};
+Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings);
+
+// The largest |DC term| of any live probe.
+float brightest_dc(const formats::ProbeVolume& volume);
+// Largest |a - b| over every coefficient of every live probe of b, relative to b's brightest DC term.
+float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolume& b);
+// The volume with every probe's irradiance zeroed (the start of a light update from nothing).
+formats::ProbeVolume with_zero_irradiance(formats::ProbeVolume volume);
 
 // Baked volumes, cached per process (small settings, lighting on).
 const formats::ProbeVolume& baked_cornell_octree();

@@ -15,6 +15,7 @@
 #include <optional>
 #include <set>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -79,6 +80,13 @@ runtime::UploadOptions streaming_options(std::uint64_t budget, std::uint64_t max
   return options;
 }
 
+// `v` uploaded whole, and streamed with a budget of twice its cells' tracing bytes.
+std::pair<runtime::Result<runtime::Volume>, runtime::Result<runtime::Volume>>
+upload_whole_and_streamed(runtime::Context& context, const formats::ProbeVolume& v) {
+  return {runtime::Volume::upload(context, v),
+          runtime::Volume::upload(context, v, streaming_options(2 * tracing_bytes_of_cells(v)))};
+}
+
 // Where the middle byte of one of a cell's ranges lies in the file at `path`.
 std::uint64_t file_offset_in(const std::string& path, formats::SectionType section, const formats::CellRange& range) {
   const formats::ContainerView view = formats::parse_container(formats::read_file_bytes(path), path);
@@ -100,8 +108,7 @@ void flip_byte(const std::string& path, std::uint64_t offset, char bits) {
 TEST_F(StreamingTest, EveryCellResidentLightsExactlyAsTheWholeFile) {
   const formats::ProbeVolume& v = streamed_rooms();
   ASSERT_FALSE(v.cell_tracing.empty());
-  auto whole = runtime::Volume::upload(context(), v);
-  auto streamed = runtime::Volume::upload(context(), v, streaming_options(2 * tracing_bytes_of_cells(v)));
+  auto [whole, streamed] = upload_whole_and_streamed(context(), v);
   ASSERT_TRUE(whole.ok()) << whole.status().message;
   ASSERT_TRUE(streamed.ok()) << streamed.status().message;
   ASSERT_TRUE(streamed.value().stream_around(glm::vec3(0.0f), 1e6f).ok());
@@ -123,8 +130,7 @@ TEST_F(StreamingTest, EveryCellResidentLightsExactlyAsTheWholeFile) {
 
 TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIrradiance) {
   const formats::ProbeVolume& v = streamed_rooms();
-  auto whole = runtime::Volume::upload(context(), v);
-  auto streamed = runtime::Volume::upload(context(), v, streaming_options(2 * tracing_bytes_of_cells(v)));
+  auto [whole, streamed] = upload_whole_and_streamed(context(), v);
   ASSERT_TRUE(whole.ok() && streamed.ok());
   // The camera at the first live probe, the radius about two cells.
   const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
@@ -328,8 +334,7 @@ TEST_F(StreamingTest, UnresolvedProbesAreRetriedWithinTheJoinBudgetOnceTheirCell
 // probe is lit as the whole file is or keeps its irradiance, none is lit through a cell that dropped.
 TEST_F(StreamingTest, ALightChangeLightsNoProbeThroughACellThatDropped) {
   const formats::ProbeVolume& v = streamed_rooms();
-  auto whole = runtime::Volume::upload(context(), v);
-  auto streamed = runtime::Volume::upload(context(), v, streaming_options(2 * tracing_bytes_of_cells(v)));
+  auto [whole, streamed] = upload_whole_and_streamed(context(), v);
   ASSERT_TRUE(whole.ok() && streamed.ok());
   const auto first = std::find_if(v.probes.begin(), v.probes.end(), [](const gpu::Probe& p) { return p.link != 0; });
   ASSERT_TRUE(streamed.value().stream_around(first->position, 2.0f * v.info.root_size).ok());

@@ -6,6 +6,7 @@
 #include <fmt/core.h>
 
 #include "mini_gltf.h"
+#include "probebake/common/enum_names.h"
 
 namespace probebake::test {
 namespace {
@@ -163,14 +164,12 @@ std::vector<LenientCase> unused_data_cases() {
   return cases;
 }
 
-const char* outcome_name(LenientOutcome outcome) {
-  switch (outcome) {
-  case LenientOutcome::bakes: return "bakes";
-  case LenientOutcome::described: return "`info` describes it, and it bakes";
-  case LenientOutcome::refused: return "refused";
-  }
-  return "";
-}
+// The outcome column of the cases' README.
+constexpr EnumName<LenientOutcome> kOutcomeNames[] = {
+    {LenientOutcome::bakes, "bakes"},
+    {LenientOutcome::described, "`info` describes it, and it bakes"},
+    {LenientOutcome::refused, "refused"},
+};
 
 } // namespace
 
@@ -191,7 +190,7 @@ std::string lenient_cases_readme(const std::vector<LenientCase>& cases) {
   for (const LenientCase& c : cases) {
     std::string said = c.outcome == LenientOutcome::refused ? c.error : "";
     for (const std::string& w : c.warnings) said += (said.empty() ? "" : "; ") + w;
-    text += fmt::format("| `{}` | {} | {} | {} |\n", c.file, c.what, outcome_name(c.outcome),
+    text += fmt::format("| `{}` | {} | {} | {} |\n", c.file, c.what, name_in(kOutcomeNames, c.outcome, ""),
                         said.empty() ? "none" : "`" + said + "`");
   }
   return text;

@@ -23,8 +23,7 @@ int MiniGltf::add_accessor(int view, int component_type, std::size_t count, cons
   return int(json["accessors"].size()) - 1;
 }
 
-MiniGltf MiniGltf::triangles(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
-                             int index_component_type) {
+MiniGltf MiniGltf::one_mesh_node() {
   MiniGltf g;
   g.json = {{"asset", {{"version", "2.0"}}},
             {"buffers", {{{"byteLength", 0}}}},
@@ -32,7 +31,14 @@ MiniGltf MiniGltf::triangles(const std::vector<glm::vec3>& positions, const std:
             {"accessors", nlohmann::json::array()},
             {"scene", 0},
             {"scenes", {{{"nodes", {0}}}}},
-            {"nodes", {{{"mesh", 0}, {"name", "root"}}}}};
+            {"nodes", {{{"mesh", 0}}}}};
+  return g;
+}
+
+MiniGltf MiniGltf::triangles(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
+                             int index_component_type) {
+  MiniGltf g = one_mesh_node();
+  g.json["nodes"][0]["name"] = "root";
   const int pv = g.add_view(positions.data(), positions.size() * sizeof(glm::vec3));
   const int pa = g.add_accessor(pv, 5126, positions.size(), "VEC3");
   glm::vec3 lo(1e30f), hi(-1e30f);

@@ -16,6 +16,9 @@ struct MiniGltf {
   nlohmann::json json;
   std::vector<unsigned char> bin;
 
+  // The skeleton every hand-built file starts from: one empty buffer, no views or accessors yet, and scene 0
+  // of one node that uses mesh 0 (which the caller adds).
+  static MiniGltf one_mesh_node();
   // One mesh of one triangle primitive (float positions, uint32 or uint16 indices) and a node using it.
   static MiniGltf triangles(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
                             int index_component_type = 5125);

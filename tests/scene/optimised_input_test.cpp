@@ -142,16 +142,9 @@ TEST(MeshoptStream, InvalidLayoutsAndCorruptDataAreOneLineErrors) {
 // The quad with positions (ATTRIBUTES, EXPONENTIAL) and indices (INDICES mode) compressed into buffer 0 and
 // bufferViews on a uri-less fallback buffer 1: the layout gltfpack -cc writes.
 MiniGltf meshopt_quad() {
-  MiniGltf g;
-  g.json = {{"asset", {{"version", "2.0"}}},
-            {"buffers", {{{"byteLength", 0}}}},
-            {"bufferViews", nlohmann::json::array()},
-            {"accessors", nlohmann::json::array()},
-            {"scene", 0},
-            {"scenes", {{{"nodes", {0}}}}},
-            {"nodes", {{{"mesh", 0}}}},
-            {"extensionsUsed", {"EXT_meshopt_compression"}},
-            {"extensionsRequired", {"EXT_meshopt_compression"}}};
+  MiniGltf g = MiniGltf::one_mesh_node();
+  g.json["extensionsUsed"] = nlohmann::json::array({"EXT_meshopt_compression"});
+  g.json["extensionsRequired"] = nlohmann::json::array({"EXT_meshopt_compression"});
   Bytes exp(4 * 12);
   meshopt_encodeFilterExp(exp.data(), 4 * 3, 4, 23, &kQuad[0].x);
   const Bytes positions = encode_vertices(exp.data(), 4, 12);

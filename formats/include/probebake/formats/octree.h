@@ -135,7 +135,7 @@ private:
   int allocate_probe();
   int allocate_batch();
   void release_batch(int batch);
-  bool ensure_free(const std::vector<int>& list, void (Octree::*grow)(int), std::size_t capacity);
+  int take_free(std::vector<int>& list, void (Octree::*grow)(int), std::size_t capacity);
   void grow_clusters(int count);
   void grow_probes(int count);
   void grow_batches(int count);

@@ -48,27 +48,28 @@ TEST(PlacementKinds, RejectsUnknownNamesAndCodes) {
 }
 
 TEST(PlacementKinds, OctreeAndGridProperties) {
-  const PlacementKindInfo& octree = placement_kind_info(PlacementKind::octree);
-  EXPECT_EQ(octree.name, "octree");
-  EXPECT_EQ(octree.file_code, gpu::PLACEMENT_OCTREE);
-  EXPECT_TRUE(octree.has_octree);
-  EXPECT_TRUE(octree.uses_max_depth);
-  EXPECT_FALSE(octree.uses_grid_resolution);
-  const PlacementKindInfo& grid = placement_kind_info(PlacementKind::grid);
-  EXPECT_EQ(grid.name, "grid");
-  EXPECT_EQ(grid.file_code, gpu::PLACEMENT_GRID);
-  EXPECT_FALSE(grid.has_octree);
-  EXPECT_FALSE(grid.uses_max_depth);
-  EXPECT_TRUE(grid.uses_grid_resolution);
-  EXPECT_EQ(octree.root_pad_clearances, 0.0f);
-  EXPECT_EQ(grid.root_pad_clearances, 0.0f);
-  const PlacementKindInfo& skeleton = placement_kind_info(PlacementKind::skeleton);
-  EXPECT_EQ(skeleton.name, "skeleton");
-  EXPECT_EQ(skeleton.file_code, gpu::PLACEMENT_SKELETON);
-  EXPECT_FALSE(skeleton.has_octree);
-  EXPECT_FALSE(skeleton.uses_max_depth);
-  EXPECT_FALSE(skeleton.uses_grid_resolution);
-  EXPECT_EQ(skeleton.root_pad_clearances, 3.0f);
+  // Written out here, not read from the table: a changed row must change this test too.
+  struct Expected {
+    PlacementKind kind;
+    const char* name;
+    int file_code;
+    bool has_octree, uses_max_depth, uses_grid_resolution;
+    float root_pad_clearances;
+  };
+  const Expected expected[] = {
+      {PlacementKind::octree, "octree", gpu::PLACEMENT_OCTREE, true, true, false, 0.0f},
+      {PlacementKind::grid, "grid", gpu::PLACEMENT_GRID, false, false, true, 0.0f},
+      {PlacementKind::skeleton, "skeleton", gpu::PLACEMENT_SKELETON, false, false, false, 3.0f},
+  };
+  for (const Expected& e : expected) {
+    const PlacementKindInfo& info = placement_kind_info(e.kind);
+    EXPECT_EQ(info.name, e.name);
+    EXPECT_EQ(info.file_code, e.file_code) << e.name;
+    EXPECT_EQ(info.has_octree, e.has_octree) << e.name;
+    EXPECT_EQ(info.uses_max_depth, e.uses_max_depth) << e.name;
+    EXPECT_EQ(info.uses_grid_resolution, e.uses_grid_resolution) << e.name;
+    EXPECT_EQ(info.root_pad_clearances, e.root_pad_clearances) << e.name;
+  }
   EXPECT_EQ(placement_names(), "octree|grid|skeleton");
   EXPECT_EQ(placement_names(", "), "octree, grid, skeleton");
 }

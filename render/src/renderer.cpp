@@ -21,33 +21,19 @@ float luminance(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * 
 
 // One hue per octree depth (0-12), distinct neighbours.
 glm::vec3 depth_colour(int depth) {
+  // clang-format off
   static constexpr std::array<glm::vec3, 13> kPalette = {{
-      {0.60f, 0.60f, 0.60f},
-      {0.12f, 0.47f, 0.71f},
-      {1.00f, 0.50f, 0.05f},
-      {0.17f, 0.63f, 0.17f},
-      {0.84f, 0.15f, 0.16f},
-      {0.58f, 0.40f, 0.74f},
-      {0.55f, 0.34f, 0.29f},
-      {0.89f, 0.47f, 0.76f},
-      {0.74f, 0.74f, 0.13f},
-      {0.09f, 0.75f, 0.81f},
-      {0.20f, 0.20f, 0.55f},
-      {0.55f, 0.80f, 0.30f},
-      {0.95f, 0.85f, 0.55f},
-  }};
+      {0.60f, 0.60f, 0.60f}, {0.12f, 0.47f, 0.71f}, {1.00f, 0.50f, 0.05f}, {0.17f, 0.63f, 0.17f}, {0.84f, 0.15f, 0.16f},
+      {0.58f, 0.40f, 0.74f}, {0.55f, 0.34f, 0.29f}, {0.89f, 0.47f, 0.76f}, {0.74f, 0.74f, 0.13f}, {0.09f, 0.75f, 0.81f},
+      {0.20f, 0.20f, 0.55f}, {0.55f, 0.80f, 0.30f}, {0.95f, 0.85f, 0.55f}}};
+  // clang-format on
   return kPalette[std::size_t(std::clamp(depth, 0, 12))];
 }
 
 // Lookups that blend 1, 2, 3 or 4 probes: dark blue to yellow; none: magenta.
 glm::vec3 stencil_colour(int probes) {
-  static constexpr std::array<glm::vec3, 5> kRamp = {{
-      {1.0f, 0.0f, 1.0f},
-      {0.15f, 0.20f, 0.65f},
-      {0.10f, 0.60f, 0.60f},
-      {0.45f, 0.80f, 0.25f},
-      {0.98f, 0.90f, 0.15f},
-  }};
+  static constexpr std::array<glm::vec3, 5> kRamp = {
+      {{1.0f, 0.0f, 1.0f}, {0.15f, 0.20f, 0.65f}, {0.10f, 0.60f, 0.60f}, {0.45f, 0.80f, 0.25f}, {0.98f, 0.90f, 0.15f}}};
   return kRamp[std::size_t(std::clamp(probes, 0, 4))];
 }
 

@@ -33,8 +33,7 @@ struct Layout {
   std::size_t size;
 };
 
-#define FIELD(T, f)                                                                                                    \
-  Field { #f, offsetof(T, f), sizeof(T::f) }
+#define FIELD(T, f) (Field{#f, offsetof(T, f), sizeof(T::f)})
 
 const std::map<std::string, Layout>& code_layouts() {
   static const std::map<std::string, Layout> layouts = {

@@ -1,4 +1,4 @@
-// Cost of the blended lookup (bake::sample_irradiance) next to one leaf's stencil (svo_stencil), the lookup
+// Cost of the blended lookup (probe_index::sample_irradiance) next to one leaf's stencil (svo_stencil), the lookup
 // the blend replaced, on the CPU twin of the shader: same volume, same points, one thread, side by side.
 // Usage: probebake-bench-lookup [--points N]
 #include <chrono>
@@ -12,7 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/samples/scenes.h"
 #include "probebake/scene/scene.h"
 
@@ -55,16 +55,17 @@ void row(const std::string& label, const scene::Scene& scene, const bake::BakeSe
   const Points points = random_points(scene.bounds, count);
   float checksum = 0.0f;
   const double leaf = nanoseconds_per_lookup(
-      points, [&](glm::vec3 p, glm::vec3 n) { return bake::apply_stencil(v, bake::svo_stencil(v, p, n), n); },
+      points,
+      [&](glm::vec3 p, glm::vec3 n) { return probe_index::apply_stencil(v, probe_index::svo_stencil(v, p, n), n); },
       &checksum);
   const double blend = nanoseconds_per_lookup(
-      points, [&](glm::vec3 p, glm::vec3 n) { return bake::sample_irradiance(v, p, n); }, &checksum);
+      points, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance(v, p, n); }, &checksum);
   int one_leaf = 0, leaves = 0, probes = 0;
   for (std::size_t i = 0; i < points.positions.size(); ++i) {
-    const bake::BlendedLookup b = bake::blended_lookup(v, points.positions[i], points.normals[i]);
+    const probe_index::BlendedLookup b = probe_index::blended_lookup(v, points.positions[i], points.normals[i]);
     one_leaf += b.count == 1 ? 1 : 0;
     leaves += b.count;
-    probes += bake::probe_blend(v, b, points.positions[i], points.normals[i]).count;
+    probes += probe_index::probe_blend(v, b, points.positions[i], points.normals[i]).count;
   }
   fmt::print("| {} | {} | {} | {:.0f} | {:.0f} | {:.2f}x | {:.1f} % | {:.2f} | {:.2f} |\n", label, v.probes.size(),
              v.svo_leaves.size(), leaf, blend, blend / leaf, 100.0 * one_leaf / count, double(leaves) / count,

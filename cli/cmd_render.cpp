@@ -14,7 +14,7 @@
 
 #include "camera_options.h"
 #include "commands.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/probes_file.h"
@@ -146,9 +146,10 @@ int render_command(const RenderCommandSettings& s) {
   if (s.cpu) {
     in.indirect = [&volume, one_leaf](std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
       std::vector<glm::vec3> out(positions.size());
-      if (!one_leaf) bake::sample_irradiance(volume, positions, normals, out);
+      if (!one_leaf) probe_index::sample_irradiance(volume, positions, normals, out);
       for (std::size_t i = 0; one_leaf && i < positions.size(); ++i)
-        out[i] = bake::apply_stencil(volume, bake::svo_stencil(volume, positions[i], normals[i]), normals[i]);
+        out[i] =
+            probe_index::apply_stencil(volume, probe_index::svo_stencil(volume, positions[i], normals[i]), normals[i]);
       return out;
     };
   } else if (std::any_of(views.begin(), views.end(), render::reads_probes)) {

@@ -17,7 +17,8 @@
 #include "probebake/placement/refine_root.h"
 #include "probebake/placement/sealed.h"
 #include "probebake/placement/relocation.h"
-#include "svo_builder.h"
+#include "bake_checks.h"
+#include "probebake/probe_index/build.h"
 #include "probebake/bake/gpu_scene.h"
 #include "probebake/scene/ray_scene.h"
 #include "probebake/placement/scene_sdf.h"
@@ -43,10 +44,6 @@ private:
   std::string current_;
   StageClock clock_;
 };
-
-void require(bool ok, const std::string& message) {
-  if (!ok) throw Error(ErrorKind::usage, message);
-}
 
 float effective_clearance(const scene::Scene& scene, const BakeSettings& s) {
   return s.clearance > 0.0f ? s.clearance : placement::default_clearance(scene);
@@ -150,47 +147,6 @@ void fill_report(const formats::ProbeVolume& v, BakeReport& report) {
   report.svo_leaves = int(v.svo_leaves.size());
 }
 
-// Measured (docs/results/bake-scale.md, "Scale range (issue #11)"): the generated Cornell box bakes the same
-// probes from 1e-5 to 1e10 times its size and 1e4 of its size from the origin; beyond that 32-bit positions,
-// Embree's ray epsilons and the SDF lose it. The limits keep a factor of ten from where it breaks.
-constexpr int kMaxProbeBudget =
-    1 << 20; // --probes: far above what the optimisation can afford (docs/results/placement.md)
-constexpr float kMinSceneSize = 1e-4f;    // metres across (0.1 mm)
-constexpr float kMaxSceneSize = 1e8f;     // metres across (100,000 km)
-constexpr float kMaxOffsetPerSize = 1e4f; // distance of the bounds from the origin / size across
-
-void bake_fail(const std::string& reason) { throw Error(ErrorKind::input, "bake: " + reason); }
-
-void check_scene(const scene::Scene& scene) {
-  bool any_area = false;
-  for (std::size_t t = 0; t < scene.triangles.size() && !any_area; ++t)
-    any_area = scene::triangle_normal(scene, t) != glm::vec3(0.0f);
-  if (!any_area)
-    bake_fail("no triangle has a non-zero area (degenerate geometry): there is nothing to place probes around");
-  const float size = scene.bounds.largest_extent();
-  if (size < kMinSceneSize)
-    bake_fail(fmt::format("the scene is {:.3g} m across, below the {:.0e} m the bake resolves in 32-bit floats; scale "
-                          "it up (a glTF node scale)",
-                          size, kMinSceneSize));
-  if (size > kMaxSceneSize)
-    bake_fail(fmt::format("the scene is {:.3g} m across, above the {:.0e} m the bake resolves in 32-bit floats; scale "
-                          "it down (a glTF node scale)",
-                          size, kMaxSceneSize));
-  const float offset = std::max(glm::length(scene.bounds.min), glm::length(scene.bounds.max));
-  if (offset > kMaxOffsetPerSize * size)
-    bake_fail(fmt::format("the scene is {:.3g} m across but {:.3g} m from the origin: 32-bit positions cannot resolve "
-                          "it there; move it nearer the origin (a glTF node translation)",
-                          size, offset));
-}
-
-// No probe can be farther than half the scene's size from every surface; a larger clearance would also
-// make the SDF band (1.5 x clearance) cover the scene many times over.
-void check_clearance(const scene::Scene& scene, const BakeSettings& s) {
-  const float half_size = 0.5f * scene.bounds.largest_extent();
-  require(s.clearance <= half_size, fmt::format("--clearance {:.3g} m is more than half the scene's size ({:.3g} m)",
-                                                s.clearance, 2.0f * half_size));
-}
-
 } // namespace
 
 StageClock::StageClock() : wall_(std::chrono::steady_clock::now()), cpu_(std::clock()) {}
@@ -222,38 +178,6 @@ gpu::VolumeInfo volume_info(const scene::Scene& scene, const BakeSettings& s) {
   info.split_high = s.split_high;
   info.grid_resolution = kind.uses_grid_resolution ? s.grid_resolution : 0;
   return info;
-}
-
-void check_settings(const BakeSettings& s) {
-  require(s.max_depth >= 0 && s.max_depth <= gpu::OCTREE_MAX_DEPTH,
-          fmt::format("--max-depth must be in [0, {}]", gpu::OCTREE_MAX_DEPTH));
-  require(s.surfels_per_probe >= 1 && s.surfels_per_probe <= formats::kMaxSurfelsPerProbe,
-          fmt::format("--surfels must be in [1, {}]", formats::kMaxSurfelsPerProbe)); // what the validator accepts
-  require(std::isfinite(s.split_low) && std::isfinite(s.split_high) && s.split_low >= 0.0f &&
-              s.split_low <= s.split_high && s.split_high <= 1.0f,
-          "--split-range LOW,HIGH needs 0 <= LOW <= HIGH <= 1");
-  // The octree meets a budget only with the error and surface rules; the skeleton takes one or picks the fewest
-  // probes that see every surface sample; the grid's count is its resolution.
-  const bool octree = s.placement == Placement::octree;
-  const bool budgeted = octree && s.split_rule != SplitRule::hit_fraction;
-  require(!budgeted || s.probe_budget >= 1, "--split-rule error|surface needs a probe budget: --probes N with N >= 1");
-  require(budgeted || s.placement == Placement::skeleton || s.probe_budget == 0,
-          "--probes N needs --placement skeleton, or the octree with --split-rule error or surface");
-  require(std::isfinite(s.uniform_share) && s.uniform_share >= 0.0f && s.uniform_share <= 1.0f,
-          "--uniform-share must be in [0, 1]");
-  require(s.grid_resolution >= 1 && s.grid_resolution <= formats::kMaxGridResolution,
-          fmt::format("--grid must be in [1, {}]", formats::kMaxGridResolution));
-  require(s.svo_depth >= 0 && s.svo_depth <= 8, "--svo-depth must be in [0, 8]");
-  require(std::isfinite(s.clearance) && s.clearance >= 0.0f, "--clearance must be a finite distance >= 0");
-  require(s.threads >= 0, "--threads must be >= 0");
-  require(s.probe_budget >= 0 && s.probe_budget <= kMaxProbeBudget,
-          fmt::format("--probes must be in [0, {}]", kMaxProbeBudget));
-  require(s.cell_depth >= 0 && s.cell_depth <= formats::kMaxCellDepth,
-          fmt::format("cell depth must be in [0, {}]", formats::kMaxCellDepth));
-  require(std::isfinite(s.cell_size) && s.cell_size >= 0.0f, "--cell-size must be a finite width >= 0");
-  require(std::isfinite(s.trace_leaf_cost) && s.trace_leaf_cost >= 0.05f && s.trace_leaf_cost <= 10.0f,
-          "--trace-leaf-cost must be in [0.05, 10]");
-  check_lighting_settings(s.lighting);
 }
 
 std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) {
@@ -303,8 +227,8 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
                 const PrecomputedWork* precomputed) {
   BakeSettings settings = requested; // the cell depth is resolved once the root cube is known
   check_settings(settings);
-  check_scene(scene);
-  check_clearance(scene, settings);
+  detail::check_scene(scene);
+  detail::check_clearance(scene, settings);
   const ThreadLimit thread_limit(settings.threads);
   BakeResult result;
   BakeReport& report = result.report;
@@ -378,16 +302,16 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
 
   timer.stage("svo");
   if (progress) progress("svo", 0.0);
-  const detail::SvoStats svo = detail::build_svo(rays, volume, settings.svo_depth, settings.threads);
+  const probe_index::SvoStats svo = probe_index::build_svo(rays, volume, settings.svo_depth, settings.threads);
   report.svo_solid_voxels = svo.solid_voxels;
   report.svo_uncovered_voxels = svo.uncovered_voxels;
 
   if (settings.lighting.enabled) {
     timer.stage("lighting");
     if (progress) progress("lighting", 0.0);
-    LightingSettings lighting = settings.lighting;
+    lighting::LightingSettings lighting = settings.lighting;
     lighting.threads = settings.threads;
-    report.lighting = bake_lighting(visible, rays, volume, lighting);
+    report.lighting = lighting::bake_lighting(visible, rays, volume, lighting);
   }
 
   if (settings.runtime_lighting) {
@@ -406,9 +330,10 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   timer.stage("");
   fill_report(volume, report);
   if (report.probes == 0)
-    bake_fail(fmt::format("no probes placed: all {} candidates were inside geometry or could not be moved {:.3g} m "
-                          "clear of it; try a smaller --clearance, a deeper --max-depth or --placement grid",
-                          report.placed_probes, report.clearance));
+    detail::bake_fail(
+        fmt::format("no probes placed: all {} candidates were inside geometry or could not be moved {:.3g} m "
+                    "clear of it; try a smaller --clearance, a deeper --max-depth or --placement grid",
+                    report.placed_probes, report.clearance));
   return result;
 }
 

@@ -17,7 +17,7 @@
 #include <fmt/core.h>
 
 #include "gpu_bvh.h"
-#include "probebake/bake/direct_light.h"
+#include "probebake/lighting/direct_light.h"
 #include "probebake/common/parallel.h"
 #include "probebake/common/lattice.h"
 #include "probebake/formats/cells.h"
@@ -204,17 +204,17 @@ gpu::PunctualLight punctual_light(const scene::Light& light, std::size_t index) 
   if (light.type == scene::LightType::spot) {
     out.type = gpu::LIGHT_SPOT;
     out.direction = light.direction;
-    const lighting_detail::SpotCone cone = lighting_detail::spot_cone(light);
+    const lighting::detail::SpotCone cone = lighting::detail::spot_cone(light);
     out.cos_outer = cone.cos_outer;
     out.spot_scale = cone.scale;
   }
   return out;
 }
 
-std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const LightingSettings& lighting) {
+std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const lighting::LightingSettings& lighting) {
   std::vector<gpu::EmitterPatch> patches;
   if (!lighting.emissive_as_lights) return patches; // emitters then reach the runtime through the probes
-  for (const lighting_detail::EmitterPatch& p : lighting_detail::emitter_patches(scene, lighting.emitter_samples)) {
+  for (const lighting::detail::EmitterPatch& p : lighting::detail::emitter_patches(scene, lighting.emitter_samples)) {
     gpu::EmitterPatch out{};
     out.a = p.a, out.b = p.b, out.c = p.c, out.normal = p.normal, out.radiance = p.radiance;
     out.flags = p.double_sided ? gpu::EMITTER_DOUBLE_SIDED : 0u;
@@ -237,7 +237,7 @@ gpu::LightingInfo lighting_info(const scene::Scene& scene, const BakeSettings& s
   gpu::LightingInfo info{};
   info.sky_radiance = settings.lighting.sky_radiance;
   info.rays = settings.lighting.rays;
-  info.shadow_offset = lighting_detail::shadow_offset(scene);
+  info.shadow_offset = lighting::detail::shadow_offset(scene);
   info.emissive_as_lights = settings.lighting.emissive_as_lights ? 1 : 0;
   info.placement_rays = settings.surfels_per_probe;
   return info; // counts: sync_info_counts

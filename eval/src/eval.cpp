@@ -8,8 +8,8 @@
 
 #include "eval_internal.h"
 #include "eval_maps.h"
-#include "probebake/bake/lighting.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/lighting/lighting.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
 #include "probebake/eval/seams.h"
@@ -28,7 +28,7 @@ struct Truth {
   const scene::RayScene* rays = nullptr;
   std::vector<SamplePoint> points;
   std::vector<glm::vec3> reference;
-  std::vector<glm::vec3> direct;   // direct_irradiance: the runtime adds it per pixel, probes hold none
+  std::vector<glm::vec3> direct;   // lighting::direct_irradiance: the runtime adds it per pixel, probes hold none
   std::vector<glm::vec3> indirect; // the reference minus the path tracer's own direct part
   double mean = 0.0;
   double indirect_mean = 0.0;
@@ -41,7 +41,7 @@ double relative(double value, double mean) { return mean > 0.0 ? value / mean : 
 template <class Lookup>
 void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
   std::vector<glm::vec3> probes(truth.points.size());
-  SamplerStats stats;
+  probe_index::SamplerStats stats;
   const auto start = Clock::now();
   for (std::size_t i = 0; i < truth.points.size(); ++i) probes[i] = lookup(truth.points[i], stats);
   row.sample_ns = seconds_since(start) * 1e9 / double(std::max<std::size_t>(truth.points.size(), 1));
@@ -90,7 +90,8 @@ Truth make_truth(const scene::Scene& scene, const scene::RayScene& rays, const d
   t.mean = detail::mean_irradiance(t.reference);
   t.indirect_mean = detail::mean_irradiance(t.indirect);
   t.direct.reserve(t.points.size());
-  for (const SamplePoint& p : t.points) t.direct.push_back(direct_irradiance(scene, rays, p.position, p.normal));
+  for (const SamplePoint& p : t.points)
+    t.direct.push_back(lighting::direct_irradiance(scene, rays, p.position, p.normal));
   return t;
 }
 
@@ -101,7 +102,7 @@ double noise(const std::vector<glm::vec3>& standard_error, double mean) {
   return standard_error.empty() ? 0.0 : relative(std::sqrt(sum / double(standard_error.size())), mean);
 }
 
-// How far direct_irradiance (what a renderer adds per pixel) is from the path tracer's direct part.
+// How far lighting::direct_irradiance (what a renderer adds per pixel) is from the path tracer's direct part.
 void score_direct(EvalResult& result, const Truth& truth, const ReferenceResult& values) {
   const double mean = detail::mean_irradiance(values.direct);
   result.direct_relative_rmse = relative(detail::error_stats(truth.direct, values.direct, mean).rmse, mean);
@@ -186,8 +187,9 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     const BakeResult baked = bake(scene, bs);
     EvalRow row = baked_row(config, baked, seconds_since(start));
     const formats::ProbeVolume& v = baked.volume;
-    score(row, truth,
-          [&](const SamplePoint& p, SamplerStats& st) { return sample_irradiance(v, p.position, p.normal, &st); });
+    score(row, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
+      return probe_index::sample_irradiance(v, p.position, p.normal, &st);
+    });
     SeamSettings seams;
     seams.seed = effective.seed;
     row.seam_p99 = svo_seam_score(v, rays, seams).p99;
@@ -198,8 +200,8 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     say("all-probes " + config.label);
     row.sampler = "all-probes";
     row.seam_p99 = -1.0;
-    score(row, truth, [&](const SamplePoint& p, SamplerStats& st) {
-      return sample_irradiance_all_probes(v, rays, p.position, p.normal, &st);
+    score(row, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
+      return probe_index::sample_irradiance_all_probes(v, rays, p.position, p.normal, &st);
     });
     result.rows.push_back(row);
   }

@@ -5,8 +5,8 @@
 #include <fmt/core.h>
 
 #include "eval_internal.h"
-#include "probebake/bake/lighting.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/lighting/lighting.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/formats/error.h"
 
 namespace probebake::bake::detail {
@@ -21,7 +21,7 @@ ErrorMaps::ErrorMaps(const scene::Scene& scene, const scene::RayScene& rays, con
     if (!hits[i]) continue;
     pixels_.push_back(i);
     points_.push_back(*hits[i]);
-    direct_.push_back(direct_irradiance(scene, rays, hits[i]->position, hits[i]->normal));
+    direct_.push_back(lighting::direct_irradiance(scene, rays, hits[i]->position, hits[i]->normal));
   }
   reference_ =
       reference_irradiance(scene, rays, points_, {.paths = s.image_paths, .seed = s.seed, .threads = s.threads})
@@ -38,7 +38,8 @@ std::optional<std::filesystem::path> ErrorMaps::score(EvalRow& row, const format
               std::vector<glm::vec3>(std::size_t(camera_.width) * std::size_t(camera_.height), glm::vec3(0.0f))};
   double abs_sum = 0.0, squares = 0.0;
   for (std::size_t k = 0; k < points_.size(); ++k) {
-    const glm::vec3 estimate = direct_[k] + sample_irradiance(volume, points_[k].position, points_[k].normal);
+    const glm::vec3 estimate =
+        direct_[k] + probe_index::sample_irradiance(volume, points_[k].position, points_[k].normal);
     const glm::vec3 error = glm::abs(estimate - reference_[k]);
     image.pixels[pixels_[k]] = error;
     abs_sum += (double(error.x) + double(error.y) + double(error.z)) / 3.0;

@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 
 namespace probebake::bake {
 namespace {
@@ -110,15 +110,15 @@ SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const Sea
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
                          const SeamSettings& settings) {
   return svo_seam_score(
-      volume, rays, [&](glm::vec3 p, glm::vec3 n) { return sample_irradiance(volume, p, n); }, settings);
+      volume, rays, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance(volume, p, n); }, settings);
 }
 
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays, const SeamLookup& lookup,
                          const SeamSettings& settings) {
-  const float bias = normal_bias(volume.info);
+  const float bias = probe_index::normal_bias(volume.info);
   const auto cell = [&](glm::vec3 p, glm::vec3 n) {
     int depth = -1;
-    const int leaf = find_svo_leaf(volume, p + n * bias, &depth);
+    const int leaf = probe_index::find_svo_leaf(volume, p + n * bias, &depth);
     if (leaf < 0) return SeamCell{};
     return SeamCell{volume.info.root_size / float(1 << depth), leaf};
   };

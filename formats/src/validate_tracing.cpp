@@ -19,6 +19,7 @@
 
 #include "probebake/formats/trace_mesh.h"
 #include "text.h"
+#include "tracing_holes.h"
 #include "validate_internal.h"
 
 namespace probebake::formats::detail {
@@ -52,97 +53,6 @@ FaceRange tree_faces(const ProbeVolume& v, const TracingView& tracing, std::size
   return {std::size_t(std::max(0, o.first_triangle)),
           std::size_t(std::max(0, o.first_triangle)) + std::size_t(std::max(0, o.triangle_count))};
 }
-
-// A cell's range of one section that a run leaves unread: [begin, end), its record.
-struct Hole {
-  std::uint64_t begin = 0, end = 0;
-  std::size_t cell = 0;
-};
-using Holes = std::vector<Hole>; // sorted by begin, disjoint, inside the section
-
-// The non-empty ranges of `member` clamped to `size`, sorted; overlapping ones (an invalid file: cell_range
-// reports it) are merged into the first.
-Holes holes_of(const std::vector<CellTracing>& records, CellRange CellTracing::*member, std::size_t size) {
-  Holes holes;
-  for (std::size_t k = 0; k < records.size(); ++k) {
-    const CellRange& r = records[k].*member;
-    const std::uint64_t begin = std::min<std::uint64_t>(r.first, size),
-                        end = std::min<std::uint64_t>(std::uint64_t(r.first) + r.count, size);
-    if (begin < end) holes.push_back({begin, end, k});
-  }
-  std::sort(holes.begin(), holes.end(), [](const Hole& a, const Hole& b) { return a.begin < b.begin; });
-  Holes merged;
-  for (const Hole& h : holes) {
-    if (!merged.empty() && h.begin < merged.back().end)
-      merged.back().end = std::max(merged.back().end, h.end);
-    else
-      merged.push_back(h);
-  }
-  return merged;
-}
-
-const Hole* hole_at(const Holes& holes, std::uint64_t i) {
-  if (holes.empty()) return nullptr; // a whole volume's or a cell's run
-  auto it = std::upper_bound(holes.begin(), holes.end(), i, [](std::uint64_t x, const Hole& h) { return x < h.begin; });
-  if (it == holes.begin()) return nullptr;
-  --it;
-  return i < it->end ? &*it : nullptr;
-}
-
-// Calls f(i) for every i in [0, size) outside the holes.
-template <class F>
-void for_each_outside(const Holes& holes, std::size_t size, F&& f) {
-  std::uint64_t i = 0;
-  for (const Hole& h : holes) {
-    for (; i < h.begin; ++i) f(i);
-    i = std::max(i, h.end);
-  }
-  for (; i < size; ++i) f(i);
-}
-
-// What a run reads of the three sections: the window, minus the holes of a run without the cells.
-struct Readable {
-  const TracingWindow& window;
-  Holes nodes, faces, vertices;
-};
-
-Readable readable(const ProbeVolume& v, const TracingWindow& w, const DeferredCells* deferred) {
-  if (!deferred) return {w, {}, {}, {}};
-  return {w, holes_of(v.cell_tracing, &CellTracing::trace_nodes, w.view.nodes.size()),
-          holes_of(v.cell_tracing, &CellTracing::trace_faces, w.view.faces.size()),
-          holes_of(v.cell_tracing, &CellTracing::trace_vertices, w.view.vertices.size())};
-}
-
-// One count per element of a section outside its holes (what a walk may reach), stored without the holes.
-class Marks {
-public:
-  Marks(std::size_t size, const Holes& holes) : size_(size), holes_(holes) {
-    std::uint64_t skipped = 0;
-    for (const Hole& h : holes_) skipped_through_.push_back(skipped += h.end - h.begin);
-    counts_.assign(std::size_t(size - skipped), 0);
-  }
-  // The count of element i, which lies outside the holes: every hole that begins before it ends before it.
-  std::uint8_t& at(std::uint64_t i) {
-    if (holes_.empty()) return counts_[std::size_t(i)];
-    const auto after =
-        std::upper_bound(holes_.begin(), holes_.end(), i, [](std::uint64_t x, const Hole& h) { return x < h.begin; });
-    const std::size_t before = std::size_t(after - holes_.begin());
-    return counts_[std::size_t(i - (before == 0 ? 0 : skipped_through_[before - 1]))];
-  }
-  // f(base + i) for every element i outside the holes whose count is 0.
-  template <class F>
-  void for_each_zero(std::uint64_t base, F&& f) {
-    for_each_outside(holes_, size_, [&](std::uint64_t i) {
-      if (at(i) == 0) f(base + i);
-    });
-  }
-
-private:
-  std::size_t size_;
-  const Holes& holes_;
-  std::vector<std::uint64_t> skipped_through_;
-  std::vector<std::uint8_t> counts_;
-};
 
 // Walks trees from their roots: structure, depth, node and face ranges, boxes. Every node must be reached
 // exactly once and every face lie in exactly one leaf of its own tree. Indices are the file's; the window

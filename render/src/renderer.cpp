@@ -5,8 +5,8 @@
 #include <glm/geometric.hpp>
 
 #include "canvas.h"
-#include "probebake/bake/direct_light.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/lighting/direct_light.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/octree.h"
 #include "probebake/render/render.h"
@@ -163,9 +163,9 @@ bake::Image Renderer::render(View view) {
 bake::Image Renderer::render_irradiance(bool with_direct) {
   const std::vector<glm::vec3>& probes = indirect();
   if (!with_direct) return surfaces([&](std::size_t i) { return probes[i]; }).image;
-  bake::LightingSettings lighting;
+  lighting::LightingSettings lighting;
   lighting.emissive_as_lights = in_.emitters_as_lights;
-  const bake::lighting_detail::DirectLighting direct(*in_.scene, *in_.rays, lighting); // the bake's own
+  const lighting::detail::DirectLighting direct(*in_.scene, *in_.rays, lighting); // the bake's own
   return surfaces([&](std::size_t i) { return probes[i] + direct.irradiance(hits_[i]->position, hits_[i]->normal); })
       .image;
 }
@@ -195,8 +195,9 @@ bake::Image Renderer::render_probes() {
   for (const gpu::Probe& probe : v.probes) {
     if (probe.link == 0) continue;
     const float radius = in_.probe_radius > 0.0f ? in_.probe_radius : default_radius(v.info, probe);
-    canvas.sphere(frame_, probe.position, radius,
-                  [&](glm::vec3 n) { return glm::max(bake::evaluate_sh(probe.irradiance_sh, n), glm::vec3(0.0f)); });
+    canvas.sphere(frame_, probe.position, radius, [&](glm::vec3 n) {
+      return glm::max(probe_index::evaluate_sh(probe.irradiance_sh, n), glm::vec3(0.0f));
+    });
   }
   return canvas.image;
 }
@@ -222,14 +223,14 @@ bake::Image Renderer::render_svo() const {
   if (v.svo_nodes.empty()) throw Error(ErrorKind::usage, "the svo view needs a volume with an SVO probe index");
   return surfaces([&](std::size_t i) {
            const bake::SamplePoint& hit = *hits_[i];
-           const bake::ProbeStencil stencil = bake::svo_stencil(v, hit.position, hit.normal);
+           const probe_index::ProbeStencil stencil = probe_index::svo_stencil(v, hit.position, hit.normal);
            int used = 0;
            for (int k = 0; k < gpu::SVO_PROBES_PER_LEAF; ++k)
              used += stencil.probes[k] >= 0 && stencil.weights[k] > 0.0f;
            glm::vec3 colour = stencil_colour(used);
            int depth = 0;
-           const glm::vec3 p = hit.position + hit.normal * bake::normal_bias(v.info); // where the lookup looks
-           if (bake::find_svo_leaf(v, p, &depth) >= 0) {
+           const glm::vec3 p = hit.position + hit.normal * probe_index::normal_bias(v.info); // where the lookup looks
+           if (probe_index::find_svo_leaf(v, p, &depth) >= 0) {
              const float size = cube_size(v.info, depth);
              const glm::vec3 min = v.info.root_min + glm::floor((p - v.info.root_min) / size) * size;
              if (on_cube_border(p, hit.normal, min, size, border_width(p))) colour *= 0.25f;

@@ -2,7 +2,7 @@
 // window (or listed probe). Every record is relit, L = base + reflect * (E_punctual + E_probes), E_punctual
 // cached in the record (light_trace, light_relight), E_probes from the previous frame's probes through the
 // SVO sampler (sample_irradiance.glsl); the radiance is projected onto L2 SH irradiance with
-// Monte Carlo weight 4 pi / rays (bake/lighting/src/iteration.cpp) and blended with the probe's old value
+// Monte Carlo weight 4 pi / rays (lighting/src/iteration.cpp) and blended with the probe's old value
 // by the hysteresis into next_irradiance, at the probe's record slot (the probes themselves are written by
 // light_resolve, so that every probe of this frame reads last frame's values: a Jacobi sweep, deterministic). A probe whose last trace
 // crossed a streamed cell that is out (RECORD_SLOT_UNRESOLVED) keeps its irradiance.

@@ -5,10 +5,10 @@
 // arrived) or that are retried: light_trace_list.comp lists them first. The last chunk to finish clears
 // the flag.
 //  - Hit fraction: the placement lattice (ray_directions[rays, rays + placement_rays)) traced from the
-//    centre of the probe's octree node, hits counted inside the node cube (bake/src/probe_tracing.cpp);
+//    centre of the probe's octree node, hits counted inside the node cube (placement/src/probe_tracing.cpp);
 //    octree probes only (grid probes keep the bake's value).
 //  - Lighting rays: ray_directions[0, rays) from the probe to the nearest hit at any distance, each kept as
-//    a LightRecord with what does not change from frame to frame (bake/src/lighting/hit_cache.cpp) and the
+//    a LightRecord with what does not change from frame to frame (lighting/src/hit_cache.cpp) and the
 //    punctual irradiance, cached until a light or an object changes (light_relight.comp).
 //  Both use the bake's sides rule (glTF doubleSided): only the back of a single-sided triangle is inside
 //  geometry (a back-face hit and record); the back of a double-sided one is shaded with the facing normal.

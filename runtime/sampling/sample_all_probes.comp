@@ -1,6 +1,6 @@
 // The octree thesis's shading baseline (§3.2.4): every probe in the probe index list, one visibility ray
 // through the BVH per probe, weight = DDGI back-face weight / max(d^2, bias^2). The GPU twin of
-// bake::sample_irradiance_all_probes; kept only to measure the SVO sampler against it (probebake run
+// probe_index::sample_irradiance_all_probes; kept only to measure the SVO sampler against it (probebake run
 // --compare-all-probes), O(probes) rays per lookup where the SVO sampler reads one leaf.
 #version 450
 #extension GL_GOOGLE_include_directive : require

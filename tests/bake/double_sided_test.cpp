@@ -13,9 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 #include "probebake/eval/reference.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/samples/geometry.h"
 #include "probebake/samples/scenes.h"
 
@@ -53,7 +53,7 @@ formats::ProbeVolume probes_at(const std::vector<glm::vec3>& positions) {
 
 // The probe's irradiance DC term, Y0 * sh0 = (1/4) * integral of the incoming radiance over the sphere.
 glm::vec3 probe_dc(const gpu::Probe& p) {
-  return bake::kShY0 * glm::vec3(p.irradiance_sh[0], p.irradiance_sh[1], p.irradiance_sh[2]);
+  return probe_index::kShY0 * glm::vec3(p.irradiance_sh[0], p.irradiance_sh[1], p.irradiance_sh[2]);
 }
 
 // Quadrature error of the probes' Fibonacci lattice for a region of solid angle `omega` whose outline is
@@ -113,14 +113,14 @@ SquareResult measure_square(bool double_sided) {
   else
     EXPECT_EQ(r.irradiance[1], glm::vec3(0.0f)) << "reference behind a single-sided emitter";
   // Shading points: the emitter as an area light (the exact polygon formula, one shadow ray per patch).
-  bake::LightingSettings lighting;
-  s.direct_front = bake::direct_irradiance(*l.scene, *l.rays, points[0].position, points[0].normal, lighting);
-  s.direct_back = bake::direct_irradiance(*l.scene, *l.rays, points[1].position, points[1].normal, lighting);
+  lighting::LightingSettings lighting;
+  s.direct_front = lighting::direct_irradiance(*l.scene, *l.rays, points[0].position, points[0].normal, lighting);
+  s.direct_back = lighting::direct_irradiance(*l.scene, *l.rays, points[1].position, points[1].normal, lighting);
   // Probes: with emissive_as_lights off they carry the emitter's radiance; the DC term is L omega / 4.
   lighting.emissive_as_lights = false;
   lighting.rays = 16384;
   formats::ProbeVolume volume = probes_at({front, back});
-  const bake::LightingReport report = bake::bake_lighting(*l.scene, *l.rays, volume, lighting);
+  const lighting::LightingReport report = lighting::bake_lighting(*l.scene, *l.rays, volume, lighting);
   s.probe_front = probe_dc(volume.probes[0]);
   s.probe_back = probe_dc(volume.probes[1]);
   s.backface_hits = report.backface_hits;
@@ -175,12 +175,12 @@ TEST(DoubleSided, PointOnTheEmitterGetsNoneOfItsLight) {
     const float offset = 1e-4f * l.scene->bounds.largest_extent();
     for (const float y : {0.0f, 1e-7f, -1e-7f, 0.5f * offset, -0.5f * offset}) {
       const glm::vec3 p(0.1f, y, -0.2f);
-      EXPECT_EQ(bake::direct_irradiance(*l.scene, *l.rays, p, {0.0f, 1.0f, 0.0f}), glm::vec3(0.0f)) << y;
-      EXPECT_EQ(bake::direct_irradiance(*l.scene, *l.rays, p, {0.0f, -1.0f, 0.0f}), glm::vec3(0.0f)) << y;
+      EXPECT_EQ(lighting::direct_irradiance(*l.scene, *l.rays, p, {0.0f, 1.0f, 0.0f}), glm::vec3(0.0f)) << y;
+      EXPECT_EQ(lighting::direct_irradiance(*l.scene, *l.rays, p, {0.0f, -1.0f, 0.0f}), glm::vec3(0.0f)) << y;
     }
     const float h = 10.0f * offset;
-    const glm::vec3 above = bake::direct_irradiance(*l.scene, *l.rays, {0.0f, h, 0.0f}, {0.0f, -1.0f, 0.0f});
-    const glm::vec3 below = bake::direct_irradiance(*l.scene, *l.rays, {0.0f, -h, 0.0f}, {0.0f, 1.0f, 0.0f});
+    const glm::vec3 above = lighting::direct_irradiance(*l.scene, *l.rays, {0.0f, h, 0.0f}, {0.0f, -1.0f, 0.0f});
+    const glm::vec3 below = lighting::direct_irradiance(*l.scene, *l.rays, {0.0f, -h, 0.0f}, {0.0f, 1.0f, 0.0f});
     const double expected = square_irradiance(1.0, kHalf, h);
     std::printf("[double-sided] %s square, %.0e m off its plane: closed form %.6f L, front %.6f L, behind %.6f L\n",
                 double_sided ? "double-sided" : "single-sided", double(h), expected, double(above.x / kRadiance.x),
@@ -201,7 +201,7 @@ TEST(DoubleSided, PointOnAWallMeetingTheEmitterKeepsItsLight) {
   const Loaded l = load(square_emitter(true), "square_wall");
   const float offset = 1e-4f * l.scene->bounds.largest_extent();
   const glm::vec3 facing(-1.0f, 0.0f, 0.0f); // a wall in the plane of the square's edge x = a, facing it
-  const auto at = [&](float y) { return bake::direct_irradiance(*l.scene, *l.rays, {kHalf, y, 0.0f}, facing); };
+  const auto at = [&](float y) { return lighting::direct_irradiance(*l.scene, *l.rays, {kHalf, y, 0.0f}, facing); };
   for (const float sign : {1.0f, -1.0f}) {
     const glm::vec3 near = at(sign * 0.5f * offset), off = at(sign * 2.0f * offset);
     std::printf("[double-sided] wall at the square's edge, %+.1e / %+.1e m off its plane: %.6f / %.6f L\n",
@@ -254,10 +254,10 @@ PlaneResult measure_plane(bool double_sided) {
   else
     EXPECT_EQ(r.irradiance[1], glm::vec3(0.0f)) << "reference under a single-sided plane's back";
   // The probe under the plane: sky 0, so its DC term is rho E / pi * omega / 4.
-  bake::LightingSettings lighting;
+  lighting::LightingSettings lighting;
   lighting.rays = 16384;
   formats::ProbeVolume volume = probes_at({{0.0f, -kBelow, 0.0f}});
-  const bake::LightingReport report = bake::bake_lighting(*l.scene, *l.rays, volume, lighting);
+  const lighting::LightingReport report = lighting::bake_lighting(*l.scene, *l.rays, volume, lighting);
   p.probe = probe_dc(volume.probes[0]);
   p.backface_hits = report.backface_hits;
   std::printf(
@@ -375,8 +375,8 @@ TEST(DoubleSided, ReversedCornellBoxGainsOnlyTheLightsBackGlow) {
     if (original.scene->triangle_emission[t].x > 0.0f)
       for (int k = 0; k < 3; ++k) light.extend(original.scene->positions[original.scene->triangles[t][k]]);
   const glm::vec3 p(light.max.x + 0.002f, beside.y, 0.5f * (light.min.z + light.max.z)), down(0.0f, -1.0f, 0.0f);
-  const glm::vec3 ea = bake::direct_irradiance(*original.scene, *original.rays, p, down);
-  const glm::vec3 eb = bake::direct_irradiance(*reversed.scene, *reversed.rays, p, down);
+  const glm::vec3 ea = lighting::direct_irradiance(*original.scene, *original.rays, p, down);
+  const glm::vec3 eb = lighting::direct_irradiance(*reversed.scene, *reversed.rays, p, down);
   std::printf("[double-sided] ceiling 2 mm beside the light: emitter direct %.4f (original) vs %.4f (reversed, "
               "double-sided) W/m^2, red\n",
               double(ea.x), double(eb.x));
@@ -392,11 +392,11 @@ TEST(DoubleSided, ReversedCornellBoxHasTheSameBakeLighting) {
   const bake::BakeSettings settings = test_settings();
   const formats::ProbeVolume placed = bake::bake(*original.scene, settings).volume;
   formats::ProbeVolume a = placed, b = placed, b1 = placed;
-  const bake::LightingReport ra = bake::bake_lighting(*original.scene, *original.rays, a, settings.lighting);
-  const bake::LightingReport rb = bake::bake_lighting(*reversed.scene, *reversed.rays, b, settings.lighting);
-  bake::LightingSettings one_thread = settings.lighting;
+  const lighting::LightingReport ra = lighting::bake_lighting(*original.scene, *original.rays, a, settings.lighting);
+  const lighting::LightingReport rb = lighting::bake_lighting(*reversed.scene, *reversed.rays, b, settings.lighting);
+  lighting::LightingSettings one_thread = settings.lighting;
   one_thread.threads = 1;
-  bake::bake_lighting(*reversed.scene, *reversed.rays, b1, one_thread);
+  lighting::bake_lighting(*reversed.scene, *reversed.rays, b1, one_thread);
   ASSERT_GT(ra.probes, 10);
   EXPECT_EQ(ra.probes, rb.probes);
   EXPECT_EQ(rb.backface_hits, 0u); // nothing is inside a solid in the double-sided box
@@ -415,9 +415,9 @@ TEST(DoubleSided, ReversedCornellBoxHasTheSameBakeLighting) {
   float worst_direct = 0.0f;
   for (const bake::SamplePoint& p : bake::surface_sample_points(*original.scene, *original.rays, 60, 2)) {
     const glm::vec3 ea =
-        bake::direct_irradiance(*original.scene, *original.rays, p.position, p.normal, settings.lighting);
+        lighting::direct_irradiance(*original.scene, *original.rays, p.position, p.normal, settings.lighting);
     const glm::vec3 eb =
-        bake::direct_irradiance(*reversed.scene, *reversed.rays, p.position, p.normal, settings.lighting);
+        lighting::direct_irradiance(*reversed.scene, *reversed.rays, p.position, p.normal, settings.lighting);
     for (int c = 0; c < 3; ++c) worst_direct = std::max(worst_direct, std::abs(eb[c] - ea[c]) / std::max(ea[c], 1e-3f));
   }
   std::printf("[double-sided] cornell (no ceiling) reversed: emitter direct_irradiance at 60 receivers, max relative "

@@ -1,4 +1,4 @@
-// The bounce iteration's solver (bake/lighting/src/iteration.h) on hit caches written by hand, whose
+// The bounce iteration's solver (lighting/src/iteration.h) on hit caches written by hand, whose
 // sweep is a known 2x2 or 1x1 linear map with a closed-form fixed point: the extrapolation must help
 // where one error mode dominates and must be undone where an equally large negative mode hides behind
 // the same steady ratios (two probes lighting each other: eigenvalues +g and -g).
@@ -9,13 +9,13 @@
 #include <gtest/gtest.h>
 
 #include "iteration.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 
 namespace probebake::test {
 namespace {
 
-using bake::lighting_detail::HitCache;
-using bake::lighting_detail::HitRecord;
+using lighting::detail::HitCache;
+using lighting::detail::HitRecord;
 
 // One ray per probe, projected onto the DC coefficient only, so every channel of probe i's DC becomes
 // bases[i] + gain * DC(lit_by[i]) (the ray's surface reflects the other probe's irradiance, DC term only).
@@ -27,7 +27,7 @@ HitCache dc_map(const std::vector<float>& bases, const std::vector<int>& lit_by,
     cache.probes.push_back(int(i));
     HitRecord r;
     r.base = glm::vec3(bases[i]);
-    r.reflect = glm::vec3(gain / bake::kShY0); // E(n) of a DC-only probe is kShY0 * DC
+    r.reflect = glm::vec3(gain / probe_index::kShY0); // E(n) of a DC-only probe is kShY0 * DC
     r.normal = glm::vec3(0.0f, 0.0f, 1.0f);
     r.stencil.probes = glm::ivec4(lit_by[i], -1, -1, -1);
     r.stencil.weights = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
@@ -37,18 +37,18 @@ HitCache dc_map(const std::vector<float>& bases, const std::vector<int>& lit_by,
 }
 
 struct Solved {
-  bake::LightingReport report;
+  lighting::LightingReport report;
   std::vector<double> dc; // red DC per probe
 };
 
 Solved solve(const HitCache& cache, bool accelerate) {
-  bake::LightingSettings settings;
+  lighting::LightingSettings settings;
   settings.threads = 1;
   settings.accelerate = accelerate;
   settings.max_iterations = 2000;
-  bake::lighting_detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * cache.probes.size(), 0.0);
+  lighting::detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * cache.probes.size(), 0.0);
   Solved out;
-  bake::lighting_detail::solve(cache, settings, sh, out.report);
+  lighting::detail::solve(cache, settings, sh, out.report);
   for (std::size_t i = 0; i < cache.probes.size(); ++i) out.dc.push_back(sh[gpu::PROBE_SH_FLOATS * i]);
   std::printf("[iteration] %zu probes, accelerate %d: %d sweeps, %d extrapolations kept, %d undone, converged %d\n",
               cache.probes.size(), int(accelerate), out.report.iterations, out.report.extrapolations,

@@ -18,8 +18,8 @@
 
 #include "bake_test_util.h"
 #include "probebake/common/lattice.h"
-#include "probebake/bake/lighting.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/lighting/lighting.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/samples/geometry.h"
 #include "probebake/samples/scenes.h"
 
@@ -32,11 +32,13 @@ constexpr float kPi = 3.14159265f;
 struct Lit : Loaded {
   explicit Lit(Loaded loaded) : Loaded(std::move(loaded)) {}
   bake::BakeResult result;
-  bake::LightingSettings lighting;
+  lighting::LightingSettings lighting;
   // What a renderer adds per pixel: punctual lights, and the emitters with emissive_as_lights.
-  glm::vec3 direct(glm::vec3 p, glm::vec3 n) const { return bake::direct_irradiance(*scene, *rays, p, n, lighting); }
+  glm::vec3 direct(glm::vec3 p, glm::vec3 n) const {
+    return lighting::direct_irradiance(*scene, *rays, p, n, lighting);
+  }
   const formats::ProbeVolume& volume() const { return result.volume; }
-  const bake::LightingReport& report() const { return result.report.lighting; }
+  const lighting::LightingReport& report() const { return result.report.lighting; }
 };
 
 Lit bake_lit(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings) {
@@ -83,28 +85,29 @@ FurnaceErrors furnace_errors(const Lit& lit, float expected, float half, float e
   const float probe_expected = lit.lighting.emissive_as_lights ? expected - emitted : expected;
   for (const gpu::Probe& p : lit.volume().probes) {
     if (p.link == 0) continue;
-    e.probe_dc =
-        std::max(e.probe_dc,
-                 max_relative_error(bake::kShY0 * glm::vec3(p.irradiance_sh[0], p.irradiance_sh[1], p.irradiance_sh[2]),
-                                    probe_expected));
+    e.probe_dc = std::max(
+        e.probe_dc,
+        max_relative_error(probe_index::kShY0 * glm::vec3(p.irradiance_sh[0], p.irradiance_sh[1], p.irradiance_sh[2]),
+                           probe_expected));
     for (int k = 0; k < 8; ++k)
-      e.probe_eval = std::max(e.probe_eval,
-                              max_relative_error(bake::evaluate_sh(p.irradiance_sh, random_unit(rng)), probe_expected));
+      e.probe_eval =
+          std::max(e.probe_eval,
+                   max_relative_error(probe_index::evaluate_sh(p.irradiance_sh, random_unit(rng)), probe_expected));
   }
-  const float inner = half - 2.0f * bake::normal_bias(lit.volume().info);
+  const float inner = half - 2.0f * probe_index::normal_bias(lit.volume().info);
   std::uniform_real_distribution<float> in(-inner, inner), wall(-half, half);
-  bake::SamplerStats stats;
+  probe_index::SamplerStats stats;
   for (int i = 0; i < 300; ++i) {
     const glm::vec3 p(in(rng), in(rng), in(rng));
     const glm::vec3 n = random_unit(rng);
     const glm::vec3 direct_p = lit.direct(p, n);
-    e.sampler_inside = std::max(
-        e.sampler_inside, max_relative_error(direct_p + bake::sample_irradiance(lit.volume(), p, n, &stats), expected));
+    e.sampler_inside =
+        std::max(e.sampler_inside,
+                 max_relative_error(direct_p + probe_index::sample_irradiance(lit.volume(), p, n, &stats), expected));
     if (i % 10 == 0)
-      e.all_probes =
-          std::max(e.all_probes,
-                   max_relative_error(
-                       direct_p + bake::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n, &stats), expected));
+      e.all_probes = std::max(e.all_probes, max_relative_error(direct_p + probe_index::sample_irradiance_all_probes(
+                                                                              lit.volume(), *lit.rays, p, n, &stats),
+                                                               expected));
     const int axis = i % 3;
     const float side = (i / 3) % 2 ? 1.0f : -1.0f;
     glm::vec3 q(wall(rng), wall(rng), wall(rng)), normal(0.0f);
@@ -112,7 +115,8 @@ FurnaceErrors furnace_errors(const Lit& lit, float expected, float half, float e
     normal[axis] = -side;
     e.sampler_walls = std::max(
         e.sampler_walls,
-        max_relative_error(lit.direct(q, normal) + bake::sample_irradiance(lit.volume(), q, normal, &stats), expected));
+        max_relative_error(lit.direct(q, normal) + probe_index::sample_irradiance(lit.volume(), q, normal, &stats),
+                           expected));
   }
   e.misses = stats.misses;
   return e;
@@ -198,11 +202,11 @@ TEST(Lighting, DirectIrradianceOnPlaneIsICosOverRSquared) {
     for (float z = -4.5f; z <= 4.5f; z += 0.75f) {
       const glm::vec3 p(x, 0.0f, z), to = glm::vec3(0, 1, 0) - p;
       const float r2 = glm::dot(to, to), expected = 100.0f * (1.0f / std::sqrt(r2)) / r2;
-      worst = std::max(worst, max_relative_error(bake::direct_irradiance(scene, rays, p, {0, 1, 0}), expected));
+      worst = std::max(worst, max_relative_error(lighting::direct_irradiance(scene, rays, p, {0, 1, 0}), expected));
     }
   std::printf("[lighting] direct point light on the plane: max relative error %.2e\n", double(worst));
   EXPECT_LT(worst, 1e-4f);
-  EXPECT_EQ(bake::direct_irradiance(scene, rays, {0, 0, 0}, {0, -1, 0}), glm::vec3(0.0f)); // faces away
+  EXPECT_EQ(lighting::direct_irradiance(scene, rays, {0, 0, 0}, {0, -1, 0}), glm::vec3(0.0f)); // faces away
 }
 
 // Spot cone and range window against the KHR_lights_punctual formulas, computed here independently.
@@ -220,7 +224,7 @@ TEST(Lighting, SpotConeAndRangeWindow) {
     const float t = std::clamp((cos_axis - std::cos(0.6f)) / (std::cos(0.3f) - std::cos(0.6f)), 0.0f, 1.0f);
     const float window = std::clamp(1.0f - std::pow(r / 4.0f, 4.0f), 0.0f, 1.0f);
     const float expected = 50.0f * cos_axis / (r * r) * t * t * window;
-    const glm::vec3 e = bake::direct_irradiance(scene, rays, p, {0, 1, 0});
+    const glm::vec3 e = lighting::direct_irradiance(scene, rays, p, {0, 1, 0});
     EXPECT_NEAR(e.x, expected, 1e-4f * 50.0f / 4.0f) << "x = " << x;
   }
 }
@@ -246,12 +250,13 @@ Bounce plane_bounce(glm::vec3 p, float albedo) {
       const double d2 = glm::dot(to, to), d = std::sqrt(d2);
       const double solid_angle = (double(p.y) / d) / d2 * step * step;
       exact += radiance * (double(p.y) / d) * solid_angle;
-      const std::array<float, 9> y = bake::sh_basis(glm::vec3(to / d));
+      const std::array<float, 9> y = probe_index::sh_basis(glm::vec3(to / d));
       for (int k = 0; k < 9; ++k) coeffs[k] += radiance * double(y[std::size_t(k)]) * solid_angle;
     }
-  const double band[9] = {bake::kShBand0, bake::kShBand1, bake::kShBand1, bake::kShBand1, bake::kShBand2,
-                          bake::kShBand2, bake::kShBand2, bake::kShBand2, bake::kShBand2};
-  const std::array<float, 9> down = bake::sh_basis({0, -1, 0});
+  const double band[9] = {probe_index::kShBand0, probe_index::kShBand1, probe_index::kShBand1,
+                          probe_index::kShBand1, probe_index::kShBand2, probe_index::kShBand2,
+                          probe_index::kShBand2, probe_index::kShBand2, probe_index::kShBand2};
+  const std::array<float, 9> down = probe_index::sh_basis({0, -1, 0});
   Bounce b{exact, 0.0};
   for (int k = 0; k < 9; ++k) b.l2 += band[k] * coeffs[k] * double(down[std::size_t(k)]);
   return b;
@@ -274,8 +279,8 @@ TEST(Lighting, PointLightOverPlane) {
   for (const gpu::Probe& p : lit.volume().probes) {
     if (p.link == 0 || std::abs(p.position.x) > 3.5f || std::abs(p.position.z) > 3.5f) continue; // away from the edges
     const Bounce expected = plane_bounce(p.position, albedo);
-    worst_probe =
-        std::max(worst_probe, max_relative_error(bake::evaluate_sh(p.irradiance_sh, {0, -1, 0}), float(expected.l2)));
+    worst_probe = std::max(
+        worst_probe, max_relative_error(probe_index::evaluate_sh(p.irradiance_sh, {0, -1, 0}), float(expected.l2)));
     worst_truncation = std::max(worst_truncation, float(std::abs(expected.l2 - expected.exact) / expected.exact));
     ++probes;
   }
@@ -284,8 +289,8 @@ TEST(Lighting, PointLightOverPlane) {
     for (float z = -3.0f; z <= 3.0f; z += 0.5f) {
       const glm::vec3 p(x, 0.0f, z), to = glm::vec3(0, 1, 0) - p;
       const float r2 = glm::dot(to, to), expected = 100.0f * (1.0f / std::sqrt(r2)) / r2;
-      const glm::vec3 sampled = bake::sample_irradiance(lit.volume(), p, {0, 1, 0});
-      const glm::vec3 total = bake::direct_irradiance(*lit.scene, *lit.rays, p, {0, 1, 0}) + sampled;
+      const glm::vec3 sampled = probe_index::sample_irradiance(lit.volume(), p, {0, 1, 0});
+      const glm::vec3 total = lighting::direct_irradiance(*lit.scene, *lit.rays, p, {0, 1, 0}) + sampled;
       worst_total = std::max(worst_total, max_relative_error(total, expected));
       worst_sampled = std::max(worst_sampled, sampled.x / expected);
     }
@@ -381,7 +386,7 @@ TEST(Lighting, CornellEmitterIsAnAreaLightAtShadingPoints) {
       n = {-side, 0, 0};
     }
     const glm::vec3 expected = emitter_quadrature(*lit.scene, *lit.rays, p, n, 64);
-    const glm::vec3 direct = lit.direct(p, n), sampled = bake::sample_irradiance(lit.volume(), p, n);
+    const glm::vec3 direct = lit.direct(p, n), sampled = probe_index::sample_irradiance(lit.volume(), p, n);
     const glm::vec3 diff = glm::abs(direct - expected);
     const float err_d = std::max({diff.x, diff.y, diff.z}) / std::max(expected.x, 0.05f); // red is the largest channel
     worst_direct = std::max(worst_direct, err_d);
@@ -389,7 +394,8 @@ TEST(Lighting, CornellEmitterIsAnAreaLightAtShadingPoints) {
     if (i % 2 == 0) worst_probe_share = std::max(worst_probe_share, sampled.x / direct.x);
   }
   float brightest = 0.0f;
-  for (const gpu::Probe& p : lit.volume().probes) brightest = std::max(brightest, bake::kShY0 * p.irradiance_sh[0]);
+  for (const gpu::Probe& p : lit.volume().probes)
+    brightest = std::max(brightest, probe_index::kShY0 * p.irradiance_sh[0]);
   std::printf(
       "[lighting] cornell emitters: direct vs quadrature max error %.2e (relative, floored at 0.05 W/m^2); "
       "block top: probes' share of direct at most %.3f; sampled at most %.3f W/m^2; brightest probe DC %.3f W/m^2\n",
@@ -440,11 +446,11 @@ RoomIrradiance room_irradiance(float margin, const Sample& sample) {
 TEST(Lighting, LeakIntoTheDarkRoomIsSmall) {
   const Lit lit = bake_lit(samples::leak({}), "leak", test_settings());
   EXPECT_TRUE(lit.report().converged);
-  const float margin = 2.0f * bake::normal_bias(lit.volume().info);
-  const RoomIrradiance svo =
-      room_irradiance(margin, [&](glm::vec3 p, glm::vec3 n) { return bake::sample_irradiance(lit.volume(), p, n); });
+  const float margin = 2.0f * probe_index::normal_bias(lit.volume().info);
+  const RoomIrradiance svo = room_irradiance(
+      margin, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance(lit.volume(), p, n); });
   const RoomIrradiance all = room_irradiance(margin, [&](glm::vec3 p, glm::vec3 n) {
-    return bake::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n);
+    return probe_index::sample_irradiance_all_probes(lit.volume(), *lit.rays, p, n);
   });
   double lit_probes = 0, dark_probes = 0;
   for (const gpu::Probe& p : lit.volume().probes)
@@ -493,8 +499,8 @@ TEST(Lighting, FiniteAndCorrectAcrossEmissionAndScale) {
       expect_all_finite(lit);
       EXPECT_TRUE(lit.report().converged);
       const glm::vec3 p(0.5f * scale, 0.0f, 0.0f);
-      const glm::vec3 e = bake::direct_irradiance(*lit.scene, *lit.rays, p, {0, 1, 0}) +
-                          bake::sample_irradiance(lit.volume(), p, {0, 1, 0});
+      const glm::vec3 e = lighting::direct_irradiance(*lit.scene, *lit.rays, p, {0, 1, 0}) +
+                          probe_index::sample_irradiance(lit.volume(), p, {0, 1, 0});
       EXPECT_TRUE(finite(e));
       const float r = 1.118034f * scale, expected = intensity / (r * r) / 1.118034f;
       EXPECT_NEAR(e.x / expected, 1.0f, 0.01f);
@@ -524,23 +530,23 @@ TEST(Lighting, DeterministicAcrossThreadCounts) {
     normals.push_back(random_unit(rng));
   }
   std::vector<glm::vec3> one(points.size()), many(points.size());
-  bake::sample_irradiance(volumes[0], points, normals, one, nullptr, 1);
-  bake::sample_irradiance(volumes[0], points, normals, many, nullptr, 0);
+  probe_index::sample_irradiance(volumes[0], points, normals, one, nullptr, 1);
+  probe_index::sample_irradiance(volumes[0], points, normals, many, nullptr, 0);
   EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(glm::vec3)), 0);
   for (std::size_t i = 0; i < points.size(); ++i)
-    EXPECT_EQ(one[i], bake::sample_irradiance(volumes[0], points[i], normals[i]));
+    EXPECT_EQ(one[i], probe_index::sample_irradiance(volumes[0], points[i], normals[i]));
 }
 
 TEST(Lighting, RejectsBadSettings) {
-  bake::LightingSettings s;
+  lighting::LightingSettings s;
   s.rays = 0;
-  EXPECT_THROW(bake::check_lighting_settings(s), Error);
+  EXPECT_THROW(lighting::check_lighting_settings(s), Error);
   s = {};
   s.tolerance = 0.0f;
-  EXPECT_THROW(bake::check_lighting_settings(s), Error);
+  EXPECT_THROW(lighting::check_lighting_settings(s), Error);
   s = {};
   s.sky_radiance = glm::vec3(-1.0f);
-  EXPECT_THROW(bake::check_lighting_settings(s), Error);
+  EXPECT_THROW(lighting::check_lighting_settings(s), Error);
 }
 
 } // namespace

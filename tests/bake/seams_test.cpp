@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/eval/seams.h"
 #include "probebake/samples/scenes.h"
 
@@ -70,7 +70,7 @@ OctreeSeams octree_seams(const samples::SceneBuilder& builder, const std::string
   const scene::RayScene rays(scene);
   const formats::ProbeVolume& v = baked.volume;
   OctreeSeams s{bake::svo_seam_score(v, rays), bake::svo_seam_score(v, rays, [&](glm::vec3 p, glm::vec3 n) {
-                  return bake::apply_stencil(v, bake::svo_stencil(v, p, n), n);
+                  return probe_index::apply_stencil(v, probe_index::svo_stencil(v, p, n), n);
                 })};
   std::printf("[seams] %s octree depth 3: blended lookup p99 %.4f, max %.3f over %d borders; one leaf's stencil p99 "
               "%.4f, max %.3f\n",

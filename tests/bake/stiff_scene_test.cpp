@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "bake_test_util.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/eval/eval.h"
 #include "probebake/samples/scenes.h"
 
@@ -33,11 +33,11 @@ LookupComparison compare_lookups(const scene::Scene& scene, const bake::BakeSett
   const bake::BakeResult baked = bake::bake(scene, settings);
   LookupComparison out;
   for (const gpu::Probe& p : baked.volume.probes)
-    if (p.link != 0) out.brightest_probe = std::max(out.brightest_probe, p.irradiance_sh[0] * bake::kShY0);
-  bake::SamplerStats stats;
+    if (p.link != 0) out.brightest_probe = std::max(out.brightest_probe, p.irradiance_sh[0] * probe_index::kShY0);
+  probe_index::SamplerStats stats;
   for (const bake::SamplePoint& point : points) {
-    const glm::vec3 svo = bake::sample_irradiance(baked.volume, point.position, point.normal, &stats);
-    const glm::vec3 all = bake::sample_irradiance_all_probes(baked.volume, rays, point.position, point.normal);
+    const glm::vec3 svo = probe_index::sample_irradiance(baked.volume, point.position, point.normal, &stats);
+    const glm::vec3 all = probe_index::sample_irradiance_all_probes(baked.volume, rays, point.position, point.normal);
     for (int c = 0; c < 3; ++c) {
       out.mean_all += all[c] / (3.0 * double(points.size()));
       out.worst_excess = std::max(out.worst_excess, double(svo[c] - all[c]));
@@ -124,7 +124,7 @@ TEST(StiffScenes, ProbeIrradianceIsBoundedAndTheIterationConverges) {
         if (p.link == 0) continue;
         for (float v : p.irradiance_sh) ASSERT_TRUE(std::isfinite(v)) << c.name;
         for (int channel = 0; channel < 3; ++channel)
-          brightest = std::max(brightest, p.irradiance_sh[channel] * bake::kShY0);
+          brightest = std::max(brightest, p.irradiance_sh[channel] * probe_index::kShY0);
       }
       std::printf("[stiff] %s, %s: %d probes, brightest mean irradiance %.3g W/m^2 (bound %.3g), %d sweeps\n", c.name,
                   grid ? "grid 8" : "octree depth 3", r.report.probes, brightest, c.bound,

@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "bake_test_util.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/formats/error.h"
 #include "probebake/formats/octree.h"
 #include "probebake/render/render.h"
@@ -19,7 +19,7 @@ namespace {
 render::IndirectSampler cpu_lookup(const formats::ProbeVolume& volume) {
   return [&volume](std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
     std::vector<glm::vec3> out(positions.size());
-    bake::sample_irradiance(volume, positions, normals, out);
+    probe_index::sample_irradiance(volume, positions, normals, out);
     return out;
   };
 }
@@ -140,7 +140,7 @@ TEST(Render, ProbeSphereSeenHeadOnShowsTheProbesIrradianceTowardsTheCamera) {
   const gpu::Probe& p = b.volume.probes[std::size_t(probe)];
   const float radius = 0.1f * b.volume.info.root_size / float(1 << p.depth);
   render::Renderer renderer(inputs_of(b, facing(p.position, 3.0f * radius)));
-  const glm::vec3 expected = glm::max(bake::evaluate_sh(p.irradiance_sh, {0.0f, 0.0f, 1.0f}), glm::vec3(0.0f));
+  const glm::vec3 expected = glm::max(probe_index::evaluate_sh(p.irradiance_sh, {0.0f, 0.0f, 1.0f}), glm::vec3(0.0f));
   const glm::vec3 seen = centre_pixel(renderer.render(render::View::probes));
   ASSERT_GT(expected.x + expected.y + expected.z, 0.0f);
   for (int c = 0; c < 3; ++c)

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 #include "probebake/formats/probe_volume.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/runtime_types.h"
@@ -53,13 +53,13 @@ samples::SceneBuilder cornell_with_point_light() {
 // bake's converged answer (sweeps = 0).
 formats::ProbeVolume cpu_lighting(const Baked& b, const formats::ProbeVolume& start, int sweeps) {
   formats::ProbeVolume cpu = start;
-  bake::LightingSettings lighting = b.settings.lighting;
+  lighting::LightingSettings lighting = b.settings.lighting;
   if (sweeps > 0) {
     lighting.max_iterations = sweeps;
     lighting.accelerate = false;
     lighting.tolerance = 1e-30f;
   }
-  bake::bake_lighting(*b.scene, *b.rays, cpu, lighting);
+  lighting::bake_lighting(*b.scene, *b.rays, cpu, lighting);
   return cpu;
 }
 

@@ -1,5 +1,5 @@
 // The GPU light update (thesis §3.2.2: runtime/light_update/light_trace.comp, light_gather.comp, light_resolve.comp)
-// against the CPU lighting (bake::bake_lighting): with hysteresis 0 one frame is one Jacobi sweep of the
+// against the CPU lighting (lighting::bake_lighting): with hysteresis 0 one frame is one Jacobi sweep of the
 // bake's iteration, so N frames from zero irradiance must equal N sweeps without extrapolation. Also the
 // L1 hit fractions against the bake's placement, the same on double-sided scenes (glTF doubleSided, #19),
 // the white furnace converging to pi L / (1 - R) on the
@@ -14,8 +14,8 @@
 #include <glm/common.hpp>
 
 #include "probebake/bake/bake.h"
-#include "probebake/bake/lighting.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/lighting/lighting.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/scene/scene.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
@@ -85,11 +85,11 @@ bool all_finite(const formats::ProbeVolume& volume) {
 float expect_gpu_equals_cpu(runtime::Context& context, const Baked& b, const char* name, int sweeps) {
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
   formats::ProbeVolume cpu = start;
-  bake::LightingSettings lighting = b.settings.lighting;
+  lighting::LightingSettings lighting = b.settings.lighting;
   lighting.max_iterations = sweeps;
   lighting.accelerate = false;
   lighting.tolerance = 1e-30f; // run exactly `sweeps` sweeps
-  const bake::LightingReport report = bake::bake_lighting(*b.scene, *b.rays, cpu, lighting);
+  const lighting::LightingReport report = lighting::bake_lighting(*b.scene, *b.rays, cpu, lighting);
   EXPECT_EQ(report.iterations, sweeps);
   const FrameRun gpu = run_frames(context, start, sweeps, 0.0f);
   EXPECT_EQ(gpu.frames.size(), std::size_t(sweeps));
@@ -277,7 +277,7 @@ void expect_gpu_furnace(runtime::Context& context, float albedo, int frames) {
     ++probes;
     for (const glm::vec3 n :
          {glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0.6f, 0.0f, -0.8f)}) {
-      const glm::vec3 e = kPi + bake::evaluate_sh(p.irradiance_sh, n);
+      const glm::vec3 e = kPi + probe_index::evaluate_sh(p.irradiance_sh, n);
       worst = std::max(
           worst,
           glm::max(glm::max(std::abs(e.x - expected), std::abs(e.y - expected)), std::abs(e.z - expected)) / expected);

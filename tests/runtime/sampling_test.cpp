@@ -1,5 +1,5 @@
 // The GPU sampling pass (shaders/include/probebake/sample_irradiance.glsl) against the CPU reference
-// bake::sample_irradiance at fixed pseudo-random points. Tolerance: 1e-4 of the CPU value's largest channel
+// probe_index::sample_irradiance at fixed pseudo-random points. Tolerance: 1e-4 of the CPU value's largest channel
 // (floored at 1e-6 of the brightest value in the set), per channel. Points whose biased lookup position lies
 // within 1e-3 voxel of an SVO voxel face are left out: there, float rounding of a different but equally valid
 // evaluation order (GPU division is allowed 2.5 ulp) may pick the neighbouring voxel, a different stencil.
@@ -11,7 +11,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "runtime_test_util.h"
 
 namespace probebake::test {
@@ -24,7 +24,7 @@ struct Points {
 };
 
 bool near_voxel_face(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal) {
-  const glm::vec3 biased = position + normal * bake::normal_bias(volume.info);
+  const glm::vec3 biased = position + normal * probe_index::normal_bias(volume.info);
   const glm::vec3 t = (biased - volume.info.root_min) / volume.info.root_size * float(1 << volume.info.svo_depth);
   const glm::vec3 distance = glm::abs(t - glm::round(t));
   return std::min({distance.x, distance.y, distance.z}) < 1e-3f;
@@ -67,8 +67,8 @@ struct Comparison {
 
 Comparison compare(const formats::ProbeVolume& volume, runtime::Volume& gpu_volume, const Points& points) {
   std::vector<glm::vec3> cpu(points.positions.size());
-  bake::SamplerStats cpu_stats;
-  bake::sample_irradiance(volume, points.positions, points.normals, cpu, &cpu_stats, 1);
+  probe_index::SamplerStats cpu_stats;
+  probe_index::sample_irradiance(volume, points.positions, points.normals, cpu, &cpu_stats, 1);
   runtime::SampleStats gpu_stats;
   auto gpu = gpu_volume.sample_irradiance(points.positions, points.normals, &gpu_stats);
   EXPECT_TRUE(gpu.ok()) << gpu.status().message;
@@ -143,7 +143,7 @@ TEST_F(SamplingTest, BatchesLargerThanOneDispatchAreSplit) {
   EXPECT_EQ(stats.dispatches, 2u);
   EXPECT_EQ(stats.samples, count);
   std::vector<glm::vec3> cpu(base.positions.size());
-  bake::sample_irradiance(volume, base.positions, base.normals, cpu, nullptr, 1);
+  probe_index::sample_irradiance(volume, base.positions, base.normals, cpu, nullptr, 1);
   std::size_t mismatches = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const glm::vec3 e = cpu[i % cpu.size()], g = gpu.value()[i];

@@ -20,7 +20,7 @@
 
 #include <glm/common.hpp>
 
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/formats/cell_file.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
@@ -202,10 +202,11 @@ TEST_F(StreamingTest, ResidentNeighbourhoodsLightExactlyAndTheRestKeepTheFilesIr
                   .ok());
   std::size_t expected_not_lit = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    const bake::BlendedLookup lookup = bake::blended_lookup(v, positions[i], normals[i]);
+    const probe_index::BlendedLookup lookup = probe_index::blended_lookup(v, positions[i], normals[i]);
     bool out = false;
     for (int l = 0; l < lookup.count; ++l) {
-      const bake::ProbeStencil s = bake::leaf_stencil(v, lookup.leaves[std::size_t(l)], positions[i], normals[i]);
+      const probe_index::ProbeStencil s =
+          probe_index::leaf_stencil(v, lookup.leaves[std::size_t(l)], positions[i], normals[i]);
       for (int k = 0; k < 4; ++k) out = out || (s.probes[k] >= 0 && not_lit_probe(s.probes[k]));
     }
     ASSERT_EQ((flags[i] & runtime::kSampleNotLit) != 0, out) << "lookup " << i;

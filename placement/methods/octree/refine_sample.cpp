@@ -5,7 +5,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 #include "probebake/common/lattice.h"
 
 namespace probebake::placement {
@@ -19,8 +19,8 @@ constexpr int kEstimateRays = 64;
 constexpr float kPi = 3.14159265f;
 constexpr float kMinCosine = 0.2f; // grazing hits: area per ray capped at 5x the facing one
 
-bake::LightingSettings estimate_settings(const RefineSettings& s) {
-  bake::LightingSettings l = s.lighting;
+lighting::LightingSettings estimate_settings(const RefineSettings& s) {
+  lighting::LightingSettings l = s.lighting;
   l.emitter_samples = std::min(l.emitter_samples, kEstimateEmitterSamples);
   return l;
 }
@@ -64,10 +64,10 @@ CandidateSample CandidateSampler::sample(glm::vec3 position, const Cube& cube) c
       const glm::vec3 emitted = lighting_.emissive_as_lights ? glm::vec3(0.0f) : scene.triangle_emission[hit->triangle];
       radiance = emitted + reflect * direct_.irradiance(position + hit->distance * d, n);
     }
-    out.sh[0] += radiance * (weight * bake::kShBand0 * bake::kShY0);
-    out.sh[1] += radiance * (weight * bake::kShBand1 * bake::kShY1 * d.y);
-    out.sh[2] += radiance * (weight * bake::kShBand1 * bake::kShY1 * d.z);
-    out.sh[3] += radiance * (weight * bake::kShBand1 * bake::kShY1 * d.x);
+    out.sh[0] += radiance * (weight * probe_index::kShBand0 * probe_index::kShY0);
+    out.sh[1] += radiance * (weight * probe_index::kShBand1 * probe_index::kShY1 * d.y);
+    out.sh[2] += radiance * (weight * probe_index::kShBand1 * probe_index::kShY1 * d.z);
+    out.sh[3] += radiance * (weight * probe_index::kShBand1 * probe_index::kShY1 * d.x);
   }
   return out;
 }

@@ -7,14 +7,14 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/direct_light.h"
+#include "probebake/lighting/direct_light.h"
 #include "probebake/placement/placement.h"
 
 namespace probebake::placement {
 
 struct CandidateSample {
   ProbeRays rays; // the placement's measurements (hit fraction, dead-probe test)
-  // L1 SH of the irradiance E(n) = sum_k sh[k] Y_k(n) (sampler.h's basis, k < 4) from one bounce of the
+  // L1 SH of the irradiance E(n) = sum_k sh[k] Y_k(n) (lookup.h's basis, k < 4) from one bounce of the
   // direct light (the lighting stage's first sweep), RGB. Probes hold reflected light only: punctual
   // lights and emitters are added per pixel and would only hide the part probes carry.
   std::array<glm::vec3, 4> sh{};
@@ -35,8 +35,8 @@ public:
 
 private:
   const PlacementInput& in_;
-  bake::lighting_detail::DirectLighting direct_;
-  bake::LightingSettings lighting_;
+  lighting::detail::DirectLighting direct_;
+  lighting::LightingSettings lighting_;
   std::vector<glm::vec3> light_directions_;
   bool lit_ = false;
   bool estimate_ = true;

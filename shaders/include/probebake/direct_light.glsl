@@ -1,4 +1,4 @@
-// Direct irradiance at a surface point, the GPU twin of bake/src/lighting/direct_light.cpp (docs/LIGHTING.md):
+// Direct irradiance at a surface point, the GPU twin of lighting/src/direct_light.cpp (docs/LIGHTING.md):
 // KHR_lights_punctual lights and the emitter patches (emissive triangles as area lights), each with one
 // shadow ray through bvh_trace.glsl. Same formulas as the CPU, so results agree to rounding; with lanes = 1
 // also in the same order (light_trace sums lanes' parts, light_relight takes whole sums).

@@ -46,9 +46,9 @@ PB_CONSTANT(int, PROBE_NO_SURFELS, 0x7fffffff);
 // 9 coefficients x RGB, interleaved by coefficient: sh[3*k + channel].
 PB_CONSTANT(int, PROBE_SH_COEFFS, 9);
 PB_CONSTANT(int, PROBE_SH_FLOATS, 3 * PROBE_SH_COEFFS); // floats of one probe's RGB coefficients (27)
-// The SH basis (real SH, coefficient k = l^2 + l + m; bake/lighting/include/probebake/bake/sampler.h
+// The SH basis (real SH, coefficient k = l^2 + l + m; probe_index/include/probebake/probe_index/lookup.h
 // spells it out): Y00 = SH_Y0; Y1m = SH_Y1 * (y, z, x); Y2-2, Y2-1, Y21 = SH_Y2 * (xy, yz, xz);
-// Y20 = SH_Y20 * (3z^2 - 1); Y22 = SH_Y22 * (x^2 - y^2). One definition for the bake (sampler.h's kShY*)
+// Y20 = SH_Y20 * (3z^2 - 1); Y22 = SH_Y22 * (x^2 - y^2). One definition for the bake (lookup.h's kShY*)
 // and the shaders (sh.glsl).
 PB_CONSTANT(float, SH_Y0, 0.282094792f);  // 1 / (2 sqrt(pi))
 PB_CONSTANT(float, SH_Y1, 0.488602512f);  // sqrt(3 / (4 pi))
@@ -56,7 +56,7 @@ PB_CONSTANT(float, SH_Y2, 1.092548431f);  // sqrt(15 / (4 pi))
 PB_CONSTANT(float, SH_Y20, 0.315391565f); // sqrt(5 / (16 pi))
 PB_CONSTANT(float, SH_Y22, 0.546274215f); // sqrt(15 / (16 pi))
 // Clamped-cosine convolution factors A_l per band l (Ramamoorthi & Hanrahan 2001): irradiance coefficient
-// = A_l * radiance coefficient (sampler.h's kShBand*, light_gather.comp).
+// = A_l * radiance coefficient (lookup.h's kShBand*, light_gather.comp).
 PB_CONSTANT(float, SH_BAND0, 3.14159265f);  // pi
 PB_CONSTANT(float, SH_BAND1, 2.09439510f);  // 2 pi / 3
 PB_CONSTANT(float, SH_BAND2, 0.785398163f); // pi / 4

@@ -1,5 +1,5 @@
 // Octree buffer arithmetic and the placement-lattice measure in GLSL, the twins of formats/octree.h's
-// node_cube and the bake's probe tracing (bake/src/probe_tracing.cpp). The including shader declares
+// node_cube and the bake's probe tracing (placement/src/probe_tracing.cpp). The including shader declares
 // VolumeInfo probebake_info, int probebake_octree[], and what bvh_trace.glsl needs plus vec4
 // probebake_ray_directions[] (the lattice is ray_directions[rays, rays + placement_rays)).
 #ifndef PROBEBAKE_OCTREE_GLSL

@@ -43,7 +43,7 @@ struct SampleQuery {
 };               // size 32
 
 struct SampleResult {
-  vec3 irradiance; // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/bake/sampler.h)
+  vec3 irradiance; // offset  0: W/m^2, as sample_irradiance (bake/include/probebake/probe_index/lookup.h)
   int probes_used; // offset 12: distinct probes of the blend (at most 32), 0 = miss; | SAMPLE_RESULT_NOT_LIT when streaming
 };                 //   left one of them out of the light update (its irradiance is kept, not updated)
 PB_CONSTANT(int, SAMPLE_RESULT_NOT_LIT, 256);

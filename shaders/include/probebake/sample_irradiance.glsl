@@ -1,6 +1,6 @@
 // Irradiance lookup from a probebake volume in GLSL: include this in your own shader to sample the same
 // storage buffers the runtime uploads (Volume::buffers() in runtime/include/probebake/runtime/runtime.h).
-// It is the GPU twin of bake::sample_irradiance (bake/lighting/include/probebake/bake/sampler.h), step for step:
+// It is the GPU twin of probe_index::sample_irradiance (probe_index/include/probebake/probe_index/lookup.h), step for step:
 //   1. p' = position + normal * (half an SVO voxel); outside the root cube: a miss;
 //   2. a leaf's stencil: up to four probes, stored weight * DDGI's smooth back-face weight, normalised;
 //   3. the blend: the eight finest-voxel centres around p' look up their leaves (SVO descent), weighted

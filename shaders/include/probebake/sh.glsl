@@ -1,7 +1,7 @@
-// L2 spherical harmonics of irradiance, the convention of bake/lighting/include/probebake/bake/sampler.h
+// L2 spherical harmonics of irradiance, the convention of probe_index/include/probebake/probe_index/lookup.h
 // (real SH, coefficient k = l^2 + l + m, irradiance_sh[3k + c], cosine lobe already convolved in). The
 // basis constants (SH_Y*) are defined once, for C++ and GLSL, in gpu_types.h. The order of the operations
-// follows bake/lighting/src/stencil.h so that GPU and CPU results agree to rounding.
+// follows probe_index/include/probebake/probe_index/stencil.h so that GPU and CPU results agree to rounding.
 #ifndef PROBEBAKE_SH_GLSL
 #define PROBEBAKE_SH_GLSL
 

@@ -1,4 +1,4 @@
-// One SVO leaf's stencil in GLSL: the walk down the probe index, steps 1-2 of the lookup (sampler.h), and
+// One SVO leaf's stencil in GLSL: the walk down the probe index, steps 1-2 of the lookup (lookup.h), and
 // E_leaf. Included by probebake/sample_irradiance.glsl once the volume's buffers are declared; the light
 // update's bounce uses the one-leaf lookup (probebake_svo_stencil) on its own.
 #ifndef PROBEBAKE_SVO_STENCIL_GLSL
@@ -104,7 +104,7 @@ ProbebakeStencil probebake_leaf_stencil(int leaf, vec3 position, vec3 normal) {
   return s;
 }
 
-// The stencil of p''s own leaf: the lookup of the light update's bounce (bake::svo_stencil).
+// The stencil of p''s own leaf: the lookup of the light update's bounce (probe_index::svo_stencil).
 ProbebakeStencil probebake_svo_stencil(vec3 position, vec3 normal) {
   return probebake_leaf_stencil(probebake_find_svo_leaf(position + normal * probebake_normal_bias()), position,
                                 normal);

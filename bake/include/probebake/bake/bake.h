@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "probebake/common/lattice.h"
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 #include "probebake/scene/scene.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/formats/probe_volume.h"
@@ -48,7 +48,7 @@ struct BakeSettings {
   int cell_depth = 1;         // streaming cells: (2^cell_depth)^3
   float cell_size = 0.0f;     // > 0: cells at most this wide (metres), the shallowest such depth
                               // replaces cell_depth once the root cube is known
-  LightingSettings lighting;  // probe irradiance (lighting.h); its `threads` is replaced by `threads`
+  lighting::LightingSettings lighting; // probe irradiance (lighting.h); its `threads` is replaced by `threads`
   // Write the runtime lighting sections (format 1.1: BVH, trace triangles, lights, emitter patches, ray
   // directions, LightingInfo) so that a GPU runtime can reproduce `lighting` without ray-tracing
   // extensions. Also when lighting.enabled is false (the runtime can then light from zero).
@@ -122,9 +122,9 @@ struct BakeReport {
   float clearance = 0.0f;       // the clearance actually used
   int cell_depth = 0;           // the streaming cell grid used: (2^cell_depth)^3 cells of cell_size
   float cell_size = 0.0f;
-  bool surrounded_root = false; // no open space inside the scene bounds: root cube tripled around them
-                                // (the grid covers that cube)
-  LightingReport lighting;      // when settings.lighting.enabled
+  bool surrounded_root = false;      // no open space inside the scene bounds: root cube tripled around them
+                                     // (the grid covers that cube)
+  lighting::LightingReport lighting; // when settings.lighting.enabled
   RuntimeLightingReport runtime_lighting;
   std::vector<StageTime> stages;
 };

@@ -49,7 +49,7 @@ struct Box {
 };
 
 // What L1 learns by casting a probe's placement lattice in the scene's current pose (the bake's measure,
-// bake/src/probe_tracing.h): hits inside the node cube / rays, back-face hits / hits.
+// placement/include/probebake/placement/probe_tracing.h): hits inside the node cube / rays, back-face hits / hits.
 struct LeafTrace {
   float hit_fraction = 0.0f;
   float backface_fraction = 0.0f;

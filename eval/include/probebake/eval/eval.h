@@ -1,5 +1,5 @@
 // Error against run time: bakes a scene with a sweep of settings and compares each volume's irradiance
-// (punctual direct light + the probe lookup, sampler.h) with the path-traced reference (reference.h) at
+// (punctual direct light + the probe lookup, lookup.h) with the path-traced reference (reference.h) at
 // fixed, seeded surface points.
 //
 // The reference is computed once and cached beside the scene as `<scene>.reference.<hash>.csv` (the same
@@ -103,7 +103,7 @@ void check_eval_settings(const EvalSettings& settings);
 
 struct EvalRow {
   std::string label;
-  std::string sampler; // "svo" (sample_irradiance) or "all-probes" (the baseline)
+  std::string sampler; // "svo" (probe_index::sample_irradiance) or "all-probes" (the baseline)
   BakeSettings bake;
   int asked_probes = 0; // EvalConfig::asked_probes and budget_by
   std::string budget_by;
@@ -122,7 +122,7 @@ struct EvalRow {
   double coverage = 0.0;        // fraction of receivers whose lookup found probes
   double relative_median = 0.0; // median and 95th percentile of the per-receiver relative error
   double relative_p95 = 0.0;    //   |error| / max(|reference|, 1% of the mean reference)
-  // What a game takes from probes: the lookup alone (sample_irradiance) against the reference's indirect
+  // What a game takes from probes: the lookup alone (probe_index::sample_irradiance) against the reference's indirect
   // part (reference - its direct part, reference.h), relative to the mean indirect reference.
   double indirect_rmse = 0.0;
   double indirect_relative_rmse = 0.0;
@@ -146,7 +146,7 @@ struct EvalResult {
   double reference_noise = 0.0;         // RMS standard error of the reference / mean_reference
   double mean_indirect_reference = 0.0; // W/m^2: the reference minus its direct part, mean over points and channels
   double indirect_noise = 0.0;          // RMS standard error of the indirect part / mean_indirect_reference
-  // direct_irradiance (what a renderer adds per pixel) against the path tracer's direct part, relative to
+  // lighting::direct_irradiance (what a renderer adds per pixel) against the path tracer's direct part, relative to
   // the mean traced direct light: RMSE (holds the traced direct part's noise too) and bias.
   double direct_relative_rmse = 0.0;
   double direct_bias = 0.0;

@@ -47,13 +47,13 @@ using SeamOpen = std::function<bool(glm::vec3, glm::vec3, glm::vec3)>;
 SeamScore seam_score(const SeamLookup& lookup, const SeamCellAt& cell, const SeamOpen& open, glm::vec3 lo, glm::vec3 hi,
                      const SeamSettings& settings = {});
 
-// The SVO sampler (sample_irradiance) over the volume's root cube; the cell is the SVO leaf holding the
+// The SVO sampler (probe_index::sample_irradiance) over the volume's root cube; the cell is the SVO leaf holding the
 // normal-biased lookup point (merged leaves are one cell: their voxels share a stencil). A step is open
 // when the biased points' segment and each point's bias cross no surface: a shading point's bias never
 // passes through a wall, so lookups that would are not a game's.
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
                          const SeamSettings& settings = {});
-// The same for another lookup over the volume, e.g. one leaf's stencil alone (svo_stencil), which the
+// The same for another lookup over the volume, e.g. one leaf's stencil alone (probe_index::svo_stencil), which the
 // blend replaced: its borders are steps.
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays, const SeamLookup& lookup,
                          const SeamSettings& settings = {});

@@ -7,7 +7,7 @@
 #include <functional>
 #include <vector>
 
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/placement_kind.h"
 #include "probebake/placement/probe_tracing.h"
@@ -31,8 +31,8 @@ struct PlacementSettings {
 struct RefineSettings {
   int probe_budget = 0;
   bool rank_by_error = true;
-  float uniform_share = 0.5f;      // share of the budget a uniform start may take
-  bake::LightingSettings lighting; // the estimate's light model (sky, emitters as lights)
+  float uniform_share = 0.5f;          // share of the budget a uniform start may take
+  lighting::LightingSettings lighting; // the estimate's light model (sky, emitters as lights)
 };
 
 struct PlacementInput {

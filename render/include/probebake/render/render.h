@@ -3,8 +3,8 @@
 // which probes the bake moved out of geometry, so that a person can see leaks, seams and holes.
 //
 // Primary visibility is Embree's (camera_surface_points, the same rays as `probebake reference --image`),
-// direct light is the bake's (direct_irradiance), and the probes' irradiance comes from an IndirectSampler
-// the caller gives: the runtime's lookup on its Vulkan device in `probebake render`, bake::sample_irradiance
+// direct light is the bake's (lighting::direct_irradiance), and the probes' irradiance comes from an IndirectSampler
+// the caller gives: the runtime's lookup on its Vulkan device in `probebake render`, probe_index::sample_irradiance
 // on the CPU in tests. Irradiance views hold W/m^2 (compare them with `reference --image` and
 // `eval --error-map`); debug views hold display colours in [0, 1].
 #pragma once

@@ -125,7 +125,7 @@ public:
   std::optional<FrameStats> poll_frame_stats();
 
   // Irradiance at each (position, unit normal) by the GPU sampling pass: the same lookup as
-  // bake::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the
+  // probe_index::sample_irradiance. Spans must have equal sizes (invalid_argument). Batches larger than the
   // device's maxStorageBufferRange allows are split into several dispatches.
   // `flags` (optional) receives each lookup's kSample* bits (kSampleNotLit only with streaming and the SVO method).
   Result<std::vector<glm::vec3>> sample_irradiance(std::span<const glm::vec3> positions,

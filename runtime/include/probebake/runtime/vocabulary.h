@@ -357,7 +357,7 @@ struct FrameStats {
 
 struct SampleStats {
   std::size_t samples = 0;
-  std::size_t misses = 0;  // lookups without a probe (as bake::SamplerStats)
+  std::size_t misses = 0;  // lookups without a probe (as probe_index::SamplerStats)
   std::size_t not_lit = 0; // streaming: lookups that used a probe the light update does not light now (the
                            // cell is out, or its probes wait): its irradiance is the file's or the last lit
   std::size_t dispatches = 0;

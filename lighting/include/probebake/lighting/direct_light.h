@@ -9,11 +9,11 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 #include "probebake/scene/ray_scene.h"
 #include "probebake/scene/scene.h"
 
-namespace probebake::bake::lighting_detail {
+namespace probebake::lighting::detail {
 
 // One piece of an emissive triangle: the sub-triangles of emitter_patches() are lit as area lights.
 struct EmitterPatch {
@@ -74,4 +74,4 @@ float range_window(float range, float distance);
 // `light_to_point`: smooth between the outer and inner cone, squared.
 float spot_falloff(const scene::Light& light, glm::vec3 light_to_point);
 
-} // namespace probebake::bake::lighting_detail
+} // namespace probebake::lighting::detail

@@ -12,16 +12,16 @@
 
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/lighting.h"
-#include "probebake/bake/sampler.h"
+#include "probebake/lighting/lighting.h"
+#include "probebake/probe_index/lookup.h"
 
-namespace probebake::bake::lighting_detail {
+namespace probebake::lighting::detail {
 
 struct HitRecord {
   glm::vec3 base{0.0f};
   glm::vec3 reflect{0.0f};
   glm::vec3 normal{0.0f};
-  ProbeStencil stencil;
+  probe_index::ProbeStencil stencil;
 };
 
 struct HitCache {
@@ -39,4 +39,4 @@ struct HitCache {
 HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays, const formats::ProbeVolume& volume,
                          const LightingSettings& settings);
 
-} // namespace probebake::bake::lighting_detail
+} // namespace probebake::lighting::detail

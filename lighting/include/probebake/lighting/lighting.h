@@ -1,4 +1,4 @@
-// Bake-time lighting: fills every live probe's irradiance_sh (L2 SH of irradiance, see sampler.h) with
+// Bake-time lighting: fills every live probe's irradiance_sh (L2 SH of irradiance, see lookup.h) with
 // the light arriving from the scene's surfaces, by fixed-point iteration over cached probe rays.
 //
 // References: octree thesis §3.2.2 (L2 "light surfels and probe": surfel hits lit directly and from the
@@ -28,7 +28,7 @@
 #include "probebake/scene/scene.h"
 #include "probebake/formats/probe_volume.h"
 
-namespace probebake::bake {
+namespace probebake::lighting {
 
 struct LightingSettings {
   bool enabled = true;          // the bake runs bake_lighting (false: probes keep zero irradiance)
@@ -93,4 +93,4 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
 glm::vec3 direct_irradiance(const scene::Scene& scene, const scene::RayScene& rays, glm::vec3 position,
                             glm::vec3 normal, const LightingSettings& settings = {});
 
-} // namespace probebake::bake
+} // namespace probebake::lighting

@@ -2,17 +2,17 @@
 // units taken as radiometric: candela = W/sr (point, spot), lux = W/m^2 (directional). Emissive
 // triangles as area lights: fixed sub-triangles, each with its exact unoccluded irradiance (Lambert's
 // polygon formula after clipping to the point's hemisphere) times one shadow ray.
-#include "probebake/bake/direct_light.h"
+#include "probebake/lighting/direct_light.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 
-namespace probebake::bake {
-namespace lighting_detail {
+namespace probebake::lighting {
+namespace detail {
 
 float range_window(float range, float distance) {
   if (!(range > 0.0f)) return 1.0f;
@@ -166,11 +166,11 @@ glm::vec3 DirectLighting::from_light(const scene::Light& light, glm::vec3 p, glm
   return power * (cosine * attenuation);
 }
 
-} // namespace lighting_detail
+} // namespace detail
 
 glm::vec3 direct_irradiance(const scene::Scene& scene, const scene::RayScene& rays, glm::vec3 position,
                             glm::vec3 normal, const LightingSettings& settings) {
-  return lighting_detail::DirectLighting(scene, rays, settings).irradiance(position, normal);
+  return detail::DirectLighting(scene, rays, settings).irradiance(position, normal);
 }
 
-} // namespace probebake::bake
+} // namespace probebake::lighting

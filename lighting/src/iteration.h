@@ -7,7 +7,7 @@
 
 #include "hit_cache.h"
 
-namespace probebake::bake::lighting_detail {
+namespace probebake::lighting::detail {
 
 // SH of every probe slot of the volume (gpu::PROBE_SH_FLOATS per probe index; free probes stay 0), in double so that the
 // changes between sweeps, and the rate estimated from them, are not quantised by float rounding.
@@ -72,4 +72,4 @@ void solve(const HitCache& cache, const LightingSettings& settings, ShBuffer& sh
 // the probes whose mean is > 0. Fills report.noise_median and report.noise_p95.
 void measure_noise(const HitCache& cache, const ShBuffer& sh, LightingReport& report);
 
-} // namespace probebake::bake::lighting_detail
+} // namespace probebake::lighting::detail

@@ -5,7 +5,7 @@
 // regions that see different groups of probes, one group serves the voxel (rank_by_group). The tree is then built top-down:
 // a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean weights,
 // which keeps the index sparse.
-#include "svo_builder.h"
+#include "probebake/probe_index/build.h"
 
 #include <algorithm>
 #include <array>
@@ -16,7 +16,7 @@
 
 #include "probebake/common/parallel.h"
 
-namespace probebake::bake::detail {
+namespace probebake::probe_index {
 namespace {
 
 constexpr int kCandidates = 12;
@@ -376,4 +376,4 @@ SvoStats build_svo(const scene::RayScene& rays, formats::ProbeVolume& volume, in
   return stats;
 }
 
-} // namespace probebake::bake::detail
+} // namespace probebake::probe_index

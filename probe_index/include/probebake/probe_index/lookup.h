@@ -70,7 +70,7 @@
 #include "probebake/scene/ray_scene.h"
 #include "probebake/formats/probe_volume.h"
 
-namespace probebake::bake {
+namespace probebake::probe_index {
 
 // ---- Spherical harmonics ----------------------------------------------------------------------------------
 // The basis constants, defined once for C++ and GLSL in gpu_types.h (sh.glsl uses the same).
@@ -163,4 +163,4 @@ void sample_irradiance_all_probes(const formats::ProbeVolume& volume, const scen
                                   std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                                   std::span<glm::vec3> out, SamplerStats* stats = nullptr, int threads = 0);
 
-} // namespace probebake::bake
+} // namespace probebake::probe_index

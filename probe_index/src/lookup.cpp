@@ -1,7 +1,7 @@
-// Irradiance lookup (algorithm in sampler.h): SVO probe index of the non-uniform placement paper §4.1
+// Irradiance lookup (algorithm in lookup.h): SVO probe index of the non-uniform placement paper §4.1
 // with DDGI's smooth back-face weight (Majercik et al. 2019; ddgi-probe-relocation.txt §2.1), and the
 // octree thesis's §3.2.4 all-probes baseline with one visibility ray per probe.
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 
 #include <algorithm>
 #include <bit>
@@ -12,10 +12,10 @@
 #include <glm/geometric.hpp>
 
 #include "probebake/common/parallel.h"
-#include "stencil.h"
+#include "probebake/probe_index/stencil.h"
 #include "probebake/formats/error.h"
 
-namespace probebake::bake {
+namespace probebake::probe_index {
 namespace {
 
 // ((dot(n, dir) + 1) / 2)^2 + 0.05, dir towards the probe from the shaded point (zero on the probe).
@@ -62,7 +62,7 @@ std::array<float, 9> sh_basis(glm::vec3 d) {
           kShY22 * (d.x * d.x - d.y * d.y)};
 }
 
-glm::vec3 evaluate_sh(const float* sh27, glm::vec3 n) { return lighting_detail::evaluate_sh<float>(sh27, sh_basis(n)); }
+glm::vec3 evaluate_sh(const float* sh27, glm::vec3 n) { return detail::evaluate_sh<float>(sh27, sh_basis(n)); }
 
 float normal_bias(const gpu::VolumeInfo& info) {
   return 0.5f * info.root_size / float(1 << std::clamp(info.svo_depth, 0, 30));
@@ -262,8 +262,8 @@ BlendedLookup blended_lookup(const formats::ProbeVolume& volume, glm::vec3 posit
 }
 
 glm::vec3 apply_stencil(const formats::ProbeVolume& volume, const ProbeStencil& stencil, glm::vec3 normal) {
-  return lighting_detail::apply_stencil<float>(
-      stencil, normal, [&](int probe) { return volume.probes[std::size_t(probe)].irradiance_sh; });
+  return detail::apply_stencil<float>(stencil, normal,
+                                      [&](int probe) { return volume.probes[std::size_t(probe)].irradiance_sh; });
 }
 
 ProbeBlend probe_blend(const formats::ProbeVolume& volume, const BlendedLookup& lookup, glm::vec3 position,
@@ -304,8 +304,7 @@ glm::vec3 apply_blend(const formats::ProbeVolume& volume, const ProbeBlend& blen
   const std::array<float, 9> y = sh_basis(normal);
   for (int j = 0; j < blend.count; ++j) {
     const gpu::Probe& probe = volume.probes[std::size_t(blend.probes[std::size_t(j)])];
-    e += blend.weights[std::size_t(j)] *
-         glm::max(lighting_detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
+    e += blend.weights[std::size_t(j)] * glm::max(detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
   }
   return e;
 }
@@ -331,7 +330,7 @@ glm::vec3 sample_irradiance_all_probes(const formats::ProbeVolume& volume, const
     if (dist > 0.0f && rays.occluded(biased, to / dist, 0.0f, dist)) continue;
     const glm::vec3 d = probe.position - position;
     const float w = backface_weight(normal, d) / std::max(glm::dot(d, d), bias * bias);
-    sum += w * glm::max(lighting_detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
+    sum += w * glm::max(detail::evaluate_sh<float>(probe.irradiance_sh, y), glm::vec3(0.0f));
     total += w;
   }
   count(stats, !(total > 0.0f));
@@ -359,4 +358,4 @@ void sample_irradiance_all_probes(const formats::ProbeVolume& volume, const scen
   });
 }
 
-} // namespace probebake::bake
+} // namespace probebake::probe_index

@@ -1,4 +1,4 @@
-// Step 4 of the sampler (sampler.h) over any probe SH storage: sample_irradiance applies it to the
+// Step 4 of the sampler (lookup.h) over any probe SH storage: sample_irradiance applies it to the
 // volume's probes in float (as the GPU does), the bake's iteration to its double-precision state.
 #pragma once
 
@@ -7,9 +7,9 @@
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
-#include "probebake/bake/sampler.h"
+#include "probebake/probe_index/lookup.h"
 
-namespace probebake::bake::lighting_detail {
+namespace probebake::probe_index::detail {
 
 // Irradiance of 27 interleaved coefficients for precomputed basis values `y`, per channel, unclamped,
 // computed in T (float: the sampler and the GPU; double: the bake's iteration state).
@@ -33,4 +33,4 @@ glm::vec<3, T> apply_stencil(const ProbeStencil& s, glm::vec3 normal, const ShOf
   return e;
 }
 
-} // namespace probebake::bake::lighting_detail
+} // namespace probebake::probe_index::detail

@@ -5,12 +5,12 @@
 
 #include <fmt/core.h>
 
-#include "probebake/bake/direct_light.h"
+#include "probebake/lighting/direct_light.h"
 #include "probebake/common/parallel.h"
 #include "probebake/common/lattice.h"
 #include "probebake/formats/error.h"
 
-namespace probebake::bake::lighting_detail {
+namespace probebake::lighting::detail {
 namespace {
 
 constexpr float kInvPi = 0.318309886f;
@@ -20,12 +20,13 @@ struct ProbeCounts {
 };
 
 std::vector<std::array<float, 9>> projection_table(const std::vector<glm::vec3>& directions) {
-  static constexpr float band[9] = {kShBand0, kShBand1, kShBand1, kShBand1, kShBand2,
-                                    kShBand2, kShBand2, kShBand2, kShBand2};
+  static constexpr float band[9] = {probe_index::kShBand0, probe_index::kShBand1, probe_index::kShBand1,
+                                    probe_index::kShBand1, probe_index::kShBand2, probe_index::kShBand2,
+                                    probe_index::kShBand2, probe_index::kShBand2, probe_index::kShBand2};
   const float weight = 4.0f * 3.14159265f / float(directions.size());
   std::vector<std::array<float, 9>> table;
   for (const glm::vec3& d : directions) {
-    std::array<float, 9> y = sh_basis(d);
+    std::array<float, 9> y = probe_index::sh_basis(d);
     for (std::size_t k = 0; k < 9; ++k) y[k] *= weight * band[k];
     table.push_back(y);
   }
@@ -42,7 +43,7 @@ HitRecord shade_hit(const scene::Scene& scene, const formats::ProbeVolume& volum
   h.reflect = scene.triangle_albedo[hit.triangle] * kInvPi;
   h.base = (emission_seen ? scene.triangle_emission[hit.triangle] : glm::vec3(0.0f)) +
            h.reflect * direct.irradiance(point, h.normal);
-  h.stencil = svo_stencil(volume, point, h.normal);
+  h.stencil = probe_index::svo_stencil(volume, point, h.normal);
   return h;
 }
 
@@ -93,4 +94,4 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
   return cache;
 }
 
-} // namespace probebake::bake::lighting_detail
+} // namespace probebake::lighting::detail

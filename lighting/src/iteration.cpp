@@ -8,16 +8,17 @@
 #include <fmt/core.h>
 
 #include "probebake/common/parallel.h"
-#include "stencil.h"
+#include "probebake/probe_index/stencil.h"
 #include "probebake/formats/error.h"
 
-namespace probebake::bake::lighting_detail {
+namespace probebake::lighting::detail {
 namespace {
 
 // Radiance a cached ray brings back with the probes' SH `sh`: L = base + reflect * E_indirect.
 glm::dvec3 ray_radiance(const HitRecord& h, const ShBuffer& sh) {
   const auto sh_of = [&](int probe) { return sh.data() + gpu::PROBE_SH_FLOATS * std::size_t(probe); };
-  return glm::dvec3(h.base) + glm::dvec3(h.reflect) * apply_stencil<double>(h.stencil, h.normal, sh_of);
+  return glm::dvec3(h.base) +
+         glm::dvec3(h.reflect) * probe_index::detail::apply_stencil<double>(h.stencil, h.normal, sh_of);
 }
 
 // Radiance of every ray of cached probe i, projected onto the irradiance SH.
@@ -189,4 +190,4 @@ void solve(const HitCache& cache, const LightingSettings& settings, ShBuffer& sh
   report.estimated_error = convergence.estimated_error();
 }
 
-} // namespace probebake::bake::lighting_detail
+} // namespace probebake::lighting::detail

@@ -1,7 +1,7 @@
 // Bake-time lighting (lighting.h): trace and cache every probe's rays once (octree thesis §3.2.2 L1),
 // then re-light the cached hits from the previous sweep's probes until the probes stop changing (the
 // thesis's L2 step run to convergence, DDGI's probe-to-probe recursion for multiple bounces).
-#include "probebake/bake/lighting.h"
+#include "probebake/lighting/lighting.h"
 
 #include <chrono>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include "iteration.h"
 #include "probebake/formats/error.h"
 
-namespace probebake::bake {
+namespace probebake::lighting {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -39,7 +39,7 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
   check_lighting_settings(settings);
   const auto start = Clock::now();
   LightingReport report;
-  const lighting_detail::HitCache cache = lighting_detail::build_hit_cache(scene, rays, volume, settings);
+  const detail::HitCache cache = detail::build_hit_cache(scene, rays, volume, settings);
   report.probes = int(cache.probes.size());
   report.rays = cache.records.size();
   report.backface_hits = cache.backface_hits;
@@ -48,12 +48,12 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
   report.trace_seconds = seconds_since(start);
 
   const auto iterate_start = Clock::now();
-  lighting_detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * volume.probes.size(), 0.0);
+  detail::ShBuffer sh(gpu::PROBE_SH_FLOATS * volume.probes.size(), 0.0);
   if (!cache.probes.empty())
-    lighting_detail::solve(cache, settings, sh, report);
+    detail::solve(cache, settings, sh, report);
   else
     report.converged = true;
-  lighting_detail::measure_noise(cache, sh, report);
+  detail::measure_noise(cache, sh, report);
   for (int p : cache.probes)
     for (int v = 0; v < gpu::PROBE_SH_FLOATS; ++v)
       volume.probes[std::size_t(p)].irradiance_sh[v] =
@@ -63,4 +63,4 @@ LightingReport bake_lighting(const scene::Scene& scene, const scene::RayScene& r
   return report;
 }
 
-} // namespace probebake::bake
+} // namespace probebake::lighting

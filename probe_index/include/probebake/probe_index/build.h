@@ -3,10 +3,10 @@
 // no payload; voxels inside solid geometry are left out (empty).
 #pragma once
 
-#include "probebake/placement/probe_tracing.h"
+#include "probebake/scene/ray_scene.h"
 #include "probebake/formats/probe_volume.h"
 
-namespace probebake::bake::detail {
+namespace probebake::probe_index {
 
 struct SvoStats {
   int voxels_evaluated = 0;
@@ -17,4 +17,4 @@ struct SvoStats {
 // Fills volume.svo_nodes / svo_leaves from the probes in volume.probes (which must be final).
 SvoStats build_svo(const scene::RayScene& rays, formats::ProbeVolume& volume, int svo_depth, int threads);
 
-} // namespace probebake::bake::detail
+} // namespace probebake::probe_index

@@ -1,7 +1,8 @@
 // SVO probe index (nonuniform-probe-placement-svo §4.1). Every voxel at the leaf depth is evaluated
 // independently (in parallel, results in index order): it is solid when all its sample points are inside
 // geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from its open
-// sample points over squared distance and the best four kept. When a surface splits those points into
+// sample points (the centre and the octants' centres; near the faces too where a surface cuts the voxel)
+// over squared distance and the best four kept. When a surface splits those points into
 // regions that see different groups of probes, one group serves the voxel (rank_by_group). The tree is then built top-down:
 // a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean weights,
 // which keeps the index sparse.
@@ -15,8 +16,10 @@
 #include <glm/geometric.hpp>
 
 #include "probebake/common/parallel.h"
+#include "probe_buckets.h"
 
 namespace probebake::probe_index {
+using detail::ProbeBuckets;
 namespace {
 
 constexpr int kCandidates = 12;
@@ -34,15 +37,6 @@ struct VoxelPayload {
   }
 };
 
-// Sample points of a voxel: its centre and the centres of its eight octants.
-std::array<glm::vec3, 9> voxel_points(glm::vec3 min, float size) {
-  std::array<glm::vec3, 9> p;
-  p[0] = min + glm::vec3(0.5f * size);
-  for (int o = 0; o < 8; ++o)
-    p[std::size_t(o) + 1] = min + size * glm::vec3(o & 1 ? 0.75f : 0.25f, o & 2 ? 0.75f : 0.25f, o & 4 ? 0.75f : 0.25f);
-  return p;
-}
-
 // Inside geometry: most of six axis rays hit back faces of single-sided surfaces (RayHit::inside; the
 // back of a double-sided surface is open space).
 bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
@@ -55,65 +49,44 @@ bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
   return back >= 4;
 }
 
-// Uniform bucket grid over the root cube for nearest-probe queries.
-class ProbeBuckets {
-public:
-  ProbeBuckets(const formats::ProbeVolume& v, int resolution)
-      : volume_(v), n_(resolution), buckets_(std::size_t(n_ * n_ * n_)) {
-    for (std::size_t i = 0; i < v.probes.size(); ++i)
-      if (v.probes[i].link != 0) buckets_[std::size_t(bucket_index(cell_of(v.probes[i].position)))].push_back(int(i));
-  }
-
-  // The k probes nearest to p (ties by index), searching rings of buckets outwards.
-  std::vector<int> nearest(glm::vec3 p, int k) const {
-    const glm::ivec3 c = cell_of(p);
-    std::vector<std::pair<float, int>> found;
-    const float cell = volume_.info.root_size / float(n_);
-    for (int ring = 0; ring < n_; ++ring) {
-      collect_ring(c, ring, p, found);
-      if (int(found.size()) >= k) {
-        std::sort(found.begin(), found.end());
-        if (found[std::size_t(k - 1)].first <= float(ring) * cell * float(ring) * cell) break;
-      }
-    }
-    std::sort(found.begin(), found.end());
-    std::vector<int> out;
-    for (std::size_t i = 0; i < found.size() && int(i) < k; ++i) out.push_back(found[i].second);
-    return out;
-  }
-
-private:
-  glm::ivec3 cell_of(glm::vec3 p) const {
-    const glm::vec3 t = (p - volume_.info.root_min) / volume_.info.root_size * float(n_);
-    return glm::clamp(glm::ivec3(glm::floor(t)), glm::ivec3(0), glm::ivec3(n_ - 1));
-  }
-  int bucket_index(glm::ivec3 c) const { return c.x + n_ * (c.y + n_ * c.z); }
-
-  void collect_ring(glm::ivec3 c, int ring, glm::vec3 p, std::vector<std::pair<float, int>>& found) const {
-    for (int z = c.z - ring; z <= c.z + ring; ++z)
-      for (int y = c.y - ring; y <= c.y + ring; ++y)
-        for (int x = c.x - ring; x <= c.x + ring; ++x) {
-          if (std::max({std::abs(x - c.x), std::abs(y - c.y), std::abs(z - c.z)}) != ring) continue;
-          if (x < 0 || y < 0 || z < 0 || x >= n_ || y >= n_ || z >= n_) continue;
-          for (int probe : buckets_[std::size_t(bucket_index({x, y, z}))]) {
-            const glm::vec3 d = volume_.probes[std::size_t(probe)].position - p;
-            found.push_back({glm::dot(d, d), probe});
-          }
-        }
-  }
-
-  const formats::ProbeVolume& volume_;
-  int n_;
-  std::vector<std::vector<int>> buckets_;
-};
-
 bool sees(const scene::RayScene& rays, glm::vec3 from, glm::vec3 to) {
   const glm::vec3 d = to - from;
   const float dist = glm::length(d);
   return dist == 0.0f || !rays.occluded(from, d / dist, 0.0f, dist);
 }
 
-using PointSet = std::array<bool, 9>;
+// Sample points of a voxel: its centre and the centres of its eight octants.
+using Points = std::vector<glm::vec3>;
+Points voxel_points(glm::vec3 min, float size) {
+  Points p(9);
+  p[0] = min + glm::vec3(0.5f * size);
+  for (int o = 0; o < 8; ++o)
+    p[std::size_t(o) + 1] = min + size * glm::vec3(o & 1 ? 0.75f : 0.25f, o & 2 ? 0.75f : 0.25f, o & 4 ? 0.75f : 0.25f);
+  return p;
+}
+
+// A surface that cuts a voxel may leave a sliver of one space between it and a face, with no sample point in
+// it (issue #39: a wall 3.5 units inside a 19.6-unit voxel of CornellBox.glb; the voxel's points all lay outside the
+// box, its leaf held an outside probe, and lookups in the room next to the wall read zero). A voxel is cut
+// when a segment from its centre to a corner is occluded (a plane that misses the centre separates it from
+// some corner); a cut voxel is sampled also near its faces, edges and corners (5% inside), so that slivers
+// thicker than that take part in choosing the voxel's probes.
+bool cut(const scene::RayScene& rays, glm::vec3 min, float size) {
+  const glm::vec3 centre = min + glm::vec3(0.5f * size);
+  for (int c = 0; c < 8; ++c)
+    if (!sees(rays, centre, min + size * glm::vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1))) return true;
+  return false;
+}
+
+void add_border_points(Points& points, glm::vec3 min, float size) {
+  constexpr float kAt[3] = {0.05f, 0.5f, 0.95f};
+  for (int z = 0; z < 3; ++z)
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 3; ++x)
+        if (x != 1 || y != 1 || z != 1) points.push_back(min + size * glm::vec3(kAt[x], kAt[y], kAt[z]));
+}
+
+using PointSet = std::vector<char>; // per sample point: in the set
 
 // Disjoint sets over 0..n-1 whose lowest member names each set (so the result is independent of join order
 // within a set).
@@ -138,26 +111,26 @@ private:
 
 // The voxel's open sample points grouped into open regions: points joined by unoccluded segments share a
 // region. Largest region first (ties: the one holding the lowest index, the centre first).
-std::vector<PointSet> open_regions(const scene::RayScene& rays, const std::array<glm::vec3, 9>& points,
-                                   const PointSet& open) {
-  DisjointSets sets(9);
+std::vector<PointSet> open_regions(const scene::RayScene& rays, const Points& points, const PointSet& open) {
+  const int count = int(points.size());
+  DisjointSets sets(points.size());
   const auto root = [&](int i) { return sets.root(i); };
-  for (int i = 0; i < 9; ++i)
-    for (int j = i + 1; j < 9; ++j) {
+  for (int i = 0; i < count; ++i)
+    for (int j = i + 1; j < count; ++j) {
       if (!open[std::size_t(i)] || !open[std::size_t(j)] || root(i) == root(j)) continue;
       if (sees(rays, points[std::size_t(i)], points[std::size_t(j)])) sets.join(i, j);
     }
   std::vector<std::pair<int, int>> order; // (-size, root)
-  for (int r = 0; r < 9; ++r) {
+  for (int r = 0; r < count; ++r) {
     int size = 0;
-    for (int i = 0; i < 9; ++i) size += open[std::size_t(i)] && root(i) == r ? 1 : 0;
+    for (int i = 0; i < count; ++i) size += open[std::size_t(i)] && root(i) == r ? 1 : 0;
     if (size > 0) order.push_back({-size, r});
   }
   std::sort(order.begin(), order.end());
   std::vector<PointSet> regions;
   for (const auto& [size, r] : order) {
-    PointSet in{};
-    for (int i = 0; i < 9; ++i) in[std::size_t(i)] = open[std::size_t(i)] && root(i) == r;
+    PointSet in(points.size(), 0);
+    for (int i = 0; i < count; ++i) in[std::size_t(i)] = open[std::size_t(i)] && root(i) == r;
     regions.push_back(in);
   }
   return regions;
@@ -166,9 +139,8 @@ std::vector<PointSet> open_regions(const scene::RayScene& rays, const std::array
 // Candidate probes seen from the region's points, best first: (-weight, probe), weight = the fraction of
 // the points that see the probe over its squared distance from the voxel's centre.
 std::vector<std::pair<float, int>> rank_probes(const scene::RayScene& rays, const formats::ProbeVolume& v,
-                                               const std::vector<int>& candidates,
-                                               const std::array<glm::vec3, 9>& points, const PointSet& region,
-                                               float size) {
+                                               const std::vector<int>& candidates, const Points& points,
+                                               const PointSet& region, float size) {
   std::vector<std::pair<float, int>> ranked; // sorts best first, ties by index
   for (int probe : candidates) {
     const glm::vec3 target = v.probes[std::size_t(probe)].position;
@@ -190,7 +162,7 @@ std::vector<std::pair<float, int>> rank_probes(const scene::RayScene& rays, cons
 // lie behind the light box beside a ceiling voxel, or in the sealed box itself), among the nearest
 // kFarCandidates: a voxel is left empty (a hole in the lookup) only when no probe near it is visible.
 std::vector<std::pair<float, int>> rank_nearby(const scene::RayScene& rays, const formats::ProbeVolume& v,
-                                               const ProbeBuckets& buckets, const std::array<glm::vec3, 9>& points,
+                                               const ProbeBuckets& buckets, const Points& points,
                                                const PointSet& region, float size) {
   std::vector<std::pair<float, int>> ranked =
       rank_probes(rays, v, buckets.nearest(points[0], kCandidates), points, region, size);
@@ -214,11 +186,9 @@ struct ProbeGroups {
 // and lookups on the other side blended light from a space they cannot see (issue #39: 150x the reference
 // on a ceiling beside a closed emissive box). Within one group (a thin surface in open space, the common
 // case) the stencil is tested from every open point, as it always was.
-std::optional<std::vector<std::pair<float, int>>> rank_by_group(const scene::RayScene& rays,
-                                                                const formats::ProbeVolume& v,
-                                                                const ProbeBuckets& buckets, const ProbeGroups& groups,
-                                                                const std::array<glm::vec3, 9>& points,
-                                                                const std::vector<PointSet>& regions, float size) {
+std::optional<std::vector<std::pair<float, int>>>
+rank_by_group(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
+              const ProbeGroups& groups, const Points& points, const std::vector<PointSet>& regions, float size) {
   std::vector<std::vector<std::pair<float, int>>> seen;
   std::vector<std::pair<int, double>> score; // (group, points seeing it x its probes), in first-seen order
   for (const PointSet& region : regions) {
@@ -248,8 +218,9 @@ std::optional<std::vector<std::pair<float, int>>> rank_by_group(const scene::Ray
 VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
                             const ProbeGroups& groups, glm::vec3 min, float size) {
   VoxelPayload out;
-  const auto points = voxel_points(min, size);
-  PointSet open{};
+  Points points = voxel_points(min, size);
+  if (cut(rays, min, size)) add_border_points(points, min, size);
+  PointSet open(points.size(), 0);
   bool any_open = false;
   for (std::size_t i = 0; i < points.size(); ++i) any_open |= (open[i] = !inside_geometry(rays, points[i]));
   if (!any_open) {

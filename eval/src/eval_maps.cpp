@@ -55,15 +55,15 @@ std::vector<std::filesystem::path> ErrorMaps::score(EvalRow& row, const formats:
   const double n = double(std::max<std::size_t>(points_.size(), 1));
   row.image_mean_error = abs_sum / n;
   row.image_relative_rmse = mean_ > 0.0 ? std::sqrt(squares / n) / mean_ : 0.0;
-  const std::vector<float> flip = hdr_flip(reference_image_, estimate, exposures_, {.threads = threads_});
+  const std::vector<float> flip_map = hdr_flip(reference_image_, estimate, exposures_, {.threads = threads_});
   double flip_sum = 0.0;
-  for (std::size_t pixel : pixels_) flip_sum += flip[pixel];
+  for (std::size_t pixel : pixels_) flip_sum += flip_map[pixel];
   row.image_flip_mean = flip_sum / n;
   if (!writes()) return {};
   const std::filesystem::path error_path = dir_ / (row.label + ".exr"), flip_path = dir_ / (row.label + ".flip.exr");
   write_exr(error_path, error);
   Image flip_image = blank(camera_);
-  for (std::size_t i = 0; i < flip.size(); ++i) flip_image.pixels[i] = glm::vec3(flip[i]);
+  for (std::size_t i = 0; i < flip_map.size(); ++i) flip_image.pixels[i] = glm::vec3(flip_map[i]);
   write_exr(flip_path, flip_image);
   return {error_path, flip_path};
 }

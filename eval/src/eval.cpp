@@ -177,6 +177,7 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     maps.emplace(scene, rays, effective);
     result.image_pixels = maps->pixels();
     result.image_mean_reference = maps->mean_reference();
+    result.image_flip_exposures = maps->flip_exposures();
     if (maps->writes()) result.error_maps.push_back(maps->reference_path());
   }
   for (const EvalConfig& config : configs) {
@@ -194,7 +195,7 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     seams.seed = effective.seed;
     row.seam_p99 = svo_seam_score(v, rays, seams).p99;
     if (maps)
-      if (auto path = maps->score(row, v)) result.error_maps.push_back(*path);
+      for (auto& path : maps->score(row, v)) result.error_maps.push_back(std::move(path));
     result.rows.push_back(row);
     if (config.label != baseline) continue;
     say("all-probes " + config.label);

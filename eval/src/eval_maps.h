@@ -1,6 +1,7 @@
 // Image receivers of `probebake eval --camera`: the first surface seen through each pixel, scored per
 // configuration; with --error-map DIR also written as error images, |probe estimate - reference| per
-// channel (so a row's image_mean_error is the mean of its image over the visible pixels).
+// channel (so a row's image_mean_error is the mean of its image over the visible pixels), and as HDR-FLIP
+// maps (flip.h) of the estimate's picture against the reference's.
 #pragma once
 
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "probebake/eval/eval.h"
+#include "probebake/eval/flip.h"
 
 namespace probebake::bake::detail {
 
@@ -18,12 +20,13 @@ public:
   // with an error-map folder, writes it as DIR/reference.exr.
   ErrorMaps(const scene::Scene& scene, const scene::RayScene& rays, const EvalSettings& settings);
   // Scores this volume on the image receivers (row.image_*); with a folder, writes DIR/<label>.exr and
-  // returns its path.
-  std::optional<std::filesystem::path> score(EvalRow& row, const formats::ProbeVolume& volume) const;
+  // DIR/<label>.flip.exr and returns their paths.
+  std::vector<std::filesystem::path> score(EvalRow& row, const formats::ProbeVolume& volume) const;
   bool writes() const { return !dir_.empty(); }
   std::filesystem::path reference_path() const { return dir_ / "reference.exr"; }
   int pixels() const { return int(points_.size()); }
   double mean_reference() const { return mean_; }
+  const FlipExposures& flip_exposures() const { return exposures_; }
 
 private:
   std::filesystem::path dir_;
@@ -33,6 +36,9 @@ private:
   std::vector<glm::vec3> reference_;
   std::vector<glm::vec3> direct_;
   double mean_ = 0.0;
+  Image reference_image_;   // black where the camera sees nothing
+  FlipExposures exposures_; // from the visible pixels: the background would pull the median to 0
+  int threads_ = 0;
 };
 
 } // namespace probebake::bake::detail

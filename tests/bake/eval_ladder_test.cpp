@@ -211,16 +211,19 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
   EXPECT_NE(r.out.find("direct_irradiance against the traced direct part"), std::string::npos) << r.out;
   const auto rows = lines(read_text(csv));
   ASSERT_GE(rows.size(), 4u); // header, at least two rows per method... grid and octree at two rungs, less repeats
-  EXPECT_TRUE(rows[0].ends_with(",asked_probes,budget_by,indirect_rmse,indirect_relative_rmse,seam_p99")) << rows[0];
+  EXPECT_TRUE(
+      rows[0].ends_with(",asked_probes,budget_by,indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean"))
+      << rows[0];
   int grid_rows = 0;
   for (std::size_t i = 1; i < rows.size(); ++i) {
     std::vector<std::string> cells;
     std::istringstream in(rows[i]);
     for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 30u) << rows[i];
+    ASSERT_EQ(cells.size(), 31u) << rows[i];
     const int asked = std::stoi(cells[25]);
     const double indirect = std::stod(cells[28]);
     const double seam = std::stod(cells[29]);
+    EXPECT_EQ(std::stod(cells[30]), 0.0) << rows[i]; // no camera: no image receivers, no HDR-FLIP
     if (cells[1] == "svo") {
       EXPECT_TRUE(asked == 16 || asked == 64) << rows[i];
       EXPECT_TRUE(seam >= 0.0 && seam < 10.0) << rows[i];

@@ -289,6 +289,22 @@ TEST(EvalReceivers, ImageReceiversAverageToTheErrorMapMean) {
   EXPECT_GT(row.image_mean_error, 0.0);
   EXPECT_NEAR(row.image_mean_error, sum / pixels, 1e-6 * row.image_mean_error);
   EXPECT_GT(row.image_relative_rmse, 0.0);
+  // HDR-FLIP (issue #39): its map beside the error map, its mean over the same pixels, at the exposures
+  // of the visible reference.
+  const bake::Image flip = bake::read_exr(s.error_map_dir / (row.label + ".flip.exr"));
+  ASSERT_EQ(flip.pixels.size(), map.pixels.size());
+  double flip_sum = 0.0;
+  for (std::size_t i = 0; i < visible.size(); ++i) {
+    ASSERT_GE(flip.pixels[i].x, 0.0f);
+    ASSERT_LE(flip.pixels[i].x, 1.0f);
+    if (visible[i]) flip_sum += flip.pixels[i].x;
+  }
+  EXPECT_GT(row.image_flip_mean, 0.0);
+  EXPECT_LT(row.image_flip_mean, 1.0);
+  EXPECT_NEAR(row.image_flip_mean, flip_sum / pixels, 1e-6);
+  EXPECT_GE(r.image_flip_exposures.count, 1);
+  EXPECT_TRUE(std::isfinite(r.image_flip_exposures.start) && std::isfinite(r.image_flip_exposures.stop));
+  EXPECT_EQ(std::count(r.error_maps.begin(), r.error_maps.end(), s.error_map_dir / (row.label + ".flip.exr")), 1);
 }
 
 } // namespace

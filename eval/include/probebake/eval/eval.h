@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "probebake/bake/bake.h"
+#include "probebake/eval/flip.h"
 #include "probebake/eval/reference.h"
 
 namespace probebake::bake {
@@ -128,6 +129,9 @@ struct EvalRow {
   double indirect_relative_rmse = 0.0;
   double image_mean_error = 0.0;    // camera receivers: mean over pixels and channels of |error| (the error map's mean)
   double image_relative_rmse = 0.0; // camera receivers: RMSE / their mean reference
+  // camera receivers: mean over them of HDR-FLIP (flip.h) between the picture of the estimate and the
+  // reference's, black elsewhere; 0 = alike, 1 = as different as green and blue (DIR/<label>.flip.exr's mean)
+  double image_flip_mean = 0.0;
   // svo rows: the lookup's seam score (seams.h), 99th percentile of the unexplained jump over the local
   // irradiance along random lines through open space (-1 for the all-probe loop, not measured)
   double seam_p99 = -1.0;
@@ -140,6 +144,7 @@ struct EvalResult {
   int points = 0;        // may be below the requested count when most surfaces are hidden
   int image_pixels = 0;  // camera receivers (0 without --camera)
   double image_mean_reference = 0.0;
+  FlipExposures image_flip_exposures; // what HDR-FLIP tone maps the camera views at (from the reference)
   int paths = 0;
   std::uint64_t seed = 0;
   double mean_reference = 0.0;          // W/m^2, mean over points and channels

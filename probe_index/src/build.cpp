@@ -1,15 +1,14 @@
 // SVO probe index (nonuniform-probe-placement-svo §4.1). Every voxel at the leaf depth is evaluated
 // independently (in parallel, results in index order): it is solid when all its sample points are inside
 // geometry; otherwise its candidate probes (the nearest ones) are weighted by visibility from its open
-// sample points (the centre and the octants' centres; near the faces too where a surface cuts the voxel)
-// over squared distance and the best four kept. When a surface splits those points into
-// regions that see different groups of probes, one group serves the voxel (rank_by_group). The tree is then built top-down:
-// a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean weights,
-// which keeps the index sparse.
+// sample points over squared distance and the best four kept. When a surface splits those points into
+// regions that see different groups of probes, one group serves the voxel (rank_by_group). Voxels left empty
+// though open take their neighbours' probes where they see them (fill_uncovered). The tree is then built
+// top-down: a cube whose voxels all chose the same probes (or are all empty) becomes one leaf with the mean
+// weights, which keeps the index sparse.
 #include "probebake/probe_index/build.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <optional>
 
@@ -17,9 +16,15 @@
 
 #include "probebake/common/parallel.h"
 #include "probe_buckets.h"
+#include "voxel_samples.h"
 
 namespace probebake::probe_index {
+using detail::Points;
+using detail::PointSet;
 using detail::ProbeBuckets;
+using detail::sample_voxel;
+using detail::sees;
+using detail::VoxelSamples;
 namespace {
 
 constexpr int kCandidates = 12;
@@ -36,57 +41,6 @@ struct VoxelPayload {
     return leaf.probes == o.leaf.probes;
   }
 };
-
-// Inside geometry: most of six axis rays hit back faces of single-sided surfaces (RayHit::inside; the
-// back of a double-sided surface is open space).
-bool inside_geometry(const scene::RayScene& rays, glm::vec3 p) {
-  static const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  int back = 0;
-  for (const glm::vec3& d : axes) {
-    const auto hit = rays.intersect(p, d);
-    back += hit && hit->inside() ? 1 : 0;
-  }
-  return back >= 4;
-}
-
-bool sees(const scene::RayScene& rays, glm::vec3 from, glm::vec3 to) {
-  const glm::vec3 d = to - from;
-  const float dist = glm::length(d);
-  return dist == 0.0f || !rays.occluded(from, d / dist, 0.0f, dist);
-}
-
-// Sample points of a voxel: its centre and the centres of its eight octants.
-using Points = std::vector<glm::vec3>;
-Points voxel_points(glm::vec3 min, float size) {
-  Points p(9);
-  p[0] = min + glm::vec3(0.5f * size);
-  for (int o = 0; o < 8; ++o)
-    p[std::size_t(o) + 1] = min + size * glm::vec3(o & 1 ? 0.75f : 0.25f, o & 2 ? 0.75f : 0.25f, o & 4 ? 0.75f : 0.25f);
-  return p;
-}
-
-// A surface that cuts a voxel may leave a sliver of one space between it and a face, with no sample point in
-// it (issue #39: a wall 3.5 units inside a 19.6-unit voxel of CornellBox.glb; the voxel's points all lay outside the
-// box, its leaf held an outside probe, and lookups in the room next to the wall read zero). A voxel is cut
-// when a segment from its centre to a corner is occluded (a plane that misses the centre separates it from
-// some corner); a cut voxel is sampled also near its faces, edges and corners (5% inside), so that slivers
-// thicker than that take part in choosing the voxel's probes.
-bool cut(const scene::RayScene& rays, glm::vec3 min, float size) {
-  const glm::vec3 centre = min + glm::vec3(0.5f * size);
-  for (int c = 0; c < 8; ++c)
-    if (!sees(rays, centre, min + size * glm::vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1))) return true;
-  return false;
-}
-
-void add_border_points(Points& points, glm::vec3 min, float size) {
-  constexpr float kAt[3] = {0.05f, 0.5f, 0.95f};
-  for (int z = 0; z < 3; ++z)
-    for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x)
-        if (x != 1 || y != 1 || z != 1) points.push_back(min + size * glm::vec3(kAt[x], kAt[y], kAt[z]));
-}
-
-using PointSet = std::vector<char>; // per sample point: in the set
 
 // Disjoint sets over 0..n-1 whose lowest member names each set (so the result is independent of join order
 // within a set).
@@ -215,18 +169,27 @@ rank_by_group(const scene::RayScene& rays, const formats::ProbeVolume& v, const 
   return std::nullopt; // not reached: some region saw the best group
 }
 
+// The best four of `ranked` (best first), stored in probe order, not rank order, so that neighbouring voxels
+// that chose the same probes hold the same payload layout and can merge.
+VoxelPayload payload_of(std::vector<std::pair<float, int>> ranked) {
+  VoxelPayload out;
+  ranked.resize(std::min<std::size_t>(ranked.size(), gpu::SVO_PROBES_PER_LEAF));
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  float total = 0.0f;
+  for (const auto& r : ranked) total -= r.first;
+  for (std::size_t k = 0; k < ranked.size(); ++k) {
+    out.leaf.probes[int(k)] = ranked[k].second;
+    out.leaf.weights[int(k)] = -ranked[k].first / total;
+  }
+  return out;
+}
+
 VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
                             const ProbeGroups& groups, glm::vec3 min, float size) {
-  VoxelPayload out;
-  Points points = voxel_points(min, size);
-  if (cut(rays, min, size)) add_border_points(points, min, size);
-  PointSet open(points.size(), 0);
-  bool any_open = false;
-  for (std::size_t i = 0; i < points.size(); ++i) any_open |= (open[i] = !inside_geometry(rays, points[i]));
-  if (!any_open) {
-    out.solid = true;
-    return out;
-  }
+  const VoxelSamples samples = sample_voxel(rays, min, size);
+  if (!samples.any_open) return VoxelPayload{true};
+  const Points& points = samples.points;
+  const PointSet& open = samples.open;
   std::vector<std::pair<float, int>> ranked = rank_nearby(rays, v, buckets, points, open, size);
   // Regions are looked for only when the open points see more than one group: the common voxel pays
   // nothing for them.
@@ -238,17 +201,7 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
     if (regions.size() > 1)
       if (auto by_group = rank_by_group(rays, v, buckets, groups, points, regions, size)) ranked = std::move(*by_group);
   }
-  ranked.resize(std::min<std::size_t>(ranked.size(), gpu::SVO_PROBES_PER_LEAF));
-  // Stored in probe order, not rank order, so that neighbouring voxels that chose the same probes hold
-  // the same payload layout and can merge.
-  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
-  float total = 0.0f;
-  for (const auto& r : ranked) total -= r.first;
-  for (std::size_t k = 0; k < ranked.size(); ++k) {
-    out.leaf.probes[int(k)] = ranked[k].second;
-    out.leaf.weights[int(k)] = -ranked[k].first / total;
-  }
-  return out;
+  return payload_of(std::move(ranked));
 }
 
 // The probes' groups: probes joined by unoccluded segments to any of their nearest kCandidates neighbours
@@ -273,6 +226,72 @@ ProbeGroups probe_groups(const scene::RayScene& rays, const formats::ProbeVolume
     ++out.size[std::size_t(out.group[i])];
   }
   return out;
+}
+
+// A voxel whose open points see none of its 48 nearest probes was left empty: a hole in the lookup. Those
+// probes can all lie in a sealed cavity beside it (issue #39: CornellBox.glb's short block is closed and
+// double-sided, its inside holds the probes nearest to the two layers of voxels just above its top, and
+// receivers on the top missed). Such a voxel ranks the probes its 26 neighbours chose instead, in passes
+// outwards from the voxels that have probes: each pass tries the empty open voxels beside the ones the pass
+// before filled, reading the payloads as they were when it began (the result does not depend on the thread
+// count). A voxel whose open points see none of its neighbours' probes stays empty (outside every room).
+void fill_uncovered(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeGroups& groups, int n,
+                    float size, std::vector<VoxelPayload>& voxels, int threads) {
+  const auto coords = [n](std::size_t i) {
+    return glm::ivec3(int(i % std::size_t(n)), int(i / std::size_t(n) % std::size_t(n)), int(i / std::size_t(n * n)));
+  };
+  const auto for_each_neighbour = [&](std::size_t i, auto&& f) {
+    const glm::ivec3 c = coords(i);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const glm::ivec3 nc = c + glm::ivec3(dx, dy, dz);
+          if (nc == c || glm::any(glm::lessThan(nc, glm::ivec3(0))) ||
+              glm::any(glm::greaterThanEqual(nc, glm::ivec3(n))))
+            continue;
+          f(std::size_t(nc.x + n * (nc.y + n * nc.z)));
+        }
+  };
+  std::vector<std::size_t> fresh; // voxels that gained probes in the last pass (at first: every served one)
+  for (std::size_t i = 0; i < voxels.size(); ++i)
+    if (!voxels[i].empty()) fresh.push_back(i);
+  while (!fresh.empty()) {
+    std::vector<std::size_t> frontier;
+    for (std::size_t i : fresh)
+      for_each_neighbour(i, [&](std::size_t j) {
+        if (!voxels[j].solid && voxels[j].empty()) frontier.push_back(j);
+      });
+    std::sort(frontier.begin(), frontier.end());
+    frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
+    std::vector<VoxelPayload> filled(frontier.size());
+    parallel_for(frontier.size(), threads, [&](std::size_t k) {
+      std::vector<int> candidates;
+      for_each_neighbour(frontier[k], [&](std::size_t j) {
+        for (int slot = 0; slot < gpu::SVO_PROBES_PER_LEAF; ++slot)
+          if (voxels[j].leaf.probes[slot] >= 0 && !voxels[j].solid) candidates.push_back(voxels[j].leaf.probes[slot]);
+      });
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      const VoxelSamples samples = sample_voxel(rays, v.info.root_min + glm::vec3(coords(frontier[k])) * size, size);
+      auto ranked = rank_probes(rays, v, candidates, samples.points, samples.open, size);
+      if (ranked.empty()) return;
+      // One group, as evaluate_voxel keeps: the largest seen (a sealed cavity's probes do not mix in).
+      const auto group_of = [&](const auto& r) { return groups.group[std::size_t(r.second)]; };
+      const int largest = group_of(*std::max_element(ranked.begin(), ranked.end(), [&](const auto& a, const auto& b) {
+        const int ga = group_of(a), gb = group_of(b);
+        return groups.size[std::size_t(ga)] < groups.size[std::size_t(gb)] ||
+               (groups.size[std::size_t(ga)] == groups.size[std::size_t(gb)] && ga > gb);
+      }));
+      std::erase_if(ranked, [&](const auto& r) { return group_of(r) != largest; });
+      filled[k] = payload_of(std::move(ranked));
+    });
+    fresh.clear();
+    for (std::size_t k = 0; k < frontier.size(); ++k)
+      if (!filled[k].empty()) {
+        voxels[frontier[k]] = filled[k];
+        fresh.push_back(frontier[k]);
+      }
+  }
 }
 
 struct Builder {
@@ -334,6 +353,7 @@ SvoStats build_svo(const scene::RayScene& rays, formats::ProbeVolume& volume, in
     const glm::ivec3 c(int(i % std::size_t(n)), int(i / std::size_t(n) % std::size_t(n)), int(i / std::size_t(n * n)));
     voxels[i] = evaluate_voxel(rays, volume, buckets, groups, volume.info.root_min + glm::vec3(c) * size, size);
   });
+  fill_uncovered(rays, volume, groups, n, size, voxels, threads);
   SvoStats stats;
   stats.voxels_evaluated = int(voxels.size());
   for (const auto& v : voxels) {

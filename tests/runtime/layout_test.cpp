@@ -14,14 +14,10 @@
 #include <gtest/gtest.h>
 
 #include "core/shader_library.h"
-#include "light_update/light_update_bindings.h"
-#include "memory_update/memory_update_bindings.h"
-#include "probe_index/probe_index_bindings.h"
+#include "pass_bindings.h"
 #include "probebake/bindings.h"
 #include "probebake/memory_types.h"
 #include "probebake/runtime_types.h"
-#include "sampling/sample_bindings.h"
-#include "streaming/stream_bindings.h"
 
 namespace probebake::test {
 namespace {

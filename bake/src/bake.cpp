@@ -309,9 +309,9 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   if (settings.lighting.enabled) {
     timer.stage("lighting");
     if (progress) progress("lighting", 0.0);
-    lighting::LightingSettings lighting = settings.lighting;
-    lighting.threads = settings.threads;
-    report.lighting = lighting::bake_lighting(visible, rays, volume, lighting);
+    lighting::LightingSettings light_settings = settings.lighting;
+    light_settings.threads = settings.threads;
+    report.lighting = lighting::bake_lighting(visible, rays, volume, light_settings);
   }
 
   if (settings.runtime_lighting) {

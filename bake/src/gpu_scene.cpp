@@ -211,10 +211,10 @@ gpu::PunctualLight punctual_light(const scene::Light& light, std::size_t index) 
   return out;
 }
 
-std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const lighting::LightingSettings& lighting) {
+std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const lighting::LightingSettings& settings) {
   std::vector<gpu::EmitterPatch> patches;
-  if (!lighting.emissive_as_lights) return patches; // emitters then reach the runtime through the probes
-  for (const lighting::detail::EmitterPatch& p : lighting::detail::emitter_patches(scene, lighting.emitter_samples)) {
+  if (!settings.emissive_as_lights) return patches; // emitters then reach the runtime through the probes
+  for (const lighting::detail::EmitterPatch& p : lighting::detail::emitter_patches(scene, settings.emitter_samples)) {
     gpu::EmitterPatch out{};
     out.a = p.a, out.b = p.b, out.c = p.c, out.normal = p.normal, out.radiance = p.radiance;
     out.flags = p.double_sided ? gpu::EMITTER_DOUBLE_SIDED : 0u;

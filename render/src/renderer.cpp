@@ -163,9 +163,9 @@ bake::Image Renderer::render(View view) {
 bake::Image Renderer::render_irradiance(bool with_direct) {
   const std::vector<glm::vec3>& probes = indirect();
   if (!with_direct) return surfaces([&](std::size_t i) { return probes[i]; }).image;
-  lighting::LightingSettings lighting;
-  lighting.emissive_as_lights = in_.emitters_as_lights;
-  const lighting::detail::DirectLighting direct(*in_.scene, *in_.rays, lighting); // the bake's own
+  lighting::LightingSettings light_settings;
+  light_settings.emissive_as_lights = in_.emitters_as_lights;
+  const lighting::detail::DirectLighting direct(*in_.scene, *in_.rays, light_settings); // the bake's own
   return surfaces([&](std::size_t i) { return probes[i] + direct.irradiance(hits_[i]->position, hits_[i]->normal); })
       .image;
 }

@@ -19,11 +19,11 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw Error(ErrorKind::usage, message);
 }
 
+// --probes: far above what the optimisation can afford (docs/results/placement.md).
+constexpr int kMaxProbeBudget = 1 << 20;
 // Measured (docs/results/bake-scale.md, "Scale range (issue #11)"): the generated Cornell box bakes the same
 // probes from 1e-5 to 1e10 times its size and 1e4 of its size from the origin; beyond that 32-bit positions,
 // Embree's ray epsilons and the SDF lose it. The limits keep a factor of ten from where it breaks.
-constexpr int kMaxProbeBudget =
-    1 << 20; // --probes: far above what the optimisation can afford (docs/results/placement.md)
 constexpr float kMinSceneSize = 1e-4f;    // metres across (0.1 mm)
 constexpr float kMaxSceneSize = 1e8f;     // metres across (100,000 km)
 constexpr float kMaxOffsetPerSize = 1e4f; // distance of the bounds from the origin / size across

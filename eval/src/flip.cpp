@@ -212,7 +212,6 @@ std::vector<float> hdr_flip(const Image& reference, const Image& test, const Fli
 }
 
 std::vector<float> hdr_flip(const Image& reference, const Image& test, const FlipSettings& settings) {
-  check_images(reference, test);
   return hdr_flip(reference, test, flip_exposures(reference.pixels), settings);
 }
 

@@ -79,10 +79,8 @@ void feature_kernels(Kernels& k, double pixels_per_degree) {
   k.point = balance(std::move(point));
 }
 
-using Taps = const Kernel&;
-
 // out(x, y) = sum_i k[i] in(x + i - r, y) (dir 0) or in(x, y + i - r) (dir 1), the index clamped to the image.
-Plane pass(const Plane& in, Taps k, int dir, int threads) {
+Plane pass(const Plane& in, const Kernel& k, int dir, int threads) {
   Plane out(in.width, in.height);
   const int r = int(k.size() / 2);
   parallel_for(std::size_t(in.height), threads, [&](std::size_t row) {

@@ -66,8 +66,8 @@ private:
 // The voxel's open sample points grouped into open regions: points joined by unoccluded segments share a
 // region. Largest region first (ties: the one holding the lowest index, the centre first).
 std::vector<PointSet> open_regions(const scene::RayScene& rays, const Points& points, const PointSet& open) {
-  const int count = int(points.size());
-  DisjointSets sets(points.size());
+  constexpr int count = detail::kVoxelPoints;
+  DisjointSets sets(count);
   const auto root = [&](int i) { return sets.root(i); };
   for (int i = 0; i < count; ++i)
     for (int j = i + 1; j < count; ++j) {
@@ -83,7 +83,7 @@ std::vector<PointSet> open_regions(const scene::RayScene& rays, const Points& po
   std::sort(order.begin(), order.end());
   std::vector<PointSet> regions;
   for (const auto& [size, r] : order) {
-    PointSet in(points.size(), 0);
+    PointSet in{};
     for (int i = 0; i < count; ++i) in[std::size_t(i)] = open[std::size_t(i)] && root(i) == r;
     regions.push_back(in);
   }
@@ -268,7 +268,7 @@ void fill_uncovered(const scene::RayScene& rays, const formats::ProbeVolume& v, 
       std::vector<int> candidates;
       for_each_neighbour(frontier[k], [&](std::size_t j) {
         for (int slot = 0; slot < gpu::SVO_PROBES_PER_LEAF; ++slot)
-          if (voxels[j].leaf.probes[slot] >= 0 && !voxels[j].solid) candidates.push_back(voxels[j].leaf.probes[slot]);
+          if (voxels[j].leaf.probes[slot] >= 0) candidates.push_back(voxels[j].leaf.probes[slot]);
       });
       std::sort(candidates.begin(), candidates.end());
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());

@@ -22,7 +22,7 @@ bool sees(const scene::RayScene& rays, glm::vec3 from, glm::vec3 to) {
 }
 
 Points voxel_points(glm::vec3 min, float size) {
-  Points p(9);
+  Points p;
   p[0] = min + glm::vec3(0.5f * size);
   for (int o = 0; o < 8; ++o)
     p[std::size_t(o) + 1] = min + size * glm::vec3(o & 1 ? 0.75f : 0.25f, o & 2 ? 0.75f : 0.25f, o & 4 ? 0.75f : 0.25f);
@@ -31,7 +31,6 @@ Points voxel_points(glm::vec3 min, float size) {
 
 VoxelSamples sample_voxel(const scene::RayScene& rays, glm::vec3 min, float size) {
   VoxelSamples s{voxel_points(min, size), {}, false};
-  s.open.assign(s.points.size(), 0);
   for (std::size_t i = 0; i < s.points.size(); ++i) s.any_open |= (s.open[i] = !inside_geometry(rays, s.points[i]));
   return s;
 }

@@ -1,7 +1,7 @@
 // Where the SVO builder (build.cpp) samples a voxel, and the two ray queries it asks of each point.
 #pragma once
 
-#include <vector>
+#include <array>
 
 #include <glm/vec3.hpp>
 
@@ -9,8 +9,9 @@
 
 namespace probebake::probe_index::detail {
 
-using Points = std::vector<glm::vec3>;
-using PointSet = std::vector<char>; // per sample point: in the set
+inline constexpr int kVoxelPoints = 9; // the centre and the octants' centres
+using Points = std::array<glm::vec3, kVoxelPoints>;
+using PointSet = std::array<bool, kVoxelPoints>; // per sample point: in the set
 
 // Inside geometry: most of six axis rays hit back faces of single-sided surfaces (RayHit::inside; the
 // back of a double-sided surface is open space).

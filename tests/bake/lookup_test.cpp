@@ -163,7 +163,7 @@ TEST(BlendedLookup, ContinuousAcrossLeafAndLevelBorders) {
 // Coverage: every surface point of CornellBox.glb whose lookup point lies in the room finds probes. Its short
 // block is closed and double-sided: the probes inside it were the 48 nearest to the voxels just above its top,
 // none visible, and those voxels were left empty (receivers on the top missed: coverage 0.993 in two of eval's
-// rows; 17 of these 11,182 lookups missed). Empty voxels now rank their neighbours' probes, outwards from the
+// rows; 119 of these 11,182 lookups missed). Empty voxels now rank their neighbours' probes, outwards from the
 // served ones.
 TEST(BlendedLookup, EverySurfacePointInTheRoomFindsProbes) {
   const std::filesystem::path path = std::filesystem::path(PROBEBAKE_SHARED_SCENES) / "cornell_box" / "CornellBox.glb";

@@ -24,6 +24,7 @@
 #include "probebake/placement/scene_sdf.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/grid_lattice.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/validate.h"
 
@@ -93,6 +94,22 @@ void store_surfels(const scene::RayScene& rays, const std::vector<glm::vec3>& di
       for (int k = 0; k < b.count; ++k) b.surfels[k] = surfels[i][first + std::size_t(k)];
     }
   }
+}
+
+// A grid bake's lattice (format 1.8, grid_lattice.h): placed[i] is lattice point i. Left out where the grid's
+// box is flat (a spacing of 0: a lone triangle's bounds) or N is outside the section's 2..255.
+void add_grid_lattice(const scene::RayScene& rays, const BakeSettings& s, const scene::Bounds& bounds,
+                      const std::vector<placement::PlacedProbe>& placed, formats::ProbeVolume& volume,
+                      StageTimer& timer) {
+  if (s.placement != formats::PlacementKind::grid || s.grid_resolution < 2 ||
+      s.grid_resolution > gpu::GRID_MAX_RESOLUTION)
+    return;
+  const gpu::GridLatticeHeader frame = formats::grid_lattice_frame(bounds.min, bounds.max, s.grid_resolution);
+  if (!(frame.spacing.x > 0.0f && frame.spacing.y > 0.0f && frame.spacing.z > 0.0f)) return;
+  timer.stage("lattice");
+  std::vector<int> lattice_probes(placed.size());
+  for (std::size_t i = 0; i < placed.size(); ++i) lattice_probes[i] = placed[i].probe;
+  probe_index::build_grid_lattice(rays, volume, frame, lattice_probes, s.threads);
 }
 
 // What the placement methods read of the settings (placement/placement.h), with the bake's progress as "place".
@@ -305,6 +322,7 @@ BakeResult bake(const scene::Scene& scene, const BakeSettings& requested, const 
   const probe_index::SvoStats svo = probe_index::build_svo(rays, volume, settings.svo_depth, settings.threads);
   report.svo_solid_voxels = svo.solid_voxels;
   report.svo_uncovered_voxels = svo.uncovered_voxels;
+  add_grid_lattice(rays, settings, placement_bounds, placed, volume, timer);
 
   if (settings.lighting.enabled) {
     timer.stage("lighting");

@@ -9,6 +9,7 @@
 #include "eval_internal.h"
 #include "eval_maps.h"
 #include "probebake/lighting/lighting.h"
+#include "probebake/probe_index/grid_lookup.h"
 #include "probebake/probe_index/lookup.h"
 #include "probebake/formats/atomic_file.h"
 #include "probebake/formats/error.h"
@@ -195,8 +196,24 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     seams.seed = effective.seed;
     row.seam_p99 = svo_seam_score(v, rays, seams).p99;
     if (maps)
-      for (auto& path : maps->score(row, v)) result.error_maps.push_back(std::move(path));
+      for (auto& path :
+           maps->score(row, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance(v, p, n); }))
+        result.error_maps.push_back(std::move(path));
     result.rows.push_back(row);
+    if (!v.grid_lattice.empty()) {
+      // The grid as grid engines look it up (probe_index/grid_lookup.h), beside the SVO's lookup of it.
+      EvalRow grid = row;
+      grid.sampler = "grid";
+      score(grid, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
+        return probe_index::sample_irradiance_grid(v, p.position, p.normal, &st);
+      });
+      grid.seam_p99 = grid_seam_score(v, rays, seams).p99;
+      if (maps)
+        for (auto& path :
+             maps->score(grid, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance_grid(v, p, n); }))
+          result.error_maps.push_back(std::move(path));
+      result.rows.push_back(grid);
+    }
     if (config.label != baseline) continue;
     say("all-probes " + config.label);
     row.sampler = "all-probes";

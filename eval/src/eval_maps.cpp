@@ -41,12 +41,11 @@ ErrorMaps::ErrorMaps(const scene::Scene& scene, const scene::RayScene& rays, con
   if (writes()) write_exr(reference_path(), reference_image_);
 }
 
-std::vector<std::filesystem::path> ErrorMaps::score(EvalRow& row, const formats::ProbeVolume& volume) const {
+std::vector<std::filesystem::path> ErrorMaps::score(EvalRow& row, const Lookup& lookup) const {
   Image error = blank(camera_), estimate = blank(camera_);
   double abs_sum = 0.0, squares = 0.0;
   for (std::size_t k = 0; k < points_.size(); ++k) {
-    estimate.pixels[pixels_[k]] =
-        direct_[k] + probe_index::sample_irradiance(volume, points_[k].position, points_[k].normal);
+    estimate.pixels[pixels_[k]] = direct_[k] + lookup(points_[k].position, points_[k].normal);
     const glm::vec3 e = glm::abs(estimate.pixels[pixels_[k]] - reference_[k]);
     error.pixels[pixels_[k]] = e;
     abs_sum += (double(e.x) + double(e.y) + double(e.z)) / 3.0;
@@ -60,7 +59,8 @@ std::vector<std::filesystem::path> ErrorMaps::score(EvalRow& row, const formats:
   for (std::size_t pixel : pixels_) flip_sum += flip_map[pixel];
   row.image_flip_mean = flip_sum / n;
   if (!writes()) return {};
-  const std::filesystem::path error_path = dir_ / (row.label + ".exr"), flip_path = dir_ / (row.label + ".flip.exr");
+  const std::string name = row.sampler == "svo" ? row.label : row.label + "-" + row.sampler;
+  const std::filesystem::path error_path = dir_ / (name + ".exr"), flip_path = dir_ / (name + ".flip.exr");
   write_exr(error_path, error);
   Image flip_image = blank(camera_);
   for (std::size_t i = 0; i < flip_map.size(); ++i) flip_image.pixels[i] = glm::vec3(flip_map[i]);

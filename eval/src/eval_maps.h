@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,11 @@ public:
   // Traces the camera, computes the reference image (settings.image_paths per pixel, not cached) and,
   // with an error-map folder, writes it as DIR/reference.exr.
   ErrorMaps(const scene::Scene& scene, const scene::RayScene& rays, const EvalSettings& settings);
-  // Scores this volume on the image receivers (row.image_*); with a folder, writes DIR/<label>.exr and
-  // DIR/<label>.flip.exr and returns their paths.
-  std::vector<std::filesystem::path> score(EvalRow& row, const formats::ProbeVolume& volume) const;
+  // Scores a lookup of irradiance from probes on the image receivers (row.image_*); with a folder, writes
+  // DIR/<label>.exr and DIR/<label>.flip.exr (<label>-<sampler> for samplers other than the SVO's) and returns
+  // their paths.
+  using Lookup = std::function<glm::vec3(glm::vec3 position, glm::vec3 normal)>;
+  std::vector<std::filesystem::path> score(EvalRow& row, const Lookup& lookup) const;
   bool writes() const { return !dir_.empty(); }
   std::filesystem::path reference_path() const { return dir_ / "reference.exr"; }
   int pixels() const { return int(points_.size()); }

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "probebake/probe_index/grid_lookup.h"
 #include "probebake/probe_index/lookup.h"
 
 namespace probebake::bake {
@@ -113,6 +114,22 @@ SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RaySce
       volume, rays, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance(volume, p, n); }, settings);
 }
 
+namespace {
+
+// A step from a to b is open when the biased points' segment and each point's bias cross no surface.
+SeamOpen open_steps(const scene::RayScene& rays, float bias) {
+  const auto clear = [&rays](glm::vec3 a, glm::vec3 b) {
+    const glm::vec3 d = b - a;
+    const float length = glm::length(d);
+    return length == 0.0f || !rays.occluded(a, d / length, 0.0f, length);
+  };
+  return [clear, bias](glm::vec3 a, glm::vec3 b, glm::vec3 n) {
+    return clear(a, a + n * bias) && clear(b, b + n * bias) && clear(a + n * bias, b + n * bias);
+  };
+}
+
+} // namespace
+
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays, const SeamLookup& lookup,
                          const SeamSettings& settings) {
   const float bias = probe_index::normal_bias(volume.info);
@@ -122,16 +139,31 @@ SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RaySce
     if (leaf < 0) return SeamCell{};
     return SeamCell{volume.info.root_size / float(1 << depth), leaf};
   };
-  const auto clear = [&](glm::vec3 a, glm::vec3 b) {
-    const glm::vec3 d = b - a;
-    const float length = glm::length(d);
-    return length == 0.0f || !rays.occluded(a, d / length, 0.0f, length);
+  return seam_score(lookup, cell, open_steps(rays, bias), volume.info.root_min,
+                    volume.info.root_min + glm::vec3(volume.info.root_size), settings);
+}
+
+SeamScore grid_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
+                          const SeamSettings& settings) {
+  const std::optional<formats::GridLatticeView> lattice = formats::grid_lattice_view(volume);
+  if (!lattice) return {};
+  const gpu::GridLatticeHeader& h = lattice->header;
+  const float bias = probe_index::grid_normal_bias(h);
+  const int n = h.resolution;
+  const float svo_bias = probe_index::normal_bias(volume.info);
+  const auto cell = [&](glm::vec3 p, glm::vec3 normal) {
+    // Lines stay where the SVO lookup's do (open space that probes reach), so that the scores compare.
+    if (probe_index::find_svo_leaf(volume, p + normal * svo_bias) < 0) return SeamCell{};
+    const glm::vec3 g = (p + normal * bias - h.origin) / h.spacing - 0.5f;
+    const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), glm::ivec3(n - 2));
+    return SeamCell{std::min({h.spacing.x, h.spacing.y, h.spacing.z}),
+                    c.x + std::int64_t(n) * (c.y + std::int64_t(n) * c.z)};
   };
-  const auto open = [&](glm::vec3 a, glm::vec3 b, glm::vec3 n) {
-    return clear(a, a + n * bias) && clear(b, b + n * bias) && clear(a + n * bias, b + n * bias);
+  const auto lookup = [&](glm::vec3 p, glm::vec3 normal) {
+    return probe_index::sample_irradiance_grid(volume, p, normal);
   };
-  return seam_score(lookup, cell, open, volume.info.root_min, volume.info.root_min + glm::vec3(volume.info.root_size),
-                    settings);
+  return seam_score(lookup, cell, open_steps(rays, bias), volume.info.root_min,
+                    volume.info.root_min + glm::vec3(volume.info.root_size), settings);
 }
 
 } // namespace probebake::bake

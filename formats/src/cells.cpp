@@ -11,6 +11,7 @@
 #include <string>
 
 #include "probebake/formats/error.h"
+#include "probebake/formats/grid_lattice.h"
 #include "probebake/formats/octree.h"
 
 // Header-only, as in container.cpp: the runtime links formats.
@@ -121,6 +122,7 @@ void remap_links(ProbeVolume& volume, const std::vector<int>& new_probe, const s
       if (leaf.probes[slot] >= 0) leaf.probes[slot] = new_probe.at(leaf.probes[slot]);
     }
   }
+  remap_grid_probes(volume.grid_lattice, new_probe);
 }
 
 // Range of the elements with key == cell in a key vector sorted ascending.

@@ -30,6 +30,7 @@ void run_phases(const ProbeVolume& volume, const TracingView& tracing, const det
     detail::check_probe_index(volume, out);
     detail::check_leaf_queue(volume, octree, out);
     detail::check_svo(volume, out);
+    detail::check_grid_lattice(volume, out);
     detail::check_cells(volume, tracing, octree, deferred, out);
     detail::check_lighting(volume, tracing, deferred, out);
   } catch (const detail::StopValidation&) {
@@ -93,6 +94,10 @@ constexpr InvariantInfo kInvariants[] = {
     {"svo_depth", "no SVO voxel is deeper than info.svo_depth"},
     {"svo_freed_probe", "SVO payloads name allocated probes only"},
     {"svo_weights", "SVO payloads: used slots first, at least one, weights >= 0 summing to 1, unused weights 0"},
+    {"grid_lattice",
+     "grid placement only: a header of the file's resolution (2..255), finite origin, spacing > 0; each "
+     "allocated probe at exactly one point, cell bits only for cells inside the lattice, reach bits 30-31 zero; "
+     "points without probe: all zero"},
     {"cell_order", "cell records are sorted by strictly increasing cell index"},
     {"cell_bounds", "a cell's index is in the grid and its bounds are the grid cell's"},
     {"cell_root_node", "a cell's root node is the octree node covering exactly the cell, or -1"},

@@ -117,6 +117,11 @@ const std::map<std::string, Layout>& code_layouts() {
        {{FIELD(gpu::TraceNode, lower), FIELD(gpu::TraceNode, upper), FIELD(gpu::TraceNode, child)},
         sizeof(gpu::TraceNode)}},
       {"TraceFace", {{FIELD(gpu::TraceFace, vertex), FIELD(gpu::TraceFace, material)}, sizeof(gpu::TraceFace)}},
+      {"GridLatticeHeader",
+       {{FIELD(gpu::GridLatticeHeader, origin), FIELD(gpu::GridLatticeHeader, resolution),
+         FIELD(gpu::GridLatticeHeader, spacing), FIELD(gpu::GridLatticeHeader, pad0)},
+        sizeof(gpu::GridLatticeHeader)}},
+      {"GridPoint", {{FIELD(gpu::GridPoint, probe_cells), FIELD(gpu::GridPoint, reach)}, sizeof(gpu::GridPoint)}},
       {"TraceVertex",
        {{FIELD(gpu::TraceVertex, x), FIELD(gpu::TraceVertex, y), FIELD(gpu::TraceVertex, z)},
         sizeof(gpu::TraceVertex)}},
@@ -230,7 +235,8 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
                                                             {"trace_materials", sizeof(gpu::TraceMaterial)},
                                                             {"cell_tracing", sizeof(CellTracing)},
                                                             {"cell_checksums", 8},
-                                                            {"cell_global_checksums", 8}};
+                                                            {"cell_global_checksums", 8},
+                                                            {"grid_lattice", 4}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
   // Between them the four samples hold every section type.
@@ -247,6 +253,9 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
   const std::vector<std::uint8_t> cell_bytes = write_probes(with_cell_tracing);
   const ContainerView cell_view = parse_container(cell_bytes, "cell_tracing");
   entries.insert(entries.end(), cell_view.sections.begin(), cell_view.sections.end());
+  const std::vector<std::uint8_t> lattice_bytes = write_probes(testing::make_sample(testing::Sample::grid_lattice));
+  const ContainerView lattice_view = parse_container(lattice_bytes, "grid_lattice");
+  entries.insert(entries.end(), lattice_view.sections.begin(), lattice_view.sections.end());
   for (const Row& row : rows) {
     const std::uint32_t id = static_cast<std::uint32_t>(std::stoul(row[1]));
     EXPECT_EQ(section_name(id), row[0]);

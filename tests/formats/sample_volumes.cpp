@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "probebake/formats/cells.h"
+#include "probebake/formats/grid_lattice.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/trace_mesh.h"
 
@@ -178,6 +179,15 @@ ProbeVolume make_grid_sample() {
   return volume;
 }
 
+// The grid sample's 2^3 lattice: probe i at point i, each point serving the one cell, no surface within reach.
+void add_grid_lattice(ProbeVolume& v) {
+  const glm::vec3 lo = v.info.root_min;
+  std::vector<gpu::GridPoint> points;
+  const std::uint32_t no_surface = grid_reach_word({2.0f, 2.0f, 2.0f, 2.0f, 2.0f, 2.0f});
+  for (std::uint32_t i = 0; i < 8; ++i) points.push_back({grid_probe_cells(int(i), 1u << (7 - i)), no_surface});
+  v.grid_lattice = grid_lattice_words(grid_lattice_frame(lo, lo + glm::vec3(v.info.root_size), 2), points);
+}
+
 gpu::TraceTriangle trace_triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, int source,
                                   glm::vec3 emission = glm::vec3(0.0f)) {
   gpu::TraceTriangle t{};
@@ -334,7 +344,9 @@ void split_tracing_by_cell(ProbeVolume& v) {
 } // namespace
 
 ProbeVolume make_sample(Sample sample) {
-  ProbeVolume volume = sample == Sample::grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
+  const bool grid = sample == Sample::grid || sample == Sample::grid_lattice;
+  ProbeVolume volume = grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
+  if (sample == Sample::grid_lattice) add_grid_lattice(volume);
   const bool compact = sample == Sample::compact || sample == Sample::cells;
   const bool lit = sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic || compact;
   if (lit) add_sample_lighting(volume);
@@ -365,6 +377,7 @@ constexpr SampleNames kSampleNames[] = {
     {Sample::dynamic, "dynamic", "v1_3_dynamic.probes"},
     {Sample::compact, "compact", "v1_4_compact.probes"},
     {Sample::cells, "cells", "v1_7_cells.probes"},
+    {Sample::grid_lattice, "grid_lattice", "v1_8_grid_lattice.probes"},
 };
 static_assert(std::size(kSampleNames) == std::size(kAllSamples), "a name for every sample");
 

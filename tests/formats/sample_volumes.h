@@ -21,11 +21,13 @@ enum class Sample {
                 // (formats::upgrade_tracing): two trees, shared vertices, a material table
   cells,        // compact with its static tree split by streaming cell (format 1.5 cell_tracing: one leaf per
                 // cell of depth 1 under a top level) and so a checksum per cell (1.6 cell_checksums)
+  grid_lattice, // grid with format 1.8's grid_lattice: probe i at point i, each point serving its one cell
 };
 
 // Every sample, for tests that loop over them.
-inline constexpr Sample kAllSamples[] = {Sample::small,        Sample::static_set, Sample::grid,    Sample::lighting,
-                                         Sample::double_sided, Sample::dynamic,    Sample::compact, Sample::cells};
+inline constexpr Sample kAllSamples[] = {Sample::small,    Sample::static_set,   Sample::grid,
+                                         Sample::lighting, Sample::double_sided, Sample::dynamic,
+                                         Sample::compact,  Sample::cells,        Sample::grid_lattice};
 
 ProbeVolume make_sample(Sample sample);
 

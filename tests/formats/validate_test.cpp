@@ -13,6 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "probebake/formats/cell_file.h"
+#include "probebake/formats/container.h"
+#include "probebake/formats/grid_lattice.h"
+#include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 #include "sample_volumes.h"
 
@@ -200,6 +203,16 @@ const std::vector<Corruption>& corruptions() {
       {"svo_freed_probe", Sample::small, [](ProbeVolume& v) { v.svo_leaves[0].probes[0] = first_free_probe(v); }},
       {"svo_weights", Sample::small, [](ProbeVolume& v) { v.svo_leaves[0].weights[0] += 0.5f; }},
       {"free_not_zeroed", Sample::small, [](ProbeVolume& v) { v.svo_leaves.back().probes[0] = 0; }},
+      {"grid_lattice", Sample::small, // a lattice in an octree volume
+       [](ProbeVolume& v) { v.grid_lattice = testing::make_sample(Sample::grid_lattice).grid_lattice; }},
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice.pop_back(); }},
+      // Words 8, 9: point 0's probe and cells, and its reach; 10, 11: point 1's.
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[10] = v.grid_lattice[8]; }},
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[8] |= 1u << 24; }},
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[8] = grid_probe_cells(8, 0); }},
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[9] |= 1u << 31; }},
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[4] = 0u; }}, // spacing 0
+      {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[3] = 3u; }}, // resolution
       {"cell_order", Sample::small, [](ProbeVolume& v) { v.cells[1].cell_index = v.cells[0].cell_index; }},
       {"cell_bounds", Sample::small, [](ProbeVolume& v) { v.cells[0].bounds_min.x += 0.5f; }},
       {"cell_root_node", Sample::small, [](ProbeVolume& v) { v.cells[0].root_node = 5; }},
@@ -387,6 +400,14 @@ TEST(Validate, TheCheckWithoutTheCellsAndEachCellsCheckAgreeWithTheWholeCheck) {
   }
   EXPECT_GE(with_cells, 6u);
   EXPECT_GE(invalid, 5u); // the cells sample's corruptions
+}
+
+// Format 1.8: a grid with its lattice stamps 1.8 (the sample loops read it back and validate it); without the
+// lattice the same grid stays 1.0.
+TEST(Validate, OnlyAGridWithALatticeStamps1_8) {
+  EXPECT_EQ(parse_container(write_probes(testing::make_sample(Sample::grid)), "grid").header.version_minor, 0u);
+  EXPECT_EQ(parse_container(write_probes(testing::make_sample(Sample::grid_lattice)), "grid").header.version_minor,
+            kGridLatticeMinor);
 }
 
 TEST(Validate, EveryModelInvariantHasACorruptionCase) {

@@ -1,20 +1,23 @@
-// Uniform grid placement, the baseline: N^3 probes at the cell centres of the scene bounds.
+// Uniform grid placement, the baseline: N^3 probes at the cell centres of the scene bounds, in lattice order
+// (formats/grid_lattice.h: the bake stores the lattice for the grid engine's lookup).
 #include <algorithm>
 
 #include "method_util.h"
+#include "probebake/formats/grid_lattice.h"
 #include "probebake/placement/placement.h"
 
 namespace probebake::placement {
 
 std::vector<PlacedProbe> place_grid(const PlacementInput& in, formats::Octree& tree, const scene::Bounds& bounds) {
   const int n = in.settings.grid_resolution;
-  const glm::vec3 cell = (bounds.max - bounds.min) / float(n);
+  const gpu::GridLatticeHeader lattice = formats::grid_lattice_frame(bounds.min, bounds.max, n);
+  const glm::vec3 cell = lattice.spacing;
   std::vector<Cube> cubes;
   std::vector<glm::vec3> centres;
   for (int z = 0; z < n; ++z)
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
-        const glm::vec3 centre = bounds.min + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * cell;
+        const glm::vec3 centre = formats::grid_point_position(lattice, x, y, z);
         const float size = std::max({cell.x, cell.y, cell.z});
         cubes.push_back({centre - glm::vec3(0.5f * size), size});
         centres.push_back(centre);

@@ -171,6 +171,39 @@ struct VolumeInfo {
   int pad2;              // offset 76
 };                       // size 80
 
+// ---- Grid lattice (format 1.8, optional): the grid placement looked up as grid engines do -----------------
+// uint32[GRID_LATTICE_HEADER_WORDS + GRID_POINT_WORDS * resolution^3]: a GridLatticeHeader, then a GridPoint
+// per lattice point i = x + n (y + n z), x fastest. The grid's box [origin, origin + n spacing] is cut into
+// n^3 boxes and lattice point i sits at the centre of box (x, y, z), origin + ((x, y, z) + 0.5) spacing; its
+// probe is the one placed there (since moved out of geometry, perhaps). A lookup blends the eight corners of
+// the lattice cell around the point trilinearly (probe_index/grid_lookup.h).
+PB_CONSTANT(int, GRID_LATTICE_HEADER_WORDS, 8);
+PB_CONSTANT(int, GRID_POINT_WORDS, 2);
+PB_CONSTANT(int, GRID_MAX_RESOLUTION, 255); // resolution^3 probe indices fit in 24 bits
+// GridPoint::probe_cells: the probe index in bits 0-23 (GRID_POINT_NO_PROBE: freed, no probe) and in bits
+// 24-31 which of the eight lattice cells around the point its probe serves: bit o for the cell on the +x
+// side when o & 1, else -x (likewise y with 2, z with 4).
+PB_CONSTANT(uint, GRID_POINT_PROBE_MASK, 0x00FFFFFFu);
+PB_CONSTANT(uint, GRID_POINT_NO_PROBE, 0x00FFFFFFu);
+PB_CONSTANT(uint, GRID_POINT_CELLS_SHIFT, 24u);
+// GridPoint::reach: how far the probe sees along the six axis directions (+x, -x, +y, -y, +z, -z, five bits
+// each from bit 0), in 1/GRID_REACH_STEPS of the spacing on that axis, rounded down; GRID_REACH_STEPS: no
+// surface within a spacing. Bits 30-31 are zero.
+PB_CONSTANT(uint, GRID_REACH_BITS, 5u);
+PB_CONSTANT(uint, GRID_REACH_STEPS, 31u);
+
+struct GridLatticeHeader {
+  vec3 origin;    // offset  0: minimum corner of the grid's box, world space
+  int resolution; // offset 12: n, points per axis (2..GRID_MAX_RESOLUTION)
+  vec3 spacing;   // offset 16: distance between neighbouring points per axis (> 0)
+  int pad0;       // offset 28
+};                // size 32 = GRID_LATTICE_HEADER_WORDS words
+
+struct GridPoint {
+  uint probe_cells; // offset 0: see above
+  uint reach;       // offset 4: see above
+};                  // size 8 = GRID_POINT_WORDS words
+
 // ---- Runtime lighting (format 1.1, optional sections) ------------------------------------------------------
 // What the runtime's light update (thesis §3.2.2) needs to reproduce the bake's lighting on any Vulkan
 // device without ray-tracing extensions: the static triangles in a BVH of our own layout (built with
@@ -342,6 +375,8 @@ static_assert(sizeof(SurfelBatch) == 16 + 64 * SURFELS_PER_BATCH && offsetof(Sur
 static_assert(sizeof(LeafEntry) == 8 && sizeof(LeafQueueHeader) == 32);
 static_assert(sizeof(SvoLeaf) == 32 && offsetof(SvoLeaf, weights) == 16);
 static_assert(sizeof(VolumeInfo) == 80 && offsetof(VolumeInfo, placement) == 16);
+static_assert(sizeof(GridLatticeHeader) == 4 * GRID_LATTICE_HEADER_WORDS && offsetof(GridLatticeHeader, spacing) == 16);
+static_assert(sizeof(GridPoint) == 4 * GRID_POINT_WORDS && offsetof(GridPoint, reach) == 4);
 static_assert(offsetof(VolumeInfo, probe_capacity) == 48 && offsetof(VolumeInfo, svo_leaves) == 64);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, upper) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(TraceTriangle) == 96 && offsetof(TraceTriangle, normal) == 48 &&

@@ -104,7 +104,8 @@ void check_eval_settings(const EvalSettings& settings);
 
 struct EvalRow {
   std::string label;
-  std::string sampler; // "svo" (probe_index::sample_irradiance) or "all-probes" (the baseline)
+  std::string sampler; // "svo" (probe_index::sample_irradiance), "grid" (a grid bake's lattice looked up as grid
+                       // engines do, probe_index::sample_irradiance_grid) or "all-probes" (the baseline)
   BakeSettings bake;
   int asked_probes = 0; // EvalConfig::asked_probes and budget_by
   std::string budget_by;

@@ -57,5 +57,10 @@ SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RaySce
 // blend replaced: its borders are steps.
 SeamScore svo_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays, const SeamLookup& lookup,
                          const SeamSettings& settings = {});
+// The grid engine's lookup (probe_index::sample_irradiance_grid) of a grid bake with a lattice; the cell is
+// the lattice cell around the biased point, its size the smallest spacing, where the SVO lookup's point has a
+// leaf (the same open space as svo_seam_score's lines). Without a lattice: no borders.
+SeamScore grid_seam_score(const formats::ProbeVolume& volume, const scene::RayScene& rays,
+                          const SeamSettings& settings = {});
 
 } // namespace probebake::bake

@@ -93,8 +93,10 @@ enum class SectionType : std::uint32_t {
   cell_checksums = 24, // uint64 x cells
   // The global part's checksums (1.7), optional: what a streaming load that reads no cell checks.
   cell_global_checksums = 25, // uint64 x 6 (cells.h kCellSplitSections)
+  // The grid placement's lattice (1.8), optional: a reader without it looks grid probes up through the SVO.
+  grid_lattice = 26, // uint32 x (GRID_LATTICE_HEADER_WORDS + resolution^3), gpu_types.h
 };
-inline constexpr std::uint32_t kSectionTypeCount = 25;
+inline constexpr std::uint32_t kSectionTypeCount = 26;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
@@ -110,6 +112,7 @@ inline constexpr bool is_cell_index_section(SectionType type) {
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
   if (!is_known_section_type(type)) return 0;
+  if (type == static_cast<std::uint32_t>(SectionType::grid_lattice)) return kGridLatticeMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_global_checksums)) return kCellGlobalChecksumsMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_checksums)) return kCellChecksumsMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_tracing)) return kCellTracingMinor;

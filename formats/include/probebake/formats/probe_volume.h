@@ -93,6 +93,10 @@ struct ProbeVolume {
   std::vector<gpu::TraceFace> trace_faces; // lighting->triangles, in leaf order
   std::vector<gpu::TraceVertex> trace_vertices;
   std::vector<gpu::TraceMaterial> trace_materials;
+
+  // The grid placement's lattice (format 1.8, gpu_types.h GridLatticeHeader): header words, then one point
+  // word per lattice point; empty for other placements and for grids baked before 1.8.
+  std::vector<std::uint32_t> grid_lattice;
 };
 
 // The three largest sections (trace_nodes, trace_faces, trace_vertices), by file index, as the validator and the

@@ -39,7 +39,8 @@ void for_each_section(Volume& v, F&& f) {
   f(SectionType::cell_tracing, v.cell_tracing);
   f(SectionType::cell_checksums, v.cell_checksums);
   f(SectionType::cell_global_checksums, v.cell_global_checksums);
-  static_assert(kSectionTypeCount == 25, "a new section type: add it above");
+  f(SectionType::grid_lattice, v.grid_lattice);
+  static_assert(kSectionTypeCount == 26, "a new section type: add it above");
 }
 
 } // namespace probebake::formats

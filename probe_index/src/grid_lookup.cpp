@@ -1,0 +1,110 @@
+// The grid engine's lookup (algorithm in grid_lookup.h).
+#include "probebake/probe_index/grid_lookup.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace probebake::probe_index {
+namespace {
+
+constexpr float kWeightFloor = 0.001f;
+
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Step 3's reach weight: per axis, 1 until the point comes within kReachRamp / 2 of the first surface the probe
+// sees along it, 0 from kReachRamp / 2 past it (offsets and reach in spacings).
+constexpr float kReachRamp = 0.125f;
+float reach_weight(const formats::Reach& reach, glm::vec3 offset) {
+  float w = 1.0f;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float r = reach[std::size_t(2 * axis + (offset[axis] < 0.0f ? 1 : 0))];
+    const float ramp = (r - std::abs(offset[axis])) / kReachRamp + 0.5f;
+    w *= ramp > 0.0f ? std::min(ramp, 1.0f) : 0.0f; // NaN: 0
+  }
+  return w;
+}
+
+struct Corner {
+  int probe = -1;
+  float trilinear = 0.0f;
+  float side = 0.0f;
+};
+
+// Step 3's corners that serve the cell, with their trilinear and side weights.
+int serving_corners(const formats::ProbeVolume& volume, const formats::GridLatticeView& lattice, glm::vec3 position,
+                    glm::vec3 normal, std::array<Corner, 8>& corners) {
+  const gpu::GridLatticeHeader& h = lattice.header;
+  const int n = h.resolution;
+  const bool volumetric = glm::dot(normal, normal) == 0.0f;
+  const float bias = volumetric ? 0.0f : grid_normal_bias(h);
+  const glm::vec3 g = (position + normal * bias - h.origin) / h.spacing - 0.5f;
+  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(glm::clamp(g, glm::vec3(0.0f), glm::vec3(float(n - 1))))),
+                                  glm::ivec3(0), glm::ivec3(n - 2));
+  const glm::vec3 f = glm::clamp(g - glm::vec3(c), glm::vec3(0.0f), glm::vec3(1.0f));
+  int count = 0;
+  for (int k = 0; k < 8; ++k) {
+    const glm::ivec3 b(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    const glm::ivec3 q = c + b;
+    const gpu::GridPoint& point = lattice.points[std::size_t(q.x + n * (q.y + n * q.z))];
+    const int probe = formats::grid_point_probe(point);
+    if (probe < 0 || std::size_t(probe) >= volume.probes.size() || volume.probes[std::size_t(probe)].link == 0) continue;
+    if (((formats::grid_point_cells(point) >> (7 - k)) & 1u) == 0) continue;
+    const glm::vec3 at = volume.probes[std::size_t(probe)].position;
+    const glm::vec3 t = glm::mix(glm::vec3(1.0f) - f, f, glm::vec3(b));
+    const float side = volumetric ? 1.0f : glm::dot(at - position, normal) / bias;
+    const float w = reach_weight(formats::grid_point_reach(point), (position + normal * bias - at) / h.spacing);
+    corners[std::size_t(count++)] = {probe, t.x * t.y * t.z * w, side > 0.0f ? std::min(side, 1.0f) : 0.0f}; // NaN: 0
+  }
+  return count;
+}
+
+} // namespace
+
+float grid_normal_bias(const gpu::GridLatticeHeader& header) {
+  return 0.25f * std::min({header.spacing.x, header.spacing.y, header.spacing.z});
+}
+
+GridCorners grid_corners(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal) {
+  GridCorners out;
+  const std::optional<formats::GridLatticeView> lattice = formats::grid_lattice_view(volume);
+  if (!lattice || !finite(position) || !finite(normal)) return out;
+  std::array<Corner, 8> corners;
+  const int count = serving_corners(volume, *lattice, position, normal, corners);
+  float sum = 0.0f;
+  for (int i = 0; i < count; ++i) sum += corners[std::size_t(i)].trilinear * corners[std::size_t(i)].side;
+  const bool floored = !(sum > 0.0f);
+  if (floored) {
+    sum = 0.0f;
+    for (int i = 0; i < count; ++i)
+      sum += (corners[std::size_t(i)].trilinear + kWeightFloor) * (corners[std::size_t(i)].side + kWeightFloor);
+  }
+  if (!(sum > 0.0f)) return out;
+  for (int i = 0; i < count; ++i) {
+    const Corner& k = corners[std::size_t(i)];
+    const float w = floored ? (k.trilinear + kWeightFloor) * (k.side + kWeightFloor) : k.trilinear * k.side;
+    if (!(w > 0.0f)) continue;
+    out.probes[std::size_t(out.count)] = k.probe;
+    out.weights[std::size_t(out.count++)] = w / sum;
+  }
+  return out;
+}
+
+glm::vec3 sample_irradiance_grid(const formats::ProbeVolume& volume, glm::vec3 position, glm::vec3 normal,
+                                 SamplerStats* stats) {
+  const GridCorners corners = grid_corners(volume, position, normal);
+  if (stats) {
+    ++stats->samples;
+    stats->misses += corners.count == 0 ? 1 : 0;
+  }
+  glm::vec3 e(0.0f);
+  for (int i = 0; i < corners.count; ++i) {
+    const gpu::Probe& probe = volume.probes[std::size_t(corners.probes[std::size_t(i)])];
+    e += corners.weights[std::size_t(i)] * glm::max(evaluate_sh(probe.irradiance_sh, normal), glm::vec3(0.0f));
+  }
+  return e;
+}
+
+} // namespace probebake::probe_index

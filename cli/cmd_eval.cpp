@@ -49,6 +49,7 @@ nlohmann::json row_json(const bake::EvalRow& r) {
           {"light_rays", r.bake.lighting.rays},
           {"probes", r.probes},
           {"file_bytes", r.file_bytes},
+          {"lookup_bytes", r.lookup_bytes},
           {"bake_seconds", r.bake_seconds},
           {"sample_ns", r.sample_ns},
           {"rmse", r.rmse},

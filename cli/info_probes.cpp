@@ -64,6 +64,15 @@ nlohmann::json settings_json(const gpu::VolumeInfo& info) {
           {"grid_resolution", info.grid_resolution}};
 }
 
+// What a game keeps on the GPU to answer lookups (formats::lookup_bytes): through the SVO, and through a grid
+// bake's lattice (null without one).
+nlohmann::json lookup_bytes_json(const formats::ProbeVolume& v) {
+  return {{"svo", formats::lookup_bytes(v, formats::LookupIndex::svo)},
+          {"grid_lattice", v.grid_lattice.empty()
+                               ? nlohmann::json(nullptr)
+                               : nlohmann::json(formats::lookup_bytes(v, formats::LookupIndex::grid_lattice))}};
+}
+
 // What the runtime traces: triangles, and the bytes of the tracing sections per triangle (issue #14).
 nlohmann::json tracing_json(const ProbesInfo& in) {
   const formats::ProbeVolume& v = in.volume;
@@ -151,6 +160,7 @@ nlohmann::json info_json(const ProbesInfo& in) {
                                             : nlohmann::json{{"segment_capacity", v.leaf_header.segment_capacity},
                                                              {"pull_origin", v.leaf_header.pull_origin},
                                                              {"counts", v.leaf_header.count}}},
+      {"lookup_bytes", lookup_bytes_json(v)},
       {"sections", sections},
       {"tracing", tracing_json(in)},
       {"cell_depth", v.cell_depth},
@@ -179,6 +189,14 @@ void print_text(const ProbesInfo& in) {
              in.stats.surfels);
   fmt::print("svo          {} nodes, {} leaf voxels, {} payloads\n", v.svo_nodes.size(), in.stats.svo_leaf_voxels,
              v.svo_leaves.size());
+  const double per_probe = 1.0 / double(std::max(in.stats.probes, 1));
+  const std::uint64_t svo_bytes = formats::lookup_bytes(v, formats::LookupIndex::svo);
+  fmt::print("lookup       {} B through the SVO ({:.0f} B per probe)", svo_bytes, double(svo_bytes) * per_probe);
+  if (!v.grid_lattice.empty()) {
+    const std::uint64_t grid_bytes = formats::lookup_bytes(v, formats::LookupIndex::grid_lattice);
+    fmt::print(", {} B through the grid lattice ({:.0f} B per probe)", grid_bytes, double(grid_bytes) * per_probe);
+  }
+  fmt::print("\n");
   fmt::print("sections     {:<18} {:>10} {:>12} {:>10}\n", "name", "offset", "bytes", "elements");
   for (const formats::SectionEntry& e : in.container.sections) {
     fmt::print("             {:<18} {:>10} {:>12} {:>10}{}\n", formats::section_name(e.type), e.offset, e.size,

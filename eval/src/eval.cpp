@@ -15,6 +15,7 @@
 #include "probebake/formats/error.h"
 #include "probebake/eval/seams.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/formats/volume_stats.h"
 
 namespace probebake::bake {
 namespace {
@@ -73,6 +74,7 @@ EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake
   row.budget_by = config.budget_by;
   row.probes = baked.report.probes;
   row.file_bytes = formats::write_probes(baked.volume).size();
+  row.lookup_bytes = formats::lookup_bytes(baked.volume, formats::LookupIndex::svo);
   row.bake_seconds = bake_seconds;
   return row;
 }
@@ -204,6 +206,7 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
       // The grid as grid engines look it up (probe_index/grid_lookup.h), beside the SVO's lookup of it.
       EvalRow grid = row;
       grid.sampler = "grid";
+      grid.lookup_bytes = formats::lookup_bytes(v, formats::LookupIndex::grid_lattice);
       score(grid, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
         return probe_index::sample_irradiance_grid(v, p.position, p.normal, &st);
       });
@@ -217,6 +220,7 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     if (config.label != baseline) continue;
     say("all-probes " + config.label);
     row.sampler = "all-probes";
+    row.lookup_bytes = formats::lookup_bytes(v, formats::LookupIndex::none);
     row.seam_p99 = -1.0;
     score(row, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
       return probe_index::sample_irradiance_all_probes(v, rays, p.position, p.normal, &st);

@@ -130,7 +130,7 @@ std::string points_svg(const Axes& a, const std::vector<EvalRow>& rows, const st
     const EvalRow& r = rows[i];
     const double x = a.x(r.bake_seconds), y = a.y(r.relative_rmse);
     const bool on_front = std::find(front.begin(), front.end(), i) != front.end();
-    const std::string label = escape_xml(r.sampler == "svo" ? r.label : r.label + " (all probes)");
+    const std::string label = escape_xml(r.sampler == "svo" ? r.label : r.label + " (" + r.sampler + ")");
     if (r.sampler != "svo")
       s += fmt::format(
           "<rect x='{:.1f}' y='{:.1f}' width='9' height='9' fill='none' stroke='#2ca02c' stroke-width='2'/>\n", x - 4.5,

@@ -7,6 +7,14 @@
 
 namespace probebake::formats {
 
+std::uint64_t lookup_bytes(const ProbeVolume& volume, LookupIndex index) {
+  std::uint64_t bytes = sizeof(gpu::VolumeInfo) + volume.probes.size() * sizeof(gpu::Probe);
+  if (index == LookupIndex::svo)
+    bytes += volume.svo_nodes.size() * sizeof(std::int32_t) + volume.svo_leaves.size() * sizeof(gpu::SvoLeaf);
+  if (index == LookupIndex::grid_lattice) bytes += volume.grid_lattice.size() * sizeof(std::uint32_t);
+  return bytes;
+}
+
 VolumeStats compute_stats(const ProbeVolume& volume) {
   VolumeStats stats;
   for_each_leaf(volume, [&](const NodeCube& leaf) {

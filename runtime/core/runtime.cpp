@@ -226,6 +226,9 @@ Result<std::vector<glm::vec3>> Volume::sample_irradiance(std::span<const glm::ve
     if (positions.size() != normals.size())
       return Status{StatusCode::invalid_argument, "sample_irradiance: " + std::to_string(positions.size()) +
                                                       " positions but " + std::to_string(normals.size()) + " normals"};
+    if (method == SampleMethod::grid && state_->streaming)
+      return Status{StatusCode::unsupported, "sample_irradiance: the grid sampler does not follow streamed probe "
+                                             "slots yet; load the grid without streaming"};
     std::vector<glm::vec3> out(positions.size());
     SampleStats local;
     if (flags) flags->assign(positions.size(), 0u);
@@ -315,7 +318,8 @@ VolumeBuffers Volume::buffers() const {
           view(s, Section::trace_faces),
           view(s, Section::trace_vertices),
           view(s, Section::trace_materials),
-          record_slots_view(s)};
+          record_slots_view(s),
+          s.streaming ? BufferView{} : view(s, Section::grid_lattice)};
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }

@@ -1,4 +1,4 @@
-// Set 1 of the sampling kernels (sample_irradiance.comp, sample_all_probes.comp): the queries and results of
+// Set 1 of the sampling kernels (sample_irradiance.comp, sample_grid.comp, sample_all_probes.comp): the queries and results of
 // one batch, rewritten for each run (sample_pass.cpp).
 #ifndef PROBEBAKE_SAMPLE_BINDINGS_H
 #define PROBEBAKE_SAMPLE_BINDINGS_H
@@ -14,6 +14,12 @@ PB_CONSTANT(uint, SAMPLE_BINDING_RESULTS, 1u);
 // its probes are not being lit; read only with SamplePush.streaming.
 PB_CONSTANT(uint, SAMPLE_BINDING_RECORD_SLOTS, 2u);
 PB_CONSTANT(uint, SAMPLE_BINDING_COUNT, 3u);
+
+// sample_grid.comp: the grid engine's lookup on a grid bake's lattice (the volume's grid_lattice section)
+PB_CONSTANT(uint, SAMPLE_GRID_BINDING_QUERIES, 0u);
+PB_CONSTANT(uint, SAMPLE_GRID_BINDING_RESULTS, 1u);
+PB_CONSTANT(uint, SAMPLE_GRID_BINDING_LATTICE, 2u);
+PB_CONSTANT(uint, SAMPLE_GRID_BINDING_COUNT, 3u);
 
 // sample_all_probes.comp
 PB_CONSTANT(uint, SAMPLE_ALL_BINDING_QUERIES, 0u);

@@ -55,25 +55,33 @@ void read_results(const void* mapped, std::span<glm::vec3> out, std::span<std::u
 SamplePass::SamplePass(Device& device, const GpuVolume& volume) : device_(device), volume_(volume) {
   const std::size_t by_range = device.info.max_storage_buffer_range / sizeof(gpu::SampleQuery);
   max_batch_ = std::max<std::size_t>(1, std::min(by_range, kMaxBatch));
-  static_assert(gpu::SAMPLE_BINDING_COUNT >= gpu::SAMPLE_ALL_BINDING_COUNT); // the pool holds both sets
-  pool_ = make_descriptor_pool(device.vk(), 2, gpu::SAMPLE_BINDING_COUNT);
+  static_assert(gpu::SAMPLE_BINDING_COUNT >= gpu::SAMPLE_ALL_BINDING_COUNT &&
+                gpu::SAMPLE_BINDING_COUNT >= gpu::SAMPLE_GRID_BINDING_COUNT); // the pool holds the three sets
+  pool_ = make_descriptor_pool(device.vk(), 3, gpu::SAMPLE_BINDING_COUNT);
   set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().set_layout(Layout::sample));
+  grid_set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().set_layout(Layout::sample_grid));
   all_set_ = allocate_set(device.vk(), pool_.get(), device.compute_pipelines().set_layout(Layout::sample_all));
 }
 
 void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
                      SampleStats& stats, SampleMethod method, std::span<std::uint32_t> flags) {
   const auto start = std::chrono::steady_clock::now();
-  const bool all_probes = method == SampleMethod::all_probes;
+  const bool all_probes = method == SampleMethod::all_probes, grid = method == SampleMethod::grid;
   if (all_probes && volume_.elements(Section::lighting_info) == 0)
     fail(StatusCode::unsupported, "the all-probe sampler traces visibility rays: the volume has no lighting sections "
                                   "(baked with --no-runtime-lighting)");
+  if (grid && volume_.elements(Section::grid_lattice) == 0)
+    fail(StatusCode::unsupported, "the grid sampler reads a grid bake's lattice: the volume has none (bake with "
+                                  "--placement grid and --grid 2..255)");
   stats.samples += positions.size();
   if (positions.empty()) return;
   Pipelines& pipelines = device_.compute_pipelines();
-  const VkPipelineLayout layout = pipelines.layout(all_probes ? Layout::sample_all : Layout::sample);
-  const VkPipeline pipeline = pipelines.kernel(all_probes ? Kernel::sample_all_probes : Kernel::sample_irradiance);
-  const VkDescriptorSet set = all_probes ? all_set_ : set_;
+  const Layout layout_id = all_probes ? Layout::sample_all : grid ? Layout::sample_grid : Layout::sample;
+  const VkPipelineLayout layout = pipelines.layout(layout_id);
+  const VkPipeline pipeline = pipelines.kernel(all_probes ? Kernel::sample_all_probes
+                                               : grid     ? Kernel::sample_grid
+                                                          : Kernel::sample_irradiance);
+  const VkDescriptorSet set = all_probes ? all_set_ : grid ? grid_set_ : set_;
   const std::size_t batch = std::min(max_batch_, positions.size());
   BatchBuffers buffers(*device_.allocator, batch);
   // The previous run has completed: the sets are idle.
@@ -81,6 +89,12 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     std::array<VkBuffer, gpu::SAMPLE_ALL_BINDING_COUNT> bindings{};
     bindings[gpu::SAMPLE_ALL_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_ALL_BINDING_RESULTS] = buffers.results.get();
+    write_storage_buffers(device_.vk(), set, bindings);
+  } else if (grid) {
+    std::array<VkBuffer, gpu::SAMPLE_GRID_BINDING_COUNT> bindings{};
+    bindings[gpu::SAMPLE_GRID_BINDING_QUERIES] = buffers.queries.get();
+    bindings[gpu::SAMPLE_GRID_BINDING_RESULTS] = buffers.results.get();
+    bindings[gpu::SAMPLE_GRID_BINDING_LATTICE] = volume_.binding(Section::grid_lattice);
     write_storage_buffers(device_.vk(), set, bindings);
   } else {
     std::array<VkBuffer, gpu::SAMPLE_BINDING_COUNT> bindings{};
@@ -104,7 +118,7 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     vkCmdCopyBuffer(cmd, buffers.queries_host.get(), buffers.queries.get(), 1, &queries);
     barrier(cmd, kTransferWrite, kComputeRead);
     const gpu::SamplePush push{static_cast<std::uint32_t>(count),
-                               record_slots_ != VK_NULL_HANDLE && !all_probes ? 1u : 0u, 0, 0};
+                               record_slots_ != VK_NULL_HANDLE && layout_id == Layout::sample ? 1u : 0u, 0, 0};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     bind_sets_and_push(cmd, layout, volume_.volume_set(), set, push);
     timer.begin(cmd, 0);

@@ -1,5 +1,6 @@
 // The irradiance sampling pass: queries (position, normal) in, SampleResult out, through
-// sample_irradiance.comp, which runs the GLSL include games use (probebake/sample_irradiance.glsl).
+// sample_irradiance.comp (or sample_grid.comp), which runs the GLSL include games use
+// (probebake/sample_irradiance.glsl, probebake/sample_grid.glsl).
 // Batches are split so that no query or result buffer exceeds maxStorageBufferRange.
 #pragma once
 
@@ -21,7 +22,8 @@ public:
   SamplePass(Device& device, const GpuVolume& volume);
 
   // out[i] = irradiance at (positions[i], normals[i]); sizes must be equal (checked by the caller).
-  // SampleMethod::all_probes throws RuntimeError(unsupported) for volumes without the lighting sections.
+  // SampleMethod::all_probes throws RuntimeError(unsupported) for volumes without the lighting sections,
+  // SampleMethod::grid for volumes without a grid lattice.
   // `flags` (optional, out.size() entries): each lookup's kSample* bits.
   void run(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals, std::span<glm::vec3> out,
            SampleStats& stats, SampleMethod method, std::span<std::uint32_t> flags = {});
@@ -36,9 +38,10 @@ private:
   const GpuVolume& volume_;
   std::size_t max_batch_ = 0;
   DeviceObject<VkDescriptorPool> pool_;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;     // SVO sampler
-  VkDescriptorSet all_set_ = VK_NULL_HANDLE; // all-probe baseline
-  VkBuffer record_slots_ = VK_NULL_HANDLE;   // streaming only
+  VkDescriptorSet set_ = VK_NULL_HANDLE;      // SVO sampler
+  VkDescriptorSet grid_set_ = VK_NULL_HANDLE; // grid engine
+  VkDescriptorSet all_set_ = VK_NULL_HANDLE;  // all-probe baseline
+  VkBuffer record_slots_ = VK_NULL_HANDLE;    // streaming only
 };
 
 } // namespace probebake::runtime::detail

@@ -2,6 +2,7 @@
 // (--probes), its indirect-error columns, and the reference cache of the version before the split.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -211,29 +212,38 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
   EXPECT_NE(r.out.find("direct_irradiance against the traced direct part"), std::string::npos) << r.out;
   const auto rows = lines(read_text(csv));
   ASSERT_GE(rows.size(), 4u); // header, at least two rows per method... grid and octree at two rungs, less repeats
-  EXPECT_TRUE(
-      rows[0].ends_with(",asked_probes,budget_by,indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean"))
+  EXPECT_TRUE(rows[0].ends_with(
+      ",asked_probes,budget_by,indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean,lookup_bytes"))
       << rows[0];
-  int grid_rows = 0;
+  int grid_rows = 0, grid_engine_rows = 0;
+  std::map<std::string, double> svo_bytes; // per label: the SVO row's lookup bytes
   for (std::size_t i = 1; i < rows.size(); ++i) {
     std::vector<std::string> cells;
     std::istringstream in(rows[i]);
     for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 31u) << rows[i];
+    ASSERT_EQ(cells.size(), 32u) << rows[i];
     const int asked = std::stoi(cells[25]);
     const double indirect = std::stod(cells[28]);
     const double seam = std::stod(cells[29]);
     EXPECT_EQ(std::stod(cells[30]), 0.0) << rows[i]; // no camera: no image receivers, no HDR-FLIP
-    if (cells[1] == "svo") {
+    const double lookup_bytes = std::stod(cells[31]);
+    EXPECT_GT(lookup_bytes, 0.0) << rows[i];
+    if (cells[1] == "svo" || cells[1] == "grid") {
       EXPECT_TRUE(asked == 16 || asked == 64) << rows[i];
       EXPECT_TRUE(seam >= 0.0 && seam < 10.0) << rows[i];
     } else {
       EXPECT_EQ(seam, -1.0) << rows[i]; // the all-probe loop is not scored for seams
     }
     EXPECT_TRUE(std::isfinite(indirect) && indirect > 0.0) << rows[i];
-    if (cells[2] == "grid") ++grid_rows;
+    if (cells[1] == "svo") svo_bytes[cells[0]] = lookup_bytes;
+    if (cells[2] == "grid" && cells[1] == "svo") ++grid_rows;
+    if (cells[1] == "grid") { // the grid engine's row follows its bake's SVO row, and keeps no SVO
+      ++grid_engine_rows;
+      EXPECT_LT(lookup_bytes, svo_bytes.at(cells[0])) << rows[i];
+    }
   }
   EXPECT_EQ(grid_rows, 2);
+  EXPECT_EQ(grid_engine_rows, 2);
   const std::string plot = read_text(svg);
   EXPECT_NE(plot.find("error against probe count"), std::string::npos);
   EXPECT_NE(plot.find("grid indirect"), std::string::npos);

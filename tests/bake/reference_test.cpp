@@ -310,14 +310,23 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
   const auto csv = dir / "ref_eval.csv", svg = dir / "ref_eval.svg";
   const CliResult first = run("eval " + quoted(scene) + " --quick --csv " + quoted(csv) + " --plot " + quoted(svg));
   ASSERT_EQ(first.exit_code, 0) << first.out;
-  const std::size_t configs = bake::quick_sweep().size();
+  // One row per configuration, one more per grid (its grid engine's lookup), plus the all-probes baseline.
+  const std::vector<bake::EvalConfig> sweep = bake::quick_sweep();
+  const std::size_t grids = std::size_t(std::count_if(
+      sweep.begin(), sweep.end(), [](const bake::EvalConfig& c) { return c.bake.placement == bake::Placement::grid; }));
+  ASSERT_GE(grids, 1u);
+  const std::size_t configs = sweep.size() + grids;
   const auto rows = table_rows(first.out);
-  ASSERT_EQ(rows.size(), configs + 1) << first.out; // one per configuration, plus the all-probes baseline
-  for (const auto& c : bake::quick_sweep())
-    EXPECT_EQ(std::count_if(rows.begin(), rows.end(),
-                            [&](const std::string& r) { return r.starts_with("| " + c.label + " | svo |"); }),
-              1)
-        << c.label;
+  ASSERT_EQ(rows.size(), configs + 1) << first.out;
+  for (const auto& c : sweep) {
+    const auto count = [&](const char* sampler) {
+      return std::count_if(rows.begin(), rows.end(), [&](const std::string& r) {
+        return r.starts_with("| " + c.label + " | " + sampler + " |");
+      });
+    };
+    EXPECT_EQ(count("svo"), 1) << c.label;
+    EXPECT_EQ(count("grid"), c.bake.placement == bake::Placement::grid ? 1 : 0) << c.label;
+  }
   EXPECT_EQ(lines_of(read_text(csv)).size(), configs + 2); // header + rows
   const std::string plot = read_text(svg);
   EXPECT_TRUE(plot.starts_with("<svg")) << plot.substr(0, 80);
@@ -335,6 +344,7 @@ TEST(EvalCli, QuickSweepOnCornellWritesTableCsvSvgAndCachesTheReference) {
     EXPECT_GT(row["coverage"].get<double>(), 0.0);
     EXPECT_GT(row["probes"].get<int>(), 0);
     EXPECT_GT(row["file_bytes"].get<long>(), 0);
+    EXPECT_GT(row["lookup_bytes"].get<long>(), 0);
     EXPECT_TRUE(std::isfinite(row["relative_rmse"].get<double>()));
     EXPECT_EQ(row["light_rays"].get<int>(), 24); // --light-rays reaches every bake of the sweep
   }

@@ -133,6 +133,10 @@ const BindingTable& pass_table(std::string_view layout) {
        {{"Queries", SAMPLE_BINDING_QUERIES},
         {"Results", SAMPLE_BINDING_RESULTS},
         {"RecordSlots", SAMPLE_BINDING_RECORD_SLOTS}}},
+      {"sample_grid",
+       {{"Queries", SAMPLE_GRID_BINDING_QUERIES},
+        {"Results", SAMPLE_GRID_BINDING_RESULTS},
+        {"ProbebakeGridLattice", SAMPLE_GRID_BINDING_LATTICE}}},
       {"sample_all", {{"Queries", SAMPLE_ALL_BINDING_QUERIES}, {"Results", SAMPLE_ALL_BINDING_RESULTS}}},
       {"light",
        {{"RecordPage0", LIGHT_BINDING_RECORDS},
@@ -199,7 +203,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeaders) {
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryKernelOfThePassTable) {
-  EXPECT_EQ(std::size(kKernels), 25u); // the table itself: a row lost from passes.def fails here
+  EXPECT_EQ(std::size(kKernels), 26u); // the table itself: a row lost from passes.def fails here
   for (const KernelRow& kernel : kKernels) {
     const auto words = shaders::spirv(kernel.name);
     ASSERT_GT(words.size(), 5u) << kernel.name;

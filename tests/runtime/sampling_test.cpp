@@ -5,12 +5,15 @@
 // evaluation order (GPU division is allowed 2.5 ulp) may pick the neighbouring voxel, a different stencil.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "probebake/formats/grid_lattice.h"
+#include "probebake/probe_index/grid_lookup.h"
 #include "probebake/probe_index/lookup.h"
 #include "runtime_test_util.h"
 
@@ -65,16 +68,15 @@ struct Comparison {
   std::size_t cpu_misses = 0, gpu_misses = 0, mismatches = 0, lit = 0;
 };
 
-Comparison compare(const formats::ProbeVolume& volume, runtime::Volume& gpu_volume, const Points& points) {
-  std::vector<glm::vec3> cpu(points.positions.size());
-  probe_index::SamplerStats cpu_stats;
-  probe_index::sample_irradiance(volume, points.positions, points.normals, cpu, &cpu_stats, 1);
+// The GPU's lookups by `method` against the CPU's (`cpu`, with `cpu_misses`).
+Comparison compare(const std::vector<glm::vec3>& cpu, std::size_t cpu_misses, runtime::Volume& gpu_volume,
+                   const Points& points, runtime::SampleMethod method = runtime::SampleMethod::svo) {
   runtime::SampleStats gpu_stats;
-  auto gpu = gpu_volume.sample_irradiance(points.positions, points.normals, &gpu_stats);
+  auto gpu = gpu_volume.sample_irradiance(points.positions, points.normals, &gpu_stats, method);
   EXPECT_TRUE(gpu.ok()) << gpu.status().message;
   Comparison c;
   if (!gpu.ok()) return c;
-  c.cpu_misses = cpu_stats.misses;
+  c.cpu_misses = cpu_misses;
   c.gpu_misses = gpu_stats.misses;
   float brightest = 0.0f;
   for (const glm::vec3& e : cpu) brightest = std::max(brightest, std::max({e.x, e.y, e.z}));
@@ -99,7 +101,11 @@ void expect_gpu_equals_cpu(runtime::Context& context, const formats::ProbeVolume
   auto uploaded = runtime::Volume::upload(context, volume);
   ASSERT_TRUE(uploaded.ok()) << uploaded.status().message;
   ASSERT_TRUE(uploaded->run_frame().ok());
-  const Comparison c = compare(volume, uploaded.value(), make_points(volume, count, 42));
+  const Points points = make_points(volume, count, 42);
+  std::vector<glm::vec3> cpu(points.positions.size());
+  probe_index::SamplerStats cpu_stats;
+  probe_index::sample_irradiance(volume, points.positions, points.normals, cpu, &cpu_stats, 1);
+  const Comparison c = compare(cpu, cpu_stats.misses, uploaded.value(), points);
   EXPECT_EQ(c.mismatches, 0u);
   EXPECT_LE(c.max_relative, 1e-4f);
   EXPECT_EQ(c.gpu_misses, c.cpu_misses);
@@ -111,6 +117,44 @@ TEST_F(SamplingTest, CornellOctreeMatchesTheCpuSampler) {
 }
 TEST_F(SamplingTest, LeakOctreeMatchesTheCpuSampler) { expect_gpu_equals_cpu(context(), baked_leak_octree(), 20000); }
 TEST_F(SamplingTest, CornellGridMatchesTheCpuSampler) { expect_gpu_equals_cpu(context(), baked_cornell_grid(), 20000); }
+
+// The grid engine's lookup (sample_grid.glsl) against probe_index::sample_irradiance_grid on the same points,
+// less those within 1e-3 of a lattice cell's face (where rounding may pick the neighbouring cell); a volume
+// without a lattice is refused.
+TEST_F(SamplingTest, GridEngineMatchesTheCpuSampler) {
+  const formats::ProbeVolume& volume = baked_cornell_grid();
+  const std::optional<formats::GridLatticeView> lattice = formats::grid_lattice_view(volume);
+  ASSERT_TRUE(lattice);
+  const gpu::GridLatticeHeader h = lattice->header;
+  const Points all = make_points(volume, 20000, 42);
+  Points points;
+  for (std::size_t i = 0; i < all.positions.size(); ++i) {
+    const glm::vec3 g =
+        (all.positions[i] + all.normals[i] * probe_index::grid_normal_bias(h) - h.origin) / h.spacing - 0.5f;
+    const glm::vec3 distance = glm::abs(g - glm::round(g));
+    if (std::min({distance.x, distance.y, distance.z}) < 1e-3f) continue;
+    points.positions.push_back(all.positions[i]);
+    points.normals.push_back(all.normals[i]);
+  }
+  std::vector<glm::vec3> cpu;
+  probe_index::SamplerStats cpu_stats;
+  for (std::size_t i = 0; i < points.positions.size(); ++i)
+    cpu.push_back(probe_index::sample_irradiance_grid(volume, points.positions[i], points.normals[i], &cpu_stats));
+  auto uploaded = runtime::Volume::upload(context(), volume);
+  ASSERT_TRUE(uploaded.ok()) << uploaded.status().message;
+  EXPECT_NE(uploaded->buffers().grid_lattice.buffer, VK_NULL_HANDLE);
+  const Comparison c = compare(cpu, cpu_stats.misses, uploaded.value(), points, runtime::SampleMethod::grid);
+  EXPECT_EQ(c.mismatches, 0u);
+  EXPECT_LE(c.max_relative, 1e-4f);
+  EXPECT_EQ(c.gpu_misses, c.cpu_misses);
+  EXPECT_GT(c.lit, points.positions.size() / 2);
+
+  auto octree = runtime::Volume::upload(context(), baked_cornell_octree());
+  ASSERT_TRUE(octree.ok()) << octree.status().message;
+  const auto refused =
+      octree->sample_irradiance(points.positions, points.normals, nullptr, runtime::SampleMethod::grid);
+  EXPECT_EQ(refused.status().code, runtime::StatusCode::unsupported) << refused.status().message;
+}
 
 TEST_F(SamplingTest, VolumeWithoutSvoMissesEverywhere) {
   const formats::ProbeVolume empty = formats::make_empty_volume(baked_cornell_octree().info);

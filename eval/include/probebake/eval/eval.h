@@ -110,7 +110,8 @@ struct EvalRow {
   int asked_probes = 0; // EvalConfig::asked_probes and budget_by
   std::string budget_by;
   int probes = 0;
-  std::uint64_t file_bytes = 0; // the .probes file as written by write_probes
+  std::uint64_t file_bytes = 0;   // the .probes file as written by write_probes
+  std::uint64_t lookup_bytes = 0; // what the row's lookup keeps on the GPU (formats::lookup_bytes)
   double bake_seconds = 0.0;
   double sample_ns = 0.0;     // per point, one thread, lookup only (direct light is the same for all rows)
   double rmse = 0.0;          // over points of the RGB RMS error, W/m^2

@@ -23,4 +23,13 @@ struct VolumeStats {
 // Throws Error(input) when the octree is not a tree (see for_each_leaf).
 VolumeStats compute_stats(const ProbeVolume& volume);
 
+// What a game keeps on the GPU to answer lookups (issue #41): volume_info, the probes and the lookup's index,
+// without what the memory and light updates add (octree, surfels, leaf buffer, probe index list, tracing).
+enum class LookupIndex {
+  svo,          // probe_index::sample_irradiance: the SVO's nodes and leaves
+  grid_lattice, // probe_index::sample_irradiance_grid: the lattice (0 bytes of index but its point words)
+  none,         // the all-probe loop: no index (and the scene's rays, which are not counted)
+};
+std::uint64_t lookup_bytes(const ProbeVolume& volume, LookupIndex index);
+
 } // namespace probebake::formats

@@ -89,6 +89,10 @@ struct VolumeBuffers {
   // records; bind it at PROBEBAKE_BINDING_RECORD_SLOTS for probebake_sample_irradiance_not_lit
   // (sample_irradiance.glsl). Not a file section.
   BufferView record_slots;
+  // A grid bake's lattice (format 1.8): bind it at PROBEBAKE_BINDING_GRID_LATTICE for
+  // probebake_sample_irradiance_grid (sample_grid.glsl). Empty for other volumes, and with streaming (whose
+  // probe slots the lattice does not follow yet).
+  BufferView grid_lattice;
 };
 
 class Volume {

@@ -371,7 +371,9 @@ inline constexpr std::uint32_t kSampleNotLit = 2u; // streaming: a probe it used
 
 // How Volume::sample_irradiance finds the probes of a point.
 enum class SampleMethod {
-  svo,        // the SVO probe index: one leaf, at most four probes (what games use)
+  svo,        // the SVO probe index: the blended lookup of probe_index/lookup.h (what games use)
+  grid,       // a grid bake's lattice, looked up as grid engines do (probe_index/grid_lookup.h, sample_grid.glsl);
+              // unsupported for volumes without the grid_lattice section
   all_probes, // the octree thesis's baseline (§3.2.4): every live probe, one visibility ray each through the
               // BVH; for comparison only; needs the lighting sections (unsupported otherwise)
 };

@@ -41,7 +41,8 @@ void check_points(const ProbeVolume& volume, const GridLatticeView& view, Report
   std::vector<int> seen(volume.probes.size(), -1);
   for (std::size_t i = 0; i < view.points.size(); ++i) {
     const gpu::GridPoint& word = view.points[i];
-    const int x = int(i % std::size_t(n)), y = int(i / std::size_t(n) % std::size_t(n)), z = int(i / std::size_t(n * n));
+    const int x = int(i % std::size_t(n)), y = int(i / std::size_t(n) % std::size_t(n)),
+              z = int(i / std::size_t(n * n));
     const int probe = grid_point_probe(word);
     const long long at = static_cast<long long>(i);
     if (probe < 0) {

@@ -18,7 +18,8 @@ using detail::kVoxelPoints;
 
 // Lattice coordinates of index i of an m^3 array (x fastest), and back.
 glm::ivec3 coords(std::size_t i, int m) {
-  return {int(i % std::size_t(m)), int(i / std::size_t(m) % std::size_t(m)), int(i / (std::size_t(m) * std::size_t(m)))};
+  return {int(i % std::size_t(m)), int(i / std::size_t(m) % std::size_t(m)),
+          int(i / (std::size_t(m) * std::size_t(m)))};
 }
 std::size_t index(glm::ivec3 q, int m) { return std::size_t(q.x + m * (q.y + m * q.z)); }
 glm::ivec3 corner(int k) { return {k & 1, (k >> 1) & 1, (k >> 2) & 1}; }
@@ -28,8 +29,7 @@ std::array<glm::vec3, kVoxelPoints> cell_points(const gpu::GridLatticeHeader& h,
   const glm::vec3 lo = formats::grid_point_position(h, cell.x, cell.y, cell.z); // the cell's lowest corner
   std::array<glm::vec3, kVoxelPoints> points{};
   points[0] = lo + 0.5f * h.spacing;
-  for (int o = 0; o < 8; ++o)
-    points[std::size_t(1 + o)] = lo + (glm::vec3(corner(o)) * 0.5f + 0.25f) * h.spacing;
+  for (int o = 0; o < 8; ++o) points[std::size_t(1 + o)] = lo + (glm::vec3(corner(o)) * 0.5f + 0.25f) * h.spacing;
   return points;
 }
 
@@ -91,7 +91,8 @@ std::vector<std::uint8_t> served_cells(const scene::RayScene& rays, const gpu::G
       live = std::uint8_t(live | (1u << k));
       const glm::vec3 from = lattice.volume.probes[std::size_t(probe)].position;
       for (int s = 0; s < kVoxelPoints && !(bits & (1u << k)); ++s)
-        if ((open[i] >> s) & 1u && detail::sees(rays, from, points[std::size_t(s)])) bits = std::uint8_t(bits | (1u << k));
+        if ((open[i] >> s) & 1u && detail::sees(rays, from, points[std::size_t(s)]))
+          bits = std::uint8_t(bits | (1u << k));
     }
     served[i] = bits != 0 ? bits : live;
   });

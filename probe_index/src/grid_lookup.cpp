@@ -50,7 +50,8 @@ int serving_corners(const formats::ProbeVolume& volume, const formats::GridLatti
     const glm::ivec3 q = c + b;
     const gpu::GridPoint& point = lattice.points[std::size_t(q.x + n * (q.y + n * q.z))];
     const int probe = formats::grid_point_probe(point);
-    if (probe < 0 || std::size_t(probe) >= volume.probes.size() || volume.probes[std::size_t(probe)].link == 0) continue;
+    if (probe < 0 || std::size_t(probe) >= volume.probes.size() || volume.probes[std::size_t(probe)].link == 0)
+      continue;
     if (((formats::grid_point_cells(point) >> (7 - k)) & 1u) == 0) continue;
     const glm::vec3 at = volume.probes[std::size_t(probe)].position;
     const glm::vec3 t = glm::mix(glm::vec3(1.0f) - f, f, glm::vec3(b));

@@ -63,11 +63,34 @@ TEST(BakeCli, CornellAtDepth3WritesAValidFileWithFewProbesAndRebakesIdentically)
   EXPECT_EQ(validate.exit_code, 0) << validate.out;
   const CliRun info = run({"info --json", probes});
   ASSERT_EQ(info.exit_code, 0) << info.out;
-  EXPECT_EQ(nlohmann::json::parse(info.out)["probes"].get<int>(), report["probes"].get<int>());
+  const auto info_json = nlohmann::json::parse(info.out);
+  EXPECT_EQ(info_json["probes"].get<int>(), report["probes"].get<int>());
+  EXPECT_GT(info_json["lookup_bytes"]["svo"].get<long>(), 0);
+  EXPECT_TRUE(info_json["lookup_bytes"]["grid_lattice"].is_null()); // an octree bake has no lattice
 
   const auto again = scene.parent_path() / "again.probes";
   ASSERT_EQ(run({"bake", scene, "--max-depth 3 --svo-depth 4 --threads 1 -o", again}).exit_code, 0);
   EXPECT_EQ(read_bytes(probes), read_bytes(again));
+}
+
+// A grid bake writes its lattice (format 1.8); info counts what each lookup keeps on the GPU: volume_info and
+// the probes, plus the SVO or the lattice (8 header words and 2 per point).
+TEST(BakeCli, AGridBakeWritesItsLatticeAndInfoCountsItsLookupBytes) {
+  const auto scene = write_generated(samples::cornell(), "cli_grid_lattice");
+  const auto probes = scene.parent_path() / "grid4.probes";
+  ASSERT_EQ(run({scene, "--placement grid --grid 4 --svo-depth 4 -o", probes}).exit_code, 0);
+  EXPECT_EQ(run({"validate", probes}).exit_code, 0);
+  const auto info = nlohmann::json::parse(run({"info --json", probes}).out);
+  EXPECT_EQ(info["format_version"].get<std::string>(), "1.8");
+  std::size_t probe_bytes = 0, svo_bytes = 0;
+  for (const auto& section : info["sections"]) {
+    const std::string name = section["name"].get<std::string>();
+    if (name == "probes") probe_bytes = section["bytes"].get<std::size_t>();
+    if (name == "svo_nodes" || name == "svo_leaves") svo_bytes += section["bytes"].get<std::size_t>();
+  }
+  EXPECT_EQ(info["lookup_bytes"]["grid_lattice"].get<std::size_t>(), 80 + probe_bytes + 4 * (8 + 2 * 64));
+  EXPECT_EQ(info["lookup_bytes"]["svo"].get<std::size_t>(), 80 + probe_bytes + svo_bytes);
+  EXPECT_NE(run({"info", probes}).out.find("B through the grid lattice"), std::string::npos);
 }
 
 // The runtime lighting sections are written by default and reported; --no-runtime-lighting leaves them out.

@@ -65,6 +65,19 @@ void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
   row.indirect_relative_rmse = relative(row.indirect_rmse, truth.indirect_mean);
 }
 
+// Scores `row` with `lookup(position, normal, stats)` at the receivers and, with a camera, at its pixels (the
+// error maps), and adds it to the result.
+template <class Lookup>
+void add_scored_row(EvalRow row, const Truth& truth, const std::optional<detail::ErrorMaps>& maps, EvalResult& result,
+                    const Lookup& lookup) {
+  score(row, truth,
+        [&](const SamplePoint& p, probe_index::SamplerStats& st) { return lookup(p.position, p.normal, &st); });
+  if (maps)
+    for (auto& path : maps->score(row, [&](glm::vec3 p, glm::vec3 n) { return lookup(p, n, nullptr); }))
+      result.error_maps.push_back(std::move(path));
+  result.rows.push_back(std::move(row));
+}
+
 EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake_seconds) {
   EvalRow row;
   row.label = config.label;
@@ -191,31 +204,21 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     const BakeResult baked = bake(scene, bs);
     EvalRow row = baked_row(config, baked, seconds_since(start));
     const formats::ProbeVolume& v = baked.volume;
-    score(row, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
-      return probe_index::sample_irradiance(v, p.position, p.normal, &st);
-    });
     SeamSettings seams;
     seams.seed = effective.seed;
     row.seam_p99 = svo_seam_score(v, rays, seams).p99;
-    if (maps)
-      for (auto& path :
-           maps->score(row, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance(v, p, n); }))
-        result.error_maps.push_back(std::move(path));
-    result.rows.push_back(row);
+    add_scored_row(row, truth, maps, result, [&](glm::vec3 p, glm::vec3 n, probe_index::SamplerStats* st) {
+      return probe_index::sample_irradiance(v, p, n, st);
+    });
     if (!v.grid_lattice.empty()) {
       // The grid as grid engines look it up (probe_index/grid_lookup.h), beside the SVO's lookup of it.
       EvalRow grid = row;
       grid.sampler = "grid";
       grid.lookup_bytes = formats::lookup_bytes(v, formats::LookupIndex::grid_lattice);
-      score(grid, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
-        return probe_index::sample_irradiance_grid(v, p.position, p.normal, &st);
-      });
       grid.seam_p99 = grid_seam_score(v, rays, seams).p99;
-      if (maps)
-        for (auto& path :
-             maps->score(grid, [&](glm::vec3 p, glm::vec3 n) { return probe_index::sample_irradiance_grid(v, p, n); }))
-          result.error_maps.push_back(std::move(path));
-      result.rows.push_back(grid);
+      add_scored_row(grid, truth, maps, result, [&](glm::vec3 p, glm::vec3 n, probe_index::SamplerStats* st) {
+        return probe_index::sample_irradiance_grid(v, p, n, st);
+      });
     }
     if (config.label != baseline) continue;
     say("all-probes " + config.label);

@@ -11,6 +11,7 @@ namespace probebake::probe_index {
 namespace {
 
 constexpr float kWeightFloor = 0.001f;
+constexpr float kFloorFade = 0.01f;
 
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -27,10 +28,34 @@ float reach_weight(const formats::Reach& reach, glm::vec3 offset) {
   return w;
 }
 
+// Step 3's serve weight of the probe at lattice point q for the point at lattice coordinates g: its cell bits
+// blended trilinearly over the centres of the eight cells around q (at q +- 0.5), so that it changes smoothly
+// where the point crosses from one of q's cells into the next. On the lattice's border the missing side takes
+// the present side's bits.
+float serve_weight(std::uint32_t cells, glm::vec3 g, glm::ivec3 q, int n) {
+  glm::vec3 o = g - glm::vec3(q);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (q[axis] == 0) o[axis] = std::max(o[axis], 0.5f);
+    if (q[axis] == n - 1) o[axis] = std::min(o[axis], -0.5f);
+  }
+  const glm::vec3 plus = glm::clamp(o + 0.5f, glm::vec3(0.0f), glm::vec3(1.0f));
+  float serve = 0.0f;
+  for (int octant = 0; octant < 8; ++octant) {
+    if (((cells >> octant) & 1u) == 0) continue;
+    const glm::vec3 side(octant & 1, (octant >> 1) & 1, (octant >> 2) & 1);
+    const glm::vec3 w = glm::mix(glm::vec3(1.0f) - plus, plus, side);
+    serve += w.x * w.y * w.z;
+  }
+  return serve;
+}
+
 struct Corner {
   int probe = -1;
-  float trilinear = 0.0f;
+  float trilinear = 0.0f; // times the reach weight
+  float serve = 0.0f;
   float side = 0.0f;
+  float weight() const { return trilinear * serve * side; }
+  float floored() const { return serve * (trilinear + kWeightFloor) * (side + kWeightFloor); }
 };
 
 // Step 3's corners that serve the cell, with their trilinear and side weights.
@@ -52,12 +77,14 @@ int serving_corners(const formats::ProbeVolume& volume, const formats::GridLatti
     const int probe = formats::grid_point_probe(point);
     if (probe < 0 || std::size_t(probe) >= volume.probes.size() || volume.probes[std::size_t(probe)].link == 0)
       continue;
-    if (((formats::grid_point_cells(point) >> (7 - k)) & 1u) == 0) continue;
+    const float serve = serve_weight(formats::grid_point_cells(point), g, q, n);
+    if (!(serve > 0.0f)) continue;
     const glm::vec3 at = volume.probes[std::size_t(probe)].position;
     const glm::vec3 t = glm::mix(glm::vec3(1.0f) - f, f, glm::vec3(b));
     const float side = volumetric ? 1.0f : glm::dot(at - position, normal) / bias;
-    const float w = reach_weight(formats::grid_point_reach(point), (position + normal * bias - at) / h.spacing);
-    corners[std::size_t(count++)] = {probe, t.x * t.y * t.z * w, side > 0.0f ? std::min(side, 1.0f) : 0.0f}; // NaN: 0
+    const float reach = reach_weight(formats::grid_point_reach(point), (position + normal * bias - at) / h.spacing);
+    corners[std::size_t(count++)] = {probe, t.x * t.y * t.z * reach, serve,
+                                     side > 0.0f ? std::min(side, 1.0f) : 0.0f}; // NaN: 0
   }
   return count;
 }
@@ -74,18 +101,16 @@ GridCorners grid_corners(const formats::ProbeVolume& volume, glm::vec3 position,
   if (!lattice || !finite(position) || !finite(normal)) return out;
   std::array<Corner, 8> corners;
   const int count = serving_corners(volume, *lattice, position, normal, corners);
+  float primary = 0.0f;
+  for (int i = 0; i < count; ++i) primary += corners[std::size_t(i)].weight();
+  // The floor fades in as the weights vanish (below kFloorFade), so the lookup stays continuous.
+  const float fade = std::max(0.0f, 1.0f - primary / kFloorFade);
   float sum = 0.0f;
-  for (int i = 0; i < count; ++i) sum += corners[std::size_t(i)].trilinear * corners[std::size_t(i)].side;
-  const bool floored = !(sum > 0.0f);
-  if (floored) {
-    sum = 0.0f;
-    for (int i = 0; i < count; ++i)
-      sum += (corners[std::size_t(i)].trilinear + kWeightFloor) * (corners[std::size_t(i)].side + kWeightFloor);
-  }
+  for (int i = 0; i < count; ++i) sum += corners[std::size_t(i)].weight() + fade * corners[std::size_t(i)].floored();
   if (!(sum > 0.0f)) return out;
   for (int i = 0; i < count; ++i) {
     const Corner& k = corners[std::size_t(i)];
-    const float w = floored ? (k.trilinear + kWeightFloor) * (k.side + kWeightFloor) : k.trilinear * k.side;
+    const float w = k.weight() + fade * k.floored();
     if (!(w > 0.0f)) continue;
     out.probes[std::size_t(out.count)] = k.probe;
     out.weights[std::size_t(out.count++)] = w / sum;

@@ -50,6 +50,25 @@ float probebake_grid_reach_weight(uint reach, vec3 offset) {
   return w;
 }
 
+// Step 3's serve weight of the probe at lattice point q for the point at lattice coordinates g: its cell bits
+// blended trilinearly over the centres of the eight cells around q; on the border the missing side takes the
+// present side's bits.
+float probebake_grid_serve_weight(uint cells, vec3 g, ivec3 q, int n) {
+  vec3 o = g - vec3(q);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (q[axis] == 0) o[axis] = max(o[axis], 0.5);
+    if (q[axis] == n - 1) o[axis] = min(o[axis], -0.5);
+  }
+  const vec3 plus = clamp(o + 0.5, vec3(0.0), vec3(1.0));
+  float serve = 0.0;
+  for (int octant = 0; octant < 8; ++octant) {
+    if (((cells >> uint(octant)) & 1u) == 0u) continue;
+    const vec3 w = mix(vec3(1.0) - plus, plus, vec3(octant & 1, (octant >> 1) & 1, (octant >> 2) & 1));
+    serve += w.x * w.y * w.z;
+  }
+  return serve;
+}
+
 bool probebake_grid_finite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
 vec3 probebake_sample_irradiance_grid(vec3 position, vec3 normal, out int corners) {
@@ -64,9 +83,9 @@ vec3 probebake_sample_irradiance_grid(vec3 position, vec3 normal, out int corner
   const ivec3 c = clamp(ivec3(floor(clamp(g, vec3(0.0), vec3(float(n - 1))))), ivec3(0), ivec3(n - 2));
   const vec3 f = clamp(g - vec3(c), vec3(0.0), vec3(1.0));
   int probes[8];
-  float trilinear[8], side[8];
+  float weight[8], floored[8];
   int count = 0;
-  float sum = 0.0;
+  float primary = 0.0;
   for (int k = 0; k < 8; ++k) {
     const ivec3 b = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
     const ivec3 q = c + b;
@@ -74,28 +93,30 @@ vec3 probebake_sample_irradiance_grid(vec3 position, vec3 normal, out int corner
     const uint index = point.probe_cells & GRID_POINT_PROBE_MASK;
     if (index == GRID_POINT_NO_PROBE || index >= uint(probebake_info.probe_capacity)) continue;
     const Probe probe = probebake_probes[index];
-    if (probe.link == 0 || ((point.probe_cells >> (GRID_POINT_CELLS_SHIFT + uint(7 - k))) & 1u) == 0u) continue;
+    const float serve = probebake_grid_serve_weight(point.probe_cells >> GRID_POINT_CELLS_SHIFT, g, q, n);
+    if (probe.link == 0 || !(serve > 0.0)) continue;
     const vec3 t = mix(vec3(1.0) - f, f, vec3(b));
     const float s = volumetric ? 1.0 : dot(probe.position - position, normal) / bias;
-    probes[count] = int(index);
-    trilinear[count] =
+    const float side = s > 0.0 ? min(s, 1.0) : 0.0;
+    const float trilinear =
         t.x * t.y * t.z *
         probebake_grid_reach_weight(point.reach, (position + normal * bias - probe.position) / probebake_grid.spacing);
-    side[count] = s > 0.0 ? min(s, 1.0) : 0.0;
-    sum += trilinear[count] * side[count];
+    probes[count] = int(index);
+    weight[count] = trilinear * serve * side;
+    floored[count] = serve * (trilinear + 0.001) * (side + 0.001);
+    primary += weight[count];
     ++count;
   }
-  const bool floored = !(sum > 0.0);
-  if (floored) {
-    sum = 0.0;
-    for (int i = 0; i < count; ++i) sum += (trilinear[i] + 0.001) * (side[i] + 0.001);
-  }
+  // The floor fades in as the weights vanish (below 0.01), so the lookup stays continuous.
+  const float fade = max(0.0, 1.0 - primary / 0.01);
+  float sum = 0.0;
+  for (int i = 0; i < count; ++i) sum += weight[i] + fade * floored[i];
   if (!(sum > 0.0)) return vec3(0.0);
   float y[9];
   probebake_sh_basis(normal, y);
   vec3 e = vec3(0.0);
   for (int i = 0; i < count; ++i) {
-    const float w = floored ? (trilinear[i] + 0.001) * (side[i] + 0.001) : trilinear[i] * side[i];
+    const float w = weight[i] + fade * floored[i];
     if (!(w > 0.0)) continue;
     e += (w / sum) * max(probebake_evaluate_probe_sh(probes[i], y), vec3(0.0));
     ++corners;

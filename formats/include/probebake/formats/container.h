@@ -94,7 +94,7 @@ enum class SectionType : std::uint32_t {
   // The global part's checksums (1.7), optional: what a streaming load that reads no cell checks.
   cell_global_checksums = 25, // uint64 x 6 (cells.h kCellSplitSections)
   // The grid placement's lattice (1.8), optional: a reader without it looks grid probes up through the SVO.
-  grid_lattice = 26, // uint32 x (GRID_LATTICE_HEADER_WORDS + resolution^3), gpu_types.h
+  grid_lattice = 26, // uint32 x (GRID_LATTICE_HEADER_WORDS + GRID_POINT_WORDS * resolution^3), gpu_types.h
 };
 inline constexpr std::uint32_t kSectionTypeCount = 26;
 

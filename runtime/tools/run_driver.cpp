@@ -176,6 +176,8 @@ SamplePoints random_points(const gpu::VolumeInfo& info, int count) {
   return points;
 }
 
+// runtime::SampleMethod's names, in its order, as time_sampler prints them.
+constexpr const char* kSamplerNames[] = {"SVO probe index", "grid lattice", "all probes, thesis 3.2.4"};
 // Times one sampler on the points: a warm-up run (lavapipe compiles the shader on first use), then the
 // measured one. Prints a line and returns the result.
 runtime::Result<std::vector<glm::vec3>> time_sampler(runtime::Volume& volume, const SamplePoints& points,
@@ -186,17 +188,13 @@ runtime::Result<std::vector<glm::vec3>> time_sampler(runtime::Volume& volume, co
   if (!result.ok()) return result.status();
   std::printf("samples (%s): %zu lookups, %zu misses, %zu dispatch(es), gpu %.3f ms (%.2f ns per lookup), "
               "cpu %.3f ms (with copies)\n",
-              method == runtime::SampleMethod::svo    ? "SVO probe index"
-              : method == runtime::SampleMethod::grid ? "grid lattice"
-                                                      : "all probes, thesis 3.2.4",
-              stats.samples, stats.misses, stats.dispatches, stats.gpu_ms,
+              kSamplerNames[static_cast<int>(method)], stats.samples, stats.misses, stats.dispatches, stats.gpu_ms,
               1e6 * stats.gpu_ms / double(std::max<std::size_t>(stats.samples, 1)), stats.cpu_ms);
   return result;
 }
 
-// The SVO sampler, the grid engine's on a grid bake with a lattice, and with `compare` the all-probe baseline
-// on the same points: time ratio and how far apart their answers are (relative RMS of the difference over the
-// RMS of the baseline).
+// The SVO sampler, the grid engine's on a grid bake with a lattice, and with `compare` the all-probe baseline on the
+// same points: time ratio and relative RMS of the difference over the RMS of the baseline.
 runtime::Status run_samples(runtime::Volume& volume, int count, bool compare) {
   const SamplePoints points = random_points(volume.info(), count);
   runtime::SampleStats svo_stats;
@@ -204,8 +202,8 @@ runtime::Status run_samples(runtime::Volume& volume, int count, bool compare) {
   if (!svo.ok()) return svo.status();
   if (volume.buffers().grid_lattice.buffer != VK_NULL_HANDLE) {
     runtime::SampleStats grid_stats;
-    auto grid = time_sampler(volume, points, runtime::SampleMethod::grid, grid_stats);
-    if (!grid.ok()) return grid.status();
+    if (auto grid = time_sampler(volume, points, runtime::SampleMethod::grid, grid_stats); !grid.ok())
+      return grid.status();
     std::printf("grid lattice / SVO = %.2fx GPU time\n", grid_stats.gpu_ms / std::max(svo_stats.gpu_ms, 1e-9));
   }
   if (!compare) return {};

@@ -186,9 +186,8 @@ PB_CONSTANT(int, GRID_MAX_RESOLUTION, 255); // resolution^3 probe indices fit in
 PB_CONSTANT(uint, GRID_POINT_PROBE_MASK, 0x00FFFFFFu);
 PB_CONSTANT(uint, GRID_POINT_NO_PROBE, 0x00FFFFFFu);
 PB_CONSTANT(uint, GRID_POINT_CELLS_SHIFT, 24u);
-// GridPoint::reach: how far the probe sees along the six axis directions (+x, -x, +y, -y, +z, -z, five bits
-// each from bit 0), in 1/GRID_REACH_STEPS of the spacing on that axis, rounded down; GRID_REACH_STEPS: no
-// surface within a spacing. Bits 30-31 are zero.
+// GridPoint::reach: how far the probe sees along +x, -x, +y, -y, +z, -z (five bits each from bit 0), in 1/31 of
+// the axis's spacing, rounded down; GRID_REACH_STEPS: no surface within a spacing. Bits 30-31 are zero.
 PB_CONSTANT(uint, GRID_REACH_BITS, 5u);
 PB_CONSTANT(uint, GRID_REACH_STEPS, 31u);
 

@@ -1065,5 +1065,25 @@ TEST_F(StreamingTest, RefusesVolumesItCannotStream) {
   }
 }
 
+// A grid's lattice names the file's probes, not the streamed slots: with streaming the grid sampler is refused,
+// a game gets no lattice buffer, and the live volume (read back without the lattice) validates.
+TEST_F(StreamingTest, AGridStreamsWithoutItsLattice) {
+  const formats::ProbeVolume& grid = baked_cornell_grid();
+  ASSERT_FALSE(grid.grid_lattice.empty());
+  ASSERT_FALSE(grid.cell_tracing.empty());
+  auto streamed = runtime::Volume::upload(context(), grid, streaming_options(2 * tracing_bytes_of_cells(grid)));
+  ASSERT_TRUE(streamed.ok()) << streamed.status().message;
+  ASSERT_TRUE(streamed->stream_around(glm::vec3(0.0f, 0.2f, 0.0f), 10.0f).ok());
+  for (int frame = 0; frame < 3; ++frame) ASSERT_TRUE(streamed->run_frame().ok());
+  EXPECT_EQ(streamed->buffers().grid_lattice.buffer, VK_NULL_HANDLE);
+  const std::vector<glm::vec3> positions{glm::vec3(0.0f, 0.2f, 0.0f)}, normals{glm::vec3(0.0f, 1.0f, 0.0f)};
+  EXPECT_EQ(streamed->sample_irradiance(positions, normals, nullptr, runtime::SampleMethod::grid).status().code,
+            runtime::StatusCode::unsupported);
+  formats::ValidationReport report;
+  const runtime::Status live = streamed->validate_live(&report);
+  EXPECT_TRUE(live.ok()) << live.message
+                         << (report.violations.empty() ? "" : formats::format_violation(report.violations[0]));
+}
+
 } // namespace
 } // namespace probebake::test

@@ -96,12 +96,13 @@ void store_surfels(const scene::RayScene& rays, const std::vector<glm::vec3>& di
   }
 }
 
-// A grid bake's lattice (format 1.8, grid_lattice.h): placed[i] is lattice point i. Left out where the grid's
-// box is flat (a spacing of 0: a lone triangle's bounds) or N is outside the section's 2..255.
+// A grid bake's lattice (format 1.8, grid_lattice.h): a method that uses the grid resolution places lattice
+// point i as placed[i]. Left out where the grid's box is flat (a spacing of 0: a lone triangle's bounds) or N is
+// outside the section's 2..255.
 void add_grid_lattice(const scene::RayScene& rays, const BakeSettings& s, const scene::Bounds& bounds,
                       const std::vector<placement::PlacedProbe>& placed, formats::ProbeVolume& volume,
                       StageTimer& timer) {
-  if (s.placement != formats::PlacementKind::grid || s.grid_resolution < 2 ||
+  if (!formats::placement_kind_info(s.placement).uses_grid_resolution || s.grid_resolution < 2 ||
       s.grid_resolution > gpu::GRID_MAX_RESOLUTION)
     return;
   const gpu::GridLatticeHeader frame = formats::grid_lattice_frame(bounds.min, bounds.max, s.grid_resolution);

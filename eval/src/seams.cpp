@@ -154,8 +154,7 @@ SeamScore grid_seam_score(const formats::ProbeVolume& volume, const scene::RaySc
   const auto cell = [&](glm::vec3 p, glm::vec3 normal) {
     // Lines stay where the SVO lookup's do (open space that probes reach), so that the scores compare.
     if (probe_index::find_svo_leaf(volume, p + normal * svo_bias) < 0) return SeamCell{};
-    const glm::vec3 g = (p + normal * bias - h.origin) / h.spacing - 0.5f;
-    const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), glm::ivec3(n - 2));
+    const glm::ivec3 c = formats::grid_cell_of(formats::grid_lattice_coordinates(h, p + normal * bias), n);
     return SeamCell{std::min({h.spacing.x, h.spacing.y, h.spacing.z}),
                     c.x + std::int64_t(n) * (c.y + std::int64_t(n) * c.z)};
   };

@@ -4,6 +4,8 @@
 #include <cstring>
 #include <limits>
 
+#include <glm/common.hpp>
+
 namespace probebake::formats {
 
 gpu::GridLatticeHeader grid_lattice_frame(glm::vec3 min, glm::vec3 max, int resolution) {
@@ -16,6 +18,15 @@ gpu::GridLatticeHeader grid_lattice_frame(glm::vec3 min, glm::vec3 max, int reso
 
 glm::vec3 grid_point_position(const gpu::GridLatticeHeader& header, int x, int y, int z) {
   return header.origin + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * header.spacing;
+}
+
+glm::vec3 grid_lattice_coordinates(const gpu::GridLatticeHeader& header, glm::vec3 position) {
+  return (position - header.origin) / header.spacing - 0.5f;
+}
+
+glm::ivec3 grid_cell_of(glm::vec3 g, int resolution) {
+  const glm::vec3 inside = glm::clamp(g, glm::vec3(0.0f), glm::vec3(float(resolution - 1))); // no int overflow
+  return glm::clamp(glm::ivec3(glm::floor(inside)), glm::ivec3(0), glm::ivec3(resolution - 2));
 }
 
 std::uint32_t grid_probe_cells(int probe, std::uint32_t cells) {

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "probebake/formats/grid_lattice.h"
+#include "probebake/formats/placement_kind.h"
 #include "text.h"
 #include "validate_internal.h"
 
@@ -71,7 +72,8 @@ void check_points(const ProbeVolume& volume, const GridLatticeView& view, Report
 
 void check_grid_lattice(const ProbeVolume& volume, Reporter& out) {
   if (volume.grid_lattice.empty()) return;
-  if (volume.info.placement != gpu::PLACEMENT_GRID) {
+  const PlacementKindInfo* kind = placement_kind_for_code(volume.info.placement);
+  if (kind == nullptr || !kind->uses_grid_resolution) {
     out.add(kInvariant, kSection, -1, "a lattice in a volume that is not a grid");
     return;
   }

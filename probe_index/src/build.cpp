@@ -186,7 +186,7 @@ VoxelPayload payload_of(std::vector<std::pair<float, int>> ranked) {
 
 VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
                             const ProbeGroups& groups, glm::vec3 min, float size) {
-  const VoxelSamples samples = sample_voxel(rays, min, size);
+  const VoxelSamples samples = sample_voxel(rays, min, glm::vec3(size));
   if (!samples.any_open) return VoxelPayload{true};
   const Points& points = samples.points;
   const PointSet& open = samples.open;
@@ -272,7 +272,8 @@ void fill_uncovered(const scene::RayScene& rays, const formats::ProbeVolume& v, 
       });
       std::sort(candidates.begin(), candidates.end());
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-      const VoxelSamples samples = sample_voxel(rays, v.info.root_min + glm::vec3(coords(frontier[k])) * size, size);
+      const VoxelSamples samples =
+          sample_voxel(rays, v.info.root_min + glm::vec3(coords(frontier[k])) * size, glm::vec3(size));
       auto ranked = rank_probes(rays, v, candidates, samples.points, samples.open, size);
       if (ranked.empty()) return;
       // One group, as evaluate_voxel keeps: the largest seen (a sealed cavity's probes do not mix in).

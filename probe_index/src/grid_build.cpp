@@ -24,24 +24,20 @@ glm::ivec3 coords(std::size_t i, int m) {
 std::size_t index(glm::ivec3 q, int m) { return std::size_t(q.x + m * (q.y + m * q.z)); }
 glm::ivec3 corner(int k) { return {k & 1, (k >> 1) & 1, (k >> 2) & 1}; }
 
-// Cell (x, y, z) spans lattice points (x, y, z) to (x + 1, y + 1, z + 1): its centre and octant centres.
-std::array<glm::vec3, kVoxelPoints> cell_points(const gpu::GridLatticeHeader& h, glm::ivec3 cell) {
-  const glm::vec3 lo = formats::grid_point_position(h, cell.x, cell.y, cell.z); // the cell's lowest corner
-  std::array<glm::vec3, kVoxelPoints> points{};
-  points[0] = lo + 0.5f * h.spacing;
-  for (int o = 0; o < 8; ++o) points[std::size_t(1 + o)] = lo + (glm::vec3(corner(o)) * 0.5f + 0.25f) * h.spacing;
-  return points;
+// Cell (x, y, z) spans lattice points (x, y, z) to (x + 1, y + 1, z + 1); its lowest corner is point (x, y, z).
+glm::vec3 cell_min(const gpu::GridLatticeHeader& h, glm::ivec3 cell) {
+  return formats::grid_point_position(h, cell.x, cell.y, cell.z);
 }
 
-// Per cell, a bit per sample point in open space.
+// Per cell, a bit per sample point (detail::voxel_points: centre and octant centres) in open space.
 std::vector<std::uint16_t> open_points(const scene::RayScene& rays, const gpu::GridLatticeHeader& h, int threads) {
   const int m = h.resolution - 1;
   std::vector<std::uint16_t> open(std::size_t(m) * std::size_t(m) * std::size_t(m), 0);
   parallel_for(open.size(), threads, [&](std::size_t i) {
-    const auto points = cell_points(h, coords(i, m));
+    const detail::VoxelSamples samples = detail::sample_voxel(rays, cell_min(h, coords(i, m)), h.spacing);
     std::uint16_t bits = 0;
     for (int k = 0; k < kVoxelPoints; ++k)
-      if (!detail::inside_geometry(rays, points[std::size_t(k)])) bits = std::uint16_t(bits | (1u << k));
+      if (samples.open[std::size_t(k)]) bits = std::uint16_t(bits | (1u << k));
     open[i] = bits;
   });
   return open;
@@ -83,7 +79,7 @@ std::vector<std::uint8_t> served_cells(const scene::RayScene& rays, const gpu::G
   std::vector<std::uint8_t> served(open.size(), 0);
   parallel_for(open.size(), threads, [&](std::size_t i) {
     const glm::ivec3 cell = coords(i, m);
-    const auto points = cell_points(h, cell);
+    const detail::Points points = detail::voxel_points(cell_min(h, cell), h.spacing);
     std::uint8_t bits = 0, live = 0;
     for (int k = 0; k < 8; ++k) {
       const int probe = lattice.at(index(cell + corner(k), n));

@@ -7,6 +7,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "probebake/probe_index/stencil.h"
+
 namespace probebake::probe_index {
 namespace {
 
@@ -65,9 +67,8 @@ int serving_corners(const formats::ProbeVolume& volume, const formats::GridLatti
   const int n = h.resolution;
   const bool volumetric = glm::dot(normal, normal) == 0.0f;
   const float bias = volumetric ? 0.0f : grid_normal_bias(h);
-  const glm::vec3 g = (position + normal * bias - h.origin) / h.spacing - 0.5f;
-  const glm::ivec3 c = glm::clamp(glm::ivec3(glm::floor(glm::clamp(g, glm::vec3(0.0f), glm::vec3(float(n - 1))))),
-                                  glm::ivec3(0), glm::ivec3(n - 2));
+  const glm::vec3 g = formats::grid_lattice_coordinates(h, position + normal * bias);
+  const glm::ivec3 c = formats::grid_cell_of(g, n);
   const glm::vec3 f = glm::clamp(g - glm::vec3(c), glm::vec3(0.0f), glm::vec3(1.0f));
   int count = 0;
   for (int k = 0; k < 8; ++k) {
@@ -125,10 +126,12 @@ glm::vec3 sample_irradiance_grid(const formats::ProbeVolume& volume, glm::vec3 p
     ++stats->samples;
     stats->misses += corners.count == 0 ? 1 : 0;
   }
+  const std::array<float, 9> basis = sh_basis(normal); // once for the eight probes
   glm::vec3 e(0.0f);
   for (int i = 0; i < corners.count; ++i) {
     const gpu::Probe& probe = volume.probes[std::size_t(corners.probes[std::size_t(i)])];
-    e += corners.weights[std::size_t(i)] * glm::max(evaluate_sh(probe.irradiance_sh, normal), glm::vec3(0.0f));
+    e += corners.weights[std::size_t(i)] *
+         glm::max(detail::evaluate_sh<float>(probe.irradiance_sh, basis), glm::vec3(0.0f));
   }
   return e;
 }

@@ -18,8 +18,9 @@ using PointSet = std::array<bool, kVoxelPoints>; // per sample point: in the set
 bool inside_geometry(const scene::RayScene& rays, glm::vec3 p);
 // The segment between the points is unoccluded.
 bool sees(const scene::RayScene& rays, glm::vec3 from, glm::vec3 to);
-// The voxel's centre and the centres of its eight octants, in that order.
-Points voxel_points(glm::vec3 min, float size);
+// The box's centre and the centres of its eight octants, in that order (a voxel: extent (size, size, size);
+// a grid lattice cell: the lattice spacing).
+Points voxel_points(glm::vec3 min, glm::vec3 extent);
 
 // The voxel's sample points and which of them lie in open space.
 struct VoxelSamples {
@@ -28,6 +29,6 @@ struct VoxelSamples {
   bool any_open = false;
 };
 // voxel_points and which of them are open.
-VoxelSamples sample_voxel(const scene::RayScene& rays, glm::vec3 min, float size);
+VoxelSamples sample_voxel(const scene::RayScene& rays, glm::vec3 min, glm::vec3 extent);
 
 } // namespace probebake::probe_index::detail

@@ -130,7 +130,7 @@ TEST_F(SamplingTest, GridEngineMatchesTheCpuSampler) {
   Points points;
   for (std::size_t i = 0; i < all.positions.size(); ++i) {
     const glm::vec3 g =
-        (all.positions[i] + all.normals[i] * probe_index::grid_normal_bias(h) - h.origin) / h.spacing - 0.5f;
+        formats::grid_lattice_coordinates(h, all.positions[i] + all.normals[i] * probe_index::grid_normal_bias(h));
     const glm::vec3 distance = glm::abs(g - glm::round(g));
     if (std::min({distance.x, distance.y, distance.z}) < 1e-3f) continue;
     points.positions.push_back(all.positions[i]);

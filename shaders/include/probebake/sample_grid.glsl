@@ -92,15 +92,15 @@ vec3 probebake_sample_irradiance_grid(vec3 position, vec3 normal, out int corner
     const GridPoint point = probebake_grid_points[q.x + n * (q.y + n * q.z)];
     const uint index = point.probe_cells & GRID_POINT_PROBE_MASK;
     if (index == GRID_POINT_NO_PROBE || index >= uint(probebake_info.probe_capacity)) continue;
-    const Probe probe = probebake_probes[index];
     const float serve = probebake_grid_serve_weight(point.probe_cells >> GRID_POINT_CELLS_SHIFT, g, q, n);
-    if (probe.link == 0 || !(serve > 0.0)) continue;
+    if (probebake_probes[index].link == 0 || !(serve > 0.0)) continue;
+    const vec3 at = probebake_probes[index].position; // not the whole 144-byte record
     const vec3 t = mix(vec3(1.0) - f, f, vec3(b));
-    const float s = volumetric ? 1.0 : dot(probe.position - position, normal) / bias;
+    const float s = volumetric ? 1.0 : dot(at - position, normal) / bias;
     const float side = s > 0.0 ? min(s, 1.0) : 0.0;
     const float trilinear =
         t.x * t.y * t.z *
-        probebake_grid_reach_weight(point.reach, (position + normal * bias - probe.position) / probebake_grid.spacing);
+        probebake_grid_reach_weight(point.reach, (position + normal * bias - at) / probebake_grid.spacing);
     probes[count] = int(index);
     weight[count] = trilinear * serve * side;
     floored[count] = serve * (trilinear + 0.001) * (side + 0.001);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/ext/vector_int3.hpp>
 
 #include "probebake/formats/probe_volume.h"
 
@@ -19,6 +20,10 @@ namespace probebake::formats {
 gpu::GridLatticeHeader grid_lattice_frame(glm::vec3 min, glm::vec3 max, int resolution);
 // Lattice point (x, y, z)'s position.
 glm::vec3 grid_point_position(const gpu::GridLatticeHeader& header, int x, int y, int z);
+// A position in lattice coordinates (lattice point (x, y, z) at (x, y, z)), and the cell a lookup at lattice
+// coordinates g reads: its lowest corner clamp(floor(g), 0, n - 2) (beyond the lattice, the border cell).
+glm::vec3 grid_lattice_coordinates(const gpu::GridLatticeHeader& header, glm::vec3 position);
+glm::ivec3 grid_cell_of(glm::vec3 g, int resolution);
 
 // A point's probe_cells word: probe index (or none, -1) and the cells around the point its probe serves.
 std::uint32_t grid_probe_cells(int probe, std::uint32_t cells);

@@ -14,9 +14,9 @@
 namespace probebake::formats {
 namespace {
 
+using gpu::SH_CODE_L1_RANGE;
 using probe_index::evaluate_sh;
 using probe_index::sh_basis;
-using gpu::SH_CODE_L1_RANGE;
 
 glm::vec3 random_direction(std::mt19937& rng) {
   std::normal_distribution<float> g;

@@ -6,14 +6,16 @@
 //   0-47    L0 of R, G, B as half floats, scaled by 2^-(e - SH_CODE_EXPONENT_BIAS) so that the brightest
 //           channel lies in [0.5, 1): any float range fits, no half overflow;
 //   48-55   e;
-//   56-63   s1 in 255ths of SH_CODE_L1_RANGE: the probe's largest band-1 ratio, rounded up;
-//   64-126  band 1 (coefficients 3..11, sh[3k + c]) as the ratio to its channel's L0, 7 bits each over
-//           [-s1, s1]: q in 1..127 is (q - 64) / 63 of s1;
+//   56-63   b1 in 1..255: band 1's step is b1 * SH_CODE_L1_STEP_UNIT (63 steps of the largest b1 span
+//           SH_CODE_L1_RANGE), the smallest b1 whose 63 steps reach the probe's largest band-1 ratio;
+//   64-126  band 1 (coefficients 3..11, sh[3k + c]) as the ratio to its channel's L0, 7 bits each:
+//           q in 1..127 is (q - 64) steps;
 // Block 1 (128 more bits for L2):
-//   0-119   band 2 (coefficients 12..26) the same way, 8 bits each over [-s2, s2]: q in 1..255 is
-//           (q - 128) / 127 of s2;
-//   120-127 s2 in 255ths of SH_CODE_L2_RANGE.
-// A ratio of 0 is exact (a uniform probe stays uniform). The ranges are the largest ratios that irradiance
+//   0-119   band 2 (coefficients 12..26) the same way, 8 bits each: q in 1..255 is (q - 128) steps;
+//   120-127 b2: band 2's step is b2 * SH_CODE_L2_STEP_UNIT (127 steps of the largest span SH_CODE_L2_RANGE).
+// A ratio of 0 is exact (a uniform probe stays uniform). The encoder decides each integer by comparing correctly
+// rounded products (a division only guesses), and pre-rounds L0 to half precision, so that the GPU's code
+// equals the CPU's bit for bit whatever the division's precision or packHalf2x16's rounding. The ranges are the largest ratios that irradiance
 // from non-negative radiance can have (a single direction): band 1 |A1 L1m / A0 L00| <= (2/3) sqrt(3), band 2
 // <= (1/4) sqrt(5). APV normalises its higher bands by L0 the same way over a fixed range; the per-probe
 // scales (a nearly uniform probe keeps its small gradient) and the exponent are ours.
@@ -35,26 +37,30 @@ PB_GPU_BEGIN
 using uvec4 = glm::uvec4;
 using vec2 = glm::vec2;
 // The GLSL built-ins the functions below use, for C++.
+using glm::clamp;
 using glm::floatBitsToUint;
 using glm::packHalf2x16;
+using glm::uintBitsToFloat;
 using glm::unpackHalf2x16;
 using std::abs;
 using std::ceil;
-using std::max;
-using std::min;
 using std::floor;
 using std::ldexp;
+using std::max;
+using std::min;
 #endif
 
 PB_CONSTANT(int, SH_CODE_L1_BYTES, 16);
 PB_CONSTANT(int, SH_CODE_L2_BYTES, 32);
-PB_CONSTANT(int, SH_CODE_EXPONENT_BIAS, 127);                 // frexp exponents -125..128 -> 2..255
-PB_CONSTANT(float, SH_CODE_L1_RANGE, 1.15470054f);            // 2 / sqrt(3)
-PB_CONSTANT(float, SH_CODE_L2_RANGE, 0.559016994f);           // sqrt(5) / 4
-PB_CONSTANT(int, SH_CODE_L1_BITS, 7);                         // per band-1 ratio
-PB_CONSTANT(int, SH_CODE_L2_BITS, 8);                         // per band-2 ratio
-PB_CONSTANT(float, SH_CODE_HALF_BELOW_ONE, 0.99951172f);      // the largest half float below 1
-PB_CONSTANT(float, SH_CODE_SMALLEST_L0, 1.17549435e-38f);     // a brightest L0 below it codes as black
+PB_CONSTANT(int, SH_CODE_EXPONENT_BIAS, 127);              // frexp exponents -125..128 -> 2..255
+PB_CONSTANT(float, SH_CODE_L1_RANGE, 1.15470054f);         // 2 / sqrt(3)
+PB_CONSTANT(float, SH_CODE_L2_RANGE, 0.559016994f);        // sqrt(5) / 4
+PB_CONSTANT(int, SH_CODE_L1_BITS, 7);                      // per band-1 ratio
+PB_CONSTANT(int, SH_CODE_L2_BITS, 8);                      // per band-2 ratio
+PB_CONSTANT(float, SH_CODE_L1_STEP_UNIT, 7.18767842e-05f); // float(float(L1_RANGE / 255) / 63)
+PB_CONSTANT(float, SH_CODE_L2_STEP_UNIT, 1.72616019e-05f); // float(float(L2_RANGE / 255) / 127)
+PB_CONSTANT(float, SH_CODE_HALF_BELOW_ONE, 0.99951172f);   // the largest half float below 1
+PB_CONSTANT(float, SH_CODE_SMALLEST_L0, 1.17549435e-38f);  // a brightest L0 below it codes as black
 PB_CONSTANT(float, SH_CODE_LARGEST_FLOAT, 3.40282347e38f);
 
 struct ShCode {
@@ -78,13 +84,16 @@ PB_FUNCTION uvec4 sh_code_with_bits(uvec4 block, int first, int count, uint valu
   return block;
 }
 
-// Where coefficient j's ratio sits (3 <= j < 27), its width and the bits of its band's scale.
-PB_FUNCTION int sh_code_ratio_bit(int j) { return j < 12 ? 64 + SH_CODE_L1_BITS * (j - 3) : SH_CODE_L2_BITS * (j - 12); }
+// Where coefficient j's ratio sits (3 <= j < 27), its width, and how many steps each side of 0 it has.
+PB_FUNCTION int sh_code_ratio_bit(int j) {
+  return j < 12 ? 64 + SH_CODE_L1_BITS * (j - 3) : SH_CODE_L2_BITS * (j - 12);
+}
 PB_FUNCTION int sh_code_ratio_bits(int j) { return j < 12 ? SH_CODE_L1_BITS : SH_CODE_L2_BITS; }
+PB_FUNCTION int sh_code_steps(int j) { return (1 << (sh_code_ratio_bits(j) - 1)) - 1; } // 63 or 127
 
-// The largest ratio magnitude of coefficient j's band, as the scale byte gives it.
-PB_FUNCTION float sh_code_band_scale(uint scale_byte, int j) {
-  return float(scale_byte) * ((j < 12 ? SH_CODE_L1_RANGE : SH_CODE_L2_RANGE) / 255.0f);
+// One step of coefficient j's band, as a ratio, for scale byte b.
+PB_FUNCTION float sh_code_step(uint b, int j) {
+  return float(b) * (j < 12 ? SH_CODE_L1_STEP_UNIT : SH_CODE_L2_STEP_UNIT);
 }
 
 // L0 of R, G, B.
@@ -100,10 +109,9 @@ PB_FUNCTION vec3 sh_code_l0(uvec4 band01) {
 PB_FUNCTION float sh_code_ratio(ShCode code, int j) {
   const bool band1 = j < 12;
   const uvec4 block = band1 ? code.band01 : code.band2;
-  const float scale = sh_code_band_scale(sh_code_bits(block, band1 ? 56 : 120, 8), j);
-  const int zero = 1 << (sh_code_ratio_bits(j) - 1); // 64 or 128
+  const uint b = sh_code_bits(block, band1 ? 56 : 120, 8);
   const int q = int(sh_code_bits(block, sh_code_ratio_bit(j), sh_code_ratio_bits(j)));
-  return float(q - zero) * (scale / float(zero - 1));
+  return float(q - sh_code_steps(j) - 1) * sh_code_step(b, j);
 }
 
 // Coefficient j of the decoded probe, l0 = sh_code_l0(code.band01).
@@ -112,43 +120,71 @@ PB_FUNCTION float sh_code_coefficient(ShCode code, vec3 l0, int j) {
   return j < 3 ? channel_l0 : sh_code_ratio(code, j) * channel_l0;
 }
 
-// The ratio of coefficient j to the decoded L0 (0 for a black channel; NaN and infinities count as 0 or the
-// band's largest ratio below).
-PB_FUNCTION float sh_code_input_ratio(const float sh[27], vec3 decoded_l0, int j) {
-  const float channel_l0 = decoded_l0[j % 3];
-  return channel_l0 > 0.0f ? sh[j] / channel_l0 : 0.0f;
+// The coefficient the encoder codes: NaN and infinities as 0.
+PB_FUNCTION float sh_code_input(const float sh[27], int j) {
+  return abs(sh[j]) <= SH_CODE_LARGEST_FLOAT ? sh[j] : 0.0f;
 }
 
-// The scale byte (1..255) covering the largest ratio magnitude of the band of coefficients [first, last).
-PB_FUNCTION uint sh_code_scale_byte(const float sh[27], vec3 decoded_l0, int first, int last) {
-  float largest = 0.0f;
+// Whether scale byte b's steps reach x >= 0 (coefficient j, its channel's L0 l0c): x rounds to at most
+// sh_code_steps(j) steps. Products only (correctly rounded), monotonic in b.
+PB_FUNCTION bool sh_code_reaches(float x, uint b, int j, float l0c) {
+  return x <= (float(sh_code_steps(j)) + 0.5f) * (sh_code_step(b, j) * l0c);
+}
+
+// The scale byte (1..255): the smallest whose steps reach every ratio of the band of coefficients
+// [first, last), or 255. A division guesses it, the comparisons decide.
+PB_FUNCTION uint sh_code_scale_byte(const float sh[27], vec3 l0, int first, int last) {
+  uint b = 1u;
   for (int j = first; j < last; ++j) {
-    const float r = abs(sh_code_input_ratio(sh, decoded_l0, j));
-    if (r > largest) largest = r; // NaN never passes the comparison
+    const float x = abs(sh_code_input(sh, j)), l0c = l0[j % 3];
+    const float unit = (float(sh_code_steps(j)) + 0.5f) * (sh_code_step(1u, j) * l0c);
+    if (!(unit > 0.0f) || sh_code_reaches(x, b, j, l0c)) continue;
+    uint g = uint(clamp(ceil(x / unit), float(b), 255.0f));
+    for (int i = 0; i < 4; ++i) {
+      if (g > b && sh_code_reaches(x, g - 1u, j, l0c))
+        g -= 1u;
+      else if (g < 255u && !sh_code_reaches(x, g, j, l0c))
+        g += 1u;
+    }
+    b = g;
   }
-  const float range = first < 12 ? SH_CODE_L1_RANGE : SH_CODE_L2_RANGE;
-  return uint(max(min(ceil(min(largest, range) / range * 255.0f), 255.0f), 1.0f));
+  return b;
 }
 
-// q for a ratio over [-scale, scale] in `bits` bits (NaN counts as 0, beyond the scale as its end).
-PB_FUNCTION uint sh_code_quantise(float ratio, float scale, int bits) {
-  const int zero = 1 << (bits - 1);
-  float r = ratio / scale;
-  if (!(abs(r) <= 1.0f)) r = r > 1.0f ? 1.0f : (r < -1.0f ? -1.0f : 0.0f);
-  return uint(int(floor(r * float(zero - 1) + 0.5f)) + zero);
+// q for coefficient x with step `unit` (in units of the coefficient): k = the nearest number of steps (the
+// smallest k >= 0 with |x| <= (k + 0.5) * unit), clamped to the band's steps, offset to be positive.
+PB_FUNCTION uint sh_code_quantise(float x, float unit, int j) {
+  const int steps = sh_code_steps(j);
+  const float a = abs(x);
+  float k = 0.0f;
+  if (unit > 0.0f && a > 0.5f * unit) {
+    k = clamp(ceil(a / unit - 0.5f), 1.0f, float(steps)); // a guess
+    for (int i = 0; i < 4; ++i) {
+      if (k > 1.0f && a <= (k - 0.5f) * unit)
+        k -= 1.0f;
+      else if (k < float(steps) && a > (k + 0.5f) * unit)
+        k += 1.0f;
+    }
+  }
+  return uint(int(x < 0.0f ? -k : k) + steps + 1);
 }
 
 // The ratios of coefficients [first, last) and their scale byte (at bit scale_bit) written into a block.
-PB_FUNCTION uvec4 sh_code_encode_band(uvec4 block, const float sh[27], vec3 decoded_l0, int first, int last,
-                                      int scale_bit) {
-  const uint scale_byte = sh_code_scale_byte(sh, decoded_l0, first, last);
-  block = sh_code_with_bits(block, scale_bit, 8, scale_byte);
-  const float scale = sh_code_band_scale(scale_byte, first);
+PB_FUNCTION uvec4 sh_code_encode_band(uvec4 block, const float sh[27], vec3 l0, int first, int last, int scale_bit) {
+  const uint b = sh_code_scale_byte(sh, l0, first, last);
+  block = sh_code_with_bits(block, scale_bit, 8, b);
   for (int j = first; j < last; ++j) {
-    const uint q = sh_code_quantise(sh_code_input_ratio(sh, decoded_l0, j), scale, sh_code_ratio_bits(j));
+    const uint q = sh_code_quantise(sh_code_input(sh, j), sh_code_step(b, j) * l0[j % 3], j);
     block = sh_code_with_bits(block, sh_code_ratio_bit(j), sh_code_ratio_bits(j), q);
   }
   return block;
+}
+
+// v in [0, 1) rounded to the nearest half float (ties away from zero), exactly representable, so that
+// packHalf2x16 need not round.
+PB_FUNCTION float sh_code_half(float v) {
+  if (v < 6.10351562e-05f) return floor(v * 16777216.0f + 0.5f) * 5.96046448e-08f; // subnormal halves: 2^-24 steps
+  return uintBitsToFloat((floatBitsToUint(v) + 0x1000u) & 0xFFFFE000u);            // 10 mantissa bits of 23
 }
 
 // The 27 coefficients sh[3k + c] in a code; `l2` false leaves block 1 zero (an L1 code).
@@ -162,7 +198,7 @@ PB_FUNCTION ShCode sh_code_encode(const float sh[27], bool l2) {
   // frexp's exponent of the brightest channel: brightest = f * 2^e, f in [0.5, 1).
   const int e = int((floatBitsToUint(brightest) >> 23u) & 0xFFu) - 126;
   vec3 l0 = vec3(0.0f);
-  for (int c = 0; c < 3; ++c) l0[c] = min(ldexp(usable[c], -e), SH_CODE_HALF_BELOW_ONE);
+  for (int c = 0; c < 3; ++c) l0[c] = min(sh_code_half(ldexp(usable[c], -e)), SH_CODE_HALF_BELOW_ONE);
   code.band01.x = packHalf2x16(vec2(l0.x, l0.y));
   code.band01.y = packHalf2x16(vec2(l0.z, 0.0f)) | (uint(e + SH_CODE_EXPONENT_BIAS) << 16u);
   // Ratios to the L0 the decoder sees, so that the code's rounding of L0 does not scale the bands.

@@ -70,7 +70,13 @@ nlohmann::json row_json(const bake::EvalRow& r) {
           {"budget_by", r.budget_by},
           {"indirect_rmse", r.indirect_rmse},
           {"indirect_relative_rmse", r.indirect_relative_rmse},
-          {"seam_p99", r.seam_p99}};
+          {"seam_p99", r.seam_p99},
+          {"l2_codec_error", r.l2_codec_error},
+          {"l1_codec_error", r.l1_codec_error},
+          {"l2_relative_rmse", r.l2_relative_rmse},
+          {"l1_relative_rmse", r.l1_relative_rmse},
+          {"l2_lookup_bytes", r.l2_lookup_bytes},
+          {"l1_lookup_bytes", r.l1_lookup_bytes}};
 }
 
 nlohmann::json result_json(const bake::EvalResult& r) {

@@ -65,12 +65,18 @@ nlohmann::json settings_json(const gpu::VolumeInfo& info) {
 }
 
 // What a game keeps on the GPU to answer lookups (formats::lookup_bytes): through the SVO, and through a grid
-// bake's lattice (null without one).
+// bake's lattice (null without one); with float probes, and with the compact l2 and l1 codes.
 nlohmann::json lookup_bytes_json(const formats::ProbeVolume& v) {
-  return {{"svo", formats::lookup_bytes(v, formats::LookupIndex::svo)},
-          {"grid_lattice", v.grid_lattice.empty()
-                               ? nlohmann::json(nullptr)
-                               : nlohmann::json(formats::lookup_bytes(v, formats::LookupIndex::grid_lattice))}};
+  nlohmann::json out;
+  for (formats::ShCodec codec : formats::kShCodecs) {
+    const std::string suffix =
+        codec == formats::ShCodec::float32 ? "" : "_" + std::string(formats::sh_codec_name(codec));
+    out["svo" + suffix] = formats::lookup_bytes(v, formats::LookupIndex::svo, codec);
+    out["grid_lattice" + suffix] =
+        v.grid_lattice.empty() ? nlohmann::json(nullptr)
+                               : nlohmann::json(formats::lookup_bytes(v, formats::LookupIndex::grid_lattice, codec));
+  }
+  return out;
 }
 
 // What the runtime traces: triangles, and the bytes of the tracing sections per triangle (issue #14).
@@ -196,7 +202,10 @@ void print_text(const ProbesInfo& in) {
     const std::uint64_t grid_bytes = formats::lookup_bytes(v, formats::LookupIndex::grid_lattice);
     fmt::print(", {} B through the grid lattice ({:.0f} B per probe)", grid_bytes, double(grid_bytes) * per_probe);
   }
-  fmt::print("\n");
+  const formats::LookupIndex index =
+      v.grid_lattice.empty() ? formats::LookupIndex::svo : formats::LookupIndex::grid_lattice;
+  fmt::print("; with compact probes {} B (l2), {} B (l1)\n", formats::lookup_bytes(v, index, formats::ShCodec::l2),
+             formats::lookup_bytes(v, index, formats::ShCodec::l1));
   fmt::print("sections     {:<18} {:>10} {:>12} {:>10}\n", "name", "offset", "bytes", "elements");
   for (const formats::SectionEntry& e : in.container.sections) {
     fmt::print("             {:<18} {:>10} {:>12} {:>10}{}\n", formats::section_name(e.type), e.offset, e.size,

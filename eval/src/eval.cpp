@@ -15,6 +15,7 @@
 #include "probebake/formats/error.h"
 #include "probebake/eval/seams.h"
 #include "probebake/formats/probes_file.h"
+#include "probebake/formats/sh_codec.h"
 #include "probebake/formats/volume_stats.h"
 
 namespace probebake::bake {
@@ -39,9 +40,9 @@ struct Truth {
 double relative(double value, double mean) { return mean > 0.0 ? value / mean : 0.0; }
 
 // Looks up every point on this thread (timed), adds the direct light and scores the result; the lookup
-// alone is scored against the indirect reference.
+// alone is scored against the indirect reference. Returns the lookups.
 template <class Lookup>
-void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
+std::vector<glm::vec3> score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
   std::vector<glm::vec3> probes(truth.points.size());
   probe_index::SamplerStats stats;
   const auto start = Clock::now();
@@ -63,19 +64,54 @@ void score(EvalRow& row, const Truth& truth, Lookup&& lookup) {
   row.relative_p95 = e.relative_p95;
   row.indirect_rmse = detail::error_stats(probes, truth.indirect, truth.indirect_mean).rmse;
   row.indirect_relative_rmse = relative(row.indirect_rmse, truth.indirect_mean);
+  return probes;
 }
+
+// What the compact codes do to a row: the lookup of `coded` (its probes through a code) against the float
+// lookup `exact` at the same receivers (the codec's own error), and against the reference.
+template <class Lookup>
+void score_codec(double& codec_error, double& relative_rmse, const Truth& truth, const std::vector<glm::vec3>& exact,
+                 const formats::ProbeVolume& coded, const Lookup& lookup) {
+  std::vector<glm::vec3> total(exact.size());
+  double squares = 0.0;
+  for (std::size_t i = 0; i < exact.size(); ++i) {
+    const glm::vec3 e = lookup(coded, truth.points[i].position, truth.points[i].normal, nullptr);
+    const glm::dvec3 d = glm::dvec3(e) - glm::dvec3(exact[i]);
+    squares += glm::dot(d, d) / 3.0;
+    total[i] = e + truth.direct[i];
+  }
+  codec_error = relative(std::sqrt(squares / double(std::max<std::size_t>(exact.size(), 1))), truth.mean);
+  relative_rmse = relative(detail::error_stats(total, truth.reference, truth.mean).rmse, truth.mean);
+}
+
+// The bake's volume as a game sees it through each compact code.
+struct CodedVolumes {
+  formats::ProbeVolume l2, l1;
+  explicit CodedVolumes(const formats::ProbeVolume& v)
+      : l2(formats::with_sh_codec(v, formats::ShCodec::l2)), l1(formats::with_sh_codec(v, formats::ShCodec::l1)) {}
+};
 
 // Scores `row` with `lookup(position, normal, stats)` at the receivers and, with a camera, at its pixels (the
 // error maps), and adds it to the result.
 template <class Lookup>
 void add_scored_row(EvalRow row, const Truth& truth, const std::optional<detail::ErrorMaps>& maps, EvalResult& result,
-                    const Lookup& lookup) {
-  score(row, truth,
-        [&](const SamplePoint& p, probe_index::SamplerStats& st) { return lookup(p.position, p.normal, &st); });
+                    const formats::ProbeVolume& v, const CodedVolumes& coded, const Lookup& lookup) {
+  const std::vector<glm::vec3> exact = score(row, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
+    return lookup(v, p.position, p.normal, &st);
+  });
+  score_codec(row.l2_codec_error, row.l2_relative_rmse, truth, exact, coded.l2, lookup);
+  score_codec(row.l1_codec_error, row.l1_relative_rmse, truth, exact, coded.l1, lookup);
   if (maps)
-    for (auto& path : maps->score(row, [&](glm::vec3 p, glm::vec3 n) { return lookup(p, n, nullptr); }))
+    for (auto& path : maps->score(row, [&](glm::vec3 p, glm::vec3 n) { return lookup(v, p, n, nullptr); }))
       result.error_maps.push_back(std::move(path));
   result.rows.push_back(std::move(row));
+}
+
+// The row's lookup bytes with float, l2 and l1 probes.
+void set_lookup_bytes(EvalRow& row, const formats::ProbeVolume& v, formats::LookupIndex index) {
+  row.lookup_bytes = formats::lookup_bytes(v, index);
+  row.l2_lookup_bytes = formats::lookup_bytes(v, index, formats::ShCodec::l2);
+  row.l1_lookup_bytes = formats::lookup_bytes(v, index, formats::ShCodec::l1);
 }
 
 EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake_seconds) {
@@ -87,7 +123,7 @@ EvalRow baked_row(const EvalConfig& config, const BakeResult& baked, double bake
   row.budget_by = config.budget_by;
   row.probes = baked.report.probes;
   row.file_bytes = formats::write_probes(baked.volume).size();
-  row.lookup_bytes = formats::lookup_bytes(baked.volume, formats::LookupIndex::svo);
+  set_lookup_bytes(row, baked.volume, formats::LookupIndex::svo);
   row.bake_seconds = bake_seconds;
   return row;
 }
@@ -207,24 +243,29 @@ EvalResult evaluate(const std::filesystem::path& scene_path, const EvalSettings&
     SeamSettings seams;
     seams.seed = effective.seed;
     row.seam_p99 = svo_seam_score(v, rays, seams).p99;
-    add_scored_row(row, truth, maps, result, [&](glm::vec3 p, glm::vec3 n, probe_index::SamplerStats* st) {
-      return probe_index::sample_irradiance(v, p, n, st);
-    });
+    const CodedVolumes coded(v);
+    add_scored_row(row, truth, maps, result, v, coded,
+                   [](const formats::ProbeVolume& volume, glm::vec3 p, glm::vec3 n, probe_index::SamplerStats* st) {
+                     return probe_index::sample_irradiance(volume, p, n, st);
+                   });
     if (!v.grid_lattice.empty()) {
       // The grid as grid engines look it up (probe_index/grid_lookup.h), beside the SVO's lookup of it.
       EvalRow grid = row;
       grid.sampler = "grid";
-      grid.lookup_bytes = formats::lookup_bytes(v, formats::LookupIndex::grid_lattice);
+      set_lookup_bytes(grid, v, formats::LookupIndex::grid_lattice);
       grid.seam_p99 = grid_seam_score(v, rays, seams).p99;
-      add_scored_row(grid, truth, maps, result, [&](glm::vec3 p, glm::vec3 n, probe_index::SamplerStats* st) {
-        return probe_index::sample_irradiance_grid(v, p, n, st);
-      });
+      add_scored_row(grid, truth, maps, result, v, coded,
+                     [](const formats::ProbeVolume& volume, glm::vec3 p, glm::vec3 n, probe_index::SamplerStats* st) {
+                       return probe_index::sample_irradiance_grid(volume, p, n, st);
+                     });
     }
     if (config.label != baseline) continue;
     say("all-probes " + config.label);
     row.sampler = "all-probes";
     row.lookup_bytes = formats::lookup_bytes(v, formats::LookupIndex::none);
+    row.l2_lookup_bytes = row.l1_lookup_bytes = 0;
     row.seam_p99 = -1.0;
+    row.l2_codec_error = row.l1_codec_error = row.l2_relative_rmse = row.l1_relative_rmse = -1.0;
     score(row, truth, [&](const SamplePoint& p, probe_index::SamplerStats& st) {
       return probe_index::sample_irradiance_all_probes(v, rays, p.position, p.normal, &st);
     });

@@ -21,6 +21,15 @@ std::string asked_cell(const EvalRow& r) {
   return r.asked_probes > 0 ? fmt::format("{} ({})", r.asked_probes, r.budget_by) : "-";
 }
 
+// Float, l2 and l1 probes' lookup bytes ("float" alone where the compact codes are not measured).
+std::string lookup_bytes_cell(const EvalRow& r) {
+  if (r.l2_lookup_bytes == 0) return std::to_string(r.lookup_bytes);
+  return fmt::format("{} / {} / {}", r.lookup_bytes, r.l2_lookup_bytes, r.l1_lookup_bytes);
+}
+
+// A measure that is -1 where not measured.
+std::string optional_cell(double value) { return value < 0 ? "-" : fmt::format("{:.4f}", value); }
+
 } // namespace
 
 std::string eval_markdown_table(const EvalResult& result) {
@@ -40,19 +49,22 @@ std::string eval_markdown_table(const EvalResult& result) {
                        "to {:+.2f}\n",
                        result.image_pixels, result.image_mean_reference, result.image_flip_exposures.count,
                        result.image_flip_exposures.start, result.image_flip_exposures.stop);
-  out += "\n| config | sampler | asked | probes | bytes | lookup bytes | bake s | ns/point | RMSE | rel. RMSE | "
+  out += "\n| config | sampler | asked | probes | bytes | lookup bytes float / l2 / l1 | bake s | ns/point | RMSE | "
+         "rel. RMSE | "
          "indirect rel. RMSE | "
-         "rel. median | rel. p95 | bias | p95 | max | leak RMSE (points) | coverage | seam p99 |";
+         "rel. median | rel. p95 | bias | p95 | max | leak RMSE (points) | coverage | seam p99 | l2 code err | l1 code "
+         "err |";
   out += image ? " image rel. RMSE | image mean err | image FLIP |\n" : "\n";
-  out += "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|";
+  out += "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|";
   out += image ? "--:|--:|--:|\n" : "\n";
   for (const EvalRow& r : result.rows) {
     out += fmt::format(
         "| {} | {} | {} | {} | {} | {} | {:.3f} | {:.0f} | {:.4g} | {:.4f} | {:.4f} | {:.4f} | {:.4f} | {:+.3f} | "
-        "{:.4g} | {:.4g} | {} | {:.3f} | {} |",
-        r.label, r.sampler, asked_cell(r), r.probes, r.file_bytes, r.lookup_bytes, r.bake_seconds, r.sample_ns, r.rmse,
-        r.relative_rmse, r.indirect_relative_rmse, r.relative_median, r.relative_p95, r.bias, r.p95, r.max_error,
-        leak_cell(r), r.coverage, r.seam_p99 < 0 ? "-" : fmt::format("{:.4f}", r.seam_p99));
+        "{:.4g} | {:.4g} | {} | {:.3f} | {} | {} | {} |",
+        r.label, r.sampler, asked_cell(r), r.probes, r.file_bytes, lookup_bytes_cell(r), r.bake_seconds, r.sample_ns,
+        r.rmse, r.relative_rmse, r.indirect_relative_rmse, r.relative_median, r.relative_p95, r.bias, r.p95,
+        r.max_error, leak_cell(r), r.coverage, optional_cell(r.seam_p99), optional_cell(r.l2_codec_error),
+        optional_cell(r.l1_codec_error));
     out += image ? fmt::format(" {:.4f} | {:.4g} | {:.4f} |\n", r.image_relative_rmse, r.image_mean_error,
                                r.image_flip_mean)
                  : "\n";
@@ -65,20 +77,23 @@ void write_text_file(const std::filesystem::path& path, const std::string& text)
 }
 
 void write_eval_csv(const std::filesystem::path& path, const EvalResult& result) {
-  std::string out = "label,sampler,placement,max_depth,grid,surfels,lattice,svo_depth,probes,file_bytes,bake_seconds,"
-                    "sample_ns,rmse,relative_rmse,bias,p95,max_error,leak_rmse,leak_points,misses,coverage,"
-                    "relative_median,relative_p95,image_relative_rmse,image_mean_error,asked_probes,budget_by,"
-                    "indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean,lookup_bytes\n";
+  std::string out =
+      "label,sampler,placement,max_depth,grid,surfels,lattice,svo_depth,probes,file_bytes,bake_seconds,"
+      "sample_ns,rmse,relative_rmse,bias,p95,max_error,leak_rmse,leak_points,misses,coverage,"
+      "relative_median,relative_p95,image_relative_rmse,image_mean_error,asked_probes,budget_by,"
+      "indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean,lookup_bytes,l2_codec_error,l1_codec_error,"
+      "l2_relative_rmse,l1_relative_rmse,l2_lookup_bytes,l1_lookup_bytes\n";
   for (const EvalRow& r : result.rows)
     out += fmt::format(
         "{},{},{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},"
-        "{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{}\n",
+        "{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{},{:.6g},{:.6g},{:.6g},{:.6g},{},{}\n",
         r.label, r.sampler, formats::placement_name(r.bake.placement), r.bake.max_depth, r.bake.grid_resolution,
         r.bake.surfels_per_probe, lattice_name(r.bake.lattice), r.bake.svo_depth, r.probes, r.file_bytes,
         r.bake_seconds, r.sample_ns, r.rmse, r.relative_rmse, r.bias, r.p95, r.max_error, r.leak_rmse, r.leak_points,
         r.misses, r.coverage, r.relative_median, r.relative_p95, r.image_relative_rmse, r.image_mean_error,
         r.asked_probes, r.budget_by, r.indirect_rmse, r.indirect_relative_rmse, r.seam_p99, r.image_flip_mean,
-        r.lookup_bytes);
+        r.lookup_bytes, r.l2_codec_error, r.l1_codec_error, r.l2_relative_rmse, r.l1_relative_rmse, r.l2_lookup_bytes,
+        r.l1_lookup_bytes);
   write_text_file(path, out);
 }
 

@@ -7,8 +7,10 @@
 
 namespace probebake::formats {
 
-std::uint64_t lookup_bytes(const ProbeVolume& volume, LookupIndex index) {
-  std::uint64_t bytes = sizeof(gpu::VolumeInfo) + volume.probes.size() * sizeof(gpu::Probe);
+std::uint64_t lookup_bytes(const ProbeVolume& volume, LookupIndex index, ShCodec codec) {
+  const std::uint64_t probe_bytes =
+      codec == ShCodec::float32 ? sizeof(gpu::Probe) : sizeof(glm::vec4) + std::uint64_t(sh_codec_bytes(codec));
+  std::uint64_t bytes = sizeof(gpu::VolumeInfo) + volume.probes.size() * probe_bytes;
   if (index == LookupIndex::svo)
     bytes += volume.svo_nodes.size() * sizeof(std::int32_t) + volume.svo_leaves.size() * sizeof(gpu::SvoLeaf);
   if (index == LookupIndex::grid_lattice) bytes += volume.grid_lattice.size() * sizeof(std::uint32_t);

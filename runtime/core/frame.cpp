@@ -63,7 +63,13 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
     frame.ran[frame_pass::light_gather] = frame.ran[frame_pass::light_resolve] = true;
   }
 
-  // 4. The leaf queue's entries take their states from the keys; statistics to the host.
+  // 4. The compact probes the lookups read, from the records as this frame left them.
+  if (passes.codes) {
+    passes.codes->record(cmd, &timer, frame_pass::probe_codes);
+    frame.ran[frame_pass::probe_codes] = true;
+  }
+
+  // 5. The leaf queue's entries take their states from the keys; statistics to the host.
   if (passes.memory) passes.memory->record_end_of_frame(cmd, timer.ring());
   // The frame's writes before any later command of the host reads the buffers (its shaders sample them).
   barrier(cmd, kAnyDeviceAccess, kAnyCommandReadAfter);

@@ -16,6 +16,7 @@
 #include "light_update/light_update_pass.h"
 #include "memory_update/memory_update_pass.h"
 #include "objects/object_poses.h"
+#include "probe_codes/probe_code_pass.h"
 #include "probe_index/probe_index_pass.h"
 #include "probebake/runtime/vocabulary.h"
 
@@ -41,6 +42,7 @@ struct FramePasses {
   GpuVolume* volume = nullptr;
   ObjectPoses* objects = nullptr;     // volumes with dynamic objects: the host's poses
   CellStreaming* streaming = nullptr; // with `light`, UploadOptions::streaming: the cells around the camera
+  ProbeCodePass* codes = nullptr;     // UploadOptions::probe_code l1 or l2: the lookups' compact probes
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.

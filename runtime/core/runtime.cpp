@@ -79,6 +79,8 @@ Status check_options(const UploadOptions& options) {
     return {StatusCode::invalid_argument, "streaming.max_joining_probes and max_lit_probes must be >= 0"};
   if (options.light_headroom < 0)
     return {StatusCode::invalid_argument, "light_headroom must be >= 0, got " + std::to_string(options.light_headroom)};
+  if (formats::sh_codec_name(options.probe_code) == "?")
+    return {StatusCode::invalid_argument, "probe_code is no formats::ShCodec"};
   return {};
 }
 
@@ -319,7 +321,9 @@ VolumeBuffers Volume::buffers() const {
           view(s, Section::trace_vertices),
           view(s, Section::trace_materials),
           record_slots_view(s),
-          s.streaming ? BufferView{} : view(s, Section::grid_lattice)};
+          s.streaming ? BufferView{} : view(s, Section::grid_lattice),
+          s.codes ? BufferView{s.codes->points().get(), s.codes->points().size()} : BufferView{},
+          s.codes ? BufferView{s.codes->codes().get(), s.codes->codes().size()} : BufferView{}};
 }
 
 const gpu::VolumeInfo& Volume::info() const { return state_->cpu_parts.info; }

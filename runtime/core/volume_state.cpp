@@ -80,6 +80,13 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
     }
     sample->set_record_slots(light->record_slots());
   }
+  if (options.probe_code != formats::ShCodec::float32) {
+    codes = std::make_unique<ProbeCodePass>(*device, *gpu, options.probe_code);
+    sample->set_probe_codes(codes->points().get(), codes->codes().get(), codes->code_bands());
+    Submission submission(*device); // the uploaded probes' codes, before any frame
+    codes->record(submission.cmd());
+    submission.submit_and_wait();
+  }
   frame_timer = std::make_unique<PassTimer>(*device, frame_pass::count, ring_count);
   rings.resize(ring_count);
   for (FrameRing& ring : rings) {
@@ -104,8 +111,8 @@ std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs
   }
   check_vk(vkResetEvent(device->vk(), ring.done.get()), "vkResetEvent");
   frame_timer->reset(cmd, index);
-  const FramePasses passes{*probe_index, light.get(),   memory.get(),   light_inputs.get(),
-                           gpu.get(),    objects.get(), streaming.get()};
+  const FramePasses passes{*probe_index, light.get(),   memory.get(),    light_inputs.get(),
+                           gpu.get(),    objects.get(), streaming.get(), codes.get()};
   ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
   vkCmdSetEvent(cmd, ring.done.get(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   if (memory) cpu_parts.info = memory->info();

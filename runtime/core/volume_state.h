@@ -17,6 +17,7 @@
 #include "light_update/light_update_pass.h"
 #include "memory_update/memory_update_pass.h"
 #include "objects/object_poses.h"
+#include "probe_codes/probe_code_pass.h"
 #include "probe_index/probe_index_pass.h"
 #include "probebake/formats/probe_volume.h"
 #include "sampling/sample_pass.h"
@@ -46,6 +47,7 @@ struct VolumeState {
   std::unique_ptr<ObjectPoses> objects;      // only for volumes with dynamic objects
   std::unique_ptr<MemoryUpdatePass> memory;  // only with a light update, on octree volumes (memory_update_applies)
   std::unique_ptr<CellStreaming> streaming;  // only with UploadOptions::streaming (and a light update)
+  std::unique_ptr<ProbeCodePass> codes;      // only with UploadOptions::probe_code l1 or l2
   std::unique_ptr<PassTimer> frame_timer;    // one slot per FramePass (frame.h), one ring per frame in flight
   std::vector<FrameRing> rings;
   std::uint64_t frames = 0;

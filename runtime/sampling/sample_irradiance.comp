@@ -1,6 +1,6 @@
 // Irradiance sampling pass: one query (position, normal) per invocation, through the same GLSL include a
 // game uses (probebake/sample_irradiance.glsl on the volume set); queries, results and the record slots in
-// set 1 (sample_bindings.h).
+// set 1 (sample_bindings.h), and the compact probes when the volume has them (sample_codes.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probebake/volume_bindings.glsl"
@@ -10,13 +10,16 @@ layout(std430, set = PASS_SET, binding = SAMPLE_BINDING_RECORD_SLOTS) readonly b
   int probebake_record_slots[]; // read only when push.streaming
 };
 #define PROBEBAKE_BINDING_RECORD_SLOTS SAMPLE_BINDING_RECORD_SLOTS
+layout(push_constant) uniform Push { SamplePush push; };
+#define POINTS_BINDING SAMPLE_BINDING_PROBE_POINTS
+#define CODES_BINDING SAMPLE_BINDING_PROBE_CODES
+#include "sampling/sample_codes.glsl"
 #include "probebake/sample_irradiance.glsl"
 
 layout(local_size_x = RUNTIME_WORKGROUP_SIZE) in;
 
 layout(std430, set = PASS_SET, binding = SAMPLE_BINDING_QUERIES) readonly buffer Queries { SampleQuery queries[]; };
 layout(std430, set = PASS_SET, binding = SAMPLE_BINDING_RESULTS) writeonly buffer Results { SampleResult results[]; };
-layout(push_constant) uniform Push { SamplePush push; };
 
 void main() {
   const uint i = probebake_flat_workgroup() * RUNTIME_WORKGROUP_SIZE + gl_LocalInvocationIndex;

@@ -95,6 +95,9 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     bindings[gpu::SAMPLE_GRID_BINDING_QUERIES] = buffers.queries.get();
     bindings[gpu::SAMPLE_GRID_BINDING_RESULTS] = buffers.results.get();
     bindings[gpu::SAMPLE_GRID_BINDING_LATTICE] = volume_.binding(Section::grid_lattice);
+    // Read only with SamplePush.code_bands; otherwise any buffer satisfies the binding.
+    bindings[gpu::SAMPLE_GRID_BINDING_PROBE_POINTS] = code_bands_ ? points_ : buffers.results.get();
+    bindings[gpu::SAMPLE_GRID_BINDING_PROBE_CODES] = code_bands_ ? codes_ : buffers.results.get();
     write_storage_buffers(device_.vk(), set, bindings);
   } else {
     std::array<VkBuffer, gpu::SAMPLE_BINDING_COUNT> bindings{};
@@ -103,6 +106,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     // Read only with SamplePush.streaming; otherwise any buffer satisfies the binding.
     bindings[gpu::SAMPLE_BINDING_RECORD_SLOTS] =
         record_slots_ != VK_NULL_HANDLE ? record_slots_ : buffers.results.get();
+    bindings[gpu::SAMPLE_BINDING_PROBE_POINTS] = code_bands_ ? points_ : buffers.results.get();
+    bindings[gpu::SAMPLE_BINDING_PROBE_CODES] = code_bands_ ? codes_ : buffers.results.get();
     write_storage_buffers(device_.vk(), set, bindings);
   }
   PassTimer timer(device_, 1);
@@ -118,7 +123,8 @@ void SamplePass::run(std::span<const glm::vec3> positions, std::span<const glm::
     vkCmdCopyBuffer(cmd, buffers.queries_host.get(), buffers.queries.get(), 1, &queries);
     barrier(cmd, kTransferWrite, kComputeRead);
     const gpu::SamplePush push{static_cast<std::uint32_t>(count),
-                               record_slots_ != VK_NULL_HANDLE && layout_id == Layout::sample ? 1u : 0u, 0, 0};
+                               record_slots_ != VK_NULL_HANDLE && layout_id == Layout::sample ? 1u : 0u,
+                               all_probes ? 0u : code_bands_, 0};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     bind_sets_and_push(cmd, layout, volume_.volume_set(), set, push);
     timer.begin(cmd, 0);

@@ -29,6 +29,13 @@ public:
            SampleStats& stats, SampleMethod method, std::span<std::uint32_t> flags = {});
   // Streaming: the light update's record slots, so that results say when their probes are not lit.
   void set_record_slots(VkBuffer record_slots) { record_slots_ = record_slots; }
+  // Compact probes (probe_codes/): the SVO and grid samplers read these points and codes (`bands` blocks per
+  // probe) instead of the probe records, as a game's shader does; the all-probe baseline keeps the records.
+  void set_probe_codes(VkBuffer points, VkBuffer codes, std::uint32_t bands) {
+    points_ = points;
+    codes_ = codes;
+    code_bands_ = bands;
+  }
 
   // Queries per dispatch: limited by maxStorageBufferRange and by a staging budget.
   std::size_t max_batch() const { return max_batch_; }
@@ -38,10 +45,12 @@ private:
   const GpuVolume& volume_;
   std::size_t max_batch_ = 0;
   DeviceObject<VkDescriptorPool> pool_;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;      // SVO sampler
-  VkDescriptorSet grid_set_ = VK_NULL_HANDLE; // grid engine
-  VkDescriptorSet all_set_ = VK_NULL_HANDLE;  // all-probe baseline
-  VkBuffer record_slots_ = VK_NULL_HANDLE;    // streaming only
+  VkDescriptorSet set_ = VK_NULL_HANDLE;                      // SVO sampler
+  VkDescriptorSet grid_set_ = VK_NULL_HANDLE;                 // grid engine
+  VkDescriptorSet all_set_ = VK_NULL_HANDLE;                  // all-probe baseline
+  VkBuffer record_slots_ = VK_NULL_HANDLE;                    // streaming only
+  VkBuffer points_ = VK_NULL_HANDLE, codes_ = VK_NULL_HANDLE; // compact probes only
+  std::uint32_t code_bands_ = 0;
 };
 
 } // namespace probebake::runtime::detail

@@ -239,7 +239,7 @@ int run_volume(const RunOptions& options) {
 
   runtime::UploadOptions upload;
   upload.light_update = options.light_update;
-  upload.hysteresis = options.hysteresis;
+  upload.hysteresis = options.hysteresis, upload.probe_code = options.probe_code;
   upload.memory_update = !options.no_memory_update &&
                          (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
   if (options.pool_probes) upload.pools.free_probes = *options.pool_probes;

@@ -10,6 +10,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: probebake-run FILE.probes [--frames N] [--csv OUT.csv] [--validate] [--vk-validation]\n"
     "                     [--device NAME] [--samples N [--compare-all-probes]] [--hysteresis H]\n"
+    "                     [--probe-code float|l2|l1]\n"
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
     "                     [--no-memory-update] [--max-depth N] [--pool-probes N]\n"
@@ -57,6 +58,8 @@ constexpr const char* kUsage =
     "  --samples N       after the frames, time N irradiance lookups at random points\n"
     "  --compare-all-probes  also time the all-probe loop (thesis 3.2.4) on the same points\n"
     "  --hysteresis H    weight of the old irradiance per frame, in [0, 1) (default 0.9)\n"
+    "  --probe-code C    the probes the lookups read: float (the records, default), l2 (48 bytes a probe) or l1\n"
+    "                    (32 bytes, band 2 dropped), encoded after every frame (docs/RUNTIME.md \"Compact probes\")\n"
     "  --no-light-update keep the baked irradiance (no light passes, no light buffers)\n"
     "  --depth-cycle LOW:HIGH:PERIOD  run the memory update (octree volumes with lighting sections);\n"
     "                    every PERIOD frames the max depth alternates HIGH, LOW, ... and every leaf is\n"
@@ -151,6 +154,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       options.compare_all_probes = true;
     } else if (arg == "--no-light-update") {
       options.light_update = false;
+    } else if (arg == "--probe-code") {
+      const auto codec = has_value ? formats::parse_sh_codec(argv[++i]) : std::nullopt;
+      if (!codec) return usage_error("--probe-code needs float, l2 or l1");
+      options.probe_code = *codec;
     } else if (arg == "--hysteresis") {
       if (!has_value || !parse_fraction(argv[++i], options.hysteresis))
         return usage_error("--hysteresis needs a number in [0, 1)");

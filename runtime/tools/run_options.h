@@ -44,18 +44,19 @@ struct StreamRun {
 };
 
 struct RunOptions {
-  std::string input;                         // .probes file
-  int frames = 1;                            // >= 1
-  std::optional<std::string> csv;            // per-frame, per-pass times
-  bool validate = false;                     // validate the live state after every frame
-  bool vulkan_validation = false;            // VK_LAYER_KHRONOS_validation with synchronization validation
-  std::string device;                        // device name filter
-  int samples = 0;                           // irradiance lookups after the frames (random points in the root cube)
-  bool compare_all_probes = false;           // also time the thesis's all-probe loop on the same points
-  bool light_update = true;                  // run the light update when the file has the lighting sections
-  float hysteresis = 0.9f;                   // runtime::UploadOptions::hysteresis, [0, 1)
-  std::optional<DepthCycle> depth_cycle;     // run the memory update with this max-depth schedule
-  std::optional<LightOrbit> orbit_light;     // move one punctual light every frame (FrameInputs::lights)
+  std::string input;               // .probes file
+  int frames = 1;                  // >= 1
+  std::optional<std::string> csv;  // per-frame, per-pass times
+  bool validate = false;           // validate the live state after every frame
+  bool vulkan_validation = false;  // VK_LAYER_KHRONOS_validation with synchronization validation
+  std::string device;              // device name filter
+  int samples = 0;                 // irradiance lookups after the frames (random points in the root cube)
+  bool compare_all_probes = false; // also time the thesis's all-probe loop on the same points
+  bool light_update = true;        // run the light update when the file has the lighting sections
+  float hysteresis = 0.9f;         // runtime::UploadOptions::hysteresis, [0, 1)
+  formats::ShCodec probe_code = formats::ShCodec::float32; // runtime::UploadOptions::probe_code
+  std::optional<DepthCycle> depth_cycle;                   // run the memory update with this max-depth schedule
+  std::optional<LightOrbit> orbit_light;                   // move one punctual light every frame (FrameInputs::lights)
   std::optional<dynamic::Animation> animate; // pose the file's dynamic objects per frame (dynamic/animation.h)
   bool memory_update = false;            // runtime::UploadOptions::memory_update (implied by --depth-cycle, --animate)
   bool no_memory_update = false;         // --no-memory-update: off even with --animate (moved objects re-trace the

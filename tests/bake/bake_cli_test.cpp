@@ -90,6 +90,10 @@ TEST(BakeCli, AGridBakeWritesItsLatticeAndInfoCountsItsLookupBytes) {
   }
   EXPECT_EQ(info["lookup_bytes"]["grid_lattice"].get<std::size_t>(), 80 + probe_bytes + 4 * (8 + 2 * 64));
   EXPECT_EQ(info["lookup_bytes"]["svo"].get<std::size_t>(), 80 + probe_bytes + svo_bytes);
+  // Compact probes: a 16-byte point and a 32-byte (l2) or 16-byte (l1) code per probe slot.
+  const std::size_t slots = probe_bytes / 144;
+  EXPECT_EQ(info["lookup_bytes"]["grid_lattice_l2"].get<std::size_t>(), 80 + slots * 48 + 4 * (8 + 2 * 64));
+  EXPECT_EQ(info["lookup_bytes"]["svo_l1"].get<std::size_t>(), 80 + slots * 32 + svo_bytes);
   EXPECT_NE(run({"info", probes}).out.find("B through the grid lattice"), std::string::npos);
 }
 

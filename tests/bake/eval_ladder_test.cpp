@@ -213,7 +213,8 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
   const auto rows = lines(read_text(csv));
   ASSERT_GE(rows.size(), 4u); // header, at least two rows per method... grid and octree at two rungs, less repeats
   EXPECT_TRUE(rows[0].ends_with(
-      ",asked_probes,budget_by,indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean,lookup_bytes"))
+      ",asked_probes,budget_by,indirect_rmse,indirect_relative_rmse,seam_p99,image_flip_mean,lookup_bytes,"
+      "l2_codec_error,l1_codec_error,l2_relative_rmse,l1_relative_rmse,l2_lookup_bytes,l1_lookup_bytes"))
       << rows[0];
   int grid_rows = 0, grid_engine_rows = 0;
   std::map<std::string, double> svo_bytes; // per label: the SVO row's lookup bytes
@@ -221,18 +222,27 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
     std::vector<std::string> cells;
     std::istringstream in(rows[i]);
     for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 32u) << rows[i];
+    ASSERT_EQ(cells.size(), 38u) << rows[i];
     const int asked = std::stoi(cells[25]);
     const double indirect = std::stod(cells[28]);
     const double seam = std::stod(cells[29]);
     EXPECT_EQ(std::stod(cells[30]), 0.0) << rows[i]; // no camera: no image receivers, no HDR-FLIP
     const double lookup_bytes = std::stod(cells[31]);
     EXPECT_GT(lookup_bytes, 0.0) << rows[i];
+    const double l2_error = std::stod(cells[32]), l1_error = std::stod(cells[33]);
+    const double l2_bytes = std::stod(cells[36]), l1_bytes = std::stod(cells[37]);
     if (cells[1] == "svo" || cells[1] == "grid") {
       EXPECT_TRUE(asked == 16 || asked == 64) << rows[i];
       EXPECT_TRUE(seam >= 0.0 && seam < 10.0) << rows[i];
+      // The l2 code moves the lookup by a fraction of a percent (tests/formats/sh_codec_test.cpp bounds it
+      // per probe); l1 drops band 2, a larger but still bounded change.
+      EXPECT_TRUE(l2_error > 0.0 && l2_error < 0.01) << rows[i];
+      EXPECT_TRUE(l1_error > l2_error && l1_error < 0.2) << rows[i];
+      EXPECT_TRUE(lookup_bytes > l2_bytes && l2_bytes > l1_bytes && l1_bytes > 0.0) << rows[i];
     } else {
       EXPECT_EQ(seam, -1.0) << rows[i]; // the all-probe loop is not scored for seams
+      EXPECT_EQ(l2_error, -1.0) << rows[i];
+      EXPECT_EQ(l2_bytes, 0.0) << rows[i];
     }
     EXPECT_TRUE(std::isfinite(indirect) && indirect > 0.0) << rows[i];
     if (cells[1] == "svo") svo_bytes[cells[0]] = lookup_bytes;

@@ -132,11 +132,16 @@ const BindingTable& pass_table(std::string_view layout) {
       {"sample",
        {{"Queries", SAMPLE_BINDING_QUERIES},
         {"Results", SAMPLE_BINDING_RESULTS},
-        {"RecordSlots", SAMPLE_BINDING_RECORD_SLOTS}}},
+        {"RecordSlots", SAMPLE_BINDING_RECORD_SLOTS},
+        {"ProbePoints", SAMPLE_BINDING_PROBE_POINTS},
+        {"ProbeCodes", SAMPLE_BINDING_PROBE_CODES}}},
       {"sample_grid",
        {{"Queries", SAMPLE_GRID_BINDING_QUERIES},
         {"Results", SAMPLE_GRID_BINDING_RESULTS},
-        {"ProbebakeGridLattice", SAMPLE_GRID_BINDING_LATTICE}}},
+        {"ProbebakeGridLattice", SAMPLE_GRID_BINDING_LATTICE},
+        {"ProbePoints", SAMPLE_GRID_BINDING_PROBE_POINTS},
+        {"ProbeCodes", SAMPLE_GRID_BINDING_PROBE_CODES}}},
+      {"probe_codes", {{"Points", PROBE_CODES_BINDING_POINTS}, {"Codes", PROBE_CODES_BINDING_CODES}}},
       {"sample_all", {{"Queries", SAMPLE_ALL_BINDING_QUERIES}, {"Results", SAMPLE_ALL_BINDING_RESULTS}}},
       {"light",
        {{"RecordPage0", LIGHT_BINDING_RECORDS},
@@ -203,7 +208,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeaders) {
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryKernelOfThePassTable) {
-  EXPECT_EQ(std::size(kKernels), 26u); // the table itself: a row lost from passes.def fails here
+  EXPECT_EQ(std::size(kKernels), 27u); // the table itself: a row lost from passes.def fails here
   for (const KernelRow& kernel : kKernels) {
     const auto words = shaders::spirv(kernel.name);
     ASSERT_GT(words.size(), 5u) << kernel.name;
@@ -265,6 +270,14 @@ TEST(GpuLayout, RuntimeTypesMatch) {
             1);
   EXPECT_EQ(expect_layout("probe_index_scan", "RuntimeCounters",
                           {{"live_probes", offsetof(gpu::RuntimeCounters, live_probes)}}),
+            1);
+  EXPECT_EQ(expect_layout("probe_encode", "ProbeCodePush",
+                          {{"probe_capacity", offsetof(gpu::ProbeCodePush, probe_capacity)},
+                           {"code_bands", offsetof(gpu::ProbeCodePush, code_bands)}}),
+            1);
+  EXPECT_EQ(expect_layout(
+                "sample_grid", "SamplePush",
+                {{"count", offsetof(gpu::SamplePush, count)}, {"code_bands", offsetof(gpu::SamplePush, code_bands)}}),
             1);
   EXPECT_EQ(expect_layout("probe_index_scatter", "ProbeIndexPush",
                           {{"probe_capacity", offsetof(gpu::ProbeIndexPush, probe_capacity)},

@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "probebake/formats/grid_lattice.h"
+#include "probebake/formats/sh_codec.h"
 #include "probebake/probe_index/grid_lookup.h"
 #include "probebake/probe_index/lookup.h"
 #include "runtime_test_util.h"
@@ -59,6 +60,25 @@ Points make_points(const formats::ProbeVolume& volume, std::size_t count, std::u
     if (near_voxel_face(volume, p, n)) continue;
     points.positions.push_back(p);
     points.normals.push_back(n);
+  }
+  return points;
+}
+
+// `all` less the points whose grid lookup position lies within 1e-3 of a lattice cell's face (where rounding
+// may pick the neighbouring cell).
+Points away_from_lattice_faces(const formats::ProbeVolume& volume, const Points& all) {
+  const std::optional<formats::GridLatticeView> lattice = formats::grid_lattice_view(volume);
+  EXPECT_TRUE(lattice);
+  if (!lattice) return {};
+  const gpu::GridLatticeHeader h = lattice->header;
+  Points points;
+  for (std::size_t i = 0; i < all.positions.size(); ++i) {
+    const glm::vec3 g =
+        formats::grid_lattice_coordinates(h, all.positions[i] + all.normals[i] * probe_index::grid_normal_bias(h));
+    const glm::vec3 distance = glm::abs(g - glm::round(g));
+    if (std::min({distance.x, distance.y, distance.z}) < 1e-3f) continue;
+    points.positions.push_back(all.positions[i]);
+    points.normals.push_back(all.normals[i]);
   }
   return points;
 }
@@ -123,19 +143,7 @@ TEST_F(SamplingTest, CornellGridMatchesTheCpuSampler) { expect_gpu_equals_cpu(co
 // without a lattice is refused.
 TEST_F(SamplingTest, GridEngineMatchesTheCpuSampler) {
   const formats::ProbeVolume& volume = baked_cornell_grid();
-  const std::optional<formats::GridLatticeView> lattice = formats::grid_lattice_view(volume);
-  ASSERT_TRUE(lattice);
-  const gpu::GridLatticeHeader h = lattice->header;
-  const Points all = make_points(volume, 20000, 42);
-  Points points;
-  for (std::size_t i = 0; i < all.positions.size(); ++i) {
-    const glm::vec3 g =
-        formats::grid_lattice_coordinates(h, all.positions[i] + all.normals[i] * probe_index::grid_normal_bias(h));
-    const glm::vec3 distance = glm::abs(g - glm::round(g));
-    if (std::min({distance.x, distance.y, distance.z}) < 1e-3f) continue;
-    points.positions.push_back(all.positions[i]);
-    points.normals.push_back(all.normals[i]);
-  }
+  const Points points = away_from_lattice_faces(volume, make_points(volume, 20000, 42));
   std::vector<glm::vec3> cpu;
   probe_index::SamplerStats cpu_stats;
   for (std::size_t i = 0; i < points.positions.size(); ++i)
@@ -154,6 +162,61 @@ TEST_F(SamplingTest, GridEngineMatchesTheCpuSampler) {
   const auto refused =
       octree->sample_irradiance(points.positions, points.normals, nullptr, runtime::SampleMethod::grid);
   EXPECT_EQ(refused.status().code, runtime::StatusCode::unsupported) << refused.status().message;
+}
+
+// Compact probes (UploadOptions::probe_code): the GPU's lookups through the points and codes the probe code
+// pass writes after each frame equal the CPU's lookups of the live probes read back and sent through the same
+// code (formats::with_sh_codec). The volume starts black and relights over three frames, so that the codes
+// must follow the light update, not the upload.
+void expect_codes_follow_the_probes(runtime::Context& context, const formats::ProbeVolume& volume,
+                                    formats::ShCodec codec, runtime::SampleMethod method) {
+  runtime::UploadOptions options;
+  options.probe_code = codec;
+  auto uploaded = runtime::Volume::upload(context, with_zero_irradiance(volume), options);
+  ASSERT_TRUE(uploaded.ok()) << uploaded.status().message;
+  const runtime::VolumeBuffers buffers = uploaded->buffers();
+  const auto slots = VkDeviceSize(volume.info.probe_capacity);
+  EXPECT_EQ(buffers.probe_points.size, slots * 16);
+  EXPECT_EQ(buffers.probe_codes.size, slots * VkDeviceSize(formats::sh_codec_bytes(codec)));
+  for (int frame = 0; frame < 3; ++frame) ASSERT_TRUE(uploaded->run_frame().ok());
+  auto live = uploaded->read_back();
+  ASSERT_TRUE(live.ok()) << live.status().message;
+  ASSERT_GT(brightest_dc(live.value()), 0.0f); // relit
+  const formats::ProbeVolume coded = formats::with_sh_codec(live.value(), codec);
+  const Points svo_points = make_points(volume, 5000, 7);
+  const Points points =
+      method == runtime::SampleMethod::grid ? away_from_lattice_faces(volume, svo_points) : svo_points;
+  std::vector<glm::vec3> cpu(points.positions.size());
+  probe_index::SamplerStats cpu_stats;
+  for (std::size_t i = 0; i < cpu.size(); ++i)
+    cpu[i] = method == runtime::SampleMethod::grid
+                 ? probe_index::sample_irradiance_grid(coded, points.positions[i], points.normals[i], &cpu_stats)
+                 : probe_index::sample_irradiance(coded, points.positions[i], points.normals[i], &cpu_stats);
+  const Comparison c = compare(cpu, cpu_stats.misses, uploaded.value(), points, method);
+  EXPECT_EQ(c.mismatches, 0u);
+  EXPECT_LE(c.max_relative, 1e-4f);
+  EXPECT_EQ(c.gpu_misses, c.cpu_misses);
+  EXPECT_GT(c.lit, points.positions.size() / 10);
+}
+
+TEST_F(SamplingTest, CompactProbesMatchTheCpuDecodeThroughTheSvo) {
+  for (formats::ShCodec codec : {formats::ShCodec::l2, formats::ShCodec::l1})
+    expect_codes_follow_the_probes(context(), baked_cornell_octree(), codec, runtime::SampleMethod::svo);
+}
+
+TEST_F(SamplingTest, CompactProbesMatchTheCpuDecodeThroughTheGridEngine) {
+  for (formats::ShCodec codec : {formats::ShCodec::l2, formats::ShCodec::l1})
+    expect_codes_follow_the_probes(context(), baked_cornell_grid(), codec, runtime::SampleMethod::grid);
+}
+
+TEST_F(SamplingTest, FloatProbesAllocateNoCodes) {
+  auto uploaded = runtime::Volume::upload(context(), baked_cornell_octree());
+  ASSERT_TRUE(uploaded.ok()) << uploaded.status().message;
+  EXPECT_EQ(uploaded->buffers().probe_points.buffer, VK_NULL_HANDLE);
+  EXPECT_EQ(uploaded->buffers().probe_codes.buffer, VK_NULL_HANDLE);
+  const auto frame = uploaded->run_frame();
+  ASSERT_TRUE(frame.ok());
+  for (const runtime::PassTime& pass : frame->passes) EXPECT_NE(pass.name, "probe_codes");
 }
 
 TEST_F(SamplingTest, VolumeWithoutSvoMissesEverywhere) {

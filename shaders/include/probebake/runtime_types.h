@@ -49,11 +49,21 @@ struct SampleResult {
 PB_CONSTANT(int, SAMPLE_RESULT_NOT_LIT, 256);
 
 struct SamplePush {
-  uint count;     // offset 0: queries in this dispatch
-  uint streaming; // offset 4: 1 = flag results whose probes have no record slot (SAMPLE_BINDING_RECORD_SLOTS)
-  uint pad1;      // offset 8
-  uint pad2;      // offset 12
-};                // size 16
+  uint count;      // offset 0: queries in this dispatch
+  uint streaming;  // offset 4: 1 = flag results whose probes have no record slot (SAMPLE_BINDING_RECORD_SLOTS)
+  uint code_bands; // offset 8: 0 = the probes' float irradiance; 1 or 2 = the compact codes (l1, l2) and points
+  uint pad0;       // offset 12
+};                 // size 16
+
+// ---- Compact probe codes (probe_encode.comp): every probe slot's point and code, for the lookups --------
+// A point is vec4(position, 1) for an allocated probe and vec4(0) for a free slot; a code is code_bands
+// uvec4 blocks (probebake/sh_code.h), zero for a free slot.
+struct ProbeCodePush {
+  uint probe_capacity; // offset 0: probe slots
+  uint code_bands;     // offset 4: 1 (l1) or 2 (l2)
+  uint pad0;           // offset 8
+  uint pad1;           // offset 12
+};                     // size 16
 
 // ---- Light update (octree thesis §3.2.2), light_trace.comp / light_gather.comp / light_resolve.comp -------
 // One workgroup per probe slot for trace and gather (threads over the probe's rays), one thread per probe
@@ -237,6 +247,7 @@ static_assert(PROBE_INDEX_BLOCK == PROBE_INDEX_THREADS * PROBE_INDEX_PER_THREAD)
 static_assert(LIGHT_WORKGROUP_SIZE % LIGHT_TRACE_LANES == 0 &&
               uint64_t(LIGHT_TRACE_CHUNKS) * TRACE_FLAG_CHUNK_ONE <= 0xffffffffull);
 static_assert(sizeof(ProbeIndexPush) == 16 && sizeof(RuntimeCounters) == 16 && sizeof(SamplePush) == 16);
+static_assert(sizeof(ProbeCodePush) == 16);
 static_assert(sizeof(SampleQuery) == 32 && offsetof(SampleQuery, normal) == 16);
 static_assert(sizeof(SampleResult) == 16 && offsetof(SampleResult, probes_used) == 12);
 static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && offsetof(LightRecord, reflect) == 48 &&

@@ -93,8 +93,8 @@ vec3 probebake_sample_irradiance_grid(vec3 position, vec3 normal, out int corner
     const uint index = point.probe_cells & GRID_POINT_PROBE_MASK;
     if (index == GRID_POINT_NO_PROBE || index >= uint(probebake_info.probe_capacity)) continue;
     const float serve = probebake_grid_serve_weight(point.probe_cells >> GRID_POINT_CELLS_SHIFT, g, q, n);
-    if (probebake_probes[index].link == 0 || !(serve > 0.0)) continue;
-    const vec3 at = probebake_probes[index].position; // not the whole 144-byte record
+    if (!probebake_probe_live(int(index)) || !(serve > 0.0)) continue;
+    const vec3 at = probebake_probe_position(int(index));
     const vec3 t = mix(vec3(1.0) - f, f, vec3(b));
     const float s = volumetric ? 1.0 : dot(at - position, normal) / bias;
     const float side = s > 0.0 ? min(s, 1.0) : 0.0;

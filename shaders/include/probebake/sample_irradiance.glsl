@@ -74,6 +74,64 @@ layout(std430, set = PROBEBAKE_SET, binding = PROBEBAKE_BINDING_SVO_LEAVES) read
 };
 #endif
 
+// Compact probes (docs/RUNTIME.md "Compact probes"): with PROBEBAKE_PROBE_CODE_BANDS defined (1: the l1 code,
+// 2: l2, 0: the records; a constant or any GLSL expression), the lookups read a probe's position from
+// vec4 probebake_probe_points[] (<- Volume::buffers().probe_points; w = 0 for a free slot) and its irradiance
+// from uvec4 probebake_probe_codes[] (<- .probe_codes, PROBEBAKE_PROBE_CODE_BANDS blocks per probe,
+// probebake/sh_code.h) instead of its 144-byte record, which is then not read. Unless
+// PROBEBAKE_DECLARE_BUFFERS is 0 they are declared at PROBEBAKE_BINDING_PROBE_POINTS and
+// PROBEBAKE_BINDING_PROBE_CODES of PROBEBAKE_SET (no defaults).
+#ifdef PROBEBAKE_PROBE_CODE_BANDS
+#include "probebake/sh_code.h"
+#if PROBEBAKE_DECLARE_BUFFERS
+layout(std430, set = PROBEBAKE_SET, binding = PROBEBAKE_BINDING_PROBE_POINTS) readonly buffer ProbebakeProbePoints {
+  vec4 probebake_probe_points[];
+};
+layout(std430, set = PROBEBAKE_SET, binding = PROBEBAKE_BINDING_PROBE_CODES) readonly buffer ProbebakeProbeCodes {
+  uvec4 probebake_probe_codes[];
+};
+#endif
+#endif
+
+vec3 probebake_probe_position(int probe) {
+#ifdef PROBEBAKE_PROBE_CODE_BANDS
+  if (PROBEBAKE_PROBE_CODE_BANDS != 0) return probebake_probe_points[probe].xyz;
+#endif
+  return probebake_probes[probe].position; // not the whole 144-byte record
+}
+
+// Whether slot `probe` holds an allocated probe.
+bool probebake_probe_live(int probe) {
+#ifdef PROBEBAKE_PROBE_CODE_BANDS
+  if (PROBEBAKE_PROBE_CODE_BANDS != 0) return probebake_probe_points[probe].w != 0.0;
+#endif
+  return probebake_probes[probe].link != 0;
+}
+
+// Irradiance of probe `probe` at unit normal for basis values y, per channel, not clamped.
+vec3 probebake_evaluate_probe_sh(int probe, float y[9]) {
+  vec3 e = vec3(0.0);
+#ifdef PROBEBAKE_PROBE_CODE_BANDS
+  const int bands = PROBEBAKE_PROBE_CODE_BANDS;
+  if (bands != 0) {
+    const ShCode code = ShCode(probebake_probe_codes[bands * probe],
+                               bands == 2 ? probebake_probe_codes[bands * probe + 1] : uvec4(0u));
+    const vec3 l0 = sh_code_l0(code.band01);
+    // Constant bounds: unrolled, every bit position is a constant (an L1 code's zero block decodes to 0).
+    for (int k = 0; k < 9; ++k)
+      e += y[k] * vec3(sh_code_coefficient(code, l0, 3 * k), sh_code_coefficient(code, l0, 3 * k + 1),
+                       sh_code_coefficient(code, l0, 3 * k + 2));
+    return e;
+  }
+#endif
+  for (int k = 0; k < 9; ++k) {
+    const vec3 c = vec3(probebake_probes[probe].irradiance_sh[3 * k], probebake_probes[probe].irradiance_sh[3 * k + 1],
+                        probebake_probes[probe].irradiance_sh[3 * k + 2]);
+    e += y[k] * c;
+  }
+  return e;
+}
+
 #include "probebake/svo_stencil.glsl"
 
 // Step 3: the leaves of the blend and their normalised weights (count 0: a miss). Leaves are read again
@@ -237,7 +295,7 @@ ProbebakeProbeBlend probebake_probe_blend(ProbebakeBlend b, vec3 position, vec3 
       if (j == out_blend.count) {
         out_blend.probes[j] = probe;
         out_blend.weights[j] = 0.0;
-        backface[j] = probebake_backface_weight(normal, probebake_probes[probe].position - position);
+        backface[j] = probebake_backface_weight(normal, probebake_probe_position(probe) - position);
         ++out_blend.count;
       }
       slot[k] = j;

@@ -90,7 +90,7 @@ ProbebakeStencil probebake_leaf_stencil(int leaf, vec3 position, vec3 normal) {
   for (int k = 0; k < SVO_PROBES_PER_LEAF; ++k) {
     const int probe = l.probes[k];
     if (probe < 0 || probe >= probebake_info.probe_capacity) continue;
-    w[k] = l.weights[k] * probebake_backface_weight(normal, probebake_probes[probe].position - position);
+    w[k] = l.weights[k] * probebake_backface_weight(normal, probebake_probe_position(probe) - position);
     sum += w[k];
   }
   if (!(sum > 0.0)) return s;
@@ -108,17 +108,6 @@ ProbebakeStencil probebake_leaf_stencil(int leaf, vec3 position, vec3 normal) {
 ProbebakeStencil probebake_svo_stencil(vec3 position, vec3 normal) {
   return probebake_leaf_stencil(probebake_find_svo_leaf(position + normal * probebake_normal_bias()), position,
                                 normal);
-}
-
-// Irradiance of probe `probe` at unit normal for basis values y, per channel, not clamped.
-vec3 probebake_evaluate_probe_sh(int probe, float y[9]) {
-  vec3 e = vec3(0.0);
-  for (int k = 0; k < 9; ++k) {
-    const vec3 c = vec3(probebake_probes[probe].irradiance_sh[3 * k], probebake_probes[probe].irradiance_sh[3 * k + 1],
-                        probebake_probes[probe].irradiance_sh[3 * k + 2]);
-    e += y[k] * c;
-  }
-  return e;
 }
 
 // E_leaf of one leaf's stencil (step 2): the light update's bounce lookup.

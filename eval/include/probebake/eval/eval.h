@@ -112,6 +112,7 @@ struct EvalRow {
   int probes = 0;
   std::uint64_t file_bytes = 0;   // the .probes file as written by write_probes
   std::uint64_t lookup_bytes = 0; // what the row's lookup keeps on the GPU (formats::lookup_bytes)
+  std::uint64_t l2_lookup_bytes = 0, l1_lookup_bytes = 0; // the same with compact probes (0: all-probe loop)
   double bake_seconds = 0.0;
   double sample_ns = 0.0;     // per point, one thread, lookup only (direct light is the same for all rows)
   double rmse = 0.0;          // over points of the RGB RMS error, W/m^2
@@ -137,6 +138,11 @@ struct EvalRow {
   // svo rows: the lookup's seam score (seams.h), 99th percentile of the unexplained jump over the local
   // irradiance along random lines through open space (-1 for the all-probe loop, not measured)
   double seam_p99 = -1.0;
+  // The compact probe codes (formats/sh_codec.h), apart from placement: how far the lookup moves when the
+  // probes go through the code (RMS over receivers, relative to the mean reference), and the coded lookup's
+  // relative RMSE against the reference. -1 where not measured (the all-probe loop).
+  double l2_codec_error = -1.0, l1_codec_error = -1.0;
+  double l2_relative_rmse = -1.0, l1_relative_rmse = -1.0;
 };
 
 struct EvalResult {

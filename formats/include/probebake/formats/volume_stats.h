@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "probebake/formats/probe_volume.h"
+#include "probebake/formats/sh_codec.h"
 
 namespace probebake::formats {
 
@@ -30,6 +31,8 @@ enum class LookupIndex {
   grid_lattice, // probe_index::sample_irradiance_grid: the lattice (0 bytes of index but its point words)
   none,         // the all-probe loop: no index (and the scene's rays, which are not counted)
 };
-std::uint64_t lookup_bytes(const ProbeVolume& volume, LookupIndex index);
+// `codec` l2 or l1: the probes as the lookups then read them (runtime UploadOptions::probe_code), a point
+// (16 bytes) and a code (32 or 16 bytes) per probe slot, instead of the 144-byte records.
+std::uint64_t lookup_bytes(const ProbeVolume& volume, LookupIndex index, ShCodec codec = ShCodec::float32);
 
 } // namespace probebake::formats

@@ -93,6 +93,11 @@ struct VolumeBuffers {
   // probebake_sample_irradiance_grid (sample_grid.glsl). Empty for other volumes, and with streaming (whose
   // probe slots the lattice does not follow yet).
   BufferView grid_lattice;
+  // UploadOptions::probe_code l1 or l2 (else empty): vec4 per probe slot (position, 1 allocated / 0 free) and
+  // its code (1 or 2 uvec4 blocks, probebake/sh_code.h), rewritten after every frame; bind them at
+  // PROBEBAKE_BINDING_PROBE_POINTS and PROBEBAKE_BINDING_PROBE_CODES with PROBEBAKE_PROBE_CODE_BANDS defined
+  // (sample_irradiance.glsl): the lookups then read no probe record. Not file sections.
+  BufferView probe_points, probe_codes;
 };
 
 class Volume {

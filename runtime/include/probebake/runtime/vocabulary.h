@@ -18,6 +18,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include "probebake/formats/probe_volume.h"
+#include "probebake/formats/sh_codec.h"
 
 namespace probebake::runtime {
 
@@ -203,6 +204,11 @@ struct UploadOptions {
   // Frames that may be recorded (Volume::record_frame) before the first of them finished on the GPU; each
   // keeps its own timestamps and counters until Volume::poll_frame_stats returns them. In [1, 16].
   int frames_in_flight = 3;
+  // Compact probes for the lookups (docs/RUNTIME.md "Compact probes"): l2 (32 bytes of irradiance per probe)
+  // or l1 (16 bytes, band 2 dropped) encodes every probe after each frame into Volume::buffers().probe_points
+  // and probe_codes, which sample_irradiance and sample_grid then read instead of the 144-byte records (the
+  // light update keeps relighting in floats). float32 (the default) allocates and runs nothing.
+  formats::ShCodec probe_code = formats::ShCodec::float32;
 };
 
 // An axis-aligned box in world space (metres), min <= max.

@@ -3,7 +3,9 @@
 // volume and runs a few frames of its passes, then samples irradiance in its own compute shader
 // (game_sample.comp, compiled against the installed GLSL includes), recorded into its own command buffer
 // with its own descriptor sets bound to Volume::buffers(). Exit 0 when the game's values equal the
-// runtime's own sampling pass (Volume::sample_irradiance) at every point, 1 otherwise. With --validation the
+// runtime's own sampling pass (Volume::sample_irradiance) at every point, 1 otherwise; then the same with the
+// compact l2 probes (UploadOptions::probe_code), the records' binding holding a 16-byte dummy that the shader
+// must not read. With --validation the
 // game's instance enables VK_LAYER_KHRONOS_validation with synchronization validation, and any message fails.
 #include <algorithm>
 #include <cmath>
@@ -17,6 +19,7 @@
 #include <vulkan/vulkan.h>
 
 #include "game_sample.spv.h"
+#include "game_sample_l2.spv.h"
 #include "probebake/runtime/runtime.h"
 
 namespace {
@@ -157,7 +160,8 @@ struct HostBuffer {
   glm::vec4* vec4s() { return static_cast<glm::vec4*>(mapped); }
 };
 
-// The game's pipeline: set 0 = its own buffers (points, normals, shaded), set 1 = the volume at 4-7.
+// The game's pipeline: set 0 = its own buffers (points, normals, shaded), set 1 = the volume at 4-7 and, for
+// the compact probes' shader, their points and codes at 8-9.
 struct GamePipeline {
   VkDevice device;
   VkDescriptorSetLayout layouts[2]{};
@@ -166,17 +170,19 @@ struct GamePipeline {
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet sets[2]{};
 
-  explicit GamePipeline(VkDevice d) : device(d) {
+  GamePipeline(VkDevice d, const std::uint32_t* spirv, std::size_t spirv_bytes, std::uint32_t volume_bindings)
+      : device(d) {
     for (int s = 0; s < 2; ++s) {
-      VkDescriptorSetLayoutBinding bindings[4]{};
-      for (std::uint32_t b = 0; b < (s == 0 ? 3u : 4u); ++b) {
+      VkDescriptorSetLayoutBinding bindings[6]{};
+      const std::uint32_t count = s == 0 ? 3u : volume_bindings;
+      for (std::uint32_t b = 0; b < count; ++b) {
         bindings[b].binding = s == 0 ? b : 4 + b;
         bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         bindings[b].descriptorCount = 1;
         bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
       }
       VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-      info.bindingCount = s == 0 ? 3 : 4;
+      info.bindingCount = count;
       info.pBindings = bindings;
       check(vkCreateDescriptorSetLayout(device, &info, nullptr, &layouts[s]), "vkCreateDescriptorSetLayout");
     }
@@ -188,8 +194,8 @@ struct GamePipeline {
     layout_info.pPushConstantRanges = &push;
     check(vkCreatePipelineLayout(device, &layout_info, nullptr, &layout), "vkCreatePipelineLayout");
     VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    module_info.codeSize = sizeof(game_sample_spirv);
-    module_info.pCode = game_sample_spirv;
+    module_info.codeSize = spirv_bytes;
+    module_info.pCode = spirv;
     VkShaderModule module;
     check(vkCreateShaderModule(device, &module_info, nullptr, &module), "vkCreateShaderModule");
     VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -204,7 +210,7 @@ struct GamePipeline {
     const VkResult made = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline);
     vkDestroyShaderModule(device, module, nullptr);
     check(made, "vkCreateComputePipelines");
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 7};
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 + volume_bindings};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 2;
     pool_info.poolSizeCount = 1;
@@ -280,45 +286,60 @@ void dispatch(const GameVulkan& vk, const GamePipeline& p, std::uint32_t count) 
   check(done, "vkQueueSubmit / vkWaitForFences");
 }
 
-int run(const char* file, bool validation) {
+// Points spread over the root cube's middle (deterministic), normals over the sphere.
+struct GamePoints {
+  std::vector<glm::vec3> positions, normals;
+};
+GamePoints game_points(const probebake::gpu::VolumeInfo& info, std::uint32_t count) {
+  GamePoints p{std::vector<glm::vec3>(count), std::vector<glm::vec3>(count)};
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const glm::vec3 u(std::fmod(0.618034f * float(i), 1.0f), std::fmod(0.754878f * float(i), 1.0f),
+                      std::fmod(0.569840f * float(i), 1.0f));
+    p.positions[i] = info.root_min + info.root_size * (0.25f + 0.5f * u);
+    const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(count), r = std::sqrt(1.0f - z * z),
+                a = 2.39996323f * float(i);
+    p.normals[i] = glm::vec3(r * std::cos(a), z, r * std::sin(a));
+  }
+  return p;
+}
+
+// Loads the volume (probes as `code`), runs three frames, samples in the game's shader and compares with
+// Volume::sample_irradiance. 0 when they agree at every point.
+int check_game_shader(const GameVulkan& vk, probebake::runtime::Context& context, const char* file,
+                      probebake::formats::ShCodec code) {
   using namespace probebake;
-  GameVulkan vk(validation);
-  auto context = runtime::Context::borrow({vk.instance, vk.physical, vk.device, vk.queue, vk.family});
-  if (!context.ok()) throw std::runtime_error("Context::borrow: " + context.status().message);
-  auto volume = runtime::Volume::load(context.value(), file);
+  runtime::UploadOptions options;
+  options.probe_code = code;
+  auto volume = runtime::Volume::load(context, file, options);
   if (!volume.ok()) throw std::runtime_error("Volume::load: " + volume.status().message);
   for (int frame = 0; frame < 3; ++frame)
     if (auto stats = volume->run_frame(); !stats.ok()) throw std::runtime_error("run_frame: " + stats.status().message);
 
-  // Points spread over the root cube's middle (deterministic), normals over the sphere.
   constexpr std::uint32_t kPoints = 256;
-  const gpu::VolumeInfo& info = volume->info();
-  std::vector<glm::vec3> positions(kPoints), normals(kPoints);
+  const GamePoints p = game_points(volume->info(), kPoints);
+  HostBuffer points(vk, kPoints * 16), normal_buffer(vk, kPoints * 16), shaded(vk, kPoints * 16), dummy(vk, 16);
   for (std::uint32_t i = 0; i < kPoints; ++i) {
-    const glm::vec3 u(std::fmod(0.618034f * float(i), 1.0f), std::fmod(0.754878f * float(i), 1.0f),
-                      std::fmod(0.569840f * float(i), 1.0f));
-    positions[i] = info.root_min + info.root_size * (0.25f + 0.5f * u);
-    const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(kPoints), r = std::sqrt(1.0f - z * z),
-                a = 2.39996323f * float(i);
-    normals[i] = glm::vec3(r * std::cos(a), z, r * std::sin(a));
+    points.vec4s()[i] = glm::vec4(p.positions[i], 1.0f);
+    normal_buffer.vec4s()[i] = glm::vec4(p.normals[i], 0.0f);
   }
-  HostBuffer points(vk, kPoints * 16), normal_buffer(vk, kPoints * 16), shaded(vk, kPoints * 16);
-  for (std::uint32_t i = 0; i < kPoints; ++i) {
-    points.vec4s()[i] = glm::vec4(positions[i], 1.0f);
-    normal_buffer.vec4s()[i] = glm::vec4(normals[i], 0.0f);
-  }
-  GamePipeline pipeline(vk.device);
+  const bool compact = code != formats::ShCodec::float32;
+  GamePipeline pipeline(vk.device, compact ? game_sample_l2_spirv : game_sample_spirv,
+                        compact ? sizeof(game_sample_l2_spirv) : sizeof(game_sample_spirv), compact ? 6 : 4);
   pipeline.bind(0, 0, points.buffer);
   pipeline.bind(0, 1, normal_buffer.buffer);
   pipeline.bind(0, 2, shaded.buffer);
   const runtime::VolumeBuffers buffers = volume->buffers();
   pipeline.bind(1, 4, buffers.volume_info.buffer);
-  pipeline.bind(1, 5, buffers.probes.buffer);
+  pipeline.bind(1, 5, compact ? dummy.buffer : buffers.probes.buffer); // the compact shader never reads it
   pipeline.bind(1, 6, buffers.svo_nodes.buffer);
   pipeline.bind(1, 7, buffers.svo_leaves.buffer);
+  if (compact) {
+    pipeline.bind(1, 8, buffers.probe_points.buffer);
+    pipeline.bind(1, 9, buffers.probe_codes.buffer);
+  }
   dispatch(vk, pipeline, kPoints);
 
-  auto expected = volume->sample_irradiance(positions, normals);
+  auto expected = volume->sample_irradiance(p.positions, p.normals);
   if (!expected.ok()) throw std::runtime_error("sample_irradiance: " + expected.status().message);
   double worst = 0.0, mean = 0.0;
   int lit = 0;
@@ -332,10 +353,21 @@ int run(const char* file, bool validation) {
     }
     lit += game.x + game.y + game.z > 0.0f ? 1 : 0;
   }
-  std::printf("consumer: %s on %s: %u points in the game's shader, %d lit, mean %.4g W/m^2, max relative difference "
-              "to Volume::sample_irradiance %.3g, %d validation messages\n",
-              file, context->device_info().name.c_str(), kPoints, lit, mean, worst, validation_messages);
+  std::printf("consumer: %s on %s, %s probes: %u points in the game's shader, %d lit, mean %.4g W/m^2, max relative "
+              "difference to Volume::sample_irradiance %.3g, %d validation messages\n",
+              file, context.device_info().name.c_str(), std::string(formats::sh_codec_name(code)).c_str(), kPoints, lit,
+              mean, worst, validation_messages);
   return worst <= 1e-6 && lit > int(kPoints) / 4 ? 0 : 1;
+}
+
+int run(const char* file, bool validation) {
+  using namespace probebake;
+  GameVulkan vk(validation);
+  auto context = runtime::Context::borrow({vk.instance, vk.physical, vk.device, vk.queue, vk.family});
+  if (!context.ok()) throw std::runtime_error("Context::borrow: " + context.status().message);
+  const int records = check_game_shader(vk, context.value(), file, formats::ShCodec::float32);
+  const int compact = check_game_shader(vk, context.value(), file, formats::ShCodec::l2);
+  return records == 0 && compact == 0 ? 0 : 1;
 }
 
 } // namespace

@@ -25,6 +25,7 @@ struct EvalCommandSettings {
   std::string scene;
   bool quick = false;
   int light_rays = 0; // 0: each configuration's own
+  int svo_depth = -1;  // -1: each configuration's own
   bool no_cache = false;
   std::string csv;
   std::string plot;
@@ -122,6 +123,11 @@ int run_eval(EvalCommandSettings& s) {
     for (bake::EvalConfig& c : s.eval.configs) c.bake.lighting.rays = s.light_rays;
     s.eval.ladder_base.lighting.rays = s.light_rays;
   }
+  if (s.svo_depth != -1) { // every bake's SVO at this depth: index bytes against lookup error
+    if (s.eval.configs.empty() && s.eval.probe_ladder.empty()) s.eval.configs = bake::default_sweep();
+    for (bake::EvalConfig& c : s.eval.configs) c.bake.svo_depth = s.svo_depth;
+    s.eval.ladder_base.svo_depth = s.svo_depth;
+  }
   s.eval.use_cache = !s.no_cache;
   s.eval.camera = s.camera.camera();
   s.eval.error_map_dir = s.error_map;
@@ -178,6 +184,8 @@ Command add_eval_command(CLI::App& root) {
   app->add_option("--threads", s->eval.threads, "Worker threads for bakes and the reference (0 = all cores)");
   app->add_flag("--quick", s->quick, "A tiny sweep (3 configurations) for tests; with --probes, small bakes");
   app->add_option("--light-rays", s->light_rays, "Lighting rays per probe of every bake (default: the bake's, 256)");
+  app->add_option("--svo-depth", s->svo_depth, "SVO probe index depth of every bake, 0..8 (default: the bake's, 5)")
+      ->check(CLI::Range(0, 8));
   app->add_option("--probes", s->eval.probe_ladder,
                   "Probe ladder N1,N2,...: every placement method that meets a probe budget, baked to about each "
                   "count (instead of the sweep)")

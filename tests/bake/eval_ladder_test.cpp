@@ -262,5 +262,35 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
   EXPECT_EQ(run_cli("eval " + quoted(scene) + " --quick --probes 64,32").exit_code, 1);
 }
 
+// --svo-depth bakes every configuration's SVO at that depth: the CSV's svo_depth column, and fewer SVO lookup
+// bytes than at the default depth for the same configuration.
+TEST(EvalCli, SvoDepthAppliesToEveryBake) {
+  const auto scene = write_generated(samples::cornell(), "svo_depth_cli");
+  const auto dir = scene.parent_path();
+  std::map<std::string, double> bytes[2]; // per (label, sampler): lookup bytes at depth 2, at the default
+  for (int run = 0; run < 2; ++run) {
+    const auto csv = dir / ("depth" + std::to_string(run) + ".csv");
+    const CliResult r =
+        run_cli("eval " + quoted(scene) + " --quick --csv " + quoted(csv) + (run == 0 ? " --svo-depth 2" : ""));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const auto rows = lines(read_text(csv));
+    ASSERT_GE(rows.size(), 3u);
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+      std::vector<std::string> cells;
+      std::istringstream in(rows[i]);
+      for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+      if (run == 0) {
+        EXPECT_EQ(cells[7], "2") << rows[i];
+      }
+      bytes[run][cells[0] + "/" + cells[1]] = std::stod(cells[31]);
+    }
+  }
+  for (const auto& [row, shallow] : bytes[0])
+    if (row.ends_with("/svo")) { // the grid engine reads its lattice, the all-probe loop no index
+      EXPECT_LT(shallow, bytes[1].at(row)) << row;
+    }
+  EXPECT_EQ(run_cli("eval " + quoted(scene) + " --quick --svo-depth 9").exit_code, 1);
+}
+
 } // namespace
 } // namespace probebake::test

@@ -25,7 +25,7 @@ struct EvalCommandSettings {
   std::string scene;
   bool quick = false;
   int light_rays = 0; // 0: each configuration's own
-  int svo_depth = -1;  // -1: each configuration's own
+  int svo_depth = -1; // -1: each configuration's own
   bool no_cache = false;
   std::string csv;
   std::string plot;

@@ -1,6 +1,6 @@
 // Compact probe irradiance: a probe's 27 float L2 SH coefficients (108 bytes) in 16 bytes (L1) or 32 bytes
 // (L2). One definition of the encoder and the decoder, shared by C++ (formats/sh_codec.h) and GLSL (the
-// sampler, the light update), like leaf_rule.h.
+// lookups, runtime/probe_codes/probe_encode.comp), like leaf_rule.h.
 //
 // Block 0 (128 bits, all an L1 code holds), bit ranges:
 //   0-47    L0 of R, G, B as half floats, scaled by 2^-(e - SH_CODE_EXPONENT_BIAS) so that the brightest
@@ -13,12 +13,14 @@
 // Block 1 (128 more bits for L2):
 //   0-119   band 2 (coefficients 12..26) the same way, 8 bits each: q in 1..255 is (q - 128) steps;
 //   120-127 b2: band 2's step is b2 * SH_CODE_L2_STEP_UNIT (127 steps of the largest span SH_CODE_L2_RANGE).
-// A ratio of 0 is exact (a uniform probe stays uniform). The encoder decides each integer by comparing correctly
-// rounded products (a division only guesses), and pre-rounds L0 to half precision, so that the GPU's code
-// equals the CPU's bit for bit whatever the division's precision or packHalf2x16's rounding. The ranges are the largest ratios that irradiance
+// A ratio of 0 is exact (a uniform probe stays uniform). The ranges are the largest ratios that irradiance
 // from non-negative radiance can have (a single direction): band 1 |A1 L1m / A0 L00| <= (2/3) sqrt(3), band 2
 // <= (1/4) sqrt(5). APV normalises its higher bands by L0 the same way over a fixed range; the per-probe
 // scales (a nearly uniform probe keeps its small gradient) and the exponent are ours.
+// The encoder decides each integer by comparing correctly rounded products (a division only guesses) and
+// pre-rounds L0 to half precision, so that a GPU's code equals the CPU's bit for bit whatever its division's
+// precision or packHalf2x16's rounding. (Probes dimmer than about 2^-110 W/m^2 may decode to 0 on a GPU that
+// flushes denormals.)
 #ifndef PROBEBAKE_SH_CODE_H
 #define PROBEBAKE_SH_CODE_H
 

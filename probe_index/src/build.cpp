@@ -9,6 +9,7 @@
 #include "probebake/probe_index/build.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -129,6 +130,9 @@ std::vector<std::pair<float, int>> rank_nearby(const scene::RayScene& rays, cons
 struct ProbeGroups {
   std::vector<int> group; // per probe: its group's id (the lowest probe index in it), -1 for free slots
   std::vector<int> size;  // per group id: live probes in it
+  int largest = 0;        // the largest group's size
+  // A group of at most a quarter of the largest one's probes: a cavity's, like the light box's inside.
+  bool minor(int g) const { return g >= 0 && 4 * size[std::size_t(g)] <= largest; }
 };
 
 // A voxel that a surface cuts into open regions whose probes lie in different groups is served by one
@@ -184,9 +188,13 @@ VoxelPayload payload_of(std::vector<std::pair<float, int>> ranked) {
   return out;
 }
 
-VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
-                            const ProbeGroups& groups, glm::vec3 min, float size) {
-  const VoxelSamples samples = sample_voxel(rays, min, glm::vec3(size));
+// The group a payload's probes belong to (one group per payload), -1 for an empty one.
+int payload_group(const VoxelPayload& p, const ProbeGroups& groups) {
+  return p.empty() ? -1 : groups.group[std::size_t(p.leaf.probes.x)];
+}
+
+VoxelPayload evaluate_samples(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
+                              const ProbeGroups& groups, const VoxelSamples& samples, float size) {
   if (!samples.any_open) return VoxelPayload{true};
   const Points& points = samples.points;
   const PointSet& open = samples.open;
@@ -202,6 +210,44 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
       if (auto by_group = rank_by_group(rays, v, buckets, groups, points, regions, size)) ranked = std::move(*by_group);
   }
   return payload_of(std::move(ranked));
+}
+
+// A voxel that a minor group serves may be a cavity's voxel whose nine sample points all fell inside the
+// cavity while a sliver of the room beside its wall is in it too (issue #39: the light box at SVO depth 4,
+// where a voxel is taller than the box: a receiver on the ceiling 4 mm beside the box took the box's inside,
+// 135 W/m^2 against 0.73). Its octants are evaluated as voxels of their own and vote as rank_by_group's
+// regions do (open points x group size): when a larger group wins, the voxel takes the payload of the
+// octant with the most open points in it (the first on ties). Voxels of the largest groups pay nothing.
+VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
+                            const ProbeGroups& groups, glm::vec3 min, float size) {
+  VoxelPayload payload = evaluate_samples(rays, v, buckets, groups, sample_voxel(rays, min, glm::vec3(size)), size);
+  const int own = payload_group(payload, groups);
+  if (!groups.minor(own)) return payload;
+  std::vector<std::pair<int, double>> score; // (group, votes)
+  std::array<VoxelPayload, 8> octants;
+  std::array<int, 8> open_points{};
+  for (int o = 0; o < 8; ++o) {
+    const glm::vec3 at = min + 0.5f * size * glm::vec3(float(o & 1), float((o >> 1) & 1), float((o >> 2) & 1));
+    const VoxelSamples samples = sample_voxel(rays, at, glm::vec3(0.5f * size));
+    octants[std::size_t(o)] = evaluate_samples(rays, v, buckets, groups, samples, 0.5f * size);
+    open_points[std::size_t(o)] = int(std::count(samples.open.begin(), samples.open.end(), true));
+    const int g = payload_group(octants[std::size_t(o)], groups);
+    if (g < 0) continue;
+    auto it = std::find_if(score.begin(), score.end(), [g](const auto& e) { return e.first == g; });
+    if (it == score.end()) it = score.insert(score.end(), {g, 0.0});
+    it->second += double(open_points[std::size_t(o)]) * double(groups.size[std::size_t(g)]);
+  }
+  if (score.empty()) return payload;
+  const int best = std::max_element(score.begin(), score.end(), [](const auto& a, const auto& b) {
+                     return a.second < b.second || (a.second == b.second && a.first > b.first);
+                   })->first;
+  if (best == own) return payload;
+  int chosen = -1;
+  for (int o = 0; o < 8; ++o)
+    if (payload_group(octants[std::size_t(o)], groups) == best &&
+        (chosen < 0 || open_points[std::size_t(o)] > open_points[std::size_t(chosen)]))
+      chosen = o;
+  return octants[std::size_t(chosen)];
 }
 
 // The probes' groups: probes joined by unoccluded segments to any of their nearest kCandidates neighbours
@@ -225,6 +271,7 @@ ProbeGroups probe_groups(const scene::RayScene& rays, const formats::ProbeVolume
     out.group[i] = sets.root(int(i));
     ++out.size[std::size_t(out.group[i])];
   }
+  if (!out.size.empty()) out.largest = *std::max_element(out.size.begin(), out.size.end());
   return out;
 }
 

@@ -17,12 +17,16 @@
 
 #include "probebake/common/parallel.h"
 #include "probe_buckets.h"
+#include "probe_groups.h"
 #include "voxel_samples.h"
 
 namespace probebake::probe_index {
+using detail::DisjointSets;
 using detail::Points;
 using detail::PointSet;
+using detail::probe_groups;
 using detail::ProbeBuckets;
+using detail::ProbeGroups;
 using detail::sample_voxel;
 using detail::sees;
 using detail::VoxelSamples;
@@ -41,27 +45,6 @@ struct VoxelPayload {
     if (empty() || o.empty()) return empty() && o.empty();
     return leaf.probes == o.leaf.probes;
   }
-};
-
-// Disjoint sets over 0..n-1 whose lowest member names each set (so the result is independent of join order
-// within a set).
-class DisjointSets {
-public:
-  explicit DisjointSets(std::size_t n) : parent_(n) {
-    for (std::size_t i = 0; i < n; ++i) parent_[i] = int(i);
-  }
-  int root(int i) {
-    while (parent_[std::size_t(i)] != i) i = parent_[std::size_t(i)] = parent_[std::size_t(parent_[std::size_t(i)])];
-    return i;
-  }
-  void join(int a, int b) {
-    a = root(a);
-    b = root(b);
-    parent_[std::size_t(std::max(a, b))] = std::min(a, b);
-  }
-
-private:
-  std::vector<int> parent_;
 };
 
 // The voxel's open sample points grouped into open regions: points joined by unoccluded segments share a
@@ -124,16 +107,6 @@ std::vector<std::pair<float, int>> rank_nearby(const scene::RayScene& rays, cons
   if (ranked.empty()) ranked = rank_probes(rays, v, buckets.nearest(points[0], kFarCandidates), points, region, size);
   return ranked;
 }
-
-// Probes joined by unoccluded segments to any of their nearest neighbours form a group: the open space
-// players move in is one large group, a sealed cavity (the inside of a double-sided light box) a small one.
-struct ProbeGroups {
-  std::vector<int> group; // per probe: its group's id (the lowest probe index in it), -1 for free slots
-  std::vector<int> size;  // per group id: live probes in it
-  int largest = 0;        // the largest group's size
-  // A group of at most a quarter of the largest one's probes: a cavity's, like the light box's inside.
-  bool minor(int g) const { return g >= 0 && 4 * size[std::size_t(g)] <= largest; }
-};
 
 // A voxel that a surface cuts into open regions whose probes lie in different groups is served by one
 // group alone: the one with the most lookups to serve, estimated as the voxel's points that see it times
@@ -248,31 +221,6 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
         (chosen < 0 || open_points[std::size_t(o)] > open_points[std::size_t(chosen)]))
       chosen = o;
   return octants[std::size_t(chosen)];
-}
-
-// The probes' groups: probes joined by unoccluded segments to any of their nearest kCandidates neighbours
-// share one. Visibility in parallel, the joins in probe order (deterministic).
-ProbeGroups probe_groups(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
-                         int threads) {
-  const std::size_t count = v.probes.size();
-  std::vector<std::vector<int>> joined(count);
-  parallel_for(count, threads, [&](std::size_t i) {
-    if (v.probes[i].link == 0) return;
-    for (int other : buckets.nearest(v.probes[i].position, kCandidates + 1))
-      if (std::size_t(other) > i && sees(rays, v.probes[i].position, v.probes[std::size_t(other)].position))
-        joined[i].push_back(other);
-  });
-  DisjointSets sets(count);
-  for (std::size_t i = 0; i < count; ++i)
-    for (int other : joined[i]) sets.join(int(i), other);
-  ProbeGroups out{std::vector<int>(count, -1), std::vector<int>(count, 0)};
-  for (std::size_t i = 0; i < count; ++i) {
-    if (v.probes[i].link == 0) continue;
-    out.group[i] = sets.root(int(i));
-    ++out.size[std::size_t(out.group[i])];
-  }
-  if (!out.size.empty()) out.largest = *std::max_element(out.size.begin(), out.size.end());
-  return out;
 }
 
 // A voxel whose open points see none of its 48 nearest probes was left empty: a hole in the lookup. Those

@@ -29,6 +29,7 @@ struct EvalCommandSettings {
   bool no_cache = false;
   std::string csv;
   std::string plot;
+  std::string bytes_plot;
   std::string error_map;
   bool json = false;
   bake::EvalSettings eval;
@@ -134,7 +135,7 @@ int run_eval(EvalCommandSettings& s) {
   bake::check_eval_settings(s.eval); // usage errors before any work
   // Outputs before the sweep: against the scene file here, against its buffers and images in evaluate().
   const std::vector<std::filesystem::path> inputs = {s.scene};
-  for (const std::string* output : {&s.csv, &s.plot})
+  for (const std::string* output : {&s.csv, &s.plot, &s.bytes_plot})
     if (!output->empty()) {
       check_output_path(*output, inputs);
       s.eval.outputs.emplace_back(*output);
@@ -154,6 +155,7 @@ int run_eval(EvalCommandSettings& s) {
   if (progress) fmt::print(stderr, "\r{:<40}\r", "");
   if (!s.csv.empty()) bake::write_eval_csv(s.csv, result);
   if (!s.plot.empty()) bake::write_text_file(s.plot, bake::eval_svg_plot(result));
+  if (!s.bytes_plot.empty()) bake::write_text_file(s.bytes_plot, bake::eval_bytes_svg_plot(result));
   if (s.json) {
     std::puts(result_json(result).dump(2).c_str());
   } else {
@@ -194,6 +196,8 @@ Command add_eval_command(CLI::App& root) {
   app->add_flag("--no-cache", s->no_cache, "Neither read nor write the reference cache beside the scene");
   app->add_option("--csv", s->csv, "Write the table as CSV");
   app->add_option("--plot", s->plot, "Write relative RMSE against bake time as SVG, Pareto front marked");
+  app->add_option("--bytes-plot", s->bytes_plot,
+                  "Write relative RMSE against lookup bytes (l2 probes) as SVG, each method's Pareto front marked");
   app->add_option("--error-map", s->error_map, "Write per-configuration error images (OpenEXR) from --camera to DIR");
   app->add_option("--image-samples", s->eval.image_paths, "Reference paths per pixel of the error maps");
   s->camera.add_to(*app);

@@ -263,15 +263,16 @@ TEST(EvalCli, LadderWritesAskedAndIndirectColumnsAndAProbeCountPlot) {
 }
 
 // --svo-depth bakes every configuration's SVO at that depth: the CSV's svo_depth column, and fewer SVO lookup
-// bytes than at the default depth for the same configuration.
+// bytes than at the default depth for the same configuration. --bytes-plot draws error against those bytes.
 TEST(EvalCli, SvoDepthAppliesToEveryBake) {
   const auto scene = write_generated(samples::cornell(), "svo_depth_cli");
   const auto dir = scene.parent_path();
   std::map<std::string, double> bytes[2]; // per (label, sampler): lookup bytes at depth 2, at the default
   for (int run = 0; run < 2; ++run) {
     const auto csv = dir / ("depth" + std::to_string(run) + ".csv");
-    const CliResult r =
-        run_cli("eval " + quoted(scene) + " --quick --csv " + quoted(csv) + (run == 0 ? " --svo-depth 2" : ""));
+    const auto plot = dir / "bytes.svg";
+    const CliResult r = run_cli("eval " + quoted(scene) + " --quick --csv " + quoted(csv) +
+                                (run == 0 ? " --svo-depth 2" : " --bytes-plot " + quoted(plot)));
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     const auto rows = lines(read_text(csv));
     ASSERT_GE(rows.size(), 3u);
@@ -285,6 +286,11 @@ TEST(EvalCli, SvoDepthAppliesToEveryBake) {
       bytes[run][cells[0] + "/" + cells[1]] = std::stod(cells[31]);
     }
   }
+  const std::string svg = read_text(dir / "bytes.svg");
+  EXPECT_NE(svg.find("error against lookup bytes"), std::string::npos);
+  EXPECT_NE(svg.find("lookup bytes (log scale)"), std::string::npos);
+  for (const char* method : {"octree", "grid", "grid engine"}) // the quick sweep: two octrees and a 4^3 grid
+    EXPECT_NE(svg.find(std::string(">") + method + "</text>"), std::string::npos) << method;
   for (const auto& [row, shallow] : bytes[0])
     if (row.ends_with("/svo")) { // the grid engine reads its lattice, the all-probe loop no index
       EXPECT_LT(shallow, bytes[1].at(row)) << row;

@@ -185,6 +185,10 @@ void write_eval_csv(const std::filesystem::path& path, const EvalResult& result)
 // ladder (rows with asked_probes), relative RMSE against probe count instead: one curve per method, total
 // solid and indirect dashed.
 std::string eval_svg_plot(const EvalResult& result);
+// Quality per byte (issue #41): relative RMSE with the l2 probe code against the lookup's bytes with it (log
+// axis), one colour per method (the grid engine one of them), every row a point and each method's Pareto
+// front a line.
+std::string eval_bytes_svg_plot(const EvalResult& result);
 void write_text_file(const std::filesystem::path& path, const std::string& text); // Error(output) on failure
 
 // The cache key: scene geometry, materials and lights, point count, seed, paths per point, receiver mode

@@ -91,8 +91,8 @@ struct CodedVolumes {
       : l2(formats::with_sh_codec(v, formats::ShCodec::l2)), l1(formats::with_sh_codec(v, formats::ShCodec::l1)) {}
 };
 
-// Scores `row` with `lookup(position, normal, stats)` at the receivers and, with a camera, at its pixels (the
-// error maps), and adds it to the result.
+// Scores `row` with `lookup(v, position, normal, stats)` at the receivers and, with a camera, at its pixels
+// (the error maps), and its codec columns with the same lookup of `coded`; adds it to the result.
 template <class Lookup>
 void add_scored_row(EvalRow row, const Truth& truth, const std::optional<detail::ErrorMaps>& maps, EvalResult& result,
                     const formats::ProbeVolume& v, const CodedVolumes& coded, const Lookup& lookup) {

@@ -22,6 +22,7 @@
 
 namespace probebake::probe_index {
 using detail::DisjointSets;
+using detail::GroupVotes;
 using detail::Points;
 using detail::PointSet;
 using detail::probe_groups;
@@ -121,24 +122,20 @@ std::optional<std::vector<std::pair<float, int>>>
 rank_by_group(const scene::RayScene& rays, const formats::ProbeVolume& v, const ProbeBuckets& buckets,
               const ProbeGroups& groups, const Points& points, const std::vector<PointSet>& regions, float size) {
   std::vector<std::vector<std::pair<float, int>>> seen;
-  std::vector<std::pair<int, double>> score; // (group, points seeing it x its probes), in first-seen order
+  GroupVotes votes(groups);
   for (const PointSet& region : regions) {
     seen.push_back(rank_nearby(rays, v, buckets, points, region, size));
-    const double region_points = double(std::count(region.begin(), region.end(), true));
+    const int region_points = int(std::count(region.begin(), region.end(), true));
     std::vector<int> counted;
     for (const auto& [weight, probe] : seen.back()) {
       const int g = groups.group[std::size_t(probe)];
       if (std::find(counted.begin(), counted.end(), g) != counted.end()) continue;
       counted.push_back(g);
-      auto it = std::find_if(score.begin(), score.end(), [g](const auto& e) { return e.first == g; });
-      if (it == score.end()) it = score.insert(score.end(), {g, 0.0});
-      it->second += region_points * double(groups.size[std::size_t(g)]);
+      votes.vote(g, region_points);
     }
   }
-  if (score.size() < 2) return std::nullopt;
-  const auto best = std::max_element(score.begin(), score.end(), [](const auto& a, const auto& b) {
-                      return a.second < b.second || (a.second == b.second && a.first > b.first);
-                    })->first;
+  if (votes.groups_voted() < 2) return std::nullopt;
+  const int best = votes.winner();
   for (std::vector<std::pair<float, int>>& ranked : seen) {
     std::erase_if(ranked, [&](const auto& r) { return groups.group[std::size_t(r.second)] != best; });
     if (!ranked.empty()) return std::move(ranked);
@@ -196,7 +193,7 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
   VoxelPayload payload = evaluate_samples(rays, v, buckets, groups, sample_voxel(rays, min, glm::vec3(size)), size);
   const int own = payload_group(payload, groups);
   if (!groups.minor(own)) return payload;
-  std::vector<std::pair<int, double>> score; // (group, votes)
+  GroupVotes votes(groups);
   std::array<VoxelPayload, 8> octants;
   std::array<int, 8> open_points{};
   for (int o = 0; o < 8; ++o) {
@@ -205,16 +202,10 @@ VoxelPayload evaluate_voxel(const scene::RayScene& rays, const formats::ProbeVol
     octants[std::size_t(o)] = evaluate_samples(rays, v, buckets, groups, samples, 0.5f * size);
     open_points[std::size_t(o)] = int(std::count(samples.open.begin(), samples.open.end(), true));
     const int g = payload_group(octants[std::size_t(o)], groups);
-    if (g < 0) continue;
-    auto it = std::find_if(score.begin(), score.end(), [g](const auto& e) { return e.first == g; });
-    if (it == score.end()) it = score.insert(score.end(), {g, 0.0});
-    it->second += double(open_points[std::size_t(o)]) * double(groups.size[std::size_t(g)]);
+    if (g >= 0) votes.vote(g, open_points[std::size_t(o)]);
   }
-  if (score.empty()) return payload;
-  const int best = std::max_element(score.begin(), score.end(), [](const auto& a, const auto& b) {
-                     return a.second < b.second || (a.second == b.second && a.first > b.first);
-                   })->first;
-  if (best == own) return payload;
+  const int best = votes.winner();
+  if (best < 0 || best == own) return payload;
   int chosen = -1;
   for (int o = 0; o < 8; ++o)
     if (payload_group(octants[std::size_t(o)], groups) == best &&

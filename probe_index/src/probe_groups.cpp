@@ -34,4 +34,19 @@ ProbeGroups probe_groups(const scene::RayScene& rays, const formats::ProbeVolume
   return out;
 }
 
+void GroupVotes::vote(int group, int points) {
+  auto it = std::find_if(votes_.begin(), votes_.end(), [group](const auto& e) { return e.first == group; });
+  if (it == votes_.end()) it = votes_.insert(votes_.end(), {group, 0.0});
+  it->second += double(points) * double(groups_.size[std::size_t(group)]);
+}
+
+int GroupVotes::winner() const {
+  if (votes_.empty()) return -1;
+  return std::max_element(votes_.begin(), votes_.end(),
+                          [](const auto& a, const auto& b) {
+                            return a.second < b.second || (a.second == b.second && a.first > b.first);
+                          })
+      ->first;
+}
+
 } // namespace probebake::probe_index::detail

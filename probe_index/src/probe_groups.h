@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "probebake/formats/probe_volume.h"
@@ -40,6 +41,21 @@ struct ProbeGroups {
   int largest = 0;        // the largest group's size
   // A group of at most a quarter of the largest one's probes: a cavity's, like the light box's inside.
   bool minor(int g) const { return g >= 0 && 4 * size[std::size_t(g)] <= largest; }
+};
+
+// The vote for the one group that serves a voxel: each of its regions (or octants) votes for a group it sees
+// with its open points times the group's probes, so that a sealed cavity's dozen probes lose to the room's
+// thousands while two rooms either side of a wall compete by volume. The most votes win, ties the lower id.
+class GroupVotes {
+public:
+  explicit GroupVotes(const ProbeGroups& groups) : groups_(groups) {}
+  void vote(int group, int points);
+  std::size_t groups_voted() const { return votes_.size(); }
+  int winner() const; // -1 without votes
+
+private:
+  const ProbeGroups& groups_;
+  std::vector<std::pair<int, double>> votes_; // (group, votes), in first-vote order
 };
 
 // The probes' groups: probes joined by unoccluded segments to any of their nearest 12 neighbours

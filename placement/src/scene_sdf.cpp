@@ -229,13 +229,13 @@ SceneSdf::SceneSdf(const scene::Scene& scene, const SdfSettings& settings) : imp
   initialize_openvdb();
   const auto [single, both] = split_by_sides(scene);
   if (!single.empty()) {
-    IndexGrid closest(openvdb::Int32(openvdb::util::INVALID_IDX));
+    IndexGrid closest(static_cast<openvdb::Int32>(openvdb::util::INVALID_IDX));
     const float interior = interior_band_voxels(set_bounds(single), voxel, settings.band_voxels);
     impl_->grid = mesh_to_volume(single, voxel, settings.band_voxels, interior, closest);
     resign_enclosed(*impl_->grid, closest, Pseudonormals(single), voxel);
   }
   if (!both.empty()) {
-    IndexGrid closest(openvdb::Int32(openvdb::util::INVALID_IDX));
+    IndexGrid closest(static_cast<openvdb::Int32>(openvdb::util::INVALID_IDX));
     impl_->shells =
         mesh_to_volume(both, voxel, settings.band_voxels, 0.0f, closest, openvdb::tools::UNSIGNED_DISTANCE_FIELD);
   }

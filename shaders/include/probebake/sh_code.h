@@ -191,7 +191,10 @@ PB_FUNCTION float sh_code_half(float v) {
 
 // The 27 coefficients sh[3k + c] in a code; `l2` false leaves block 1 zero (an L1 code).
 PB_FUNCTION ShCode sh_code_encode(const float sh[27], bool l2) {
-  ShCode code = ShCode(uvec4(0u), uvec4(0u));
+  // Member by member: C++ compilers before P0960 (clang 14) cannot construct an aggregate with parentheses.
+  ShCode code;
+  code.band01 = uvec4(0u);
+  code.band2 = uvec4(0u);
   // A channel's L0 that is negative, NaN or infinite codes as black (comparisons with NaN are false).
   vec3 usable = vec3(0.0f);
   for (int c = 0; c < 3; ++c) usable[c] = sh[c] > 0.0f && sh[c] <= SH_CODE_LARGEST_FLOAT ? sh[c] : 0.0f;

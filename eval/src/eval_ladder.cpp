@@ -17,7 +17,6 @@ namespace probebake::bake {
 namespace {
 
 constexpr int kMaxGridResolution = 256;
-constexpr int kMaxLadderDepth = 8; // max-depth search: deeper octrees cost minutes and rarely change the count
 
 // Live probes of a placement-only bake (no lighting, no runtime sections, no SVO: none changes the count).
 // A bake that places no probe is refused by bake(); here it is a count of 0.

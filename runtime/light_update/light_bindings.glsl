@@ -77,15 +77,20 @@ bool in_retry_window(uint place, uint slot) {
 }
 
 // The probe slot that light_trace traces at list place (or window index) `place` this frame, or -1: a live
-// probe with records that is flagged (TRACE_FLAG_RETRACE), every one in a full trace, or an unresolved one in
-// the retry window.
+// probe with records that is flagged (TRACE_FLAG_RETRACE) or unresolved in the retry window, or by
+// push.trace_mode every one, or every one not flagged (LIGHT_TRACE_*).
 int light_trace_slot(uint place) {
   const int listed = light_slot(place);
   if (listed < 0 || light_slot_idle(uint(listed))) return -1;
   const uint slot = uint(listed);
+  const bool flagged = (trace_flags[slot] & TRACE_FLAG_RETRACE) != 0u;
+  if (push.trace_mode == LIGHT_TRACE_UNFLAGGED) return flagged ? -1 : listed;
   const bool retry = light_slot_unresolved(slot) && in_retry_window(place, slot); // streaming only
-  return push.trace_all != 0u || (trace_flags[slot] & TRACE_FLAG_RETRACE) != 0u || retry ? listed : -1;
+  return push.trace_mode == LIGHT_TRACE_EVERY || flagged || retry ? listed : -1;
 }
+
+// A load trace spread over frames has not reached the slot yet: it has no records (push.untraced_from).
+bool light_slot_untraced(uint slot) { return slot >= push.untraced_from; }
 
 // Record `ray` of probe slot `slot` (which has records): page r / probes_per_page of its record slot r
 // (uniform per workgroup: one slot each), and the index in that page. The record slot is read once.

@@ -5,7 +5,8 @@
 // Monte Carlo weight 4 pi / rays (lighting/src/iteration.cpp) and blended with the probe's old value
 // by the hysteresis into next_irradiance, at the probe's record slot (the probes themselves are written by
 // light_resolve, so that every probe of this frame reads last frame's values: a Jacobi sweep, deterministic). A probe whose last trace
-// crossed a streamed cell that is out (RECORD_SLOT_UNRESOLVED) keeps its irradiance.
+// crossed a streamed cell that is out (RECORD_SLOT_UNRESOLVED) keeps its irradiance, and so does one that a
+// load trace spread over frames has not reached (its baked irradiance is right until its records exist).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "light_update/light_bindings.glsl"
@@ -34,7 +35,8 @@ void main() {
   const uint slot = uint(listed);
   const uint next = uint(PROBE_SH_FLOATS) * uint(light_record_slot(slot)); // streaming: next_irradiance holds the lit probes only
   const uint t = gl_LocalInvocationIndex;
-  if (light_slot_unresolved(slot)) { // its rays crossed a cell that is out: keep its light
+  // Its rays crossed a cell that is out, or it has no records yet: keep its light.
+  if (light_slot_unresolved(slot) || light_slot_untraced(slot)) {
     if (t == 0u)
       for (int v = 0; v < PROBE_SH_FLOATS; ++v) next_irradiance[next + uint(v)] = probebake_probes[slot].irradiance_sh[v];
     return;

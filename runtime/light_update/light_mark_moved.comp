@@ -42,7 +42,8 @@ bool meets_moved(vec3 origin, vec3 dir, float t_max) {
 
 void main() {
   const uint slot = probebake_flat_workgroup();
-  if (slot >= push.probe_capacity || light_slot_idle(slot)) return; // uniform per workgroup
+  // A probe without records yet traces them afresh when the load trace reaches it.
+  if (slot >= push.probe_capacity || light_slot_idle(slot) || light_slot_untraced(slot)) return; // uniform
   const vec3 origin = probebake_probes[slot].position;
   bool meets = false;
   for (int r = int(gl_LocalInvocationIndex); r < probebake_lighting.rays && !meets; r += int(LIGHT_WORKGROUP_SIZE)) {

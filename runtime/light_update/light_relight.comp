@@ -77,7 +77,7 @@ void main() {
   // One workgroup per slot of this frame's window (push.first_slot on, modulo the capacity).
   const uint group = probebake_flat_workgroup();
   const uint slot = (push.first_slot + group) % max(push.probe_capacity, 1u);
-  if (group >= push.slot_count || light_slot_idle(slot)) return; // uniform per workgroup
+  if (group >= push.slot_count || light_slot_idle(slot) || light_slot_untraced(slot)) return; // uniform per workgroup
   const bool stale = (trace_flags[slot] & TRACE_FLAG_STALE_PUNCTUAL) != 0u;
   if (!stale && relight_changes.everything == 0u && relight_changes.count == 0u) return; // uniform
   if (gl_LocalInvocationIndex == 0) {

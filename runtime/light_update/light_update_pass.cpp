@@ -86,6 +86,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     clear.submit_and_wait();
   }
   counters_ = PassCounters<gpu::LightCounters>(device, "light counters", rings);
+  untraced_by_ring_.assign(rings, 0u);
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   for (std::uint32_t page = 0; page < gpu::LIGHT_RECORD_PAGES; ++page) // unused pages repeat page 0
     buffers[gpu::LIGHT_BINDING_RECORDS + page] = record_pages_[page < record_pages_.size() ? page : 0].get();
@@ -149,7 +150,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   last_window_ = window.slot_count;
   const bool catching_up = stale_frames_left_ > 0;
   if (catching_up) --stale_frames_left_;
-  relit_ = (changed || catching_up) && !trace_pending_; // a full trace caches afresh
+  relit_ = (changed || catching_up) && window.trace_mode != gpu::LIGHT_TRACE_EVERY; // a full trace caches afresh
   // One light changed: its E_after is tracked, and if it was the tracked light, E_before is read back. Not
   // while records may be stale: their catch-up does not write the tracked share.
   const bool single = tracking_ && !relight_everything_ && changes_.count == 1 && !windowed;
@@ -201,16 +202,27 @@ void LightUpdatePass::upload_moved_boxes(VkCommandBuffer cmd) {
                     moved_boxes_.data());
 }
 
-void LightUpdatePass::record_trace_list(VkCommandBuffer cmd) {
+void LightUpdatePass::record_trace_list(VkCommandBuffer cmd, const gpu::LightPush& push, bool flagged,
+                                        std::uint32_t load_window) {
   // The trace's dispatch size and count start from zero (after every earlier access to the header).
   barrier(cmd, kComputeAndIndirect, kTransferWrite);
   vkCmdFillBuffer(cmd, light_list_.get(), offsetof(gpu::LightListHeader, trace_x), 4 * sizeof(std::uint32_t), 0);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(Kernel::light_trace_list));
-  if (queue_driven_)
+  if (flagged && queue_driven_)
     vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, resolve_x)); // a thread per place
-  else
+  else if (flagged)
     dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+  if (load_window > 0) { // the load trace's window of slots, whatever the list holds; the flagged ones are listed
+    if (flagged) barrier(cmd, kComputeReadWrite, kComputeReadWrite); // both append to the trace list
+    gpu::LightPush window = push;
+    window.trace_mode = gpu::LIGHT_TRACE_UNFLAGGED;
+    window.listed = 0u, window.first_slot = untraced_from_, window.slot_count = load_window;
+    const VkPipelineLayout layout = device_.compute_pipelines().layout(Layout::light);
+    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(window), &window);
+    dispatch_groups(cmd, device_, (load_window + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
+    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  }
   barrier(cmd, kComputeWrite, kComputeAndIndirect);
 }
 
@@ -226,9 +238,15 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   Pipelines& pipelines = device_.compute_pipelines();
   const VkPipelineLayout layout = pipelines.layout(Layout::light);
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
+  // The load trace (slots from untraced_from_ on have no records): every slot in the first frame, or a
+  // window of max_traced_probes slots per frame.
+  const auto max_traced = std::uint32_t(limits.max_traced_probes);
+  const bool trace_every = untraced_from_ == 0 && (max_traced == 0 || max_traced >= probe_capacity_);
+  const std::uint32_t untraced = probe_capacity_ - untraced_from_;
+  const std::uint32_t load_window = trace_every || max_traced == 0 ? 0u : std::min(max_traced, untraced);
   // Objects moved: their boxes go into RelightChanges before any pass of this frame reads it (the frame's
   // opening barrier orders last frame's reads); a full trace needs no marks.
-  const bool marked = !moved_boxes_.empty() && !trace_pending_;
+  const bool marked = !moved_boxes_.empty() && !trace_every;
   if (marked) upload_moved_boxes(cmd);
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
@@ -252,7 +270,9 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
                       null_leaf_,
                       0u,
                       0u,
-                      0u};
+                      0u,
+                      untraced_from_};
+  if (trace_every) push.trace_mode = gpu::LIGHT_TRACE_EVERY;
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its
   // irradiance follows a change in as many frames as without a budget (the time constant stays 1 / (1 - h)
@@ -260,8 +280,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const std::uint32_t period = (probe_capacity_ + window - 1) / std::max(window, 1u);
   const float hysteresis = queue_driven_ ? hysteresis_ : std::pow(hysteresis_, float(period));
   push.hysteresis = hysteresis;
-  push.trace_all = trace_pending_ ? 1u : 0u;
-  push.trace_lanes = trace_pending_ ? 1u : gpu::LIGHT_TRACE_LANES; // throughput when every probe traces, else latency
+  push.trace_lanes = trace_every ? 1u : gpu::LIGHT_TRACE_LANES; // throughput when every probe traces, else latency
   push.listed = queue_driven_ ? 1u : 0u;
   push.tracked_light = tracked_light_;
   push.first_slot = 0u, push.slot_count = probe_capacity_; // light_trace: every slot (its flags decide)
@@ -285,22 +304,25 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   }
   bind_sets_and_push(cmd, layout, volume_set_, descriptors_.set, push);
   // A list the memory update writes has new probes every frame; the host's only when it flagged some.
-  const bool traced = trace_pending_ || (queue_driven_ && !host_listed_) || host_retrace_ || marked || retrying;
-  if (traced) { // L1: records and hit fractions (every probe, or the flagged ones)
+  const bool flagged = trace_every || (queue_driven_ && !host_listed_) || host_retrace_ || marked || retrying;
+  const bool traced = flagged || load_window > 0;
+  if (traced) { // L1: records and hit fractions (every probe, the flagged ones, the load window's)
     timer.begin(cmd, slots.trace);
     if (marked) record_mark_moved(cmd);
-    record_trace_list(cmd);
+    record_trace_list(cmd, push, flagged, load_window);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.kernel(Kernel::light_trace));
     vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, trace_x));
     timer.end(cmd, slots.trace);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
-    trace_pending_ = false;
     host_retrace_ = false;
   }
+  untraced_from_ = trace_every ? probe_capacity_ : untraced_from_ + load_window;
+  untraced_by_ring_[timer.ring()] = probe_capacity_ - untraced_from_;
   moved_boxes_.clear(); // a full trace covered them
   push.first_slot = first;
   push.slot_count = window;
   push.retry_count = 0;
+  push.untraced_from = untraced_from_; // the gather keeps the probes without records
   bind_sets_and_push(cmd, layout, volume_set_, descriptors_.set, push);
   timer.begin(cmd, slots.gather); // L2: relight the records, gather into next_irradiance
   dispatch(pipelines.kernel(Kernel::light_gather), window, 0);
@@ -379,6 +401,7 @@ LightStats LightUpdatePass::stats(std::uint32_t ring) const {
   s.relit_records = c.relit_records;
   s.reused_records = c.reused_records;
   s.unresolved_probes = c.unresolved_probes;
+  s.untraced_slots = int(untraced_by_ring_[ring]);
   return s;
 }
 

@@ -54,8 +54,9 @@ public:
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
 
-  // Records L1 (first frame every probe; after retrace_crossing(), or with walk_light_list() in every later
-  // frame, the flagged probes), L2 and L3 between the timer slots' timestamps.
+  // Records L1 (first frame every probe, or with limits.max_traced_probes a window of slots per frame until
+  // every slot was traced once; after retrace_crossing(), or with walk_light_list() in every later frame,
+  // the flagged probes), L2 and L3 between the timer slots' timestamps.
   // `limits.max_gathered_probes`: probes gathered and resolved this frame when the pass does not walk the
   // light list, a window of slots that moves on every frame (0 = every slot); `limits.shadow_rays_per_record`:
   // the light sampling's budget of whole punctual sums (0 = exact). Returns whether L1 was recorded.
@@ -111,8 +112,10 @@ private:
   // The pending moved boxes into RelightChanges, and the probes whose rays cross them flagged (light_mark_moved).
   void upload_moved_boxes(VkCommandBuffer cmd);
   void record_mark_moved(VkCommandBuffer cmd);
-  // The places of the probes that trace this frame, and light_trace's dispatch size (light_trace_list.comp).
-  void record_trace_list(VkCommandBuffer cmd);
+  // The places of the probes that trace this frame, and light_trace's dispatch size (light_trace_list.comp):
+  // with `flagged`, the flagged (or every) probe of the list or of every slot, by `push`; then the
+  // `load_window` slots from untraced_from_ on that are not flagged.
+  void record_trace_list(VkCommandBuffer cmd, const gpu::LightPush& push, bool flagged, std::uint32_t load_window);
 
   Device& device_;
   std::uint32_t probe_capacity_ = 0;
@@ -121,7 +124,8 @@ private:
   bool retry_by_slot_ = false;        // RecordSlots::own_marked: retry windows over probe slots
   std::uint32_t null_leaf_ = 0;       // streaming's null leaf word (LightPush::null_leaf), 0 = none
   float hysteresis_ = 0.0f;
-  bool trace_pending_ = true;
+  std::uint32_t untraced_from_ = 0;             // slots from here on have no records yet (the load trace)
+  std::vector<std::uint32_t> untraced_by_ring_; // probe_capacity_ - untraced_from_ after each ring's frame
   bool queue_driven_ = false;
   bool host_listed_ = false;       // the host writes the light list (streaming): trace only when it asks
   bool host_retrace_ = false;      // record_host_list flagged probes since the last trace

@@ -73,7 +73,8 @@ Status check_frame_inputs(const FrameInputs& in) {
   if (in.split_high && !unit_interval(*in.split_high)) return bad("split_high outside [0, 1]");
   if (in.split_low && in.split_high && *in.split_low > *in.split_high) return bad("split_low above split_high");
   if (!unit_interval(in.dead_backface_fraction)) return bad("dead_backface_fraction outside [0, 1]");
-  if (in.limits.max_memory_entries < 0 || in.limits.max_light_entries < 0 || in.limits.max_gathered_probes < 0)
+  if (in.limits.max_memory_entries < 0 || in.limits.max_light_entries < 0 || in.limits.max_gathered_probes < 0 ||
+      in.limits.max_traced_probes < 0)
     return bad("negative per-frame limit");
   if (in.limits.shadow_rays_per_record < 0 || in.limits.shadow_rays_per_record == 1 ||
       in.limits.shadow_rays_per_record > 9)

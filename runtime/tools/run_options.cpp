@@ -14,7 +14,7 @@ constexpr const char* kUsage =
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
     "                     [--no-memory-update] [--max-depth N] [--pool-probes N]\n"
-    "                     [--limits M:L] [--gather-budget N] [--shadow-rays N] [--verbose]\n"
+    "                     [--limits M:L] [--gather-budget N] [--trace-budget N] [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
     "                      [--keep-margin M] [--max-lit N] [--light-reach M] [--background-reads]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
@@ -35,6 +35,9 @@ constexpr const char* kUsage =
     "                    (default: as many as in use, at least 512; streaming: sized by the budget)\n"
     "  --gather-budget N without the memory update: gather N probes per frame, a window of probe slots\n"
     "                    that moves on every frame (0 = all, the default)\n"
+    "  --trace-budget N  trace the loaded probes' light records N probe slots per frame, in slot order,\n"
+    "                    instead of all in frame 0 (0 = all, the default); a probe keeps the bake's\n"
+    "                    irradiance until its records exist\n"
     "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
     "                    default; 2-9: the strongest N - 1 lights exact, one of the others sampled)\n"
     "  --budget BYTES    stream the cells' tracing blocks within BYTES of device memory (K, M, G suffixes;\n"
@@ -210,6 +213,9 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--gather-budget") {
       if (!has_value || !parse_int(argv[++i], 0, options.limits.max_gathered_probes))
         return usage_error("--gather-budget needs a whole number of probes >= 0");
+    } else if (arg == "--trace-budget") {
+      if (!has_value || !parse_int(argv[++i], 0, options.limits.max_traced_probes))
+        return usage_error("--trace-budget needs a whole number of probe slots >= 0");
     } else if (arg == "--shadow-rays") {
       int& rays = options.limits.shadow_rays_per_record;
       if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9)

@@ -486,8 +486,10 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
                            {"count", offsetof(LeafQueueHeader, count)}}),
             1);
   EXPECT_GE(expect_layout("memory_begin", "MemoryPush", {{"phase", offsetof(MemoryPush, phase)}}), 1);
-  EXPECT_GE(expect_layout("light_trace", "LightPush",
-                          {{"trace_all", offsetof(LightPush, trace_all)}, {"listed", offsetof(LightPush, listed)}}),
+  EXPECT_GE(expect_layout("light_trace_list", "LightPush",
+                          {{"trace_mode", offsetof(LightPush, trace_mode)},
+                           {"listed", offsetof(LightPush, listed)},
+                           {"untraced_from", offsetof(LightPush, untraced_from)}}),
             1);
   const std::vector<Member> list{
       {"groups_x", offsetof(LightListHeader, groups_x)},   {"count", offsetof(LightListHeader, count)},

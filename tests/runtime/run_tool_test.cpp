@@ -151,6 +151,26 @@ TEST_F(RunToolTest, AnimatesDynamicObjectsWithFramesTablePlotsAndSummary) {
   EXPECT_EQ(run_cli(shell_path(probes) + " --limits 4").exit_code, 1);
 }
 
+// --animate on a file without dynamic objects would run frames of nothing: a one-line usage error naming it.
+TEST_F(RunToolTest, AnimateWithoutDynamicObjectsIsRefused) {
+  const std::string probes = temp_path("tool-animate-static.probes");
+  formats::write_probes_file(probes, baked_cornell_octree());
+  const CliResult r = run_cli(shell_path(probes) + " --animate thesis");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find(probes + ": --animate: the file has no dynamic objects to move"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// --trace-budget: the load trace in windows of 8 slots, the live state valid and the layer silent throughout.
+TEST_F(RunToolTest, TraceBudgetSpreadsTheLoadTrace) {
+  const std::string probes = temp_path("tool-trace-budget.probes");
+  formats::write_probes_file(probes, baked_cornell_octree());
+  const CliResult r = run_cli(shell_path(probes) + " --trace-budget 8 --frames 12 --validate --vk-validation");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
+  EXPECT_EQ(run_cli(shell_path(probes) + " --trace-budget -1").exit_code, 1);
+}
+
 TEST_F(RunToolTest, BadInputExitsWithTwo) {
   EXPECT_EQ(run_cli(shell_path(temp_path("missing.probes"))).exit_code, 2);
   formats::ProbeVolume broken = baked_cornell_octree();

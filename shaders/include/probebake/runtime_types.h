@@ -137,10 +137,16 @@ PB_CONSTANT(uint, TRACE_FLAG_STALE_PUNCTUAL, 2u);
 // list lies in the push's retry window (the host moves the window over the list after cells arrive).
 PB_CONSTANT(uint, TRACE_FLAG_UNRESOLVED_NOW, 4u);
 
+// Which probes light_trace_list lists for light_trace (LightPush::trace_mode).
+PB_CONSTANT(uint, LIGHT_TRACE_FLAGGED, 0u);   // the flagged (TRACE_FLAG_RETRACE) and retried ones
+PB_CONSTANT(uint, LIGHT_TRACE_EVERY, 1u);     // every live probe with records: the load trace at once
+PB_CONSTANT(uint, LIGHT_TRACE_UNFLAGGED, 2u); // every live one not flagged: a window of the load trace
+                                              //   (FrameLimits::max_traced_probes; the flagged ones are
+                                              //   listed by a LIGHT_TRACE_FLAGGED dispatch the same frame)
 struct LightPush {
   uint probe_capacity;   // offset  0
   float hysteresis;      // offset  4: new = hysteresis * old + (1 - hysteresis) * gathered
-  uint trace_all;        // offset  8: light_trace: 1 = every live probe, 0 = flagged probes only
+  uint trace_mode;       // offset  8: light_trace_list: LIGHT_TRACE_*
   uint listed;           // offset 12: 1 = walk the light list (the leaf queue's lit entries), 0 = the slot window
   uint first_slot;       // offset 16: not listed: the window of slots [first_slot, first_slot + slot_count),
   uint slot_count;       // offset 20:   modulo probe_capacity (FrameLimits::max_gathered_probes; all by default)
@@ -158,7 +164,9 @@ struct LightPush {
   uint retry_count;      // offset 56:   list places [retry_first, retry_first + retry_count) modulo its count
   uint retry_by_slot;    // offset 60: 1 = the retry window counts probe slots modulo probe_capacity instead
                          //   (the memory update writes the list, whose places the host does not know)
-};                       // size 64
+  uint untraced_from;    // offset 64: slots from here on have no records yet (a load trace spread over frames,
+                         //   FrameLimits::max_traced_probes): gather keeps, relight and mark skip them
+};                       // size 68
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -255,10 +263,10 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 &&
               offsetof(LightListHeader, trace_x) == 32 && offsetof(LightListHeader, trace_count) == 44);
-static_assert(sizeof(LightPush) == 64 && offsetof(LightPush, retry_by_slot) == 60 &&
-              offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 &&
-              offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 &&
-              offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(LightPush) == 68 && offsetof(LightPush, retry_by_slot) == 60 &&
+              offsetof(LightPush, untraced_from) == 64 && offsetof(LightPush, null_leaf) == 48 &&
+              offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 &&
+              sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES &&
               offsetof(RelightChanges, changes) == 16 &&

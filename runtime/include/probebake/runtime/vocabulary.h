@@ -229,6 +229,14 @@ struct FrameLimits {
   // shadow_rays_per_record rays each) when the window reaches it, so a frame's shadow rays scale with the
   // budget, not with the volume.
   int max_gathered_probes = 0;
+  // Probe slots whose records the load trace makes per frame (0 = all in the first frame). A loaded volume's
+  // probes hold the bake's irradiance, right for frame 0, but relighting needs each probe's records (one
+  // ray cast per lighting ray and its shadow rays): with a budget, the trace covers a window of this many
+  // slots per frame, in slot order, until it has passed every slot once. A probe the window has not reached
+  // keeps its irradiance (it is not gathered or relit) and its neighbours sample it as usual; the records
+  // are the same as a trace at once, so the converged irradiance is too. Probes flagged meanwhile (moved
+  // objects, new probes, arrived cells) trace as without a budget.
+  int max_traced_probes = 0;
   // Shadow rays per lighting record when a record's whole punctual sum is computed (the first trace, new
   // probes, and every record after an object moved or more than 16 lights changed in a frame); 0 = one per
   // light, exact. With more lights than this, the strongest shadow_rays_per_record - 1 lights by unshadowed
@@ -301,6 +309,7 @@ struct LightStats {
                              // light: inside its range, or all for a light without range or after an object moved)
   int reused_records = 0;    // of them, updated with one shadow ray (the same light changed last time too)
   int moved_objects = 0;     // dynamic objects whose pose FrameInputs::object_poses changed this frame
+  int untraced_slots = 0;    // probe slots the load trace has not reached yet (FrameLimits::max_traced_probes)
   int unresolved_probes = 0; // streaming: events of this frame that left a probe unresolved (its rays crossed a
                              // cell that is out before they hit anything): each trace that did, and each relight
                              // that newly did (a probe already unresolved is not counted again by the relight;

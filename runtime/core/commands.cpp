@@ -39,7 +39,10 @@ void Submission::submit_and_wait() {
   const VkResult waited = vkWaitForFences(device_.vk(), 1, &raw_fence, VK_TRUE, kTimeoutNs);
   if (waited == VK_TIMEOUT) {
     vkDeviceWaitIdle(device_.vk()); // the command buffer and fence must not be in use when they are freed
-    fail(StatusCode::vulkan_error, "a runtime submission did not finish within 60 s");
+    fail(StatusCode::too_slow, "the device (" + device_.info.name +
+                                   ") did not finish a frame within 60 s; spread the load trace over frames "
+                                   "(FrameLimits::max_traced_probes or frame_ms; probebake-run --trace-budget N or "
+                                   "--frame-ms MS)");
   }
   check_vk(waited, "vkWaitForFences");
 }

@@ -22,7 +22,7 @@ public:
   ~Submission();
 
   VkCommandBuffer cmd() const { return cmd_; }
-  // Ends, submits and waits (vulkan_error after 60 s). Call once.
+  // Ends, submits and waits (too_slow after 60 s). Call once.
   void submit_and_wait();
 
 private:

@@ -16,6 +16,7 @@ const char* to_string(StatusCode code) {
   case StatusCode::unsupported: return "unsupported";
   case StatusCode::out_of_memory: return "out_of_memory";
   case StatusCode::vulkan_error: return "vulkan_error";
+  case StatusCode::too_slow: return "too_slow";
   case StatusCode::internal: return "internal";
   }
   return "unknown";

@@ -113,7 +113,13 @@ std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs
   frame_timer->reset(cmd, index);
   const FramePasses passes{*probe_index, light.get(),   memory.get(),    light_inputs.get(),
                            gpu.get(),    objects.get(), streaming.get(), codes.get()};
-  ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
+  if (light && inputs.limits.frame_ms > 0.0f && light->untraced_slots() > 0) { // the load window by time
+    FrameInputs timed = inputs;
+    timed.limits.max_traced_probes = int(trace_budget.next_window(inputs.limits.frame_ms, light->untraced_slots()));
+    ring.recorded = record_frame(cmd, *frame_timer, passes, timed);
+  } else {
+    ring.recorded = record_frame(cmd, *frame_timer, passes, inputs);
+  }
   vkCmdSetEvent(cmd, ring.done.get(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
   if (memory) cpu_parts.info = memory->info();
   ring.lights = light_inputs ? static_cast<int>(light_inputs->current().size()) : 0;
@@ -148,6 +154,7 @@ FrameStats VolumeState::collect(FrameRing& ring) {
   stats.live_probes = probe_index->live_probes(index);
   stats.probe_capacity = static_cast<int>(gpu->elements(Section::probes));
   stats.cpu_ms = ring.cpu_ms;
+  trace_budget.observe(stats);
   return stats;
 }
 

@@ -15,6 +15,7 @@
 #include "core/gpu_volume.h"
 #include "light_update/light_inputs.h"
 #include "light_update/light_update_pass.h"
+#include "light_update/trace_budget.h"
 #include "memory_update/memory_update_pass.h"
 #include "objects/object_poses.h"
 #include "probe_codes/probe_code_pass.h"
@@ -51,6 +52,7 @@ struct VolumeState {
   std::unique_ptr<PassTimer> frame_timer;    // one slot per FramePass (frame.h), one ring per frame in flight
   std::vector<FrameRing> rings;
   std::uint64_t frames = 0;
+  TraceBudget trace_budget; // FrameLimits::frame_ms
 
   // `cells`: where streaming reads cells (cell_source.h); null: a copy of the volume's tracing. `tracing`:
   // the volume's trace nodes, faces and vertices during the constructor (a streaming load's, in the file's

@@ -87,6 +87,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   }
   counters_ = PassCounters<gpu::LightCounters>(device, "light counters", rings);
   untraced_by_ring_.assign(rings, 0u);
+  load_window_by_ring_.assign(rings, 0u);
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   for (std::uint32_t page = 0; page < gpu::LIGHT_RECORD_PAGES; ++page) // unused pages repeat page 0
     buffers[gpu::LIGHT_BINDING_RECORDS + page] = record_pages_[page < record_pages_.size() ? page : 0].get();
@@ -318,6 +319,7 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   }
   untraced_from_ = trace_every ? probe_capacity_ : untraced_from_ + load_window;
   untraced_by_ring_[timer.ring()] = probe_capacity_ - untraced_from_;
+  load_window_by_ring_[timer.ring()] = trace_every ? probe_capacity_ : load_window;
   moved_boxes_.clear(); // a full trace covered them
   push.first_slot = first;
   push.slot_count = window;
@@ -402,6 +404,7 @@ LightStats LightUpdatePass::stats(std::uint32_t ring) const {
   s.reused_records = c.reused_records;
   s.unresolved_probes = c.unresolved_probes;
   s.untraced_slots = int(untraced_by_ring_[ring]);
+  s.load_window = int(load_window_by_ring_[ring]);
   return s;
 }
 

@@ -61,6 +61,8 @@ public:
   // light list, a window of slots that moves on every frame (0 = every slot); `limits.shadow_rays_per_record`:
   // the light sampling's budget of whole punctual sums (0 = exact). Returns whether L1 was recorded.
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits);
+  // Probe slots the load trace has not reached yet (none once it ended).
+  std::uint32_t untraced_slots() const { return probe_capacity_ - untraced_from_; }
   // Whether the last record() updated cached punctual irradiance (light_relight).
   bool relit() const { return relit_; }
   // After the submission: this frame's statistics.
@@ -124,8 +126,9 @@ private:
   bool retry_by_slot_ = false;        // RecordSlots::own_marked: retry windows over probe slots
   std::uint32_t null_leaf_ = 0;       // streaming's null leaf word (LightPush::null_leaf), 0 = none
   float hysteresis_ = 0.0f;
-  std::uint32_t untraced_from_ = 0;             // slots from here on have no records yet (the load trace)
-  std::vector<std::uint32_t> untraced_by_ring_; // probe_capacity_ - untraced_from_ after each ring's frame
+  std::uint32_t untraced_from_ = 0;                // slots from here on have no records yet (the load trace)
+  std::vector<std::uint32_t> untraced_by_ring_;    // probe_capacity_ - untraced_from_ after each ring's frame
+  std::vector<std::uint32_t> load_window_by_ring_; // slots of each ring's frame's load window
   bool queue_driven_ = false;
   bool host_listed_ = false;       // the host writes the light list (streaming): trace only when it asks
   bool host_retrace_ = false;      // record_host_list flagged probes since the last trace

@@ -76,6 +76,8 @@ Status check_frame_inputs(const FrameInputs& in) {
   if (in.limits.max_memory_entries < 0 || in.limits.max_light_entries < 0 || in.limits.max_gathered_probes < 0 ||
       in.limits.max_traced_probes < 0)
     return bad("negative per-frame limit");
+  if (!(in.limits.frame_ms >= 0.0f && in.limits.frame_ms <= 1e6f))
+    return bad("frame_ms " + std::to_string(in.limits.frame_ms) + " is not in [0, 1e6]");
   if (in.limits.shadow_rays_per_record < 0 || in.limits.shadow_rays_per_record == 1 ||
       in.limits.shadow_rays_per_record > 9)
     return bad("shadow_rays_per_record " + std::to_string(in.limits.shadow_rays_per_record) + " is not 0 or in [2, 9]");

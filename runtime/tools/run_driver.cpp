@@ -39,6 +39,7 @@ int exit_code_of(runtime::StatusCode code) {
   case runtime::StatusCode::invalid_argument: return 1;
   case runtime::StatusCode::file_error:
   case runtime::StatusCode::invalid_volume: return 2;
+  case runtime::StatusCode::too_slow: return 5;
   default: return 4;
   }
 }
@@ -299,6 +300,7 @@ int run_volume(const RunOptions& options) {
   std::printf("summary: cpu ms per frame %s%s\n", cpu.text().c_str(),
               options.validate ? "; live state valid after every frame" : "");
   std::printf("%s", summary_table(rows, options.animate).c_str());
+  std::printf("%s", frame_time_line(rows, options.limits.frame_ms).c_str());
   if (volume->runs_memory_update())
     std::printf("memory update pools: at most %d of %d probe slots in use, %d failed allocations\n", most_probes_in_use,
                 volume->info().probe_capacity, failed_allocations);

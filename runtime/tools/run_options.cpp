@@ -14,7 +14,8 @@ constexpr const char* kUsage =
     "                     [--no-light-update] [--depth-cycle LOW:HIGH:PERIOD] [--orbit-light I:RADIUS:PERIOD]\n"
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
     "                     [--no-memory-update] [--max-depth N] [--pool-probes N]\n"
-    "                     [--limits M:L] [--gather-budget N] [--trace-budget N] [--shadow-rays N] [--verbose]\n"
+    "                     [--limits M:L] [--gather-budget N] [--trace-budget N] [--frame-ms MS]\n"
+    "                     [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
     "                      [--keep-margin M] [--max-lit N] [--light-reach M] [--background-reads]]\n"
     "  --frames N        frames to run (default 1; with --animate the animation's 600, soak 10000)\n"
@@ -38,6 +39,8 @@ constexpr const char* kUsage =
     "  --trace-budget N  trace the loaded probes' light records N probe slots per frame, in slot order,\n"
     "                    instead of all in frame 0 (0 = all, the default); a probe keeps the bake's\n"
     "                    irradiance until its records exist\n"
+    "  --frame-ms MS     while the load trace lasts, trace as many slots per frame as fit in MS of GPU time\n"
+    "                    beside the other passes (measured and corrected every frame; replaces --trace-budget)\n"
     "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
     "                    default; 2-9: the strongest N - 1 lights exact, one of the others sampled)\n"
     "  --budget BYTES    stream the cells' tracing blocks within BYTES of device memory (K, M, G suffixes;\n"
@@ -71,7 +74,8 @@ constexpr const char* kUsage =
     "circle of\n"
     "                    RADIUS metres through its baked position, one turn every PERIOD frames (a\n"
     "                    directional light turns its direction about Y); light_x/y/z in the CSV\n"
-    "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure\n";
+    "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure, 5 the device did not\n"
+    "finish a frame within 60 s (spread the load trace: --trace-budget or --frame-ms)\n";
 
 bool parse_int(std::string_view text, int minimum, int& out) {
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), out);
@@ -216,6 +220,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--trace-budget") {
       if (!has_value || !parse_int(argv[++i], 0, options.limits.max_traced_probes))
         return usage_error("--trace-budget needs a whole number of probe slots >= 0");
+    } else if (arg == "--frame-ms") {
+      float& ms = options.limits.frame_ms;
+      if (!has_value || !parse_number(argv[++i], ms) || !(ms > 0.0f && ms <= 1e6f))
+        return usage_error("--frame-ms needs a time in milliseconds in (0, 1e6]");
     } else if (arg == "--shadow-rays") {
       int& rays = options.limits.shadow_rays_per_record;
       if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9)

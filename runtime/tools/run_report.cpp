@@ -155,7 +155,34 @@ FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats
   row.batches_used = m.batch_capacity - m.free_batches, row.batch_capacity = m.batch_capacity;
   row.stream = stats.streaming;
   row.traced = l.traced_probes, row.unresolved = l.unresolved_probes;
+  row.load_window = l.load_window, row.untraced = l.untraced_slots;
   return row;
+}
+
+std::string frame_time_line(const std::vector<FrameRow>& rows, float frame_ms) {
+  if (rows.empty()) return {};
+  std::vector<double> sorted;
+  const FrameRow* worst = &rows.front();
+  int over = 0, loaded = -1;
+  for (const FrameRow& r : rows) {
+    sorted.push_back(r.gpu_ms);
+    if (r.gpu_ms > worst->gpu_ms) worst = &r;
+    if (frame_ms > 0.0f && r.gpu_ms > double(frame_ms)) ++over;
+    if (loaded < 0 && r.untraced == 0) loaded = r.frame;
+  }
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  char line[320];
+  int n = std::snprintf(line, sizeof(line),
+                        "frame gpu ms: median %.3f, frame 0 %.3f, worst %.3f (frame %d) = %.2fx the median; ", median,
+                        rows.front().gpu_ms, worst->gpu_ms, worst->frame, median > 0.0 ? worst->gpu_ms / median : 0.0);
+  n += loaded < 0 ? std::snprintf(line + n, sizeof(line) - std::size_t(n), "load trace not finished (%d slots left)",
+                                  rows.back().untraced)
+                  : std::snprintf(line + n, sizeof(line) - std::size_t(n), "load trace done in frame %d", loaded);
+  if (frame_ms > 0.0f)
+    std::snprintf(line + n, sizeof(line) - std::size_t(n), "; %d of %zu frames over the %.3f ms budget", over,
+                  rows.size(), double(frame_ms));
+  return std::string(line) + "\n";
 }
 
 void write_frame_header(std::ostream& out) {

@@ -29,9 +29,10 @@ struct FrameRow {
   int placed = 0, freed = 0, splits = 0, collapses = 0, failed = 0, deferred = 0, moved_objects = 0;
   int clusters_used = 0, cluster_capacity = 0, probes_used = 0, probe_capacity = 0, batches_used = 0,
       batch_capacity = 0;
-  std::array<float, 3> camera{};  // --path: where the frame streamed around
-  runtime::StreamStats stream;    // --path: the frame's cell streaming
-  int traced = 0, unresolved = 0; // probes light_trace traced, and of them those left unresolved (streaming)
+  std::array<float, 3> camera{};     // --path: where the frame streamed around
+  runtime::StreamStats stream;       // --path: the frame's cell streaming
+  int traced = 0, unresolved = 0;    // probes light_trace traced, and of them those left unresolved (streaming)
+  int load_window = 0, untraced = 0; // slots of the frame's load trace window, and slots it has still to reach
 };
 
 FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats);
@@ -60,6 +61,9 @@ const char* motion_phase(dynamic::Animation animation, int frame);
 
 // Per pass (over the frames that ran it) and for the frame's GPU total and host CPU: median, p95, worst and
 // its frame, by phase and over all frames; a Markdown table.
+// The worst frame against the median GPU time (the hitch measure: frame 0 and the load trace included), the
+// frame the load trace ended, and with `frame_ms` > 0 the frames over that budget.
+std::string frame_time_line(const std::vector<FrameRow>& rows, float frame_ms);
 std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynamic::Animation> animation);
 
 // "[########------------] 240/600 frames": `done` of `total` frames in a bar `width` characters wide.

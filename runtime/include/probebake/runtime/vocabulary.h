@@ -32,6 +32,7 @@ enum class StatusCode {
   unsupported,      // the device cannot hold the volume (a buffer over maxStorageBufferRange, ...)
   out_of_memory,    // host or device memory exhausted
   vulkan_error,     // any other Vulkan failure (device lost, ...)
+  too_slow,         // the device did not finish a submission within 60 s: ask less of a frame (FrameLimits)
   internal,         // a bug in the runtime
 };
 const char* to_string(StatusCode code);
@@ -237,6 +238,13 @@ struct FrameLimits {
   // are the same as a trace at once, so the converged irradiance is too. Probes flagged meanwhile (moved
   // objects, new probes, arrived cells) trace as without a budget.
   int max_traced_probes = 0;
+  // A GPU time budget in milliseconds for the frame while the load trace lasts (0 = none, the default):
+  // the load window of each frame is as many slots as fit in frame_ms beside the other passes, by their
+  // times and the trace's time per slot measured on frames that finished and were returned (run_frame, or
+  // poll_frame_stats), corrected with each; 16 slots until the first is measured, at least 1. Replaces
+  // max_traced_probes while it is set. Only the load trace adapts: the other passes run whole. The windows
+  // chosen are LightStats::load_window; giving them back as max_traced_probes frame by frame replays the run.
+  float frame_ms = 0.0f;
   // Shadow rays per lighting record when a record's whole punctual sum is computed (the first trace, new
   // probes, and every record after an object moved or more than 16 lights changed in a frame); 0 = one per
   // light, exact. With more lights than this, the strongest shadow_rays_per_record - 1 lights by unshadowed
@@ -309,7 +317,8 @@ struct LightStats {
                              // light: inside its range, or all for a light without range or after an object moved)
   int reused_records = 0;    // of them, updated with one shadow ray (the same light changed last time too)
   int moved_objects = 0;     // dynamic objects whose pose FrameInputs::object_poses changed this frame
-  int untraced_slots = 0;    // probe slots the load trace has not reached yet (FrameLimits::max_traced_probes)
+  int load_window = 0;       // probe slots of this frame's load trace window (FrameLimits::max_traced_probes, frame_ms)
+  int untraced_slots = 0;    // probe slots the load trace has not reached yet
   int unresolved_probes = 0; // streaming: events of this frame that left a probe unresolved (its rays crossed a
                              // cell that is out before they hit anything): each trace that did, and each relight
                              // that newly did (a probe already unresolved is not counted again by the relight;

@@ -35,8 +35,8 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   if (passes.objects && !inputs.object_poses.empty()) {
     frame.moved_objects = passes.objects->record(cmd, inputs.object_poses);
     moved_boxes = passes.objects->moved_boxes();
-    if (frame.moved_objects > 0 && passes.light) passes.light->relight_everything(); // shadows anywhere
-    if (frame.moved_objects > 0 && !passes.memory && passes.light) passes.light->retrace_crossing(moved_boxes);
+    if (frame.moved_objects > 0 && passes.light && passes.light_inputs)
+      passes.light->objects_moved(moved_boxes, passes.light_inputs->current(), !passes.memory);
   }
 
   // 1. Memory update (§3.2.1, M0-M4) and SVO refresh: allocates and frees before the probe index lists them.

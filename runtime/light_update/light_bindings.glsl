@@ -138,4 +138,23 @@ void light_record_set_punctual(inout LightRecord rec, vec3 e) {
   rec.punctual_b = e.b;
 }
 
+// Whether origin + t dir, t in [0, t_max], meets the box padded by a relative 1e-4 (a conservative slab test:
+// a zero direction component is inside its slab or not at all). light_mark_moved, light_relight.
+bool segment_meets_box(vec3 origin, vec3 dir, float t_max, MovedBox box) {
+  const vec3 pad = 1e-4 * (box.upper - box.lower) + vec3(1e-6);
+  const vec3 lower = box.lower - pad, upper = box.upper + pad;
+  float t0 = 0.0, t1 = t_max;
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] == 0.0) {
+      if (origin[a] < lower[a] || origin[a] > upper[a]) return false;
+      continue;
+    }
+    const float inv = 1.0 / dir[a];
+    const float near = (lower[a] - origin[a]) * inv, far = (upper[a] - origin[a]) * inv;
+    t0 = max(t0, min(near, far));
+    t1 = min(t1, max(near, far));
+  }
+  return t0 <= t1 * 1.0001 + 1e-6;
+}
+
 #endif // PROBEBAKE_LIGHT_BINDINGS_GLSL

@@ -5,7 +5,7 @@
 // (RelightChanges.boxes: each the union of an object's old and new world box); a lattice ray of an octree
 // probe (its hit fraction) where the ray from its node's centre does. Boxes are padded by a relative 1e-4
 // and slab tests are conservative, so a flagged-for-nothing probe costs a re-trace and a missed one cannot
-// happen. Shadows may fall anywhere: light_relight recomputes every record's punctual sum in the same frame.
+// happen. light_relight recomputes, in the same frame, the punctual sums whose shadow rays may cross a box.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "light_update/light_bindings.glsl"
@@ -13,25 +13,6 @@
 #include "probebake/octree.glsl"
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
-
-// Whether origin + t dir, t in [0, t_max], meets the padded box (slab test; a zero direction component is
-// inside its slab or not at all).
-bool segment_meets_box(vec3 origin, vec3 dir, float t_max, MovedBox box) {
-  const vec3 pad = 1e-4 * (box.upper - box.lower) + vec3(1e-6);
-  const vec3 lower = box.lower - pad, upper = box.upper + pad;
-  float t0 = 0.0, t1 = t_max;
-  for (int a = 0; a < 3; ++a) {
-    if (dir[a] == 0.0) {
-      if (origin[a] < lower[a] || origin[a] > upper[a]) return false;
-      continue;
-    }
-    const float inv = 1.0 / dir[a];
-    const float near = (lower[a] - origin[a]) * inv, far = (upper[a] - origin[a]) * inv;
-    t0 = max(t0, min(near, far));
-    t1 = min(t1, max(near, far));
-  }
-  return t0 <= t1 * 1.0001 + 1e-6;
-}
 
 bool meets_moved(vec3 origin, vec3 dir, float t_max) {
   const uint count = min(relight_changes.moved_boxes, RELIGHT_MAX_MOVED_BOXES);

@@ -7,8 +7,10 @@
 // one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
 // nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
 // frame) reads its E_before from the tracked buffer, where the last frame (or light_trace) left its E_after:
-// one shadow ray. With `everything` (an object moved: a shadow may fall anywhere) every front record's sum
-// is recomputed as light_trace computes it (lights sampled past push.shadow_rays). A change of one light
+// one shadow ray. With `everything` (more than RELIGHT_MAX_CHANGES changes, or an object moved) every front
+// record's sum is recomputed as light_trace computes it (lights sampled past push.shadow_rays); when only
+// objects moved (`shadows_only`), only the records whose shadow ray to a light may cross a moved box are
+// (shadow_may_have_moved). A change of one light
 // replaces that light's exact share in a sampled sum: E - E_before + E_after stays an unbiased estimate. A
 // record that several changes reach gets its whole sum instead where that casts fewer rays. Streaming: a
 // shadow ray that crosses a cell that is out leaves the probe RECORD_SLOT_UNRESOLVED, as in light_trace (the
@@ -38,6 +40,24 @@ bool whole_sum_is_cheaper(LightRecord rec, uint count) {
   return reaching >= 2 && 2 * reaching > whole;
 }
 
+// An object moved and no light changed (RelightChanges.shadows_only): the record's punctual sum can change only
+// where the shadow ray of a light that reaches it meets a moved box, for the pairs whose light reaches into
+// that box. Conservative: padded boxes, whatever the light's unshadowed term.
+bool shadow_may_have_moved(LightRecord rec) {
+  const vec3 origin = rec.position + rec.normal * probebake_lighting.shadow_offset; // as the shadow ray
+  const uint pairs = min(relight_changes.shadow_pairs, RELIGHT_MAX_SHADOW_PAIRS);
+  for (uint i = 0u; i < pairs; ++i) {
+    const ShadowPair pair = relight_changes.pairs[i];
+    if (pair.light >= uint(probebake_lighting.lights) || pair.box >= RELIGHT_MAX_MOVED_BOXES) continue;
+    const PunctualLight light = probebake_lights[pair.light];
+    if (!probebake_light_reaches(light, rec.position)) continue;
+    const bool directional = light.type == LIGHT_DIRECTIONAL;
+    const vec3 dir = directional ? -light.direction : light.position - origin; // t in [0, 1] to a point light
+    if (segment_meets_box(origin, dir, directional ? 3.0e38 : 1.0, relight_changes.boxes[pair.box])) return true;
+  }
+  return false;
+}
+
 // The record's E_punctual after this frame's changes; false when none reaches it. `from_tracked`: E_before
 // of the single change came from the tracked buffer. A stale record (it missed changes outside the gather
 // window) takes its whole sum; no light is tracked while any record may be stale (light_update_pass.cpp).
@@ -48,6 +68,7 @@ bool updated_punctual(uint slot, uint ray, LightRecord rec, bool stale, out vec3
   from_tracked = false;
   const uint count = min(relight_changes.count, RELIGHT_MAX_CHANGES);
   if (stale || relight_changes.everything != 0u || whole_sum_is_cheaper(rec, count)) {
+    if (!stale && relight_changes.shadows_only != 0u && !shadow_may_have_moved(rec)) return false; // unchanged
     vec3 unused;
     e = probebake_punctual_irradiance_budgeted(rec.position, rec.normal, push.shadow_rays, -1,
                                                probebake_record_seed(push.seed, slot, ray), unused);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "core/error.h"
 #include "core/pipelines.h"
@@ -26,6 +27,19 @@ Buffer create_scratch(Device& device, VkDeviceSize bytes, const char* name) {
              std::to_string(device.info.max_storage_buffer_range) + ") of " + device.info.name +
              "; bake with fewer probes or lighting rays, or load with light_update = false");
   return device.allocator->create_buffer(bytes, kScratchUsage, MemoryUse::device, name);
+}
+
+// Whether `light` can light a point of the box as light_relight pads it (segment_meets_box): it has
+// intensity and no range, or is directional, or its range ball (with probebake_light_reaches' margin) meets
+// the box. A shadow ray from a point the light reaches runs inside that ball, so it meets no box the ball
+// does not.
+bool light_reaches_box(const gpu::PunctualLight& light, const gpu::MovedBox& box) {
+  if (light.intensity == glm::vec3(0.0f)) return false;
+  if (light.type == gpu::LIGHT_DIRECTIONAL || !(light.range > 0.0f)) return true;
+  const glm::vec3 pad = 1e-4f * (box.upper - box.lower) + glm::vec3(1e-6f);
+  const glm::vec3 nearest = glm::clamp(light.position, box.lower - pad, box.upper + pad);
+  const glm::vec3 d = nearest - light.position;
+  return glm::dot(d, d) <= light.range * light.range * 1.001f;
 }
 
 } // namespace
@@ -87,6 +101,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   }
   counters_ = PassCounters<gpu::LightCounters>(device, "light counters", rings);
   untraced_by_ring_.assign(rings, 0u);
+  shadow_pairs_.reserve(gpu::RELIGHT_MAX_SHADOW_PAIRS);
   load_window_by_ring_.assign(rings, 0u);
   std::array<VkBuffer, gpu::LIGHT_BINDING_COUNT> buffers{};
   for (std::uint32_t page = 0; page < gpu::LIGHT_RECORD_PAGES; ++page) // unused pages repeat page 0
@@ -161,9 +176,13 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   if (changed) tracked_light_ = changed_light; // light_trace writes the shares of this light from now on
   if (relit_) {
     changes_.everything = relight_everything_ ? 1u : 0u;
+    // Objects moved and no light changed: only the records a moved box may shadow (light_relight).
+    changes_.shadows_only = relight_everything_ && changes_.count == 0 && shadow_pairs_fit_ ? 1u : 0u;
     // Last frame's relight read the changes (the frame's opening barrier orders it before this write).
     vkCmdUpdateBuffer(cmd, relight_changes_.get(), 0,
                       offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
+    vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, shadows_only),
+                      sizeof(changes_.shadows_only), &changes_.shadows_only);
     barrier(cmd, kTransferWrite, kComputeReadWrite);
     gpu::LightPush push = window;
     push.tracked_light = tracked_light_;
@@ -185,7 +204,11 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   relight_everything_ = false;
 }
 
-void LightUpdatePass::retrace_crossing(std::span<const Box> boxes) {
+void LightUpdatePass::objects_moved(std::span<const Box> boxes, std::span<const gpu::PunctualLight> lights,
+                                    bool retrace) {
+  relight_everything_ = true; // limited to the shadow pairs' records where they fit (upload_moved_boxes)
+  retrace_moved_ = retrace_moved_ || retrace;
+  shadow_lights_.assign(lights.begin(), lights.end());
   for (const Box& box : boxes) {
     if (moved_boxes_.size() < gpu::RELIGHT_MAX_MOVED_BOXES) {
       moved_boxes_.push_back({box.min, 0.0f, box.max, 0.0f});
@@ -201,6 +224,19 @@ void LightUpdatePass::upload_moved_boxes(VkCommandBuffer cmd) {
   vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, moved_boxes), sizeof(count), &count);
   vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, boxes), count * sizeof(gpu::MovedBox),
                     moved_boxes_.data());
+  shadow_pairs_.clear(); // capacity RELIGHT_MAX_SHADOW_PAIRS, reserved once
+  shadow_pairs_fit_ = true;
+  for (std::uint32_t b = 0; b < count && shadow_pairs_fit_; ++b)
+    for (std::uint32_t l = 0; l < shadow_lights_.size() && shadow_pairs_fit_; ++l) {
+      if (!light_reaches_box(shadow_lights_[l], moved_boxes_[b])) continue;
+      shadow_pairs_fit_ = shadow_pairs_.size() < gpu::RELIGHT_MAX_SHADOW_PAIRS;
+      if (shadow_pairs_fit_) shadow_pairs_.push_back({b, l});
+    }
+  const auto used = std::uint32_t(shadow_pairs_.size());
+  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, shadow_pairs), sizeof(used), &used);
+  if (used > 0) // at most 32 KiB: within vkCmdUpdateBuffer's 64 KiB
+    vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, pairs), used * sizeof(gpu::ShadowPair),
+                      shadow_pairs_.data());
 }
 
 void LightUpdatePass::record_trace_list(VkCommandBuffer cmd, const gpu::LightPush& push, bool flagged,
@@ -247,8 +283,9 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const std::uint32_t load_window = trace_every || max_traced == 0 ? 0u : std::min(max_traced, untraced);
   // Objects moved: their boxes go into RelightChanges before any pass of this frame reads it (the frame's
   // opening barrier orders last frame's reads); a full trace needs no marks.
-  const bool marked = !moved_boxes_.empty() && !trace_every;
-  if (marked) upload_moved_boxes(cmd);
+  const bool moved = !moved_boxes_.empty() && !trace_every;
+  if (moved) upload_moved_boxes(cmd);
+  const bool marked = moved && retrace_moved_;
   barrier(cmd, kTransferWrite, kComputeReadWrite);
   // The gather window (without the light list): max_gathered slots from the cursor on, every slot by default.
   const auto max_gathered = std::uint32_t(limits.max_gathered_probes);
@@ -321,6 +358,8 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   untraced_by_ring_[timer.ring()] = probe_capacity_ - untraced_from_;
   load_window_by_ring_[timer.ring()] = trace_every ? probe_capacity_ : load_window;
   moved_boxes_.clear(); // a full trace covered them
+  retrace_moved_ = false;
+  shadow_pairs_fit_ = false;
   push.first_slot = first;
   push.slot_count = window;
   push.retry_count = 0;

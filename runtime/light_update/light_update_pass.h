@@ -55,7 +55,7 @@ public:
   static bool applies(const GpuVolume& volume);
 
   // Records L1 (first frame every probe, or with limits.max_traced_probes a window of slots per frame until
-  // every slot was traced once; after retrace_crossing(), or with walk_light_list() in every later frame,
+  // every slot was traced once; after objects_moved(), or with walk_light_list() in every later frame,
   // the flagged probes), L2 and L3 between the timer slots' timestamps.
   // `limits.max_gathered_probes`: probes gathered and resolved this frame when the pass does not walk the
   // light list, a window of slots that moves on every frame (0 = every slot); `limits.shadow_rays_per_record`:
@@ -67,15 +67,15 @@ public:
   bool relit() const { return relit_; }
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
-  // Objects moved (without the memory update): the next record() re-traces only the probes whose rays cross
-  // one of these boxes (light_mark_moved); more than RELIGHT_MAX_MOVED_BOXES are merged into the last.
-  void retrace_crossing(std::span<const Box> boxes);
+  // Objects moved through `boxes` (each the union of an object's old and new box; more than
+  // RELIGHT_MAX_MOVED_BOXES are merged into the last): the next record() recomputes the punctual sums whose
+  // shadow ray to one of `lights` (the current ones) may cross a box, and with `retrace` (no memory update)
+  // re-traces the probes whose lighting rays cross one (light_mark_moved); the other records are kept.
+  void objects_moved(std::span<const Box> boxes, std::span<const gpu::PunctualLight> lights, bool retrace);
   // Lights changed: the next record() updates the cached punctual irradiance of the records they reach
-  // (light_relight); more than RELIGHT_MAX_CHANGES changes before a record() mean relight_everything().
+  // (light_relight); more than RELIGHT_MAX_CHANGES changes before a record() recompute every record's sum.
   // `first`: the light index of changes[0] (the others follow it).
   void relight(std::span<const gpu::LightChange> changes, std::size_t first);
-  // The next record() recomputes every record's punctual irradiance (an object moved: shadows anywhere).
-  void relight_everything() { relight_everything_ = true; }
   // From now on the memory update's light transitions fill the light list: trace, gather and resolve walk
   // it (indirect dispatches) instead of every slot, and light_trace runs every frame for flagged probes.
   void walk_light_list() { queue_driven_ = true; }
@@ -111,7 +111,8 @@ private:
   // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
-  // The pending moved boxes into RelightChanges, and the probes whose rays cross them flagged (light_mark_moved).
+  // The pending moved boxes and their (box, light) shadow pairs into RelightChanges (shadow_pairs_fit_);
+  // light_mark_moved flags the probes whose rays cross them.
   void upload_moved_boxes(VkCommandBuffer cmd);
   void record_mark_moved(VkCommandBuffer cmd);
   // The places of the probes that trace this frame, and light_trace's dispatch size (light_trace_list.comp):
@@ -142,7 +143,11 @@ private:
   std::uint32_t frames_recorded_ = 0;      // the light sampling's seed: the same frames, the same draws
   std::uint32_t stale_frames_left_ = 0;    // frames until every window has caught up with the last change
   std::uint32_t last_window_ = 0;          // the last frame's window size
-  std::vector<gpu::MovedBox> moved_boxes_; // pending retrace_crossing boxes (empty: none)
+  std::vector<gpu::MovedBox> moved_boxes_;       // pending objects_moved boxes (empty: none)
+  std::vector<gpu::PunctualLight> shadow_lights_; // the lights of the last objects_moved
+  bool retrace_moved_ = false;                    // objects_moved asked for light_mark_moved
+  bool shadow_pairs_fit_ = false;                 // the uploaded boxes' pairs fit RELIGHT_MAX_SHADOW_PAIRS
+  std::vector<gpu::ShadowPair> shadow_pairs_;     // the last uploaded (box, light) pairs
   gpu::RelightChanges changes_{};          // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;           // light index of changes_.changes[0]
   Buffer relight_changes_;

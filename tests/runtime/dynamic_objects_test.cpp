@@ -247,9 +247,9 @@ TEST_F(DynamicObjectsTest, LightTraceSeesTheRotatedCubeAsTheCpuDoes) {
 }
 
 // Without the memory update, a moved object re-traces only the probes whose rays cross the box it swept
-// (light_mark_moved): four closed rooms, one room's sphere moves, and the other rooms' probes keep their
-// records. A twin whose sphere is already there at its first frame (everything traced with it) lands on the
-// same probes.
+// (light_mark_moved) and relights only the records whose shadow rays may cross it (light_relight's shadow
+// pairs): four closed rooms, one room's sphere moves, and the other rooms' probes keep their records. A twin
+// whose sphere is already there at its first frame (everything traced with it) lands on the same probes.
 TEST_F(DynamicObjectsTest, MovedObjectRetracesOnlyTheProbesWhoseRaysCrossItsBox) {
   samples::RoomsOptions rooms;
   rooms.count = 4;
@@ -262,12 +262,15 @@ TEST_F(DynamicObjectsTest, MovedObjectRetracesOnlyTheProbesWhoseRaysCrossItsBox)
   ASSERT_TRUE(gpu.ok() && twin.ok());
   runtime::FrameInputs move;
   move.object_poses = {{0, moved}};
-  ASSERT_TRUE(gpu.value().run_frame({}).ok());
+  auto loaded = gpu.value().run_frame({});
+  ASSERT_TRUE(loaded.ok()) << loaded.status().message;
+  const int front_records = loaded.value().light.front_hits;
   auto first = twin.value().run_frame(move); // traced with the sphere moved from the start
   ASSERT_TRUE(first.ok()) << first.status().message;
   auto stats = gpu.value().run_frame(move);
   ASSERT_TRUE(stats.ok()) << stats.status().message;
   const int live = stats.value().live_probes, traced = stats.value().light.traced_probes;
+  const int relit = stats.value().light.relit_records;
   for (int f = 0; f < 80; ++f) {
     ASSERT_TRUE(gpu.value().run_frame({}).ok());
     ASSERT_TRUE(twin.value().run_frame({}).ok());
@@ -282,10 +285,12 @@ TEST_F(DynamicObjectsTest, MovedObjectRetracesOnlyTheProbesWhoseRaysCrossItsBox)
     brightest = std::max(brightest, std::abs(b.value().probes[i].irradiance_sh[0]));
   }
   std::printf(
-      "[dynamic] a room's sphere moved: %d of %d probes re-traced; after 80 frames %.2e of the brightest DC from a "
-      "volume traced with it moved\n",
-      traced, live, double(worst / brightest));
+      "[dynamic] a room's sphere moved: %d of %d probes re-traced, %d of %d front records relit; after 80 frames "
+      "%.2e of the brightest DC from a volume traced with it moved\n",
+      traced, live, relit, front_records, double(worst / brightest));
   EXPECT_GT(traced, 0);
+  EXPECT_GT(relit, 0);
+  EXPECT_LT(relit, front_records / 2) << "the other rooms' lights cast no shadow of the sphere";
   EXPECT_LT(traced, live * 3 / 4) << "the other rooms' probes keep their records";
   EXPECT_LT(worst, 1e-4f * brightest);
   for (std::size_t i = 0; i < b.value().probes.size(); ++i)

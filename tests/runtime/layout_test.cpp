@@ -389,7 +389,10 @@ TEST(GpuLayout, LightUpdateTypesMatch) {
                            {"track_after", offsetof(RelightChanges, track_after)},
                            {"changes", offsetof(RelightChanges, changes)},
                            {"moved_boxes", offsetof(RelightChanges, moved_boxes)},
-                           {"boxes", offsetof(RelightChanges, boxes)}}),
+                           {"shadows_only", offsetof(RelightChanges, shadows_only)},
+                           {"shadow_pairs", offsetof(RelightChanges, shadow_pairs)},
+                           {"boxes", offsetof(RelightChanges, boxes)},
+                           {"pairs", offsetof(RelightChanges, pairs)}}),
             1);
   EXPECT_GE(expect_layout("light_relight", "LightChange",
                           {{"before", offsetof(LightChange, before)}, {"after", offsetof(LightChange, after)}}),

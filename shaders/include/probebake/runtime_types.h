@@ -105,10 +105,17 @@ struct LightChange {
   PunctualLight before; // offset   0
   PunctualLight after;  // offset  64
 };                      // size 128
-// Without the memory update, the world boxes swept by objects that moved this frame (each the union of an
-// object's old and new box; more are merged into fewer): light_mark_moved flags for re-tracing the probes
-// whose lighting or lattice rays cross one, the others keep their records.
-PB_CONSTANT(uint, RELIGHT_MAX_MOVED_BOXES, 8u);
+// The world boxes swept by objects that moved this frame (each the union of an object's old and new box;
+// more are merged into fewer). Without the memory update, light_mark_moved flags for re-tracing the probes
+// whose lighting or lattice rays cross one, the others keep their records. With or without it, the relight
+// recomputes only the punctual sums whose shadow ray to a light may cross one: the (box, light) pairs whose
+// light reaches into the box (ShadowPair); a light out of reach of every box casts no changed shadow.
+PB_CONSTANT(uint, RELIGHT_MAX_MOVED_BOXES, 64u);
+PB_CONSTANT(uint, RELIGHT_MAX_SHADOW_PAIRS, 4096u); // more: every record's whole sum, as before the pairs
+struct ShadowPair {
+  uint box;   // offset 0: RelightChanges.boxes
+  uint light; // offset 4: the punctual light
+};            // size 8
 struct MovedBox {
   vec3 lower; // offset  0
   float pad0; // offset 12
@@ -122,9 +129,13 @@ struct RelightChanges {
   uint track_after;  // offset 12: 1 = write changes[0].after's E at each front record to the tracked buffer
   LightChange changes[RELIGHT_MAX_CHANGES]; // offset 16
   uint moved_boxes;                         // offset 16 + 128 * RELIGHT_MAX_CHANGES: boxes in use
-  uint pad0, pad1, pad2;
+  uint shadows_only; // 1 = `everything` because objects moved (no light changed): only the records whose
+                     //   shadow ray of a pair's light meets the pair's box are recomputed
+  uint shadow_pairs; // pairs in use
+  uint pad0;
   MovedBox boxes[RELIGHT_MAX_MOVED_BOXES];
-}; // size 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES
+  ShadowPair pairs[RELIGHT_MAX_SHADOW_PAIRS];
+}; // size 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES + 8 * RELIGHT_MAX_SHADOW_PAIRS
 
 // Per probe slot flags (LIGHT_BINDING_TRACE_FLAGS): trace the slot's records in the next light_trace (a new or
 // re-measured probe), or its cached punctual irradiance missed a light change while the probe was outside
@@ -268,11 +279,15 @@ static_assert(sizeof(LightPush) == 68 && offsetof(LightPush, retry_by_slot) == 6
               offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 &&
               sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
-static_assert(sizeof(RelightChanges) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES &&
+static_assert(sizeof(RelightChanges) ==
+                  32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES + 8 * RELIGHT_MAX_SHADOW_PAIRS &&
+              offsetof(RelightChanges, pairs) == 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES &&
+              offsetof(RelightChanges, shadow_pairs) == 24 + 128 * RELIGHT_MAX_CHANGES &&
               offsetof(RelightChanges, changes) == 16 &&
               offsetof(RelightChanges, moved_boxes) == 16 + 128 * RELIGHT_MAX_CHANGES &&
               offsetof(RelightChanges, boxes) == 32 + 128 * RELIGHT_MAX_CHANGES);
 static_assert(sizeof(MovedBox) == 32 && offsetof(MovedBox, upper) == 16);
+static_assert(sizeof(ShadowPair) == 8 && offsetof(ShadowPair, light) == 4);
 #endif
 PB_GPU_END
 

@@ -276,11 +276,11 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
   const VkPipelineLayout layout = pipelines.layout(Layout::light);
   vkCmdFillBuffer(cmd, counters_.buffer(), 0, VK_WHOLE_SIZE, 0);
   // The load trace (slots from untraced_from_ on have no records): every slot in the first frame, or a
-  // window of max_traced_probes slots per frame.
+  // window of max_traced_probes slots per frame (the rest at once when the limit is lifted midway).
   const auto max_traced = std::uint32_t(limits.max_traced_probes);
   const bool trace_every = untraced_from_ == 0 && (max_traced == 0 || max_traced >= probe_capacity_);
   const std::uint32_t untraced = probe_capacity_ - untraced_from_;
-  const std::uint32_t load_window = trace_every || max_traced == 0 ? 0u : std::min(max_traced, untraced);
+  const std::uint32_t load_window = trace_every ? 0u : max_traced == 0 ? untraced : std::min(max_traced, untraced);
   // Objects moved: their boxes go into RelightChanges before any pass of this frame reads it (the frame's
   // opening barrier orders last frame's reads); a full trace needs no marks.
   const bool moved = !moved_boxes_.empty() && !trace_every;

@@ -139,17 +139,17 @@ private:
   std::uint32_t retry_left_ = 0;   // list places still to retry since cells last arrived
   bool relight_everything_ = false;
   bool relit_ = false;
-  std::uint32_t gather_cursor_ = 0;        // first slot of the next frame's gather window
-  std::uint32_t frames_recorded_ = 0;      // the light sampling's seed: the same frames, the same draws
-  std::uint32_t stale_frames_left_ = 0;    // frames until every window has caught up with the last change
-  std::uint32_t last_window_ = 0;          // the last frame's window size
-  std::vector<gpu::MovedBox> moved_boxes_;       // pending objects_moved boxes (empty: none)
+  std::uint32_t gather_cursor_ = 0;               // first slot of the next frame's gather window
+  std::uint32_t frames_recorded_ = 0;             // the light sampling's seed: the same frames, the same draws
+  std::uint32_t stale_frames_left_ = 0;           // frames until every window has caught up with the last change
+  std::uint32_t last_window_ = 0;                 // the last frame's window size
+  std::vector<gpu::MovedBox> moved_boxes_;        // pending objects_moved boxes (empty: none)
   std::vector<gpu::PunctualLight> shadow_lights_; // the lights of the last objects_moved
   bool retrace_moved_ = false;                    // objects_moved asked for light_mark_moved
   bool shadow_pairs_fit_ = false;                 // the uploaded boxes' pairs fit RELIGHT_MAX_SHADOW_PAIRS
   std::vector<gpu::ShadowPair> shadow_pairs_;     // the last uploaded (box, light) pairs
-  gpu::RelightChanges changes_{};          // pending changes (changes_.count), uploaded by record()
-  std::size_t first_change_ = 0;           // light index of changes_.changes[0]
+  gpu::RelightChanges changes_{};                 // pending changes (changes_.count), uploaded by record()
+  std::size_t first_change_ = 0;                  // light index of changes_.changes[0]
   Buffer relight_changes_;
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.

@@ -85,6 +85,25 @@ TEST_F(LoadTraceTest, ABudgetTracesEachSlotOnceAndKeepsTheBakeUntilTheWindowArri
   EXPECT_EQ(gpu.run_frame(in).status().code, runtime::StatusCode::invalid_argument);
 }
 
+// A budget lifted midway: the next frame traces every slot left.
+TEST_F(LoadTraceTest, LiftingTheBudgetMidwayTracesTheRestAtOnce) {
+  const Baked b = bake_cornell_with_bulb();
+  const std::size_t capacity = b.volume.probes.size(), budget = capacity / 3;
+  runtime::Volume gpu = upload(context(), b.volume);
+  runtime::FrameInputs in;
+  in.limits.max_traced_probes = int(budget);
+  auto first = gpu.run_frame(in);
+  ASSERT_TRUE(first.ok()) << first.status().message;
+  EXPECT_EQ(first.value().light.untraced_slots, int(capacity - budget));
+  in.limits.max_traced_probes = 0;
+  auto rest = gpu.run_frame(in);
+  ASSERT_TRUE(rest.ok()) << rest.status().message;
+  EXPECT_EQ(rest.value().light.traced_probes, live_in(b.volume, budget, capacity));
+  EXPECT_EQ(rest.value().light.load_window, int(capacity - budget));
+  EXPECT_EQ(rest.value().light.untraced_slots, 0);
+  EXPECT_EQ(rest.value().light.lit_probes, live_in(b.volume, 0, capacity));
+}
+
 // From zero irradiance, with the bulb moved in frame 1 (while the budgeted volume is still loading): both
 // volumes reach the CPU bake of the moved light, and each other.
 TEST_F(LoadTraceTest, ALoadSpreadOverFramesConvergesLikeATraceAtOnce) {

@@ -35,7 +35,7 @@ TEST(TraceBudgetTest, StartsSmallThenFitsTheSpareTimeAndCorrectsHalfway) {
   EXPECT_EQ(budget.next_window(1.0f, 984), 38u); // floor((1 - 0.2) / 0.021)
   // 0.04 ms a slot now, gathers 0.003 a slot: both estimates move halfway (0.03, 0.002); other 0.2 -> 0.35.
   budget.observe(frame(38, 946, 1.52, 0.162, 0.338));
-  EXPECT_EQ(budget.next_window(1.0f, 946), 20u); // floor(0.65 / 0.032) (0.35 of other passes)
+  EXPECT_EQ(budget.next_window(1.0f, 946), 20u);   // floor(0.65 / 0.032) (0.35 of other passes)
   budget.observe(frame(20, 926, 0.8, 0.222, 2.0)); // other passes alone over the budget
   EXPECT_EQ(budget.next_window(1.0f, 926), 1u);    // one slot a frame: the load still ends
 }

@@ -63,6 +63,9 @@ Status ready_to_stream(formats::OpenedCellFile& opened, bool validate, const std
 Status check_options(const UploadOptions& options) {
   if (!(options.hysteresis >= 0.0f && options.hysteresis < 1.0f))
     return {StatusCode::invalid_argument, "hysteresis must be in [0, 1), got " + std::to_string(options.hysteresis)};
+  const auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (options.load_focus && !finite(*options.load_focus))
+    return {StatusCode::invalid_argument, "load_focus must be finite"};
   if (options.frames_in_flight < 1 || options.frames_in_flight > 16)
     return {StatusCode::invalid_argument,
             "frames_in_flight must be in [1, 16], got " + std::to_string(options.frames_in_flight)};

@@ -60,8 +60,12 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
   probe_index = std::make_unique<ProbeIndexPass>(*device, *gpu, ring_count);
   sample = std::make_unique<SamplePass>(*device, *gpu);
   if (options.light_update && LightUpdatePass::applies(*gpu)) {
+    const std::vector<std::int32_t> load_order =
+        options.load_focus
+            ? load_order_nearest(uploaded.probes, std::uint32_t(gpu->elements(Section::probes)), *options.load_focus)
+            : std::vector<std::int32_t>{};
     light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis, ring_count,
-                                              streaming ? streaming->record_slots() : RecordSlots{});
+                                              streaming ? streaming->record_slots() : RecordSlots{}, load_order);
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
   }
   if (dynamic_tree && light) {

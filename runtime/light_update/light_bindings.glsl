@@ -32,6 +32,7 @@ layout(std430, set = PASS_SET, binding = LIGHT_BINDING_LIGHT_LIST) PROBEBAKE_LIG
 PROBEBAKE_LIGHT_BUFFER(LIGHT_BINDING_TRACKED_PUNCTUAL) TrackedPunctualBuffer { float tracked_punctual[]; }; // 3 per record
 layout(std430, set = PASS_SET, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer { RelightChanges relight_changes; };
 PROBEBAKE_LIGHT_BUFFER(LIGHT_BINDING_RECORD_SLOTS) RecordSlotBuffer { int light_record_slots[]; };
+layout(std430, set = PASS_SET, binding = LIGHT_BINDING_LOAD_ORDER) readonly buffer LoadOrderBuffer { int load_order[]; };
 // clang-format on
 layout(push_constant) uniform Push { LightPush push; };
 
@@ -76,11 +77,19 @@ bool in_retry_window(uint place, uint slot) {
   return push.retry_count != 0u && count != 0u && (i + count - push.retry_first % count) % count < push.retry_count;
 }
 
+// The place-th slot of this frame's load window [first_slot, first_slot + slot_count) of the load order: slot
+// order, or nearest the load focus first (push.load_ordered); -1 past the end.
+int light_load_slot(uint place) {
+  const uint i = push.first_slot + place;
+  if (place >= push.slot_count || i >= push.probe_capacity) return -1;
+  return push.load_ordered != 0u ? load_order[i] : int(i);
+}
+
 // The probe slot that light_trace traces at list place (or window index) `place` this frame, or -1: a live
 // probe with records that is flagged (TRACE_FLAG_RETRACE) or unresolved in the retry window, or by
 // push.trace_mode every one, or every one not flagged (LIGHT_TRACE_*).
 int light_trace_slot(uint place) {
-  const int listed = light_slot(place);
+  const int listed = push.trace_mode == LIGHT_TRACE_UNFLAGGED ? light_load_slot(place) : light_slot(place);
   if (listed < 0 || light_slot_idle(uint(listed))) return -1;
   const uint slot = uint(listed);
   const bool flagged = (trace_flags[slot] & TRACE_FLAG_RETRACE) != 0u;
@@ -90,7 +99,10 @@ int light_trace_slot(uint place) {
 }
 
 // A load trace spread over frames has not reached the slot yet: it has no records (push.untraced_from).
-bool light_slot_untraced(uint slot) { return slot >= push.untraced_from; }
+bool light_slot_untraced(uint slot) {
+  const uint rank = push.load_ordered != 0u ? uint(load_order[push.probe_capacity + slot]) : slot;
+  return rank >= push.untraced_from;
+}
 
 // Record `ray` of probe slot `slot` (which has records): page r / probes_per_page of its record slot r
 // (uniform per workgroup: one slot each), and the index in that page. The record slot is read once.

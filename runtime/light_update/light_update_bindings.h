@@ -21,7 +21,10 @@ PB_CONSTANT(uint, LIGHT_BINDING_TRACKED_PUNCTUAL, 9u); // float[3] per record (R
 // (not lit), RECORD_SLOT_UNRESOLVED (bindings.h) marked; read only when LightPush.indirect_records is set
 // (otherwise a probe's records are its slot's).
 PB_CONSTANT(uint, LIGHT_BINDING_RECORD_SLOTS, 10u);
-PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 11u);
+// UploadOptions::load_focus: int[2 * probe capacity], the slots nearest the focus first, then each slot's rank
+// in that order; read only when LightPush.load_ordered is set.
+PB_CONSTANT(uint, LIGHT_BINDING_LOAD_ORDER, 11u);
+PB_CONSTANT(uint, LIGHT_BINDING_COUNT, 12u);
 
 PB_GPU_END
 #endif // PROBEBAKE_LIGHT_UPDATE_BINDINGS_H

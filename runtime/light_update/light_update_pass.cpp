@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
+#include <limits>
+#include <utility>
 #include <string>
 
 #include <glm/common.hpp>
@@ -44,12 +47,29 @@ bool light_reaches_box(const gpu::PunctualLight& light, const gpu::MovedBox& box
 
 } // namespace
 
+std::vector<std::int32_t> load_order_nearest(std::span<const gpu::Probe> probes, std::uint32_t capacity,
+                                             glm::vec3 focus) {
+  std::vector<std::pair<float, std::int32_t>> keyed(capacity);
+  for (std::uint32_t s = 0; s < capacity; ++s) {
+    const bool live = s < probes.size() && probes[s].link != 0;
+    const glm::vec3 d = live ? probes[s].position - focus : glm::vec3(0.0f);
+    keyed[s] = {live ? glm::dot(d, d) : std::numeric_limits<float>::infinity(), std::int32_t(s)};
+  }
+  std::sort(keyed.begin(), keyed.end()); // by distance, then slot: the same order on every run
+  std::vector<std::int32_t> order(2 * std::size_t(capacity));
+  for (std::uint32_t i = 0; i < capacity; ++i) {
+    order[i] = keyed[i].second;
+    order[capacity + std::size_t(keyed[i].second)] = std::int32_t(i);
+  }
+  return order;
+}
+
 bool LightUpdatePass::applies(const GpuVolume& volume) {
   return volume.elements(Section::lighting_info) == 1 && volume.elements(Section::probes) > 0;
 }
 
 LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis,
-                                 std::uint32_t rings, RecordSlots records)
+                                 std::uint32_t rings, RecordSlots records, std::span<const std::int32_t> load_order)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
   indirect_records_ = records.kind != RecordSlots::Kind::own;
@@ -73,6 +93,16 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     record_slots_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::int32_t), "record slots");
   tracking_ = tracked_bytes <= device.info.max_storage_buffer_range;
   tracked_punctual_ = create_scratch(device, tracking_ ? tracked_bytes : 16, "tracked punctual");
+  if (!load_order.empty() && load_order.size() != 2 * std::size_t(probe_capacity_))
+    fail(StatusCode::internal, "load order: " + std::to_string(load_order.size()) + " ints for " +
+                                   std::to_string(probe_capacity_) + " probe slots");
+  Buffer order_staging;
+  if (!load_order.empty()) {
+    load_order_ = create_scratch(device, load_order.size_bytes(), "load order");
+    order_staging = device.allocator->create_buffer(load_order.size_bytes(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                    MemoryUse::upload, "load order staging");
+    std::memcpy(order_staging.mapped(), load_order.data(), load_order.size_bytes());
+  }
   Buffer own_slots; // own_marked: record slot s for probe slot s, none marked unresolved
   if (retry_by_slot_) {
     own_slots = device.allocator->create_buffer(record_slots_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
@@ -96,6 +126,10 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
       vkCmdFillBuffer(clear.cmd(), record_slots_.get(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu); // -1: none
     }
     for (const Buffer& page : record_pages_) vkCmdFillBuffer(clear.cmd(), page.get(), 0, VK_WHOLE_SIZE, 0);
+    if (order_staging) {
+      const VkBufferCopy region{0, 0, load_order_.size()};
+      vkCmdCopyBuffer(clear.cmd(), order_staging.get(), load_order_.get(), 1, &region);
+    }
     barrier(clear.cmd(), kTransferWrite, kAnyDeviceAccess);
     clear.submit_and_wait();
   }
@@ -114,6 +148,7 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   buffers[gpu::LIGHT_BINDING_TRACKED_PUNCTUAL] = tracked_punctual_.get();
   // Read only with LightPush.indirect_records; otherwise any buffer satisfies the binding.
   buffers[gpu::LIGHT_BINDING_RECORD_SLOTS] = record_slots_ ? record_slots_.get() : trace_flags_.get();
+  buffers[gpu::LIGHT_BINDING_LOAD_ORDER] = load_order_ ? load_order_.get() : trace_flags_.get(); // read if ordered
   volume_set_ = volume.volume_set();
   descriptors_ = make_pass_descriptor_set(device.vk(), device.compute_pipelines().set_layout(Layout::light), buffers);
 }
@@ -309,7 +344,8 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
                       0u,
                       0u,
                       0u,
-                      untraced_from_};
+                      untraced_from_,
+                      load_order_ ? 1u : 0u};
   if (trace_every) push.trace_mode = gpu::LIGHT_TRACE_EVERY;
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its

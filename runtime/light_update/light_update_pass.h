@@ -42,14 +42,20 @@ struct RecordSlots {
   std::uint32_t count = 0; // handed_out
 };
 
+// UploadOptions::load_focus: the `capacity` probe slots by distance of their probe to `focus`, nearest first (free
+// slots and slots past `probes` last, ties by slot), then each slot's rank in that order: 2 * capacity ints.
+std::vector<std::int32_t> load_order_nearest(std::span<const gpu::Probe> probes, std::uint32_t capacity,
+                                             glm::vec3 focus);
+
 class LightUpdatePass {
 public:
   // The per-ray records are split into up to LIGHT_RECORD_PAGES pages of whole probes, each within
   // maxStorageBufferRange; throws RuntimeError(unsupported) when they need more.
   // `rings`: frames in flight whose statistics are kept apart (PassCounters).
   // `records`: how a probe slot finds its records (RecordSlots).
+  // `load_order`: empty (the load trace in slot order) or load_order_nearest()'s.
   LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
-                  RecordSlots records = {});
+                  RecordSlots records = {}, std::span<const std::int32_t> load_order = {});
 
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
@@ -161,6 +167,7 @@ private:
   Buffer next_irradiance_;
   Buffer trace_flags_;
   Buffer record_slots_; // streaming: int per probe slot
+  Buffer load_order_;   // UploadOptions::load_focus: LIGHT_BINDING_LOAD_ORDER
   Buffer light_list_;
   PassCounters<gpu::LightCounters> counters_;
   VkDescriptorSet volume_set_ = VK_NULL_HANDLE; // the volume's (set 0)

@@ -175,6 +175,7 @@ int run_volume(const RunOptions& options) {
   runtime::UploadOptions upload;
   upload.light_update = options.light_update;
   upload.hysteresis = options.hysteresis, upload.probe_code = options.probe_code;
+  upload.load_focus = options.load_focus;
   upload.memory_update = !options.no_memory_update &&
                          (options.depth_cycle.has_value() || options.memory_update || options.animate.has_value());
   if (options.pool_probes) upload.pools.free_probes = *options.pool_probes;
@@ -189,6 +190,7 @@ int run_volume(const RunOptions& options) {
                         .read_in_background = options.stream->background_reads};
     try {
       path = streaming::read_camera_path(options.stream->path);
+      if (!upload.load_focus && !path.empty()) upload.load_focus = path.front().position;
     } catch (const Error& e) {
       return report(options, {runtime::StatusCode::file_error, e.what()});
     }

@@ -15,6 +15,7 @@ constexpr const char* kUsage =
     "                     [--animate thesis|revolution|soak [--plots DIR] [--objects LIST]] [--memory-update]\n"
     "                     [--no-memory-update] [--max-depth N] [--pool-probes N]\n"
     "                     [--limits M:L] [--gather-budget N] [--trace-budget N] [--frame-ms MS]\n"
+    "                     [--load-focus X,Y,Z]\n"
     "                     [--shadow-rays N] [--verbose]\n"
     "                     [--budget BYTES --path PATH.csv [--radius R] [--max-upload BYTES] [--max-joining N]\n"
     "                      [--keep-margin M] [--max-lit N] [--light-reach M] [--background-reads]]\n"
@@ -39,6 +40,8 @@ constexpr const char* kUsage =
     "  --trace-budget N  trace the loaded probes' light records N probe slots per frame, in slot order,\n"
     "                    instead of all in frame 0 (0 = all, the default); a probe keeps the bake's\n"
     "                    irradiance until its records exist\n"
+    "  --load-focus X,Y,Z  with --trace-budget or --frame-ms: trace the probes nearest this point first\n"
+    "                    (with --path: the path's first point unless given)\n"
     "  --frame-ms MS     while the load trace lasts, trace as many slots per frame as fit in MS of GPU time\n"
     "                    beside the other passes (measured and corrected every frame; replaces --trace-budget)\n"
     "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
@@ -131,6 +134,17 @@ bool parse_light_orbit(std::string_view text, LightOrbit& out) {
          parse_int(text.substr(b + 1), 1, out.period);
 }
 
+// X,Y,Z, finite.
+bool parse_point(std::string_view text, glm::vec3& out) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::size_t comma = axis < 2 ? text.find(',') : text.size();
+    if (comma == std::string_view::npos || !parse_number(text.substr(0, comma), out[axis]) || !std::isfinite(out[axis]))
+      return false;
+    text = axis < 2 ? text.substr(comma + 1) : std::string_view();
+  }
+  return true;
+}
+
 } // namespace
 
 std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& message, int& exit_code) {
@@ -220,6 +234,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
     } else if (arg == "--trace-budget") {
       if (!has_value || !parse_int(argv[++i], 0, options.limits.max_traced_probes))
         return usage_error("--trace-budget needs a whole number of probe slots >= 0");
+    } else if (arg == "--load-focus") {
+      glm::vec3 focus;
+      if (!has_value || !parse_point(argv[++i], focus)) return usage_error("--load-focus needs X,Y,Z in metres");
+      options.load_focus = focus;
     } else if (arg == "--frame-ms") {
       float& ms = options.limits.frame_ms;
       if (!has_value || !parse_number(argv[++i], ms) || !(ms > 0.0f && ms <= 1e6f))

@@ -55,8 +55,9 @@ struct RunOptions {
   bool light_update = true;        // run the light update when the file has the lighting sections
   float hysteresis = 0.9f;         // runtime::UploadOptions::hysteresis, [0, 1)
   formats::ShCodec probe_code = formats::ShCodec::float32; // runtime::UploadOptions::probe_code
-  std::optional<DepthCycle> depth_cycle;                   // run the memory update with this max-depth schedule
-  std::optional<LightOrbit> orbit_light;                   // move one punctual light every frame (FrameInputs::lights)
+  std::optional<glm::vec3> load_focus;       // runtime::UploadOptions::load_focus (--path: its first point)
+  std::optional<DepthCycle> depth_cycle;     // run the memory update with this max-depth schedule
+  std::optional<LightOrbit> orbit_light;     // move one punctual light every frame (FrameInputs::lights)
   std::optional<dynamic::Animation> animate; // pose the file's dynamic objects per frame (dynamic/animation.h)
   bool memory_update = false;            // runtime::UploadOptions::memory_update (implied by --depth-cycle, --animate)
   bool no_memory_update = false;         // --no-memory-update: off even with --animate (moved objects re-trace the

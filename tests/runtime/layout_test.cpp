@@ -154,7 +154,8 @@ const BindingTable& pass_table(std::string_view layout) {
         {"LightListBuffer", LIGHT_BINDING_LIGHT_LIST},
         {"RelightChangeBuffer", LIGHT_BINDING_RELIGHT_CHANGES},
         {"TrackedPunctualBuffer", LIGHT_BINDING_TRACKED_PUNCTUAL},
-        {"RecordSlotBuffer", LIGHT_BINDING_RECORD_SLOTS}}},
+        {"RecordSlotBuffer", LIGHT_BINDING_RECORD_SLOTS},
+        {"LoadOrderBuffer", LIGHT_BINDING_LOAD_ORDER}}},
       {"memory",
        {{"StateBuffer", MEMORY_BINDING_STATE},
         {"FreeStackBuffer", MEMORY_BINDING_FREE_STACKS},
@@ -492,7 +493,8 @@ TEST(GpuLayout, MemoryUpdateTypesMatch) {
   EXPECT_GE(expect_layout("light_trace_list", "LightPush",
                           {{"trace_mode", offsetof(LightPush, trace_mode)},
                            {"listed", offsetof(LightPush, listed)},
-                           {"untraced_from", offsetof(LightPush, untraced_from)}}),
+                           {"untraced_from", offsetof(LightPush, untraced_from)},
+                           {"load_ordered", offsetof(LightPush, load_ordered)}}),
             1);
   const std::vector<Member> list{
       {"groups_x", offsetof(LightListHeader, groups_x)},   {"count", offsetof(LightListHeader, count)},

@@ -3,8 +3,12 @@
 // for bit; and a volume loaded that way converges to the same irradiance as one traced at once, also when a
 // light moves while it loads.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "probebake/lighting/lighting.h"
 #include "probebake/runtime_types.h"
@@ -83,6 +87,51 @@ TEST_F(LoadTraceTest, ABudgetTracesEachSlotOnceAndKeepsTheBakeUntilTheWindowArri
   EXPECT_EQ(traced, live_in(b.volume, 0, capacity)); // each once
   in.limits.max_traced_probes = -1;
   EXPECT_EQ(gpu.run_frame(in).status().code, runtime::StatusCode::invalid_argument);
+}
+
+// UploadOptions::load_focus: the first window traces the live probes nearest the focus (a corner of the root),
+// every other probe keeps the bake's bits, and the load still traces each live probe once.
+TEST_F(LoadTraceTest, TheLoadFocusTracesTheNearestProbesFirst) {
+  const Baked b = bake_cornell_with_bulb();
+  const glm::vec3 focus = b.volume.info.root_min;
+  auto uploaded = runtime::Volume::upload(context(), b.volume, {.hysteresis = 0.0f, .load_focus = focus});
+  ASSERT_TRUE(uploaded.ok()) << uploaded.status().message;
+  runtime::Volume& gpu = uploaded.value();
+  std::vector<std::pair<float, std::size_t>> live; // (distance², slot), as the runtime orders them
+  for (std::size_t i = 0; i < b.volume.probes.size(); ++i)
+    if (b.volume.probes[i].link != 0) {
+      const glm::vec3 d = b.volume.probes[i].position - focus;
+      live.push_back({glm::dot(d, d), i});
+    }
+  std::sort(live.begin(), live.end());
+  const std::size_t budget = live.size() / 4;
+  runtime::FrameInputs in;
+  in.limits.max_traced_probes = int(budget);
+  auto first = gpu.run_frame(in);
+  ASSERT_TRUE(first.ok()) << first.status().message;
+  EXPECT_EQ(first.value().light.traced_probes, int(budget));
+  const formats::ProbeVolume back = read_back(gpu);
+  int kept_far = 0, changed_near = 0;
+  for (std::size_t k = 0; k < live.size(); ++k) {
+    const std::size_t i = live[k].second;
+    const bool same = std::equal(std::begin(back.probes[i].irradiance_sh), std::end(back.probes[i].irradiance_sh),
+                                 std::begin(b.volume.probes[i].irradiance_sh));
+    if (k < budget)
+      changed_near += same ? 0 : 1;
+    else
+      kept_far += same ? 1 : 0;
+  }
+  EXPECT_EQ(kept_far, int(live.size() - budget)); // the far ones wait, bit for bit the bake's
+  EXPECT_GT(changed_near, 0);
+  int traced = first.value().light.traced_probes;
+  for (int f = 0; f < 8 && traced < int(live.size()); ++f) {
+    auto stats = gpu.run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+    traced += stats.value().light.traced_probes;
+  }
+  EXPECT_EQ(traced, int(live.size()));
+  auto bad = runtime::Volume::upload(context(), b.volume, {.load_focus = glm::vec3(NAN, 0.0f, 0.0f)});
+  EXPECT_EQ(bad.status().code, runtime::StatusCode::invalid_argument);
 }
 
 // A budget lifted midway: the next frame traces every slot left.

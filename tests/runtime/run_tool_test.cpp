@@ -161,14 +161,19 @@ TEST_F(RunToolTest, AnimateWithoutDynamicObjectsIsRefused) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
-// --trace-budget: the load trace in windows of 8 slots, the live state valid and the layer silent throughout.
+// --trace-budget with --load-focus: the load trace in windows of 8 slots nearest a point, the live state valid
+// and the layer silent throughout.
 TEST_F(RunToolTest, TraceBudgetSpreadsTheLoadTrace) {
   const std::string probes = temp_path("tool-trace-budget.probes");
   formats::write_probes_file(probes, baked_cornell_octree());
-  const CliResult r = run_cli(shell_path(probes) + " --trace-budget 8 --frames 12 --validate --vk-validation");
+  const CliResult r =
+      run_cli(shell_path(probes) + " --trace-budget 8 --load-focus 0,0.3,0 --frames 12 --validate --vk-validation");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("validation messages: 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("load trace done in frame"), std::string::npos) << r.out;
   EXPECT_EQ(run_cli(shell_path(probes) + " --trace-budget -1").exit_code, 1);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --load-focus 0,nan,0").exit_code, 1);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --load-focus 0,1").exit_code, 1);
 }
 
 TEST_F(RunToolTest, BadInputExitsWithTwo) {

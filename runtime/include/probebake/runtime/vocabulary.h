@@ -210,6 +210,10 @@ struct UploadOptions {
   // and probe_codes, which sample_irradiance and sample_grid then read instead of the 144-byte records (the
   // light update keeps relighting in floats). float32 (the default) allocates and runs nothing.
   formats::ShCodec probe_code = formats::ShCodec::float32;
+  // Where the camera is when the volume loads: a load trace spread over frames (FrameLimits::max_traced_probes,
+  // frame_ms) takes the probes nearest it first instead of in slot order (two ints per probe slot on the GPU;
+  // nothing without it). Finite.
+  std::optional<glm::vec3> load_focus = std::nullopt;
 };
 
 // An axis-aligned box in world space (metres), min <= max.

@@ -28,11 +28,11 @@ runtime::FrameStats frame(int window, int untraced, double trace_ms, double gath
 TEST(TraceBudgetTest, StartsSmallThenFitsTheSpareTimeAndCorrectsHalfway) {
   TraceBudget budget;
   EXPECT_EQ(budget.next_window(1.0f, 1000), TraceBudget::kFirstWindow);
-  EXPECT_EQ(budget.next_window(1.0f, 5), 5u); // never more than are left
-  EXPECT_EQ(budget.next_window(1.0f, 0), 0u);
+  EXPECT_EQ(budget.next_window(1.0f, 0), 0u); // nothing left
   // 16 slots traced in 0.32 ms (0.02 a slot) and gathered in 0.016 (0.001 a slot); 0.184 ms of other passes.
   budget.observe(frame(16, 984, 0.32, 0.016, 0.184));
   EXPECT_EQ(budget.next_window(1.0f, 984), 38u); // floor((1 - 0.2) / 0.021)
+  EXPECT_EQ(budget.next_window(1.0f, 5), 5u);    // never more than are left
   // 0.04 ms a slot now, gathers 0.003 a slot: both estimates move halfway (0.03, 0.002); other 0.2 -> 0.35.
   budget.observe(frame(38, 946, 1.52, 0.162, 0.338));
   EXPECT_EQ(budget.next_window(1.0f, 946), 20u);   // floor(0.65 / 0.032) (0.35 of other passes)

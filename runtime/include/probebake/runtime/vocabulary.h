@@ -245,7 +245,7 @@ struct FrameLimits {
   // A GPU time budget in milliseconds for the frame while the load trace lasts (0 = none, the default):
   // the load window of each frame is as many slots as fit in frame_ms beside the other passes, by their
   // times and the trace's time per slot measured on frames that finished and were returned (run_frame, or
-  // poll_frame_stats), corrected with each; 16 slots until the first is measured, at least 1. Replaces
+  // poll_frame_stats), corrected with each; one slot until the first is measured, at least 1. Replaces
   // max_traced_probes while it is set. Only the load trace adapts: the other passes run whole. The windows
   // chosen are LightStats::load_window; giving them back as max_traced_probes frame by frame replays the run.
   float frame_ms = 0.0f;

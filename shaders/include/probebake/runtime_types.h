@@ -176,8 +176,10 @@ struct LightPush {
   uint retry_by_slot;    // offset 60: 1 = the retry window counts probe slots modulo probe_capacity instead
                          //   (the memory update writes the list, whose places the host does not know)
   uint untraced_from;    // offset 64: slots from here on have no records yet (a load trace spread over frames,
-                         //   FrameLimits::max_traced_probes): gather keeps, relight and mark skip them
-};                       // size 68
+                         //   FrameLimits::max_traced_probes): gather keeps, relight and mark skip them; with
+                         //   load_ordered, the slots whose rank in the load order is from here on
+  uint load_ordered;     // offset 68: 1 = the load trace follows LIGHT_BINDING_LOAD_ORDER (UploadOptions::load_focus)
+};                       // size 72
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -274,10 +276,11 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 &&
               offsetof(LightListHeader, trace_x) == 32 && offsetof(LightListHeader, trace_count) == 44);
-static_assert(sizeof(LightPush) == 68 && offsetof(LightPush, retry_by_slot) == 60 &&
-              offsetof(LightPush, untraced_from) == 64 && offsetof(LightPush, null_leaf) == 48 &&
-              offsetof(LightPush, retry_count) == 56 && offsetof(LightPush, shadow_rays) == 32 &&
-              sizeof(LightCounters) == 48 && offsetof(LightCounters, relit_records) == 36);
+static_assert(sizeof(LightPush) == 72 && offsetof(LightPush, load_ordered) == 68 &&
+              offsetof(LightPush, retry_by_slot) == 60 && offsetof(LightPush, untraced_from) == 64 &&
+              offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 &&
+              offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 &&
+              offsetof(LightCounters, relit_records) == 36);
 static_assert(sizeof(LightChange) == 128 && offsetof(LightChange, after) == 64);
 static_assert(sizeof(RelightChanges) ==
                   32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES + 8 * RELIGHT_MAX_SHADOW_PAIRS &&

@@ -5,12 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <limits>
-#include <utility>
 #include <string>
-
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
 
 #include "core/error.h"
 #include "core/pipelines.h"
@@ -32,37 +27,7 @@ Buffer create_scratch(Device& device, VkDeviceSize bytes, const char* name) {
   return device.allocator->create_buffer(bytes, kScratchUsage, MemoryUse::device, name);
 }
 
-// Whether `light` can light a point of the box as light_relight pads it (segment_meets_box): it has
-// intensity and no range, or is directional, or its range ball (with probebake_light_reaches' margin) meets
-// the box. A shadow ray from a point the light reaches runs inside that ball, so it meets no box the ball
-// does not.
-bool light_reaches_box(const gpu::PunctualLight& light, const gpu::MovedBox& box) {
-  if (light.intensity == glm::vec3(0.0f)) return false;
-  if (light.type == gpu::LIGHT_DIRECTIONAL || !(light.range > 0.0f)) return true;
-  const glm::vec3 pad = 1e-4f * (box.upper - box.lower) + glm::vec3(1e-6f);
-  const glm::vec3 nearest = glm::clamp(light.position, box.lower - pad, box.upper + pad);
-  const glm::vec3 d = nearest - light.position;
-  return glm::dot(d, d) <= light.range * light.range * 1.001f;
-}
-
 } // namespace
-
-std::vector<std::int32_t> load_order_nearest(std::span<const gpu::Probe> probes, std::uint32_t capacity,
-                                             glm::vec3 focus) {
-  std::vector<std::pair<float, std::int32_t>> keyed(capacity);
-  for (std::uint32_t s = 0; s < capacity; ++s) {
-    const bool live = s < probes.size() && probes[s].link != 0;
-    const glm::vec3 d = live ? probes[s].position - focus : glm::vec3(0.0f);
-    keyed[s] = {live ? glm::dot(d, d) : std::numeric_limits<float>::infinity(), std::int32_t(s)};
-  }
-  std::sort(keyed.begin(), keyed.end()); // by distance, then slot: the same order on every run
-  std::vector<std::int32_t> order(2 * std::size_t(capacity));
-  for (std::uint32_t i = 0; i < capacity; ++i) {
-    order[i] = keyed[i].second;
-    order[capacity + std::size_t(keyed[i].second)] = std::int32_t(i);
-  }
-  return order;
-}
 
 bool LightUpdatePass::applies(const GpuVolume& volume) {
   return volume.elements(Section::lighting_info) == 1 && volume.elements(Section::probes) > 0;
@@ -237,72 +202,6 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   }
   changes_.count = 0;
   relight_everything_ = false;
-}
-
-void LightUpdatePass::objects_moved(std::span<const Box> boxes, std::span<const gpu::PunctualLight> lights,
-                                    bool retrace) {
-  relight_everything_ = true; // limited to the shadow pairs' records where they fit (upload_moved_boxes)
-  retrace_moved_ = retrace_moved_ || retrace;
-  shadow_lights_.assign(lights.begin(), lights.end());
-  for (const Box& box : boxes) {
-    if (moved_boxes_.size() < gpu::RELIGHT_MAX_MOVED_BOXES) {
-      moved_boxes_.push_back({box.min, 0.0f, box.max, 0.0f});
-      continue;
-    }
-    gpu::MovedBox& last = moved_boxes_.back();
-    last.lower = glm::min(last.lower, box.min), last.upper = glm::max(last.upper, box.max);
-  }
-}
-
-void LightUpdatePass::upload_moved_boxes(VkCommandBuffer cmd) {
-  const std::uint32_t count = std::uint32_t(moved_boxes_.size());
-  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, moved_boxes), sizeof(count), &count);
-  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, boxes), count * sizeof(gpu::MovedBox),
-                    moved_boxes_.data());
-  shadow_pairs_.clear(); // capacity RELIGHT_MAX_SHADOW_PAIRS, reserved once
-  shadow_pairs_fit_ = true;
-  for (std::uint32_t b = 0; b < count && shadow_pairs_fit_; ++b)
-    for (std::uint32_t l = 0; l < shadow_lights_.size() && shadow_pairs_fit_; ++l) {
-      if (!light_reaches_box(shadow_lights_[l], moved_boxes_[b])) continue;
-      shadow_pairs_fit_ = shadow_pairs_.size() < gpu::RELIGHT_MAX_SHADOW_PAIRS;
-      if (shadow_pairs_fit_) shadow_pairs_.push_back({b, l});
-    }
-  const auto used = std::uint32_t(shadow_pairs_.size());
-  vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, shadow_pairs), sizeof(used), &used);
-  if (used > 0) // at most 32 KiB: within vkCmdUpdateBuffer's 64 KiB
-    vkCmdUpdateBuffer(cmd, relight_changes_.get(), offsetof(gpu::RelightChanges, pairs), used * sizeof(gpu::ShadowPair),
-                      shadow_pairs_.data());
-}
-
-void LightUpdatePass::record_trace_list(VkCommandBuffer cmd, const gpu::LightPush& push, bool flagged,
-                                        std::uint32_t load_window) {
-  // The trace's dispatch size and count start from zero (after every earlier access to the header).
-  barrier(cmd, kComputeAndIndirect, kTransferWrite);
-  vkCmdFillBuffer(cmd, light_list_.get(), offsetof(gpu::LightListHeader, trace_x), 4 * sizeof(std::uint32_t), 0);
-  barrier(cmd, kTransferWrite, kComputeReadWrite);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(Kernel::light_trace_list));
-  if (flagged && queue_driven_)
-    vkCmdDispatchIndirect(cmd, light_list_.get(), offsetof(gpu::LightListHeader, resolve_x)); // a thread per place
-  else if (flagged)
-    dispatch_groups(cmd, device_, (probe_capacity_ + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
-  if (load_window > 0) { // the load trace's window of slots, whatever the list holds; the flagged ones are listed
-    if (flagged) barrier(cmd, kComputeReadWrite, kComputeReadWrite); // both append to the trace list
-    gpu::LightPush window = push;
-    window.trace_mode = gpu::LIGHT_TRACE_UNFLAGGED;
-    window.listed = 0u, window.first_slot = untraced_from_, window.slot_count = load_window;
-    const VkPipelineLayout layout = device_.compute_pipelines().layout(Layout::light);
-    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(window), &window);
-    dispatch_groups(cmd, device_, (load_window + gpu::RUNTIME_WORKGROUP_SIZE - 1) / gpu::RUNTIME_WORKGROUP_SIZE);
-    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-  }
-  barrier(cmd, kComputeWrite, kComputeAndIndirect);
-}
-
-void LightUpdatePass::record_mark_moved(VkCommandBuffer cmd) {
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(Kernel::light_mark_moved));
-  dispatch_groups(cmd, device_, probe_capacity_);
-  barrier(cmd, kComputeReadWrite, kComputeReadWrite); // light_trace reads the flags
-  moved_boxes_.clear();
 }
 
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots,

@@ -210,9 +210,8 @@ struct UploadOptions {
   // and probe_codes, which sample_irradiance and sample_grid then read instead of the 144-byte records (the
   // light update keeps relighting in floats). float32 (the default) allocates and runs nothing.
   formats::ShCodec probe_code = formats::ShCodec::float32;
-  // Where the camera is when the volume loads: a load trace spread over frames (FrameLimits::max_traced_probes,
-  // frame_ms) takes the probes nearest it first instead of in slot order (two ints per probe slot on the GPU;
-  // nothing without it). Finite.
+  // The camera when the volume loads (finite): a spread load trace (FrameLimits::max_traced_probes, frame_ms)
+  // takes the probes nearest it first. Two ints per probe slot on the GPU; nothing without it.
   std::optional<glm::vec3> load_focus = std::nullopt;
 };
 
@@ -234,20 +233,13 @@ struct FrameLimits {
   // shadow_rays_per_record rays each) when the window reaches it, so a frame's shadow rays scale with the
   // budget, not with the volume.
   int max_gathered_probes = 0;
-  // Probe slots whose records the load trace makes per frame (0 = all in the first frame). A loaded volume's
-  // probes hold the bake's irradiance, right for frame 0, but relighting needs each probe's records (one
-  // ray cast per lighting ray and its shadow rays): with a budget, the trace covers a window of this many
-  // slots per frame, in slot order, until it has passed every slot once. A probe the window has not reached
-  // keeps its irradiance (it is not gathered or relit) and its neighbours sample it as usual; the records
-  // are the same as a trace at once, so the converged irradiance is too. Probes flagged meanwhile (moved
-  // objects, new probes, arrived cells) trace as without a budget.
+  // Probe slots the load trace traces per frame (0 = all in frame 0; RUNTIME.md "Loading without a hitch"), in
+  // slot order or nearest UploadOptions::load_focus. A probe not reached yet keeps the bake's irradiance; the
+  // records, and so the converged irradiance, are those of a trace at once.
   int max_traced_probes = 0;
-  // A GPU time budget in milliseconds for the frame while the load trace lasts (0 = none, the default):
-  // the load window of each frame is as many slots as fit in frame_ms beside the other passes, by their
-  // times and the trace's time per slot measured on frames that finished and were returned (run_frame, or
-  // poll_frame_stats), corrected with each; one slot until the first is measured, at least 1. Replaces
-  // max_traced_probes while it is set. Only the load trace adapts: the other passes run whole. The windows
-  // chosen are LightStats::load_window; giving them back as max_traced_probes frame by frame replays the run.
+  // GPU ms per frame while the load trace lasts (0 = none; replaces max_traced_probes): each window as many
+  // slots as fit beside the other passes, by times of returned frames; one slot until then, at least 1. The
+  // windows are LightStats::load_window; given back as max_traced_probes they replay the run.
   float frame_ms = 0.0f;
   // Shadow rays per lighting record when a record's whole punctual sum is computed (the first trace, new
   // probes, and every record after an object moved or more than 16 lights changed in a frame); 0 = one per
@@ -306,23 +298,22 @@ struct PassTime {
 // Statistics of one frame's light update (all 0 and active = false when the volume has none).
 struct LightStats {
   bool active = false;
-  int traced_probes = 0; // L1 (records and hit fractions): the first frame only
+  int traced_probes = 0; // L1 (records and hit fractions): the load trace, flagged and retried probes
   int front_hits = 0;    // lighting rays of traced probes that hit a front face (or a double-sided back) /
   int backface_hits = 0; // the back of a single-sided triangle (inside geometry) / nothing
   int misses = 0;
-  int lit_probes = 0;        // L2: probes relit and gathered this frame
-  int indirect_misses = 0;   // front hits whose SVO lookup found no probe (no indirect light there)
-  int non_finite = 0;        // probes whose new irradiance was not finite: kept their old value
-  int want_split = 0;        // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
-  int want_free = 0;         //     (counted by light_resolve; the memory update acts on L1 verdicts)
-  int lights = 0;            // punctual lights lit this frame
-  int uploaded_lights = 0;   // of them, records uploaded this frame (changed by FrameInputs::lights)
-  int relit_records = 0;     // records whose cached punctual irradiance was updated (in reach of a changed
-                             // light: inside its range, or all for a light without range or after an object moved)
-  int reused_records = 0;    // of them, updated with one shadow ray (the same light changed last time too)
-  int moved_objects = 0;     // dynamic objects whose pose FrameInputs::object_poses changed this frame
-  int load_window = 0;       // probe slots of this frame's load trace window (FrameLimits::max_traced_probes, frame_ms)
-  int untraced_slots = 0;    // probe slots the load trace has not reached yet
+  int lit_probes = 0;      // L2: probes relit and gathered this frame
+  int indirect_misses = 0; // front hits whose SVO lookup found no probe (no indirect light there)
+  int non_finite = 0;      // probes whose new irradiance was not finite: kept their old value
+  int want_split = 0;      // L3: leaves that the leaf rule (leaf_rule.h) would split / whose probe it would free
+  int want_free = 0;       //     (counted by light_resolve; the memory update acts on L1 verdicts)
+  int lights = 0;          // punctual lights lit this frame
+  int uploaded_lights = 0; // of them, records uploaded this frame (changed by FrameInputs::lights)
+  int relit_records = 0;   // records whose cached punctual irradiance was updated (in reach of a changed
+                           // light: inside its range, or all for a light without range or after an object moved)
+  int reused_records = 0;  // of them, updated with one shadow ray (the same light changed last time too)
+  int moved_objects = 0;   // dynamic objects whose pose FrameInputs::object_poses changed this frame
+  int load_window = 0, untraced_slots = 0; // the load trace: this frame's window, the slots it has still to reach
   int unresolved_probes = 0; // streaming: events of this frame that left a probe unresolved (its rays crossed a
                              // cell that is out before they hit anything): each trace that did, and each relight
                              // that newly did (a probe already unresolved is not counted again by the relight;

@@ -11,6 +11,7 @@
 #include <span>
 #include <stdexcept>
 #include <string_view>
+#include <utility>
 
 namespace probebake::run {
 namespace {
@@ -161,24 +162,24 @@ FrameRow frame_row(int frame, double angle_deg, const runtime::FrameStats& stats
 
 std::string frame_time_line(const std::vector<FrameRow>& rows, float frame_ms) {
   if (rows.empty()) return {};
-  std::vector<double> sorted;
-  const FrameRow* worst = &rows.front();
+  std::vector<std::pair<double, int>> frames;
   int over = 0, loaded = -1;
+  bool loads = false; // a light update traced records: frame 0 at once, or windows
   for (const FrameRow& r : rows) {
-    sorted.push_back(r.gpu_ms);
-    if (r.gpu_ms > worst->gpu_ms) worst = &r;
+    frames.push_back({r.gpu_ms, r.frame});
     if (frame_ms > 0.0f && r.gpu_ms > double(frame_ms)) ++over;
-    if (loaded < 0 && r.untraced == 0) loaded = r.frame;
+    loads = loads || r.load_window > 0;
+    if (loaded < 0 && loads && r.untraced == 0) loaded = r.frame;
   }
-  std::sort(sorted.begin(), sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const Stat s = stat_of(std::move(frames));
   char line[320];
   int n = std::snprintf(line, sizeof(line),
-                        "frame gpu ms: median %.3f, frame 0 %.3f, worst %.3f (frame %d) = %.2fx the median; ", median,
-                        rows.front().gpu_ms, worst->gpu_ms, worst->frame, median > 0.0 ? worst->gpu_ms / median : 0.0);
-  n += loaded < 0 ? std::snprintf(line + n, sizeof(line) - std::size_t(n), "load trace not finished (%d slots left)",
-                                  rows.back().untraced)
-                  : std::snprintf(line + n, sizeof(line) - std::size_t(n), "load trace done in frame %d", loaded);
+                        "frame gpu ms: median %.3f, frame 0 %.3f, worst %.3f (frame %d) = %.2fx the median", s.median,
+                        rows.front().gpu_ms, s.worst, s.worst_frame, s.median > 0.0 ? s.worst / s.median : 0.0);
+  if (loads)
+    n += loaded < 0 ? std::snprintf(line + n, sizeof(line) - std::size_t(n),
+                                    "; load trace not finished (%d slots left)", rows.back().untraced)
+                    : std::snprintf(line + n, sizeof(line) - std::size_t(n), "; load trace done in frame %d", loaded);
   if (frame_ms > 0.0f)
     std::snprintf(line + n, sizeof(line) - std::size_t(n), "; %d of %zu frames over the %.3f ms budget", over,
                   rows.size(), double(frame_ms));

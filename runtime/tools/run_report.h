@@ -62,7 +62,7 @@ const char* motion_phase(dynamic::Animation animation, int frame);
 // Per pass (over the frames that ran it) and for the frame's GPU total and host CPU: median, p95, worst and
 // its frame, by phase and over all frames; a Markdown table.
 // The worst frame against the median GPU time (the hitch measure: frame 0 and the load trace included), the
-// frame the load trace ended, and with `frame_ms` > 0 the frames over that budget.
+// frame the load trace ended (volumes with a light update), and with `frame_ms` > 0 the frames over that budget.
 std::string frame_time_line(const std::vector<FrameRow>& rows, float frame_ms);
 std::string summary_table(const std::vector<FrameRow>& rows, std::optional<dynamic::Animation> animation);
 

@@ -34,6 +34,31 @@ void cap_address_space(std::uint64_t budget) {
 #endif
 }
 
+// "R,G,B" or one value for all three.
+glm::vec3 parse_colour(const std::string& text) {
+  std::vector<float> values;
+  std::size_t at = 0;
+  while (at <= text.size() && values.size() < 4) {
+    const std::size_t comma = std::min(text.find(',', at), text.size());
+    const std::string part = text.substr(at, comma - at);
+    std::size_t used = 0;
+    float v = 0.0f;
+    try {
+      v = std::stof(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != part.size())
+      throw Error(ErrorKind::usage, "--sky: '" + text + "' is not R,G,B, one value, a .exr file or 'physical'");
+    values.push_back(v);
+    at = comma + 1;
+  }
+  if (values.size() == 1) return glm::vec3(values[0]);
+  if (values.size() != 3)
+    throw Error(ErrorKind::usage, "--sky: '" + text + "' is not R,G,B, one value, a .exr file or 'physical'");
+  return {values[0], values[1], values[2]};
+}
+
 } // namespace
 
 std::uint64_t parse_byte_size(const std::string& text) {
@@ -73,6 +98,32 @@ void add_scene_input_options(CLI::App* app, SceneInputOptions& options) {
                   "Node NAME moves at run time with its subtree (repeatable or comma-separated; as glTF node extras "
                   "{\"probebake\": {\"dynamic\": true}})")
       ->delimiter(',');
+  app->add_option("--sky", options.sky,
+                  "Light of rays that leave the scene: R,G,B (or one value) radiance, FILE.exr (equirectangular), or "
+                  "'physical' (daylight sky of --sun, with the sun as a directional light); default none");
+  app->add_option("--sun", options.sun, "Physical sky: the sun's ELEVATION,AZIMUTH in degrees (azimuth from -Z to +X)")
+      ->expected(2)
+      ->delimiter(',');
+  app->add_option("--turbidity", options.turbidity, "Physical sky: haze, 1.7 (clear) to 10 (hazy); default 2.5");
+  app->add_option("--sky-intensity", options.sky_intensity, "Scale of the sky's radiance (not the sun's); default 1");
+}
+
+std::optional<sky::Sky> sky_from_options(const SceneInputOptions& o) {
+  if (!o.sun.empty() && o.sky != "physical") throw Error(ErrorKind::usage, "--sun needs --sky physical");
+  if (o.sky.empty()) return std::nullopt;
+  if (!std::isfinite(o.sky_intensity) || o.sky_intensity < 0.0f)
+    throw Error(ErrorKind::usage, "--sky-intensity must be finite and >= 0");
+  sky::Sky result;
+  if (o.sky == "physical") {
+    if (o.sun.size() != 2) throw Error(ErrorKind::usage, "--sky physical needs --sun ELEVATION,AZIMUTH");
+    result = sky::physical_sky({sky::direction_from_angles(o.sun[0], o.sun[1]), o.turbidity});
+  } else if (o.sky.size() > 4 && (o.sky.ends_with(".exr") || o.sky.ends_with(".EXR"))) {
+    return sky::environment_sky(o.sky, o.sky_intensity);
+  } else {
+    result = sky::constant_sky(parse_colour(o.sky));
+  }
+  result.colour *= o.sky_intensity;
+  return result;
 }
 
 CLI::App* add_scene_subcommand(CLI::App& root, const std::string& name, const std::string& description,
@@ -91,6 +142,7 @@ scene::LoadOptions load_options(const SceneInputOptions& options, bool require_t
   for (const std::string& dir : options.allow_paths) load.allowed_paths.emplace_back(dir);
   load.max_memory = options.max_memory.empty() ? default_budget() : parse_byte_size(options.max_memory);
   cap_address_space(load.max_memory);
+  load.sky = sky_from_options(options);
   return load;
 }
 

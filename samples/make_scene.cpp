@@ -40,6 +40,7 @@ struct Settings {
 struct KindOptions {
   samples::CornellOptions cornell;
   samples::WindowRoomOptions window_room;
+  samples::CourtyardOptions courtyard;
   samples::TinyEmitterOptions tiny_emitter;
   samples::CavityOptions cavity;
   std::string cornell_with;
@@ -112,6 +113,10 @@ void add_kinds(CLI::App& app, std::map<CLI::App*, MakeScene>& makers, KindOption
   CLI::App* cavity = add_kind(app, makers, "cavity", "a closed box of high albedo with a small emitter inside",
                               [&o] { return samples::cavity(o.cavity); });
   cavity->add_option("--albedo", o.cavity.albedo, "albedo of every face")->capture_default_str();
+
+  CLI::App* yard = add_kind(app, makers, "courtyard", "an outdoor courtyard with a house, lit by a sky (--sky)",
+                            [&o] { return samples::courtyard(o.courtyard); });
+  yard->add_option("--ground-albedo", o.courtyard.ground_albedo, "albedo of the ground")->capture_default_str();
 
   add_kind(app, makers, "triangle", "one triangle and a point light", [] { return samples::triangle(); });
   add_kind(app, makers, "empty", "a valid glTF with no triangles", [] { return samples::empty(); });

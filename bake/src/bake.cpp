@@ -222,9 +222,11 @@ std::uint64_t bake_input_hash(const scene::Scene& scene, const BakeSettings& s) 
   const std::int32_t lighting_ints[] = {
       l.enabled ? 1 : 0, l.rays, l.max_iterations, l.accelerate ? 1 : 0, l.emissive_as_lights ? 1 : 0,
       l.emitter_samples};
-  const float lighting_floats[] = {l.tolerance, l.sky_radiance.x, l.sky_radiance.y, l.sky_radiance.z};
   add(lighting_ints, sizeof(lighting_ints));
-  add(lighting_floats, sizeof(lighting_floats));
+  add(&l.tolerance, sizeof(l.tolerance));
+  add(&scene.sky.colour, sizeof(scene.sky.colour)); // the sky lights the probes like the lights above
+  add(&scene.sky.kind, sizeof(scene.sky.kind));
+  add(scene.sky.map.texels.data(), scene.sky.map.texels.size() * sizeof(glm::vec3));
   const std::uint64_t hash = XXH3_64bits_digest(state);
   XXH3_freeState(state);
   return hash;

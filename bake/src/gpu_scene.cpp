@@ -22,6 +22,7 @@
 #include "probebake/common/lattice.h"
 #include "probebake/formats/cells.h"
 #include "probebake/formats/error.h"
+#include "probebake/formats/sky_section.h"
 #include "probebake/formats/trace_mesh.h"
 
 namespace probebake::bake {
@@ -235,7 +236,7 @@ std::vector<glm::vec4> ray_directions(const BakeSettings& settings) {
 
 gpu::LightingInfo lighting_info(const scene::Scene& scene, const BakeSettings& settings) {
   gpu::LightingInfo info{};
-  info.sky_radiance = settings.lighting.sky_radiance;
+  info.sky_radiance = scene.sky.colour;
   info.rays = settings.lighting.rays;
   info.shadow_offset = lighting::detail::shadow_offset(scene);
   info.emissive_as_lights = settings.lighting.emissive_as_lights ? 1 : 0;
@@ -243,10 +244,28 @@ gpu::LightingInfo lighting_info(const scene::Scene& scene, const BakeSettings& s
   return info; // counts: sync_info_counts
 }
 
+// The sky section (format 1.9): only for a sky with a map; a constant sky is LightingInfo::sky_radiance alone.
+std::vector<std::uint32_t> sky_section(const scene::Scene& scene) {
+  const sky::Sky& s = scene.sky;
+  if (s.map.empty()) return {};
+  gpu::SkyHeader header{};
+  header.width = std::uint32_t(s.map.width);
+  header.height = std::uint32_t(s.map.height);
+  header.kind = s.kind;
+  header.sun_light = -1;
+  if (s.physical) {
+    header.turbidity = s.physical->turbidity;
+    header.sun_direction = glm::normalize(s.physical->sun_direction);
+    header.sun_light = scene.sun_light;
+  }
+  return formats::sky_section_words(header, s.map.texels);
+}
+
 std::size_t section_bytes(const formats::ProbeVolume& v) {
   return sizeof(gpu::LightingInfo) + v.ray_directions.size() * sizeof(glm::vec4) +
          v.punctual_lights.size() * sizeof(gpu::PunctualLight) + v.emitter_patches.size() * sizeof(gpu::EmitterPatch) +
-         v.dynamic_objects.size() * sizeof(gpu::DynamicObject) + formats::tracing_bytes(v);
+         v.dynamic_objects.size() * sizeof(gpu::DynamicObject) + v.sky.size() * sizeof(std::uint32_t) +
+         formats::tracing_bytes(v);
 }
 
 } // namespace
@@ -271,6 +290,7 @@ RuntimeLightingReport add_runtime_lighting(const scene::Scene& scene, const Bake
   volume.emitter_patches = gpu_patches(scene, settings.lighting);
   volume.ray_directions = ray_directions(settings);
   volume.lighting = lighting_info(scene, settings);
+  volume.sky = sky_section(scene);
   formats::sync_info_counts(volume);
 
   report.written = true;

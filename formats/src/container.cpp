@@ -181,13 +181,33 @@ private:
 } // namespace
 
 std::string section_name(std::uint32_t type) {
-  static constexpr const char* kNames[] = {
-      "volume_info",     "octree",          "probes",       "surfel_batches",  "leaf_queue_header",
-      "leaf_entries",    "probe_index",     "svo_nodes",    "svo_leaves",      "cells",
-      "lighting_info",   "ray_directions",  "bvh_nodes",    "trace_triangles", "punctual_lights",
-      "emitter_patches", "dynamic_objects", "trace_trees",  "trace_nodes",     "trace_faces",
-      "trace_vertices",  "trace_materials", "cell_tracing", "cell_checksums",  "cell_global_checksums",
-      "grid_lattice"};
+  static constexpr const char* kNames[] = {"volume_info",
+                                           "octree",
+                                           "probes",
+                                           "surfel_batches",
+                                           "leaf_queue_header",
+                                           "leaf_entries",
+                                           "probe_index",
+                                           "svo_nodes",
+                                           "svo_leaves",
+                                           "cells",
+                                           "lighting_info",
+                                           "ray_directions",
+                                           "bvh_nodes",
+                                           "trace_triangles",
+                                           "punctual_lights",
+                                           "emitter_patches",
+                                           "dynamic_objects",
+                                           "trace_trees",
+                                           "trace_nodes",
+                                           "trace_faces",
+                                           "trace_vertices",
+                                           "trace_materials",
+                                           "cell_tracing",
+                                           "cell_checksums",
+                                           "cell_global_checksums",
+                                           "grid_lattice",
+                                           "sky"};
   static_assert(std::size(kNames) == kSectionTypeCount);
   if (is_known_section_type(type)) return kNames[type - 1];
   return "section_" + std::to_string(type);

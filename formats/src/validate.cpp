@@ -33,6 +33,7 @@ void run_phases(const ProbeVolume& volume, const TracingView& tracing, const det
     detail::check_grid_lattice(volume, out);
     detail::check_cells(volume, tracing, octree, deferred, out);
     detail::check_lighting(volume, tracing, deferred, out);
+    detail::check_sky(volume, out);
   } catch (const detail::StopValidation&) {
     // max_errors reached; the report says truncated
   }
@@ -98,6 +99,9 @@ constexpr InvariantInfo kInvariants[] = {
      "grid placement only: a header of the file's resolution (2..255), finite origin, spacing > 0; each "
      "allocated probe at exactly one point, cell bits only for cells inside the lattice, reach bits 30-31 zero; "
      "points without probe: all zero"},
+    {"sky", "beside the lighting sections only: a header of width 4..1024 and height 2..512 and its RGB texels, finite "
+            "and >= 0; an environment without sun; a physical sky's turbidity in [1.7, 10], a unit sun direction and a "
+            "directional sun light or none (-1)"},
     {"cell_order", "cell records are sorted by strictly increasing cell index"},
     {"cell_bounds", "a cell's index is in the grid and its bounds are the grid cell's"},
     {"cell_root_node", "a cell's root node is the octree node covering exactly the cell, or -1"},

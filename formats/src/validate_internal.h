@@ -97,6 +97,7 @@ void check_probe_index(const ProbeVolume& volume, Reporter& out);
 void check_leaf_queue(const ProbeVolume& volume, const OctreeFacts& octree, Reporter& out);
 void check_svo(const ProbeVolume& volume, Reporter& out);
 void check_grid_lattice(const ProbeVolume& volume, Reporter& out);
+void check_sky(const ProbeVolume& volume, Reporter& out);
 // The elements of the three trace sections that a check reads: element i of each span is the file's element
 // base + i. A volume is one window at 0; a cell read alone (validate_cell_tracing) the window of its ranges.
 struct TracingWindow {

@@ -74,7 +74,7 @@ HitCache build_hit_cache(const scene::Scene& scene, const scene::RayScene& rays,
       HitRecord& h = cache.records[i * r + j];
       const auto hit = rays.intersect(origin, directions[j]);
       if (!hit) {
-        h.base = settings.sky_radiance;
+        h.base = scene.sky.radiance(directions[j]);
         ++counts[i].misses;
       } else if (hit->inside()) { // the back of a single-sided surface: black and absorbing
         ++counts[i].backface;

@@ -2,7 +2,7 @@
 // hit keeps what the iteration needs to re-evaluate its outgoing radiance from new probe values:
 //   L = base + reflect * apply_stencil(stencil, normal, probes),
 // base = L_e + albedo / pi * E_direct (front hit, or either side of a double-sided surface, with the
-// facing normal), sky radiance (miss) or 0 (back of a single-sided surface: inside a solid); reflect =
+// facing normal), the sky's radiance in the ray's direction (miss) or 0 (back of a single-sided surface: inside a solid); reflect =
 // albedo / pi for shaded hits, else 0; stencil = the SVO sampler's probes and weights at the hit.
 #pragma once
 

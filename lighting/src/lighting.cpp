@@ -28,8 +28,6 @@ void check_lighting_settings(const LightingSettings& s) {
   require(std::isfinite(s.tolerance) && s.tolerance > 0.0f && s.tolerance < 1.0f,
           "lighting tolerance must be in (0, 1)");
   require(s.max_iterations >= 1, "lighting max iterations must be >= 1");
-  for (int c = 0; c < 3; ++c)
-    require(std::isfinite(s.sky_radiance[c]) && s.sky_radiance[c] >= 0.0f, "sky radiance must be finite and >= 0");
   require(s.threads >= 0, "threads must be >= 0");
   require(s.emitter_samples >= 1 && s.emitter_samples <= 65536, "lighting emitter samples must be in [1, 65536]");
 }

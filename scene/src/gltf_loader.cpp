@@ -360,6 +360,7 @@ Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string
     ctx.fail("meshes",
              fmt::format("scene has no triangles to bake ({} meshes, {} lights; `probebake info` describes it)",
                          scene.mesh_count, scene.lights.size()));
+  if (options.sky) set_sky(scene, *options.sky);
   return scene;
 }
 

@@ -117,4 +117,27 @@ SceneSummary summarize(const Scene& scene) {
   return s;
 }
 
+void set_sky(Scene& scene, sky::Sky sky) {
+  if (scene.sun_light >= 0 && std::size_t(scene.sun_light) < scene.lights.size())
+    scene.lights.erase(scene.lights.begin() + scene.sun_light);
+  scene.sun_light = -1;
+  if (sky.physical) {
+    const glm::vec3 irradiance = sky::sun_irradiance(*sky.physical);
+    const float intensity = std::max({irradiance.x, irradiance.y, irradiance.z});
+    Light sun;
+    sun.name = "probebake sun";
+    sun.type = LightType::directional;
+    sun.intensity = intensity;
+    sun.color = intensity > 0.0f ? irradiance / intensity : glm::vec3(1.0f);
+    sun.direction = -glm::normalize(sky.physical->sun_direction);
+    scene.sun_light = int(scene.lights.size());
+    scene.lights.push_back(sun);
+  }
+  if (!sky.source.empty()) {
+    std::error_code ec;
+    scene.input_files.push_back(std::filesystem::weakly_canonical(sky.source, ec));
+  }
+  scene.sky = std::move(sky);
+}
+
 } // namespace probebake::scene

@@ -707,10 +707,10 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
 }
 
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
-  const scene::Scene s = load_generated(samples::cornell(), "gpu_info");
+  scene::Scene s = load_generated(samples::cornell(), "gpu_info");
+  scene::set_sky(s, sky::constant_sky(glm::vec3(0.5f, 0.25f, 2.0f)));
   bake::BakeSettings settings = test_settings();
   settings.lighting.rays = 100;
-  settings.lighting.sky_radiance = glm::vec3(0.5f, 0.25f, 2.0f);
   settings.lattice = Lattice::equal_area;
   settings.surfels_per_probe = 40;
   const formats::ProbeVolume v = lighting_volume(s, settings);
@@ -721,7 +721,8 @@ TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {
   EXPECT_NEAR(info.shadow_offset, 1e-4f * 0.5592f, 1e-7f); // the box is 0.5592 m deep
   EXPECT_EQ(info.rays, 100);
   EXPECT_EQ(info.placement_rays, 40);
-  EXPECT_EQ(info.sky_radiance, settings.lighting.sky_radiance);
+  EXPECT_EQ(info.sky_radiance, glm::vec3(0.5f, 0.25f, 2.0f));
+  EXPECT_TRUE(v.sky.empty()); // a constant sky needs no map
   EXPECT_EQ(info.triangles, 32);
   EXPECT_EQ(info.bvh_nodes, int(v.trace_nodes.size()));
   ASSERT_EQ(v.ray_directions.size(), 140u);

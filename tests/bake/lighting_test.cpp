@@ -544,9 +544,7 @@ TEST(Lighting, RejectsBadSettings) {
   s = {};
   s.tolerance = 0.0f;
   EXPECT_THROW(lighting::check_lighting_settings(s), Error);
-  s = {};
-  s.sky_radiance = glm::vec3(-1.0f);
-  EXPECT_THROW(lighting::check_lighting_settings(s), Error);
+  EXPECT_THROW(sky::constant_sky(glm::vec3(-1.0f)), Error);
 }
 
 } // namespace

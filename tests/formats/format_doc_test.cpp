@@ -13,6 +13,7 @@
 #include "probebake/formats/cells.h"
 #include "probebake/formats/container.h"
 #include "probebake/formats/format_version.h"
+#include "probebake/sky_map.h"
 #include "probebake/formats/probes_file.h"
 #include "probebake/formats/validate.h"
 #include "sample_volumes.h"
@@ -122,6 +123,10 @@ const std::map<std::string, Layout>& code_layouts() {
          FIELD(gpu::GridLatticeHeader, spacing), FIELD(gpu::GridLatticeHeader, pad0)},
         sizeof(gpu::GridLatticeHeader)}},
       {"GridPoint", {{FIELD(gpu::GridPoint, probe_cells), FIELD(gpu::GridPoint, reach)}, sizeof(gpu::GridPoint)}},
+      {"SkyHeader",
+       {{FIELD(gpu::SkyHeader, width), FIELD(gpu::SkyHeader, height), FIELD(gpu::SkyHeader, kind),
+         FIELD(gpu::SkyHeader, turbidity), FIELD(gpu::SkyHeader, sun_direction), FIELD(gpu::SkyHeader, sun_light)},
+        sizeof(gpu::SkyHeader)}},
       {"TraceVertex",
        {{FIELD(gpu::TraceVertex, x), FIELD(gpu::TraceVertex, y), FIELD(gpu::TraceVertex, z)},
         sizeof(gpu::TraceVertex)}},
@@ -236,7 +241,8 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
                                                             {"cell_tracing", sizeof(CellTracing)},
                                                             {"cell_checksums", 8},
                                                             {"cell_global_checksums", 8},
-                                                            {"grid_lattice", 4}};
+                                                            {"grid_lattice", 4},
+                                                            {"sky", 4}};
   const std::vector<Row> rows = doc_tables()["layout: section_types"];
   ASSERT_EQ(rows.size(), kSectionTypeCount);
   // Between them the four samples hold every section type.
@@ -253,6 +259,9 @@ TEST(FormatDoc, SectionTypesMatchTheWriter) {
   const std::vector<std::uint8_t> cell_bytes = write_probes(with_cell_tracing);
   const ContainerView cell_view = parse_container(cell_bytes, "cell_tracing");
   entries.insert(entries.end(), cell_view.sections.begin(), cell_view.sections.end());
+  const std::vector<std::uint8_t> sky_bytes = write_probes(testing::make_sample(testing::Sample::sky));
+  const ContainerView sky_view = parse_container(sky_bytes, "sky");
+  entries.insert(entries.end(), sky_view.sections.begin(), sky_view.sections.end());
   const std::vector<std::uint8_t> lattice_bytes = write_probes(testing::make_sample(testing::Sample::grid_lattice));
   const ContainerView lattice_view = parse_container(lattice_bytes, "grid_lattice");
   entries.insert(entries.end(), lattice_view.sections.begin(), lattice_view.sections.end());

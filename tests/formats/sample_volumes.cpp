@@ -14,6 +14,7 @@
 
 #include "probebake/formats/cells.h"
 #include "probebake/formats/grid_lattice.h"
+#include "probebake/formats/sky_section.h"
 #include "probebake/formats/octree.h"
 #include "probebake/formats/trace_mesh.h"
 
@@ -341,6 +342,20 @@ void split_tracing_by_cell(ProbeVolume& v) {
   v.cell_depth = 1;
 }
 
+// A 4 x 2 physical sky (texel k: radiance k, k + 0.5, 2k) whose sun is not among the lights.
+void add_sample_sky(ProbeVolume& v) {
+  gpu::SkyHeader header{};
+  header.width = 4;
+  header.height = 2;
+  header.kind = gpu::SKY_KIND_PHYSICAL;
+  header.turbidity = 2.5f;
+  header.sun_direction = glm::vec3(0.0f, 1.0f, 0.0f);
+  header.sun_light = -1;
+  std::vector<glm::vec3> texels;
+  for (int k = 0; k < 8; ++k) texels.emplace_back(float(k), float(k) + 0.5f, 2.0f * float(k));
+  v.sky = sky_section_words(header, texels);
+}
+
 } // namespace
 
 ProbeVolume make_sample(Sample sample) {
@@ -348,11 +363,13 @@ ProbeVolume make_sample(Sample sample) {
   ProbeVolume volume = grid ? make_grid_sample() : make_octree_sample(sample == Sample::small);
   if (sample == Sample::grid_lattice) add_grid_lattice(volume);
   const bool compact = sample == Sample::compact || sample == Sample::cells;
-  const bool lit = sample == Sample::lighting || sample == Sample::double_sided || sample == Sample::dynamic || compact;
+  const bool lit = sample == Sample::lighting || sample == Sample::sky || sample == Sample::double_sided ||
+                   sample == Sample::dynamic || compact;
   if (lit) add_sample_lighting(volume);
   if (sample == Sample::double_sided || compact) mark_double_sided(volume);
   if (sample == Sample::dynamic || compact) add_sample_object(volume);
   if (sample == Sample::cells) split_tracing_by_cell(volume);
+  if (sample == Sample::sky) add_sample_sky(volume);
   sync_info_counts(volume);
   if (sample == Sample::compact) upgrade_tracing(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
@@ -378,6 +395,7 @@ constexpr SampleNames kSampleNames[] = {
     {Sample::compact, "compact", "v1_4_compact.probes"},
     {Sample::cells, "cells", "v1_7_cells.probes"},
     {Sample::grid_lattice, "grid_lattice", "v1_8_grid_lattice.probes"},
+    {Sample::sky, "sky", "v1_9_sky.probes"},
 };
 static_assert(std::size(kSampleNames) == std::size(kAllSamples), "a name for every sample");
 

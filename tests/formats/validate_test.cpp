@@ -2,6 +2,7 @@
 // exactly that invariant as the first violation. Sample layout (see sample_volumes.cpp): root cluster 1
 // (nodes 2..9); node 2 -> cluster 10 (11..18), node 9 -> cluster 19 (20..27), node 7 -> cluster 37
 // (38..45); cluster 28 is free; leaves 3, 12, 25, 43 hold no probe; SVO node 1+7 = 8 has children 17..24.
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -206,6 +207,11 @@ const std::vector<Corruption>& corruptions() {
       {"grid_lattice", Sample::small, // a lattice in an octree volume
        [](ProbeVolume& v) { v.grid_lattice = testing::make_sample(Sample::grid_lattice).grid_lattice; }},
       {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice.pop_back(); }},
+      {"sky", Sample::small, [](ProbeVolume& v) { v.sky = testing::make_sample(Sample::sky).sky; }}, // no lighting
+      {"sky", Sample::sky, [](ProbeVolume& v) { v.sky.pop_back(); }},
+      {"sky", Sample::sky, [](ProbeVolume& v) { v.sky[10] = 0xFF800000u; }},                        // a texel of -inf
+      {"sky", Sample::sky, [](ProbeVolume& v) { v.sky[3] = std::bit_cast<std::uint32_t>(20.0f); }}, // turbidity
+      {"sky", Sample::sky, [](ProbeVolume& v) { v.sky[7] = 0; }}, // sun light 0 is a point light
       // Words 8, 9: point 0's probe and cells, and its reach; 10, 11: point 1's.
       {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[10] = v.grid_lattice[8]; }},
       {"grid_lattice", Sample::grid_lattice, [](ProbeVolume& v) { v.grid_lattice[8] |= 1u << 24; }},

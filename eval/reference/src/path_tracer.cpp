@@ -35,7 +35,11 @@ PathEstimate irradiance_path(const PathContext& c, const SamplePoint& point, Pcg
     const float cos_x = glm::dot(n, w);
     if (cos_x <= 0.0f) break;
     const auto hit = c.rays->intersect(x + c.epsilon * n, w);
-    if (!hit || hit->inside()) break; // nothing, or the back of a single-sided surface (inside a solid): no light
+    if (!hit) { // the sky: light the probes carry, so never `direct` (docs/LIGHTING.md "The sky")
+      result += beta * (kPi * scene.sky.radiance(w));
+      break;
+    }
+    if (hit->inside()) break; // the back of a single-sided surface (inside a solid): no light
     // Either side of a double-sided surface reflects and emits like a front side, about its facing normal.
     const glm::vec3 facing = hit->facing_normal();
     const glm::vec3 y = triangle_point(scene, hit->triangle, hit->u, hit->v);

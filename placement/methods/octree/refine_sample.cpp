@@ -35,7 +35,7 @@ CandidateSampler::CandidateSampler(const PlacementInput& in, bool estimate)
   const scene::Scene& scene = in.rays->scene();
   const auto positive = [](glm::vec3 v) { return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f; };
   estimate_ = estimate;
-  lit_ = !scene.lights.empty() || positive(lighting_.sky_radiance) ||
+  lit_ = !scene.lights.empty() || scene.sky.emits() ||
          std::any_of(scene.triangle_emission.begin(), scene.triangle_emission.end(), positive);
 }
 
@@ -55,7 +55,7 @@ CandidateSample CandidateSampler::sample(glm::vec3 position, const Cube& cube) c
   const float weight = 4.0f * kPi / float(light_directions_.size());
   for (const glm::vec3& d : light_directions_) {
     const auto hit = in_.rays->intersect(position, d);
-    glm::vec3 radiance = lighting_.sky_radiance;
+    glm::vec3 radiance = scene.sky.radiance(d);
     if (hit && hit->inside())
       radiance = glm::vec3(0.0f);
     else if (hit) {

@@ -95,8 +95,10 @@ enum class SectionType : std::uint32_t {
   cell_global_checksums = 25, // uint64 x 6 (cells.h kCellSplitSections)
   // The grid placement's lattice (1.8), optional: a reader without it looks grid probes up through the SVO.
   grid_lattice = 26, // uint32 x (GRID_LATTICE_HEADER_WORDS + GRID_POINT_WORDS * resolution^3), gpu_types.h
+  // The sky's radiance map (1.9), optional: without it rays that leave the scene see LightingInfo::sky_radiance.
+  sky = 27, // uint32 x (SKY_HEADER_WORDS + 3 x width x height), sky_map.h
 };
-inline constexpr std::uint32_t kSectionTypeCount = 26;
+inline constexpr std::uint32_t kSectionTypeCount = 27;
 
 inline constexpr bool is_known_section_type(std::uint32_t type) { return type >= 1 && type <= kSectionTypeCount; }
 
@@ -112,6 +114,7 @@ inline constexpr bool is_cell_index_section(SectionType type) {
 // unknown types need none. The writer and the validator's format_version both use it.
 inline constexpr std::uint16_t minor_version_for_section(std::uint32_t type) {
   if (!is_known_section_type(type)) return 0;
+  if (type == static_cast<std::uint32_t>(SectionType::sky)) return kSkyMinor;
   if (type == static_cast<std::uint32_t>(SectionType::grid_lattice)) return kGridLatticeMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_global_checksums)) return kCellGlobalChecksumsMinor;
   if (type == static_cast<std::uint32_t>(SectionType::cell_checksums)) return kCellChecksumsMinor;

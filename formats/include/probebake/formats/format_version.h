@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 8;
+inline constexpr std::uint16_t kFormatVersionMinor = 9;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -35,4 +35,7 @@ inline constexpr std::uint16_t kCellGlobalChecksumsMinor = 7;
 // 1.8 added the optional grid_lattice section: a grid bake's lattice (origin, spacing, the probe at each
 // point and the cells it serves), so that a lookup finds a grid cell's eight probes by arithmetic.
 inline constexpr std::uint16_t kGridLatticeMinor = 8;
+// 1.9 added the optional sky section: the radiance map of the rays that leave the scene (an environment or the
+// physical sky with its sun), which LightingInfo::sky_radiance scales.
+inline constexpr std::uint16_t kSkyMinor = 9;
 } // namespace probebake::formats

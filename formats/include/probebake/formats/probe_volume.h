@@ -97,6 +97,10 @@ struct ProbeVolume {
   // The grid placement's lattice (format 1.8, gpu_types.h GridLatticeHeader): header words, then one point
   // word per lattice point; empty for other placements and for grids baked before 1.8.
   std::vector<std::uint32_t> grid_lattice;
+
+  // The sky's radiance map (format 1.9, sky_section.h): header words, then RGB floats per texel; empty for a
+  // constant sky (LightingInfo::sky_radiance alone).
+  std::vector<std::uint32_t> sky;
 };
 
 // The three largest sections (trace_nodes, trace_faces, trace_vertices), by file index, as the validator and the

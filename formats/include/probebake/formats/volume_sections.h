@@ -40,7 +40,8 @@ void for_each_section(Volume& v, F&& f) {
   f(SectionType::cell_checksums, v.cell_checksums);
   f(SectionType::cell_global_checksums, v.cell_global_checksums);
   f(SectionType::grid_lattice, v.grid_lattice);
-  static_assert(kSectionTypeCount == 26, "a new section type: add it above");
+  f(SectionType::sky, v.sky);
+  static_assert(kSectionTypeCount == 27, "a new section type: add it above");
 }
 
 } // namespace probebake::formats

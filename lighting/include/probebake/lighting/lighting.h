@@ -7,7 +7,7 @@
 //
 // Each live probe traces `rays` Fibonacci directions over the full sphere to the nearest hit. Radiance
 // leaving a hit towards the probe: back face of a single-sided surface 0 (inside geometry); miss
-// sky_radiance; front face, or either face of a double-sided (glTF doubleSided) surface with the normal
+// the scene's sky (scene.sky, docs/LIGHTING.md "The sky"); front face, or either face of a double-sided (glTF doubleSided) surface with the normal
 // facing the ray,
 //   L = L_e + albedo / pi * (E_direct + E_indirect),
 // E_direct = direct_irradiance() (punctual lights with a shadow ray; with emissive_as_lights also the
@@ -31,12 +31,11 @@
 namespace probebake::lighting {
 
 struct LightingSettings {
-  bool enabled = true;          // the bake runs bake_lighting (false: probes keep zero irradiance)
-  int rays = 256;               // Fibonacci rays per probe over the full sphere, 1..65536
-  float tolerance = 1e-4f;      // stop when the estimated relative error of every probe's DC term is below
-  int max_iterations = 5000;    // at least 1
-  bool accelerate = true;       // geometric-series extrapolation once the contraction rate is steady
-  glm::vec3 sky_radiance{0.0f}; // radiance of rays that leave the scene, >= 0
+  bool enabled = true;       // the bake runs bake_lighting (false: probes keep zero irradiance)
+  int rays = 256;            // Fibonacci rays per probe over the full sphere, 1..65536
+  float tolerance = 1e-4f;   // stop when the estimated relative error of every probe's DC term is below
+  int max_iterations = 5000; // at least 1
+  bool accelerate = true;    // geometric-series extrapolation once the contraction rate is steady
   // Emissive triangles as area lights: direct_irradiance() adds their light (exact unoccluded irradiance
   // of fixed sub-triangles, one shadow ray each) and probes leave out the emission their rays see, so
   // that it is counted once. false: probes carry the emitters' light like any other surface's.

@@ -99,6 +99,14 @@ struct CavityOptions {
 };
 SceneBuilder cavity(const CavityOptions& options = {});
 
+// Outdoor (issue #43, scene_outdoor.cpp): a 40 m ground square around a courtyard closed on three sides by
+// blocks 6-12 m high (x, z in -10..10), with a 4 x 2.5 x 4 m house (double-sided shell, two 0.5 m windows in
+// its +X wall) at (-3, 0, 5). No lights: a sky (`probebake --sky physical --sun ELEVATION,AZIMUTH`) lights it.
+struct CourtyardOptions {
+  float ground_albedo = 0.3f;
+};
+SceneBuilder courtyard(const CourtyardOptions& options = {});
+
 // One white triangle (0,0,0), (1,0,0), (0,0,-1) facing +Y, lit by a 10 cd point light 1 m above.
 SceneBuilder triangle();
 

@@ -12,12 +12,15 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+
+#include "probebake/sky/sky.h"
 
 namespace probebake::scene {
 
@@ -91,6 +94,8 @@ struct Scene {
   std::vector<glm::vec3> triangle_emission;     // emitted radiance, texture averaged
   std::vector<Material> materials;              // always at least one (the glTF default material last)
   std::vector<Light> lights;
+  sky::Sky sky;                     // what rays that leave the scene see (set_sky); black unless a command sets one
+  int sun_light = -1;               // the physical sky's sun in `lights` (set_sky), else -1
   std::vector<SceneCamera> cameras; // perspective cameras, scene order (orthographic ones skipped)
   std::vector<Instance> instances;
   std::vector<DynamicObject> dynamic_objects; // in the order the node walk meets them
@@ -118,7 +123,15 @@ struct LoadOptions {
   // Nodes that move at run time besides those whose extras say so (`--dynamic NAME`): every node with one
   // of these names; a name no node has is an error.
   std::vector<std::string> dynamic_nodes = {};
+  // The sky (glTF has no ratified one): set with set_sky after the scene's own lights, so a physical sky's sun
+  // comes last. Unset: black.
+  std::optional<sky::Sky> sky = {};
 };
+
+// The scene's sky. A physical sky brings its sun: a directional light named "probebake sun" (colour and
+// intensity sky::sun_irradiance, travelling away from the sun direction) appended to `lights` (a sun of an
+// earlier set_sky is replaced), its index in sun_light.
+void set_sky(Scene& scene, sky::Sky sky);
 
 // Loads .gltf (external files or data URIs) or .glb. Throws probebake::Error (ErrorKind::input) with a
 // one-line "<file>: <place>: <reason>" message on any malformed, truncated, unsupported or unsafe input

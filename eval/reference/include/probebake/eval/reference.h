@@ -5,7 +5,8 @@
 // (albedo / pi); single-sided surfaces reflect and emit from their front only (the back is black, inside a
 // solid), glTF doubleSided ones from both sides with the normal facing the ray; glTF punctual intensities taken as radiometric
 // (point/spot: I in W/sr, E = I cos / r^2 with the KHR_lights_punctual range window and spot cone
-// falloff; directional: W/m^2). Estimator: cosine-weighted hemisphere sampling, next-event estimation on
+// falloff; directional: W/m^2); the scene's sky on paths that leave the scene (scene.sky, indirect light like
+// the bounces: probes carry it). Estimator: cosine-weighted hemisphere sampling, next-event estimation on
 // punctual lights and on emissive triangles (power-proportional area sampling) combined with BSDF hits
 // by multiple importance sampling (power heuristic), Russian roulette after a few bounces (unbiased).
 //

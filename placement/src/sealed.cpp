@@ -76,7 +76,9 @@ std::optional<scene::Scene> without_sealed(const scene::Scene& scene, const std:
   scene::Scene out;
   out.positions = scene.positions;
   out.materials = scene.materials;
-  out.lights = scene.lights;
+  out.lights = scene.lights; // what lights it: its lights and its sky
+  out.sky = scene.sky;
+  out.sun_light = scene.sun_light;
   out.bounds = scene.bounds; // the root cube and the clearance stay those of the whole scene
   for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
     if (sealed[t] != 0) continue;

@@ -34,6 +34,17 @@ void cap_address_space(std::uint64_t budget) {
 #endif
 }
 
+// The number at the start of `text` and its length in `used` (0: none).
+double leading_number(const std::string& text, std::size_t& used) {
+  used = 0;
+  try {
+    return std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+    return 0.0;
+  }
+}
+
 // "R,G,B" or one value for all three.
 glm::vec3 parse_colour(const std::string& text) {
   std::vector<float> values;
@@ -42,15 +53,10 @@ glm::vec3 parse_colour(const std::string& text) {
     const std::size_t comma = std::min(text.find(',', at), text.size());
     const std::string part = text.substr(at, comma - at);
     std::size_t used = 0;
-    float v = 0.0f;
-    try {
-      v = std::stof(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
+    const double v = leading_number(part, used);
     if (used == 0 || used != part.size())
       throw Error(ErrorKind::usage, "--sky: '" + text + "' is not R,G,B, one value, a .exr file or 'physical'");
-    values.push_back(v);
+    values.push_back(float(v));
     at = comma + 1;
   }
   if (values.size() == 1) return glm::vec3(values[0]);
@@ -63,12 +69,7 @@ glm::vec3 parse_colour(const std::string& text) {
 
 std::uint64_t parse_byte_size(const std::string& text) {
   std::size_t used = 0;
-  double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
+  const double value = leading_number(text, used);
   const std::string suffix = text.substr(used);
   double scale = 1.0;
   if (suffix == "K" || suffix == "KiB")

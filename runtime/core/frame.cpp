@@ -28,6 +28,10 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
     if (passes.light) passes.light->relight(passes.light_inputs->changes(), passes.light_inputs->first_change());
   }
 
+  // 0a'. The host's sky (FrameInputs::sky): when it changed, light_sky relights the rays that left the scene.
+  if (inputs.sky && passes.sky_inputs && passes.volume && passes.sky_inputs->record(cmd, *passes.volume, *inputs.sky))
+    if (passes.light) passes.light->sky_changed();
+
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the
   //     leaves under each moved object's old and new world boxes; without it, L1 re-traces the probes whose
   //     rays cross those boxes (light_mark_moved).

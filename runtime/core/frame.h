@@ -14,6 +14,7 @@
 #include "core/gpu_volume.h"
 #include "light_update/light_inputs.h"
 #include "light_update/light_update_pass.h"
+#include "light_update/sky_inputs.h"
 #include "memory_update/memory_update_pass.h"
 #include "objects/object_poses.h"
 #include "probe_codes/probe_code_pass.h"
@@ -43,6 +44,7 @@ struct FramePasses {
   ObjectPoses* objects = nullptr;     // volumes with dynamic objects: the host's poses
   CellStreaming* streaming = nullptr; // with `light`, UploadOptions::streaming: the cells around the camera
   ProbeCodePass* codes = nullptr;     // UploadOptions::probe_code l1 or l2: the lookups' compact probes
+  SkyInputs* sky_inputs = nullptr;    // with `light`: the host's sky, uploaded into `volume`
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.

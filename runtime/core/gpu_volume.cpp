@@ -57,6 +57,11 @@ bool is_streamed_section(Section section) {
          section == Section::trace_vertices;
 }
 
+// The sky section rides in the lighting_info buffer after LightingInfo (volume_bindings.glsl): bytes of the
+// lighting_info buffer beyond its record, at least 16 zero bytes so that sky.glsl reads a width of 0 without one.
+constexpr std::size_t kSkyOffset = sizeof(gpu::LightingInfo);
+std::size_t sky_tail_bytes(std::size_t sky_bytes) { return std::max<std::size_t>(sky_bytes, 16); }
+
 } // namespace
 
 GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::size_t light_headroom,
@@ -86,16 +91,24 @@ GpuVolume::GpuVolume(Device& device, const formats::ProbeVolume& volume, std::si
                                                    MemoryUse::upload, "upload staging");
   Submission submission(device);
   std::size_t offset = 0;
+  const SectionBytes<const std::byte>& sky = sections[static_cast<std::size_t>(Section::sky)];
   for (std::size_t i = 0; i < kSectionCount; ++i) {
-    const std::size_t capacity_bytes = capacity_[i] * sections[i].element_size;
+    if (Section(i) == Section::sky) continue; // in lighting_info's buffer
+    const bool carries_sky = Section(i) == Section::lighting_info && sections[i].elements == 1;
+    const std::size_t capacity_bytes =
+        capacity_[i] * sections[i].element_size + (carries_sky ? sky_tail_bytes(sky.bytes()) : 0);
     if (capacity_bytes == 0) continue;
     buffers_[i] =
         device.allocator->create_buffer(capacity_bytes, kSectionUsage, MemoryUse::device, name_of(Section(i)));
-    const std::size_t bytes = sections[i].bytes();
+    std::size_t bytes = sections[i].bytes();
+    if (carries_sky && sky.bytes() > 0) {
+      std::memcpy(static_cast<std::byte*>(staging.mapped()) + offset + kSkyOffset, sky.data, sky.bytes());
+      bytes += sky.bytes();
+    }
     // Headroom records stay zero (a zero intensity lights nothing) until the host fills them.
     if (capacity_bytes > bytes) vkCmdFillBuffer(submission.cmd(), buffers_[i].get(), bytes, capacity_bytes - bytes, 0);
     if (bytes == 0) continue;
-    std::memcpy(static_cast<std::byte*>(staging.mapped()) + offset, sections[i].data, bytes);
+    std::memcpy(static_cast<std::byte*>(staging.mapped()) + offset, sections[i].data, sections[i].bytes());
     const VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(submission.cmd(), staging.get(), buffers_[i].get(), 1, &region);
     offset += bytes;
@@ -149,8 +162,10 @@ formats::ProbeVolume GpuVolume::read_back(const formats::ProbeVolume& cpu_parts)
   std::size_t offset = 0;
   for (std::size_t i = 0; i < kSectionCount; ++i) {
     if (sections[i].bytes() == 0) continue;
-    const VkBufferCopy region{0, offset, sections[i].bytes()};
-    vkCmdCopyBuffer(submission.cmd(), buffers_[i].get(), staging.get(), 1, &region);
+    const bool sky = Section(i) == Section::sky;
+    const VkBufferCopy region{sky ? kSkyOffset : 0, offset, sections[i].bytes()};
+    vkCmdCopyBuffer(submission.cmd(), sky ? buffer(Section::lighting_info).get() : buffers_[i].get(), staging.get(), 1,
+                    &region);
     offset += sections[i].bytes();
   }
   barrier(submission.cmd(), kTransferWrite, kHostRead);

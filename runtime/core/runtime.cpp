@@ -125,6 +125,13 @@ Status check_inputs_for(const detail::VolumeState& state, const FrameInputs& inp
     if (const Status lights = detail::check_lights(*inputs.lights, state.light_inputs->capacity()); !lights.ok())
       return lights;
   }
+  if (inputs.sky) {
+    if (!state.sky_inputs)
+      return Status{StatusCode::invalid_argument,
+                    "run_frame: a sky needs the light update (UploadOptions::light_update, a volume with the runtime "
+                    "lighting sections)"};
+    if (const Status sky = state.sky_inputs->check(*inputs.sky); !sky.ok()) return sky;
+  }
   if (!inputs.object_poses.empty()) {
     if (!state.light)
       return Status{StatusCode::invalid_argument,
@@ -337,6 +344,10 @@ std::span<const gpu::PunctualLight> Volume::lights() const {
 
 int Volume::light_capacity() const {
   return state_->light_inputs ? static_cast<int>(state_->light_inputs->capacity()) : 0;
+}
+
+std::optional<gpu::SkyHeader> Volume::sky() const {
+  return state_->sky_inputs ? state_->sky_inputs->header() : std::nullopt;
 }
 
 std::span<const gpu::DynamicObject> Volume::dynamic_objects() const { return state_->cpu_parts.dynamic_objects; }

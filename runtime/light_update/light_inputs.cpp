@@ -49,15 +49,14 @@ gpu::PunctualLight canonical(gpu::PunctualLight l) {
 
 bool same_bytes(const gpu::PunctualLight& a, const gpu::PunctualLight& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// vkCmdUpdateBuffer takes at most 65536 bytes per call.
+} // namespace
+
 void update_buffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, const void* data, std::size_t bytes) {
   constexpr std::size_t kPiece = 65536;
   for (std::size_t done = 0; done < bytes; done += kPiece)
     vkCmdUpdateBuffer(cmd, buffer, offset + done, std::min(kPiece, bytes - done),
                       static_cast<const std::byte*>(data) + done);
 }
-
-} // namespace
 
 Status check_lights(std::span<const gpu::PunctualLight> lights, std::size_t capacity) {
   if (lights.size() > capacity)

@@ -23,6 +23,7 @@
 #include "probebake/dispatch.glsl"
 #include "probebake/direct_light.glsl"
 #include "probebake/octree.glsl"
+#include "probebake/sky.glsl"
 
 layout(local_size_x = LIGHT_WORKGROUP_SIZE) in;
 
@@ -46,13 +47,14 @@ void measure_hit_fraction(int probe) {
   atomicAdd(backface_hits, backface);
 }
 
-// The ray's hit as a record without its light (base holds the emission), counted once (lane 0).
+// The ray's hit as a record without its light (base holds the emission), counted once (lane 0). A miss keeps
+// the ray's direction in `normal`, so that light_sky relights it when the host changes the sky.
 LightRecord trace_hit(vec3 origin, vec3 dir, bool count) {
-  LightRecord rec = LightRecord(vec3(0.0), LIGHT_RECORD_MISS, vec3(0.0), 0.0, probebake_lighting.sky_radiance, 0.0,
-                                vec3(0.0), 0.0);
+  LightRecord rec = LightRecord(vec3(0.0), LIGHT_RECORD_MISS, dir, 0.0, vec3(0.0), 0.0, vec3(0.0), 0.0);
   const ProbebakeHit hit = probebake_trace_scene(origin, dir, 0.0, 3.4e38, false);
   if (hit.triangle < 0) {
     if (count) atomicAdd(miss_count, 1u);
+    rec.base = probebake_sky_radiance(dir);
     return rec;
   }
   const int tri = hit.triangle;

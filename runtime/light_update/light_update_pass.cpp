@@ -197,11 +197,29 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.kernel(Kernel::light_relight));
     dispatch_groups(cmd, device_, push.slot_count);
+    record_sky(cmd, push);
+    timer.end(cmd, slot);
+    barrier(cmd, kComputeWrite, kComputeReadWrite);
+  } else if (sky_changed_) {
+    Pipelines& pipelines = device_.compute_pipelines();
+    bind_sets_and_push(cmd, pipelines.layout(Layout::light), volume_set_, descriptors_.set, window);
+    timer.begin(cmd, slot);
+    record_sky(cmd, window);
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
   }
   changes_.count = 0;
   relight_everything_ = false;
+}
+
+// The sky changed: every miss record of every slot with records takes the new sky (light_sky), in the relight's
+// timer slot, the push constants already bound.
+void LightUpdatePass::record_sky(VkCommandBuffer cmd, const gpu::LightPush& push) {
+  sky_relit_ = sky_changed_ && push.trace_mode != gpu::LIGHT_TRACE_EVERY; // a full trace reads the new sky itself
+  sky_changed_ = false;
+  if (!sky_relit_) return;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(Kernel::light_sky));
+  dispatch_groups(cmd, device_, probe_capacity_);
 }
 
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots,

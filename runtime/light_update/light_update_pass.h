@@ -69,8 +69,10 @@ public:
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits);
   // Probe slots the load trace has not reached yet (none once it ended).
   std::uint32_t untraced_slots() const { return probe_capacity_ - untraced_from_; }
-  // Whether the last record() updated cached punctual irradiance (light_relight).
-  bool relit() const { return relit_; }
+  // Whether the last record() updated cached punctual irradiance (light_relight) or the sky's records (light_sky).
+  bool relit() const { return relit_ || sky_relit_; }
+  // The host changed the sky (SkyInputs uploaded it): the next record() relights every miss record (light_sky).
+  void sky_changed() { sky_changed_ = true; }
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   // Objects moved through `boxes` (each the union of an object's old and new box; more than
@@ -117,6 +119,7 @@ private:
   // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
+  void record_sky(VkCommandBuffer cmd, const gpu::LightPush& push);
   // The pending moved boxes and their (box, light) shadow pairs into RelightChanges (shadow_pairs_fit_);
   // light_mark_moved flags the probes whose rays cross them.
   void upload_moved_boxes(VkCommandBuffer cmd);
@@ -144,6 +147,7 @@ private:
   std::uint32_t retry_window_ = 0; // list places per frame
   std::uint32_t retry_left_ = 0;   // list places still to retry since cells last arrived
   bool relight_everything_ = false;
+  bool sky_changed_ = false, sky_relit_ = false;
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0;               // first slot of the next frame's gather window
   std::uint32_t frames_recorded_ = 0;             // the light sampling's seed: the same frames, the same draws

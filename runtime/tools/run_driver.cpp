@@ -26,6 +26,7 @@
 #include "probebake/runtime/runtime.h"
 #include "probebake/streaming/camera_path.h"
 #include "run_report.h"
+#include "run_day_cycle.h"
 #include "run_samples.h"
 
 namespace probebake::run {
@@ -121,6 +122,7 @@ runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volu
       if (options.orbit_light->light == LightOrbit::kEveryLight || std::size_t(options.orbit_light->light) == l)
         (*in.lights)[l] = orbit_pose(baked_lights[l], *options.orbit_light, frame);
   }
+  if (options.day_cycle) add_day_cycle(in, volume, *options.day_cycle, frame);
   if (!options.depth_cycle || frame % options.depth_cycle->period != 0) return in;
   const bool high = (frame / options.depth_cycle->period) % 2 == 0;
   in.max_depth = high ? options.depth_cycle->high : options.depth_cycle->low;
@@ -220,6 +222,12 @@ int run_volume(const RunOptions& options) {
              std::to_string(baked_lights.size()) + " punctual light(s)" +
              (volume->light_capacity() == 0 && options.light_update ? " (no runtime lighting sections)" : "")});
 
+  if (options.day_cycle) {
+    if (const auto refusal = day_cycle_refusal(volume.value()))
+      return report(options, {runtime::StatusCode::invalid_argument, options.input + ": " + *refusal});
+    std::printf("day cycle: a day in %g s (%g frames), sun from 6:00\n", double(*options.day_cycle),
+                double(*options.day_cycle * kDayFramesPerSecond));
+  }
   if (options.animate && volume->dynamic_objects().empty())
     return report(options, {runtime::StatusCode::invalid_argument,
                             options.input + ": --animate: the file has no dynamic objects to move"});

@@ -77,6 +77,9 @@ constexpr const char* kUsage =
     "circle of\n"
     "                    RADIUS metres through its baked position, one turn every PERIOD frames (a\n"
     "                    directional light turns its direction about Y); light_x/y/z in the CSV\n"
+    "  --day-cycle SECONDS  a volume baked with --sky physical: the sun crosses the sky from 6:00 (east, +X) over\n"
+    "                    60 degrees (towards +Z) to 18:00, one day every SECONDS at 60 frames a second; the\n"
+    "                    sky map and the sun change every frame (docs/RUNTIME.md \"Sky and time of day\")\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure, 5 the device did not\n"
     "finish a frame within 60 s (spread the load trace: --trace-budget or --frame-ms)\n";
 
@@ -193,6 +196,11 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
         return usage_error(
             "--orbit-light needs I:RADIUS:PERIOD (light index >= 0 or all, radius >= 0 metres, period >= 1 frames)");
       options.orbit_light = orbit;
+    } else if (arg == "--day-cycle") {
+      float seconds = 0.0f;
+      if (!has_value || !parse_number(argv[++i], seconds) || !(seconds > 0.0f) || !std::isfinite(seconds))
+        return usage_error("--day-cycle needs SECONDS > 0 (a day's length at 60 frames a second)");
+      options.day_cycle = seconds;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
     } else if (arg == "--memory-update") {

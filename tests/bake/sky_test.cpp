@@ -31,7 +31,8 @@ glm::dvec3 upward_irradiance(const Radiance& radiance) {
   for (int j = 0; j < kTheta; ++j)
     for (int i = 0; i < kPhi; ++i) {
       const double theta = 0.5 * std::numbers::pi * (j + 0.5) / kTheta, phi = 2.0 * std::numbers::pi * (i + 0.5) / kPhi;
-      const glm::vec3 d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)), float(std::sin(theta) * std::sin(phi)));
+      const glm::vec3 d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                        float(std::sin(theta) * std::sin(phi)));
       sum += glm::dvec3(radiance(d)) * std::cos(theta) * std::sin(theta);
     }
   return sum * (0.5 * std::numbers::pi / kTheta) * (2.0 * std::numbers::pi / kPhi);
@@ -78,7 +79,7 @@ TEST(Sky, PhysicalSkyMapKeepsTheAnalyticIntegral) {
     std::printf("[sky] physical sky at %.0f degrees: upward irradiance %.3f %.3f %.3f klux, map %.3f %.3f %.3f\n",
                 double(elevation), exact.x, exact.y, exact.z, mapped.x, mapped.y, mapped.z);
     for (int c = 0; c < 3; ++c) {
-      EXPECT_GT(exact[c], 1.0);                          // daylight: kcd/m^2 over the hemisphere
+      EXPECT_GT(exact[c], 1.0);                     // daylight: kcd/m^2 over the hemisphere
       EXPECT_NEAR(mapped[c] / exact[c], 1.0, 0.01); // 64 x 32 texels (measured within 0.2 %)
     }
     EXPECT_GT(exact.z, exact.x); // the clear sky is blue
@@ -148,11 +149,13 @@ TEST(Sky, EnvironmentIsAveragedDownAndCheckedAsHostileInput) {
   double source = 0, source_weight = 0, mapped = 0, mapped_weight = 0;
   for (int j = 0; j < image.height; ++j) {
     const double w = std::sin(std::numbers::pi * (j + 0.5) / image.height);
-    for (int i = 0; i < image.width; ++i) source += w * image.pixels[std::size_t(j * image.width + i)].y, source_weight += w;
+    for (int i = 0; i < image.width; ++i)
+      source += w * image.pixels[std::size_t(j * image.width + i)].y, source_weight += w;
   }
   for (int j = 0; j < env.map.height; ++j) {
     const double w = std::sin(std::numbers::pi * (j + 0.5) / env.map.height);
-    for (int i = 0; i < env.map.width; ++i) mapped += w * env.map.texels[std::size_t(j * env.map.width + i)].y, mapped_weight += w;
+    for (int i = 0; i < env.map.width; ++i)
+      mapped += w * env.map.texels[std::size_t(j * env.map.width + i)].y, mapped_weight += w;
   }
   EXPECT_NEAR(mapped / mapped_weight, source / source_weight, 0.01 * source / source_weight);
 
@@ -160,15 +163,19 @@ TEST(Sky, EnvironmentIsAveragedDownAndCheckedAsHostileInput) {
   expect_refusal([&] { sky::environment_sky(dir / "square.exr"); }, "twice as wide", "accepted", ErrorKind::input);
   image.pixels[5] = glm::vec3(std::nanf(""), 0.0f, 0.0f);
   bake::write_exr(dir / "nan.exr", image);
-  expect_refusal([&] { sky::environment_sky(dir / "nan.exr"); }, "texel (5, 0) channel R", "accepted", ErrorKind::input);
+  expect_refusal([&] { sky::environment_sky(dir / "nan.exr"); }, "texel (5, 0) channel R", "accepted",
+                 ErrorKind::input);
   expect_refusal([&] { sky::environment_sky(dir / "missing.exr"); }, "missing.exr", "accepted", ErrorKind::input);
   std::filesystem::remove_all(dir);
 }
 
 TEST(Sky, BadSkySettingsAreUsageErrors) {
   expect_refusal([] { sky::constant_sky(glm::vec3(-1.0f)); }, "finite and >= 0", "accepted", ErrorKind::usage);
-  expect_refusal([] { sky::physical_sky({glm::vec3(0.0f, 1.0f, 0.0f), 20.0f}); }, "turbidity", "accepted",
-                 ErrorKind::usage);
+  expect_refusal(
+      [] {
+        sky::physical_sky({glm::vec3(0.0f, 1.0f, 0.0f), 20.0f});
+      },
+      "turbidity", "accepted", ErrorKind::usage);
   expect_refusal([] { sky::physical_sky({glm::vec3(0.0f), 2.5f}); }, "sun direction", "accepted", ErrorKind::usage);
 }
 

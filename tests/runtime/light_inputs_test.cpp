@@ -82,15 +82,6 @@ gpu::PunctualLight add_light_in_dark_room(Baked& b, std::vector<gpu::PunctualLig
   return mirrored;
 }
 
-runtime::Volume upload(runtime::Context& context, const formats::ProbeVolume& volume, int headroom = 0) {
-  auto gpu = runtime::Volume::upload(context, volume, {.hysteresis = 0.0f, .light_headroom = headroom});
-  if (!gpu.ok()) { // every test needs its volume: stop here rather than use a missing one
-    std::fprintf(stderr, "upload failed: %s\n", gpu.status().message.c_str());
-    std::abort();
-  }
-  return std::move(gpu).value();
-}
-
 // Runs `frames` frames, the first with `lights` (if any); returns the last frame's statistics.
 runtime::FrameStats run(runtime::Volume& volume, int frames, const std::vector<gpu::PunctualLight>* lights = nullptr) {
   runtime::FrameStats last;
@@ -105,12 +96,6 @@ runtime::FrameStats run(runtime::Volume& volume, int frames, const std::vector<g
   return last;
 }
 
-formats::ProbeVolume read_back(runtime::Volume& volume) {
-  auto back = volume.read_back();
-  EXPECT_TRUE(back.ok()) << back.status().message;
-  return back.ok() ? std::move(back).value() : formats::ProbeVolume{};
-}
-
 TEST_F(LightInputsTest, MovedLightMatchesTheCpuBakeAtTheNewPose) {
   Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
   ASSERT_EQ(b.volume.punctual_lights.size(), 1u);
@@ -120,7 +105,7 @@ TEST_F(LightInputsTest, MovedLightMatchesTheCpuBakeAtTheNewPose) {
   b.scene->lights[0].position = kCornellLightMoved;
   const formats::ProbeVolume cpu_converged = cpu_lighting(b, b.volume, 0);
 
-  runtime::Volume gpu = upload(context(), b.volume);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume);
   runtime::FrameInputs in;
   in.lights = moved;
   auto first = gpu.run_frame(in);
@@ -203,7 +188,7 @@ TEST_F(LightInputsTest, SeveralLightsMovedAtOnceMatchTheCpuBake) {
       b.scene->lights[std::size_t(l)].position = moved[std::size_t(l)].position;
     }
     const formats::ProbeVolume cpu_converged = cpu_lighting(b, b.volume, 0);
-    runtime::Volume gpu = upload(context(), b.volume);
+    runtime::Volume gpu = upload_sweeping(context(), b.volume);
     run(gpu, 60, &moved);
     const float after60 = max_sh_difference(read_back(gpu), cpu_converged);
     std::printf("[lights] %d of 6 lights moved at once: GPU vs CPU after 60 frames %.2e\n", moved_count,
@@ -220,7 +205,7 @@ TEST_F(LightInputsTest, SampledLightsStayNearTheExactSum) {
   for (int shadow_rays : {2, 3, 6}) {
     formats::ProbeVolume sampled[2];
     for (int run_index = 0; run_index < 2; ++run_index) {
-      runtime::Volume gpu = upload(context(), b.volume);
+      runtime::Volume gpu = upload_sweeping(context(), b.volume);
       run_sampled(gpu, 60, shadow_rays);
       sampled[run_index] = read_back(gpu);
     }
@@ -251,7 +236,7 @@ TEST_F(LightInputsTest, GatherBudgetBoundsTheRelightAndCatchesUpAfterManyLightsM
                            {-0.2f + 0.08f * float(l % 6), 0.25f + 0.08f * float(l / 6), 0.1f});
   Baked b = bake_generated(builder, "cornell-window");
   ASSERT_GT(b.volume.punctual_lights.size(), std::size_t(gpu::RELIGHT_MAX_CHANGES));
-  runtime::Volume budgeted = upload(context(), b.volume), twin = upload(context(), b.volume);
+  runtime::Volume budgeted = upload_sweeping(context(), b.volume), twin = upload_sweeping(context(), b.volume);
   const int capacity = int(b.volume.probes.size()), window = (capacity + 3) / 4, rays = b.settings.lighting.rays;
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
   int most_relit_after_move = 0;
@@ -289,7 +274,7 @@ TEST_F(LightInputsTest, GatherBudgetBoundsTheRelightAndCatchesUpAfterManyLightsM
 }
 
 TEST_F(LightInputsTest, ShadowRayBudgetOutsideItsRangeIsInvalidArgument) {
-  runtime::Volume gpu = upload(context(), baked_leak_octree());
+  runtime::Volume gpu = upload_sweeping(context(), baked_leak_octree());
   for (int bad : {-1, 1, 10}) {
     runtime::FrameInputs in;
     in.limits.shadow_rays_per_record = bad;
@@ -309,7 +294,7 @@ TEST_F(LightInputsTest, RecolouredLightScalesTheProbesExactly) {
   std::vector<gpu::PunctualLight> recoloured = b.volume.punctual_lights;
   recoloured[0].intensity *= scale;
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
-  runtime::Volume plain = upload(context(), start), coloured = upload(context(), start);
+  runtime::Volume plain = upload_sweeping(context(), start), coloured = upload_sweeping(context(), start);
   run(plain, 4);
   run(coloured, 4, &recoloured);
   const formats::ProbeVolume x = read_back(plain), y = read_back(coloured);
@@ -337,7 +322,7 @@ TEST_F(LightInputsTest, RemovingAllLightsLeavesTheEmitterAndAddingBackRestores) 
   const formats::ProbeVolume emitter_only = cpu_lighting(b, b.volume, 0);
   b.scene->lights = scene_lights;
 
-  runtime::Volume gpu = upload(context(), b.volume);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume);
   const std::vector<gpu::PunctualLight> none;
   const runtime::FrameStats dark = run(gpu, 60, &none);
   EXPECT_EQ(dark.light.lights, 0);
@@ -372,7 +357,7 @@ TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
   const formats::ProbeVolume cpu = cpu_lighting(b, start, 3);
 
-  runtime::Volume no_room = upload(context(), start);
+  runtime::Volume no_room = upload_sweeping(context(), start);
   EXPECT_EQ(no_room.light_capacity(), 1);
   runtime::FrameInputs in;
   in.lights = lights;
@@ -382,7 +367,7 @@ TEST_F(LightInputsTest, AddedLightUsesTheHeadroomAndMatchesTheCpu) {
   EXPECT_NE(refused.status().message.find("2 punctual lights exceed the capacity 1"), std::string::npos)
       << refused.status().message;
 
-  runtime::Volume gpu = upload(context(), start, 1);
+  runtime::Volume gpu = upload_sweeping(context(), start, 1);
   EXPECT_EQ(gpu.light_capacity(), 2);
   const runtime::FrameStats last = run(gpu, 3, &lights);
   EXPECT_EQ(last.light.lights, 2);
@@ -415,7 +400,7 @@ TEST_F(LightInputsTest, RangedLightRelightsOnlyRecordsInItsRange) {
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
   const formats::ProbeVolume cpu = cpu_lighting(b, start, 3);
 
-  runtime::Volume gpu = upload(context(), start, 1);
+  runtime::Volume gpu = upload_sweeping(context(), start, 1);
   const runtime::FrameStats first = run(gpu, 1); // traces every record (and caches its punctual irradiance)
   EXPECT_EQ(first.light.relit_records, 0);
   const int front_records = first.light.front_hits;
@@ -427,7 +412,7 @@ TEST_F(LightInputsTest, RangedLightRelightsOnlyRecordsInItsRange) {
   const runtime::FrameStats still = run(gpu, 1);
   EXPECT_EQ(still.light.relit_records, 0);
   // Three frames from zero with the light from the second on: not the CPU's 3 sweeps; start over with it.
-  runtime::Volume fresh = upload(context(), start, 1);
+  runtime::Volume fresh = upload_sweeping(context(), start, 1);
   run(fresh, 3, &lights);
   const float after3 = max_sh_difference(read_back(fresh), cpu);
 
@@ -456,7 +441,7 @@ TEST_F(LightInputsTest, RangedLightRelightsOnlyRecordsInItsRange) {
 TEST_F(LightInputsTest, UnboundedLightChangeRelightsEveryFrontRecord) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
   const int extra = int(gpu::RELIGHT_MAX_CHANGES) + 4;
-  runtime::Volume gpu = upload(context(), b.volume, extra);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume, extra);
   const runtime::FrameStats first = run(gpu, 1);
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
   lights[0].position.x += 0.05f;
@@ -475,7 +460,7 @@ TEST_F(LightInputsTest, UnboundedLightChangeRelightsEveryFrontRecord) {
 // of a volume whose light never moved: rounding does not pile up.
 TEST_F(LightInputsTest, OrbitingLightLeavesNoDriftInTheCache) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
-  runtime::Volume orbiting = upload(context(), b.volume), still = upload(context(), b.volume);
+  runtime::Volume orbiting = upload_sweeping(context(), b.volume), still = upload_sweeping(context(), b.volume);
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
   const glm::vec3 centre = lights[0].position;
   int reused = 0, relit = 0;
@@ -583,7 +568,7 @@ TEST_F(LightInputsTest, GatherBudgetReachesTheSameConvergedIrradiance) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
   const formats::ProbeVolume start = with_zero_irradiance(b.volume);
   const formats::ProbeVolume cpu = cpu_lighting(b, start, 0);
-  runtime::Volume gpu = upload(context(), start);
+  runtime::Volume gpu = upload_sweeping(context(), start);
   const int capacity = int(start.probes.size());
   const int budget = (capacity + 4) / 5; // every probe once in 5 frames
   runtime::FrameInputs in;
@@ -621,7 +606,7 @@ TEST_F(LightInputsTest, PagedLightRecordsGiveTheSameBits) {
   EXPECT_EQ(small.value().device_info().max_storage_buffer_range, options.storage_buffer_range_limit);
   std::vector<gpu::PunctualLight> moved = b.volume.punctual_lights;
   moved[0].position = kCornellLightMoved;
-  runtime::Volume paged = upload(small.value(), b.volume), whole = upload(context(), b.volume);
+  runtime::Volume paged = upload_sweeping(small.value(), b.volume), whole = upload_sweeping(context(), b.volume);
   for (runtime::Volume* v : {&paged, &whole}) {
     run(*v, 2);
     run(*v, 3, &moved);
@@ -646,7 +631,7 @@ TEST_F(LightInputsTest, PagedLightRecordsGiveTheSameBits) {
 
 TEST_F(LightInputsTest, LightChangesAllocateNothing) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
-  runtime::Volume gpu = upload(context(), b.volume, 2);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume, 2);
   run(gpu, 1);
   const runtime::MemoryStats before = context().memory_stats();
   std::vector<gpu::PunctualLight> lights = b.volume.punctual_lights;
@@ -665,7 +650,7 @@ TEST_F(LightInputsTest, LightChangesAllocateNothing) {
 
 TEST_F(LightInputsTest, BadLightsAreInvalidArgument) {
   const Baked b = bake_generated(cornell_with_point_light(), "cornell-bulb");
-  runtime::Volume gpu = upload(context(), b.volume, 1);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume, 1);
   const gpu::PunctualLight good = b.volume.punctual_lights[0];
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN(), kInf = std::numeric_limits<float>::infinity();
   std::vector<gpu::PunctualLight> bad;

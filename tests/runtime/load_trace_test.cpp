@@ -30,21 +30,6 @@ Baked bake_cornell_with_bulb() {
   return bake_generated(scene, "cornell-bulb", settings);
 }
 
-runtime::Volume upload(runtime::Context& context, const formats::ProbeVolume& volume) {
-  auto gpu = runtime::Volume::upload(context, volume, {.hysteresis = 0.0f});
-  if (!gpu.ok()) { // every test needs its volume
-    std::fprintf(stderr, "upload failed: %s\n", gpu.status().message.c_str());
-    std::abort();
-  }
-  return std::move(gpu).value();
-}
-
-formats::ProbeVolume read_back(runtime::Volume& volume) {
-  auto back = volume.read_back();
-  EXPECT_TRUE(back.ok()) << back.status().message;
-  return back.ok() ? std::move(back).value() : formats::ProbeVolume{};
-}
-
 // Live probes among slots [first, last).
 int live_in(const formats::ProbeVolume& volume, std::size_t first, std::size_t last) {
   int live = 0;
@@ -56,7 +41,7 @@ TEST_F(LoadTraceTest, ABudgetTracesEachSlotOnceAndKeepsTheBakeUntilTheWindowArri
   const Baked b = bake_cornell_with_bulb();
   const std::size_t capacity = b.volume.probes.size();
   const std::size_t budget = (capacity + 3) / 4; // every slot in four frames
-  runtime::Volume gpu = upload(context(), b.volume);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume);
   runtime::FrameInputs in;
   in.limits.max_traced_probes = int(budget);
   int traced = 0;
@@ -138,7 +123,7 @@ TEST_F(LoadTraceTest, TheLoadFocusTracesTheNearestProbesFirst) {
 TEST_F(LoadTraceTest, LiftingTheBudgetMidwayTracesTheRestAtOnce) {
   const Baked b = bake_cornell_with_bulb();
   const std::size_t capacity = b.volume.probes.size(), budget = capacity / 3;
-  runtime::Volume gpu = upload(context(), b.volume);
+  runtime::Volume gpu = upload_sweeping(context(), b.volume);
   runtime::FrameInputs in;
   in.limits.max_traced_probes = int(budget);
   auto first = gpu.run_frame(in);
@@ -166,7 +151,7 @@ TEST_F(LoadTraceTest, ALoadSpreadOverFramesConvergesLikeATraceAtOnce) {
   lighting::bake_lighting(*b.scene, *b.rays, cpu, b.settings.lighting);
 
   const int budget = int(start.probes.size() + 4) / 5;
-  runtime::Volume spread = upload(context(), start), at_once = upload(context(), start);
+  runtime::Volume spread = upload_sweeping(context(), start), at_once = upload_sweeping(context(), start);
   constexpr int kFrames = 80;
   for (int f = 0; f < kFrames; ++f) {
     runtime::FrameInputs in;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iterator>
 #include <memory>
@@ -93,16 +94,31 @@ formats::ProbeVolume bake_scene(const samples::SceneBuilder& builder, const std:
   return volume;
 }
 
-Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name,
-                     const bake::BakeSettings& settings) {
+Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings,
+                     std::optional<sky::Sky> sky) {
   Baked b;
   const std::vector<std::uint8_t> glb = builder.to_glb();
   b.scene = std::make_unique<scene::Scene>(scene::load_scene_from_memory(
-      std::vector<unsigned char>(glb.begin(), glb.end()), name, ".", {.require_triangles = true}));
+      std::vector<unsigned char>(glb.begin(), glb.end()), name, ".", {.require_triangles = true, .sky = sky}));
   b.rays = std::make_unique<scene::RayScene>(*b.scene);
   b.settings = settings;
   b.volume = bake::bake(*b.scene, settings).volume;
   return b;
+}
+
+runtime::Volume upload_sweeping(runtime::Context& context, const formats::ProbeVolume& volume, int headroom) {
+  auto gpu = runtime::Volume::upload(context, volume, {.hysteresis = 0.0f, .light_headroom = headroom});
+  if (!gpu.ok()) {
+    std::fprintf(stderr, "upload failed: %s\n", gpu.status().message.c_str());
+    std::abort();
+  }
+  return std::move(gpu).value();
+}
+
+formats::ProbeVolume read_back(runtime::Volume& volume) {
+  auto back = volume.read_back();
+  EXPECT_TRUE(back.ok()) << back.status().message;
+  return back.ok() ? std::move(back).value() : formats::ProbeVolume{};
 }
 
 float brightest_dc(const formats::ProbeVolume& volume) {

@@ -58,12 +58,18 @@ struct Baked {
   bake::BakeSettings settings;
   formats::ProbeVolume volume;
 };
-Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings);
+Baked bake_generated(const samples::SceneBuilder& builder, const std::string& name, const bake::BakeSettings& settings,
+                     std::optional<sky::Sky> sky = std::nullopt);
 
 // The largest |DC term| of any live probe.
 float brightest_dc(const formats::ProbeVolume& volume);
 // Largest |a - b| over every coefficient of every live probe of b, relative to b's brightest DC term.
 float max_sh_difference(const formats::ProbeVolume& a, const formats::ProbeVolume& b);
+// Uploads with hysteresis 0 (each frame one Jacobi sweep, as the CPU's) and `headroom` more lights; aborts when
+// the upload fails (every test needs its volume: stop rather than use a missing one).
+runtime::Volume upload_sweeping(runtime::Context& context, const formats::ProbeVolume& volume, int headroom = 0);
+// Volume::read_back, failing the test (and returning an empty volume) when it fails.
+formats::ProbeVolume read_back(runtime::Volume& volume);
 // The volume with every probe's irradiance zeroed (the start of a light update from nothing).
 formats::ProbeVolume with_zero_irradiance(formats::ProbeVolume volume);
 

@@ -72,7 +72,7 @@ PB_CONSTANT(uint, LIGHT_WORKGROUP_SIZE, 64u);
 // light_relight: one workgroup per probe too, but 256 threads (one record each at 256 rays): its shadow rays
 // are the frame's longest chain, and a few hundred probes do not fill a large GPU (latency, not throughput).
 PB_CONSTANT(uint, RELIGHT_WORKGROUP_SIZE, 256u);
-PB_CONSTANT(int, LIGHT_RECORD_MISS, 0);     // the ray left the scene: sky radiance
+PB_CONSTANT(int, LIGHT_RECORD_MISS, 0);     // the ray left the scene: the sky's radiance in its direction
 PB_CONSTANT(int, LIGHT_RECORD_BACKFACE, 1); // the back of a single-sided triangle (inside geometry): no light
 PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // a front face or a double-sided back: relit every frame
 
@@ -84,9 +84,9 @@ PB_CONSTANT(int, LIGHT_RECORD_FRONT, 2);    // a front face or a double-sided ba
 struct LightRecord {
   vec3 position;    // offset  0: the hit point (front hits)
   int kind;         // offset 12: LIGHT_RECORD_*
-  vec3 normal;      // offset 16: unit normal of the side the ray hit (front records)
+  vec3 normal;      // offset 16: unit normal of the side the ray hit (front records); the ray's direction (miss)
   float punctual_r; // offset 28: E_punctual(position, normal), cached (front hits), else 0
-  vec3 base;        // offset 32: sky radiance (miss); emitted + albedo / pi * emitter irradiance (front hit)
+  vec3 base; // offset 32: the sky's radiance (miss, light_sky); emitted + albedo / pi * emitter irradiance (front hit)
   float punctual_g; // offset 44
   vec3 reflect;     // offset 48: albedo / pi (front hits), else 0
   float punctual_b; // offset 60

@@ -45,7 +45,9 @@ PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_PROBE_INDEX, PROBEBAKE_INDEX_ACCESS) Prob
 PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_SURFEL_BATCHES, PROBEBAKE_TREE_ACCESS) SurfelBatchBuffer { SurfelBatch surfel_batches[]; };
 PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_LEAF_HEADER, PROBEBAKE_TREE_ACCESS) LeafHeaderBuffer { LeafQueueHeader leaf_header; };
 PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_LEAF_ENTRIES, PROBEBAKE_TREE_ACCESS) LeafEntryBuffer { LeafEntry leaf_entries[]; };
-PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_LIGHTING_INFO, readonly) LightingInfoBuffer { LightingInfo probebake_lighting; };
+// The lighting_info binding carries the sky section's words after LightingInfo (no binding of its own: the light
+// layout already uses lavapipe's 32 storage buffers), or four zero words without one (sky.glsl).
+PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_LIGHTING_INFO, readonly) LightingInfoBuffer { LightingInfo probebake_lighting; uint probebake_sky_words[]; };
 PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_RAY_DIRECTIONS, readonly) RayDirectionBuffer { vec4 probebake_ray_directions[]; };
 PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_PUNCTUAL_LIGHTS, readonly) LightBuffer { PunctualLight probebake_lights[]; };
 PROBEBAKE_VOLUME_BUFFER(VOLUME_BINDING_EMITTER_PATCHES, readonly) PatchBuffer { EmitterPatch probebake_emitter_patches[]; };

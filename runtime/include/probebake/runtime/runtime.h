@@ -27,6 +27,8 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan_core.h>
 
+#include "probebake/sky_map.h"
+
 #include "probebake/formats/probe_volume.h"
 #include "probebake/formats/validate.h"
 #include "probebake/runtime/vocabulary.h"
@@ -171,6 +173,9 @@ public:
   // many the volume can hold (the file's count + UploadOptions::light_headroom; 0 without a light update).
   std::span<const gpu::PunctualLight> lights() const;
   int light_capacity() const;
+  // The file's sky section's header (format 1.9: the map's size, the physical sky's turbidity, sun direction and
+  // sun light), nothing for a constant sky or without a light update. FrameInputs::sky changes the sky.
+  std::optional<gpu::SkyHeader> sky() const;
   // The file's dynamic objects (empty for a static scene) and each one's current world_from_object (the
   // identity for an index out of range).
   std::span<const gpu::DynamicObject> dynamic_objects() const;

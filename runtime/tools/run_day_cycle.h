@@ -1,0 +1,28 @@
+// probebake run --day-cycle SECONDS: a volume baked with `--sky physical` through a day, the sky map and the sun
+// changing every frame (FrameInputs::sky and lights; docs/RUNTIME.md "Sky and time of day").
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "probebake/runtime/runtime.h"
+
+namespace probebake::run {
+
+inline constexpr float kDayFramesPerSecond = 60.0f;
+
+// The hour (0-24) of `frame` when a day lasts `day_seconds` at 60 frames a second, starting at 6:00, and the sun's
+// direction then: it rises at 6:00 in the east (+X), culminates at 60 degrees towards +Z at 12:00 and sets at
+// 18:00 in the west (-X); below the horizon at night.
+float day_hour(float day_seconds, int frame);
+glm::vec3 day_sun_direction(float hour);
+
+// Why the volume cannot run a day (no physical sky, no sun light), or nothing.
+std::optional<std::string> day_cycle_refusal(const runtime::Volume& volume);
+// The frame's sky (map and radiance) and the sun in `in.lights` (the current lights, the sun replaced).
+void add_day_cycle(runtime::FrameInputs& in, const runtime::Volume& volume, float day_seconds, int frame);
+
+} // namespace probebake::run

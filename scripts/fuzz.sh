@@ -4,6 +4,7 @@
 # memory-limit breach, and prints the reproducer; copy it to tests/data/fuzz-regressions/<target>/.
 #
 #   bash scripts/fuzz.sh [--time SECONDS] [TARGET...]     TARGET: scene_loader probes_reader validator camera_path
+#                                                         sky_environment
 #
 # Environment: PROBEBAKE_FUZZ_BUILD (build folder, default build-fuzz), PROBEBAKE_FUZZ_SECONDS (per target,
 # default 60; --time wins). The corpus in <build>/fuzz-corpus/<target> grows from run to run.
@@ -19,7 +20,7 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(scene_loader probes_reader validator camera_path)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_loader probes_reader validator camera_path sky_environment)
 
 # Only the fuzz targets and the libraries they link: no runtime, no benchmarks, no test executables.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
@@ -48,6 +49,7 @@ for t in probes_reader validator; do
   seed $t "$src"/tests/data/golden/*.probes "$src"/tests/data/fuzz/$t/* "$src"/tests/data/fuzz-regressions/$t/*
 done
 seed camera_path "$src"/tests/data/fuzz/camera_path/* "$src"/tests/data/fuzz-regressions/camera_path/*
+seed sky_environment "$src"/tests/data/fuzz/sky_environment/* "$src"/tests/data/fuzz-regressions/sky_environment/*
 
 failed=()
 for t in "${targets[@]}"; do
@@ -58,6 +60,7 @@ for t in "${targets[@]}"; do
   dict=(-dict="$src/tests/formats/fuzz_probes_reader.dict")
   [ "$t" = scene_loader ] && dict=(-dict="$src/tests/scene/fuzz_scene_loader.dict")
   [ "$t" = camera_path ] && dict=()
+  [ "$t" = sky_environment ] && dict=()
   echo "== fuzz_$t for ${seconds}s (corpus $build/fuzz-corpus/$t)"
   # The loader resolves external URIs against $scratch/scene only (fuzz_scene_loader_entry.cpp).
   if ! (cd "$scratch" && PROBEBAKE_FUZZ_SCRATCH="$scratch" UBSAN_OPTIONS=print_stacktrace=1 \

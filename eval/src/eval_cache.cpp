@@ -65,6 +65,8 @@ std::uint64_t reference_hash(const scene::Scene& scene, int points, std::uint64_
     h.add_value(l.inner_cone_angle);
     h.add_value(l.outer_cone_angle);
   }
+  h.add_value(scene.sky.colour); // what paths that leave the scene see
+  h.add(scene.sky.map.texels);
   h.add_value(points);
   h.add_value(seed);
   h.add_value(paths);

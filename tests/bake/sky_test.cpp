@@ -11,6 +11,7 @@
 
 #include "bake_test_util.h"
 #include "probebake/bake/bake.h"
+#include "probebake/eval/eval.h"
 #include "probebake/eval/reference.h"
 #include "probebake/formats/error.h"
 #include "probebake/probe_index/lookup.h"
@@ -167,6 +168,21 @@ TEST(Sky, EnvironmentIsAveragedDownAndCheckedAsHostileInput) {
                  ErrorKind::input);
   expect_refusal([&] { sky::environment_sky(dir / "missing.exr"); }, "missing.exr", "accepted", ErrorKind::input);
   std::filesystem::remove_all(dir);
+}
+
+// eval caches a reference per scene and settings: another sky is another reference.
+TEST(Sky, TheReferenceCacheKeyHoldsTheSky) {
+  scene::Scene s = load_generated(samples::plane_light(), "sky-cache-key");
+  const std::uint64_t black = bake::reference_hash(s, 100, 1, 64);
+  scene::set_sky(s, sky::constant_sky(glm::vec3(1.0f)));
+  const std::uint64_t white = bake::reference_hash(s, 100, 1, 64);
+  EXPECT_NE(black, white);
+  sky::Sky map{glm::vec3(1.0f), {4, 2, std::vector<glm::vec3>(8, glm::vec3(1.0f))}, gpu::SKY_KIND_ENVIRONMENT, {}, {}};
+  scene::set_sky(s, map);
+  const std::uint64_t flat = bake::reference_hash(s, 100, 1, 64);
+  map.map.texels[3] = glm::vec3(2.0f); // one texel brighter: the same colour, another sky
+  scene::set_sky(s, map);
+  EXPECT_NE(flat, bake::reference_hash(s, 100, 1, 64));
 }
 
 TEST(Sky, BadSkySettingsAreUsageErrors) {

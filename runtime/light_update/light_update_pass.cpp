@@ -151,6 +151,8 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot,
                                      const gpu::LightPush& window) {
+  sky_relit_ = sky_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY; // a full trace reads the new sky itself
+  sky_changed_ = false;
   const bool changed = relight_everything_ || changes_.count > 0;
   // A frame that recomputes whole sums everywhere (an object moved, or more than RELIGHT_MAX_CHANGES changes)
   // spends them on the gather window's probes; the others only note the change (stale) and catch up when the
@@ -197,14 +199,17 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.kernel(Kernel::light_relight));
     dispatch_groups(cmd, device_, push.slot_count);
-    record_sky(cmd, push);
+    if (sky_relit_) {
+      barrier(cmd, kComputeReadWrite, kComputeReadWrite); // the same record pages (other records: kept simple)
+      record_sky(cmd);
+    }
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
-  } else if (sky_changed_) {
+  } else if (sky_relit_) {
     Pipelines& pipelines = device_.compute_pipelines();
     bind_sets_and_push(cmd, pipelines.layout(Layout::light), volume_set_, descriptors_.set, window);
     timer.begin(cmd, slot);
-    record_sky(cmd, window);
+    record_sky(cmd);
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
   }
@@ -213,11 +218,8 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
 }
 
 // The sky changed: every miss record of every slot with records takes the new sky (light_sky), in the relight's
-// timer slot, the push constants already bound.
-void LightUpdatePass::record_sky(VkCommandBuffer cmd, const gpu::LightPush& push) {
-  sky_relit_ = sky_changed_ && push.trace_mode != gpu::LIGHT_TRACE_EVERY; // a full trace reads the new sky itself
-  sky_changed_ = false;
-  if (!sky_relit_) return;
+// timer slot, the sets and push constants already bound.
+void LightUpdatePass::record_sky(VkCommandBuffer cmd) {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(Kernel::light_sky));
   dispatch_groups(cmd, device_, probe_capacity_);
 }

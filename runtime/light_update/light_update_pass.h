@@ -119,7 +119,7 @@ private:
   // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
-  void record_sky(VkCommandBuffer cmd, const gpu::LightPush& push);
+  void record_sky(VkCommandBuffer cmd);
   // The pending moved boxes and their (box, light) shadow pairs into RelightChanges (shadow_pairs_fit_);
   // light_mark_moved flags the probes whose rays cross them.
   void upload_moved_boxes(VkCommandBuffer cmd);

@@ -215,10 +215,15 @@ gpu::PunctualLight punctual_light(const scene::Light& light, std::size_t index) 
 std::vector<gpu::EmitterPatch> gpu_patches(const scene::Scene& scene, const lighting::LightingSettings& settings) {
   std::vector<gpu::EmitterPatch> patches;
   if (!settings.emissive_as_lights) return patches; // emitters then reach the runtime through the probes
+  std::vector<std::uint32_t> emitter_materials;     // emitter k's material: numbered by first patch
   for (const lighting::detail::EmitterPatch& p : lighting::detail::emitter_patches(scene, settings.emitter_samples)) {
     gpu::EmitterPatch out{};
     out.a = p.a, out.b = p.b, out.c = p.c, out.normal = p.normal, out.radiance = p.radiance;
     out.flags = p.double_sided ? gpu::EMITTER_DOUBLE_SIDED : 0u;
+    const auto known = std::find(emitter_materials.begin(), emitter_materials.end(), p.material);
+    out.emitter = std::uint32_t(known - emitter_materials.begin());
+    if (known == emitter_materials.end()) emitter_materials.push_back(p.material);
+    out.material = std::int32_t(p.material);
     patches.push_back(out);
   }
   return patches;

@@ -86,7 +86,7 @@ std::uint16_t minor_version_for(const std::vector<SectionPayload>& sections, con
   for (const SectionPayload& section : sections) {
     minor = std::max(minor, minor_version_for_section(section.type));
   }
-  return std::max(minor, minor_version_for_flags(volume));
+  return std::max(minor, minor_version_for_contents(volume));
 }
 
 // Decodes one known section into `out`; element size and (for singletons) count are checked here.
@@ -158,10 +158,12 @@ std::string errno_text() { return std::strerror(errno); }
 
 } // namespace
 
-std::uint16_t minor_version_for_flags(const ProbeVolume& volume) {
+std::uint16_t minor_version_for_contents(const ProbeVolume& volume) {
   const auto flagged = [](const auto& element) { return element.flags != 0u; };
   const bool flags = std::any_of(volume.trace_triangles.begin(), volume.trace_triangles.end(), flagged) ||
                      std::any_of(volume.emitter_patches.begin(), volume.emitter_patches.end(), flagged);
+  const auto grouped = [](const gpu::EmitterPatch& p) { return p.emitter != 0u || p.material != 0; };
+  if (std::any_of(volume.emitter_patches.begin(), volume.emitter_patches.end(), grouped)) return kEmitterGroupsMinor;
   return flags ? kDoubleSidedFlagsMinor : std::uint16_t{0};
 }
 

@@ -25,7 +25,7 @@ std::uint16_t minor_needed(const ContainerView& container, const ProbeVolume& vo
   for (const SectionEntry& entry : container.sections) {
     minor = std::max(minor, minor_version_for_section(entry.type));
   }
-  return std::max(minor, minor_version_for_flags(volume));
+  return std::max(minor, minor_version_for_contents(volume));
 }
 
 void check_version(const ContainerView& container, const ProbeVolume& volume, Reporter& out) {

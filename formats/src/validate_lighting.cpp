@@ -37,7 +37,7 @@ bool light_finite(const gpu::PunctualLight& l) {
 
 bool patch_finite(const gpu::EmitterPatch& p) {
   return finite3(p.a) && finite3(p.b) && finite3(p.c) && finite3(p.normal) && finite3(p.radiance) &&
-         all_finite({p.pad1, p.pad2, p.pad3, p.pad4});
+         all_finite({p.pad3, p.pad4});
 }
 
 template <typename T, typename Finite>
@@ -149,8 +149,29 @@ std::string light_problem(const gpu::PunctualLight& l) {
 std::string patch_problem(const gpu::EmitterPatch& p) {
   if (!unit(p.normal)) return "normal is not a unit vector";
   if (negative(p.radiance)) return "negative radiance";
-  if (!zero_bits({p.pad1, p.pad2, p.pad3, p.pad4})) return "padding is not zero";
+  if (!zero_bits({p.pad3, p.pad4})) return "padding is not zero";
   return "";
+}
+
+// Format 1.10: the emitters are numbered by their first patch (0, 1, 2, ... in patch order), and every patch of an
+// emitter names its material, a glTF material index (the runtime scales an emitter by it).
+void check_emitter_groups(const std::vector<gpu::EmitterPatch>& patches, Reporter& out) {
+  std::vector<std::int32_t> materials; // by emitter
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    const gpu::EmitterPatch& p = patches[i];
+    const auto bad = [&](const std::string& message) {
+      out.add("lighting_values", "emitter_patches", static_cast<long long>(i), message);
+    };
+    if (p.material < 0) {
+      bad(concat("material ", p.material, " is negative"));
+    } else if (p.emitter > materials.size()) {
+      bad(concat("emitter ", p.emitter, " skips numbers: the patches before name ", materials.size(), " emitters"));
+    } else if (p.emitter == materials.size()) {
+      materials.push_back(p.material);
+    } else if (materials[p.emitter] != p.material) {
+      bad(concat("emitter ", p.emitter, " has material ", p.material, ", its first patch ", materials[p.emitter]));
+    }
+  }
 }
 
 // ---- lighting_flags -------------------------------------------------------------------------------------
@@ -188,6 +209,7 @@ void check_lighting_values(const ProbeVolume& v, Reporter& out) {
   report_problems(v.trace_triangles, "trace_triangles", triangle_finite, triangle_problem, out);
   report_problems(v.punctual_lights, "punctual_lights", light_finite, light_problem, out);
   report_problems(v.emitter_patches, "emitter_patches", patch_finite, patch_problem, out);
+  check_emitter_groups(v.emitter_patches, out);
 }
 
 // ---- bvh_tree -----------------------------------------------------------------------------------------

@@ -60,11 +60,12 @@ std::vector<EmitterPatch> emitter_patches(const scene::Scene& scene, int samples
     const auto at = [&](int u, int v) { return a + (float(u) / float(k)) * ab + (float(v) / float(k)) * ac; };
     const glm::vec3 normal = scene::triangle_normal(scene, t), radiance = scene.triangle_emission[t];
     const bool double_sided = scene::is_double_sided(scene, t);
+    const std::uint32_t material = scene.triangle_material[t];
     for (int u = 0; u < k; ++u)
       for (int v = 0; u + v < k; ++v) {
-        patches.push_back({at(u, v), at(u + 1, v), at(u, v + 1), normal, radiance, double_sided});
+        patches.push_back({at(u, v), at(u + 1, v), at(u, v + 1), normal, radiance, double_sided, material});
         if (u + v < k - 1)
-          patches.push_back({at(u + 1, v), at(u + 1, v + 1), at(u, v + 1), normal, radiance, double_sided});
+          patches.push_back({at(u + 1, v), at(u + 1, v + 1), at(u, v + 1), normal, radiance, double_sided, material});
       }
   }
   return patches;

@@ -31,6 +31,11 @@ RecordedFrame record_frame(VkCommandBuffer cmd, PassTimer& timer, const FramePas
   // 0a'. The host's sky (FrameInputs::sky): when it changed, light_sky relights the rays that left the scene.
   if (inputs.sky && passes.sky_inputs && passes.volume && passes.sky_inputs->record(cmd, *passes.volume, *inputs.sky))
     if (passes.light) passes.light->sky_changed();
+  // 0a''. The host's emitter strengths (FrameInputs::emitters): when one changed, light_emitters relights the
+  //      records their light reaches.
+  if (!inputs.emitters.empty() && passes.emitter_inputs && passes.light &&
+      passes.emitter_inputs->apply(inputs.emitters))
+    passes.light->emitters_changed(cmd, passes.emitter_inputs->scales());
 
   // 0b. The host's object poses: rows, refit, before anything traces. The memory update re-measures the
   //     leaves under each moved object's old and new world boxes; without it, L1 re-traces the probes whose

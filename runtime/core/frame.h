@@ -14,6 +14,7 @@
 #include "core/gpu_volume.h"
 #include "light_update/light_inputs.h"
 #include "light_update/light_update_pass.h"
+#include "light_update/emitter_inputs.h"
 #include "light_update/sky_inputs.h"
 #include "memory_update/memory_update_pass.h"
 #include "objects/object_poses.h"
@@ -41,10 +42,11 @@ struct FramePasses {
   MemoryUpdatePass* memory = nullptr;
   LightInputs* light_inputs = nullptr; // with `light`: the host's punctual lights, uploaded into `volume`
   GpuVolume* volume = nullptr;
-  ObjectPoses* objects = nullptr;     // volumes with dynamic objects: the host's poses
-  CellStreaming* streaming = nullptr; // with `light`, UploadOptions::streaming: the cells around the camera
-  ProbeCodePass* codes = nullptr;     // UploadOptions::probe_code l1 or l2: the lookups' compact probes
-  SkyInputs* sky_inputs = nullptr;    // with `light`: the host's sky, uploaded into `volume`
+  ObjectPoses* objects = nullptr;          // volumes with dynamic objects: the host's poses
+  CellStreaming* streaming = nullptr;      // with `light`, UploadOptions::streaming: the cells around the camera
+  ProbeCodePass* codes = nullptr;          // UploadOptions::probe_code l1 or l2: the lookups' compact probes
+  SkyInputs* sky_inputs = nullptr;         // with `light`: the host's sky, uploaded into `volume`
+  EmitterInputs* emitter_inputs = nullptr; // with `light`: the host's emitter strengths, uploaded into `light`
 };
 
 // The passes a recorded frame ran: their timer slots hold timestamps, the others stay unwritten.

@@ -132,6 +132,13 @@ Status check_inputs_for(const detail::VolumeState& state, const FrameInputs& inp
                     "lighting sections)"};
     if (const Status sky = state.sky_inputs->check(*inputs.sky); !sky.ok()) return sky;
   }
+  if (!inputs.emitters.empty()) {
+    if (!state.emitter_inputs)
+      return Status{StatusCode::invalid_argument,
+                    "run_frame: emitter strengths need the light update (UploadOptions::light_update, a volume with "
+                    "the runtime lighting sections)"};
+    if (const Status emitters = state.emitter_inputs->check(inputs.emitters); !emitters.ok()) return emitters;
+  }
   if (!inputs.object_poses.empty()) {
     if (!state.light)
       return Status{StatusCode::invalid_argument,
@@ -348,6 +355,10 @@ int Volume::light_capacity() const {
 
 std::optional<gpu::SkyHeader> Volume::sky() const {
   return state_->sky_inputs ? state_->sky_inputs->header() : std::nullopt;
+}
+
+std::span<const int> Volume::emitter_materials() const {
+  return state_->emitter_inputs ? std::span<const int>(state_->emitter_inputs->materials()) : std::span<const int>{};
 }
 
 std::span<const gpu::DynamicObject> Volume::dynamic_objects() const { return state_->cpu_parts.dynamic_objects; }

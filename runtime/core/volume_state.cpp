@@ -64,7 +64,9 @@ VolumeState::VolumeState(std::shared_ptr<Device> shared_device, const formats::P
         options.load_focus
             ? load_order_nearest(uploaded.probes, std::uint32_t(gpu->elements(Section::probes)), *options.load_focus)
             : std::vector<std::int32_t>{};
+    emitter_inputs = std::make_unique<EmitterInputs>(uploaded.emitter_patches);
     light = std::make_unique<LightUpdatePass>(*device, *gpu, volume.lighting->rays, options.hysteresis, ring_count,
+                                              emitter_inputs->scales(),
                                               streaming ? streaming->record_slots() : RecordSlots{}, load_order);
     light_inputs = std::make_unique<LightInputs>(uploaded.punctual_lights, gpu->capacity(Section::punctual_lights));
     sky_inputs = std::make_unique<SkyInputs>(uploaded.lighting->sky_radiance, uploaded.sky);
@@ -117,7 +119,7 @@ std::uint64_t VolumeState::record(VkCommandBuffer cmd, const FrameInputs& inputs
   check_vk(vkResetEvent(device->vk(), ring.done.get()), "vkResetEvent");
   frame_timer->reset(cmd, index);
   const FramePasses passes{*probe_index,  light.get(),     memory.get(), light_inputs.get(), gpu.get(),
-                           objects.get(), streaming.get(), codes.get(),  sky_inputs.get()};
+                           objects.get(), streaming.get(), codes.get(),  sky_inputs.get(),   emitter_inputs.get()};
   if (light && inputs.limits.frame_ms > 0.0f && light->untraced_slots() > 0) { // the load window by time
     FrameInputs timed = inputs;
     timed.limits.max_traced_probes = int(trace_budget.next_window(inputs.limits.frame_ms, light->untraced_slots()));

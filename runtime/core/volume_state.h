@@ -14,6 +14,7 @@
 #include "core/handles.h"
 #include "core/gpu_volume.h"
 #include "light_update/light_inputs.h"
+#include "light_update/emitter_inputs.h"
 #include "light_update/sky_inputs.h"
 #include "light_update/light_update_pass.h"
 #include "light_update/trace_budget.h"
@@ -44,14 +45,15 @@ struct VolumeState {
   std::unique_ptr<GpuVolume> gpu;
   std::unique_ptr<ProbeIndexPass> probe_index;
   std::unique_ptr<SamplePass> sample;
-  std::unique_ptr<LightUpdatePass> light;    // only for volumes with the lighting sections
-  std::unique_ptr<LightInputs> light_inputs; // with `light`: the host's punctual lights
-  std::unique_ptr<SkyInputs> sky_inputs;     // with `light`: the host's sky
-  std::unique_ptr<ObjectPoses> objects;      // only for volumes with dynamic objects
-  std::unique_ptr<MemoryUpdatePass> memory;  // only with a light update, on octree volumes (memory_update_applies)
-  std::unique_ptr<CellStreaming> streaming;  // only with UploadOptions::streaming (and a light update)
-  std::unique_ptr<ProbeCodePass> codes;      // only with UploadOptions::probe_code l1 or l2
-  std::unique_ptr<PassTimer> frame_timer;    // one slot per FramePass (frame.h), one ring per frame in flight
+  std::unique_ptr<LightUpdatePass> light;        // only for volumes with the lighting sections
+  std::unique_ptr<LightInputs> light_inputs;     // with `light`: the host's punctual lights
+  std::unique_ptr<SkyInputs> sky_inputs;         // with `light`: the host's sky
+  std::unique_ptr<EmitterInputs> emitter_inputs; // with `light`: the host's emitter strengths
+  std::unique_ptr<ObjectPoses> objects;          // only for volumes with dynamic objects
+  std::unique_ptr<MemoryUpdatePass> memory;      // only with a light update, on octree volumes (memory_update_applies)
+  std::unique_ptr<CellStreaming> streaming;      // only with UploadOptions::streaming (and a light update)
+  std::unique_ptr<ProbeCodePass> codes;          // only with UploadOptions::probe_code l1 or l2
+  std::unique_ptr<PassTimer> frame_timer;        // one slot per FramePass (frame.h), one ring per frame in flight
   std::vector<FrameRing> rings;
   std::uint64_t frames = 0;
   TraceBudget trace_budget; // FrameLimits::frame_ms

@@ -30,11 +30,15 @@ layout(std430, set = PASS_SET, binding = LIGHT_BINDING_LIGHT_LIST) PROBEBAKE_LIG
   int light_list[];
 };
 PROBEBAKE_LIGHT_BUFFER(LIGHT_BINDING_TRACKED_PUNCTUAL) TrackedPunctualBuffer { float tracked_punctual[]; }; // 3 per record
-layout(std430, set = PASS_SET, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer { RelightChanges relight_changes; };
+layout(std430, set = PASS_SET, binding = LIGHT_BINDING_RELIGHT_CHANGES) readonly buffer RelightChangeBuffer {
+  RelightChanges relight_changes;
+  EmitterScale emitter_scales[]; // one per emitter (FrameInputs::emitters)
+};
 PROBEBAKE_LIGHT_BUFFER(LIGHT_BINDING_RECORD_SLOTS) RecordSlotBuffer { int light_record_slots[]; };
 layout(std430, set = PASS_SET, binding = LIGHT_BINDING_LOAD_ORDER) readonly buffer LoadOrderBuffer { int load_order[]; };
 // clang-format on
 layout(push_constant) uniform Push { LightPush push; };
+#define PROBEBAKE_EMITTER_SCALE(e) emitter_scales[e].scale // direct_light.glsl
 
 // The probe slot of workgroup (or thread) `index`: the index-th slot of the window, or the light list's
 // entry when the light update walks the list (push.listed); -1 past the end.

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/pipelines.h"
+#include "light_update/light_inputs.h"
 #include "light_update/light_update_bindings.h"
 #include "probebake/runtime_types.h"
 
@@ -34,7 +35,8 @@ bool LightUpdatePass::applies(const GpuVolume& volume) {
 }
 
 LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis,
-                                 std::uint32_t rings, RecordSlots records, std::span<const std::int32_t> load_order)
+                                 std::uint32_t rings, std::span<const gpu::EmitterScale> emitters, RecordSlots records,
+                                 std::span<const std::int32_t> load_order)
     : device_(device), hysteresis_(hysteresis) {
   probe_capacity_ = static_cast<std::uint32_t>(volume.elements(Section::probes));
   indirect_records_ = records.kind != RecordSlots::Kind::own;
@@ -52,7 +54,9 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     fail(StatusCode::unsupported, "light list: " + std::to_string(list_bytes) + " bytes exceed maxStorageBufferRange");
   light_list_ = device.allocator->create_buffer(list_bytes, kScratchUsage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                                 MemoryUse::device, "light list");
-  relight_changes_ = create_scratch(device, sizeof(gpu::RelightChanges), "relight changes");
+  relight_changes_ = create_scratch(
+      device, sizeof(gpu::RelightChanges) + std::max<std::size_t>(emitters.size(), 1) * sizeof(gpu::EmitterScale),
+      "relight changes");
   const VkDeviceSize tracked_bytes = VkDeviceSize(record_capacity_) * VkDeviceSize(rays) * 3 * sizeof(float);
   if (indirect_records_)
     record_slots_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::int32_t), "record slots");
@@ -80,6 +84,11 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
     vkCmdFillBuffer(clear.cmd(), trace_flags_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), light_list_.get(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(clear.cmd(), relight_changes_.get(), 0, VK_WHOLE_SIZE, 0);
+    if (!emitters.empty()) {
+      barrier(clear.cmd(), kTransferWrite, kTransferWrite);
+      update_buffer(clear.cmd(), relight_changes_.get(), sizeof(gpu::RelightChanges), emitters.data(),
+                    emitters.size_bytes());
+    }
     // Slots that were never traced hold no records (kind 0 = miss) and no tracked share, not stale memory:
     // the relight walks every live slot, and the same input must give the same output.
     vkCmdFillBuffer(clear.cmd(), tracked_punctual_.get(), 0, VK_WHOLE_SIZE, 0);
@@ -151,8 +160,15 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot,
                                      const gpu::LightPush& window) {
-  sky_relit_ = sky_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY; // a full trace reads the new sky itself
-  sky_changed_ = false;
+  // A full trace reads the new sky and emitters itself.
+  sky_relit_ = sky_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY;
+  emitters_relit_ = emitters_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY;
+  sky_changed_ = emitters_changed_ = false;
+  const auto record_sky_and_emitters = [&] {
+    if (sky_relit_) record_every_slot(cmd, Kernel::light_sky);
+    if (sky_relit_ && emitters_relit_) barrier(cmd, kComputeReadWrite, kComputeReadWrite); // the same records
+    if (emitters_relit_) record_every_slot(cmd, Kernel::light_emitters);
+  };
   const bool changed = relight_everything_ || changes_.count > 0;
   // A frame that recomputes whole sums everywhere (an object moved, or more than RELIGHT_MAX_CHANGES changes)
   // spends them on the gather window's probes; the others only note the change (stale) and catch up when the
@@ -199,17 +215,17 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.kernel(Kernel::light_relight));
     dispatch_groups(cmd, device_, push.slot_count);
-    if (sky_relit_) {
+    if (sky_relit_ || emitters_relit_) {
       barrier(cmd, kComputeReadWrite, kComputeReadWrite); // the same record pages (other records: kept simple)
-      record_sky(cmd);
+      record_sky_and_emitters();
     }
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
-  } else if (sky_relit_) {
+  } else if (sky_relit_ || emitters_relit_) {
     Pipelines& pipelines = device_.compute_pipelines();
     bind_sets_and_push(cmd, pipelines.layout(Layout::light), volume_set_, descriptors_.set, window);
     timer.begin(cmd, slot);
-    record_sky(cmd);
+    record_sky_and_emitters();
     timer.end(cmd, slot);
     barrier(cmd, kComputeWrite, kComputeReadWrite);
   }
@@ -217,11 +233,18 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   relight_everything_ = false;
 }
 
-// The sky changed: every miss record of every slot with records takes the new sky (light_sky), in the relight's
+// The sky or emitters changed: every slot with records takes them (light_sky, light_emitters), in the relight's
 // timer slot, the sets and push constants already bound.
-void LightUpdatePass::record_sky(VkCommandBuffer cmd) {
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(Kernel::light_sky));
+void LightUpdatePass::record_every_slot(VkCommandBuffer cmd, Kernel kernel) {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(kernel));
   dispatch_groups(cmd, device_, probe_capacity_);
+}
+
+void LightUpdatePass::emitters_changed(VkCommandBuffer cmd, std::span<const gpu::EmitterScale> scales) {
+  barrier(cmd, kAnyDeviceAccess, kTransferWrite); // last frame's passes read the table before it is overwritten
+  update_buffer(cmd, relight_changes_.get(), sizeof(gpu::RelightChanges), scales.data(), scales.size_bytes());
+  barrier(cmd, kTransferWrite, kAnyDeviceAccess);
+  emitters_changed_ = true;
 }
 
 bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots,

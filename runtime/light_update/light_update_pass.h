@@ -54,8 +54,10 @@ public:
   // `rings`: frames in flight whose statistics are kept apart (PassCounters).
   // `records`: how a probe slot finds its records (RecordSlots).
   // `load_order`: empty (the load trace in slot order) or load_order_nearest()'s.
+  // `emitters`: the file's emitters at their baked strength (EmitterInputs::scales()).
   LightUpdatePass(Device& device, const GpuVolume& volume, int rays, float hysteresis, std::uint32_t rings,
-                  RecordSlots records = {}, std::span<const std::int32_t> load_order = {});
+                  std::span<const gpu::EmitterScale> emitters, RecordSlots records = {},
+                  std::span<const std::int32_t> load_order = {});
 
   // Whether `volume` can run the light update: it has the lighting sections and probes.
   static bool applies(const GpuVolume& volume);
@@ -69,10 +71,14 @@ public:
   bool record(VkCommandBuffer cmd, PassTimer& timer, const LightTimerSlots& slots, const FrameLimits& limits);
   // Probe slots the load trace has not reached yet (none once it ended).
   std::uint32_t untraced_slots() const { return probe_capacity_ - untraced_from_; }
-  // Whether the last record() updated cached punctual irradiance (light_relight) or the sky's records (light_sky).
-  bool relit() const { return relit_ || sky_relit_; }
+  // Whether the last record() updated cached punctual irradiance (light_relight), the sky's records (light_sky)
+  // or the emitters' (light_emitters).
+  bool relit() const { return relit_ || sky_relit_ || emitters_relit_; }
   // The host changed the sky (SkyInputs uploaded it): the next record() relights every miss record (light_sky).
   void sky_changed() { sky_changed_ = true; }
+  // The host changed emitter strengths: records the upload of the new table (one EmitterScale per emitter), and
+  // the next record() adds each emitter's change to the front records (light_emitters).
+  void emitters_changed(VkCommandBuffer cmd, std::span<const gpu::EmitterScale> scales);
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
   // Objects moved through `boxes` (each the union of an object's old and new box; more than
@@ -119,7 +125,8 @@ private:
   // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
-  void record_sky(VkCommandBuffer cmd);
+  // light_sky or light_emitters over every slot with records, the sets and push constants already bound.
+  void record_every_slot(VkCommandBuffer cmd, Kernel kernel);
   // The pending moved boxes and their (box, light) shadow pairs into RelightChanges (shadow_pairs_fit_);
   // light_mark_moved flags the probes whose rays cross them.
   void upload_moved_boxes(VkCommandBuffer cmd);
@@ -148,6 +155,7 @@ private:
   std::uint32_t retry_left_ = 0;   // list places still to retry since cells last arrived
   bool relight_everything_ = false;
   bool sky_changed_ = false, sky_relit_ = false;
+  bool emitters_changed_ = false, emitters_relit_ = false;
   bool relit_ = false;
   std::uint32_t gather_cursor_ = 0;               // first slot of the next frame's gather window
   std::uint32_t frames_recorded_ = 0;             // the light sampling's seed: the same frames, the same draws
@@ -160,7 +168,7 @@ private:
   std::vector<gpu::ShadowPair> shadow_pairs_;     // the last uploaded (box, light) pairs
   gpu::RelightChanges changes_{};                 // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;                  // light index of changes_.changes[0]
-  Buffer relight_changes_;
+  Buffer relight_changes_;                        // RelightChanges, then an EmitterScale per emitter
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.
   int tracked_light_ = -1;

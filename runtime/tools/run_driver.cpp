@@ -26,7 +26,7 @@
 #include "probebake/runtime/runtime.h"
 #include "probebake/streaming/camera_path.h"
 #include "run_report.h"
-#include "run_day_cycle.h"
+#include "run_lighting_changes.h"
 #include "run_samples.h"
 
 namespace probebake::run {
@@ -123,11 +123,18 @@ runtime::FrameInputs frame_inputs(const RunOptions& options, const runtime::Volu
         (*in.lights)[l] = orbit_pose(baked_lights[l], *options.orbit_light, frame);
   }
   if (options.day_cycle) add_day_cycle(in, volume, *options.day_cycle, frame);
+  if (options.switch_emitters) add_emitter_switch(in, volume, *options.switch_emitters, frame);
   if (!options.depth_cycle || frame % options.depth_cycle->period != 0) return in;
   const bool high = (frame / options.depth_cycle->period) % 2 == 0;
   in.max_depth = high ? options.depth_cycle->high : options.depth_cycle->low;
   in.changed_boxes = {{info.root_min, info.root_min + glm::vec3(info.root_size)}};
   return in;
+}
+
+// "hour,emitters_on" of the frame: the day cycle's hour and whether the switched emitters are on (empty without).
+std::string lighting_columns(const RunOptions& options, int frame) {
+  std::string hour = options.day_cycle ? std::to_string(day_hour(*options.day_cycle, frame)) : std::string();
+  return hour + ',' + (options.switch_emitters ? (emitters_on(*options.switch_emitters, frame) ? "1" : "0") : "");
 }
 
 // "x,y,z" of the orbiting light (or of light 0) after the frame; empty fields without lights.
@@ -228,6 +235,12 @@ int run_volume(const RunOptions& options) {
     std::printf("day cycle: a day in %g s (%g frames), sun from 6:00\n", double(*options.day_cycle),
                 double(*options.day_cycle * kDayFramesPerSecond));
   }
+  if (options.switch_emitters) {
+    if (const auto refusal = emitter_switch_refusal(volume.value()))
+      return report(options, {runtime::StatusCode::invalid_argument, options.input + ": " + *refusal});
+    std::printf("emitters: %zu switched off and on every %d frames\n", volume->emitter_materials().size(),
+                *options.switch_emitters);
+  }
   if (options.animate && volume->dynamic_objects().empty())
     return report(options, {runtime::StatusCode::invalid_argument,
                             options.input + ": --animate: the file has no dynamic objects to move"});
@@ -248,7 +261,7 @@ int run_volume(const RunOptions& options) {
       write_frame_header(csv);
     else
       csv << "frame,pass,gpu_ms,cpu_ms,live_probes,probe_capacity,lit_probes,indirect_misses,non_finite,splits,merges,"
-             "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z\n";
+             "failed_allocations,free_probes,lights,uploaded_lights,light_x,light_y,light_z,hour,emitters_on\n";
   }
   std::map<std::string, PassSummary> summary;
   PassSummary cpu;
@@ -299,7 +312,8 @@ int run_volume(const RunOptions& options) {
             << ',' << stats->probe_capacity << ',' << stats->light.lit_probes << ',' << stats->light.indirect_misses
             << ',' << stats->light.non_finite << ',' << stats->memory.splits << ',' << stats->memory.collapses << ','
             << stats->memory.failed_allocations << ',' << stats->memory.free_probes << ',' << stats->light.lights << ','
-            << stats->light.uploaded_lights << ',' << light_position(volume.value(), options) << '\n';
+            << stats->light.uploaded_lights << ',' << light_position(volume.value(), options) << ','
+            << lighting_columns(options, frame) << '\n';
     }
     if (options.validate) {
       const runtime::Status valid = volume->validate_live();

@@ -80,6 +80,8 @@ constexpr const char* kUsage =
     "  --day-cycle SECONDS  a volume baked with --sky physical: the sun crosses the sky from 6:00 (east, +X) over\n"
     "                    60 degrees (towards +Z) to 18:00, one day every SECONDS at 60 frames a second; the\n"
     "                    sky map and the sun change every frame (docs/RUNTIME.md \"Sky and time of day\")\n"
+    "  --switch-emitters PERIOD  every emitter (emissive material) off from frame PERIOD, on again from 2 PERIOD,\n"
+    "                    and so on (docs/RUNTIME.md \"Emitters at run time\"); emitters_on in the CSV\n"
     "exit codes: 0 ok, 1 usage, 2 bad input file, 4 runtime or validation failure, 5 the device did not\n"
     "finish a frame within 60 s (spread the load trace: --trace-budget or --frame-ms)\n";
 
@@ -201,6 +203,11 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       if (!has_value || !parse_number(argv[++i], seconds) || !(seconds > 0.0f) || !std::isfinite(seconds))
         return usage_error("--day-cycle needs SECONDS > 0 (a day's length at 60 frames a second)");
       options.day_cycle = seconds;
+    } else if (arg == "--switch-emitters") {
+      int period = 0;
+      if (!has_value || !parse_int(argv[++i], 1, period))
+        return usage_error("--switch-emitters needs PERIOD >= 1 (frames between switches)");
+      options.switch_emitters = period;
     } else if (arg == "--vk-validation") {
       options.vulkan_validation = true;
     } else if (arg == "--memory-update") {

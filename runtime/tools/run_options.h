@@ -59,6 +59,7 @@ struct RunOptions {
   std::optional<DepthCycle> depth_cycle;     // run the memory update with this max-depth schedule
   std::optional<LightOrbit> orbit_light;     // move one punctual light every frame (FrameInputs::lights)
   std::optional<float> day_cycle;            // seconds of a day at 60 frames a second (FrameInputs::sky, the sun)
+  std::optional<int> switch_emitters;        // frames between switches of every emitter (FrameInputs::emitters)
   std::optional<dynamic::Animation> animate; // pose the file's dynamic objects per frame (dynamic/animation.h)
   bool memory_update = false;            // runtime::UploadOptions::memory_update (implied by --depth-cycle, --animate)
   bool no_memory_update = false;         // --no-memory-update: off even with --animate (moved objects re-trace the

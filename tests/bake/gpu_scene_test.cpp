@@ -690,10 +690,13 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
   }
   EXPECT_EQ(flagged, 8 + 2); // the wall and the two-sided lamp
   int one_side = 0, two_sides = 0;
+  const std::uint32_t first_lamp = v.emitter_patches.at(0).emitter;
   for (const gpu::EmitterPatch& p : v.emitter_patches) {
     // The lamps differ in radiance: 3 (single-sided, faces down) and 5 (double-sided, faces up).
     const bool double_sided = p.radiance.x > 4.0f;
     EXPECT_EQ(p.flags, double_sided ? gpu::EMITTER_DOUBLE_SIDED : 0u);
+    // Their two materials are two emitters (format 1.10).
+    EXPECT_EQ(p.emitter == first_lamp, double_sided == (v.emitter_patches[0].radiance.x > 4.0f));
     EXPECT_NEAR(p.normal.y, double_sided ? 1.0f : -1.0f, 1e-6f);
     (double_sided ? two_sides : one_side) += 1;
   }
@@ -703,7 +706,7 @@ TEST(GpuScene, DoubleSidedFlagsAreTheMaterials) {
   const formats::ValidationReport validation = formats::validate(v);
   EXPECT_TRUE(validation.valid()) << violations(validation);
   EXPECT_EQ(formats::parse_container(formats::write_probes(v), "sides").header.version_minor,
-            formats::kCellGlobalChecksumsMinor);
+            formats::kEmitterGroupsMinor);
 }
 
 TEST(GpuScene, LightingInfoAndRayDirectionsAreTheBakes) {

@@ -148,7 +148,7 @@ const std::map<std::string, Layout>& code_layouts() {
         sizeof(gpu::PunctualLight)}},
       {"EmitterPatch",
        {{FIELD(gpu::EmitterPatch, a), FIELD(gpu::EmitterPatch, flags), FIELD(gpu::EmitterPatch, b),
-         FIELD(gpu::EmitterPatch, pad1), FIELD(gpu::EmitterPatch, c), FIELD(gpu::EmitterPatch, pad2),
+         FIELD(gpu::EmitterPatch, emitter), FIELD(gpu::EmitterPatch, c), FIELD(gpu::EmitterPatch, material),
          FIELD(gpu::EmitterPatch, normal), FIELD(gpu::EmitterPatch, pad3), FIELD(gpu::EmitterPatch, radiance),
          FIELD(gpu::EmitterPatch, pad4)},
         sizeof(gpu::EmitterPatch)}},

@@ -109,7 +109,7 @@ TEST(ProbesFile, DoubleSidedFlagsMakeTheFile1_2) {
   ASSERT_EQ(back.emitter_patches.size(), 2u);
   for (const gpu::EmitterPatch& patch : back.emitter_patches) EXPECT_EQ(patch.flags, gpu::EMITTER_DOUBLE_SIDED);
   EXPECT_EQ(bytes.size(), write_probes(testing::make_sample(Sample::lighting)).size());
-  EXPECT_EQ(minor_version_for_flags(testing::make_sample(Sample::lighting)), 0);
+  EXPECT_EQ(minor_version_for_contents(testing::make_sample(Sample::lighting)), 0);
   ProbeVolume cleared = back;
   for (gpu::TraceTriangle& t : cleared.trace_triangles) t.flags = 0u;
   for (gpu::EmitterPatch& p : cleared.emitter_patches) p.flags = 0u;

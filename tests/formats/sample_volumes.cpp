@@ -364,12 +364,16 @@ ProbeVolume make_sample(Sample sample) {
   if (sample == Sample::grid_lattice) add_grid_lattice(volume);
   const bool compact = sample == Sample::compact || sample == Sample::cells;
   const bool lit = sample == Sample::lighting || sample == Sample::sky || sample == Sample::double_sided ||
-                   sample == Sample::dynamic || compact;
+                   sample == Sample::dynamic || sample == Sample::emitters || compact;
   if (lit) add_sample_lighting(volume);
   if (sample == Sample::double_sided || compact) mark_double_sided(volume);
   if (sample == Sample::dynamic || compact) add_sample_object(volume);
   if (sample == Sample::cells) split_tracing_by_cell(volume);
   if (sample == Sample::sky) add_sample_sky(volume);
+  if (sample == Sample::emitters) {
+    volume.emitter_patches[0].material = 3;
+    volume.emitter_patches[1].emitter = 1, volume.emitter_patches[1].material = 5;
+  }
   sync_info_counts(volume);
   if (sample == Sample::compact) upgrade_tracing(volume);
   arrange_cells(volume, 1); // also rebuilds the probe index
@@ -396,6 +400,7 @@ constexpr SampleNames kSampleNames[] = {
     {Sample::cells, "cells", "v1_7_cells.probes"},
     {Sample::grid_lattice, "grid_lattice", "v1_8_grid_lattice.probes"},
     {Sample::sky, "sky", "v1_9_sky.probes"},
+    {Sample::emitters, "emitters", "v1_10_emitters.probes"},
 };
 static_assert(std::size(kSampleNames) == std::size(kAllSamples), "a name for every sample");
 

@@ -23,12 +23,13 @@ enum class Sample {
                 // cell of depth 1 under a top level) and so a checksum per cell (1.6 cell_checksums)
   grid_lattice, // grid with format 1.8's grid_lattice: probe i at point i, each point serving its one cell
   sky,          // lighting with format 1.9's sky: a 4 x 2 physical sky map whose sun is no light (-1)
+  emitters,     // lighting with format 1.10's emitter groups: each patch its own emitter (materials 3 and 5)
 };
 
 // Every sample, for tests that loop over them.
 inline constexpr Sample kAllSamples[] = {Sample::small,        Sample::static_set, Sample::grid,    Sample::lighting,
                                          Sample::double_sided, Sample::dynamic,    Sample::compact, Sample::cells,
-                                         Sample::grid_lattice, Sample::sky};
+                                         Sample::grid_lattice, Sample::sky,        Sample::emitters};
 
 ProbeVolume make_sample(Sample sample);
 

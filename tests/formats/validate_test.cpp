@@ -275,6 +275,10 @@ const std::vector<Corruption>& corruptions() {
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[1].range = -1.0f; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.punctual_lights[2].position.x = 1.0f; }},
       {"lighting_values", Sample::lighting, [](ProbeVolume& v) { v.emitter_patches[1].pad3 = 1.0f; }},
+      {"lighting_values", Sample::emitters, [](ProbeVolume& v) { v.emitter_patches[1].emitter = 2u; }},
+      {"lighting_values", Sample::emitters, [](ProbeVolume& v) { v.emitter_patches[1].material = -1; }},
+      {"lighting_values", Sample::emitters,
+       [](ProbeVolume& v) { v.emitter_patches[1].emitter = 0u; }}, // emitter 0 with material 3 and 5
       {"lighting_flags", Sample::lighting, [](ProbeVolume& v) { v.trace_triangles[0].flags = 2u; }},
       {"lighting_flags", Sample::double_sided, [](ProbeVolume& v) { v.trace_triangles[3].flags |= 0x80000000u; }},
       {"lighting_flags", Sample::double_sided, [](ProbeVolume& v) { v.emitter_patches[1].flags = 3u; }},

@@ -209,7 +209,7 @@ TEST(GpuLayout, ShaderBindingsMatchBindingsHeaders) {
 }
 
 TEST(GpuLayout, ShaderLibraryHoldsEveryKernelOfThePassTable) {
-  EXPECT_EQ(std::size(kKernels), 28u); // the table itself: a row lost from passes.def fails here
+  EXPECT_EQ(std::size(kKernels), 29u); // the table itself: a row lost from passes.def fails here
   for (const KernelRow& kernel : kKernels) {
     const auto words = shaders::spirv(kernel.name);
     ASSERT_GT(words.size(), 5u) << kernel.name;
@@ -323,9 +323,13 @@ TEST(GpuLayout, LightingSectionsMatchGpuTypes) {
                           {{"a", offsetof(EmitterPatch, a)},
                            {"flags", offsetof(EmitterPatch, flags)},
                            {"b", offsetof(EmitterPatch, b)},
+                           {"emitter", offsetof(EmitterPatch, emitter)},
                            {"c", offsetof(EmitterPatch, c)},
                            {"normal", offsetof(EmitterPatch, normal)},
                            {"radiance", offsetof(EmitterPatch, radiance)}}),
+            1);
+  EXPECT_GE(expect_layout("light_emitters", "EmitterScale",
+                          {{"scale", offsetof(EmitterScale, scale)}, {"change", offsetof(EmitterScale, change)}}),
             1);
   EXPECT_GE(expect_layout("light_trace", "LightingInfo",
                           {{"sky_radiance", offsetof(LightingInfo, sky_radiance)},

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "probebake/formats/probes_file.h"
+#include "probebake/samples/scenes.h"
+#include "probebake/sky/sky.h"
 #include "run_cli.h"
 #include "runtime_test_util.h"
 
@@ -175,6 +177,66 @@ TEST_F(RunToolTest, TraceBudgetSpreadsTheLoadTrace) {
   EXPECT_EQ(run_cli(shell_path(probes) + " --trace-budget -1").exit_code, 1);
   EXPECT_EQ(run_cli(shell_path(probes) + " --load-focus 0,nan,0").exit_code, 1);
   EXPECT_EQ(run_cli(shell_path(probes) + " --load-focus 0,1").exit_code, 1);
+}
+
+// The last two CSV columns of each light_gather row: hour and emitters_on.
+std::vector<std::string> lighting_columns(const std::string& csv) {
+  std::ifstream in(csv);
+  std::vector<std::string> columns;
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(",light_gather,") == std::string::npos) continue;
+    const std::size_t last = line.rfind(','), hour = line.rfind(',', last - 1);
+    columns.push_back(line.substr(hour + 1));
+  }
+  return columns;
+}
+
+// --switch-emitters 2: the Cornell light off in frames 2-3 and on again from frame 4, relit in those two frames.
+TEST_F(RunToolTest, SwitchesEmittersOffAndOn) {
+  const std::string probes = temp_path("tool-switch.probes"), csv = temp_path("tool-switch.csv");
+  formats::write_probes_file(probes, baked_cornell_octree());
+  const CliResult r =
+      run_cli(shell_path(probes) + " --frames 6 --switch-emitters 2 --validate --csv " + shell_path(csv));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("emitters: 1 switched off and on every 2 frames"), std::string::npos) << r.out;
+  EXPECT_EQ(lighting_columns(csv), (std::vector<std::string>{",1", ",1", ",0", ",0", ",1", ",1"}));
+  std::ifstream in(csv);
+  int relit = 0;
+  for (std::string line; std::getline(in, line);) relit += line.find(",light_relight,") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(relit, 2);
+  EXPECT_EQ(run_cli(shell_path(probes) + " --switch-emitters 0").exit_code, 1);
+}
+
+// --day-cycle 0.1 (6 frames a day): the hours 6, 10 and 14 in the CSV, the sky relit in every frame after the first.
+TEST_F(RunToolTest, RunsADay) {
+  bake::BakeSettings settings = small_bake_settings();
+  settings.lighting.rays = 16;
+  settings.placement = bake::Placement::grid;
+  settings.grid_resolution = 3;
+  const Baked b = bake_generated(samples::plane_light(), "tool-day", settings,
+                                 sky::physical_sky({sky::direction_from_angles(30.0f, 90.0f), 2.5f}));
+  const std::string probes = temp_path("tool-day.probes"), csv = temp_path("tool-day.csv");
+  formats::write_probes_file(probes, b.volume);
+  const CliResult r = run_cli(shell_path(probes) + " --frames 3 --day-cycle 0.1 --validate --csv " + shell_path(csv));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("day cycle: a day in 0.1 s (6 frames), sun from 6:00"), std::string::npos) << r.out;
+  EXPECT_EQ(lighting_columns(csv), (std::vector<std::string>{"6.000000,", "10.000000,", "14.000000,"}));
+}
+
+// --day-cycle needs a physical sky with a sun; --switch-emitters needs emitters.
+TEST_F(RunToolTest, LightingChangesTheFileCannotTakeAreRefused) {
+  const std::string probes = temp_path("tool-no-sky.probes");
+  formats::ProbeVolume dark = baked_cornell_octree();
+  dark.emitter_patches.clear();
+  dark.lighting->emitter_patches = 0;
+  formats::write_probes_file(probes, dark);
+  for (const char* option : {"--day-cycle 10", "--switch-emitters 5"}) {
+    const CliResult r = run_cli(shell_path(probes) + " " + option);
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find(probes + ": " + std::string(option).substr(0, std::string(option).find(' '))),
+              std::string::npos)
+        << r.err;
+  }
 }
 
 TEST_F(RunToolTest, BadInputExitsWithTwo) {

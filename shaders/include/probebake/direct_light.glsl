@@ -190,18 +190,32 @@ bool probebake_patch_irradiance(int index, vec3 p, vec3 n, out vec3 irradiance, 
   return true;
 }
 
-// The emitter patches i with i % lanes == lane (all of them with lanes = 1, in the CPU twin's order).
+// Patch `index`'s irradiance at p (unit normal n) at its baked radiance, 0 where the shadow ray from `origin` (p
+// lifted by the shadow offset) is blocked.
+vec3 probebake_visible_patch_irradiance(int index, vec3 p, vec3 n, vec3 origin) {
+  vec3 patch_e, target;
+  if (!probebake_patch_irradiance(index, p, n, patch_e, target)) return vec3(0.0);
+  const vec3 to = target - origin;
+  const float dist = length(to);
+  // Stop short of the emitter itself (a relative 1e-3 of the distance).
+  if (dist > 0.0 && probebake_occluded(origin, to / dist, 0.0, dist * 0.999)) return vec3(0.0);
+  return patch_e;
+}
+
+// The host's strength of emitter e (FrameInputs::emitters); the including shader may define it (light_bindings.glsl),
+// else every emitter is as baked.
+#ifndef PROBEBAKE_EMITTER_SCALE
+#define PROBEBAKE_EMITTER_SCALE(e) vec3(1.0)
+#endif
+
+// The emitter patches i with i % lanes == lane (all of them with lanes = 1, in the CPU twin's order), each scaled
+// by its emitter's strength (1 as baked: the CPU's sum bit for bit); a switched-off emitter casts no shadow ray.
 vec3 probebake_emitter_irradiance_share(vec3 p, vec3 n, uint lane, uint lanes) {
   const vec3 origin = p + n * probebake_lighting.shadow_offset;
   vec3 e = vec3(0.0);
   for (int i = int(lane); i < probebake_lighting.emitter_patches; i += int(lanes)) {
-    vec3 patch_e, target;
-    if (!probebake_patch_irradiance(i, p, n, patch_e, target)) continue;
-    const vec3 to = target - origin;
-    const float dist = length(to);
-    // Stop short of the emitter itself (a relative 1e-3 of the distance).
-    if (dist > 0.0 && probebake_occluded(origin, to / dist, 0.0, dist * 0.999)) continue;
-    e += patch_e;
+    const vec3 scale = PROBEBAKE_EMITTER_SCALE(probebake_emitter_patches[i].emitter);
+    if (scale != vec3(0.0)) e += scale * probebake_visible_patch_irradiance(i, p, n, origin);
   }
   return e;
 }

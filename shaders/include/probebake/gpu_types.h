@@ -321,9 +321,9 @@ struct EmitterPatch {
   vec3 a;        // offset  0: vertices, counter-clockwise seen from the (front) emitting side
   uint flags;    // offset 12: EMITTER_DOUBLE_SIDED (emits from the back too)
   vec3 b;        // offset 16
-  float pad1;    // offset 28
+  uint emitter;  // offset 28: the emitter it belongs to, numbered by first patch (1.10; FrameInputs::emitters)
   vec3 c;        // offset 32
-  float pad2;    // offset 44
+  int material;  // offset 44: that emitter's glTF material (1.10)
   vec3 normal;   // offset 48: unit normal of the front (emitting) side
   float pad3;    // offset 60
   vec3 radiance; // offset 64: W/(m^2 sr)

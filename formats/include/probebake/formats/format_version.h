@@ -6,7 +6,7 @@
 
 namespace probebake::formats {
 inline constexpr std::uint16_t kFormatVersionMajor = 1;
-inline constexpr std::uint16_t kFormatVersionMinor = 9;
+inline constexpr std::uint16_t kFormatVersionMinor = 10;
 // 1.1 added the optional runtime lighting sections. The writer stamps the lowest minor whose sections a
 // file uses (1.0 without lighting sections), so that files without them stay byte-identical to 1.0.
 inline constexpr std::uint16_t kLightingSectionsMinor = 1;
@@ -38,4 +38,8 @@ inline constexpr std::uint16_t kGridLatticeMinor = 8;
 // 1.9 added the optional sky section: the radiance map of the rays that leave the scene (an environment or the
 // physical sky with its sun), which LightingInfo::sky_radiance scales.
 inline constexpr std::uint16_t kSkyMinor = 9;
+// 1.10 gave emitter patches the emitter they belong to and its glTF material, in what was padding, so that the
+// runtime scales each emissive material's light (FrameInputs::emitters). Stamped only when one is not zero; an
+// older file reads as one emitter of material 0.
+inline constexpr std::uint16_t kEmitterGroupsMinor = 10;
 } // namespace probebake::formats

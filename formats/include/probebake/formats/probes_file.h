@@ -20,10 +20,11 @@ namespace probebake::formats {
 // written as 1.6 again, byte for byte.
 std::vector<std::uint8_t> write_probes(const ProbeVolume& volume);
 
-// The lowest minor version the volume's contents need beyond its section types: kDoubleSidedFlagsMinor
-// when a trace triangle or emitter patch sets a flag, else 0. The writer stamps the larger of this and
+// The lowest minor version the volume's contents need beyond its section types: kEmitterGroupsMinor when an
+// emitter patch names an emitter or material other than 0, kDoubleSidedFlagsMinor when a trace triangle or
+// emitter patch sets a flag, else 0. The writer stamps the larger of this and
 // what the section types need; the validator checks the same rule (format_version).
-std::uint16_t minor_version_for_flags(const ProbeVolume& volume);
+std::uint16_t minor_version_for_contents(const ProbeVolume& volume);
 
 // Writes atomically: the bytes go to a temporary file in the same directory, are flushed to disk, and
 // the temporary file is renamed over `path`; on any failure it is removed and Error(output) thrown.

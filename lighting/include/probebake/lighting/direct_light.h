@@ -5,6 +5,7 @@
 // the same lights, spot cones and emitter patches for the GPU.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -23,6 +24,7 @@ struct EmitterPatch {
   // glTF doubleSided material: emits the same radiance from both sides (|cos| at the emitter); a
   // single-sided patch lights nothing behind its plane.
   bool double_sided = false;
+  std::uint32_t material = 0; // the emissive triangle's (scene.triangle_material): the runtime switches it
 };
 
 // The emissive triangles (emission > 0 in some channel, area > 0), in triangle order, each split into

@@ -70,6 +70,15 @@ struct SkyInput {
   std::vector<glm::vec3> map = {}; // empty: keep the map; else Volume::sky_texels() texels in sky_map.h's order
 };
 
+// An emissive material's strength from this frame on (FrameInputs::emitters; docs/RUNTIME.md "Emitters at run
+// time"): its emitted radiance times `scale` per channel (0 switches it off, 1 is the bake's; finite and >= 0).
+// `material` is a glTF material index among Volume::emitter_materials(). The records of what its light reaches are
+// relit (light_emitters), only in a frame where a strength changed; the bounces converge from there.
+struct EmitterStrength {
+  int material = 0;
+  glm::vec3 scale{1.0f};
+};
+
 struct FrameInputs {
   std::vector<Box> changed_boxes; // more than 64 are merged by the host into fewer, larger boxes
   std::optional<int> max_depth;   // [0, 12]
@@ -86,7 +95,8 @@ struct FrameInputs {
   // Dynamic objects that moved (objects not listed keep their pose; at upload every object is at rest).
   // Each object at most once. Needs the light update.
   std::vector<ObjectPose> object_poses;
-  std::optional<SkyInput> sky; // unset: keep the current sky. Needs the light update
+  std::optional<SkyInput> sky;           // unset: keep the current sky. Needs the light update
+  std::vector<EmitterStrength> emitters; // the listed materials' strengths (the others keep theirs). Light update
   FrameLimits limits;
 };
 

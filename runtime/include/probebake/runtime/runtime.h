@@ -176,6 +176,9 @@ public:
   // The file's sky section's header (format 1.9: the map's size, the physical sky's turbidity, sun direction and
   // sun light), nothing for a constant sky or without a light update. FrameInputs::sky changes the sky.
   std::optional<gpu::SkyHeader> sky() const;
+  // The glTF material of each emitter (format 1.10: the emissive materials whose light the file's emitter patches
+  // carry), which FrameInputs::emitters switch; empty without a light update or with emitters in the probes.
+  std::span<const int> emitter_materials() const;
   // The file's dynamic objects (empty for a static scene) and each one's current world_from_object (the
   // identity for an index out of range).
   std::span<const gpu::DynamicObject> dynamic_objects() const;

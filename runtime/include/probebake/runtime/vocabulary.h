@@ -19,7 +19,7 @@
 
 #include "probebake/formats/probe_volume.h"
 #include "probebake/formats/sh_codec.h"
-#include "probebake/runtime/frame_inputs.h" // Box, FrameLimits, ObjectPose, SkyInput, FrameInputs
+#include "probebake/runtime/frame_inputs.h" // Box, FrameLimits, ObjectPose, SkyInput, EmitterStrength, FrameInputs
 
 namespace probebake::runtime {
 

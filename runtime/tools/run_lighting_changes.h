@@ -1,5 +1,6 @@
-// probebake run --day-cycle SECONDS: a volume baked with `--sky physical` through a day, the sky map and the sun
-// changing every frame (FrameInputs::sky and lights; docs/RUNTIME.md "Sky and time of day").
+// What probebake run changes in the lighting over the frames: --day-cycle SECONDS, a volume baked with `--sky
+// physical` through a day, the sky map and the sun changing every frame (FrameInputs::sky and lights; docs/RUNTIME.md
+// "Sky and time of day"), and --switch-emitters PERIOD, every emitter off and on again (FrameInputs::emitters).
 #pragma once
 
 #include <optional>
@@ -24,5 +25,12 @@ glm::vec3 day_sun_direction(float hour);
 std::optional<std::string> day_cycle_refusal(const runtime::Volume& volume);
 // The frame's sky (map and radiance) and the sun in `in.lights` (the current lights, the sun replaced).
 void add_day_cycle(runtime::FrameInputs& in, const runtime::Volume& volume, float day_seconds, int frame);
+
+// Whether the emitters are on in `frame` when they switch every `period` frames: on in [0, P), off in [P, 2P), ...
+bool emitters_on(int period, int frame);
+// Why the volume has no emitter to switch, or nothing.
+std::optional<std::string> emitter_switch_refusal(const runtime::Volume& volume);
+// In the frames where they switch, every emitter's strength (1 or 0) in `in.emitters`.
+void add_emitter_switch(runtime::FrameInputs& in, const runtime::Volume& volume, int period, int frame);
 
 } // namespace probebake::run

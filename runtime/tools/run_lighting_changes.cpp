@@ -1,4 +1,4 @@
-#include "run_day_cycle.h"
+#include "run_lighting_changes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,6 +40,20 @@ void add_day_cycle(runtime::FrameInputs& in, const runtime::Volume& volume, floa
   gpu::PunctualLight& sun = (*in.lights)[std::size_t(header.sun_light)];
   sun.direction = -physical.sun_direction;
   sun.intensity = sky::sun_irradiance(physical);
+}
+
+bool emitters_on(int period, int frame) { return (frame / period) % 2 == 0; }
+
+std::optional<std::string> emitter_switch_refusal(const runtime::Volume& volume) {
+  if (!volume.emitter_materials().empty()) return std::nullopt;
+  return std::string("--switch-emitters: the file has no emitters to switch (no emissive material, or baked with "
+                     "--emitters-in-probes)");
+}
+
+void add_emitter_switch(runtime::FrameInputs& in, const runtime::Volume& volume, int period, int frame) {
+  if (frame == 0 || frame % period != 0) return;
+  const glm::vec3 scale(emitters_on(period, frame) ? 1.0f : 0.0f);
+  for (int material : volume.emitter_materials()) in.emitters.push_back({material, scale});
 }
 
 } // namespace probebake::run

@@ -7,7 +7,7 @@
 // one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
 // nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
 // frame) reads its E_before from the tracked buffer, where the last frame (or light_trace) left its E_after:
-// one shadow ray. With `everything` (more than RELIGHT_MAX_CHANGES changes, or an object moved) every front
+// one shadow ray, and with FrameLimits::relight_frames only in every relight_period-th slot. With `everything` (more than RELIGHT_MAX_CHANGES changes, or an object moved) every front
 // record's sum is recomputed as light_trace computes it (lights sampled past push.shadow_rays); when only
 // objects moved (`shadows_only`), only the records whose shadow ray to a light may cross a moved box are
 // (shadow_may_have_moved). A change of one light
@@ -101,6 +101,11 @@ void main() {
   if (group >= push.slot_count || light_slot_idle(slot) || light_slot_untraced(slot)) return; // uniform per workgroup
   const bool stale = (trace_flags[slot] & TRACE_FLAG_STALE_PUNCTUAL) != 0u;
   if (!stale && relight_changes.everything == 0u && relight_changes.count == 0u) return; // uniform
+  // FrameLimits::relight_frames: the tracked light changing alone relights this frame's window of slots; the others
+  // catch up in the next frames, from the tracked value they were last given (E_before), so no change is lost.
+  const bool tracked_alone = relight_changes.everything == 0u && relight_changes.count == 1u &&
+                             relight_changes.reuse_before != 0u;
+  if (!stale && tracked_alone && push.relight_period > 1u && slot % push.relight_period != push.relight_phase) return;
   if (gl_LocalInvocationIndex == 0) {
     relit = 0u;
     reused = 0u;

@@ -160,8 +160,12 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot,
                                      const gpu::LightPush& window) {
-  // A full trace reads the new sky and emitters itself.
-  sky_relit_ = sky_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY;
+  // A full trace reads the new sky and emitters itself. With FrameLimits::relight_frames the sky relights a window
+  // of slots a frame, the next period - 1 frames the others.
+  if (sky_changed_) sky_windows_left_ = window.relight_period;
+  if (window.trace_mode == gpu::LIGHT_TRACE_EVERY) sky_windows_left_ = 0;
+  sky_relit_ = sky_windows_left_ > 0;
+  if (sky_relit_) --sky_windows_left_;
   emitters_relit_ = emitters_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY;
   sky_changed_ = emitters_changed_ = false;
   const auto record_sky_and_emitters = [&] {
@@ -169,6 +173,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     if (sky_relit_ && emitters_relit_) barrier(cmd, kComputeReadWrite, kComputeReadWrite); // the same records
     if (emitters_relit_) record_every_slot(cmd, Kernel::light_emitters);
   };
+  const bool settling = settle_relight_windows(window.relight_period);
   const bool changed = relight_everything_ || changes_.count > 0;
   // A frame that recomputes whole sums everywhere (an object moved, or more than RELIGHT_MAX_CHANGES changes)
   // spends them on the gather window's probes; the others only note the change (stale) and catch up when the
@@ -192,10 +197,18 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   changes_.reuse_before = single && tracked_light_ == changed_light ? 1u : 0u;
   changes_.track_after = single ? 1u : 0u;
   if (changed) tracked_light_ = changed_light; // light_trace writes the shares of this light from now on
+  // FrameLimits::relight_frames: the tracked light changing alone relights one window of slots (light_relight), so
+  // the next period - 1 frames relight the others.
+  if (!settling && changes_.reuse_before != 0u && window.relight_period > 1u) {
+    light_windows_left_ = window.relight_period - 1u;
+    light_window_period_ = window.relight_period;
+    windowed_light_ = changes_.changes[0].after;
+  }
   if (relit_) {
     changes_.everything = relight_everything_ ? 1u : 0u;
     // Objects moved and no light changed: only the records a moved box may shadow (light_relight).
-    changes_.shadows_only = relight_everything_ && changes_.count == 0 && shadow_pairs_fit_ ? 1u : 0u;
+    changes_.shadows_only =
+        relight_everything_ && changes_.count == 0 && shadow_pairs_fit_ && !windows_dropped_ ? 1u : 0u;
     // Last frame's relight read the changes (the frame's opening barrier orders it before this write).
     vkCmdUpdateBuffer(cmd, relight_changes_.get(), 0,
                       offsetof(gpu::RelightChanges, changes) + changes_.count * sizeof(gpu::LightChange), &changes_);
@@ -230,7 +243,27 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
     barrier(cmd, kComputeWrite, kComputeReadWrite);
   }
   changes_.count = 0;
-  relight_everything_ = false;
+  relight_everything_ = windows_dropped_ = false;
+}
+
+// While windows of slots have not taken the tracked light's last change (light_windows_left_ > 0): a frame without
+// changes re-submits that light unchanged, so that the next window takes it (returns true); the tracked light
+// changing again goes on as usual; anything else (another change, moved objects, a new period) first recomputes
+// every record's whole sum, so that no record keeps an older light in a sum that later differences build on.
+bool LightUpdatePass::settle_relight_windows(std::uint32_t period) {
+  if (light_windows_left_ == 0) return false;
+  const bool tracked_again = !relight_everything_ && changes_.count == 1 && int(first_change_) == tracked_light_;
+  if (tracked_again && period == light_window_period_) return false;
+  if (!relight_everything_ && changes_.count == 0 && period == light_window_period_) {
+    changes_.changes[0] = {windowed_light_, windowed_light_};
+    changes_.count = 1;
+    first_change_ = std::size_t(tracked_light_);
+    --light_windows_left_;
+    return true;
+  }
+  relight_everything_ = windows_dropped_ = true;
+  light_windows_left_ = 0;
+  return false;
 }
 
 // The sky or emitters changed: every slot with records takes them (light_sky, light_emitters), in the relight's
@@ -287,7 +320,10 @@ bool LightUpdatePass::record(VkCommandBuffer cmd, PassTimer& timer, const LightT
                       0u,
                       0u,
                       untraced_from_,
-                      load_order_ ? 1u : 0u};
+                      load_order_ ? 1u : 0u,
+                      std::uint32_t(std::max(limits.relight_frames, 1)),
+                      0u};
+  push.relight_phase = push.seed % push.relight_period; // consecutive frames: every phase within a period
   if (trace_every) push.trace_mode = gpu::LIGHT_TRACE_EVERY;
   record_relight(cmd, timer, slots.relight, push);
   // A probe of a window is gathered once every `period` frames: it blends with h^period, so that its

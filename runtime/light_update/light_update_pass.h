@@ -125,6 +125,7 @@ private:
   // pending or probes outside earlier gather windows may still be stale. `window`: this frame's gather
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
+  bool settle_relight_windows(std::uint32_t period);
   // light_sky or light_emitters over every slot with records, the sets and push constants already bound.
   void record_every_slot(VkCommandBuffer cmd, Kernel kernel);
   // The pending moved boxes and their (box, light) shadow pairs into RelightChanges (shadow_pairs_fit_);
@@ -168,6 +169,13 @@ private:
   std::vector<gpu::ShadowPair> shadow_pairs_;     // the last uploaded (box, light) pairs
   gpu::RelightChanges changes_{};                 // pending changes (changes_.count), uploaded by record()
   std::size_t first_change_ = 0;                  // light index of changes_.changes[0]
+  // FrameLimits::relight_frames: frames left until every window of slots took the tracked light's last change,
+  // their period and that light; windows_dropped_: this frame recomputes whole sums instead (no shadows_only);
+  // frames left until every window took the last sky.
+  std::uint32_t light_windows_left_ = 0, light_window_period_ = 0;
+  gpu::PunctualLight windowed_light_{};
+  bool windows_dropped_ = false;
+  std::uint32_t sky_windows_left_ = 0;
   Buffer relight_changes_;                        // RelightChanges, then an EmitterScale per emitter
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.

@@ -81,6 +81,8 @@ Status check_frame_inputs(const FrameInputs& in) {
   if (in.limits.shadow_rays_per_record < 0 || in.limits.shadow_rays_per_record == 1 ||
       in.limits.shadow_rays_per_record > 9)
     return bad("shadow_rays_per_record " + std::to_string(in.limits.shadow_rays_per_record) + " is not 0 or in [2, 9]");
+  if (in.limits.relight_frames < 0 || in.limits.relight_frames > 64)
+    return bad("relight_frames " + std::to_string(in.limits.relight_frames) + " is not in [0, 64]");
   return {};
 }
 

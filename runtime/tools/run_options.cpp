@@ -46,6 +46,8 @@ constexpr const char* kUsage =
     "                    beside the other passes (measured and corrected every frame; replaces --trace-budget)\n"
     "  --shadow-rays N   shadow rays per lighting record for a whole punctual sum (0 = one per light, the\n"
     "                    default; 2-9: the strongest N - 1 lights exact, one of the others sampled)\n"
+    "  --relight-frames N  the sky and a light that changes every frame (the --day-cycle sun) relight a probe\n"
+    "                    every N frames, 1/N of them a frame (1-64; default 1; FrameLimits::relight_frames)\n"
     "  --budget BYTES    stream the cells' tracing blocks within BYTES of device memory (K, M, G suffixes;\n"
     "                    needs --path and a file baked with --cell-size): one frame per path row, a line per\n"
     "                    frame and the worst upload spike (docs/RUNTIME.md \"Streaming cells\")\n"
@@ -261,6 +263,10 @@ std::optional<RunOptions> parse_run_options(int argc, char** argv, std::string& 
       int& rays = options.limits.shadow_rays_per_record;
       if (!has_value || !parse_int(argv[++i], 0, rays) || rays == 1 || rays > 9)
         return usage_error("--shadow-rays needs 0 or a number in 2-9");
+    } else if (arg == "--relight-frames") {
+      int& frames = options.limits.relight_frames;
+      if (!has_value || !parse_int(argv[++i], 1, frames) || frames > 64)
+        return usage_error("--relight-frames needs a number of frames in 1-64");
     } else if (arg == "--budget" || arg == "--max-upload") {
       std::uint64_t& bytes = arg == "--budget" ? stream().budget : stream().max_upload;
       if (!has_value || !parse_bytes(argv[++i], bytes) || (arg == "--budget" && bytes == 0))

@@ -81,7 +81,7 @@ TEST(DynamicObjectsBake, BlocksAreObjectsWhoseRestTrianglesAreTheScenes) {
 TEST(DynamicObjectsBake, RoundTripsAndStaticScenesHaveNoObjects) {
   const formats::ProbeVolume v = bake_volume(load_generated(dynamic_cornell(), "cornell-dynamic"));
   const std::vector<std::uint8_t> bytes = formats::write_probes(v);
-  EXPECT_EQ(formats::parse_container(bytes, "dynamic").header.version_minor, formats::kCellGlobalChecksumsMinor);
+  EXPECT_EQ(formats::parse_container(bytes, "dynamic").header.version_minor, formats::kEmitterGroupsMinor);
   const formats::ProbeVolume back = formats::read_probes(bytes, "dynamic");
   ASSERT_EQ(back.dynamic_objects.size(), 2u);
   EXPECT_EQ(formats::write_probes(back), bytes);

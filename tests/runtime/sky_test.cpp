@@ -105,6 +105,54 @@ TEST_F(SkyTest, SkyRadianceScalesASkyLitSceneExactly) {
   EXPECT_LT(after, 1e-5f);
 }
 
+// FrameLimits::relight_frames 4: the sun and the sky moving every frame relight a quarter of the probes each frame.
+// Three frames after they stop, or at once when another light changes, every record is that of a run relit every
+// frame: after the bounces settle the probes agree to rounding.
+TEST_F(SkyTest, SunAndSkyRelitOverFramesSettleToTheRunRelitEveryFrame) {
+  bake::BakeSettings settings = small_bake_settings();
+  settings.lighting.rays = 96;
+  const Baked b = bake_generated(samples::courtyard(), "courtyard-spread", settings,
+                                 sky::physical_sky({sky::direction_from_angles(20.0f, 80.0f), 2.5f}));
+  runtime::Volume exact = upload_sweeping(context(), b.volume, 1), spread = upload_sweeping(context(), b.volume, 1);
+  const auto both = [&](runtime::FrameInputs in) {
+    ASSERT_TRUE(exact.run_frame(in).ok());
+    in.limits.relight_frames = 4;
+    const auto stats = spread.run_frame(in);
+    ASSERT_TRUE(stats.ok()) << stats.status().message;
+  };
+  const auto sun_at = [&](float elevation) {
+    runtime::FrameInputs in;
+    in.lights.emplace(exact.lights().begin(), exact.lights().end());
+    const sky::PhysicalSky sun{sky::direction_from_angles(elevation, 80.0f + elevation), 2.5f};
+    (*in.lights)[0].direction = -sun.sun_direction;
+    (*in.lights)[0].intensity = sky::sun_irradiance(sun);
+    in.sky = runtime::SkyInput{glm::vec3(elevation / 20.0f)}; // the map scaled: light_sky runs as for a new map
+    return in;
+  };
+  for (int f = 0; f < 3; ++f) both({});
+  for (int f = 0; f < 30; ++f) both(sun_at(20.0f + 1.5f * float(f))); // 1.5 degrees a frame
+  const float moving = max_sh_difference(read_back(spread), read_back(exact));
+  for (int f = 0; f < 40; ++f) both({});
+  const float stopped = max_sh_difference(read_back(spread), read_back(exact));
+  for (int f = 0; f < 5; ++f) both(sun_at(70.0f - 1.5f * float(f)));
+  runtime::FrameInputs lamp = sun_at(62.5f); // the sun and a new light in one frame: every whole sum
+  gpu::PunctualLight point{};
+  point.position = glm::vec3(0.0f, 3.0f, 0.0f);
+  point.type = gpu::LIGHT_POINT;
+  point.intensity = glm::vec3(50.0f);
+  lamp.lights->push_back(point);
+  both(lamp);
+  for (int f = 0; f < 40; ++f) both({});
+  const float interrupted = max_sh_difference(read_back(spread), read_back(exact));
+  std::printf("[sky] sun and sky relit over 4 frames against every frame: %.2e of the brightest DC while the sun "
+              "moves 1.5 degrees a frame, %.2e after it stopped, %.2e after another light interrupted it\n",
+              double(moving), double(stopped), double(interrupted));
+  EXPECT_GT(moving, stopped); // the windows lag while it moves
+  EXPECT_LT(moving, 0.08f);
+  EXPECT_LT(stopped, 1e-5f);
+  EXPECT_LT(interrupted, 1e-5f);
+}
+
 TEST_F(SkyTest, BadSkiesAreInvalidArguments) {
   bake::BakeSettings settings = small_bake_settings();
   settings.lighting.rays = 16;

@@ -189,7 +189,9 @@ struct LightPush {
                          //   FrameLimits::max_traced_probes): gather keeps, relight and mark skip them; with
                          //   load_ordered, the slots whose rank in the load order is from here on
   uint load_ordered;     // offset 68: 1 = the load trace follows LIGHT_BINDING_LOAD_ORDER (UploadOptions::load_focus)
-};                       // size 72
+  uint relight_period;   // offset 72: light_relight (the tracked light alone) and light_sky relight only slots s
+  uint relight_phase;    // offset 76:   with s % relight_period == relight_phase (FrameLimits::relight_frames)
+};                       // size 80
 
 // The probes the light update lights this frame when the memory update runs: the leaf queue's L1/L2 entries
 // that the light transitions processed (memory_light appends them), then the indirect dispatch sizes
@@ -286,7 +288,8 @@ static_assert(sizeof(LightRecord) == 64 && offsetof(LightRecord, base) == 32 && 
               offsetof(LightRecord, punctual_b) == 60);
 static_assert(sizeof(LightListHeader) == 48 && offsetof(LightListHeader, resolve_x) == 16 &&
               offsetof(LightListHeader, trace_x) == 32 && offsetof(LightListHeader, trace_count) == 44);
-static_assert(sizeof(LightPush) == 72 && offsetof(LightPush, load_ordered) == 68 &&
+static_assert(sizeof(LightPush) == 80 && offsetof(LightPush, load_ordered) == 68 &&
+              offsetof(LightPush, relight_period) == 72 && offsetof(LightPush, relight_phase) == 76 &&
               offsetof(LightPush, retry_by_slot) == 60 && offsetof(LightPush, untraced_from) == 64 &&
               offsetof(LightPush, null_leaf) == 48 && offsetof(LightPush, retry_count) == 56 &&
               offsetof(LightPush, shadow_rays) == 32 && sizeof(LightCounters) == 48 &&

@@ -46,6 +46,13 @@ struct FrameLimits {
   // rays (docs/RUNTIME_INTERNALS.md "Many lights"). A light changed alone is still relit exactly. In [0, 9];
   // sampling needs at least 2 (1 is refused).
   int shadow_rays_per_record = 0;
+  // The sky and a light that changes alone frame after frame (the sun of a day cycle) relight their records over
+  // this many frames (0 or 1: every record every frame; at most 64; docs/RUNTIME.md "Sky and time of day"): each
+  // frame the probe slots s with s % relight_frames == frame % relight_frames take the current sky and light, so
+  // a probe lags them by at most relight_frames - 1 frames. Within relight_frames - 1 frames after they stop,
+  // every record is what it would be relit every frame; another light change or a moved object first
+  // recomputes every record's whole punctual sum.
+  int relight_frames = 0;
 };
 
 // Where a dynamic object is this frame (format 1.3, gpu::DynamicObject): world_from_object of

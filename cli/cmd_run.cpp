@@ -66,6 +66,7 @@ int run_command(CLI::App* app, RunCommandSettings& s) {
     picture_options.reference = !s.reference.empty();
     picture_options.receivers = s.receivers;
     picture_options.paths = s.paths;
+    picture_options.day_cycle = options->day_cycle;
     scene::Scene scene = scene::load_scene(s.scene, load_options(s.input, true));
     picture_options.camera = s.camera.camera_or_default(scene);
     pictures = std::make_unique<RunPictures>(picture_options, std::move(scene));

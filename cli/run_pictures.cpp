@@ -14,6 +14,8 @@
 #include "probebake/formats/error.h"
 #include "probebake/render/render.h"
 #include "probebake/scene/ray_scene.h"
+#include "probebake/sky/sky.h"
+#include "run_lighting_changes.h"
 #include "camera_options.h"
 #include "runtime_lookup.h"
 
@@ -32,8 +34,9 @@ RunPictures::RunPictures(RunPictureOptions options, scene::Scene scene)
   if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot create folder: {}", options_.folder, ec.message()));
 }
 
-// The runtime's objects carry the glTF node they came from; the scene's objects too.
-scene::Scene RunPictures::posed_scene(const runtime::Volume& volume) const {
+// The runtime's objects carry the glTF node they came from; the scene's objects too. With a day cycle, the frame's
+// sky and sun.
+scene::Scene RunPictures::posed_scene(const runtime::Volume& volume, int frame) const {
   std::vector<glm::mat4> poses;
   for (const scene::DynamicObject& object : scene_.dynamic_objects) {
     glm::mat4 pose = object.world_from_object;
@@ -42,20 +45,27 @@ scene::Scene RunPictures::posed_scene(const runtime::Volume& volume) const {
       if (objects[o].gltf_node == object.node) pose = volume.object_pose(int(o));
     poses.push_back(pose);
   }
-  return scene::posed(scene_, poses);
+  scene::Scene posed = scene::posed(scene_, poses);
+  if (options_.day_cycle && scene_.sky.physical) {
+    const float hour = run::day_hour(*options_.day_cycle, frame);
+    scene::set_sky(posed, sky::physical_sky({run::day_sun_direction(hour), scene_.sky.physical->turbidity}));
+  }
+  return posed;
 }
 
 runtime::Status RunPictures::after_frame(int frame, runtime::Volume& volume) {
   if (std::find(options_.at_frames.begin(), options_.at_frames.end(), frame) == options_.at_frames.end()) return {};
   try {
-    const scene::Scene posed = posed_scene(volume);
+    const scene::Scene posed = posed_scene(volume, frame);
     if (options_.images) write_images(frame, posed, volume);
     if (options_.reference) {
       errors_.push_back(measure(frame, posed, volume));
       const ErrorRow& e = errors_.back();
-      fmt::print("frame {}: indirect relative RMSE {:.4f} (median {:.4f}, reference noise {:.4f}) against {} paths at "
-                 "{} receivers, {:.1f} s\n",
-                 frame, e.relative_rmse, e.relative_median, e.reference_noise, options_.paths, options_.receivers,
+      const std::string at =
+          e.hour >= 0.0f ? fmt::format(" at {:02d}:{:02d}", int(e.hour), int(std::fmod(e.hour, 1.0f) * 60.0f)) : "";
+      fmt::print("frame {}{}: indirect relative RMSE {:.4f} (median {:.4f}, reference noise {:.4f}) against {} paths "
+                 "at {} receivers, {:.1f} s\n",
+                 frame, at, e.relative_rmse, e.relative_median, e.reference_noise, options_.paths, options_.receivers,
                  e.seconds);
     }
   } catch (const Error& e) {
@@ -93,8 +103,15 @@ RunPictures::ErrorRow RunPictures::measure(int frame, const scene::Scene& posed,
   auto runtime_values = volume.sample_irradiance(positions, normals);
   if (!runtime_values.ok()) throw Error(ErrorKind::internal, runtime_values.status().message);
   const bake::PoseError error = bake::pose_error(reference, runtime_values.value());
-  ErrorRow row{frame, error.relative_rmse, error.relative_median, error.reference_noise, reference.mean_indirect,
-               0.0,   reference.seconds};
+  const float hour = options_.day_cycle ? run::day_hour(*options_.day_cycle, frame) : -1.0f;
+  ErrorRow row{frame,
+               hour,
+               error.relative_rmse,
+               error.relative_median,
+               error.reference_noise,
+               reference.mean_indirect,
+               0.0,
+               reference.seconds};
   for (const glm::vec3& v : runtime_values.value())
     row.mean_runtime += double(v.x + v.y + v.z) / (3.0 * double(runtime_values.value().size()));
   return row;
@@ -104,10 +121,11 @@ std::vector<std::string> RunPictures::finish() const {
   if (!options_.reference || errors_.empty()) return {};
   const std::filesystem::path csv_path = std::filesystem::path(options_.folder) / "error.csv";
   std::ofstream csv(csv_path);
-  csv << "frame,relative_rmse,relative_median,reference_noise,mean_reference,mean_runtime,reference_seconds\n";
+  csv << "frame,relative_rmse,relative_median,reference_noise,mean_reference,mean_runtime,reference_seconds,hour\n";
   for (const ErrorRow& e : errors_)
     csv << e.frame << ',' << e.relative_rmse << ',' << e.relative_median << ',' << e.reference_noise << ','
-        << e.mean_reference << ',' << e.mean_runtime << ',' << e.seconds << '\n';
+        << e.mean_reference << ',' << e.mean_runtime << ',' << e.seconds << ','
+        << (e.hour >= 0.0f ? fmt::format("{:.4f}", e.hour) : std::string()) << '\n';
   if (!csv.flush()) throw Error(ErrorKind::output, csv_path.string() + ": cannot be written");
   // Error against frame: the runtime's lag behind the motion shows as the error after the motion ends.
   constexpr double kW = 760, kH = 400, kL = 70, kR = 20, kT = 40, kB = 50;

@@ -24,6 +24,9 @@ struct RunPictureOptions {
   std::optional<bake::Camera> camera; // checked; default: the scene's first camera, else one facing the bounds from +Z
   int receivers = 256;
   int paths = 256;
+  // --day-cycle SECONDS: the reference of a frame is lit by that frame's physical sky and sun (the scene's sky must be
+  // physical), as the runtime's day cycle lights it.
+  std::optional<float> day_cycle;
 };
 
 class RunPictures {
@@ -37,10 +40,11 @@ public:
 private:
   struct ErrorRow {
     int frame = 0;
+    float hour = -1.0f; // the day cycle's, else -1
     double relative_rmse = 0, relative_median = 0, reference_noise = 0, mean_reference = 0, mean_runtime = 0,
            seconds = 0;
   };
-  scene::Scene posed_scene(const runtime::Volume& volume) const;
+  scene::Scene posed_scene(const runtime::Volume& volume, int frame) const;
   void write_images(int frame, const scene::Scene& posed, runtime::Volume& volume);
   ErrorRow measure(int frame, const scene::Scene& posed, runtime::Volume& volume) const;
 

@@ -234,5 +234,24 @@ TEST(BakeCli, EmptySceneIsAClearRefusal) {
   EXPECT_FALSE(std::filesystem::exists(scene.parent_path() / "cli_empty.probes"));
 }
 
+// `probebake run --day-cycle --reference`: the reference of a frame is lit by that frame's sky and sun (10:00 in
+// frame 1 of a 0.1 s day), which error.csv records.
+TEST(BakeCli, RunScoresADayCycleAgainstTheReferenceOfItsHour) {
+  const auto scene = write_generated(samples::plane_light(), "cli_day");
+  const auto probes = scene.parent_path() / "cli_day.probes", folder = scene.parent_path() / "cli_day_error";
+  ASSERT_EQ(run({scene, "--sky physical --sun 30,90 --placement grid --grid 3 --light-rays 16 -o", probes}).exit_code,
+            0);
+  const CliRun r = run({"run", probes, "--frames 2 --day-cycle 0.1 --scene", scene,
+                        "--sky physical --sun 30,90 --at-frames 1 --receivers 16 --paths 16 --reference", folder});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("frame 1 at 10:00: indirect relative RMSE"), std::string::npos) << r.out;
+  std::ifstream csv(folder / "error.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_EQ(header.substr(header.rfind(',') + 1), "hour");
+  EXPECT_EQ(row.substr(row.rfind(',') + 1), "10.0000") << row;
+}
+
 } // namespace
 } // namespace probebake::test

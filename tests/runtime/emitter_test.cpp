@@ -110,7 +110,8 @@ TEST_F(EmitterTest, DimmedLampsMatchTheCpuBakeAlsoForProbesTracedAfterTheChange)
   Baked b = bake_two_lamps();
   const glm::vec3 a(0.25f, 0.5f, 1.0f), lamp_b(2.0f, 0.0f, 0.5f);
   const formats::ProbeVolume cpu = cpu_bake_with(b, a, lamp_b);
-  runtime::Volume relit_later = upload_sweeping(context(), b.volume), traced_later = upload_sweeping(context(), b.volume);
+  runtime::Volume relit_later = upload_sweeping(context(), b.volume),
+                  traced_later = upload_sweeping(context(), b.volume);
   run_with(relit_later, {}, 2);
   run_with(relit_later, strengths(a, lamp_b), 60);
   runtime::FrameInputs windowed = strengths(a, lamp_b);

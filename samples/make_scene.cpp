@@ -100,6 +100,8 @@ void add_kinds(CLI::App& app, std::map<CLI::App*, MakeScene>& makers, KindOption
   rooms->add_option("--seed", o.rooms.seed, "layout seed")->capture_default_str();
   rooms->add_option("--light-range", o.rooms.light_range, "range of each room's light in metres, 0 = unbounded")
       ->capture_default_str();
+  rooms->add_flag("--windows", o.rooms.windows,
+                  "a 3 x 1 m window in every wall that faces out of the grid (for a sky)");
 
   CLI::App* window = add_kind(app, makers, "window-room", "a closed room lit by the sun through small windows",
                               [&o] { return samples::window_room(o.window_room); });

@@ -1,4 +1,5 @@
-// A large procedural scene for scale tests: a grid of closed rooms with furniture. Deterministic: a
+// A large procedural scene for scale tests: a grid of closed rooms with furniture (with --windows, windows in the
+// walls that face out of the grid). Deterministic: a
 // SplitMix64 generator per room (std:: distributions differ between standard libraries), seeded from
 // the scene seed and the room index.
 #include "probebake/samples/scenes.h"
@@ -7,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace probebake::samples {
@@ -46,7 +48,40 @@ struct Palette {
 struct SharedMeshes {
   MeshId shell, panel;
   std::array<MeshId, sphere_colours> spheres;
+  std::array<std::optional<MeshId>, 16> shells_with_windows; // by outer_walls() mask, made when first used
 };
+
+// Which walls of a room face out of the grid: bit 0 -X, 1 +X, 2 -Z, 3 +Z.
+int outer_walls(int room, int count, int columns) {
+  const int column = room % columns, row = room / columns, rows = (count + columns - 1) / columns;
+  // The last row may be short: a room with no room behind it in +Z, or beside it in +X, faces out there.
+  const bool last_in_row = column == columns - 1 || room + 1 >= count;
+  return (column == 0 ? 1 : 0) | (last_in_row ? 2 : 0) | (row == 0 ? 4 : 0) |
+         (row == rows - 1 || room + columns >= count ? 8 : 0);
+}
+
+// The shell with a window in each wall of `walls` (outer_walls' bits): the cells of the subdivided wall whose centre
+// lies within 1.5 m of the wall's middle and 1-2 m high are left out (they fall on the 0.25 x 0.125 m cells' edges).
+MeshData shell_with_windows(int walls) {
+  const glm::vec3 lo(-room_size.x / 2.0f, 0.0f, -room_size.z / 2.0f), hi = lo + room_size;
+  const MeshData full = box(lo, hi, Facing::inward, shell_subdivisions);
+  MeshData out;
+  for (std::size_t t = 0; t < full.triangle_count(); ++t) {
+    const glm::vec3 a = full.positions[full.indices[3 * t]], b = full.positions[full.indices[3 * t + 1]],
+                    c = full.positions[full.indices[3 * t + 2]], centre = (a + b + c) / 3.0f;
+    const bool in_window = centre.y > 1.0f && centre.y < 2.0f;
+    const bool x_wall = a.x == b.x && b.x == c.x, z_wall = a.z == b.z && b.z == c.z;
+    const int wall = x_wall ? (a.x < 0.0f ? 1 : 2) : z_wall ? (a.z < 0.0f ? 4 : 8) : 0;
+    const float along = x_wall ? centre.z : centre.x;
+    if ((walls & wall) != 0 && in_window && std::abs(along) < 1.5f) continue;
+    MeshData triangle;
+    triangle.positions = {a, b, c};
+    triangle.normals.assign(3, full.normals[full.indices[3 * t]]);
+    triangle.indices = {0, 1, 2};
+    out.append(triangle);
+  }
+  return out;
+}
 
 Palette add_palette(SceneBuilder& scene) {
   Palette p;
@@ -147,8 +182,8 @@ void add_spheres(SceneBuilder& scene, const SharedMeshes& meshes, Random& random
   }
 }
 
-void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& meshes, const RoomsOptions& options,
-              int room, int columns) {
+void add_room(SceneBuilder& scene, const Palette& palette, SharedMeshes& meshes, const RoomsOptions& options, int room,
+              int columns) {
   Random random(static_cast<std::uint64_t>(options.seed) * 0x100000001B3ull + static_cast<std::uint64_t>(room));
   const std::string prefix = "room_" + std::to_string(room);
   const float pitch_x = room_size.x + wall_thickness;
@@ -157,7 +192,14 @@ void add_room(SceneBuilder& scene, const Palette& palette, const SharedMeshes& m
   placement.translation =
       glm::vec3(static_cast<float>(room % columns) * pitch_x, 0.0f, static_cast<float>(room / columns) * pitch_z);
   const NodeId node = scene.add_node(prefix, placement);
-  scene.add_mesh_node(prefix + "_shell", meshes.shell, {}, node);
+  MeshId shell = meshes.shell;
+  if (const int walls = outer_walls(room, options.count, columns); options.windows && walls != 0) {
+    std::optional<MeshId>& windowed = meshes.shells_with_windows[std::size_t(walls)];
+    if (!windowed)
+      windowed = scene.add_mesh("room_shell_windows_" + std::to_string(walls), shell_with_windows(walls), palette.wall);
+    shell = *windowed;
+  }
+  scene.add_mesh_node(prefix + "_shell", shell, {}, node);
   scene.add_mesh_node(prefix + "_furniture", add_furniture(scene, palette, random, room), {}, node);
   add_spheres(scene, meshes, random, room, node);
   Light light;
@@ -183,7 +225,7 @@ SceneBuilder rooms(const RoomsOptions& options) {
     throw Error(ErrorKind::usage, "rooms: --light-range must be finite and >= 0");
   SceneBuilder scene("rooms");
   const Palette palette = add_palette(scene);
-  const SharedMeshes meshes = add_shared_meshes(scene, palette, options.detail);
+  SharedMeshes meshes = add_shared_meshes(scene, palette, options.detail);
   const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(options.count))));
   for (int room = 0; room < options.count; ++room) add_room(scene, palette, meshes, options, room, columns);
   return scene;

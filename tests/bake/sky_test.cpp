@@ -3,6 +3,7 @@
 // geometry is culled, and environments are read as hostile input.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <numbers>
 #include <vector>
@@ -193,6 +194,35 @@ TEST(Sky, BadSkySettingsAreUsageErrors) {
       },
       "turbidity", "accepted", ErrorKind::usage);
   expect_refusal([] { sky::physical_sky({glm::vec3(0.0f), 2.5f}); }, "sun direction", "accepted", ErrorKind::usage);
+}
+
+// Rooms with windows (make-scene rooms --windows): the sky reaches the rooms through the windows only. Closed rooms
+// bake the same probes with or without a sky (no ray leaves them); with windows rays leave, and the probes gain light.
+TEST(Sky, ReachesRoomsOnlyThroughTheirWindows) {
+  const auto bake_rooms = [](bool windows, bool sky) {
+    scene::Scene s = load_generated(samples::rooms({.count = 2, .detail = 1, .windows = windows}), "sky-rooms");
+    if (sky) scene::set_sky(s, sky::constant_sky(glm::vec3(1.0f)));
+    bake::BakeSettings settings = grid_settings(6);
+    settings.lighting.rays = 64;
+    return bake::bake(s, settings);
+  };
+  const bake::BakeResult closed = bake_rooms(false, false), closed_sky = bake_rooms(false, true);
+  const bake::BakeResult open = bake_rooms(true, false), open_sky = bake_rooms(true, true);
+  EXPECT_EQ(closed_sky.report.lighting.misses, 0u);
+  ASSERT_EQ(closed_sky.volume.probes.size(), closed.volume.probes.size());
+  EXPECT_EQ(std::memcmp(closed_sky.volume.probes.data(), closed.volume.probes.data(),
+                        closed.volume.probes.size() * sizeof(gpu::Probe)),
+            0); // the probes bit for bit (lighting_info differs: its sky radiance)
+  EXPECT_GT(open_sky.report.lighting.misses, 0u);
+  double gained = 0.0, dc = 0.0;
+  for (std::size_t p = 0; p < open.volume.probes.size(); ++p) {
+    gained += open_sky.volume.probes[p].irradiance_sh[0] - open.volume.probes[p].irradiance_sh[0];
+    dc += open.volume.probes[p].irradiance_sh[0];
+  }
+  std::printf("[sky] two rooms with windows: %zu of the rays leave, the sky adds %.3g to the probes' mean DC (%.3g)\n",
+              open_sky.report.lighting.misses, gained / double(open.volume.probes.size()),
+              dc / double(open.volume.probes.size()));
+  EXPECT_GT(gained, 0.0);
 }
 
 } // namespace

@@ -270,6 +270,28 @@ TEST(Rooms, SmallGridBounds) {
   expect_bounds(s.triangles, {-3.0f, 0.0f, -3.0f}, {9.2f, 3.0f, 9.2f}, 1e-5f);
 }
 
+// --windows: three rooms on a 2 x 2 grid (rooms 0 and 1 in the first row, room 2 alone in the second) get a 3 x 1 m
+// window in each wall that faces out of the grid: 2 + 3 + 3 of them, 192 triangles each.
+TEST(Rooms, WindowsOpenOnlyTheOuterWalls) {
+  ps::RoomsOptions options{3, 2, 7};
+  const std::size_t closed = load(ps::rooms(options)).triangles.size();
+  options.windows = true;
+  const Loaded s = load(ps::rooms(options));
+  EXPECT_EQ(closed, 3u * (7844u + 72u * 4u) + 2u);
+  EXPECT_EQ(s.triangles.size(), closed - 8u * 192u);
+  // Room 0's wall cells whose centre is in the window rectangle of a wall plane (x or z = `at`).
+  const auto in_window = [&](bool x_plane, float at) {
+    return std::count_if(s.triangles.begin(), s.triangles.end(), [&](const pt::WorldTriangle& t) {
+      const glm::vec3 c = t.centroid();
+      const float plane = x_plane ? c.x : c.z, along = x_plane ? c.z : c.x;
+      return std::abs(plane - at) < 1e-4f && std::abs(along) < 1.5f && c.y > 1.0f && c.y < 2.0f;
+    });
+  };
+  EXPECT_EQ(in_window(false, -3.0f), 0); // -Z: the grid's edge
+  EXPECT_EQ(in_window(true, -3.0f), 0);  // -X: the grid's edge
+  EXPECT_EQ(in_window(true, 3.0f), 192); // +X: room 1 is beside it
+}
+
 TEST(EdgeCases, OneTriangle) {
   const Loaded s = load(ps::triangle());
   ASSERT_EQ(s.triangles.size(), 1u);

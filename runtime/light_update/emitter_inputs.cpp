@@ -34,7 +34,8 @@ Status EmitterInputs::check(std::span<const EmitterStrength> strengths) const {
               which + ": material " + std::to_string(strengths[i].material) + " is no emitter of this volume (" +
                   std::to_string(materials_.size()) +
                   " emitters, Volume::emitter_materials(); a volume baked with --emitters-in-probes has none)"};
-    if (!valid_scale(strengths[i].scale)) return {StatusCode::invalid_argument, which + ": scale is not finite and >= 0"};
+    if (!valid_scale(strengths[i].scale))
+      return {StatusCode::invalid_argument, which + ": scale is not finite and >= 0"};
   }
   return {};
 }

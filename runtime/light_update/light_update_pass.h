@@ -176,7 +176,7 @@ private:
   gpu::PunctualLight windowed_light_{};
   bool windows_dropped_ = false;
   std::uint32_t sky_windows_left_ = 0;
-  Buffer relight_changes_;                        // RelightChanges, then an EmitterScale per emitter
+  Buffer relight_changes_; // RelightChanges, then an EmitterScale per emitter
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.
   int tracked_light_ = -1;

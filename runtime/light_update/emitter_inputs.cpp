@@ -42,13 +42,10 @@ Status EmitterInputs::check(std::span<const EmitterStrength> strengths) const {
 
 bool EmitterInputs::apply(std::span<const EmitterStrength> strengths) {
   bool changed = false;
-  for (gpu::EmitterScale& s : scales_) s.change = glm::vec3(0.0f);
   for (const EmitterStrength& strength : strengths) {
     gpu::EmitterScale& s = scales_[std::size_t(emitter_of(strength.material))];
-    if (strength.scale == s.scale) continue;
-    s.change += strength.scale - s.scale; // listed twice: the changes add up to the last scale
-    s.scale = strength.scale;
-    changed = true;
+    changed = changed || strength.scale != s.scale;
+    s.scale = strength.scale; // listed twice: the last one
   }
   return changed;
 }

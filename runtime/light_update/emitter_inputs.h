@@ -1,7 +1,7 @@
 // The host's emitter strengths (FrameInputs::emitters): checked against the file's emitters (format 1.10, one per
 // emissive glTF material), then, when one differs from the current strength, a new scale table for the light
-// update (gpu::EmitterScale per emitter: the scale light_trace applies, and the change light_emitters adds to the
-// records). Nothing is allocated per frame.
+// update (gpu::EmitterScale per emitter, which light_trace and light_emitters apply). Nothing is allocated per
+// frame.
 #pragma once
 
 #include <span>
@@ -28,7 +28,7 @@ public:
 private:
   int emitter_of(int material) const; // -1: none
   std::vector<int> materials_;
-  std::vector<gpu::EmitterScale> scales_; // every change 0 after a frame that applied none
+  std::vector<gpu::EmitterScale> scales_;
 };
 
 } // namespace probebake::runtime::detail

@@ -160,13 +160,15 @@ void LightUpdatePass::relight(std::span<const gpu::LightChange> changes, std::si
 
 void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot,
                                      const gpu::LightPush& window) {
-  // A full trace reads the new sky and emitters itself. With FrameLimits::relight_frames the sky relights a window
-  // of slots a frame, the next period - 1 frames the others.
+  // A full trace reads the new sky and emitters itself. With FrameLimits::relight_frames the sky and the emitters
+  // relight a window of slots a frame, the next period - 1 frames the others.
   if (sky_changed_) sky_windows_left_ = window.relight_period;
-  if (window.trace_mode == gpu::LIGHT_TRACE_EVERY) sky_windows_left_ = 0;
+  if (emitters_changed_) emitter_windows_left_ = window.relight_period;
+  if (window.trace_mode == gpu::LIGHT_TRACE_EVERY) sky_windows_left_ = emitter_windows_left_ = 0;
   sky_relit_ = sky_windows_left_ > 0;
+  emitters_relit_ = emitter_windows_left_ > 0;
   if (sky_relit_) --sky_windows_left_;
-  emitters_relit_ = emitters_changed_ && window.trace_mode != gpu::LIGHT_TRACE_EVERY;
+  if (emitters_relit_) --emitter_windows_left_;
   sky_changed_ = emitters_changed_ = false;
   const auto record_sky_and_emitters = [&] {
     if (sky_relit_) record_every_slot(cmd, Kernel::light_sky);

@@ -77,7 +77,7 @@ public:
   // The host changed the sky (SkyInputs uploaded it): the next record() relights every miss record (light_sky).
   void sky_changed() { sky_changed_ = true; }
   // The host changed emitter strengths: records the upload of the new table (one EmitterScale per emitter), and
-  // the next record() adds each emitter's change to the front records (light_emitters).
+  // the next record() sums the front records' emitter light again (light_emitters; windowed by relight_frames).
   void emitters_changed(VkCommandBuffer cmd, std::span<const gpu::EmitterScale> scales);
   // After the submission: this frame's statistics.
   LightStats stats(std::uint32_t ring) const; // of the frame recorded into `ring`, once it finished
@@ -171,11 +171,11 @@ private:
   std::size_t first_change_ = 0;                  // light index of changes_.changes[0]
   // FrameLimits::relight_frames: frames left until every window of slots took the tracked light's last change,
   // their period and that light; windows_dropped_: this frame recomputes whole sums instead (no shadows_only);
-  // frames left until every window took the last sky.
+  // frames left until every window took the last sky, and the last emitter strengths.
   std::uint32_t light_windows_left_ = 0, light_window_period_ = 0;
   gpu::PunctualLight windowed_light_{};
   bool windows_dropped_ = false;
-  std::uint32_t sky_windows_left_ = 0;
+  std::uint32_t sky_windows_left_ = 0, emitter_windows_left_ = 0;
   Buffer relight_changes_; // RelightChanges, then an EmitterScale per emitter
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.

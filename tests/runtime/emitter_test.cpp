@@ -105,15 +105,23 @@ TEST_F(EmitterTest, ALampSwitchedOffMatchesTheBakeWithoutItAndReturnsWhenOn) {
   EXPECT_TRUE(gpu.validate_live().ok());
 }
 
-// Per channel, both lamps at once; and probes the load trace reaches after the change trace with the new strengths.
+// Per channel, both lamps at once; relit at once or a quarter of the probes a frame (FrameLimits::relight_frames),
+// and probes the load trace reaches after the change trace with the new strengths.
 TEST_F(EmitterTest, DimmedLampsMatchTheCpuBakeAlsoForProbesTracedAfterTheChange) {
   Baked b = bake_two_lamps();
   const glm::vec3 a(0.25f, 0.5f, 1.0f), lamp_b(2.0f, 0.0f, 0.5f);
   const formats::ProbeVolume cpu = cpu_bake_with(b, a, lamp_b);
   runtime::Volume relit_later = upload_sweeping(context(), b.volume),
-                  traced_later = upload_sweeping(context(), b.volume);
+                  traced_later = upload_sweeping(context(), b.volume),
+                  by_quarter = upload_sweeping(context(), b.volume);
   run_with(relit_later, {}, 2);
   run_with(relit_later, strengths(a, lamp_b), 60);
+  runtime::FrameInputs quarter = strengths(a, lamp_b);
+  quarter.limits.relight_frames = 4;
+  for (int f = 0; f < 62; ++f) {
+    if (f == 3) quarter.emitters.clear(); // changed in frame 2, after the load trace
+    ASSERT_TRUE(by_quarter.run_frame(f < 2 ? runtime::FrameInputs{} : quarter).ok());
+  }
   runtime::FrameInputs windowed = strengths(a, lamp_b);
   windowed.limits.max_traced_probes = 4; // the load trace after the change, 4 slots a frame
   runtime::FrameInputs later;
@@ -124,9 +132,12 @@ TEST_F(EmitterTest, DimmedLampsMatchTheCpuBakeAlsoForProbesTracedAfterTheChange)
   }
   const float relit_error = max_sh_difference(read_back(relit_later), cpu);
   const float traced_error = max_sh_difference(read_back(traced_later), cpu);
-  std::printf("[emitters] lamps dimmed per channel: GPU vs CPU %.2e relit, %.2e traced after the change\n",
-              double(relit_error), double(traced_error));
+  const float quarter_error = max_sh_difference(read_back(by_quarter), cpu);
+  std::printf("[emitters] lamps dimmed per channel: GPU vs CPU %.2e relit, %.2e a quarter a frame, %.2e traced after "
+              "the change\n",
+              double(relit_error), double(quarter_error), double(traced_error));
   EXPECT_LT(relit_error, 2e-3f);
+  EXPECT_LT(quarter_error, 2e-3f);
   EXPECT_LT(traced_error, 2e-3f);
 }
 

@@ -137,15 +137,11 @@ struct RelightChanges {
   ShadowPair pairs[RELIGHT_MAX_SHADOW_PAIRS];
 }; // size 32 + 128 * RELIGHT_MAX_CHANGES + 32 * RELIGHT_MAX_MOVED_BOXES + 8 * RELIGHT_MAX_SHADOW_PAIRS
 // One per emitter (EmitterPatch.emitter), after RelightChanges in its buffer: the host's strength of the emitter
-// (FrameInputs::emitters), by which light_trace scales its patches' light; in a frame where strengths changed,
-// light_emitters adds to each front record reflect times the light of the patches whose `change` (the new scale
-// less the old) is not zero.
+// (FrameInputs::emitters), by which light_trace and light_emitters scale its patches' light.
 struct EmitterScale {
-  vec3 scale;  // offset  0: 1 as baked
-  float pad0;  // offset 12
-  vec3 change; // offset 16
-  float pad1;  // offset 28
-};             // size 32
+  vec3 scale; // offset  0: 1 as baked
+  float pad0; // offset 12
+};            // size 16
 
 // Per probe slot flags (LIGHT_BINDING_TRACE_FLAGS): trace the slot's records in the next light_trace (a new or
 // re-measured probe), or its cached punctual irradiance missed a light change while the probe was outside
@@ -305,7 +301,7 @@ static_assert(sizeof(RelightChanges) ==
 static_assert(sizeof(MovedBox) == 32 && offsetof(MovedBox, upper) == 16);
 static_assert(sizeof(ShadowPair) == 8 && offsetof(ShadowPair, light) == 4);
 // The EmitterScale array follows RelightChanges in its buffer at std430's 16-byte alignment.
-static_assert(sizeof(EmitterScale) == 32 && offsetof(EmitterScale, change) == 16 && sizeof(RelightChanges) % 16 == 0);
+static_assert(sizeof(EmitterScale) == 16 && sizeof(RelightChanges) % 16 == 0);
 #endif
 PB_GPU_END
 

@@ -28,22 +28,28 @@ MeshData wall_with_windows(int windows, float cell) {
 
 // The room's other five faces, facing in (the box's +X face is dropped).
 MeshData room_without_east_wall(int subdivisions) {
-  const MeshData full = box(kRoomMin, kRoomMax, Facing::inward, subdivisions);
+  return kept_triangles(box(kRoomMin, kRoomMax, Facing::inward, subdivisions),
+                        [](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+                          return !(a.x == kRoomMax.x && b.x == kRoomMax.x && c.x == kRoomMax.x);
+                        });
+}
+
+} // namespace
+
+MeshData kept_triangles(const MeshData& mesh, const std::function<bool(glm::vec3, glm::vec3, glm::vec3)>& keep) {
   MeshData out;
-  for (std::size_t t = 0; t < full.triangle_count(); ++t) {
-    const glm::vec3 a = full.positions[full.indices[3 * t]], b = full.positions[full.indices[3 * t + 1]],
-                    c = full.positions[full.indices[3 * t + 2]];
-    if (a.x == kRoomMax.x && b.x == kRoomMax.x && c.x == kRoomMax.x) continue;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const glm::vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]],
+                    c = mesh.positions[mesh.indices[3 * t + 2]];
+    if (!keep(a, b, c)) continue;
     MeshData triangle;
     triangle.positions = {a, b, c};
-    triangle.normals.assign(3, full.normals[full.indices[3 * t]]);
+    triangle.normals.assign(3, mesh.normals[mesh.indices[3 * t]]);
     triangle.indices = {0, 1, 2};
     out.append(triangle);
   }
   return out;
 }
-
-} // namespace
 
 MeshData room_with_windows(int windows) {
   MeshData shell = room_without_east_wall(1);

@@ -4,6 +4,8 @@
 // the scene seed and the room index.
 #include "probebake/samples/scenes.h"
 
+#include "room_parts.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <array>
@@ -64,23 +66,14 @@ int outer_walls(int room, int count, int columns) {
 // lies within 1.5 m of the wall's middle and 1-2 m high are left out (they fall on the 0.25 x 0.125 m cells' edges).
 MeshData shell_with_windows(int walls) {
   const glm::vec3 lo(-room_size.x / 2.0f, 0.0f, -room_size.z / 2.0f), hi = lo + room_size;
-  const MeshData full = box(lo, hi, Facing::inward, shell_subdivisions);
-  MeshData out;
-  for (std::size_t t = 0; t < full.triangle_count(); ++t) {
-    const glm::vec3 a = full.positions[full.indices[3 * t]], b = full.positions[full.indices[3 * t + 1]],
-                    c = full.positions[full.indices[3 * t + 2]], centre = (a + b + c) / 3.0f;
-    const bool in_window = centre.y > 1.0f && centre.y < 2.0f;
-    const bool x_wall = a.x == b.x && b.x == c.x, z_wall = a.z == b.z && b.z == c.z;
-    const int wall = x_wall ? (a.x < 0.0f ? 1 : 2) : z_wall ? (a.z < 0.0f ? 4 : 8) : 0;
-    const float along = x_wall ? centre.z : centre.x;
-    if ((walls & wall) != 0 && in_window && std::abs(along) < 1.5f) continue;
-    MeshData triangle;
-    triangle.positions = {a, b, c};
-    triangle.normals.assign(3, full.normals[full.indices[3 * t]]);
-    triangle.indices = {0, 1, 2};
-    out.append(triangle);
-  }
-  return out;
+  return detail::kept_triangles(
+      box(lo, hi, Facing::inward, shell_subdivisions), [walls](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+        const glm::vec3 centre = (a + b + c) / 3.0f;
+        const bool x_wall = a.x == b.x && b.x == c.x, z_wall = a.z == b.z && b.z == c.z;
+        const int wall = x_wall ? (a.x < 0.0f ? 1 : 2) : z_wall ? (a.z < 0.0f ? 4 : 8) : 0;
+        const float along = x_wall ? centre.z : centre.x;
+        return (walls & wall) == 0 || !(centre.y > 1.0f && centre.y < 2.0f && std::abs(along) < 1.5f);
+      });
 }
 
 Palette add_palette(SceneBuilder& scene) {

@@ -44,6 +44,9 @@ LightUpdatePass::LightUpdatePass(Device& device, const GpuVolume& volume, int ra
   const bool handed_out = records.kind == RecordSlots::Kind::handed_out;
   record_capacity_ = handed_out ? std::min(records.count, probe_capacity_) : probe_capacity_;
   create_record_pages(rays);
+  // light_emitters: a workgroup per LIGHT_WORKGROUP_SIZE records of a probe, one record a thread (each casts a
+  // shadow ray per patch: with several records a thread, a small volume's frame is one workgroup's latency).
+  record_chunks_ = (std::uint32_t(rays) + gpu::LIGHT_WORKGROUP_SIZE - 1) / gpu::LIGHT_WORKGROUP_SIZE;
   next_irradiance_ = create_scratch(device, VkDeviceSize(record_capacity_) * gpu::PROBE_SH_FLOATS * sizeof(float),
                                     "next irradiance"); // by record slot
   trace_flags_ = create_scratch(device, VkDeviceSize(probe_capacity_) * sizeof(std::uint32_t), "trace flags");
@@ -173,7 +176,7 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
   const auto record_sky_and_emitters = [&] {
     if (sky_relit_) record_every_slot(cmd, Kernel::light_sky);
     if (sky_relit_ && emitters_relit_) barrier(cmd, kComputeReadWrite, kComputeReadWrite); // the same records
-    if (emitters_relit_) record_every_slot(cmd, Kernel::light_emitters);
+    if (emitters_relit_) record_every_slot(cmd, Kernel::light_emitters, record_chunks_);
   };
   const bool settling = settle_relight_windows(window.relight_period);
   const bool changed = relight_everything_ || changes_.count > 0;
@@ -270,9 +273,9 @@ bool LightUpdatePass::settle_relight_windows(std::uint32_t period) {
 
 // The sky or emitters changed: every slot with records takes them (light_sky, light_emitters), in the relight's
 // timer slot, the sets and push constants already bound.
-void LightUpdatePass::record_every_slot(VkCommandBuffer cmd, Kernel kernel) {
+void LightUpdatePass::record_every_slot(VkCommandBuffer cmd, Kernel kernel, std::uint32_t chunks) {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, device_.compute_pipelines().kernel(kernel));
-  dispatch_groups(cmd, device_, probe_capacity_);
+  dispatch_groups(cmd, device_, probe_capacity_, chunks);
 }
 
 void LightUpdatePass::emitters_changed(VkCommandBuffer cmd, std::span<const gpu::EmitterScale> scales) {

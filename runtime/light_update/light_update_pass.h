@@ -126,8 +126,9 @@ private:
   // window (first_slot, slot_count) and light sampling (shadow_rays, seed).
   void record_relight(VkCommandBuffer cmd, PassTimer& timer, std::uint32_t slot, const gpu::LightPush& window);
   bool settle_relight_windows(std::uint32_t period);
-  // light_sky or light_emitters over every slot with records, the sets and push constants already bound.
-  void record_every_slot(VkCommandBuffer cmd, Kernel kernel);
+  // light_sky or light_emitters over every slot with records (`chunks` workgroups each, gl_WorkGroupID.z), the sets
+  // and push constants already bound.
+  void record_every_slot(VkCommandBuffer cmd, Kernel kernel, std::uint32_t chunks = 1);
   // The pending moved boxes and their (box, light) shadow pairs into RelightChanges (shadow_pairs_fit_);
   // light_mark_moved flags the probes whose rays cross them.
   void upload_moved_boxes(VkCommandBuffer cmd);
@@ -184,6 +185,7 @@ private:
   Buffer tracked_punctual_;
   std::vector<Buffer> record_pages_; // 1 to LIGHT_RECORD_PAGES
   std::uint32_t probes_per_page_ = 0;
+  std::uint32_t record_chunks_ = 1; // light_emitters' workgroups per probe
   Buffer next_irradiance_;
   Buffer trace_flags_;
   Buffer record_slots_; // streaming: int per probe slot

@@ -17,6 +17,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "probebake/formats/error.h"
+#include "probebake/sky/sky.h"
 
 namespace tinygltf {
 class Model;
@@ -214,6 +215,10 @@ struct TriangleColors {
   std::vector<glm::vec3> emission;
 };
 scene::Material convert_material(const tinygltf::Model& model, int material, const Context& ctx);
+
+// EXT_lights_image_based (gltf_image_light.cpp): the loaded scene's image-based light as a sky (its irradiance
+// coefficients as radiance), or nothing when the scene names none; Error(input) naming the place when malformed.
+std::optional<sky::Sky> image_based_sky(const tinygltf::Model& model, const Context& ctx);
 // For each texture, the image the bake samples (EXT_texture_webp source, else the texture's own source,
 // which is KHR_texture_basisu's fallback), or -1. A texture that a material uses and that has no decodable
 // image gets one warning naming it (an error under ctx.strict); its materials use their factors.

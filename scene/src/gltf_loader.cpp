@@ -360,7 +360,12 @@ Scene load_scene_from_memory(std::vector<unsigned char> bytes, const std::string
     ctx.fail("meshes",
              fmt::format("scene has no triangles to bake ({} meshes, {} lights; `probebake info` describes it)",
                          scene.mesh_count, scene.lights.size()));
-  if (options.sky) set_sky(scene, *options.sky);
+  // The caller's sky wins over the scene's EXT_lights_image_based.
+  if (options.sky) {
+    set_sky(scene, *options.sky);
+  } else if (std::optional<sky::Sky> image_based = detail::image_based_sky(model, ctx)) {
+    set_sky(scene, std::move(*image_based));
+  }
   return scene;
 }
 

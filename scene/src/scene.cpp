@@ -39,6 +39,7 @@ const std::vector<std::string>& supported_extensions() {
       "KHR_lights_punctual",        "KHR_texture_transform",
       "KHR_mesh_quantization",      "EXT_meshopt_compression",
       "EXT_texture_webp",           "KHR_texture_basisu", // through its fallback image, else the factor (warning)
+      "EXT_lights_image_based",                           // its irradiance, as the sky
   };
   return names;
 }

@@ -1,18 +1,11 @@
 #include "light_update/emitter_inputs.h"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 
+#include "light_update/light_inputs.h"
+
 namespace probebake::runtime::detail {
-namespace {
-
-bool valid_scale(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f;
-}
-
-} // namespace
-
 EmitterInputs::EmitterInputs(std::span<const gpu::EmitterPatch> patches) {
   for (const gpu::EmitterPatch& p : patches)
     if (p.emitter == materials_.size()) materials_.push_back(p.material);
@@ -34,7 +27,7 @@ Status EmitterInputs::check(std::span<const EmitterStrength> strengths) const {
               which + ": material " + std::to_string(strengths[i].material) + " is no emitter of this volume (" +
                   std::to_string(materials_.size()) +
                   " emitters, Volume::emitter_materials(); a volume baked with --emitters-in-probes has none)"};
-    if (!valid_scale(strengths[i].scale))
+    if (!finite_non_negative(strengths[i].scale))
       return {StatusCode::invalid_argument, which + ": scale is not finite and >= 0"};
   }
   return {};

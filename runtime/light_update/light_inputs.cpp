@@ -51,6 +51,8 @@ bool same_bytes(const gpu::PunctualLight& a, const gpu::PunctualLight& b) { retu
 
 } // namespace
 
+bool finite_non_negative(const glm::vec3& v) { return finite(v) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f; }
+
 void update_buffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, const void* data, std::size_t bytes) {
   constexpr std::size_t kPiece = 65536;
   for (std::size_t done = 0; done < bytes; done += kPiece)

@@ -19,6 +19,9 @@ namespace probebake::runtime::detail {
 // vkCmdUpdateBuffer in pieces of at most 65536 bytes (its limit per call); bytes and offset multiples of 4.
 void update_buffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, const void* data, std::size_t bytes);
 
+// Every component finite and >= 0 (the host's radiances and scales: FrameInputs::sky, FrameInputs::emitters).
+bool finite_non_negative(const glm::vec3& v);
+
 // ok, or invalid_argument naming the first bad light and field, or the count against `capacity`.
 Status check_lights(std::span<const gpu::PunctualLight> lights, std::size_t capacity);
 

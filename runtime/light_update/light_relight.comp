@@ -7,11 +7,11 @@
 // one per light. Outside the reach of both (beyond the range) the light gave nothing and still gives
 // nothing, exactly, so the record is left alone. A light that changes frame after frame (one change per
 // frame) reads its E_before from the tracked buffer, where the last frame (or light_trace) left its E_after:
-// one shadow ray, and with FrameLimits::relight_frames only in every relight_period-th slot. With `everything` (more than RELIGHT_MAX_CHANGES changes, or an object moved) every front
-// record's sum is recomputed as light_trace computes it (lights sampled past push.shadow_rays); when only
-// objects moved (`shadows_only`), only the records whose shadow ray to a light may cross a moved box are
-// (shadow_may_have_moved). A change of one light
-// replaces that light's exact share in a sampled sum: E - E_before + E_after stays an unbiased estimate. A
+// one shadow ray, and with FrameLimits::relight_frames only in every relight_period-th slot. With `everything`
+// (more than RELIGHT_MAX_CHANGES changes, or an object moved) every front record's sum is recomputed as
+// light_trace computes it (lights sampled past push.shadow_rays); when only objects moved (`shadows_only`),
+// only the records whose shadow ray to a light may cross a moved box are (shadow_may_have_moved). A change of
+// one light replaces that light's exact share in a sampled sum: E - E_before + E_after stays an unbiased estimate. A
 // record that several changes reach gets its whole sum instead where that casts fewer rays. Streaming: a
 // shadow ray that crosses a cell that is out leaves the probe RECORD_SLOT_UNRESOLVED, as in light_trace (the
 // gather keeps its irradiance until a retry traces its records afresh).

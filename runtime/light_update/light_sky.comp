@@ -1,7 +1,8 @@
 // Light update: the host changed the sky (FrameInputs::sky), so every record of a ray that left the scene takes
 // the new sky's radiance in its direction (kept in the record's normal by light_trace). One workgroup per probe
 // slot, every slot with records, or this frame's window of them (FrameLimits::relight_frames: the others in the
-// next frames); the gather after it relights the probes from there and the bounces converge over the next frames. Front records keep their bases: sky light reaches surfaces through the probes.
+// next frames); the gather after it relights the probes from there and the bounces converge over the next frames.
+// Front records keep their bases: sky light reaches surfaces through the probes.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "light_update/light_bindings.glsl"

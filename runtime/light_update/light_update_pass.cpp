@@ -165,8 +165,12 @@ void LightUpdatePass::record_relight(VkCommandBuffer cmd, PassTimer& timer, std:
                                      const gpu::LightPush& window) {
   // A full trace reads the new sky and emitters itself. With FrameLimits::relight_frames the sky and the emitters
   // relight a window of slots a frame, the next period - 1 frames the others.
-  if (sky_changed_) sky_windows_left_ = window.relight_period;
-  if (emitters_changed_) emitter_windows_left_ = window.relight_period;
+  // A new period while windows wait starts them over, so that every slot is covered.
+  const auto restart = [&](bool changed, std::uint32_t& left, std::uint32_t& period) {
+    if (changed || (left > 0 && period != window.relight_period)) left = period = window.relight_period;
+  };
+  restart(sky_changed_, sky_windows_left_, sky_window_period_);
+  restart(emitters_changed_, emitter_windows_left_, emitter_window_period_);
   if (window.trace_mode == gpu::LIGHT_TRACE_EVERY) sky_windows_left_ = emitter_windows_left_ = 0;
   sky_relit_ = sky_windows_left_ > 0;
   emitters_relit_ = emitter_windows_left_ > 0;

@@ -176,7 +176,7 @@ private:
   std::uint32_t light_windows_left_ = 0, light_window_period_ = 0;
   gpu::PunctualLight windowed_light_{};
   bool windows_dropped_ = false;
-  std::uint32_t sky_windows_left_ = 0, emitter_windows_left_ = 0;
+  std::uint32_t sky_windows_left_ = 0, sky_window_period_ = 0, emitter_windows_left_ = 0, emitter_window_period_ = 0;
   Buffer relight_changes_; // RelightChanges, then an EmitterScale per emitter
   // The tracked light (RelightChanges): its E at every front record is in tracked_punctual_; -1 = none.
   // Left out (tracking_ = false) when that buffer would exceed maxStorageBufferRange.

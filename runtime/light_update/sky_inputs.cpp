@@ -10,14 +10,6 @@
 #include "probebake/formats/sky_section.h"
 
 namespace probebake::runtime::detail {
-namespace {
-
-bool valid_radiance(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && v.x >= 0.0f && v.y >= 0.0f && v.z >= 0.0f;
-}
-
-} // namespace
-
 SkyInputs::SkyInputs(glm::vec3 radiance, std::span<const std::uint32_t> sky_section) : radiance_(radiance) {
   if (std::optional<formats::SkyView> view = formats::sky_view(sky_section)) { // the upload validated it
     header_ = view->header;
@@ -26,7 +18,7 @@ SkyInputs::SkyInputs(glm::vec3 radiance, std::span<const std::uint32_t> sky_sect
 }
 
 Status SkyInputs::check(const SkyInput& sky) const {
-  if (!valid_radiance(sky.radiance))
+  if (!finite_non_negative(sky.radiance))
     return {StatusCode::invalid_argument, "run_frame: sky radiance is not finite and >= 0"};
   if (!sky.map.empty() && sky.map.size() != map_.size())
     return {StatusCode::invalid_argument,
@@ -34,7 +26,7 @@ Status SkyInputs::check(const SkyInput& sky) const {
                 std::to_string(map_.size()) +
                 (map_.empty() ? " (it has no sky section: give the radiance alone)" : "")};
   for (std::size_t k = 0; k < sky.map.size(); ++k)
-    if (!valid_radiance(sky.map[k]))
+    if (!finite_non_negative(sky.map[k]))
       return {StatusCode::invalid_argument,
               "run_frame: sky map texel " + std::to_string(k) + " is not finite and >= 0"};
   return {};

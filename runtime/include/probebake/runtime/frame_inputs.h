@@ -50,8 +50,9 @@ struct FrameLimits {
   // this many frames (0 or 1: every record every frame; at most 64; docs/RUNTIME.md "Sky and time of day"): each
   // frame the probe slots s with s % relight_frames == frame % relight_frames take the current sky and light, so
   // a probe lags them by at most relight_frames - 1 frames. Within relight_frames - 1 frames after they stop,
-  // every record is what it would be relit every frame; another light change or a moved object first
-  // recomputes every record's whole punctual sum.
+  // every record is what it would be relit every frame; while slots still wait for the light, another light
+  // change or a moved object first recomputes every record's whole punctual sum. Emitter strengths
+  // (FrameInputs::emitters) are spread the same way.
   int relight_frames = 0;
 };
 

@@ -49,13 +49,15 @@ std::array<glm::vec3, 9> radiance_coefficients(const tinygltf::Value& light, con
   const std::string where = place + ".irradianceCoefficients";
   if (!rows.IsArray() || rows.ArrayLen() != 9) ctx.fail(where, "is not an array of 9 RGB triples");
   constexpr float pi = std::numbers::pi_v<float>;
-  constexpr std::array<float, 9> lambert{pi, 2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4, pi / 4, pi / 4, pi / 4, pi / 4};
+  constexpr std::array<float, 9> lambert{pi,     2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4,
+                                         pi / 4, pi / 4,     pi / 4,     pi / 4};
   std::array<glm::vec3, 9> radiance{};
   for (int k = 0; k < 9; ++k) {
     const tinygltf::Value& rgb = rows.Get(k);
     const std::string at = fmt::format("{}[{}]", where, k);
     if (!rgb.IsArray() || rgb.ArrayLen() != 3) ctx.fail(at, "is not an RGB triple");
-    for (int c = 0; c < 3; ++c) radiance[std::size_t(k)][c] = finite_number(rgb.Get(c), at, ctx) / lambert[std::size_t(k)];
+    for (int c = 0; c < 3; ++c)
+      radiance[std::size_t(k)][c] = finite_number(rgb.Get(c), at, ctx) / lambert[std::size_t(k)];
   }
   return radiance;
 }
@@ -97,9 +99,8 @@ std::optional<sky::Sky> image_based_sky(const tinygltf::Model& model, const Cont
   const std::array<glm::vec3, 9> coefficients = radiance_coefficients(light, place, ctx);
   const glm::quat to_environment = glm::inverse(rotation_of(light, place, ctx));
   const tinygltf::Value& intensity_value = member(light, "intensity");
-  const float intensity = intensity_value.Type() == tinygltf::NULL_TYPE
-                              ? 1.0f
-                              : finite_number(intensity_value, place + ".intensity", ctx);
+  const float intensity =
+      intensity_value.Type() == tinygltf::NULL_TYPE ? 1.0f : finite_number(intensity_value, place + ".intensity", ctx);
   if (intensity < 0.0f) ctx.fail(place + ".intensity", "is negative");
   sky::EquirectMap map{sky::kEnvironmentWidth, sky::kEnvironmentHeight, {}};
   map.texels.reserve(std::size_t(map.width) * std::size_t(map.height));

@@ -70,9 +70,9 @@ TEST(ImageBasedLight, ConstantIrradianceIsAConstantSkyTimesIntensity) {
 // the environment towards +X): the sky gives back that irradiance on the rotated normals, to the map's quadrature.
 TEST(ImageBasedLight, TheSkyGivesBackTheCoefficientsIrradianceRotated) {
   const float s45 = std::sqrt(0.5f);
-  const scene::Scene s = load(with_light(rows({{0, glm::vec3(4.0f)}, {2, glm::vec3(1.0f)}}),
-                                         {{"rotation", {0.0, s45, 0.0, s45}}}),
-                              "ibl_rotated");
+  const scene::Scene s =
+      load(with_light(rows({{0, glm::vec3(4.0f)}, {2, glm::vec3(1.0f)}}), {{"rotation", {0.0, s45, 0.0, s45}}}),
+           "ibl_rotated");
   const auto analytic = [](glm::vec3 n_environment) { return 4.0f * 0.282095f + 1.0f * 0.488603f * n_environment.z; };
   for (const auto& [world, environment] :
        {std::pair{glm::vec3(1, 0, 0), glm::vec3(0, 0, 1)}, std::pair{glm::vec3(-1, 0, 0), glm::vec3(0, 0, -1)},

@@ -34,9 +34,9 @@ RunPictures::RunPictures(RunPictureOptions options, scene::Scene scene)
   if (ec) throw Error(ErrorKind::output, fmt::format("{}: cannot create folder: {}", options_.folder, ec.message()));
 }
 
-// The runtime's objects carry the glTF node they came from; the scene's objects too. With a day cycle, the frame's
-// sky and sun.
-scene::Scene RunPictures::posed_scene(const runtime::Volume& volume, int frame) const {
+// The runtime's objects carry the glTF node they came from; the scene's objects too. With a day cycle (hour >= 0),
+// that hour's sky and sun.
+scene::Scene RunPictures::posed_scene(const runtime::Volume& volume, float hour) const {
   std::vector<glm::mat4> poses;
   for (const scene::DynamicObject& object : scene_.dynamic_objects) {
     glm::mat4 pose = object.world_from_object;
@@ -46,20 +46,19 @@ scene::Scene RunPictures::posed_scene(const runtime::Volume& volume, int frame) 
     poses.push_back(pose);
   }
   scene::Scene posed = scene::posed(scene_, poses);
-  if (options_.day_cycle && scene_.sky.physical) {
-    const float hour = run::day_hour(*options_.day_cycle, frame);
-    scene::set_sky(posed, sky::physical_sky({run::day_sun_direction(hour), scene_.sky.physical->turbidity}));
-  }
+  if (hour >= 0.0f && scene_.sky.physical)
+    scene::set_sky(posed, sky::physical_sky(run::day_sky(hour, scene_.sky.physical->turbidity)));
   return posed;
 }
 
 runtime::Status RunPictures::after_frame(int frame, runtime::Volume& volume) {
   if (std::find(options_.at_frames.begin(), options_.at_frames.end(), frame) == options_.at_frames.end()) return {};
   try {
-    const scene::Scene posed = posed_scene(volume, frame);
+    const float hour = options_.day_cycle ? run::day_hour(*options_.day_cycle, frame) : -1.0f;
+    const scene::Scene posed = posed_scene(volume, hour);
     if (options_.images) write_images(frame, posed, volume);
     if (options_.reference) {
-      errors_.push_back(measure(frame, posed, volume));
+      errors_.push_back(measure(frame, hour, posed, volume));
       const ErrorRow& e = errors_.back();
       const std::string at =
           e.hour >= 0.0f ? fmt::format(" at {:02d}:{:02d}", int(e.hour), int(std::fmod(e.hour, 1.0f) * 60.0f)) : "";
@@ -93,7 +92,8 @@ void RunPictures::write_images(int frame, const scene::Scene& posed, runtime::Vo
   fmt::print("frame {}: wrote {}_final.(exr|png) and {}_indirect.(exr|png)\n", frame, base.string(), base.string());
 }
 
-RunPictures::ErrorRow RunPictures::measure(int frame, const scene::Scene& posed, runtime::Volume& volume) const {
+RunPictures::ErrorRow RunPictures::measure(int frame, float hour, const scene::Scene& posed,
+                                           runtime::Volume& volume) const {
   bake::PoseReferenceSettings settings;
   settings.receivers.count = options_.receivers;
   settings.reference.paths = options_.paths;
@@ -103,7 +103,6 @@ RunPictures::ErrorRow RunPictures::measure(int frame, const scene::Scene& posed,
   auto runtime_values = volume.sample_irradiance(positions, normals);
   if (!runtime_values.ok()) throw Error(ErrorKind::internal, runtime_values.status().message);
   const bake::PoseError error = bake::pose_error(reference, runtime_values.value());
-  const float hour = options_.day_cycle ? run::day_hour(*options_.day_cycle, frame) : -1.0f;
   ErrorRow row{frame,
                hour,
                error.relative_rmse,

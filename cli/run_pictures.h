@@ -44,9 +44,9 @@ private:
     double relative_rmse = 0, relative_median = 0, reference_noise = 0, mean_reference = 0, mean_runtime = 0,
            seconds = 0;
   };
-  scene::Scene posed_scene(const runtime::Volume& volume, int frame) const;
+  scene::Scene posed_scene(const runtime::Volume& volume, float hour) const;
   void write_images(int frame, const scene::Scene& posed, runtime::Volume& volume);
-  ErrorRow measure(int frame, const scene::Scene& posed, runtime::Volume& volume) const;
+  ErrorRow measure(int frame, float hour, const scene::Scene& posed, runtime::Volume& volume) const;
 
   RunPictureOptions options_;
   scene::Scene scene_;

@@ -21,6 +21,8 @@ glm::vec3 day_sun_direction(float hour) {
   return glm::normalize(std::cos(a) * east + std::sin(a) * noon);
 }
 
+sky::PhysicalSky day_sky(float hour, float turbidity) { return {day_sun_direction(hour), turbidity}; }
+
 std::optional<std::string> day_cycle_refusal(const runtime::Volume& volume) {
   const std::optional<gpu::SkyHeader> header = volume.sky();
   if (!header || header->kind != gpu::SKY_KIND_PHYSICAL || header->sun_light < 0 ||
@@ -31,7 +33,7 @@ std::optional<std::string> day_cycle_refusal(const runtime::Volume& volume) {
 
 void add_day_cycle(runtime::FrameInputs& in, const runtime::Volume& volume, float day_seconds, int frame) {
   const gpu::SkyHeader header = *volume.sky();
-  const sky::PhysicalSky physical{day_sun_direction(day_hour(day_seconds, frame)), header.turbidity};
+  const sky::PhysicalSky physical = day_sky(day_hour(day_seconds, frame), header.turbidity);
   runtime::SkyInput s;
   s.radiance = glm::vec3(1.0f);
   s.map = sky::physical_sky_map(physical, int(header.width), int(header.height)).texels;

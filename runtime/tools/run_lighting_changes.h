@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "probebake/runtime/runtime.h"
+#include "probebake/sky/sky.h"
 
 namespace probebake::run {
 
@@ -20,6 +21,9 @@ inline constexpr float kDayFramesPerSecond = 60.0f;
 // 18:00 in the west (-X); below the horizon at night.
 float day_hour(float day_seconds, int frame);
 glm::vec3 day_sun_direction(float hour);
+// The physical sky of `hour` (its sun at day_sun_direction) with the file's turbidity: what the runtime's day and
+// the reference of a day-cycle frame (probebake run --reference) are lit by.
+sky::PhysicalSky day_sky(float hour, float turbidity);
 
 // Why the volume cannot run a day (no physical sky, no sun light), or nothing.
 std::optional<std::string> day_cycle_refusal(const runtime::Volume& volume);

@@ -80,7 +80,7 @@ TEST(ImageBasedLight, TheSkyGivesBackTheCoefficientsIrradianceRotated) {
     const glm::vec3 e = irradiance(s.sky, world);
     std::printf("[ibl] normal %g %g %g: irradiance %.5f, coefficients %.5f\n", double(world.x), double(world.y),
                 double(world.z), double(e.x), double(analytic(environment)));
-    EXPECT_NEAR(e.x / analytic(environment), 1.0f, 1e-3f); // measured 3e-4
+    EXPECT_NEAR(e.x / analytic(environment), 1.0f, 1e-3f); // measured 3.2e-4 at most
   }
 }
 
